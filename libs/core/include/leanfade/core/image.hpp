@@ -1,0 +1,36 @@
+#pragma once
+// Float images of 1-4 interleaved channels, any size (non-square, non-power-of-two, 1x1).
+// Row-major, row 0 is the top row as stored in files; texel (x, y) has u = (x + 0.5) / width and
+// v = 1 - (y + 0.5) / height in OpenGL texture space (see io::flip when uploading).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace leanfade {
+
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::vector<float> pixels;  // width * height * channels floats
+
+    Image() = default;
+    Image(int w, int h, int c, float fill = 0.0f);
+
+    bool empty() const { return width == 0 || height == 0 || channels == 0; }
+    std::size_t texel_count() const { return std::size_t(width) * std::size_t(height); }
+    std::size_t index(int x, int y, int c = 0) const {
+        return (std::size_t(y) * std::size_t(width) + std::size_t(x)) * std::size_t(channels) +
+               std::size_t(c);
+    }
+    float& at(int x, int y, int c = 0) { return pixels[index(x, y, c)]; }
+    float at(int x, int y, int c = 0) const { return pixels[index(x, y, c)]; }
+    float* row(int y) { return pixels.data() + index(0, y); }
+    const float* row(int y) const { return pixels.data() + index(0, y); }
+};
+
+// Largest accepted width or height for any image read or baked unless raised explicitly
+// (a guard against decompression bombs and absurd headers).
+inline constexpr int kDefaultMaxImageDimension = 16384;
+
+}  // namespace leanfade

@@ -1,0 +1,119 @@
+#pragma once
+// LEAN maps (Olano & Baker 2010; ../shared/SPEC.md §2-3): the float moments of a bump map with their
+// MIP chain, and their packing into the two RGBA textures lean1 / lean2.
+//
+// All vectors are in tangent space: x along +u, y along +v (OpenGL normal-map convention), z out
+// of the surface. Slopes B are projected normals n.xy / n.z (dimensionless). Image rows are stored
+// top row first (as in image files); the GL upload flips them so that +v points up.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "leanfade/core/image.hpp"
+
+namespace leanfade {
+
+enum class Wrap { Repeat, Clamp };
+enum class NormalConvention { OpenGL, DirectX };  // DirectX: green is -v, flipped on read
+enum class Storage { Unorm8, Unorm16, Float16, Float32 };
+
+const char* to_string(Wrap);
+const char* to_string(NormalConvention);
+const char* to_string(Storage);
+int bytes_per_texel(Storage);  // one RGBA texel of one layer
+
+// One MIP level of float moments. Index i = y * width + x, rows top first.
+struct MomentLevel {
+    int width = 0;
+    int height = 0;
+    std::vector<glm::vec3> normal;  // filtered normal, NOT renormalised (length < 1 = bumpier)
+    std::vector<glm::vec2> mean;    // B = E[b~]
+    std::vector<glm::vec3> second;  // M = (E[Bx^2], E[By^2], E[Bx*By]), plus 1/s on xx, yy if baked
+};
+
+struct LeanMap {
+    std::vector<MomentLevel> levels;  // 0 = finest, last = 1x1
+    float scale = 1.0f;               // sc of SPEC §3: |Bx|,|By| <= sc and Mxx,Myy <= sc^2
+    bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
+    float baked_shininess = 0.0f;     // s when roughness_baked
+    NormalConvention source_convention = NormalConvention::OpenGL;
+};
+
+// One packed MIP level: two layers of RGBA texels in the storage format, rows top first,
+// tightly packed (width * bytes_per_texel(storage) bytes per row). Float16/Float32 are IEEE
+// little-endian; Unorm16 is little-endian.
+struct PackedLevel {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> lean1;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
+    std::vector<std::uint8_t> lean2;  // (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
+};
+
+struct PackedLeanMap {
+    Storage storage = Storage::Unorm16;
+    float scale = 1.0f;
+    bool roughness_baked = false;
+    float baked_shininess = 0.0f;
+    NormalConvention source_convention = NormalConvention::OpenGL;
+    std::string generator;  // e.g. "leanfade 0.1.0"
+    std::vector<PackedLevel> levels;
+};
+
+struct BakeOptions {
+    float strength = 1.0f;  // height per texel spacing (height maps only)
+    Wrap wrap = Wrap::Repeat;
+    NormalConvention convention = NormalConvention::OpenGL;  // normal maps only
+    float bake_roughness_shininess = 0.0f;                   // s > 0: bake 1/s into M (eq. 6)
+    int threads = 0;                                         // 0 = hardware concurrency
+};
+
+// Normals with z below this (after decoding 2*rgb-1) are raised to it, and counted; normals with
+// z <= -kNormalZRejectEpsilon are rejected as not being a tangent-space normal map. The epsilon is
+// one 8-bit quantisation step of the encoding, so a z of 0 written to 8 bits is accepted.
+inline constexpr float kMinNormalZ = 1.0f / 64.0f;
+inline constexpr float kNormalZRejectEpsilon = 2.0f / 255.0f;
+
+struct SlopeResult {
+    Image slopes;                     // 2 channels: B~ (tangent space)
+    std::size_t clamped_texels = 0;   // normal maps: texels whose z was raised to kMinNormalZ
+};
+
+// Height map (first channel used; values in height units where one unit = one texel spacing at
+// strength 1) -> projected slopes with the 3x3 Sobel filter / 8 (SPEC §2). Throws on NaN/Inf.
+SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
+                               const std::string& source_name = "");
+// Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (SPEC §2).
+SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
+                                const std::string& source_name = "");
+
+// Top level moments from slopes, then the full MIP chain (area-weighted linear filter, exact for
+// odd sizes: every level's mean equals the top level's mean), then sc.
+LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
+
+// MIP chain sizes: floor halving down to 1x1, as OpenGL does.
+int mip_level_count(int width, int height);
+
+// Pack (SPEC §3) each level separately from the floats, quantising to the storage.
+PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator);
+// Inverse of pack_lean_map within the storage's quantisation.
+LeanMap unpack_lean_map(const PackedLeanMap& packed);
+
+// Decoded RGBA floats of one packed texel of one layer (for tests and the CPU reference).
+glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int layer, int x, int y);
+
+// Statistics for the bake summary. Slopes are dimensionless; covariance in slope^2.
+struct LeanMapSummary {
+    int width = 0, height = 0, levels = 0;
+    float scale = 0.0f;
+    float mean_slope = 0.0f;  // mean |B| over the top level
+    float max_slope = 0.0f;   // max |B| over the top level
+    glm::vec3 coarsest_covariance{0.0f};  // (Sxx, Syy, Sxy) of the 1x1 level, M - B B^T
+    float coarsest_anisotropy = 1.0f;     // sqrt(lambda_max / lambda_min) of that covariance
+};
+LeanMapSummary summarize(const LeanMap& map);
+
+}  // namespace leanfade

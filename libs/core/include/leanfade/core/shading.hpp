@@ -1,0 +1,16 @@
+#pragma once
+// C++ view of the shared shading header shaders/lean_shading.glsl (SPEC §4). The very same source
+// is included by the GLSL shaders, so the CPU reference and the GPU agree by construction.
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+namespace leanfade::shading {
+using namespace glm;
+using std::exp;
+using std::pow;
+using std::sqrt;
+#define LF_FN inline
+#include "lean_shading.glsl"
+#undef LF_FN
+}  // namespace leanfade::shading

@@ -1,0 +1,330 @@
+// LEAN moments, MIP chain and packing (SPEC §2-3; LEAN §3, §5).
+#include "leanfade/core/lean_map.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <glm/gtc/packing.hpp>
+#include <glm/vec4.hpp>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade {
+
+const char* to_string(Wrap w) { return w == Wrap::Repeat ? "repeat" : "clamp"; }
+const char* to_string(NormalConvention c) {
+    return c == NormalConvention::OpenGL ? "opengl" : "directx";
+}
+const char* to_string(Storage s) {
+    switch (s) {
+        case Storage::Unorm8: return "8";
+        case Storage::Unorm16: return "16";
+        case Storage::Float16: return "16f";
+        case Storage::Float32: return "32f";
+    }
+    return "?";
+}
+int bytes_per_texel(Storage s) {
+    switch (s) {
+        case Storage::Unorm8: return 4;
+        case Storage::Unorm16: return 8;
+        case Storage::Float16: return 8;
+        case Storage::Float32: return 16;
+    }
+    return 0;
+}
+
+int mip_level_count(int width, int height) {
+    int levels = 1;
+    while (width > 1 || height > 1) {
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        ++levels;
+    }
+    return levels;
+}
+
+namespace {
+
+// The eight float moments of a texel, filtered together.
+using Moments = std::array<float, 8>;  // n.xyz, B.xy, M.xx, M.yy, M.xy
+
+// Area-weighted reduction from `src` to `dst` samples: destination i covers the source interval
+// [i r, (i + 1) r), r = src / dst, each source texel weighted by its overlap / r. For even sizes
+// this is the 2-tap box; for odd sizes 3 taps. The weights of every source texel sum to 1/r, so
+// the mean is preserved exactly and, the filter being linear, moments stay linear (LEAN §3).
+struct Tap { int index; double weight; };
+std::vector<std::vector<Tap>> reduction_taps(int src, int dst) {
+    std::vector<std::vector<Tap>> taps(static_cast<std::size_t>(dst));
+    for (int i = 0; i < dst; ++i) {
+        // Work in integer units of 1/dst to keep the overlaps exact: [i*src, (i+1)*src).
+        const std::int64_t lo = std::int64_t(i) * src, hi = std::int64_t(i + 1) * src;
+        for (std::int64_t j = lo / dst; j * dst < hi; ++j) {
+            const std::int64_t overlap = std::min(hi, (j + 1) * dst) - std::max(lo, j * dst);
+            if (overlap > 0) taps[std::size_t(i)].push_back({int(j), double(overlap) / double(src)});
+        }
+    }
+    return taps;
+}
+
+MomentLevel from_moments(int width, int height, const std::vector<Moments>& in) {
+    MomentLevel level;
+    level.width = width;
+    level.height = height;
+    level.normal.resize(in.size());
+    level.mean.resize(in.size());
+    level.second.resize(in.size());
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        const Moments& v = in[i];
+        level.normal[i] = {v[0], v[1], v[2]};
+        level.mean[i] = {v[3], v[4]};
+        level.second[i] = {v[5], v[6], v[7]};
+    }
+    return level;
+}
+
+std::vector<Moments> reduce(const std::vector<Moments>& src, int sw, int sh, int dw, int dh,
+                            int threads) {
+    const auto xtaps = reduction_taps(sw, dw);
+    const auto ytaps = reduction_taps(sh, dh);
+    std::vector<Moments> dst(std::size_t(dw) * std::size_t(dh));
+    parallel_for_rows(dh, threads, [&](int first, int end) {
+        std::vector<std::array<double, 8>> row(static_cast<std::size_t>(sw));
+        for (int y = first; y < end; ++y) {
+            // Vertical pass into a double row, then horizontal pass.
+            std::fill(row.begin(), row.end(), std::array<double, 8>{});
+            for (const Tap& ty : ytaps[std::size_t(y)]) {
+                const Moments* s = &src[std::size_t(ty.index) * std::size_t(sw)];
+                for (int x = 0; x < sw; ++x)
+                    for (int c = 0; c < 8; ++c) row[std::size_t(x)][c] += ty.weight * s[x][c];
+            }
+            for (int x = 0; x < dw; ++x) {
+                std::array<double, 8> acc{};
+                for (const Tap& tx : xtaps[std::size_t(x)])
+                    for (int c = 0; c < 8; ++c) acc[c] += tx.weight * row[std::size_t(tx.index)][c];
+                Moments& d = dst[std::size_t(y) * std::size_t(dw) + std::size_t(x)];
+                for (int c = 0; c < 8; ++c) d[c] = float(acc[c]);
+            }
+        }
+    });
+    return dst;
+}
+
+}  // namespace
+
+LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
+    if (slopes.channels != 2 || slopes.empty())
+        throw Error("", "build_lean_map needs a non-empty 2-channel slope image");
+    const int w = slopes.width, h = slopes.height;
+    const float inv_s =
+        options.bake_roughness_shininess > 0.0f ? 1.0f / options.bake_roughness_shininess : 0.0f;
+
+    // Top level: n = normalize(B, 1), M = (Bx^2, By^2, Bx By) (+1/s on the diagonal, eq. 6).
+    std::vector<Moments> top(slopes.texel_count());
+    parallel_for_rows(h, options.threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y) {
+            for (int x = 0; x < w; ++x) {
+                const float bx = slopes.at(x, y, 0), by = slopes.at(x, y, 1);
+                const float inv_len = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+                top[std::size_t(y) * std::size_t(w) + std::size_t(x)] = {
+                    bx * inv_len, by * inv_len, inv_len, bx,
+                    by,           bx * bx + inv_s, by * by + inv_s, bx * by};
+            }
+        }
+    });
+
+    LeanMap map;
+    map.roughness_baked = inv_s > 0.0f;
+    map.baked_shininess = map.roughness_baked ? options.bake_roughness_shininess : 0.0f;
+    map.source_convention = options.convention;
+
+    // sc (LEAN §5): the smallest value with |B| <= sc and M.xx, M.yy <= sc^2 over the top level,
+    // so every packed channel stays in range. Floor avoids a zero scale for a flat map.
+    double max_b = 0.0, max_m = 0.0;
+    for (const Moments& t : top) {
+        max_b = std::max({max_b, double(std::abs(t[3])), double(std::abs(t[4]))});
+        max_m = std::max({max_m, double(t[5]), double(t[6])});
+    }
+    map.scale = float(std::max({max_b, std::sqrt(max_m), 1e-4}));
+    // Round sc up so that sc * sc >= max_m and sc >= max_b hold in float arithmetic too.
+    while (double(map.scale) * double(map.scale) < max_m || double(map.scale) < max_b)
+        map.scale = std::nextafter(map.scale, std::numeric_limits<float>::infinity());
+
+    int lw = w, lh = h;
+    std::vector<Moments> current = std::move(top);
+    const int levels = mip_level_count(w, h);
+    map.levels.reserve(std::size_t(levels));
+    for (int level = 0; level < levels; ++level) {
+        if (level > 0) {
+            const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
+            current = reduce(current, lw, lh, nw, nh, options.threads);
+            lw = nw;
+            lh = nh;
+        }
+        map.levels.push_back(from_moments(lw, lh, current));
+    }
+    return map;
+}
+
+namespace {
+
+void store_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8: {
+            const float q = std::round(std::clamp(value, 0.0f, 1.0f) * 255.0f);
+            texel[channel] = std::uint8_t(q);
+            break;
+        }
+        case Storage::Unorm16: {
+            const auto q = std::uint16_t(std::round(std::clamp(value, 0.0f, 1.0f) * 65535.0f));
+            texel[2 * channel] = std::uint8_t(q & 0xFF);
+            texel[2 * channel + 1] = std::uint8_t(q >> 8);
+            break;
+        }
+        case Storage::Float16: {
+            const std::uint16_t q = glm::packHalf1x16(value);
+            texel[2 * channel] = std::uint8_t(q & 0xFF);
+            texel[2 * channel + 1] = std::uint8_t(q >> 8);
+            break;
+        }
+        case Storage::Float32: std::memcpy(texel + 4 * channel, &value, 4); break;
+    }
+}
+
+float load_channel(const std::uint8_t* texel, int channel, Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8: return float(texel[channel]) / 255.0f;
+        case Storage::Unorm16:
+            return float(std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8))) /
+                   65535.0f;
+        case Storage::Float16:
+            return glm::unpackHalf1x16(
+                std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8)));
+        case Storage::Float32: {
+            float v;
+            std::memcpy(&v, texel + 4 * channel, 4);
+            return v;
+        }
+    }
+    return 0.0f;
+}
+
+}  // namespace
+
+PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator) {
+    PackedLeanMap packed;
+    packed.storage = storage;
+    packed.scale = map.scale;
+    packed.roughness_baked = map.roughness_baked;
+    packed.baked_shininess = map.baked_shininess;
+    packed.source_convention = map.source_convention;
+    packed.generator = generator;
+    const int bpt = bytes_per_texel(storage);
+    const float sc = map.scale, sc2 = map.scale * map.scale;
+    for (const MomentLevel& level : map.levels) {
+        PackedLevel out;
+        out.width = level.width;
+        out.height = level.height;
+        const std::size_t texels = level.normal.size();
+        out.lean1.resize(texels * std::size_t(bpt));
+        out.lean2.resize(texels * std::size_t(bpt));
+        parallel_for_rows(level.height, 0, [&](int first, int end) {
+            for (std::size_t i = std::size_t(first) * std::size_t(level.width);
+                 i < std::size_t(end) * std::size_t(level.width); ++i) {
+                const glm::vec3 n = level.normal[i];
+                const glm::vec2 b = level.mean[i];
+                const glm::vec3 m = level.second[i];
+                // SPEC §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
+                //          lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
+                const float l1[4] = {0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f,
+                                     0.5f * m.z / sc2 + 0.5f};
+                const float l2[4] = {0.5f * b.x / sc + 0.5f, 0.5f * b.y / sc + 0.5f, m.x / sc2,
+                                     m.y / sc2};
+                std::uint8_t* t1 = &out.lean1[i * std::size_t(bpt)];
+                std::uint8_t* t2 = &out.lean2[i * std::size_t(bpt)];
+                for (int c = 0; c < 4; ++c) {
+                    store_channel(t1, c, l1[c], storage);
+                    store_channel(t2, c, l2[c], storage);
+                }
+            }
+        });
+        packed.levels.push_back(std::move(out));
+    }
+    return packed;
+}
+
+glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int layer, int x, int y) {
+    const PackedLevel& l = map.levels.at(std::size_t(level));
+    const auto& bytes = layer == 0 ? l.lean1 : l.lean2;
+    const int bpt = bytes_per_texel(map.storage);
+    const std::uint8_t* t =
+        &bytes.at((std::size_t(y) * std::size_t(l.width) + std::size_t(x)) * std::size_t(bpt));
+    return {load_channel(t, 0, map.storage), load_channel(t, 1, map.storage),
+            load_channel(t, 2, map.storage), load_channel(t, 3, map.storage)};
+}
+
+LeanMap unpack_lean_map(const PackedLeanMap& packed) {
+    LeanMap map;
+    map.scale = packed.scale;
+    map.roughness_baked = packed.roughness_baked;
+    map.baked_shininess = packed.baked_shininess;
+    map.source_convention = packed.source_convention;
+    for (std::size_t li = 0; li < packed.levels.size(); ++li) {
+        const PackedLevel& pl = packed.levels[li];
+        MomentLevel level;
+        level.width = pl.width;
+        level.height = pl.height;
+        const std::size_t texels = std::size_t(pl.width) * std::size_t(pl.height);
+        level.normal.resize(texels);
+        level.mean.resize(texels);
+        level.second.resize(texels);
+        for (int y = 0; y < pl.height; ++y) {
+            for (int x = 0; x < pl.width; ++x) {
+                const std::size_t i = std::size_t(y) * std::size_t(pl.width) + std::size_t(x);
+                const auto m = shading::lf_unpack(fetch_packed_texel(packed, int(li), 0, x, y),
+                                                  fetch_packed_texel(packed, int(li), 1, x, y),
+                                                  packed.scale);
+                level.normal[i] = m.normal;
+                level.mean[i] = m.mean;
+                level.second[i] = m.second;
+            }
+        }
+        map.levels.push_back(std::move(level));
+    }
+    return map;
+}
+
+LeanMapSummary summarize(const LeanMap& map) {
+    LeanMapSummary s;
+    if (map.levels.empty()) return s;
+    const MomentLevel& top = map.levels.front();
+    s.width = top.width;
+    s.height = top.height;
+    s.levels = int(map.levels.size());
+    s.scale = map.scale;
+    double sum = 0.0;
+    for (const glm::vec2& b : top.mean) {
+        const double len = std::hypot(double(b.x), double(b.y));
+        sum += len;
+        s.max_slope = std::max(s.max_slope, float(len));
+    }
+    s.mean_slope = float(sum / double(top.mean.size()));
+    const MomentLevel& last = map.levels.back();
+    const glm::vec2 b = last.mean[0];
+    const glm::vec3 m = last.second[0];
+    s.coarsest_covariance = shading::lf_covariance(b, m, 0.0f);
+    const double a = s.coarsest_covariance.x, d = s.coarsest_covariance.y,
+                 c = s.coarsest_covariance.z;
+    const double mid = 0.5 * (a + d), rad = std::sqrt(0.25 * (a - d) * (a - d) + c * c);
+    const double lmax = mid + rad, lmin = mid - rad;
+    s.coarsest_anisotropy = lmin > 1e-12 ? float(std::sqrt(lmax / lmin))
+                                         : std::numeric_limits<float>::infinity();
+    return s;
+}
+
+}  // namespace leanfade

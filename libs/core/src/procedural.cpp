@@ -1,0 +1,197 @@
+#include "leanfade/core/procedural.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "leanfade/core/error.hpp"
+
+namespace leanfade {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// SplitMix64: a tiny, portable generator (std distributions are implementation-defined, so
+// they would break determinism across standard libraries).
+class Rng {
+public:
+    explicit Rng(std::uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
+    std::uint64_t next() {
+        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
+    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+private:
+    std::uint64_t state_;
+};
+
+// Shortest signed distance on a ring of length `period`.
+double wrapped_delta(double a, double b, double period) {
+    double d = a - b;
+    d -= period * std::round(d / period);
+    return d;
+}
+
+Image make_bumps(int size, Rng& rng) {
+    // Round bumps with a C1 profile H (1 - (r/R)^2)^2, placed at random, tileable.
+    Image img(size, size, 1);
+    struct Bump { double x, y, radius, height; };
+    std::vector<Bump> bumps;
+    const int count = 48;
+    for (int i = 0; i < count; ++i) {
+        const double radius = size * rng.uniform(0.035, 0.075);
+        bumps.push_back({rng.uniform(0, size), rng.uniform(0, size), radius,
+                         radius * rng.uniform(0.25, 0.45)});
+    }
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            double h = 0.0;
+            for (const Bump& b : bumps) {
+                const double dx = wrapped_delta(x + 0.5, b.x, size);
+                const double dy = wrapped_delta(y + 0.5, b.y, size);
+                const double q = (dx * dx + dy * dy) / (b.radius * b.radius);
+                if (q < 1.0) h += b.height * (1.0 - q) * (1.0 - q);
+            }
+            img.at(x, y) = float(h);
+        }
+    }
+    return img;
+}
+
+Image make_ridges(int size) {
+    const RidgeParameters r = ridge_parameters(size);
+    Image img(size, size, 1);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            img.at(x, y) = float(r.amplitude * std::sin(kTwoPi * x / r.wavelength));
+    return img;
+}
+
+Image make_checker(int size) {
+    // Raised checker grid: smooth square waves in x and y multiplied; 8 cells per side.
+    const double cell = size / 8.0;
+    const double height = cell / 6.0;
+    const double sharpness = 3.0;
+    Image img(size, size, 1);
+    auto square = [&](double t) {
+        return std::clamp(sharpness * std::sin(std::numbers::pi * t / cell), -1.0, 1.0);
+    };
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            img.at(x, y) = float(0.5 * height * (1.0 + square(x + 0.5) * square(y + 0.5)));
+    return img;
+}
+
+// Tileable value-gradient noise on a lattice of `period` cells.
+class PeriodicNoise {
+public:
+    PeriodicNoise(int period, Rng& rng) : period_(period), gradients_(std::size_t(period * period)) {
+        for (auto& g : gradients_) {
+            const double a = rng.uniform(0, kTwoPi);
+            g = {std::cos(a), std::sin(a)};
+        }
+    }
+    // x, y in lattice cells; result roughly in [-0.7, 0.7].
+    double operator()(double x, double y) const {
+        const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+        const double fx = x - x0, fy = y - y0;
+        auto dot_grad = [&](int ix, int iy, double dx, double dy) {
+            const auto& g = gradients_[std::size_t(wrap(iy) * period_ + wrap(ix))];
+            return g[0] * dx + g[1] * dy;
+        };
+        auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+        const double u = fade(fx), v = fade(fy);
+        const double a = dot_grad(x0, y0, fx, fy), b = dot_grad(x0 + 1, y0, fx - 1, fy);
+        const double c = dot_grad(x0, y0 + 1, fx, fy - 1), d = dot_grad(x0 + 1, y0 + 1, fx - 1, fy - 1);
+        return (a + (b - a) * u) + ((c + (d - c) * u) - (a + (b - a) * u)) * v;
+    }
+
+private:
+    int wrap(int i) const { return ((i % period_) + period_) % period_; }
+    int period_;
+    std::vector<std::array<double, 2>> gradients_;
+};
+
+Image make_noise(int size, Rng& rng) {
+    // fBm: 5 octaves from 4 cells per side, amplitude proportional to the wavelength so that every
+    // octave contributes a similar slope.
+    Image img(size, size, 1);
+    std::vector<PeriodicNoise> octaves;
+    int cells = 4;
+    for (int o = 0; o < 5 && cells <= size / 2; ++o, cells *= 2) octaves.emplace_back(cells, rng);
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            double h = 0.0;
+            int c = 4;
+            for (const auto& n : octaves) {
+                const double wavelength = double(size) / c;
+                h += 0.12 * wavelength * n((x + 0.5) / wavelength, (y + 0.5) / wavelength);
+                c *= 2;
+            }
+            img.at(x, y) = float(h);
+        }
+    }
+    return img;
+}
+
+Image make_waves(int size, Rng& rng) {
+    // Directional waves around one wind direction; integer wave vectors keep it tileable.
+    struct Wave { int kx, ky; double amplitude, phase; };
+    std::vector<Wave> waves;
+    const double wind = rng.uniform(0, kTwoPi);
+    for (int i = 0; i < 12; ++i) {
+        const double angle = wind + rng.uniform(-0.6, 0.6);
+        const double cycles = rng.uniform(3, 24);
+        const int kx = int(std::lround(cycles * std::cos(angle)));
+        const int ky = int(std::lround(cycles * std::sin(angle)));
+        if (kx == 0 && ky == 0) continue;
+        const double wavelength = size / std::hypot(double(kx), double(ky));
+        waves.push_back({kx, ky, 0.025 * wavelength, rng.uniform(0, kTwoPi)});
+    }
+    Image img(size, size, 1);
+    for (int y = 0; y < size; ++y) {
+        for (int x = 0; x < size; ++x) {
+            double h = 0.0;
+            for (const Wave& w : waves)
+                h += w.amplitude * std::sin(kTwoPi * (w.kx * x + w.ky * y) / size + w.phase);
+            img.at(x, y) = float(h);
+        }
+    }
+    return img;
+}
+
+}  // namespace
+
+const std::vector<std::string>& builtin_bump_names() {
+    static const std::vector<std::string> names = {"bumps", "ridges", "checker", "noise", "waves"};
+    return names;
+}
+
+RidgeParameters ridge_parameters(int size) {
+    const float wavelength = float(size) / std::max(1, std::min(16, size / 8));
+    // Maximum slope A * 2 pi / lambda = 0.5.
+    return {0.5f * wavelength / float(kTwoPi), wavelength};
+}
+
+Image make_builtin_height(const std::string& name, int size, std::uint32_t seed) {
+    if (size < 4 || size > kDefaultMaxImageDimension)
+        throw Error("--builtin " + name, "size " + std::to_string(size) +
+                                             " outside [4, " +
+                                             std::to_string(kDefaultMaxImageDimension) + "]");
+    Rng rng(seed);
+    if (name == "bumps") return make_bumps(size, rng);
+    if (name == "ridges") return make_ridges(size);
+    if (name == "checker") return make_checker(size);
+    if (name == "noise") return make_noise(size, rng);
+    if (name == "waves") return make_waves(size, rng);
+    std::string valid;
+    for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
+    throw Error("--builtin " + name, "unknown bump set (valid: " + valid + ")");
+}
+
+}  // namespace leanfade

@@ -1,0 +1,102 @@
+// From bumps to projected slopes (SPEC §2).
+#include <cmath>
+#include <string>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/parallel.hpp"
+
+namespace leanfade {
+namespace {
+
+int wrap_index(int i, int n, Wrap wrap) {
+    if (wrap == Wrap::Clamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    i %= n;
+    return i < 0 ? i + n : i;
+}
+
+std::string texel_name(int x, int y) {
+    return "texel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
+
+void check_size(const Image& image, const std::string& source_name) {
+    if (image.width <= 0 || image.height <= 0)
+        throw Error(source_name, "image has zero size");
+    if (image.channels < 1 || image.channels > 4)
+        throw Error(source_name, "unsupported channel count " + std::to_string(image.channels));
+}
+
+}  // namespace
+
+SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
+                               const std::string& source_name) {
+    check_size(height, source_name);
+    if (!std::isfinite(options.strength))
+        throw Error(source_name, "strength is not a finite number");
+    const int w = height.width, h = height.height;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (!std::isfinite(height.at(x, y)))
+                throw Error(source_name, "NaN or Inf height at " + texel_name(x, y));
+
+    SlopeResult result{Image(w, h, 2), 0};
+    // Sobel / 8 gives the derivative per texel spacing. Rows run top to bottom, so +v (up) is
+    // towards row y - 1. b~ = (-strength df/du, -strength df/dv) (SPEC §2).
+    parallel_for_rows(h, options.threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y) {
+            const int up = wrap_index(y - 1, h, options.wrap);
+            const int down = wrap_index(y + 1, h, options.wrap);
+            for (int x = 0; x < w; ++x) {
+                const int left = wrap_index(x - 1, w, options.wrap);
+                const int right = wrap_index(x + 1, w, options.wrap);
+                auto f = [&](int xx, int yy) { return double(height.at(xx, yy)); };
+                const double dfdu = ((f(right, up) + 2 * f(right, y) + f(right, down)) -
+                                     (f(left, up) + 2 * f(left, y) + f(left, down))) / 8.0;
+                const double dfdv = ((f(left, up) + 2 * f(x, up) + f(right, up)) -
+                                     (f(left, down) + 2 * f(x, down) + f(right, down))) / 8.0;
+                result.slopes.at(x, y, 0) = float(-options.strength * dfdu);
+                result.slopes.at(x, y, 1) = float(-options.strength * dfdv);
+            }
+        }
+    });
+    return result;
+}
+
+SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
+                                const std::string& source_name) {
+    check_size(normals, source_name);
+    if (normals.channels < 3)
+        throw Error(source_name, "a normal map needs 3 or 4 channels, this image has " +
+                                     std::to_string(normals.channels));
+    const int w = normals.width, h = normals.height;
+    SlopeResult result{Image(w, h, 2), 0};
+    const float green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
+    // Validate serially first so the error names the first bad texel, deterministically.
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(normals.at(x, y, c)))
+                    throw Error(source_name, "NaN or Inf normal at " + texel_name(x, y));
+            const float z = 2.0f * normals.at(x, y, 2) - 1.0f;
+            if (z <= -kNormalZRejectEpsilon)
+                throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) +
+                                             " (z = " + std::to_string(z) +
+                                             "): not a tangent-space normal map");
+            if (z < kMinNormalZ) ++result.clamped_texels;
+        }
+    }
+    parallel_for_rows(h, options.threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y) {
+            for (int x = 0; x < w; ++x) {
+                const float nx = 2.0f * normals.at(x, y, 0) - 1.0f;
+                const float ny = green_sign * (2.0f * normals.at(x, y, 1) - 1.0f);
+                const float nz = std::max(2.0f * normals.at(x, y, 2) - 1.0f, kMinNormalZ);
+                result.slopes.at(x, y, 0) = nx / nz;  // B = n.xy / n.z (SPEC §2)
+                result.slopes.at(x, y, 1) = ny / nz;
+            }
+        }
+    });
+    return result;
+}
+
+}  // namespace leanfade

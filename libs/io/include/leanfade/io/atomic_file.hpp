@@ -1,0 +1,49 @@
+#pragma once
+// All-or-nothing file output. Every leanfade writer goes through AtomicFile, so a reader never sees
+// a half-written file and a failed write leaves the previous file (or no file) in place.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace leanfade::io {
+
+// Writes to a temporary file `<path>.tmp-<pid>-<counter>` in the target's folder; commit() flushes
+// it to disk (fsync), closes it and renames it over `path`, which atomically replaces any existing
+// file. If commit() is never reached (an exception, an early return) the destructor removes the
+// temporary. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
+class AtomicFile {
+public:
+    // Creates the temporary file (mode 0666 minus the umask). Throws if it cannot be created, for
+    // example when the folder does not exist or is not writable.
+    explicit AtomicFile(std::string path);
+    ~AtomicFile();
+
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    // Appends bytes to the temporary file. Throws on a write error (disk full, ...).
+    void write(const void* data, std::size_t size);
+    void write(const std::vector<std::uint8_t>& bytes) { write(bytes.data(), bytes.size()); }
+
+    // fsync + close + rename over the target, then fsync of the folder. Throws on failure (the
+    // temporary is then removed by the destructor). Calling write() or commit() afterwards throws.
+    void commit();
+
+    const std::string& path() const noexcept { return path_; }
+    const std::string& temporary_path() const noexcept { return temporary_path_; }
+    bool committed() const noexcept { return committed_; }
+
+private:
+    std::string path_;
+    std::string temporary_path_;
+    int descriptor_ = -1;
+    bool committed_ = false;
+};
+
+// Throws leanfade::Error(output, "is the same file as the input <input>") when both paths exist and
+// name the same file (hard links, symbolic links and different spellings included). Call it before
+// writing an output derived from an input. Does nothing when either path does not exist.
+void ensure_not_same_file(const std::string& output, const std::string& input);
+
+}  // namespace leanfade::io

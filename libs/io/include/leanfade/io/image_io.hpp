@@ -1,0 +1,60 @@
+#pragma once
+// Image files: PNG, OpenEXR and PFM in, PNG / PFM / OpenEXR out.
+//
+// Conventions for every function here:
+// - Rows are top row first in memory (row 0 = the top of the picture), as in PNG and EXR files;
+//   PFM's bottom-first rows are reversed on read and on write.
+// - No colour-space conversion anywhere: values are returned and written as stored. PNG samples
+//   map linearly to [0,1] (v / 255 or v / 65535) with no sRGB decode, because normal and height
+//   maps are data; a caller that wants sRGB output encodes before write_png.
+// - Channels are interleaved (1 = gray, 2 = gray + alpha, 3 = RGB, 4 = RGBA).
+// - Every failure throws leanfade::Error(file, cause); nothing is printed, nothing exits.
+// - Writers go through AtomicFile: the output appears complete or not at all, and an existing
+//   file is replaced atomically.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "leanfade/core/image.hpp"
+
+namespace leanfade::io {
+
+struct ReadOptions {
+    // Largest accepted width or height, checked on the header before any pixel memory is
+    // allocated (decompression-bomb guard).
+    int max_dimension = kDefaultMaxImageDimension;
+};
+
+// Reads a PNG, OpenEXR or PFM image, recognised by its magic bytes (never by its extension).
+// - PNG: 8 or 16 bits (1/2/4-bit gray expanded to 8), gray, gray + alpha, RGB, RGBA, palette
+//   (expanded to RGB, or RGBA with a tRNS chunk); values in [0,1] as stored (no gamma or sRGB).
+// - OpenEXR: scan-line or tiled (level 0), half / float / uint channels, 1-4 channels (R, G, B, A
+//   in that order, Y, or Y + A; more channels only if R, G, B, A select 1-4 of them); values as
+//   stored (linear), NaN or infinity refused.
+// - PFM: "PF" (RGB) or "Pf" (gray), either endianness; values as stored, NaN or infinity refused.
+// The input file is opened read-only and never modified.
+Image read_image(const std::string& path, const ReadOptions& options = {});
+
+// Writes an 8- or 16-bit PNG of 1-4 channels. Values are clamped to [0,1] and quantised with
+// rounding (v * 255 or v * 65535); they are written as-is, with no colour-space conversion. NaN
+// is refused.
+void write_png(const std::string& path, const Image& image, int bits);
+
+// Writes a little-endian PFM of linear float values: 1 channel -> "Pf"; 3 channels -> "PF";
+// 2 channels -> "PF" with blue 0; 4 channels -> "PF", alpha dropped. NaN/infinity are refused.
+void write_pfm(const std::string& path, const Image& image);
+
+// Writes a 32-bit float OpenEXR (ZIP compressed) of linear values: 1 channel "Y", 2 channels
+// "Y" + "A", 3 channels "R", "G", "B", 4 channels "R", "G", "B", "A". NaN/infinity are refused.
+void write_exr(const std::string& path, const Image& image);
+
+// Returns a copy with the rows in reverse order (top-first <-> bottom-first, e.g. for a
+// glTexImage2D upload, whose first row is the bottom, v = 0).
+Image flip(const Image& image);
+
+// Reverses, in place, the order of the rows of a tightly packed buffer of `row_bytes` per row
+// (e.g. one layer of a PackedLevel, width * bytes_per_texel bytes per row).
+void flip_rows(std::vector<std::uint8_t>& bytes, std::size_t row_bytes);
+
+}  // namespace leanfade::io

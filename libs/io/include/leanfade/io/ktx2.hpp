@@ -1,0 +1,120 @@
+#pragma once
+// The LEAN map container: a Khronos KTX 2.0 file holding a 2D array texture of two layers
+// (layer 0 = lean1, layer 1 = lean2, SPEC §3) with its MIP chain. See docs/ktx2.md.
+//
+// - vkFormat from the storage: Unorm8 -> VK_FORMAT_R8G8B8A8_UNORM (37), Unorm16 ->
+//   R16G16B16A16_UNORM (91), Float16 -> R16G16B16A16_SFLOAT (97), Float32 -> R32G32B32A32_SFLOAT
+//   (109). Values are data (transfer function LINEAR, no sRGB), little-endian.
+// - Rows are top row first (KTXorientation "rd"), exactly as in PackedLevel.
+// - Level index: level 0 (the largest) first; level data in the file from the smallest level to
+//   the largest, each level's layers back to back, each level aligned to lcm(texel size, 4).
+// - Key/value data: KTXorientation, KTXwriter and the LEANFADE* keys (scale, roughness baking,
+//   normal convention, layout), sorted by key.
+// Every failure throws leanfade::Error(file, cause). write_ktx2 writes atomically (AtomicFile).
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/image_io.hpp"
+
+namespace leanfade::io {
+
+inline constexpr std::uint32_t kVkFormatR8G8B8A8Unorm = 37;
+inline constexpr std::uint32_t kVkFormatR16G16B16A16Unorm = 91;
+inline constexpr std::uint32_t kVkFormatR16G16B16A16Sfloat = 97;
+inline constexpr std::uint32_t kVkFormatR32G32B32A32Sfloat = 109;
+
+// The value of the LEANFADElayout key this version writes and accepts.
+inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
+
+// vkFormat of a storage, and its Vulkan name ("VK_FORMAT_R16G16B16A16_UNORM").
+std::uint32_t vk_format_of(Storage storage);
+const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
+
+// Writes `map` (1 to the full chain of levels, sizes halving with floor down to 1x1; both layers
+// of every level width * height * bytes_per_texel(storage) bytes, rows top first). Throws on an
+// inconsistent map (sizes, chain, byte counts, scale not finite and > 0, shininess not finite and
+// >= 0). The generator string becomes KTXwriter ("leanfade <version>" when empty).
+void write_ktx2(const std::string& path, const PackedLeanMap& map);
+
+// Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
+// Validates the identifier, the header (one of our four formats and its typeSize, width and
+// height in [1, max_dimension], depth 0, layerCount 2, faceCount 1, levelCount in [1, full chain],
+// no supercompression), that every offset + length lies inside the file (overflow-safe) and that
+// level data is aligned and exactly sized, the data format descriptor, and the LEANFADE keys.
+// Sizes are checked before any level memory is allocated.
+PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {});
+
+struct Ktx2Sample {
+    std::uint32_t bit_offset = 0;
+    std::uint32_t bit_length = 0;    // number of bits (the file stores bit_length - 1)
+    std::uint32_t channel_id = 0;    // RGBSDA: 0 R, 1 G, 2 B, 15 A
+    std::uint32_t qualifiers = 0;    // 0x8 float, 0x4 signed, 0x2 exponent, 0x1 linear
+    std::uint32_t sample_lower = 0;  // raw 32-bit values (IEEE bits for float formats)
+    std::uint32_t sample_upper = 0;
+};
+
+// The Basic Data Format Descriptor block (the only one leanfade writes or reads).
+struct Ktx2DataFormat {
+    std::uint32_t total_size = 0;  // dfdTotalSize
+    std::uint32_t vendor_id = 0;
+    std::uint32_t descriptor_type = 0;
+    std::uint32_t version_number = 0;
+    std::uint32_t descriptor_block_size = 0;
+    std::uint32_t color_model = 0;  // 1 = RGBSDA
+    std::uint32_t color_primaries = 0;  // 1 = BT709
+    std::uint32_t transfer_function = 0;  // 1 = LINEAR, 2 = sRGB
+    std::uint32_t flags = 0;  // 1 = premultiplied alpha
+    std::uint32_t texel_block_dimensions[4] = {0, 0, 0, 0};  // stored minus 1
+    std::uint32_t bytes_plane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    std::vector<Ktx2Sample> samples;
+};
+
+struct Ktx2Level {
+    std::uint32_t width = 0;  // max(1, pixelWidth >> level)
+    std::uint32_t height = 0;
+    std::uint64_t byte_offset = 0;  // from the start of the file
+    std::uint64_t byte_length = 0;  // all layers of the level
+    std::uint64_t uncompressed_byte_length = 0;
+};
+
+// Everything in a KTX2 file but its texel data.
+struct Ktx2Info {
+    std::string path;
+    std::uint64_t file_size = 0;
+    std::uint32_t vk_format = 0;
+    std::uint32_t type_size = 0;
+    std::uint32_t pixel_width = 0;
+    std::uint32_t pixel_height = 0;
+    std::uint32_t pixel_depth = 0;
+    std::uint32_t layer_count = 0;
+    std::uint32_t face_count = 0;
+    std::uint32_t level_count = 0;
+    std::uint32_t supercompression_scheme = 0;
+    std::uint32_t dfd_byte_offset = 0;
+    std::uint32_t dfd_byte_length = 0;
+    std::uint32_t kvd_byte_offset = 0;
+    std::uint32_t kvd_byte_length = 0;
+    std::uint64_t sgd_byte_offset = 0;
+    std::uint64_t sgd_byte_length = 0;
+    std::vector<Ktx2Level> levels;  // level 0 (largest) first, as in the level index
+    Ktx2DataFormat data_format;
+    // Key/value pairs in file order; values as raw bytes with one trailing NUL removed.
+    std::vector<std::pair<std::string, std::string>> key_values;
+
+    // The value of `key`, or nullptr when absent.
+    const std::string* find(const std::string& key) const;
+};
+
+// Reads and structurally checks any KTX 2.0 file (identifier, header sizes, level index, DFD and
+// key/value data inside the file) without reading texel data and without the leanfade-specific
+// checks of read_ktx2, so that `leanfade info` can describe files from other writers.
+Ktx2Info inspect_ktx2(const std::string& path);
+
+// Multi-line human-readable description: header fields, data format, each level's size, offset
+// and length, and all key/values (non-printable bytes escaped as \xHH). Ends with a newline.
+std::string describe(const Ktx2Info& info);
+
+}  // namespace leanfade::io

@@ -1,0 +1,98 @@
+#include "input_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::io::detail {
+
+InputFile::InputFile(std::string path) : path_(std::move(path)) {
+    descriptor_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+    if (descriptor_ < 0) throw Error(path_, std::string("cannot open (") + std::strerror(errno) + ")");
+    struct stat status {};
+    if (::fstat(descriptor_, &status) != 0) {
+        const int error_number = errno;
+        ::close(descriptor_);
+        throw Error(path_, std::string("cannot stat (") + std::strerror(error_number) + ")");
+    }
+    if (S_ISDIR(status.st_mode)) {
+        ::close(descriptor_);
+        throw Error(path_, "is a directory");
+    }
+    size_ = std::uint64_t(status.st_size);
+    if (size_ == 0) {
+        ::close(descriptor_);
+        throw Error(path_, "empty file");
+    }
+}
+
+InputFile::~InputFile() {
+    if (descriptor_ >= 0) ::close(descriptor_);
+}
+
+void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t size,
+                        const std::string& truncated_cause) const {
+    if (offset > size_ || size > size_ - offset) throw Error(path_, truncated_cause);
+    auto* bytes = static_cast<unsigned char*>(destination);
+    while (size > 0) {
+        const ssize_t count = ::pread(descriptor_, bytes, size, off_t(offset));
+        if (count < 0) {
+            if (errno == EINTR) continue;
+            throw Error(path_, std::string("read error (") + std::strerror(errno) + ")");
+        }
+        if (count == 0) throw Error(path_, truncated_cause);  // shrank while reading
+        bytes += count;
+        offset += std::uint64_t(count);
+        size -= std::size_t(count);
+    }
+}
+
+std::vector<std::uint8_t> InputFile::read_all() const {
+    std::vector<std::uint8_t> bytes(std::size_t(size_));
+    read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
+    return bytes;
+}
+
+void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,
+                      int max_dimension) {
+    if (width <= 0 || height <= 0) {
+        throw Error(path, "image width or height is 0 (" + std::to_string(width) + "x" +
+                              std::to_string(height) + ")");
+    }
+    if (width > max_dimension || height > max_dimension) {
+        throw Error(path, "image size " + std::to_string(width) + "x" + std::to_string(height) +
+                              " exceeds the limit of " + std::to_string(max_dimension) +
+                              " texels per side");
+    }
+}
+
+void check_finite(const std::string& path, const Image& image) {
+    for (int y = 0; y < image.height; ++y) {
+        const float* row = image.row(y);
+        for (int i = 0; i < image.width * image.channels; ++i) {
+            if (std::isfinite(row[i])) continue;
+            const std::string where = "at texel (" + std::to_string(i / image.channels) + ", " +
+                                      std::to_string(y) + ")";
+            throw Error(path, (std::isnan(row[i]) ? "NaN " : "infinity ") + where);
+        }
+    }
+}
+
+void check_writable(const std::string& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0) throw Error(path, "cannot write an empty image");
+    if (image.channels < 1 || image.channels > 4) {
+        throw Error(path, "cannot write an image of " + std::to_string(image.channels) +
+                              " channels (1 to 4)");
+    }
+    if (image.pixels.size() != image.texel_count() * std::size_t(image.channels)) {
+        throw Error(path, "image pixel count does not match its size");
+    }
+}
+
+}  // namespace leanfade::io::detail

@@ -1,0 +1,75 @@
+#pragma once
+// Internal: read-only random access to an input file, and small helpers shared by the readers.
+// Every failure throws leanfade::Error(path, cause). Inputs are opened read-only and never modified.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "leanfade/core/image.hpp"
+
+namespace leanfade::io::detail {
+
+class InputFile {
+public:
+    // Throws "cannot open (<reason>)", "is a directory" or "empty file".
+    explicit InputFile(std::string path);
+    ~InputFile();
+    InputFile(const InputFile&) = delete;
+    InputFile& operator=(const InputFile&) = delete;
+
+    const std::string& path() const noexcept { return path_; }
+    std::uint64_t size() const noexcept { return size_; }
+
+    // Reads exactly `size` bytes at `offset`; throws `truncated_cause` when the file is shorter.
+    void read_at(std::uint64_t offset, void* destination, std::size_t size,
+                 const std::string& truncated_cause) const;
+    std::vector<std::uint8_t> read_all() const;
+
+private:
+    std::string path_;
+    int descriptor_ = -1;
+    std::uint64_t size_ = 0;
+};
+
+// Throws Error(path, ...) unless 1 <= width, height <= max_dimension. Call it on header values
+// before allocating any pixel memory (decompression-bomb guard).
+void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,
+                      int max_dimension);
+
+// Throws Error(path, "NaN at texel (x, y)") or "infinity at texel (x, y)" on the first
+// non-finite value (rows top first).
+void check_finite(const std::string& path, const Image& image);
+
+// Throws Error(path, ...) unless 1 <= image.channels <= 4 and the pixel count matches the size.
+void check_writable(const std::string& path, const Image& image);
+
+inline std::uint16_t load_u16_le(const std::uint8_t* bytes) {
+    return std::uint16_t(bytes[0] | (bytes[1] << 8));
+}
+inline std::uint32_t load_u32_le(const std::uint8_t* bytes) {
+    return std::uint32_t(bytes[0]) | (std::uint32_t(bytes[1]) << 8) |
+           (std::uint32_t(bytes[2]) << 16) | (std::uint32_t(bytes[3]) << 24);
+}
+inline std::uint64_t load_u64_le(const std::uint8_t* bytes) {
+    return std::uint64_t(load_u32_le(bytes)) | (std::uint64_t(load_u32_le(bytes + 4)) << 32);
+}
+inline void append_u32_le(std::vector<std::uint8_t>& out, std::uint32_t value) {
+    for (int shift = 0; shift < 32; shift += 8) out.push_back(std::uint8_t(value >> shift));
+}
+inline void append_u64_le(std::vector<std::uint8_t>& out, std::uint64_t value) {
+    for (int shift = 0; shift < 64; shift += 8) out.push_back(std::uint8_t(value >> shift));
+}
+inline float float_from_bits(std::uint32_t bits) {
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    return value;
+}
+inline std::uint32_t bits_from_float(float value) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    return bits;
+}
+
+}  // namespace leanfade::io::detail

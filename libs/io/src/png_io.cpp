@@ -1,0 +1,266 @@
+// PNG through libpng. libpng reports errors by calling an error function that must not return; we
+// longjmp back to a setjmp in small functions that own no C++ object with a destructor (so no
+// destructor is ever skipped), then turn the saved message into a leanfade::Error. No C++
+// exception ever crosses a libpng frame.
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "formats.hpp"
+#include "input_file.hpp"
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::io::detail {
+namespace {
+
+constexpr char kTruncatedMessage[] = "truncated PNG data";
+
+// Everything the libpng callbacks touch: plain data only.
+struct PngContext {
+    std::jmp_buf jump;
+    char message[256];
+    bool truncated;
+    // Reading: the file in memory.
+    const std::uint8_t* input;
+    std::size_t input_size;
+    std::size_t input_position;
+    // Writing: a malloc'd growing buffer, freed by the owner.
+    unsigned char* output;
+    std::size_t output_size;
+    std::size_t output_capacity;
+};
+
+void on_png_error(png_structp png, png_const_charp message) {
+    auto* context = static_cast<PngContext*>(png_get_error_ptr(png));
+    std::snprintf(context->message, sizeof context->message, "%s",
+                  message != nullptr ? message : "unknown libpng error");
+    std::longjmp(context->jump, 1);
+}
+
+void on_png_warning(png_structp, png_const_charp) {}  // never print
+
+void read_from_memory(png_structp png, png_bytep destination, png_size_t length) {
+    auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+    if (length > context->input_size - context->input_position) {
+        context->truncated = true;
+        png_error(png, kTruncatedMessage);
+    }
+    std::memcpy(destination, context->input + context->input_position, length);
+    context->input_position += length;
+}
+
+void write_to_memory(png_structp png, png_bytep source, png_size_t length) {
+    auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+    if (length > context->output_capacity - context->output_size) {
+        std::size_t capacity = std::max<std::size_t>(context->output_capacity * 2, 4096);
+        while (capacity - context->output_size < length) capacity *= 2;
+        void* grown = std::realloc(context->output, capacity);
+        if (grown == nullptr) png_error(png, "out of memory");
+        context->output = static_cast<unsigned char*>(grown);
+        context->output_capacity = capacity;
+    }
+    std::memcpy(context->output + context->output_size, source, length);
+    context->output_size += length;
+}
+
+void flush_nothing(png_structp) {}
+
+struct PngHeader {
+    png_uint_32 width;
+    png_uint_32 height;
+    int channels;
+    int bit_depth;
+    std::size_t row_bytes;
+};
+
+// Reads the chunks before the pixels and sets up the expansions. False after a libpng error.
+bool read_png_header(png_structp png, png_infop info, PngContext& context, PngHeader& header) {
+    if (setjmp(context.jump) != 0) return false;
+    png_read_info(png, info);
+    const int color_type = png_get_color_type(png, info);
+    const int bit_depth = png_get_bit_depth(png, info);
+    if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS) != 0) png_set_tRNS_to_alpha(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    header.width = png_get_image_width(png, info);
+    header.height = png_get_image_height(png, info);
+    header.channels = png_get_channels(png, info);
+    header.bit_depth = png_get_bit_depth(png, info);
+    header.row_bytes = png_get_rowbytes(png, info);
+    return true;
+}
+
+bool read_png_rows(png_structp png, png_infop info, PngContext& context, png_bytepp rows) {
+    if (setjmp(context.jump) != 0) return false;
+    png_read_image(png, rows);
+    png_read_end(png, info);
+    return true;
+}
+
+struct PngImageLayout {
+    png_uint_32 width;
+    png_uint_32 height;
+    int bit_depth;
+    int color_type;
+};
+
+bool write_png_rows(png_structp png, png_infop info, PngContext& context,
+                    const PngImageLayout& layout, png_bytepp rows) {
+    if (setjmp(context.jump) != 0) return false;
+    png_set_write_fn(png, &context, write_to_memory, flush_nothing);
+    png_set_IHDR(png, info, layout.width, layout.height, layout.bit_depth, layout.color_type,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    png_write_image(png, rows);
+    png_write_end(png, info);
+    return true;
+}
+
+class PngReadStruct {
+public:
+    explicit PngReadStruct(PngContext& context) {
+        png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error,
+                                      on_png_warning);
+        if (png_ != nullptr) info_ = png_create_info_struct(png_);
+    }
+    ~PngReadStruct() { png_destroy_read_struct(&png_, info_ != nullptr ? &info_ : nullptr, nullptr); }
+    PngReadStruct(const PngReadStruct&) = delete;
+    PngReadStruct& operator=(const PngReadStruct&) = delete;
+    bool valid() const { return png_ != nullptr && info_ != nullptr; }
+    png_structp png() const { return png_; }
+    png_infop info() const { return info_; }
+
+private:
+    png_structp png_ = nullptr;
+    png_infop info_ = nullptr;
+};
+
+class PngWriteStruct {
+public:
+    explicit PngWriteStruct(PngContext& context) : context_(context) {
+        png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error,
+                                       on_png_warning);
+        if (png_ != nullptr) info_ = png_create_info_struct(png_);
+    }
+    ~PngWriteStruct() {
+        png_destroy_write_struct(&png_, info_ != nullptr ? &info_ : nullptr);
+        std::free(context_.output);
+    }
+    PngWriteStruct(const PngWriteStruct&) = delete;
+    PngWriteStruct& operator=(const PngWriteStruct&) = delete;
+    bool valid() const { return png_ != nullptr && info_ != nullptr; }
+    png_structp png() const { return png_; }
+    png_infop info() const { return info_; }
+
+private:
+    PngContext& context_;
+    png_structp png_ = nullptr;
+    png_infop info_ = nullptr;
+};
+
+[[noreturn]] void throw_png_error(const std::string& path, const PngContext& context) {
+    if (context.truncated) throw Error(path, kTruncatedMessage);
+    throw Error(path, std::string("corrupt PNG data (") + context.message + ")");
+}
+
+}  // namespace
+
+Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                 const ReadOptions& options) {
+    PngContext context{};
+    context.input = bytes.data();
+    context.input_size = bytes.size();
+    PngReadStruct reader(context);
+    if (!reader.valid()) throw Error(path, "cannot initialise libpng");
+    png_set_read_fn(reader.png(), &context, read_from_memory);
+
+    PngHeader header{};
+    if (!read_png_header(reader.png(), reader.info(), context, header)) {
+        throw_png_error(path, context);
+    }
+    check_dimensions(path, header.width, header.height, options.max_dimension);
+    if (header.channels < 1 || header.channels > 4 ||
+        (header.bit_depth != 8 && header.bit_depth != 16)) {
+        throw Error(path, "unsupported PNG layout (" + std::to_string(header.channels) +
+                              " channels of " + std::to_string(header.bit_depth) + " bits)");
+    }
+
+    std::vector<std::uint8_t> samples(header.row_bytes * header.height);
+    std::vector<png_bytep> rows(header.height);
+    for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = samples.data() + y * header.row_bytes;
+    if (!read_png_rows(reader.png(), reader.info(), context, rows.data())) {
+        throw_png_error(path, context);
+    }
+
+    Image image(int(header.width), int(header.height), header.channels);
+    const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
+    for (png_uint_32 y = 0; y < header.height; ++y) {
+        const std::uint8_t* source = rows[y];
+        float* destination = image.row(int(y));
+        if (header.bit_depth == 8) {
+            for (std::size_t i = 0; i < values_per_row; ++i) destination[i] = source[i] / 255.0f;
+        } else {  // 16-bit samples are big-endian in PNG
+            for (std::size_t i = 0; i < values_per_row; ++i) {
+                const unsigned value = (unsigned(source[2 * i]) << 8) | source[2 * i + 1];
+                destination[i] = float(value) / 65535.0f;
+            }
+        }
+    }
+    return image;
+}
+
+std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits) {
+    if (bits != 8 && bits != 16) {
+        throw Error(path, "unsupported PNG bit depth " + std::to_string(bits) + " (8 or 16)");
+    }
+    check_writable(path, image);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        if (std::isnan(image.pixels[i])) {
+            const std::size_t texel = i / std::size_t(image.channels);
+            throw Error(path, "NaN at texel (" + std::to_string(texel % std::size_t(image.width)) +
+                                  ", " + std::to_string(texel / std::size_t(image.width)) + ")");
+        }
+    }
+
+    const std::size_t values_per_row = std::size_t(image.width) * std::size_t(image.channels);
+    const std::size_t row_bytes = values_per_row * std::size_t(bits / 8);
+    std::vector<std::uint8_t> samples(row_bytes * std::size_t(image.height));
+    std::vector<png_bytep> rows(std::size_t(image.height));
+    const float max_value = bits == 8 ? 255.0f : 65535.0f;
+    for (int y = 0; y < image.height; ++y) {
+        std::uint8_t* destination = samples.data() + std::size_t(y) * row_bytes;
+        rows[std::size_t(y)] = destination;
+        const float* source = image.row(y);
+        for (std::size_t i = 0; i < values_per_row; ++i) {
+            const auto value =
+                unsigned(std::lround(std::clamp(source[i], 0.0f, 1.0f) * max_value));
+            if (bits == 8) {
+                destination[i] = std::uint8_t(value);
+            } else {
+                destination[2 * i] = std::uint8_t(value >> 8);
+                destination[2 * i + 1] = std::uint8_t(value & 0xFF);
+            }
+        }
+    }
+
+    static constexpr int kColorTypes[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
+                                           PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA};
+    const PngImageLayout layout{png_uint_32(image.width), png_uint_32(image.height), bits,
+                                kColorTypes[image.channels - 1]};
+    PngContext context{};
+    PngWriteStruct writer(context);
+    if (!writer.valid()) throw Error(path, "cannot initialise libpng");
+    if (!write_png_rows(writer.png(), writer.info(), context, layout, rows.data())) {
+        throw Error(path, std::string("cannot encode PNG (") + context.message + ")");
+    }
+    return std::vector<std::uint8_t>(context.output, context.output + context.output_size);
+}
+
+}  // namespace leanfade::io::detail

@@ -1,0 +1,70 @@
+#pragma once
+// Triangle meshes of leanfade (no GL here; the renderer uploads these arrays directly).
+//
+// World convention for every mesh built by this library: right-handed, y up, object-space units
+// are arbitrary "world units", and each built-in object is centred on the origin (its bounding box
+// centre is (0, 0, 0), up to rounding).
+//
+// Tangent space (SPEC §1): T points along +u, the bitangent Bt along +v, N is the outward surface
+// normal; T is orthonormalised against N by Gram-Schmidt and the handedness is stored in T.w so
+// that Bt = T.w * cross(N, T.xyz). Texture coordinates follow the OpenGL convention (v up).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace leanfade::scene {
+
+// One vertex: 12 tightly packed floats (48 bytes), standard layout, uploaded as is.
+struct Vertex {
+    glm::vec3 position;  // object space, world units
+    glm::vec3 normal;    // object space, unit length, pointing out of the surface
+    glm::vec2 uv;        // texture coordinates (tiles of the bump texture; may exceed [0, 1])
+    glm::vec4 tangent;   // xyz: unit, orthogonal to normal, along +u; w = +-1 handedness so that
+                         // bitangent = w * cross(normal, tangent.xyz) points along +v
+};
+static_assert(std::is_standard_layout_v<Vertex>, "Vertex is uploaded to GL as raw floats");
+static_assert(sizeof(Vertex) == 12 * sizeof(float), "Vertex must be 12 tightly packed floats");
+
+// Axis-aligned bounding box in object space (world units).
+struct Bounds {
+    glm::vec3 min{0.0f};
+    glm::vec3 max{0.0f};
+
+    // Centre of the box, world units.
+    glm::vec3 center() const;
+    // Radius of a sphere about center() enclosing the box (half its diagonal), world units.
+    float radius() const;
+};
+
+// An indexed triangle list.
+struct Mesh {
+    std::string name;                    // "sphere", "teapot", the OBJ file's stem, ...
+    std::vector<Vertex> vertices;        // see Vertex for spaces and units
+    std::vector<std::uint32_t> indices;  // 3 per triangle, counter-clockwise front faces seen from
+                                         // outside (the side the normals point to)
+    Bounds bounds;                       // of all vertex positions; see compute_bounds()
+
+    // indices.size() / 3.
+    std::size_t triangle_count() const;
+};
+
+// Recomputes mesh.tangent for every vertex from positions, UVs and normals (unitless directions).
+// Per triangle, dP/du and dP/dv (object space) are solved from the UV differences; their unit
+// directions are accumulated per vertex weighted by triangle area, T is made orthogonal to the
+// vertex normal by Gram-Schmidt and normalised, and w = sign(dot(cross(N, T), accumulated dP/dv))
+// (+1 when undecided). Triangles with degenerate UVs (zero UV area) or zero area contribute
+// nothing; a vertex left without a usable direction gets T = cross(accumulated dP/dv, N) when
+// that exists, otherwise any unit vector orthogonal to N, with w = +1.
+// Throws leanfade::Error(mesh.name, cause) if an index is out of range or the index count is not
+// a multiple of 3. Vertex normals must be unit length (they are not modified).
+void generate_tangents(Mesh& mesh);
+
+// Sets mesh.bounds to the axis-aligned box of all vertex positions (object space, world units);
+// an empty mesh gets a zero box at the origin.
+void compute_bounds(Mesh& mesh);
+
+}  // namespace leanfade::scene

@@ -1,0 +1,22 @@
+#pragma once
+// Wavefront OBJ loading (tinyobjloader), into the conventions of mesh.hpp.
+#include <string>
+
+#include "leanfade/scene/mesh.hpp"
+
+namespace leanfade::scene {
+
+// Loads every face of every object in an OBJ file into one mesh named after the file's stem.
+// Positions are kept as stored (object space, the file's units; no re-centring or axis change).
+// Polygons are triangulated as fans; vertices are shared where position, normal and UV indices
+// all agree. Missing (or zero-length) normals are computed as the area-weighted average of the
+// normals of the triangles around each position index (smooth shading). Missing UVs use a box
+// projection: each triangle picks the axis its geometric normal is most aligned with (with sign)
+// and projects onto the other two, oriented so that (+u, +v, axis) is right-handed, in units of
+// the largest bounding-box extent (so the object spans about one tile). Tangents are always
+// computed by generate_tangents(); bounds by compute_bounds(). Materials are ignored.
+// Throws leanfade::Error(path, cause) with a one-line cause when the file cannot be read, does
+// not parse, has a non-numeric or non-finite coordinate, an index out of range, or no triangles.
+Mesh load_obj(const std::string& path);
+
+}  // namespace leanfade::scene

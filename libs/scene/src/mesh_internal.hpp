@@ -1,0 +1,41 @@
+#pragma once
+// Helpers shared by the scene library's sources (not installed, not part of the API).
+#include <functional>
+
+#include <glm/glm.hpp>
+
+#include "leanfade/scene/mesh.hpp"
+
+namespace leanfade::scene::detail {
+
+// Any unit vector orthogonal to the unit vector n (Duff et al. 2017, branchless basis).
+glm::vec3 any_orthonormal(const glm::vec3& n);
+
+// Drops vertices no triangle references and renumbers the indices (order of the rest kept).
+void remove_unused_vertices(Mesh& mesh);
+
+// Translates all positions so the bounding box is centred on the origin.
+void center_on_origin(Mesh& mesh);
+
+// generate_tangents() then compute_bounds(): the last step of every builder.
+void finish(Mesh& mesh);
+
+// Which edges of a parameter grid collapse to a single point (a pole).
+struct CollapsedEdges {
+    bool v0 = false;  // t = 0
+    bool v1 = false;  // t = 1
+    bool u0 = false;  // s = 0
+    bool u1 = false;  // s = 1
+};
+
+// Appends a (nu + 1) x (nv + 1) grid of vertices sampled at s = i / nu, t = j / nv (i along +u,
+// j along +v) and two triangles per cell, (i,j) (i+1,j) (i+1,j+1) and (i,j) (i+1,j+1) (i,j+1),
+// counter-clockwise in the (u, v) plane. Triangles with two corners on a collapsed edge are
+// dropped, so each cell next to a pole keeps one triangle with its own pole vertex; that pole
+// vertex is sampled at the middle of its cell along the edge (s or t shifted by half a cell) so
+// its UV and limit normal belong to its triangle. The unused corner copy of each collapsed edge
+// stays in the vertex array (see remove_unused_vertices()).
+void append_grid(Mesh& mesh, int nu, int nv, const CollapsedEdges& collapsed,
+                 const std::function<Vertex(double s, double t)>& vertex_at);
+
+}  // namespace leanfade::scene::detail

@@ -1,0 +1,155 @@
+// leanfade shading math, SPEC §4 — written once, compiled both as GLSL 4.50 (included by the
+// shaders) and as C++ with glm (libs/core/include/leanfade/core/shading.hpp, for the CPU reference
+// and the tests). Keep to the common subset: float literals with an f suffix, no in/out
+// parameters, structs built field by field, LF_FN before every function.
+//
+// All vectors are in tangent space (x = +u, y = +v, z = surface normal) unless named otherwise.
+// Radiance values are linear (not sRGB).
+#ifndef LEANFADE_LEAN_SHADING_GLSL
+#define LEANFADE_LEAN_SHADING_GLSL
+
+#ifndef LF_FN
+#define LF_FN
+#endif
+
+const float LF_PI = 3.14159265358979f;
+
+const int LF_FADE_DISTANCE_TANGENT_Z = 0;  // d = Vt.z, the eye's height above the tangent plane
+const int LF_FADE_DISTANCE_EYE = 1;        // d = length(Vt)
+
+const int LF_FOG_NONE = 0;
+const int LF_FOG_LINEAR = 1;
+const int LF_FOG_EXP = 2;
+const int LF_FOG_EXP2 = 3;
+
+// Shading parameters (SPEC §4). Colours are linear RGB.
+struct LfParams {
+    vec3 light_color;     // radiance scale of the light
+    vec3 ambient;         // Ka
+    vec3 kd;              // diffuse albedo Kd
+    vec3 ks;              // specular colour Ks
+    float shininess;      // Blinn-Phong exponent s (> 0)
+    float inv_s_shading;  // 1/s added to the covariance at shading time; 0 when baked (eq. 6)
+    float fresnel_bias;   // Fb
+    float fresnel_scale;  // Fs
+    float fade;           // Fade >= 0 (fading paper eq. 6)
+    float pmax;           // Pmax >= 1
+    float fade_exponent;  // p
+    int fade_distance;    // LF_FADE_DISTANCE_*
+};
+
+// Moments unpacked from the two LEAN textures (SPEC §3-4).
+struct LfMoments {
+    vec3 normal;  // filtered normal, not renormalised
+    vec2 mean;    // B
+    vec3 second;  // M = (Mxx, Myy, Mxy)
+};
+
+// Shading result split so that tests can compare diffuse and specular separately.
+struct LfShade {
+    vec3 diffuse;   // (Ka + Kd * NdotL) * light
+    vec3 specular;  // Ks * NdotL^sf * D * F * light
+};
+
+// SPEC §4 unpack: B = (2 lean2.rg - 1) sc, M = (lean2.b sc^2, lean2.a sc^2, (2 lean1.a - 1) sc^2).
+LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc) {
+    LfMoments m;
+    m.normal = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
+    m.mean = (2.0f * vec2(lean2.x, lean2.y) - vec2(1.0f)) * sc;
+    m.second = vec3(lean2.z * sc * sc, lean2.w * sc * sc, (2.0f * lean1.w - 1.0f) * sc * sc);
+    return m;
+}
+
+// Covariance (LEAN eq. 5 plus the base roughness 1/s of SPEC §2): (Sxx, Syy, Sxy).
+LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
+    return vec3(second.x - mean.x * mean.x + inv_s, second.y - mean.y * mean.y + inv_s,
+                second.z - mean.x * mean.y);
+}
+
+// LEAN lobe (LEAN eq. 1 with the authors' errata normalisation 1/(2 pi sqrt(det))), evaluated at
+// the half vector H (tangent space, unit). Units: 1/slope^2 (a density over projected slopes).
+LF_FN float lf_lean_lobe(vec3 half_vector, vec2 mean, vec3 sigma) {
+    float det = sigma.x * sigma.y - sigma.z * sigma.z;
+    if (det <= 0.0f || half_vector.z <= 0.0f) return 0.0f;
+    vec2 h = vec2(half_vector.x, half_vector.y) / half_vector.z - mean;
+    float e = (h.x * h.x * sigma.y + h.y * h.y * sigma.x - 2.0f * h.x * h.y * sigma.z) / det;
+    return exp(-0.5f * e) / (2.0f * LF_PI * sqrt(det));
+}
+
+// Normalised Blinn-Phong lobe of the baseline: s/(2 pi) max(0, nb.H)^s, so that at the finest
+// level it peaks where LEAN with Sigma = I/s peaks.
+LF_FN float lf_blinn_phong_lobe(vec3 bump_normal, vec3 half_vector, float s) {
+    float c = max(0.0f, dot(bump_normal, half_vector));
+    return s / (2.0f * LF_PI) * pow(c, s);
+}
+
+// Schlick-form Fresnel of the fading paper's listing: clamp(Fb + Fs (1 - n.V)^5, 0, 1).
+LF_FN float lf_fresnel(vec3 n, vec3 view_dir, float bias, float scale) {
+    float c = max(0.0f, 1.0f - dot(n, view_dir));
+    return clamp(bias + scale * pow(c, 5.0f), 0.0f, 1.0f);
+}
+
+// Distance measure of specular fading. view_unnormalised: tangent-space vector from the shaded
+// point to the eye, in world units (SPEC §1 Vt).
+LF_FN float lf_fade_distance(vec3 view_unnormalised, int mode) {
+    if (mode == LF_FADE_DISTANCE_EYE) return length(view_unnormalised);
+    return max(0.0f, view_unnormalised.z);
+}
+
+// Specular fading exponent (fading paper eq. 6-7): sf = clamp(1 + (d Fade)^p, 1, Pmax).
+LF_FN float lf_fade_factor(float distance, float fade, float exponent, float pmax) {
+    float x = max(0.0f, distance * fade);
+    return clamp(1.0f + pow(x, exponent), 1.0f, max(pmax, 1.0f));
+}
+
+// Shared tail of every technique: (Ka + Kd NdotL) + Ks NdotL^sf D F, times the light colour.
+LF_FN LfShade lf_combine(vec3 n, vec3 light_dir, vec3 view_dir, float lobe, float sf,
+                        LfParams p) {
+    float n_dot_l = clamp(dot(n, light_dir), 0.0f, 1.0f);
+    float fresnel = lf_fresnel(n, view_dir, p.fresnel_bias, p.fresnel_scale);
+    LfShade result;
+    result.diffuse = (p.ambient + p.kd * n_dot_l) * p.light_color;
+    result.specular = p.ks * (pow(n_dot_l, sf) * lobe * fresnel) * p.light_color;
+    return result;
+}
+
+// Baseline Blinn-Phong bump mapping. encoded_normal: the filtered normal map texel (0.5 n + 0.5).
+// light_dir: unit tangent-space direction to the light; view_unnormalised: Vt.
+LF_FN LfShade lf_shade_blinn_phong(vec3 encoded_normal, vec3 light_dir, vec3 view_unnormalised,
+                                   LfParams p) {
+    vec3 nb = normalize(2.0f * encoded_normal - vec3(1.0f));
+    vec3 v = normalize(view_unnormalised);
+    vec3 h = normalize(light_dir + v);
+    return lf_combine(nb, light_dir, v, lf_blinn_phong_lobe(nb, h, p.shininess), 1.0f, p);
+}
+
+// LEAN (fade_enabled = false) and LEAN with specular fading (true). lean1/lean2: filtered texels.
+LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
+                            vec3 view_unnormalised, LfParams p, bool fade_enabled) {
+    LfMoments m = lf_unpack(lean1, lean2, sc);
+    vec3 sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
+    vec3 v = normalize(view_unnormalised);
+    vec3 h = normalize(light_dir + v);
+    float sf = 1.0f;
+    if (fade_enabled) {
+        sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
+                            p.fade_exponent, p.pmax);
+    }
+    return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), sf, p);
+}
+
+// Fog blend factor f (lecture 004): 1 = no fog. eye_depth in world units.
+LF_FN float lf_fog_factor(float eye_depth, int mode, float start, float end, float density) {
+    float f = 1.0f;
+    if (mode == LF_FOG_LINEAR) f = (end - eye_depth) / max(end - start, 1e-6f);
+    if (mode == LF_FOG_EXP) f = exp(-density * eye_depth);
+    if (mode == LF_FOG_EXP2) f = exp(-(density * eye_depth) * (density * eye_depth));
+    return clamp(f, 0.0f, 1.0f);
+}
+
+// C' = f C + (1 - f) C_fog.
+LF_FN vec3 lf_apply_fog(vec3 color, vec3 fog_color, float f) {
+    return f * color + (1.0f - f) * fog_color;
+}
+
+#endif  // LEANFADE_LEAN_SHADING_GLSL
