@@ -31,6 +31,7 @@ test: build
 bench: build
 	@mkdir -p out/bench
 	$(BUILD_DIR)/bench/leanfade_bench_bake --benchmark_out=out/bench/bake.json --benchmark_out_format=json
+	@echo "bake benchmark written to out/bench/bake.json"
 
 sanitize:
 	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DLEANFADE_SANITIZE=ON -DLEANFADE_BUILD_BENCH=OFF"

@@ -107,9 +107,13 @@ LF_FN LfShade lf_combine(vec3 n, vec3 light_dir, vec3 view_dir, float lobe, floa
                         LfParams p) {
     float n_dot_l = clamp(dot(n, light_dir), 0.0f, 1.0f);
     float fresnel = lf_fresnel(n, view_dir, p.fresnel_bias, p.fresnel_scale);
+    // NdotL^sf (fading paper eq. 7). sf == 1 (the baseline, LEAN, Fade = 0) takes NdotL itself:
+    // the same value, but exact, whereas a GPU pow(x, 1) = exp2(log2(x)) is not, so that Fade = 0
+    // renders bit-identically to LEAN.
+    float attenuation = (sf == 1.0f) ? n_dot_l : pow(n_dot_l, sf);
     LfShade result;
     result.diffuse = (p.ambient + p.kd * n_dot_l) * p.light_color;
-    result.specular = p.ks * (pow(n_dot_l, sf) * lobe * fresnel) * p.light_color;
+    result.specular = p.ks * (attenuation * lobe * fresnel) * p.light_color;
     return result;
 }
 

@@ -171,6 +171,20 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
     return map;
 }
 
+BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
+                         const std::string& source_name) {
+    BakeResult result;
+    result.source = source;
+    if (source == BakeSource::Auto)
+        result.source = input.channels >= 3 ? BakeSource::Normal : BakeSource::Height;
+    SlopeResult slopes = result.source == BakeSource::Normal
+                             ? slopes_from_normals(input, options, source_name)
+                             : slopes_from_height(input, options, source_name);
+    result.clamped_texels = slopes.clamped_texels;
+    result.map = build_lean_map(slopes.slopes, options);
+    return result;
+}
+
 namespace {
 
 void store_channel(std::uint8_t* texel, int channel, float value, Storage storage) {

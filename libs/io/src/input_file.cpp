@@ -54,7 +54,7 @@ void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t siz
 }
 
 std::vector<std::uint8_t> InputFile::read_all() const {
-    std::vector<std::uint8_t> bytes(std::size_t(size_));
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size_));
     read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
     return bytes;
 }

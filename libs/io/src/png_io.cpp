@@ -174,6 +174,17 @@ private:
 
 Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options) {
+    // The first chunk is IHDR (8-byte signature, 4-byte length, "IHDR", width, height, both
+    // big-endian): check the declared size before libpng allocates anything for it.
+    constexpr std::size_t kIhdrEnd = 24;
+    if (bytes.size() >= kIhdrEnd && std::memcmp(bytes.data() + 12, "IHDR", 4) == 0) {
+        const auto big_endian = [&](std::size_t offset) {
+            return (std::int64_t(bytes[offset]) << 24) | (std::int64_t(bytes[offset + 1]) << 16) |
+                   (std::int64_t(bytes[offset + 2]) << 8) | std::int64_t(bytes[offset + 3]);
+        };
+        check_dimensions(path, big_endian(16), big_endian(20), options.max_dimension);
+    }
+
     PngContext context{};
     context.input = bytes.data();
     context.input_size = bytes.size();

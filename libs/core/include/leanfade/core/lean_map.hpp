@@ -94,6 +94,17 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
 // odd sizes: every level's mean equals the top level's mean), then sc.
 LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 
+// Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
+// Auto: 1-2 channels are a height map (first channel), 3-4 channels a normal map.
+enum class BakeSource { Auto, Height, Normal };
+struct BakeResult {
+    LeanMap map;
+    BakeSource source = BakeSource::Height;  // what the input was taken as
+    std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
+};
+BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
+                         const std::string& source_name = "");
+
 // MIP chain sizes: floor halving down to 1x1, as OpenGL does.
 int mip_level_count(int width, int height);
 

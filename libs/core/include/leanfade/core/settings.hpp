@@ -1,0 +1,86 @@
+#pragma once
+// The one set of shading parameters of leanfade (SPEC §4), shared by the CLI (`render`, `view`,
+// `eval`), the presets and the viewer. GL-free.
+//
+// Units and spaces:
+// - Colours are linear RGB (not sRGB); radiance = (Ka + Kd NdotL + Specular) * light_color.
+// - The renderer scales every object to a bounding radius of 1 about its centre, so "world
+//   units" below are object bounding radii: fog distances and the Fade rate are in those units,
+//   and the same settings suit every scene.
+// - light_direction is in world space (y up, the default camera looks along -z), pointing from
+//   the surface toward the light; it need not be unit length (normalised at use).
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade {
+
+// Distance measure d of specular fading (SPEC §4).
+enum class FadeDistance {
+    TangentZ,  // d = Vt.z, the eye's height above the tangent plane (the paper's listing)
+    Eye,       // d = length(Vt), the distance to the eye
+};
+
+// Distance fog (lecture 004): C' = f C + (1 - f) C_fog.
+enum class FogMode { None, Linear, Exp, Exp2 };
+
+struct ShadingSettings {
+    // Light (one directional light).
+    glm::vec3 light_direction{-1.0f, 1.0f, 1.0f};  // world space, toward the light: upper-left-front
+    glm::vec3 light_color{1.0f};                   // linear RGB radiance scale
+
+    // Material (linear RGB).
+    glm::vec3 ambient{0.03f, 0.03f, 0.035f};  // Ka
+    glm::vec3 kd{0.50f, 0.22f, 0.07f};        // Kd: a warm terracotta
+    glm::vec3 ks{1.0f};                       // Ks: white
+    float shininess = 800.0f;                 // Blinn-Phong exponent s (> 0)
+
+    // Fresnel, Schlick form of the fading paper's listing: clamp(Fb + Fs (1 - n.V)^5, 0, 1).
+    float fresnel_bias = 0.06f;   // Fb
+    float fresnel_scale = 0.94f;  // Fs
+
+    // Specular fading (fading paper eq. 6-7): sf = clamp(1 + (d Fade)^p, 1, Pmax).
+    float fade = 0.1f;                // Fade >= 0, per world unit (bounding radius)
+    float pmax = 8.0f;                // Pmax >= 1
+    float fade_exponent = 2.0f;       // p > 0 (the paper's "optional" power of two)
+    FadeDistance fade_distance = FadeDistance::TangentZ;
+
+    // Fog; distances in world units (bounding radii) measured along the eye's view axis.
+    FogMode fog = FogMode::None;
+    glm::vec3 fog_color{0.5f, 0.55f, 0.6f};  // linear RGB
+    float fog_start = 5.0f;
+    float fog_end = 40.0f;
+    float fog_density = 0.05f;  // per world unit (exp, exp2)
+
+    // Bumps and texturing.
+    float bump_strength = 1.0f;  // height per texel spacing when baking a height map (SPEC §2)
+    float tiling = 6.0f;         // texture repeats per unit of the mesh's uv
+    float mip_bias = 0.0f;       // added to the texture LOD (negative = sharper)
+    int anisotropy = 1;          // maximum anisotropic filtering ratio (1 = trilinear only)
+    int msaa = 1;                // samples per pixel of the colour buffer (1 = off)
+};
+
+// Throws leanfade::Error(<flag name>, cause) naming the first out-of-range value: shininess > 0,
+// Fade >= 0, Pmax >= 1, p > 0, colours and Fresnel terms >= 0, finite values, fog_end > fog_start
+// for linear fog, density >= 0, bump strength > 0, tiling > 0, anisotropy in [1, 16], msaa in
+// {1, 2, 4, 8, 16}, a non-zero light direction. Flag names are those of `leanfade render`.
+void validate(const ShadingSettings& settings);
+
+// The shared header's parameters (SPEC §4). inv_s_shading = roughness_baked ? 0 : 1/s: a LEAN map
+// whose 1/s was baked into M (LEAN eq. 6) must not get it again at shading time.
+shading::LfParams to_lf_params(const ShadingSettings& settings, bool roughness_baked);
+
+// The shader constants LF_FADE_DISTANCE_* / LF_FOG_*.
+int to_shader_constant(FadeDistance mode);
+int to_shader_constant(FogMode mode);
+
+// Names as used on the command line: "tangent-z" | "eye"; "none" | "linear" | "exp" | "exp2".
+const char* to_string(FadeDistance mode);
+const char* to_string(FogMode mode);
+// Throw leanfade::Error(flag, cause) for an unknown name.
+FadeDistance parse_fade_distance(const std::string& text, const std::string& flag = "--fade-distance");
+FogMode parse_fog_mode(const std::string& text, const std::string& flag = "--fog");
+
+}  // namespace leanfade

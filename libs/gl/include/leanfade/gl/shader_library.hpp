@@ -1,0 +1,63 @@
+#pragma once
+// Shader sources: the files under shaders/ (embedded at build time, or read from a folder on
+// disk for hot reload), `#include "file"` resolution, variants by prepended #defines, and program
+// compilation and linking.
+//
+// Resolution: the text of a file with each line `#include "name"` replaced by the text of
+// shaders/<name> (each file at most once per resolved source, nested includes allowed), and the
+// variant's `#define`s inserted right after the `#version` line. `#line` directives keep compiler
+// messages pointing at the right file and line: source string 0 is the main file, 1, 2, ... the
+// included files in ResolvedSource::files order.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leanfade/gl/objects.hpp"
+
+namespace leanfade::gl {
+
+struct ResolvedSource {
+    std::string text;                // ready for glShaderSource / glslangValidator
+    std::vector<std::string> files;  // source string number -> file name
+};
+
+class ShaderSources {
+public:
+    // The files of shaders/ compiled into the binary (the default).
+    static ShaderSources embedded();
+    // The files of `folder` on disk, read afresh at every resolve() (hot reload). Throws
+    // leanfade::Error(folder, cause) if it is not a readable folder.
+    static ShaderSources directory(const std::string& folder);
+
+    // Throws leanfade::Error(file, cause) for a missing file, a malformed #include, an include
+    // nested deeper than 16 levels, or a main file without a #version first line.
+    ResolvedSource resolve(const std::string& name, const std::vector<std::string>& defines) const;
+
+    // "embedded" or the folder.
+    const std::string& origin() const { return origin_; }
+
+private:
+    std::string read(const std::string& name) const;
+    std::optional<std::string> folder_;
+    std::string origin_;
+};
+
+// One program of the renderer: its stages and its defines (e.g. {"TECHNIQUE_LEAN"}).
+struct ShaderVariant {
+    std::string name;  // "scene_lean", "box_filter", ...
+    std::string vertex;
+    std::string fragment;
+    std::vector<std::string> defines;
+};
+
+// Every variant the renderer builds (for validation).
+const std::vector<ShaderVariant>& shader_variants();
+// The variant called `name`; throws leanfade::Error("shaders", cause) when there is none.
+const ShaderVariant& shader_variant(const std::string& name);
+
+// Compiles and links a variant. Throws leanfade::Error(<file>, <compiler log>) naming the main
+// file of the failing stage and the files of its source strings.
+Program build_program(const ShaderSources& sources, const ShaderVariant& variant);
+
+}  // namespace leanfade::gl

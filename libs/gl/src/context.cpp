@@ -1,0 +1,328 @@
+// EGL headless context creation (device platform, Mesa surfaceless) and GL_KHR_debug output.
+#include "leanfade/gl/context.hpp"
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::gl {
+namespace {
+
+bool has_word(const char* list, const std::string& word) {
+    if (list == nullptr) return false;
+    std::istringstream in(list);
+    std::string token;
+    while (in >> token)
+        if (token == word) return true;
+    return false;
+}
+
+std::string egl_error_name(EGLint code) {
+    switch (code) {
+        case EGL_SUCCESS: return "EGL_SUCCESS";
+        case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+        case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+        case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+        case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+        case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+        case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+        case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+        case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+        case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+        default: {
+            char buffer[32];
+            std::snprintf(buffer, sizeof buffer, "EGL error 0x%04x", unsigned(code));
+            return buffer;
+        }
+    }
+}
+
+// EGL displays are per-process singletons: two contexts on one display must not terminate it
+// under each other.
+std::mutex g_display_mutex;
+std::map<EGLDisplay, int> g_display_users;
+
+void acquire_display(EGLDisplay display) {
+    std::lock_guard<std::mutex> lock(g_display_mutex);
+    ++g_display_users[display];
+}
+
+void release_display(EGLDisplay display) {
+    std::lock_guard<std::mutex> lock(g_display_mutex);
+    if (--g_display_users[display] == 0) {
+        g_display_users.erase(display);
+        eglTerminate(display);
+    }
+}
+
+const char* gl_error_name(GLenum code) {
+    switch (code) {
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+        default: return "unknown GL error";
+    }
+}
+
+}  // namespace
+
+struct Context::Impl {
+    ContextOptions options;
+    EGLDisplay display = EGL_NO_DISPLAY;
+    EGLContext context = EGL_NO_CONTEXT;
+    std::string platform;
+    std::string renderer;
+    std::string version;
+    std::vector<std::string> errors;
+    std::mutex errors_mutex;
+
+    // Tries to make a 4.5 core context on `candidate`; on failure returns the cause and leaves
+    // nothing behind.
+    std::string try_display(EGLDisplay candidate, const std::string& name);
+    static void GLAPIENTRY debug_callback(GLenum source, GLenum type, GLuint id, GLenum severity,
+                                          GLsizei length, const GLchar* message,
+                                          const void* user);
+};
+
+std::string Context::Impl::try_display(EGLDisplay candidate, const std::string& name) {
+    if (candidate == EGL_NO_DISPLAY) return name + ": no display";
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(candidate, &major, &minor))
+        return name + ": eglInitialize failed (" + egl_error_name(eglGetError()) + ")";
+    acquire_display(candidate);
+    auto fail = [&](const std::string& cause) {
+        release_display(candidate);
+        return name + ": " + cause;
+    };
+    if (!eglBindAPI(EGL_OPENGL_API)) return fail("no desktop OpenGL API");
+
+    const char* extensions = eglQueryString(candidate, EGL_EXTENSIONS);
+    EGLConfig config = nullptr;
+    const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, 0,
+                                        EGL_NONE};
+    EGLint config_count = 0;
+    if (!eglChooseConfig(candidate, config_attributes, &config, 1, &config_count) ||
+        config_count < 1) {
+        config = nullptr;
+        if (!has_word(extensions, "EGL_KHR_no_config_context") &&
+            !has_word(extensions, "EGL_MESA_configless_context"))
+            return fail("no OpenGL config");
+    }
+    if (!has_word(extensions, "EGL_KHR_surfaceless_context"))
+        return fail("no EGL_KHR_surfaceless_context");
+
+    const bool debug = options.debug || options.record_errors;
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         4,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         5,
+                                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                         EGL_CONTEXT_OPENGL_DEBUG,
+                                         debug ? EGL_TRUE : EGL_FALSE,
+                                         EGL_NONE};
+    EGLContext created = eglCreateContext(candidate, config, EGL_NO_CONTEXT, context_attributes);
+    if (created == EGL_NO_CONTEXT)
+        return fail("no OpenGL 4.5 core context (" + egl_error_name(eglGetError()) + ")");
+    if (!eglMakeCurrent(candidate, EGL_NO_SURFACE, EGL_NO_SURFACE, created)) {
+        eglDestroyContext(candidate, created);
+        return fail("eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
+    }
+    const int gl_version = epoxy_gl_version();
+    if (!epoxy_is_desktop_gl() || gl_version < 45) {
+        eglMakeCurrent(candidate, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(candidate, created);
+        return fail("context is OpenGL " + std::to_string(gl_version / 10) + "." +
+                    std::to_string(gl_version % 10) + ", below the required 4.5");
+    }
+    display = candidate;
+    context = created;
+    platform = name;
+    renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    return {};
+}
+
+void GLAPIENTRY Context::Impl::debug_callback(GLenum /*source*/, GLenum type, GLuint id,
+                                              GLenum severity, GLsizei /*length*/,
+                                              const GLchar* message, const void* user) {
+    auto* self = static_cast<Context::Impl*>(const_cast<void*>(user));
+    const bool is_error = type == GL_DEBUG_TYPE_ERROR;
+    if (self->options.record_errors) {
+        if (is_error) {
+            std::lock_guard<std::mutex> lock(self->errors_mutex);
+            self->errors.push_back("GL debug error " + std::to_string(id) + ": " + message);
+        }
+        return;
+    }
+    if (is_error || severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM)
+        std::fprintf(stderr, "leanfade: GL debug (%s): %s\n", is_error ? "error" : "warning",
+                     message);
+}
+
+Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()) {
+    impl_->options = options;
+    int device = options.device;
+    if (device < 0) {
+        if (const char* env = std::getenv("LEANFADE_EGL_DEVICE"); env != nullptr && *env != 0) {
+            char* end = nullptr;
+            const long value = std::strtol(env, &end, 10);
+            if (*end != 0 || value < 0 || value > 1024)
+                throw Error("EGL", "LEANFADE_EGL_DEVICE must be a device index >= 0, got '" +
+                                       std::string(env) + "'");
+            device = int(value);
+        }
+    }
+
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    const bool has_devices = has_word(client, "EGL_EXT_device_enumeration") ||
+                             has_word(client, "EGL_EXT_device_base");
+    const bool has_device_platform = has_word(client, "EGL_EXT_platform_device");
+    std::vector<EGLDeviceEXT> devices;
+    if (has_devices) {
+        EGLint count = 0;
+        if (eglQueryDevicesEXT(0, nullptr, &count) && count > 0) {
+            devices.resize(std::size_t(count));
+            eglQueryDevicesEXT(count, devices.data(), &count);
+            devices.resize(std::size_t(count));
+        }
+    }
+    auto device_name = [&](std::size_t i) {
+        std::string name = "device " + std::to_string(i);
+        const char* device_extensions = nullptr;
+        if (has_word(client, "EGL_EXT_device_query"))
+            device_extensions = eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS);
+        if (has_word(device_extensions, "EGL_EXT_device_drm")) {
+            if (const char* file = eglQueryDeviceStringEXT(devices[i], EGL_DRM_DEVICE_FILE_EXT))
+                name += std::string(" (") + file + ")";
+        } else if (has_word(device_extensions, "EGL_MESA_device_software")) {
+            name += " (software)";
+        }
+        return name;
+    };
+    auto is_software = [&](std::size_t i) {
+        if (!has_word(client, "EGL_EXT_device_query")) return false;
+        return has_word(eglQueryDeviceStringEXT(devices[i], EGL_EXTENSIONS),
+                        "EGL_MESA_device_software");
+    };
+    auto device_display = [&](std::size_t i) {
+        return eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    };
+
+    std::vector<std::string> causes;
+    auto attempt = [&](EGLDisplay candidate, const std::string& name) {
+        const std::string cause = impl_->try_display(candidate, name);
+        if (cause.empty()) return true;
+        causes.push_back(cause);
+        return false;
+    };
+    bool made = false;
+    if (device >= 0) {
+        if (!has_devices || !has_device_platform)
+            throw Error("EGL", "device " + std::to_string(device) +
+                                   " requested but EGL has no device platform "
+                                   "(EGL_EXT_device_enumeration / EGL_EXT_platform_device)");
+        if (std::size_t(device) >= devices.size())
+            throw Error("EGL", "device " + std::to_string(device) + " requested but only " +
+                                   std::to_string(devices.size()) + " EGL device(s) found");
+        made = attempt(device_display(std::size_t(device)), device_name(std::size_t(device)));
+    } else {
+        if (has_device_platform) {
+            for (std::size_t i = 0; i < devices.size() && !made; ++i)
+                if (!is_software(i)) made = attempt(device_display(i), device_name(i));
+        }
+        if (!made && has_word(client, "EGL_MESA_platform_surfaceless"))
+            made = attempt(eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
+                                                    EGL_DEFAULT_DISPLAY, nullptr),
+                           "surfaceless");
+        if (has_device_platform) {
+            for (std::size_t i = 0; i < devices.size() && !made; ++i)
+                if (is_software(i)) made = attempt(device_display(i), device_name(i));
+        }
+        if (!made && causes.empty())
+            made = attempt(eglGetDisplay(EGL_DEFAULT_DISPLAY), "default display");
+    }
+    if (!made) {
+        std::string cause = "no OpenGL 4.5 core context could be made";
+        for (const std::string& c : causes) cause += "; " + c;
+        if (causes.empty()) cause += " (no EGL display found)";
+        throw Error("EGL", cause);
+    }
+
+    if ((options.debug || options.record_errors) && (epoxy_gl_version() >= 43 ||
+                                                     epoxy_has_gl_extension("GL_KHR_debug"))) {
+        glEnable(GL_DEBUG_OUTPUT);
+        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        glDebugMessageCallback(&Impl::debug_callback, impl_.get());
+        glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
+    }
+}
+
+Context::~Context() {
+    if (impl_->context != EGL_NO_CONTEXT) {
+        if (eglGetCurrentContext() == impl_->context) {
+            if (impl_->options.debug || impl_->options.record_errors)
+                glDebugMessageCallback(nullptr, nullptr);
+            eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        }
+        eglDestroyContext(impl_->display, impl_->context);
+        release_display(impl_->display);
+        eglReleaseThread();
+    }
+}
+
+void Context::make_current() {
+    if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
+        throw Error("EGL", "eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
+}
+
+std::string Context::description() const {
+    return "OpenGL " + impl_->version + " / " + impl_->renderer + " (EGL " + impl_->platform + ")";
+}
+
+const std::string& Context::platform() const { return impl_->platform; }
+const std::string& Context::renderer() const { return impl_->renderer; }
+
+bool Context::has_extension(const std::string& name) const {
+    return epoxy_has_gl_extension(name.c_str());
+}
+
+float Context::max_anisotropy() const {
+    if (epoxy_gl_version() < 46 && !has_extension("GL_EXT_texture_filter_anisotropic") &&
+        !has_extension("GL_ARB_texture_filter_anisotropic"))
+        return 1.0f;
+    GLfloat value = 1.0f;
+    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &value);
+    return value;
+}
+
+std::vector<std::string> Context::take_errors() {
+    std::vector<std::string> result;
+    for (GLenum code = glGetError(); code != GL_NO_ERROR; code = glGetError())
+        result.push_back(std::string("glGetError: ") + gl_error_name(code));
+    std::lock_guard<std::mutex> lock(impl_->errors_mutex);
+    result.insert(result.begin(), impl_->errors.begin(), impl_->errors.end());
+    impl_->errors.clear();
+    return result;
+}
+
+void Context::check(const std::string& where) {
+    const std::vector<std::string> errors = take_errors();
+    if (errors.empty()) return;
+    std::string cause = where + ": " + errors.front();
+    if (errors.size() > 1) cause += " (and " + std::to_string(errors.size() - 1) + " more)";
+    throw Error("GL", cause);
+}
+
+}  // namespace leanfade::gl

@@ -1,0 +1,211 @@
+// Shader source resolution (#include, variant #defines) and program building.
+#include "leanfade/gl/shader_library.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::embedded {
+const std::map<std::string, std::string_view>& shader_files();
+}  // namespace leanfade::embedded
+
+namespace leanfade::gl {
+namespace {
+
+constexpr int kMaxIncludeDepth = 16;
+
+bool starts_with_directive(const std::string& line, const std::string& directive,
+                           std::string* rest) {
+    std::size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line[i] != '#') return false;
+    i = line.find_first_not_of(" \t", i + 1);
+    if (i == std::string::npos || line.compare(i, directive.size(), directive) != 0) return false;
+    const std::size_t after = i + directive.size();
+    if (after < line.size() && line[after] != ' ' && line[after] != '\t') return false;
+    if (rest != nullptr) *rest = line.substr(after);
+    return true;
+}
+
+std::string trim(const std::string& s) {
+    const std::size_t a = s.find_first_not_of(" \t\r");
+    if (a == std::string::npos) return {};
+    const std::size_t b = s.find_last_not_of(" \t\r");
+    return s.substr(a, b - a + 1);
+}
+
+struct Resolver {
+    std::function<std::string(const std::string&)> read;
+    ResolvedSource out;
+
+    // Appends the text of `name` to out.text; `defines` is given for the main file only.
+    void append(const std::string& name, const std::string& text, int depth,
+                const std::vector<std::string>* defines) {
+        const int index = int(std::find(out.files.begin(), out.files.end(), name) -
+                              out.files.begin());
+        std::istringstream in(text);
+        std::string line;
+        int line_number = 0;
+        bool version_seen = false;
+        while (std::getline(in, line)) {
+            ++line_number;
+            std::string rest;
+            if (defines != nullptr && !version_seen) {
+                // The main file: #version first, then the variant's defines.
+                if (!starts_with_directive(line, "version", nullptr))
+                    throw Error(name, "the first line must be #version");
+                version_seen = true;
+                out.text += line + "\n";
+                for (const std::string& d : *defines) out.text += "#define " + d + "\n";
+                out.text += "#line " + std::to_string(line_number + 1) + " " +
+                            std::to_string(index) + "\n";
+                continue;
+            }
+            if (starts_with_directive(line, "include", &rest)) {
+                const std::string target = trim(rest);
+                if (target.size() < 3 || target.front() != '"' || target.back() != '"')
+                    throw Error(name, "line " + std::to_string(line_number) +
+                                          ": expected #include \"file\"");
+                const std::string included = target.substr(1, target.size() - 2);
+                if (std::find(out.files.begin(), out.files.end(), included) == out.files.end()) {
+                    if (depth >= kMaxIncludeDepth)
+                        throw Error(name, "includes nested deeper than " +
+                                              std::to_string(kMaxIncludeDepth) + " levels");
+                    out.files.push_back(included);
+                    const int child = int(out.files.size()) - 1;
+                    out.text += "#line 1 " + std::to_string(child) + "\n";
+                    append(included, read(included), depth + 1, nullptr);
+                }
+                out.text += "#line " + std::to_string(line_number + 1) + " " +
+                            std::to_string(index) + "\n";
+                continue;
+            }
+            out.text += line + "\n";
+        }
+        if (defines != nullptr && !version_seen) throw Error(name, "the file is empty");
+    }
+};
+
+std::string stage_log(GLuint shader) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(std::size_t(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, GLsizei(log.size()), nullptr, log.data());
+    log.resize(std::strlen(log.c_str()));
+    return log;
+}
+
+std::string one_line(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    return trim(text);
+}
+
+Shader compile_stage(GLenum stage, const std::string& name, const ResolvedSource& source) {
+    Shader shader(glCreateShader(stage));
+    const char* text = source.text.c_str();
+    glShaderSource(shader.get(), 1, &text, nullptr);
+    glCompileShader(shader.get());
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        std::string legend;
+        for (std::size_t i = 0; i < source.files.size(); ++i)
+            legend += (i == 0 ? "" : ", ") + std::to_string(i) + " = " + source.files[i];
+        throw Error(name, "does not compile (source strings: " + legend +
+                              "): " + one_line(stage_log(shader.get())));
+    }
+    return shader;
+}
+
+}  // namespace
+
+ShaderSources ShaderSources::embedded() {
+    ShaderSources s;
+    s.origin_ = "embedded";
+    return s;
+}
+
+ShaderSources ShaderSources::directory(const std::string& folder) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(folder, ec))
+        throw Error(folder, "is not a folder of shader files");
+    ShaderSources s;
+    s.folder_ = folder;
+    s.origin_ = folder;
+    return s;
+}
+
+std::string ShaderSources::read(const std::string& name) const {
+    if (name.find("..") != std::string::npos || name.empty() || name.front() == '/')
+        throw Error(name, "shader file names must be relative to the shader folder");
+    if (!folder_) {
+        const auto& files = embedded::shader_files();
+        const auto it = files.find(name);
+        if (it == files.end()) throw Error(name, "no such embedded shader file");
+        return std::string(it->second);
+    }
+    const std::string path = (std::filesystem::path(*folder_) / name).string();
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, "cannot read the shader file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw Error(path, "cannot read the shader file");
+    return text.str();
+}
+
+ResolvedSource ShaderSources::resolve(const std::string& name,
+                                      const std::vector<std::string>& defines) const {
+    Resolver r;
+    r.read = [this](const std::string& n) { return read(n); };
+    r.out.files.push_back(name);
+    r.append(name, read(name), 0, &defines);
+    return std::move(r.out);
+}
+
+const std::vector<ShaderVariant>& shader_variants() {
+    static const std::vector<ShaderVariant> variants = {
+        {"scene_bump", "scene.vert", "scene.frag", {"TECHNIQUE_BUMP"}},
+        {"scene_lean", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN"}},
+        {"scene_fade", "scene.vert", "scene.frag", {"TECHNIQUE_FADE"}},
+        {"scene_reference", "scene.vert", "scene.frag", {"TECHNIQUE_REFERENCE"}},
+        {"box_filter", "fullscreen.vert", "box_filter.frag", {}},
+    };
+    return variants;
+}
+
+const ShaderVariant& shader_variant(const std::string& name) {
+    for (const ShaderVariant& v : shader_variants())
+        if (v.name == name) return v;
+    throw Error("shaders", "no shader variant named '" + name + "'");
+}
+
+Program build_program(const ShaderSources& sources, const ShaderVariant& variant) {
+    const ResolvedSource vertex_source = sources.resolve(variant.vertex, variant.defines);
+    const ResolvedSource fragment_source = sources.resolve(variant.fragment, variant.defines);
+    Shader vertex = compile_stage(GL_VERTEX_SHADER, variant.vertex, vertex_source);
+    Shader fragment = compile_stage(GL_FRAGMENT_SHADER, variant.fragment, fragment_source);
+    Program program(glCreateProgram());
+    glAttachShader(program.get(), vertex.get());
+    glAttachShader(program.get(), fragment.get());
+    glLinkProgram(program.get());
+    glDetachShader(program.get(), vertex.get());
+    glDetachShader(program.get(), fragment.get());
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        GLint length = 0;
+        glGetProgramiv(program.get(), GL_INFO_LOG_LENGTH, &length);
+        std::string log(std::size_t(std::max(length, 1)), '\0');
+        glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
+        log.resize(std::strlen(log.c_str()));
+        throw Error(variant.vertex + " + " + variant.fragment,
+                    "does not link (" + variant.name + "): " + one_line(log));
+    }
+    return program;
+}
+
+}  // namespace leanfade::gl

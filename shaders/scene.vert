@@ -1,0 +1,41 @@
+#version 450 core
+// Vertex stage of every technique (bump, lean, fade, reference). Builds the tangent frame per
+// vertex (SPEC §1: T along +u, Bt = w cross(N, T) along +v, N), and passes to the fragment stage
+// the tangent-space light direction, the unnormalised tangent-space view vector Vt (its length is
+// the distance to the eye in world units) and the eye depth used by fog.
+//
+// World units: the renderer's model matrix scales the object to a bounding radius of 1.
+
+layout(location = 0) in vec3 a_position;  // object space
+layout(location = 1) in vec3 a_normal;    // object space, unit
+layout(location = 2) in vec2 a_uv;        // mesh texture coordinates
+layout(location = 3) in vec4 a_tangent;   // object space xyz (unit, along +u), w = handedness
+
+uniform mat4 u_model;            // object -> world
+uniform mat3 u_normal_matrix;    // transpose(inverse(mat3(u_model)))
+uniform mat4 u_view;             // world -> eye (no scale: eye depths are in world units)
+uniform mat4 u_clip;             // world -> clip (projection * view, reference tiles included)
+uniform vec3 u_eye_world;        // eye position, world space
+uniform vec3 u_light_world;      // unit direction toward the light, world space
+uniform float u_tiling;          // texture repeats per unit of uv
+
+out VertexData {
+    vec2 uv;          // tiled texture coordinates
+    vec3 light_t;     // direction toward the light, tangent space (normalised per fragment)
+    vec3 view_t;      // Vt: vector to the eye, tangent space, world units (not normalised)
+    float eye_depth;  // distance along the view axis, world units
+} v_out;
+
+void main() {
+    vec4 world = u_model * vec4(a_position, 1.0);
+    vec3 n = normalize(u_normal_matrix * a_normal);
+    vec3 t = mat3(u_model) * a_tangent.xyz;
+    t = normalize(t - n * dot(n, t));  // Gram-Schmidt (SPEC §1)
+    vec3 b = a_tangent.w * cross(n, t);
+    vec3 to_eye = u_eye_world - world.xyz;
+    v_out.uv = a_uv * u_tiling;
+    v_out.light_t = vec3(dot(t, u_light_world), dot(b, u_light_world), dot(n, u_light_world));
+    v_out.view_t = vec3(dot(t, to_eye), dot(b, to_eye), dot(n, to_eye));
+    v_out.eye_depth = -(u_view * world).z;
+    gl_Position = u_clip * world;
+}

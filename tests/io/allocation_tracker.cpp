@@ -1,0 +1,32 @@
+// Replaces the global operator new of the io test executable to record the largest single
+// request, so that the decompression-bomb tests can check that no huge buffer was requested.
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "io_test_helpers.hpp"
+
+namespace {
+std::atomic<std::size_t> largest_request{0};
+
+void* allocate(std::size_t size) {
+    std::size_t previous = largest_request.load(std::memory_order_relaxed);
+    while (size > previous &&
+           !largest_request.compare_exchange_weak(previous, size, std::memory_order_relaxed)) {
+    }
+    if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
+    throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return allocate(size); }
+void* operator new[](std::size_t size) { return allocate(size); }
+void operator delete(void* memory) noexcept { std::free(memory); }
+void operator delete[](void* memory) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
+void operator delete[](void* memory, std::size_t) noexcept { std::free(memory); }
+
+namespace leanfade::io::test {
+void reset_largest_allocation() { largest_request.store(0); }
+std::size_t largest_allocation() { return largest_request.load(); }
+}  // namespace leanfade::io::test

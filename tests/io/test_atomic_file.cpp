@@ -1,0 +1,190 @@
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "io_test_helpers.hpp"
+#include "leanfade/core/image.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+
+namespace leanfade::io {
+namespace {
+
+using test::expect_error;
+using test::folder_entries;
+using test::read_bytes;
+using test::scratch_folder;
+using test::write_bytes;
+
+std::vector<std::uint8_t> bytes_of(const std::string& text) {
+    return std::vector<std::uint8_t>(text.begin(), text.end());
+}
+
+ino_t inode_of(const std::string& path) {
+    struct stat status {};
+    EXPECT_EQ(::stat(path.c_str(), &status), 0);
+    return status.st_ino;
+}
+
+TEST(AtomicFile, CommitWritesTheFileAndLeavesNoTemporary) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/out.bin";
+    {
+        AtomicFile file(path);
+        EXPECT_THAT(file.temporary_path(),
+                    ::testing::StartsWith(path + ".tmp-" + std::to_string(::getpid()) + "-"));
+        EXPECT_TRUE(std::filesystem::exists(file.temporary_path()));
+        EXPECT_FALSE(std::filesystem::exists(path));
+        file.write(bytes_of("hello "));
+        file.write("world", 5);
+        file.commit();
+        EXPECT_TRUE(file.committed());
+    }
+    EXPECT_EQ(read_bytes(path), bytes_of("hello world"));
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, TemporaryNamesAreUnique) {
+    const std::string folder = scratch_folder();
+    AtomicFile first(folder + "/a");
+    AtomicFile second(folder + "/a");
+    EXPECT_NE(first.temporary_path(), second.temporary_path());
+}
+
+TEST(AtomicFile, UncommittedFileLeavesNothing) {
+    const std::string folder = scratch_folder();
+    {
+        AtomicFile file(folder + "/out.bin");
+        file.write(bytes_of("partial"));
+    }
+    EXPECT_TRUE(folder_entries(folder).empty());
+}
+
+TEST(AtomicFile, ExceptionBeforeCommitLeavesTheOldFile) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/out.bin";
+    write_bytes(path, bytes_of("old"));
+    try {
+        AtomicFile file(path);
+        file.write(bytes_of("new and longer"));
+        throw std::runtime_error("simulated failure");
+    } catch (const std::runtime_error&) {
+    }
+    EXPECT_EQ(read_bytes(path), bytes_of("old"));
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, ExistingOutputIsReplacedByRename) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/out.bin";
+    write_bytes(path, bytes_of("old contents"));
+    const ino_t old_inode = inode_of(path);
+    AtomicFile file(path);
+    file.write(bytes_of("new"));
+    EXPECT_EQ(read_bytes(path), bytes_of("old contents"));  // untouched until commit
+    file.commit();
+    EXPECT_EQ(read_bytes(path), bytes_of("new"));
+    EXPECT_NE(inode_of(path), old_inode);  // a new file renamed over the old one
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"out.bin"});
+}
+
+TEST(AtomicFile, MissingFolderThrows) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/missing/out.bin";
+    expect_error([&] { AtomicFile file(path); }, path, "cannot create temporary file");
+    EXPECT_TRUE(folder_entries(folder).empty());
+}
+
+TEST(AtomicFile, FailedRenameRemovesTheTemporary) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/target";
+    std::filesystem::create_directories(path + "/child");  // a non-empty folder cannot be replaced
+    expect_error(
+        [&] {
+            AtomicFile file(path);
+            file.write(bytes_of("data"));
+            file.commit();
+        },
+        path, "cannot replace the file");
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"target"});
+    EXPECT_TRUE(std::filesystem::is_directory(path));
+}
+
+TEST(AtomicFile, WriteAfterCommitThrows) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/out.bin";
+    AtomicFile file(path);
+    file.commit();
+    expect_error([&] { file.write("x", 1); }, path, "write after commit");
+}
+
+TEST(AtomicFile, FailedImageWritesLeaveNoFileAndNoTemporary) {
+    const std::string folder = scratch_folder();
+    Image image(3, 2, 3, 0.5f);
+    expect_error([&] { write_png(folder + "/a.png", image, 12); }, folder + "/a.png",
+                 "unsupported PNG bit depth 12");
+    Image five_channels;
+    five_channels.width = 1;
+    five_channels.height = 1;
+    five_channels.channels = 5;
+    five_channels.pixels.assign(5, 0.0f);
+    expect_error([&] { write_exr(folder + "/a.exr", five_channels); }, folder + "/a.exr",
+                 "5 channels");
+    Image with_nan(2, 2, 1, 0.0f);
+    with_nan.at(1, 1) = std::numeric_limits<float>::quiet_NaN();
+    expect_error([&] { write_pfm(folder + "/a.pfm", with_nan); }, folder + "/a.pfm",
+                 "NaN at texel (1, 1)");
+    expect_error([&] { write_png(folder + "/b.png", with_nan, 8); }, folder + "/b.png",
+                 "NaN at texel (1, 1)");
+    PackedLeanMap empty_map;
+    expect_error([&] { write_ktx2(folder + "/a.ktx2", empty_map); }, folder + "/a.ktx2",
+                 "without levels");
+    // A target that cannot be replaced: the failure happens after the data was written.
+    std::filesystem::create_directories(folder + "/busy.png/child");
+    expect_error([&] { write_png(folder + "/busy.png", image, 8); }, folder + "/busy.png",
+                 "cannot replace the file");
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"busy.png"});
+}
+
+TEST(AtomicFile, WritersReplaceAnExistingOutput) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/out.png";
+    write_png(path, Image(4, 4, 1, 0.0f), 8);
+    write_png(path, Image(3, 5, 3, 1.0f), 16);
+    const Image image = read_image(path);
+    EXPECT_EQ(image.width, 3);
+    EXPECT_EQ(image.height, 5);
+    EXPECT_EQ(image.channels, 3);
+    EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"out.png"});
+}
+
+TEST(EnsureNotSameFile, RefusesTheSameFileUnderAnyName) {
+    const std::string folder = scratch_folder();
+    const std::string input = folder + "/in.png";
+    write_bytes(input, bytes_of("x"));
+    expect_error([&] { ensure_not_same_file(input, input); }, input,
+                 "is the same file as the input " + input);
+    const std::string spelled = folder + "/./in.png";
+    expect_error([&] { ensure_not_same_file(spelled, input); }, spelled, "same file");
+    std::filesystem::create_symlink(input, folder + "/link.png");
+    expect_error([&] { ensure_not_same_file(folder + "/link.png", input); },
+                 folder + "/link.png", "same file");
+    std::filesystem::create_hard_link(input, folder + "/hard.png");
+    expect_error([&] { ensure_not_same_file(folder + "/hard.png", input); },
+                 folder + "/hard.png", "same file");
+}
+
+TEST(EnsureNotSameFile, AcceptsDifferentOrMissingFiles) {
+    const std::string folder = scratch_folder();
+    write_bytes(folder + "/a", bytes_of("x"));
+    write_bytes(folder + "/b", bytes_of("x"));
+    EXPECT_NO_THROW(ensure_not_same_file(folder + "/a", folder + "/b"));
+    EXPECT_NO_THROW(ensure_not_same_file(folder + "/new", folder + "/a"));
+    EXPECT_NO_THROW(ensure_not_same_file(folder + "/a", folder + "/missing"));
+}
+
+}  // namespace
+}  // namespace leanfade::io

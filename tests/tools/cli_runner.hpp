@@ -1,0 +1,57 @@
+#pragma once
+// Runs the leanfade executable as a user would and captures its exit code and output.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace leanfade::test {
+
+struct RunResult {
+    int exit_code = -1;
+    std::string out;  // stdout
+    std::string err;  // stderr
+};
+
+inline std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+inline std::string read_text(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// args are passed verbatim after the executable (already quoted where needed).
+inline RunResult run_leanfade(const std::string& args, const std::filesystem::path& scratch) {
+    const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+    const std::string cmd = shell_quote(LEANFADE_EXE) + " " + args + " >" +
+                            shell_quote(out.string()) + " 2>" + shell_quote(err.string()) +
+                            " </dev/null";
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = read_text(out);
+    r.err = read_text(err);
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+    return r;
+}
+
+// A fresh, empty scratch folder under the build's test-tmp, named after the test.
+inline std::filesystem::path scratch_dir(const std::string& name) {
+    const auto dir = std::filesystem::path(LEANFADE_TEST_TMP) / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+}  // namespace leanfade::test

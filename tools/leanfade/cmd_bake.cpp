@@ -1,0 +1,259 @@
+// leanfade bake: height or normal maps -> LEAN maps (KTX2 with every MIP level, or PNG previews).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BakeArgs {
+    std::vector<std::string> inputs;
+    std::string output;
+    std::string out_dir;
+    std::string from = "auto";
+    float strength = 1.0f;
+    bool directx = false;
+    std::string bits = "16";
+    float bake_roughness = 0.0f;
+    std::string wrap = "repeat";
+    std::string format = "ktx2";
+    int threads = 0;
+    std::string builtin;
+    int size = 1024;
+    std::uint32_t seed = 1;
+    int max_size = kDefaultMaxImageDimension;
+    std::string json;
+};
+
+Storage parse_storage(const std::string& bits) {
+    if (bits == "8") return Storage::Unorm8;
+    if (bits == "16") return Storage::Unorm16;
+    if (bits == "16f") return Storage::Float16;
+    return Storage::Float32;
+}
+
+std::string generator_string() { return std::string("leanfade ") + LEANFADE_VERSION; }
+
+// Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
+std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
+    if (!args.output.empty()) {
+        fs::path out(args.output);
+        if (args.format == "png" && out.extension() == ".png") out.replace_extension();
+        return out.string();
+    }
+    fs::path stem = fs::path(input_name).stem();
+    fs::path folder = !args.out_dir.empty() ? fs::path(args.out_dir)
+                      : from_file           ? fs::path(input_name).parent_path()
+                                            : fs::path();
+    return (folder / stem).string();
+}
+
+void write_png_previews(const std::string& base, const PackedLeanMap& packed) {
+    // The top level of both layers as 16-bit RGBA, as the fading paper's Figs. 2-3 show them.
+    const PackedLevel& top = packed.levels.front();
+    std::vector<std::string> written;
+    try {
+        for (int layer = 0; layer < 2; ++layer) {
+            Image img(top.width, top.height, 4);
+            for (int y = 0; y < top.height; ++y)
+                for (int x = 0; x < top.width; ++x) {
+                    const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
+                    for (int c = 0; c < 4; ++c) img.at(x, y, c) = t[c];
+                }
+            const std::string path = base + (layer == 0 ? ".lean1.png" : ".lean2.png");
+            io::write_png(path, img, 16);
+            written.push_back(path);
+        }
+    } catch (...) {
+        // Never leave half a pair behind.
+        for (const std::string& path : written) fs::remove(path);
+        throw;
+    }
+}
+
+nlohmann::json summary_json(const std::string& input, const std::string& output,
+                            const LeanMapSummary& s, const BakeResult& result, double seconds) {
+    return {{"input", input},
+            {"output", output},
+            {"source", result.source == BakeSource::Normal ? "normal" : "height"},
+            {"width", s.width},
+            {"height", s.height},
+            {"levels", s.levels},
+            {"scale", s.scale},
+            {"mean_slope", s.mean_slope},
+            {"max_slope", s.max_slope},
+            {"coarsest_covariance",
+             {s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z}},
+            {"coarsest_anisotropy",
+             std::isfinite(s.coarsest_anisotropy) ? nlohmann::json(s.coarsest_anisotropy)
+                                                  : nlohmann::json("inf")},
+            {"clamped_normals", result.clamped_texels},
+            {"roughness_baked", result.map.roughness_baked},
+            {"seconds", seconds}};
+}
+
+void print_summary(const std::string& input, const std::string& output, const LeanMapSummary& s,
+                   const BakeResult& result, double seconds) {
+    std::printf("%s -> %s\n", input.c_str(), output.c_str());
+    std::printf("  %dx%d, %d levels, %s map, sc = %.6g\n", s.width, s.height, s.levels,
+                result.source == BakeSource::Normal ? "normal" : "height", s.scale);
+    std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
+    std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
+                s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
+                s.coarsest_anisotropy);
+    if (result.clamped_texels > 0)
+        std::printf("  %zu normals had z < %.4f and were raised to it\n", result.clamped_texels,
+                    kMinNormalZ);
+    std::printf("  %.3f s\n", seconds);
+}
+
+int run_bake(const BakeArgs& args) {
+    // Validate flags before touching any file.
+    if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
+    if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
+        throw Error("--bake-roughness", "must be a positive shininess");
+    if (args.inputs.empty() && args.builtin.empty())
+        throw Error("bake", "no input: give image files or --builtin NAME");
+    const std::size_t job_count = args.inputs.size() + (args.builtin.empty() ? 0 : 1);
+    if (!args.output.empty() && job_count > 1)
+        throw Error("-o", "one output for " + std::to_string(job_count) +
+                              " inputs; use --out-dir for a batch");
+    if (!args.out_dir.empty() && !fs::is_directory(args.out_dir))
+        throw Error(args.out_dir, "output folder does not exist");
+
+    BakeOptions options;
+    options.strength = args.strength;
+    options.wrap = args.wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
+    options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.bake_roughness_shininess = args.bake_roughness;
+    options.threads = args.threads;
+    const BakeSource source = args.from == "height"   ? BakeSource::Height
+                              : args.from == "normal" ? BakeSource::Normal
+                                                      : BakeSource::Auto;
+    const Storage storage = parse_storage(args.bits);
+    io::ReadOptions read_options;
+    read_options.max_dimension = args.max_size;
+
+    nlohmann::json summaries = nlohmann::json::array();
+    int failures = 0;
+    const bool progress = stderr_is_terminal();
+    std::size_t job = 0;
+    auto bake_one = [&](const std::string& name, bool from_file) {
+        ++job;
+        if (progress)
+            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count, name.c_str());
+        const auto start = std::chrono::steady_clock::now();
+        const Image input = from_file ? io::read_image(name, read_options)
+                                      : make_builtin_height(args.builtin, args.size, args.seed);
+        const BakeResult result =
+            bake_lean_map(input, from_file ? source : BakeSource::Height, options, name);
+        const PackedLeanMap packed = pack_lean_map(result.map, storage, generator_string());
+        const std::string base = output_base(args, from_file ? name : args.builtin, from_file);
+        std::string output;
+        if (args.format == "png") {
+            if (from_file) {
+                io::ensure_not_same_file(base + ".lean1.png", name);
+                io::ensure_not_same_file(base + ".lean2.png", name);
+            }
+            write_png_previews(base, packed);
+            output = base + ".lean{1,2}.png";
+        } else {
+            output = !args.output.empty() ? args.output : base + ".ktx2";
+            if (from_file) io::ensure_not_same_file(output, name);
+            io::write_ktx2(output, packed);
+        }
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (progress) std::fprintf(stderr, "\r\033[K");
+        const LeanMapSummary s = summarize(result.map);
+        print_summary(name, output, s, result, seconds);
+        summaries.push_back(summary_json(name, output, s, result, seconds));
+    };
+
+    auto guarded = [&](const std::string& name, bool from_file) {
+        try {
+            bake_one(name, from_file);
+        } catch (const Error& e) {
+            if (progress) std::fprintf(stderr, "\r\033[K");
+            if (job_count == 1) throw;
+            std::fprintf(stderr, "leanfade bake: %s\n", e.what());
+            ++failures;
+        }
+    };
+    if (!args.builtin.empty()) guarded("builtin:" + args.builtin, false);
+    for (const std::string& input : args.inputs) guarded(input, true);
+
+    if (!args.json.empty()) {
+        const std::string text = summaries.dump(2) + "\n";
+        io::AtomicFile file(args.json);
+        file.write(text.data(), text.size());
+        file.commit();
+    }
+    if (failures > 0) {
+        std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures, job_count);
+        return 1;
+    }
+    return 0;
+}
+
+const CommandRegistration registration{
+    "bake", "Bake height or normal maps into LEAN maps (two RGBA layers with full MIP chains)",
+    [](CLI::App& app) -> Runner {
+        auto args = std::make_shared<BakeArgs>();
+        app.add_option("inputs", args->inputs, "Height or normal maps (PNG 8/16-bit, EXR, PFM)");
+        app.add_option("-o,--output", args->output,
+                       "Output file (one input only); with --format png, the name before "
+                       ".lean1.png/.lean2.png");
+        app.add_option("--out-dir", args->out_dir, "Folder for the outputs of a batch");
+        app.add_option("--from", args->from,
+                       "Input kind: auto (1-2 channels = height, 3-4 = normal), height, normal")
+            ->check(CLI::IsMember({"auto", "height", "normal"}));
+        app.add_option("--strength", args->strength,
+                       "Height maps: height per texel spacing of one unit of value")
+            ->capture_default_str();
+        app.add_flag("--directx", args->directx, "Normal maps use the DirectX convention (-Y)");
+        app.add_option("--bits", args->bits, "Storage: 8, 16 (UNORM), 16f, 32f (float)")
+            ->check(CLI::IsMember({"8", "16", "16f", "32f"}))
+            ->capture_default_str();
+        app.add_option("--bake-roughness", args->bake_roughness,
+                       "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")
+            ->check(CLI::PositiveNumber);
+        app.add_option("--wrap", args->wrap, "Border handling of the slope filter")
+            ->check(CLI::IsMember({"repeat", "clamp"}))
+            ->capture_default_str();
+        app.add_option("--format", args->format, "ktx2 (GPU-ready) or png (top level previews)")
+            ->check(CLI::IsMember({"ktx2", "png"}))
+            ->capture_default_str();
+        app.add_option("--threads", args->threads, "Worker threads (0 = all cores)")
+            ->check(CLI::Range(0, 256));
+        app.add_option("--builtin", args->builtin, "Bake a built-in bump set instead of a file")
+            ->check(CLI::IsMember(builtin_bump_names()));
+        app.add_option("--size", args->size, "Built-in set size in texels")
+            ->check(CLI::Range(4, kDefaultMaxImageDimension))
+            ->capture_default_str();
+        app.add_option("--seed", args->seed, "Built-in set seed")->capture_default_str();
+        app.add_option("--max-size", args->max_size,
+                       "Largest accepted input width or height (refused before decoding)")
+            ->check(CLI::Range(1, 1 << 20))
+            ->capture_default_str();
+        app.add_option("--json", args->json, "Also write the summaries as JSON");
+        return [args] { return run_bake(*args); };
+    }};
+
+}  // namespace
+}  // namespace leanfade::cli
