@@ -16,8 +16,10 @@ bool finite(const glm::vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// Welds positions within `tolerance` with a hash grid (each point looks at the 27 cells around).
-std::vector<std::uint32_t> weld(const Mesh& mesh, float tolerance, std::size_t& count) {
+}  // namespace
+
+// A hash grid of cell 2 * tolerance: each point looks at the 27 cells around its own.
+std::vector<std::uint32_t> weld_positions(const Mesh& mesh, float tolerance, std::size_t& count) {
     struct CellHash {
         std::size_t operator()(const std::array<long long, 3>& c) const {
             return std::size_t(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
@@ -59,8 +61,6 @@ std::vector<std::uint32_t> weld(const Mesh& mesh, float tolerance, std::size_t& 
     count = representatives.size();
     return id;
 }
-
-}  // namespace
 
 FrameStats frame_stats(const Mesh& mesh) {
     FrameStats s;
@@ -108,8 +108,13 @@ UvFrameStats uv_frame_stats(const Mesh& mesh) {
             const glm::dvec3 bit = double(c->tangent.w) * glm::cross(n, tan);
             const glm::dvec3 tp = tan - fn * glm::dot(fn, tan);
             const glm::dvec3 bp = bit - fn * glm::dot(fn, bit);
-            const float ct = float(glm::dot(glm::normalize(tp), dpdu));
+            const glm::dvec3 tn = glm::normalize(tp);
+            const float ct = float(glm::dot(tn, dpdu));
             const float cb = float(glm::dot(glm::normalize(bp), dpdv));
+            const float co =
+                float(glm::dot(glm::normalize(bp), glm::normalize(dpdv - tn * glm::dot(tn, dpdv))));
+            s.min_cos_bitangent_orthogonal =
+                std::min(s.min_cos_bitangent_orthogonal, std::isfinite(co) ? co : -2.0f);
             ++s.corners;
             s.min_cos_tangent = std::min(s.min_cos_tangent, std::isfinite(ct) ? ct : -2.0f);
             s.min_cos_bitangent = std::min(s.min_cos_bitangent, std::isfinite(cb) ? cb : -2.0f);
@@ -127,8 +132,8 @@ WindingStats winding_stats(const Mesh& mesh) {
         const Vertex& a = mesh.vertices[mesh.indices[t]];
         const Vertex& b = mesh.vertices[mesh.indices[t + 1]];
         const Vertex& c = mesh.vertices[mesh.indices[t + 2]];
-        const glm::dvec3 face = glm::cross(glm::dvec3(b.position - a.position),
-                                           glm::dvec3(c.position - a.position));
+        const glm::dvec3 face =
+            glm::cross(glm::dvec3(b.position - a.position), glm::dvec3(c.position - a.position));
         if (glm::length(face) < 1e-14) {
             ++s.degenerate;
             continue;
@@ -147,7 +152,7 @@ WindingStats winding_stats(const Mesh& mesh) {
 
 EdgeStats edge_stats(const Mesh& mesh, float tolerance) {
     EdgeStats s;
-    const std::vector<std::uint32_t> id = weld(mesh, tolerance, s.welded_vertices);
+    const std::vector<std::uint32_t> id = weld_positions(mesh, tolerance, s.welded_vertices);
     // key: (min, max) -> (count min->max, count max->min)
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, int>> edges;
     for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {

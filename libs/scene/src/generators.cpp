@@ -15,6 +15,7 @@ namespace leanfade::scene {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr int kMaxSegments = 4096;  // keeps vertex counts far below 2^32
 
 // cos and sin of 2 pi * f with f = 0 and f = 1 giving bit-identical results, so that duplicated
 // seam vertices land exactly on the originals.
@@ -84,9 +85,14 @@ private:
     double corner(int ix, int iy, double dx, double dy) const {
         // Eight gradient directions: the axes and the diagonals, all unit length.
         static constexpr double kD = 0.70710678118654752440;
-        static constexpr std::array<std::array<double, 2>, 8> kGrad = {
-            {{1.0, 0.0}, {-1.0, 0.0}, {0.0, 1.0}, {0.0, -1.0}, {kD, kD}, {-kD, kD}, {kD, -kD},
-             {-kD, -kD}}};
+        static constexpr std::array<std::array<double, 2>, 8> kGrad = {{{1.0, 0.0},
+                                                                        {-1.0, 0.0},
+                                                                        {0.0, 1.0},
+                                                                        {0.0, -1.0},
+                                                                        {kD, kD},
+                                                                        {-kD, kD},
+                                                                        {kD, -kD},
+                                                                        {-kD, -kD}}};
         const std::uint8_t h = perm_[std::size_t((perm_[std::size_t(ix & 255)] + iy) & 255)];
         const auto& g = kGrad[h & 7u];
         return g[0] * dx + g[1] * dy;
@@ -128,8 +134,10 @@ Mesh height_grid(const char* name, int cells, double size, const std::vector<dou
 }  // namespace
 
 Mesh make_sphere(int segments, int stacks) {
-    require(segments >= 3, "sphere", "segments must be >= 3, got " + std::to_string(segments));
-    require(stacks >= 2, "sphere", "stacks must be >= 2, got " + std::to_string(stacks));
+    require(segments >= 3 && segments <= kMaxSegments, "sphere",
+            "segments must be in [3, 4096], got " + std::to_string(segments));
+    require(stacks >= 2 && stacks <= kMaxSegments, "sphere",
+            "stacks must be in [2, 4096], got " + std::to_string(stacks));
     Mesh mesh;
     mesh.name = "sphere";
     detail::CollapsedEdges poles;
@@ -158,10 +166,10 @@ Mesh make_sphere(int segments, int stacks) {
 }
 
 Mesh make_torus(int major_segments, int minor_segments) {
-    require(major_segments >= 3, "torus",
-            "major segments must be >= 3, got " + std::to_string(major_segments));
-    require(minor_segments >= 3, "torus",
-            "minor segments must be >= 3, got " + std::to_string(minor_segments));
+    require(major_segments >= 3 && major_segments <= kMaxSegments, "torus",
+            "major segments must be in [3, 4096], got " + std::to_string(major_segments));
+    require(minor_segments >= 3 && minor_segments <= kMaxSegments, "torus",
+            "minor segments must be in [3, 4096], got " + std::to_string(minor_segments));
     constexpr double kMajor = 0.75;
     constexpr double kMinor = 0.25;
     Mesh mesh;
@@ -184,7 +192,8 @@ Mesh make_torus(int major_segments, int minor_segments) {
 Mesh make_plane(float size, int segments) {
     require(std::isfinite(size) && size > 0.0f, "plane",
             "size must be a positive number, got " + std::to_string(size));
-    require(segments >= 1, "plane", "segments must be >= 1, got " + std::to_string(segments));
+    require(segments >= 1 && segments <= kMaxSegments, "plane",
+            "segments must be in [1, 4096], got " + std::to_string(segments));
     const std::vector<double> flat(std::size_t(segments + 1) * std::size_t(segments + 1), 0.0);
     Mesh mesh = height_grid("plane", segments, double(size), flat);
     detail::finish(mesh);

@@ -9,11 +9,17 @@
 
 namespace leanfade::scene {
 
-glm::vec3 Bounds::center() const { return 0.5f * (min + max); }
+glm::vec3 Bounds::center() const {
+    return 0.5f * (min + max);
+}
 
-float Bounds::radius() const { return 0.5f * glm::length(max - min); }
+float Bounds::radius() const {
+    return 0.5f * glm::length(max - min);
+}
 
-std::size_t Mesh::triangle_count() const { return indices.size() / 3; }
+std::size_t Mesh::triangle_count() const {
+    return indices.size() / 3;
+}
 
 void generate_tangents(Mesh& mesh) {
     const std::size_t n = mesh.vertices.size();

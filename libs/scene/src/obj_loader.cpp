@@ -73,8 +73,12 @@ std::string quoted(std::string_view token) {
     return out;
 }
 
-// Checks every number on v / vt / vn lines and every index on f lines. Throws Error(path, ...).
-void precheck(const std::string& path, const std::string& text) {
+// Checks every number on v / vt / vn lines and every index on f lines (Error(path, ...) with the
+// line number) and returns the text without comments ('#' to the end of a line, which
+// tinyobjloader only understands at the start of a line).
+std::string precheck(const std::string& path, const std::string& text) {
+    std::string clean;
+    clean.reserve(text.size());
     long long counts[3] = {0, 0, 0};  // positions, texture coordinates, normals
     const char* kinds[3] = {"positions", "texture coordinates", "normals"};
     std::size_t line_number = 0;
@@ -90,8 +94,11 @@ void precheck(const std::string& path, const std::string& text) {
         const auto fail = [&](const std::string& cause) {
             throw Error(path, "line " + std::to_string(line_number) + ": " + cause);
         };
-        const auto tokens = split_whitespace(line);
-        if (tokens.empty() || tokens[0][0] == '#') {
+        const std::string_view data = line.substr(0, line.find('#'));
+        clean.append(data);
+        clean.push_back('\n');
+        const auto tokens = split_whitespace(data);
+        if (tokens.empty()) {
             continue;
         }
         const std::string_view keyword = tokens[0];
@@ -142,6 +149,7 @@ void precheck(const std::string& path, const std::string& text) {
             }
         }
     }
+    return clean;
 }
 
 // Box projection axis of a triangle from its geometric normal: 0 +x, 1 -x, 2 +y, 3 -y, 4 +z, 5 -z.
@@ -164,12 +172,24 @@ glm::vec2 box_uv(const glm::dvec3& p, int axis, const glm::dvec3& lo, const glm:
                  double extent) {
     glm::dvec2 uv(0.0);
     switch (axis) {
-        case 0: uv = {hi.z - p.z, p.y - lo.y}; break;
-        case 1: uv = {p.z - lo.z, p.y - lo.y}; break;
-        case 2: uv = {p.x - lo.x, hi.z - p.z}; break;
-        case 3: uv = {p.x - lo.x, p.z - lo.z}; break;
-        case 4: uv = {p.x - lo.x, p.y - lo.y}; break;
-        default: uv = {hi.x - p.x, p.y - lo.y}; break;
+        case 0:
+            uv = {hi.z - p.z, p.y - lo.y};
+            break;
+        case 1:
+            uv = {p.z - lo.z, p.y - lo.y};
+            break;
+        case 2:
+            uv = {p.x - lo.x, hi.z - p.z};
+            break;
+        case 3:
+            uv = {p.x - lo.x, p.z - lo.z};
+            break;
+        case 4:
+            uv = {p.x - lo.x, p.y - lo.y};
+            break;
+        default:
+            uv = {hi.x - p.x, p.y - lo.y};
+            break;
     }
     return glm::vec2(uv / extent);
 }
@@ -186,8 +206,7 @@ struct KeyHash {
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-    const std::string text = read_file(path);
-    precheck(path, text);
+    const std::string text = precheck(path, read_file(path));
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
@@ -281,16 +300,17 @@ Mesh load_obj(const std::string& path) {
             // Missing UVs: the projection axis becomes part of the key (a vertex on a box edge
             // is split between the two projections).
             const std::array<long long, 3> key = {c.v, c.n, c.t >= 0 ? c.t : -1 - axis};
-            const auto [it, inserted] = lookup.try_emplace(key, std::uint32_t(mesh.vertices.size()));
+            const auto [it, inserted] =
+                lookup.try_emplace(key, std::uint32_t(mesh.vertices.size()));
             if (inserted) {
                 Vertex v{};
                 const glm::dvec3 p = position(c.v);
                 v.position = glm::vec3(p);
                 if (c.n >= 0) {
-                    v.normal = glm::vec3(glm::normalize(glm::dvec3(
-                        attrib.normals[std::size_t(3 * c.n)],
-                        attrib.normals[std::size_t(3 * c.n + 1)],
-                        attrib.normals[std::size_t(3 * c.n + 2)])));
+                    v.normal = glm::vec3(
+                        glm::normalize(glm::dvec3(attrib.normals[std::size_t(3 * c.n)],
+                                                  attrib.normals[std::size_t(3 * c.n + 1)],
+                                                  attrib.normals[std::size_t(3 * c.n + 2)])));
                 }
                 if (c.t >= 0) {
                     v.uv = glm::vec2(attrib.texcoords[std::size_t(2 * c.t)],
@@ -310,8 +330,7 @@ Mesh load_obj(const std::string& path) {
         if (needs_normal[k]) {
             const glm::dvec3 n = smooth[std::size_t(vertex_position[k])];
             const double len = glm::length(n);
-            mesh.vertices[k].normal =
-                len > 0.0 ? glm::vec3(n / len) : glm::vec3(0.0f, 1.0f, 0.0f);
+            mesh.vertices[k].normal = len > 0.0 ? glm::vec3(n / len) : glm::vec3(0.0f, 1.0f, 0.0f);
         }
     }
     detail::finish(mesh);

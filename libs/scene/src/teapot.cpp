@@ -201,12 +201,30 @@ double mean_length(const Patch& c, bool along_a) {
     return curves > 0 ? total / curves : 0.0;
 }
 
+// Rotates the parameter domain by 180 degrees (a -> 1 - a, b -> 1 - b; the orientation, hence
+// the normal, is unchanged) where needed so that u runs counter-clockwise about +y seen from
+// above at the patch centre. Then u agrees across the seams between the rotational parts (rim,
+// body, lid, bottom) and the tiled texture continues across them.
+void orient_u_around_y(Patch& c) {
+    const Sample s = evaluate(c, 0.5, 0.5);
+    if (glm::cross(s.p, s.pa).y >= 0.0) {
+        return;
+    }
+    Patch rotated;
+    for (std::size_t k = 0; k < 4; ++k) {
+        for (std::size_t l = 0; l < 4; ++l) {
+            rotated[k][l] = c[3 - k][3 - l];
+        }
+    }
+    c = rotated;
+}
+
 }  // namespace
 
 Mesh make_teapot(int subdivisions) {
-    if (subdivisions < 1 || subdivisions > 1024) {
+    if (subdivisions < 1 || subdivisions > 512) {
         throw Error("teapot",
-                    "subdivisions must be in [1, 1024], got " + std::to_string(subdivisions));
+                    "subdivisions must be in [1, 512], got " + std::to_string(subdivisions));
     }
     const TeapotData& data = teapot_data();
     const int n = subdivisions;
@@ -217,7 +235,8 @@ Mesh make_teapot(int subdivisions) {
     for (const auto& indices : data.patches) {
         // Stored rows i (first parameter) and columns j: cross(dP/di, dP/dj) points into the
         // teapot for every patch of this data set. Using a = 1 - j/3 along u and b = 1 - i/3
-        // along v transposes the orientation outward and makes v run upward on the body.
+        // along v swaps the parameters, so the normal points outward, and makes v run upward on
+        // the body; orient_u_around_y() then fixes the sense of u (bottom patches).
         // Axes: stored (x, y, z) with z up becomes (x, z, -y), y up, times kScale.
         Patch c;
         for (std::size_t k = 0; k < 4; ++k) {
@@ -226,6 +245,7 @@ Mesh make_teapot(int subdivisions) {
                 c[k][l] = glm::dvec3(q.x, q.z, -q.y) * kScale;
             }
         }
+        orient_u_around_y(c);
         const detail::CollapsedEdges edges = collapsed_edges(c);
         const double tiles_u = std::max(1.0, std::round(mean_length(c, true) / kTileLength));
         const double tiles_v = std::max(1.0, std::round(mean_length(c, false) / kTileLength));
