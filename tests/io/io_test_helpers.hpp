@@ -54,8 +54,7 @@ template <class Call>
 void expect_error(Call&& call, const std::string& file, const std::string& cause) {
     try {
         call();
-        ADD_FAILURE() << "no leanfade::Error thrown; expected '" << file << ": ..." << cause
-                      << "'";
+        ADD_FAILURE() << "no leanfade::Error thrown; expected '" << file << ": ..." << cause << "'";
     } catch (const leanfade::Error& error) {
         const std::string message = error.what();
         EXPECT_EQ(error.file(), file) << message;
@@ -65,11 +64,13 @@ void expect_error(Call&& call, const std::string& file, const std::string& cause
     }
 }
 
-inline void store_u32_le(std::vector<std::uint8_t>& bytes, std::size_t offset, std::uint32_t value) {
-    for (int i = 0; i < 4; ++i) bytes[offset + std::size_t(i)] = std::uint8_t(value >> (8 * i));
+inline void store_u32_le(std::vector<std::uint8_t>& bytes, std::size_t offset,
+                         std::uint32_t value) {
+    for (int i = 0; i < 4; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
 }
-inline void store_u64_le(std::vector<std::uint8_t>& bytes, std::size_t offset, std::uint64_t value) {
-    for (int i = 0; i < 8; ++i) bytes[offset + std::size_t(i)] = std::uint8_t(value >> (8 * i));
+inline void store_u64_le(std::vector<std::uint8_t>& bytes, std::size_t offset,
+                         std::uint64_t value) {
+    for (int i = 0; i < 8; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
 }
 inline std::uint32_t u32_le(const std::vector<std::uint8_t>& bytes, std::size_t offset) {
     std::uint32_t value = 0;

@@ -170,11 +170,11 @@ TEST(EnsureNotSameFile, RefusesTheSameFileUnderAnyName) {
     const std::string spelled = folder + "/./in.png";
     expect_error([&] { ensure_not_same_file(spelled, input); }, spelled, "same file");
     std::filesystem::create_symlink(input, folder + "/link.png");
-    expect_error([&] { ensure_not_same_file(folder + "/link.png", input); },
-                 folder + "/link.png", "same file");
+    expect_error([&] { ensure_not_same_file(folder + "/link.png", input); }, folder + "/link.png",
+                 "same file");
     std::filesystem::create_hard_link(input, folder + "/hard.png");
-    expect_error([&] { ensure_not_same_file(folder + "/hard.png", input); },
-                 folder + "/hard.png", "same file");
+    expect_error([&] { ensure_not_same_file(folder + "/hard.png", input); }, folder + "/hard.png",
+                 "same file");
 }
 
 TEST(EnsureNotSameFile, AcceptsDifferentOrMissingFiles) {

@@ -18,7 +18,9 @@ namespace {
 
 std::atomic<unsigned long> temporary_counter{0};
 
-std::string errno_text(int error_number) { return std::strerror(error_number); }
+std::string errno_text(int error_number) {
+    return std::strerror(error_number);
+}
 
 std::string folder_of(const std::string& path) {
     const std::filesystem::path parent = std::filesystem::path(path).parent_path();

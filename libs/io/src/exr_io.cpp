@@ -24,20 +24,39 @@ struct ExrHeaderGuard {
     ExrHeaderGuard& operator=(const ExrHeaderGuard&) = delete;
 };
 
+// tinyexr frees a partly decoded image itself when decoding fails (without clearing the
+// pointers), so a failed load must disown the image instead of freeing it again. That cleanup
+// frees one plane per `num_channels`, which tinyexr sets only on success: decode_exr presets it.
 struct ExrImageGuard {
     EXRImage image;
+    bool owned = true;
     ExrImageGuard() { InitEXRImage(&image); }
-    ~ExrImageGuard() { FreeEXRImage(&image); }
+    ~ExrImageGuard() {
+        if (owned) FreeEXRImage(&image);
+    }
     ExrImageGuard(const ExrImageGuard&) = delete;
     ExrImageGuard& operator=(const ExrImageGuard&) = delete;
 };
 
-// Takes ownership of a tinyexr error message and returns it as a string.
+// Takes ownership of a tinyexr error message and returns it on one line, without its final
+// full stop (tinyexr messages may hold several lines, each ending with ".\n").
 std::string take_message(const char* message) {
     if (message == nullptr) return "no details";
     std::string text = message;
     FreeEXRErrorMessage(message);
-    return text;
+    std::string line;
+    for (const char character : text) {
+        if (character == '\n' || character == '\r') {
+            if (!line.empty() && line.back() == '.') line.pop_back();
+            if (!line.empty() && !line.ends_with("; ")) line += "; ";
+        } else {
+            line.push_back(character);
+        }
+    }
+    while (!line.empty() && (line.back() == ' ' || line.back() == ';' || line.back() == '.')) {
+        line.pop_back();
+    }
+    return line.empty() ? "no details" : line;
 }
 
 std::string channel_base_name(const char* name) {
@@ -100,8 +119,8 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
     }
     ExrHeaderGuard header;
     const char* message = nullptr;
-    if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(),
-                                 &message) != TINYEXR_SUCCESS) {
+    if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(), &message) !=
+        TINYEXR_SUCCESS) {
         throw Error(path, "truncated or corrupt OpenEXR header (" + take_message(message) + ")");
     }
     const EXRBox2i& window = header.header.data_window;
@@ -121,8 +140,10 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
     }
 
     ExrImageGuard loaded;
+    loaded.image.num_channels = header.header.num_channels;  // see ExrImageGuard
     if (LoadEXRImageFromMemory(&loaded.image, &header.header, bytes.data(), bytes.size(),
                                &message) != TINYEXR_SUCCESS) {
+        loaded.owned = false;
         throw Error(path, "truncated or corrupt OpenEXR data (" + take_message(message) + ")");
     }
     if (loaded.image.width != width || loaded.image.height != height) {
@@ -150,8 +171,9 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
                     const int image_x = tile.offset_x * tile_width + x;
                     const int image_y = tile.offset_y * tile_height + y;
                     if (image_x >= image.width || image_y >= image.height) continue;
-                    image.at(image_x, image_y, int(out)) = sample_value(
-                        plane, pixel_type, std::size_t(y) * std::size_t(tile_width) + std::size_t(x));
+                    image.at(image_x, image_y, int(out)) =
+                        sample_value(plane, pixel_type,
+                                     std::size_t(y) * std::size_t(tile_width) + std::size_t(x));
                 }
             }
         }
@@ -171,10 +193,18 @@ std::vector<std::uint8_t> encode_exr(const std::string& path, const Image& image
     };
     std::vector<NamedChannel> channels;
     switch (image.channels) {
-        case 1: channels = {{"Y", 0}}; break;
-        case 2: channels = {{"A", 1}, {"Y", 0}}; break;
-        case 3: channels = {{"B", 2}, {"G", 1}, {"R", 0}}; break;
-        default: channels = {{"A", 3}, {"B", 2}, {"G", 1}, {"R", 0}}; break;
+        case 1:
+            channels = {{"Y", 0}};
+            break;
+        case 2:
+            channels = {{"A", 1}, {"Y", 0}};
+            break;
+        case 3:
+            channels = {{"B", 2}, {"G", 1}, {"R", 0}};
+            break;
+        default:
+            channels = {{"A", 3}, {"B", 2}, {"G", 1}, {"R", 0}};
+            break;
     }
 
     const std::size_t texels = image.texel_count();
@@ -184,8 +214,8 @@ std::vector<std::uint8_t> encode_exr(const std::string& path, const Image& image
     std::vector<int> pixel_types(channels.size(), TINYEXR_PIXELTYPE_FLOAT);
     for (std::size_t c = 0; c < channels.size(); ++c) {
         for (std::size_t i = 0; i < texels; ++i) {
-            planes[c][i] = image.pixels[i * std::size_t(image.channels) +
-                                        std::size_t(channels[c].source)];
+            planes[c][i] =
+                image.pixels[i * std::size_t(image.channels) + std::size_t(channels[c].source)];
         }
         plane_pointers.push_back(reinterpret_cast<unsigned char*>(planes[c].data()));
         std::memset(&infos[c], 0, sizeof infos[c]);

@@ -13,8 +13,8 @@ namespace {
 
 constexpr std::uint8_t kPngMagic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
 constexpr std::uint8_t kExrMagic[4] = {0x76, 0x2F, 0x31, 0x01};
-constexpr std::uint8_t kKtx2Magic[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB,
-                                         '\r', '\n', 0x1A, '\n'};
+constexpr std::uint8_t kKtx2Magic[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                         '0',  0xBB, '\r', '\n', 0x1A, '\n'};
 
 // True when the file starts with the magic, or is a (truncated) prefix of it.
 template <std::size_t N>

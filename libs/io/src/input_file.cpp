@@ -14,7 +14,8 @@ namespace leanfade::io::detail {
 
 InputFile::InputFile(std::string path) : path_(std::move(path)) {
     descriptor_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-    if (descriptor_ < 0) throw Error(path_, std::string("cannot open (") + std::strerror(errno) + ")");
+    if (descriptor_ < 0)
+        throw Error(path_, std::string("cannot open (") + std::strerror(errno) + ")");
     struct stat status {};
     if (::fstat(descriptor_, &status) != 0) {
         const int error_number = errno;
@@ -77,8 +78,8 @@ void check_finite(const std::string& path, const Image& image) {
         const float* row = image.row(y);
         for (int i = 0; i < image.width * image.channels; ++i) {
             if (std::isfinite(row[i])) continue;
-            const std::string where = "at texel (" + std::to_string(i / image.channels) + ", " +
-                                      std::to_string(y) + ")";
+            const std::string where =
+                "at texel (" + std::to_string(i / image.channels) + ", " + std::to_string(y) + ")";
             throw Error(path, (std::isnan(row[i]) ? "NaN " : "infinity ") + where);
         }
     }

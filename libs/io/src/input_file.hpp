@@ -1,6 +1,7 @@
 #pragma once
 // Internal: read-only random access to an input file, and small helpers shared by the readers.
-// Every failure throws leanfade::Error(path, cause). Inputs are opened read-only and never modified.
+// Every failure throws leanfade::Error(path, cause). Inputs are opened read-only and never
+// modified.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -12,7 +13,7 @@
 namespace leanfade::io::detail {
 
 class InputFile {
-public:
+  public:
     // Throws "cannot open (<reason>)", "is a directory" or "empty file".
     explicit InputFile(std::string path);
     ~InputFile();
@@ -27,7 +28,7 @@ public:
                  const std::string& truncated_cause) const;
     std::vector<std::uint8_t> read_all() const;
 
-private:
+  private:
     std::string path_;
     int descriptor_ = -1;
     std::uint64_t size_ = 0;

@@ -25,8 +25,8 @@ using detail::append_u64_le;
 using detail::load_u32_le;
 using detail::load_u64_le;
 
-constexpr std::array<std::uint8_t, 12> kIdentifier = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB,
-                                                      '\r', '\n', 0x1A, '\n'};
+constexpr std::array<std::uint8_t, 12> kIdentifier = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                                      '0',  0xBB, '\r', '\n', 0x1A, '\n'};
 constexpr std::size_t kHeaderSize = 80;  // identifier + 9 uint32 + 4 uint32 + 2 uint64
 constexpr std::size_t kLevelIndexEntrySize = 24;
 constexpr std::uint32_t kMaxLevelCount = 32;  // a uint32 size has at most 32 levels
@@ -167,8 +167,8 @@ std::vector<std::uint8_t> encode_data_format(const Ktx2DataFormat& data_format) 
 
 Ktx2DataFormat decode_data_format(const std::string& path, const std::vector<std::uint8_t>& bytes) {
     if (bytes.size() < 4 + kDfdBlockHeaderSize) {
-        throw Error(path, "data format descriptor too short (" + std::to_string(bytes.size()) +
-                              " bytes)");
+        throw Error(
+            path, "data format descriptor too short (" + std::to_string(bytes.size()) + " bytes)");
     }
     Ktx2DataFormat data_format;
     data_format.total_size = load_u32_le(bytes.data());
@@ -245,7 +245,8 @@ std::string format_float(float value) {
 float parse_float(const std::string& path, const std::string& key, const std::string& text) {
     float value = 0.0f;
     const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (result.ec != std::errc() || result.ptr != text.data() + text.size() || !std::isfinite(value)) {
+    if (result.ec != std::errc() || result.ptr != text.data() + text.size() ||
+        !std::isfinite(value)) {
         throw Error(path, "bad " + key + " value '" + text + "'");
     }
     return value;
@@ -270,7 +271,8 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map,
         throw Error(path, "LEAN map level 0 has size " + std::to_string(top.width) + "x" +
                               std::to_string(top.height));
     }
-    const std::uint32_t chain = full_chain_length(std::uint32_t(top.width), std::uint32_t(top.height));
+    const std::uint32_t chain =
+        full_chain_length(std::uint32_t(top.width), std::uint32_t(top.height));
     if (map.levels.size() > chain) {
         throw Error(path, std::to_string(map.levels.size()) + " levels for a " +
                               std::to_string(top.width) + "x" + std::to_string(top.height) +
@@ -323,7 +325,9 @@ const char* normal_convention_name(NormalConvention convention) {
 
 }  // namespace
 
-std::uint32_t vk_format_of(Storage storage) { return format_of(storage).vk_format; }
+std::uint32_t vk_format_of(Storage storage) {
+    return format_of(storage).vk_format;
+}
 
 const char* vk_format_name(std::uint32_t vk_format) {
     const FormatInfo* format = find_format(vk_format);
@@ -345,8 +349,8 @@ void write_ktx2(const std::string& path, const PackedLeanMap& map) {
 
     std::vector<std::pair<std::string, std::string>> key_values = {
         {kKeyOrientation, "rd"},
-        {kKeyWriter, map.generator.empty() ? std::string("leanfade " LEANFADE_VERSION)
-                                           : map.generator},
+        {kKeyWriter,
+         map.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : map.generator},
         {kKeyScale, format_float(map.scale)},
         {kKeyRoughnessBaked, map.roughness_baked ? "1" : "0"},
         {kKeyBakedShininess, format_float(map.baked_shininess)},
@@ -420,8 +424,8 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
                               " (expected 37, 91, 97 or 109)");
     }
     if (info.type_size != format->type_size) {
-        throw Error(path, "typeSize " + std::to_string(info.type_size) + " does not match " +
-                              format->name);
+        throw Error(
+            path, "typeSize " + std::to_string(info.type_size) + " does not match " + format->name);
     }
     detail::check_dimensions(path, info.pixel_width, info.pixel_height, options.max_dimension);
     if (info.pixel_depth != 0) {
@@ -556,8 +560,7 @@ void validate_data_format(const std::string& path, const Ktx2DataFormat& actual,
     }
 }
 
-const std::string& required_key(const std::string& path, const Ktx2Info& info,
-                                const char* key) {
+const std::string& required_key(const std::string& path, const Ktx2Info& info, const char* key) {
     const std::string* value = info.find(key);
     if (value == nullptr) throw Error(path, std::string("missing key ") + key);
     return *value;
@@ -580,8 +583,8 @@ PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options) {
         if (entry.byte_length != expected || entry.uncompressed_byte_length != expected) {
             throw Error(path, "level " + std::to_string(level) + " byteLength " +
                                   std::to_string(entry.byte_length) + " / uncompressed " +
-                                  std::to_string(entry.uncompressed_byte_length) +
-                                  ", expected " + std::to_string(expected));
+                                  std::to_string(entry.uncompressed_byte_length) + ", expected " +
+                                  std::to_string(expected));
         }
         if (entry.byte_offset % level_alignment(*format) != 0) {
             throw Error(path, "level " + std::to_string(level) + " offset " +
@@ -655,26 +658,26 @@ std::string describe(const Ktx2Info& info) {
         << "), typeSize " << info.type_size << "\n";
     out << "size: " << info.pixel_width << " x " << info.pixel_height << ", pixelDepth "
         << info.pixel_depth << ", layerCount " << info.layer_count << ", faceCount "
-        << info.face_count << ", levelCount " << info.level_count
-        << ", supercompressionScheme " << info.supercompression_scheme << "\n";
+        << info.face_count << ", levelCount " << info.level_count << ", supercompressionScheme "
+        << info.supercompression_scheme << "\n";
     out << "index: dfd " << info.dfd_byte_offset << " +" << info.dfd_byte_length << ", kvd "
-        << info.kvd_byte_offset << " +" << info.kvd_byte_length << ", sgd "
-        << info.sgd_byte_offset << " +" << info.sgd_byte_length << "\n";
+        << info.kvd_byte_offset << " +" << info.kvd_byte_length << ", sgd " << info.sgd_byte_offset
+        << " +" << info.sgd_byte_length << "\n";
     const Ktx2DataFormat& dfd = info.data_format;
     out << "data format: model " << dfd.color_model
         << (dfd.color_model == kDfdModelRgbsda ? " (RGBSDA)" : "") << ", primaries "
         << dfd.color_primaries << (dfd.color_primaries == kDfdPrimariesBt709 ? " (BT709)" : "")
         << ", transfer " << dfd.transfer_function
         << (dfd.transfer_function == kDfdTransferLinear ? " (linear)"
-            : dfd.transfer_function == 2               ? " (sRGB)"
-                                                       : "")
+            : dfd.transfer_function == 2                ? " (sRGB)"
+                                                        : "")
         << ", flags " << dfd.flags << ", bytesPlane0 " << dfd.bytes_plane[0] << ", "
         << dfd.samples.size() << " samples\n";
     for (std::size_t i = 0; i < dfd.samples.size(); ++i) {
         const Ktx2Sample& sample = dfd.samples[i];
-        static constexpr const char* kChannelNames[16] = {"R", "G", "B", "3", "4", "5", "6", "7",
-                                                          "8", "9", "10", "11", "12", "13",
-                                                          "S", "A"};
+        // RGBSDA channel ids: 0 red, 1 green, 2 blue, 13 stencil, 14 depth, 15 alpha.
+        static constexpr const char* kChannelNames[16] = {
+            "R", "G", "B", "3", "4", "5", "6", "7", "8", "9", "10", "11", "12", "S", "D", "A"};
         char bounds[64];
         std::snprintf(bounds, sizeof bounds, "lower 0x%08X, upper 0x%08X", sample.sample_lower,
                       sample.sample_upper);

@@ -18,7 +18,7 @@ bool is_space(std::uint8_t byte) {
 }
 
 class HeaderParser {
-public:
+  public:
     HeaderParser(const std::string& path, const std::vector<std::uint8_t>& bytes)
         : path_(path), bytes_(bytes) {}
 
@@ -62,7 +62,7 @@ public:
         return position_ + 1;  // token() stopped on a white-space byte
     }
 
-private:
+  private:
     const std::string& path_;
     const std::vector<std::uint8_t>& bytes_;
     std::size_t position_ = 2;  // after "PF" / "Pf"
@@ -79,7 +79,8 @@ Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes
     const double scale = parser.real("scale");
     const std::size_t data_offset = parser.end_of_header();
     check_dimensions(path, width, height, options.max_dimension);
-    if (!(std::isfinite(scale) && scale != 0.0)) throw Error(path, "bad PFM scale (0 or not finite)");
+    if (!(std::isfinite(scale) && scale != 0.0))
+        throw Error(path, "bad PFM scale (0 or not finite)");
     const bool little_endian = scale < 0.0;
 
     const std::uint64_t needed = std::uint64_t(width) * std::uint64_t(height) * channels * 4;
@@ -92,7 +93,8 @@ Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes
     Image image(int(width), int(height), channels);
     const std::size_t row_values = std::size_t(width) * std::size_t(channels);
     for (int file_row = 0; file_row < image.height; ++file_row) {
-        const std::uint8_t* source = bytes.data() + data_offset + std::size_t(file_row) * row_values * 4;
+        const std::uint8_t* source =
+            bytes.data() + data_offset + std::size_t(file_row) * row_values * 4;
         float* destination = image.row(image.height - 1 - file_row);
         for (std::size_t i = 0; i < row_values; ++i) {
             const std::uint8_t* b = source + 4 * i;

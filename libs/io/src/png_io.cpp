@@ -124,29 +124,31 @@ bool write_png_rows(png_structp png, png_infop info, PngContext& context,
 }
 
 class PngReadStruct {
-public:
+  public:
     explicit PngReadStruct(PngContext& context) {
-        png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error,
-                                      on_png_warning);
+        png_ =
+            png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
         if (png_ != nullptr) info_ = png_create_info_struct(png_);
     }
-    ~PngReadStruct() { png_destroy_read_struct(&png_, info_ != nullptr ? &info_ : nullptr, nullptr); }
+    ~PngReadStruct() {
+        png_destroy_read_struct(&png_, info_ != nullptr ? &info_ : nullptr, nullptr);
+    }
     PngReadStruct(const PngReadStruct&) = delete;
     PngReadStruct& operator=(const PngReadStruct&) = delete;
     bool valid() const { return png_ != nullptr && info_ != nullptr; }
     png_structp png() const { return png_; }
     png_infop info() const { return info_; }
 
-private:
+  private:
     png_structp png_ = nullptr;
     png_infop info_ = nullptr;
 };
 
 class PngWriteStruct {
-public:
+  public:
     explicit PngWriteStruct(PngContext& context) : context_(context) {
-        png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error,
-                                       on_png_warning);
+        png_ =
+            png_create_write_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
         if (png_ != nullptr) info_ = png_create_info_struct(png_);
     }
     ~PngWriteStruct() {
@@ -159,7 +161,7 @@ public:
     png_structp png() const { return png_; }
     png_infop info() const { return info_; }
 
-private:
+  private:
     PngContext& context_;
     png_structp png_ = nullptr;
     png_infop info_ = nullptr;
@@ -250,8 +252,7 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image
         rows[std::size_t(y)] = destination;
         const float* source = image.row(y);
         for (std::size_t i = 0; i < values_per_row; ++i) {
-            const auto value =
-                unsigned(std::lround(std::clamp(source[i], 0.0f, 1.0f) * max_value));
+            const auto value = unsigned(std::lround(std::clamp(source[i], 0.0f, 1.0f) * max_value));
             if (bits == 8) {
                 destination[i] = std::uint8_t(value);
             } else {

@@ -13,7 +13,7 @@ namespace leanfade::io {
 // file. If commit() is never reached (an exception, an early return) the destructor removes the
 // temporary. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
 class AtomicFile {
-public:
+  public:
     // Creates the temporary file (mode 0666 minus the umask). Throws if it cannot be created, for
     // example when the folder does not exist or is not writable.
     explicit AtomicFile(std::string path);
@@ -34,7 +34,7 @@ public:
     const std::string& temporary_path() const noexcept { return temporary_path_; }
     bool committed() const noexcept { return committed_; }
 
-private:
+  private:
     std::string path_;
     std::string temporary_path_;
     int descriptor_ = -1;

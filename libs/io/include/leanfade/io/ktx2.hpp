@@ -63,10 +63,10 @@ struct Ktx2DataFormat {
     std::uint32_t descriptor_type = 0;
     std::uint32_t version_number = 0;
     std::uint32_t descriptor_block_size = 0;
-    std::uint32_t color_model = 0;  // 1 = RGBSDA
-    std::uint32_t color_primaries = 0;  // 1 = BT709
-    std::uint32_t transfer_function = 0;  // 1 = LINEAR, 2 = sRGB
-    std::uint32_t flags = 0;  // 1 = premultiplied alpha
+    std::uint32_t color_model = 0;                           // 1 = RGBSDA
+    std::uint32_t color_primaries = 0;                       // 1 = BT709
+    std::uint32_t transfer_function = 0;                     // 1 = LINEAR, 2 = sRGB
+    std::uint32_t flags = 0;                                 // 1 = premultiplied alpha
     std::uint32_t texel_block_dimensions[4] = {0, 0, 0, 0};  // stored minus 1
     std::uint32_t bytes_plane[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     std::vector<Ktx2Sample> samples;

@@ -1,0 +1,559 @@
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <string>
+
+#include "io_test_helpers.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/ktx2.hpp"
+
+namespace leanfade::io {
+namespace {
+
+using test::expect_error;
+using test::read_bytes;
+using test::scratch_folder;
+using test::store_u32_le;
+using test::store_u64_le;
+using test::u32_le;
+using test::u64_le;
+using test::write_bytes;
+
+constexpr std::uint8_t kIdentifier[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                          '0',  0xBB, '\r', '\n', 0x1A, '\n'};
+
+// Header field offsets (KTX 2.0 §3).
+constexpr std::size_t kVkFormat = 12, kTypeSize = 16, kPixelWidth = 20, kPixelHeight = 24,
+                      kPixelDepth = 28, kLayerCount = 32, kFaceCount = 36, kLevelCount = 40,
+                      kSupercompression = 44, kDfdOffset = 48, kDfdLength = 52, kKvdOffset = 56,
+                      kKvdLength = 60, kSgdOffset = 64, kSgdLength = 72, kLevelIndex = 80;
+
+struct StorageCase {
+    Storage storage;
+    std::uint32_t vk_format;
+    std::uint32_t type_size;
+    std::uint32_t texel_bytes;
+};
+
+constexpr StorageCase kStorages[] = {
+    {Storage::Unorm8, 37, 1, 4},
+    {Storage::Unorm16, 91, 2, 8},
+    {Storage::Float16, 97, 2, 8},
+    {Storage::Float32, 109, 4, 16},
+};
+
+int chain_length(int width, int height) {
+    int levels = 1;
+    for (int size = std::max(width, height); size > 1; size /= 2) ++levels;
+    return levels;
+}
+
+// A packed map of arbitrary bytes (no dependency on the core packer).
+PackedLeanMap make_map(Storage storage, int width, int height, int level_count, unsigned seed = 1) {
+    const int texel_bytes = bytes_per_texel(storage);
+    std::mt19937 random(seed);
+    PackedLeanMap map;
+    map.storage = storage;
+    map.scale = 0.123456789f;
+    map.roughness_baked = true;
+    map.baked_shininess = 13777.0f;
+    map.source_convention = NormalConvention::DirectX;
+    map.generator = "leanfade test";
+    for (int level = 0; level < level_count; ++level) {
+        PackedLevel packed;
+        packed.width = std::max(1, width >> level);
+        packed.height = std::max(1, height >> level);
+        const std::size_t size = std::size_t(packed.width * packed.height * texel_bytes);
+        for (std::size_t i = 0; i < size; ++i) packed.lean1.push_back(std::uint8_t(random()));
+        for (std::size_t i = 0; i < size; ++i) packed.lean2.push_back(std::uint8_t(random()));
+        map.levels.push_back(std::move(packed));
+    }
+    return map;
+}
+
+void expect_same_map(const PackedLeanMap& actual, const PackedLeanMap& expected) {
+    EXPECT_EQ(actual.storage, expected.storage);
+    EXPECT_EQ(std::memcmp(&actual.scale, &expected.scale, sizeof(float)), 0)
+        << actual.scale << " vs " << expected.scale;
+    EXPECT_EQ(actual.roughness_baked, expected.roughness_baked);
+    EXPECT_EQ(actual.baked_shininess, expected.baked_shininess);
+    EXPECT_EQ(actual.source_convention, expected.source_convention);
+    EXPECT_EQ(actual.generator, expected.generator);
+    ASSERT_EQ(actual.levels.size(), expected.levels.size());
+    for (std::size_t i = 0; i < expected.levels.size(); ++i) {
+        EXPECT_EQ(actual.levels[i].width, expected.levels[i].width) << "level " << i;
+        EXPECT_EQ(actual.levels[i].height, expected.levels[i].height) << "level " << i;
+        EXPECT_TRUE(actual.levels[i].lean1 == expected.levels[i].lean1) << "level " << i;
+        EXPECT_TRUE(actual.levels[i].lean2 == expected.levels[i].lean2) << "level " << i;
+    }
+}
+
+// Raw key/value entries of a file, in file order, with padding checked.
+std::vector<std::pair<std::string, std::string>> raw_key_values(
+    const std::vector<std::uint8_t>& bytes) {
+    const std::size_t offset = u32_le(bytes, kKvdOffset);
+    const std::size_t length = u32_le(bytes, kKvdLength);
+    std::vector<std::pair<std::string, std::string>> entries;
+    std::size_t position = offset;
+    while (position < offset + length) {
+        const std::uint32_t entry_length = u32_le(bytes, position);
+        const std::string entry(bytes.begin() + std::ptrdiff_t(position + 4),
+                                bytes.begin() + std::ptrdiff_t(position + 4 + entry_length));
+        const std::size_t nul = entry.find('\0');
+        EXPECT_NE(nul, std::string::npos);
+        entries.emplace_back(entry.substr(0, nul), entry.substr(nul + 1));
+        position += 4 + entry_length;
+        while (position % 4 != 0) {
+            EXPECT_EQ(bytes[position], 0) << "padding";
+            ++position;
+        }
+    }
+    EXPECT_EQ(position, offset + length);
+    return entries;
+}
+
+std::size_t find_text(const std::vector<std::uint8_t>& bytes, const std::string& text) {
+    const auto found = std::search(bytes.begin(), bytes.end(), text.begin(), text.end());
+    EXPECT_NE(found, bytes.end()) << text;
+    return std::size_t(found - bytes.begin());
+}
+
+// Writes `bytes` after applying `patch`, then expects read_ktx2 to fail with `cause`.
+template <class Patch>
+void expect_rejected(const std::string& path, std::vector<std::uint8_t> bytes, Patch&& patch,
+                     const std::string& cause) {
+    patch(bytes);
+    write_bytes(path, bytes);
+    expect_error([&] { read_ktx2(path); }, path, cause);
+}
+
+TEST(Ktx2, RoundTripIsBitExactForAllStorages) {
+    const std::string folder = scratch_folder();
+    const int sizes[][3] = {{37, 20, 0}, {1, 1, 0}, {64, 1, 0}, {3, 50, 0}, {37, 20, 3}};
+    for (const StorageCase& storage : kStorages) {
+        for (const auto& size : sizes) {
+            const int levels = size[2] > 0 ? size[2] : chain_length(size[0], size[1]);
+            SCOPED_TRACE(std::string(to_string(storage.storage)) + " " + std::to_string(size[0]) +
+                         "x" + std::to_string(size[1]) + " levels " + std::to_string(levels));
+            const PackedLeanMap map = make_map(storage.storage, size[0], size[1], levels,
+                                               unsigned(size[0] * 7 + size[1]));
+            const std::string path = folder + "/map.ktx2";
+            write_ktx2(path, map);
+            expect_same_map(read_ktx2(path), map);
+        }
+    }
+}
+
+TEST(Ktx2, MetadataRoundTripsExactly) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/map.ktx2";
+    std::mt19937 random(11);
+    std::vector<float> scales = {1.0f,
+                                 0.1f,
+                                 3.14159274f,
+                                 1e-7f,
+                                 123456.789f,
+                                 std::numeric_limits<float>::denorm_min(),
+                                 std::numeric_limits<float>::max()};
+    for (int i = 0; i < 50; ++i) {
+        const std::uint32_t bits = (random() & 0x7FFFFFFFu) % 0x7F800000u;  // positive finite
+        float value;
+        std::memcpy(&value, &bits, 4);
+        if (value > 0.0f) scales.push_back(value);
+    }
+    for (const float scale : scales) {
+        PackedLeanMap map = make_map(Storage::Unorm16, 5, 3, 3);
+        map.scale = scale;
+        map.baked_shininess = scale;
+        map.roughness_baked = false;
+        map.source_convention = NormalConvention::OpenGL;
+        write_ktx2(path, map);
+        expect_same_map(read_ktx2(path), map);
+    }
+    PackedLeanMap unnamed = make_map(Storage::Unorm8, 2, 2, 1);
+    unnamed.generator.clear();
+    write_ktx2(path, unnamed);
+    EXPECT_THAT(read_ktx2(path).generator, ::testing::StartsWith("leanfade "));
+}
+
+TEST(Ktx2, HeaderIndexAndLevelsFollowTheSpec) {
+    const std::string folder = scratch_folder();
+    for (const StorageCase& storage : kStorages) {
+        SCOPED_TRACE(to_string(storage.storage));
+        const int width = 37, height = 20, levels = chain_length(width, height);
+        ASSERT_EQ(levels, 6);
+        const PackedLeanMap map = make_map(storage.storage, width, height, levels);
+        const std::string path = folder + "/map.ktx2";
+        write_ktx2(path, map);
+        const std::vector<std::uint8_t> bytes = read_bytes(path);
+
+        EXPECT_EQ(std::memcmp(bytes.data(), kIdentifier, 12), 0);
+        EXPECT_EQ(u32_le(bytes, kVkFormat), storage.vk_format);
+        EXPECT_EQ(u32_le(bytes, kTypeSize), storage.type_size);
+        EXPECT_EQ(u32_le(bytes, kPixelWidth), 37u);
+        EXPECT_EQ(u32_le(bytes, kPixelHeight), 20u);
+        EXPECT_EQ(u32_le(bytes, kPixelDepth), 0u);
+        EXPECT_EQ(u32_le(bytes, kLayerCount), 2u);
+        EXPECT_EQ(u32_le(bytes, kFaceCount), 1u);
+        EXPECT_EQ(u32_le(bytes, kLevelCount), 6u);
+        EXPECT_EQ(u32_le(bytes, kSupercompression), 0u);
+        const std::uint32_t dfd_offset = u32_le(bytes, kDfdOffset);
+        const std::uint32_t dfd_length = u32_le(bytes, kDfdLength);
+        const std::uint32_t kvd_offset = u32_le(bytes, kKvdOffset);
+        const std::uint32_t kvd_length = u32_le(bytes, kKvdLength);
+        EXPECT_EQ(dfd_offset, kLevelIndex + 24 * 6);  // right after the level index
+        EXPECT_EQ(dfd_length, 4u + 24u + 4u * 16u);
+        EXPECT_EQ(kvd_offset, dfd_offset + dfd_length);
+        EXPECT_EQ(kvd_offset % 4, 0u);
+        EXPECT_EQ(kvd_length % 4, 0u);
+        EXPECT_EQ(u64_le(bytes, kSgdOffset), 0u);
+        EXPECT_EQ(u64_le(bytes, kSgdLength), 0u);
+
+        const std::uint64_t alignment = std::lcm(std::uint64_t(storage.texel_bytes), 4u);
+        std::uint64_t previous_offset = 0;
+        for (int level = levels - 1; level >= 0; --level) {  // smallest level first in the file
+            const std::size_t entry = kLevelIndex + 24 * std::size_t(level);
+            const std::uint64_t offset = u64_le(bytes, entry);
+            const std::uint64_t length = u64_le(bytes, entry + 8);
+            const PackedLevel& packed = map.levels[std::size_t(level)];
+            EXPECT_EQ(length, std::uint64_t(packed.width) * std::uint64_t(packed.height) *
+                                  storage.texel_bytes * 2)
+                << "level " << level;
+            EXPECT_EQ(u64_le(bytes, entry + 16), length) << "uncompressedByteLength";
+            EXPECT_EQ(offset % alignment, 0u) << "level " << level;
+            if (level == levels - 1) {
+                EXPECT_GE(offset, std::uint64_t(kvd_offset) + kvd_length);
+                EXPECT_LT(offset - (kvd_offset + kvd_length), alignment);  // padding only
+            } else {
+                EXPECT_GT(offset, previous_offset) << "levels stored smallest first";
+            }
+            previous_offset = offset;
+            // Layer 0 (lean1) then layer 1 (lean2), back to back.
+            EXPECT_EQ(std::memcmp(bytes.data() + offset, packed.lean1.data(), packed.lean1.size()),
+                      0);
+            EXPECT_EQ(std::memcmp(bytes.data() + offset + packed.lean1.size(), packed.lean2.data(),
+                                  packed.lean2.size()),
+                      0);
+            if (level == 0) {
+                EXPECT_EQ(offset + length, bytes.size()) << "level 0 ends the file";
+            }
+        }
+    }
+}
+
+TEST(Ktx2, DataFormatDescriptorFollowsTheSpec) {
+    const std::string folder = scratch_folder();
+    for (const StorageCase& storage : kStorages) {
+        SCOPED_TRACE(to_string(storage.storage));
+        const std::string path = folder + "/map.ktx2";
+        write_ktx2(path, make_map(storage.storage, 4, 4, 1));
+        const std::vector<std::uint8_t> bytes = read_bytes(path);
+        const std::size_t dfd = u32_le(bytes, kDfdOffset);
+        EXPECT_EQ(u32_le(bytes, dfd), 92u);                       // dfdTotalSize
+        EXPECT_EQ(u32_le(bytes, dfd + 4), 0u);                    // vendor KHR, type basic
+        EXPECT_EQ(u32_le(bytes, dfd + 8), 2u | (88u << 16));      // version 1.3, block size 88
+        EXPECT_EQ(bytes[dfd + 12], 1);                            // model RGBSDA
+        EXPECT_EQ(bytes[dfd + 13], 1);                            // primaries BT709
+        EXPECT_EQ(bytes[dfd + 14], 1);                            // transfer LINEAR
+        EXPECT_EQ(bytes[dfd + 15], 0);                            // flags: straight alpha
+        EXPECT_EQ(u32_le(bytes, dfd + 16), 0u);                   // texel block 1x1x1x1
+        EXPECT_EQ(u32_le(bytes, dfd + 20), storage.texel_bytes);  // bytesPlane0
+        EXPECT_EQ(u32_le(bytes, dfd + 24), 0u);
+        const bool is_float = storage.vk_format == 97 || storage.vk_format == 109;
+        const std::uint32_t bits = storage.type_size * 8;
+        const std::uint8_t channel_ids[4] = {0, 1, 2, 15};
+        for (std::uint32_t c = 0; c < 4; ++c) {
+            const std::size_t sample = dfd + 28 + 16 * c;
+            EXPECT_EQ(u32_le(bytes, sample) & 0xFFFF, c * bits) << "bitOffset";
+            EXPECT_EQ(bytes[sample + 2], bits - 1) << "bitLength";
+            EXPECT_EQ(bytes[sample + 3], channel_ids[c] | (is_float ? 0xC0 : 0x00))
+                << "channelType + qualifiers";
+            EXPECT_EQ(u32_le(bytes, sample + 4), 0u) << "samplePosition";
+            EXPECT_EQ(u32_le(bytes, sample + 8), is_float ? 0xBF800000u : 0u) << "sampleLower";
+            EXPECT_EQ(u32_le(bytes, sample + 12),
+                      is_float ? 0x3F800000u : (bits == 8 ? 255u : 65535u))
+                << "sampleUpper";
+        }
+    }
+}
+
+TEST(Ktx2, KeyValueDataIsSortedPaddedAndComplete) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/map.ktx2";
+    PackedLeanMap map = make_map(Storage::Float16, 6, 6, 2);
+    map.scale = 0.1f;
+    write_ktx2(path, map);
+    const auto entries = raw_key_values(read_bytes(path));
+    std::vector<std::string> keys;
+    for (const auto& entry : entries) keys.push_back(entry.first);
+    EXPECT_TRUE(std::is_sorted(keys.begin(), keys.end()));
+    using Entry = std::pair<std::string, std::string>;
+    EXPECT_EQ(entries, (std::vector<Entry>{
+                           {"KTXorientation", std::string("rd\0", 3)},
+                           {"KTXwriter", std::string("leanfade test\0", 14)},
+                           {"LEANFADEbakedShininess", std::string("13777\0", 6)},
+                           {"LEANFADElayout", std::string("lean1,lean2 v1\0", 15)},
+                           {"LEANFADEnormalConvention", std::string("directx\0", 8)},
+                           {"LEANFADEroughnessBaked", std::string("1\0", 2)},
+                           {"LEANFADEscale", std::string("0.1\0", 4)},
+                       }));
+}
+
+TEST(Ktx2, InspectAndDescribe) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/map.ktx2";
+    write_ktx2(path, make_map(Storage::Unorm16, 37, 20, 6));
+    const Ktx2Info info = inspect_ktx2(path);
+    EXPECT_EQ(info.vk_format, 91u);
+    EXPECT_EQ(info.pixel_width, 37u);
+    EXPECT_EQ(info.layer_count, 2u);
+    ASSERT_EQ(info.levels.size(), 6u);
+    EXPECT_EQ(info.levels[5].width, 1u);
+    EXPECT_EQ(info.levels[2].width, 9u);
+    EXPECT_EQ(info.levels[2].height, 5u);
+    EXPECT_EQ(info.levels[2].byte_length, 9u * 5u * 8u * 2u);
+    EXPECT_EQ(info.data_format.samples.size(), 4u);
+    ASSERT_NE(info.find("LEANFADEscale"), nullptr);
+    EXPECT_EQ(*info.find("LEANFADEscale"), "0.12345679");
+    EXPECT_EQ(info.find("nothing"), nullptr);
+
+    const std::string text = describe(info);
+    EXPECT_THAT(text, ::testing::HasSubstr("VK_FORMAT_R16G16B16A16_UNORM"));
+    EXPECT_THAT(text, ::testing::HasSubstr("37 x 20"));
+    EXPECT_THAT(text, ::testing::HasSubstr("layerCount 2"));
+    EXPECT_THAT(text, ::testing::HasSubstr("level 2: 9 x 5, offset "));
+    EXPECT_THAT(text, ::testing::HasSubstr("KTXorientation = rd\n"));
+    EXPECT_THAT(text, ::testing::HasSubstr("LEANFADElayout = lean1,lean2 v1\n"));
+    EXPECT_THAT(text, ::testing::HasSubstr("transfer 1 (linear)"));
+    EXPECT_EQ(text.back(), '\n');
+}
+
+TEST(Ktx2, InspectDescribesForeignFilesThatReadRefuses) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/cube.ktx2";
+    write_ktx2(path, make_map(Storage::Unorm8, 4, 4, 1));
+    std::vector<std::uint8_t> bytes = read_bytes(path);
+    store_u32_le(bytes, kLayerCount, 0);
+    store_u32_le(bytes, kVkFormat, 43);  // VK_FORMAT_R8G8B8A8_SRGB
+    write_bytes(path, bytes);
+    EXPECT_NO_THROW(inspect_ktx2(path));
+    EXPECT_THAT(describe(inspect_ktx2(path)), ::testing::HasSubstr("vkFormat: 43 (unknown)"));
+    expect_error([&] { read_ktx2(path); }, path, "unsupported vkFormat 43");
+}
+
+TEST(Ktx2, MissingEmptyTruncatedAndGarbageFilesThrow) {
+    const std::string folder = scratch_folder();
+    const std::string good = folder + "/good.ktx2";
+    write_ktx2(good, make_map(Storage::Unorm16, 37, 20, 6));
+    const std::vector<std::uint8_t> bytes = read_bytes(good);
+
+    const std::string missing = folder + "/missing.ktx2";
+    expect_error([&] { read_ktx2(missing); }, missing, "cannot open (No such file or directory)");
+    expect_error([&] { inspect_ktx2(missing); }, missing, "cannot open");
+    const std::string empty = folder + "/empty.ktx2";
+    write_bytes(empty, {});
+    expect_error([&] { read_ktx2(empty); }, empty, "empty file");
+
+    const std::string path = folder + "/bad.ktx2";
+    const std::size_t dfd = u32_le(bytes, kDfdOffset);
+    const std::size_t kvd = u32_le(bytes, kKvdOffset);
+    const std::pair<std::size_t, std::string> cuts[] = {
+        {5, "truncated KTX2 identifier"},
+        {12, "truncated KTX2 header"},
+        {79, "truncated KTX2 header"},
+        {100, "truncated KTX2 level index"},
+        {dfd + 10, "runs past the end of the file"},
+        {kvd + 20, "runs past the end of the file"},
+        {bytes.size() / 2, "runs past the end of the file"},
+        {bytes.size() - 1, "level 0 data (offset"},
+    };
+    for (const auto& [length, cause] : cuts) {
+        SCOPED_TRACE("truncated to " + std::to_string(length));
+        write_bytes(
+            path, std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + std::ptrdiff_t(length)));
+        expect_error([&] { read_ktx2(path); }, path, cause);
+    }
+
+    std::vector<std::uint8_t> garbage(500);
+    std::mt19937 random(5);
+    for (auto& byte : garbage) byte = std::uint8_t(random());
+    write_bytes(path, garbage);
+    expect_error([&] { read_ktx2(path); }, path, "not a KTX 2.0 file (bad identifier)");
+    std::copy(std::begin(kIdentifier), std::end(kIdentifier), garbage.begin());
+    write_bytes(path, garbage);
+    expect_error([&] { read_ktx2(path); }, path, "");  // any cause, but a leanfade::Error
+}
+
+TEST(Ktx2, HostileHeadersAreRefusedBeforeAllocating) {
+    const std::string folder = scratch_folder();
+    const std::string good = folder + "/good.ktx2";
+    write_ktx2(good, make_map(Storage::Float32, 37, 20, 6));
+    const std::vector<std::uint8_t> bytes = read_bytes(good);
+    const std::string path = folder + "/bad.ktx2";
+
+    test::reset_largest_allocation();
+    expect_rejected(
+        path, bytes,
+        [](auto& b) {
+            store_u32_le(b, kPixelWidth, 100000);
+            store_u32_le(b, kPixelHeight, 100000);
+        },
+        "image size 100000x100000 exceeds the limit of 16384 texels per side");
+    EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kPixelWidth, 0); },
+        "image width or height is 0");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kLayerCount, 1); },
+        "layerCount 1 (a LEAN map has 2 layers");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kLayerCount, 0); }, "layerCount 0");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kFaceCount, 6); }, "faceCount 6");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kPixelDepth, 3); }, "pixelDepth 3");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kSupercompression, 2); },
+        "supercompressionScheme 2");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kTypeSize, 1); },
+        "typeSize 1 does not match VK_FORMAT_R32G32B32A32_SFLOAT");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kVkFormat, 109 + 1); },
+        "unsupported vkFormat 110");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kLevelCount, 7); },
+        "levelCount 7 exceeds the 6 levels of a 37x20 MIP chain");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kLevelCount, 0xFFFFFFFFu); },
+        "levelCount 4294967295 exceeds");
+    expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kLevelCount, 0); }, "levelCount 0");
+    // The same absurd level counts seen by inspect (no chain check there).
+    std::vector<std::uint8_t> many_levels = bytes;
+    store_u32_le(many_levels, kLevelCount, 1000000);
+    write_bytes(path, many_levels);
+    expect_error([&] { inspect_ktx2(path); }, path, "levelCount 1000000 is more than 32");
+}
+
+TEST(Ktx2, OffsetsAndLengthsOutsideTheFileAreRefused) {
+    const std::string folder = scratch_folder();
+    const std::string good = folder + "/good.ktx2";
+    write_ktx2(good, make_map(Storage::Unorm8, 37, 20, 6));
+    const std::vector<std::uint8_t> bytes = read_bytes(good);
+    const std::string path = folder + "/bad.ktx2";
+    const std::uint64_t max64 = std::numeric_limits<std::uint64_t>::max();
+
+    test::reset_largest_allocation();
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kLevelIndex, max64 - 10); },
+        "level 0 data (offset 18446744073709551605, length 5920) runs past the end");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kLevelIndex + 24 + 8, max64); },
+        "level 1 data");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kLevelIndex, b.size()); }, "level 0 data");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u32_le(b, kDfdLength, 0xFFFFFFF0u); },
+        "data format descriptor runs past the end of the file");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u32_le(b, kKvdOffset, 0xFFFFFFFFu); },
+        "key/value data runs past the end of the file");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kSgdOffset, max64); },
+        "supercompression global data runs past the end of the file");
+    EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+
+    // Inside the file but wrong.
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kLevelIndex + 8, 5920 - 4); },
+        "level 0 byteLength 5916");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, kLevelIndex, u64_le(b, kLevelIndex) - 2); },
+        "is not aligned to 4 bytes");
+    expect_rejected(
+        path, bytes,
+        [&](auto& b) {
+            const std::size_t kvd = u32_le(b, kKvdOffset);
+            store_u32_le(b, kvd, 0x10000);
+        },
+        "runs past the key/value data");
+}
+
+TEST(Ktx2, InconsistentDescriptorsAndKeysAreRefused) {
+    const std::string folder = scratch_folder();
+    const std::string good = folder + "/good.ktx2";
+    PackedLeanMap map = make_map(Storage::Unorm16, 9, 7, 4);
+    map.scale = 0.5f;
+    write_ktx2(good, map);
+    const std::vector<std::uint8_t> bytes = read_bytes(good);
+    const std::string path = folder + "/bad.ktx2";
+    const std::size_t dfd = u32_le(bytes, kDfdOffset);
+
+    expect_rejected(
+        path, bytes, [&](auto& b) { b[dfd + 14] = 2; }, "transfer is not LINEAR");
+    expect_rejected(
+        path, bytes, [&](auto& b) { b[dfd + 12] = 2; }, "not RGBSDA");
+    expect_rejected(
+        path, bytes, [&](auto& b) { b[dfd + 28 + 16 + 3] |= 0xC0; }, "(sample 1)");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u32_le(b, dfd + 28 + 16 * 3 + 12, 255); }, "(sample 3)");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u32_le(b, dfd, 91); },
+        "dfdTotalSize 91 differs from dfdByteLength 92");
+
+    const auto replace = [&](const std::string& from, const std::string& to) {
+        return [&, from, to](std::vector<std::uint8_t>& b) {
+            ASSERT_EQ(from.size(), to.size());
+            std::copy(to.begin(), to.end(), b.begin() + std::ptrdiff_t(find_text(b, from)));
+        };
+    };
+    expect_rejected(path, bytes, replace(std::string("lean1,lean2 v1"), "lean1,lean2 v2"),
+                    "unsupported LEANFADElayout 'lean1,lean2 v2'");
+    expect_rejected(
+        path, bytes,
+        replace(std::string("LEANFADEscale\0000.5", 17), std::string("LEANFADEscale\0nan", 17)),
+        "bad LEANFADEscale value 'nan'");
+    expect_rejected(
+        path, bytes,
+        replace(std::string("LEANFADEscale\0000.5", 17), std::string("LEANFADEscale\0000.0", 17)),
+        "LEANFADEscale must be > 0");
+    expect_rejected(path, bytes, replace("LEANFADEroughnessBaked", "LEANFADEroughnessBakeX"),
+                    "missing key LEANFADEroughnessBaked");
+    expect_rejected(path, bytes, replace("directx", "DirectX"),
+                    "bad LEANFADEnormalConvention value 'DirectX'");
+    expect_rejected(path, bytes, replace(std::string("rd\0", 3), std::string("ru\0", 3)),
+                    "unsupported KTXorientation 'ru'");
+    expect_rejected(path, bytes,
+                    replace(std::string("Baked\0001", 7), std::string("Baked\0002", 7)),
+                    "bad LEANFADEroughnessBaked value '2'");
+}
+
+TEST(Ktx2, WriteRefusesInconsistentMaps) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/map.ktx2";
+    PackedLeanMap map = make_map(Storage::Unorm16, 8, 8, 4);
+    map.levels.push_back(map.levels.back());
+    expect_error([&] { write_ktx2(path, map); }, path, "5 levels for a 8x8 map (at most 4)");
+    map = make_map(Storage::Unorm16, 8, 8, 4);
+    map.levels[2].width = 3;
+    expect_error([&] { write_ktx2(path, map); }, path, "level 2 is 3x2, expected 2x2");
+    map = make_map(Storage::Unorm16, 8, 8, 4);
+    map.levels[1].lean2.pop_back();
+    expect_error([&] { write_ktx2(path, map); }, path, "level 1 layers hold 128 and 127 bytes");
+    map = make_map(Storage::Unorm16, 8, 8, 4);
+    map.scale = std::numeric_limits<float>::quiet_NaN();
+    expect_error([&] { write_ktx2(path, map); }, path, "LEAN scale nan is not finite and > 0");
+    map.scale = 0.0f;
+    expect_error([&] { write_ktx2(path, map); }, path, "LEAN scale 0 is not finite and > 0");
+    map.scale = 1.0f;
+    map.baked_shininess = -1.0f;
+    expect_error([&] { write_ktx2(path, map); }, path, "baked shininess -1");
+    EXPECT_TRUE(test::folder_entries(folder).empty());
+}
+
+}  // namespace
+}  // namespace leanfade::io
