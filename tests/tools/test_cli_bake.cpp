@@ -214,19 +214,19 @@ INSTANTIATE_TEST_SUITE_P(
     Matrix, CliBakeBadInput,
     ::testing::Values(
         BadCase{"missing", [](const fs::path& d) { return "bake " + q(d / "nope.png"); },
-                "", "nope.png"},
+                "No such file", "nope.png"},
         BadCase{"empty",
                 [](const fs::path& d) {
                     write_bytes(d / "empty.png", {});
                     return "bake " + q(d / "empty.png");
                 },
-                "", "empty.png"},
+                "empty file", "empty.png"},
         BadCase{"garbage",
                 [](const fs::path& d) {
                     write_bytes(d / "junk.png", {'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'});
                     return "bake " + q(d / "junk.png");
                 },
-                "", "junk.png"},
+                "unknown image format", "junk.png"},
         BadCase{"truncated",
                 [](const fs::path& d) {
                     const fs::path p = write_height_png(d, "t.png", 64);
@@ -235,13 +235,13 @@ INSTANTIATE_TEST_SUITE_P(
                     write_bytes(p, bytes);
                     return "bake " + q(p);
                 },
-                "", "t.png"},
+                "truncated", "t.png"},
         BadCase{"zero_width",
                 [](const fs::path& d) {
                     write_bytes(d / "zero.png", png_header_only(0, 16));
                     return "bake " + q(d / "zero.png");
                 },
-                "", "zero.png"},
+                "width or height is 0", "zero.png"},
         BadCase{"absurd_size",
                 [](const fs::path& d) {
                     write_bytes(d / "huge.png", png_header_only(100000, 100000));
@@ -301,7 +301,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "does not exist", "such"},
         BadCase{"info_on_png",
                 [](const fs::path& d) { return "info " + q(write_height_png(d, "notktx.png")); },
-                "", "notktx.png"},
+                "not a KTX 2.0 file", "notktx.png"},
         BadCase{"info_truncated_ktx2",
                 [](const fs::path& d) {
                     const fs::path out = d / "tmp.ktx2";
@@ -312,5 +312,5 @@ INSTANTIATE_TEST_SUITE_P(
                     write_bytes(d / "cut.ktx2", bytes);
                     return "info " + q(d / "cut.ktx2");
                 },
-                "", "cut.ktx2"}),
+                "past the end", "cut.ktx2"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
