@@ -9,6 +9,7 @@ function(leanfade_embed_files)
     COMMAND ${CMAKE_COMMAND} -DOUT=${out} -DBASE=${E_BASE} -DNAME=${E_NAME}
             "-DFILES=${E_FILES}" -P ${script}
     DEPENDS ${E_FILES} ${script}
-    COMMENT "Embedding ${E_NAME}")
+    COMMENT "Embedding ${E_NAME}"
+    VERBATIM)
   target_sources(${E_TARGET} PRIVATE ${out})
 endfunction()

@@ -43,12 +43,18 @@ void validate(const ShadingSettings& s) {
     const struct {
         float value;
         const char* flag;
-    } scalars[] = {{s.shininess, "--shininess"},         {s.fresnel_bias, "--fresnel-bias"},
-                   {s.fresnel_scale, "--fresnel-scale"}, {s.fade, "--fade"},
-                   {s.pmax, "--pmax"},                   {s.fade_exponent, "--fade-exponent"},
-                   {s.fog_start, "--fog-start"},         {s.fog_end, "--fog-end"},
-                   {s.fog_density, "--fog-density"},     {s.bump_strength, "--strength"},
-                   {s.tiling, "--tiling"},               {s.mip_bias, "--mip-bias"}};
+    } scalars[] = {{s.shininess, "--shininess"},
+                   {s.fresnel_bias, "--fresnel-bias"},
+                   {s.fresnel_scale, "--fresnel-scale"},
+                   {s.fade, "--fade"},
+                   {s.pmax, "--pmax"},
+                   {s.fade_exponent, "--fade-exponent"},
+                   {s.fog_start, "--fog-start"},
+                   {s.fog_end, "--fog-end"},
+                   {s.fog_density, "--fog-density"},
+                   {s.bump_strength, "--strength"},
+                   {s.tiling, "--tiling"},
+                   {s.mip_bias, "--mip-bias"}};
     for (const auto& v : scalars) require_finite(v.value, v.flag);
     require(s.shininess > 0.0f, "--shininess", "must be > 0, got " + text(s.shininess));
     require(s.fresnel_bias >= 0.0f, "--fresnel-bias", "must be >= 0, got " + text(s.fresnel_bias));
@@ -56,8 +62,7 @@ void validate(const ShadingSettings& s) {
             "must be >= 0, got " + text(s.fresnel_scale));
     require(s.fade >= 0.0f, "--fade", "must be >= 0, got " + text(s.fade));
     require(s.pmax >= 1.0f, "--pmax", "must be >= 1, got " + text(s.pmax));
-    require(s.fade_exponent > 0.0f, "--fade-exponent",
-            "must be > 0, got " + text(s.fade_exponent));
+    require(s.fade_exponent > 0.0f, "--fade-exponent", "must be > 0, got " + text(s.fade_exponent));
     require(s.fog != FogMode::Linear || s.fog_end > s.fog_start, "--fog-end",
             "must be greater than --fog-start for linear fog");
     require(s.fog_density >= 0.0f, "--fog-density", "must be >= 0, got " + text(s.fog_density));
@@ -94,10 +99,14 @@ int to_shader_constant(FadeDistance mode) {
 
 int to_shader_constant(FogMode mode) {
     switch (mode) {
-        case FogMode::None: return shading::LF_FOG_NONE;
-        case FogMode::Linear: return shading::LF_FOG_LINEAR;
-        case FogMode::Exp: return shading::LF_FOG_EXP;
-        case FogMode::Exp2: return shading::LF_FOG_EXP2;
+        case FogMode::None:
+            return shading::LF_FOG_NONE;
+        case FogMode::Linear:
+            return shading::LF_FOG_LINEAR;
+        case FogMode::Exp:
+            return shading::LF_FOG_EXP;
+        case FogMode::Exp2:
+            return shading::LF_FOG_EXP2;
     }
     return shading::LF_FOG_NONE;
 }
@@ -108,10 +117,14 @@ const char* to_string(FadeDistance mode) {
 
 const char* to_string(FogMode mode) {
     switch (mode) {
-        case FogMode::None: return "none";
-        case FogMode::Linear: return "linear";
-        case FogMode::Exp: return "exp";
-        case FogMode::Exp2: return "exp2";
+        case FogMode::None:
+            return "none";
+        case FogMode::Linear:
+            return "linear";
+        case FogMode::Exp:
+            return "exp";
+        case FogMode::Exp2:
+            return "exp2";
     }
     return "none";
 }

@@ -45,8 +45,8 @@ struct Resolver {
     // Appends the text of `name` to out.text; `defines` is given for the main file only.
     void append(const std::string& name, const std::string& text, int depth,
                 const std::vector<std::string>* defines) {
-        const int index = int(std::find(out.files.begin(), out.files.end(), name) -
-                              out.files.begin());
+        const int index =
+            int(std::find(out.files.begin(), out.files.end(), name) - out.files.begin());
         std::istringstream in(text);
         std::string line;
         int line_number = 0;
@@ -61,8 +61,8 @@ struct Resolver {
                 version_seen = true;
                 out.text += line + "\n";
                 for (const std::string& d : *defines) out.text += "#define " + d + "\n";
-                out.text += "#line " + std::to_string(line_number + 1) + " " +
-                            std::to_string(index) + "\n";
+                out.text +=
+                    "#line " + std::to_string(line_number + 1) + " " + std::to_string(index) + "\n";
                 continue;
             }
             if (starts_with_directive(line, "include", &rest)) {
@@ -80,8 +80,8 @@ struct Resolver {
                     out.text += "#line 1 " + std::to_string(child) + "\n";
                     append(included, read(included), depth + 1, nullptr);
                 }
-                out.text += "#line " + std::to_string(line_number + 1) + " " +
-                            std::to_string(index) + "\n";
+                out.text +=
+                    "#line " + std::to_string(line_number + 1) + " " + std::to_string(index) + "\n";
                 continue;
             }
             out.text += line + "\n";

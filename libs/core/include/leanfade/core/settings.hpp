@@ -28,8 +28,9 @@ enum class FogMode { None, Linear, Exp, Exp2 };
 
 struct ShadingSettings {
     // Light (one directional light).
-    glm::vec3 light_direction{-1.0f, 1.0f, 1.0f};  // world space, toward the light: upper-left-front
-    glm::vec3 light_color{1.0f};                   // linear RGB radiance scale
+    // World space, toward the light: upper-left-front (the camera looks along -z).
+    glm::vec3 light_direction{-1.0f, 1.0f, 1.0f};
+    glm::vec3 light_color{1.0f};  // linear RGB radiance scale
 
     // Material (linear RGB).
     glm::vec3 ambient{0.03f, 0.03f, 0.035f};  // Ka
@@ -38,13 +39,13 @@ struct ShadingSettings {
     float shininess = 800.0f;                 // Blinn-Phong exponent s (> 0)
 
     // Fresnel, Schlick form of the fading paper's listing: clamp(Fb + Fs (1 - n.V)^5, 0, 1).
-    float fresnel_bias = 0.06f;   // Fb
-    float fresnel_scale = 0.94f;  // Fs
+    float fresnel_bias = 0.2f;   // Fb
+    float fresnel_scale = 0.8f;  // Fs
 
     // Specular fading (fading paper eq. 6-7): sf = clamp(1 + (d Fade)^p, 1, Pmax).
-    float fade = 0.1f;                // Fade >= 0, per world unit (bounding radius)
-    float pmax = 8.0f;                // Pmax >= 1
-    float fade_exponent = 2.0f;       // p > 0 (the paper's "optional" power of two)
+    float fade = 0.15f;          // Fade >= 0, per world unit (bounding radius)
+    float pmax = 16.0f;          // Pmax >= 1
+    float fade_exponent = 2.0f;  // p > 0 (the paper's "optional" power of two)
     FadeDistance fade_distance = FadeDistance::TangentZ;
 
     // Fog; distances in world units (bounding radii) measured along the eye's view axis.
@@ -56,7 +57,8 @@ struct ShadingSettings {
 
     // Bumps and texturing.
     float bump_strength = 1.0f;  // height per texel spacing when baking a height map (SPEC §2)
-    float tiling = 6.0f;         // texture repeats per unit of the mesh's uv
+    float tiling = 1.0f;         // texture repeats per unit of the mesh's uv (built-in meshes
+                                 // already repeat the texture about every 0.4 of their units)
     float mip_bias = 0.0f;       // added to the texture LOD (negative = sharper)
     int anisotropy = 1;          // maximum anisotropic filtering ratio (1 = trilinear only)
     int msaa = 1;                // samples per pixel of the colour buffer (1 = off)
@@ -80,7 +82,8 @@ int to_shader_constant(FogMode mode);
 const char* to_string(FadeDistance mode);
 const char* to_string(FogMode mode);
 // Throw leanfade::Error(flag, cause) for an unknown name.
-FadeDistance parse_fade_distance(const std::string& text, const std::string& flag = "--fade-distance");
+FadeDistance parse_fade_distance(const std::string& text,
+                                 const std::string& flag = "--fade-distance");
 FogMode parse_fog_mode(const std::string& text, const std::string& flag = "--fog");
 
 }  // namespace leanfade

@@ -38,7 +38,7 @@ struct ContextOptions {
 };
 
 class Context {
-public:
+  public:
     explicit Context(const ContextOptions& options = {});
     ~Context();
     Context(const Context&) = delete;
@@ -66,7 +66,7 @@ public:
 
     struct Impl;
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 

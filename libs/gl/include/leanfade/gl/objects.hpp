@@ -12,7 +12,7 @@ namespace leanfade::gl {
 // A GL name plus the function that deletes it.
 template <void (*Delete)(GLuint)>
 class Object {
-public:
+  public:
     Object() = default;
     explicit Object(GLuint name) : name_(name) {}
     ~Object() { reset(); }
@@ -34,19 +34,35 @@ public:
         name_ = 0;
     }
 
-private:
+  private:
     GLuint name_ = 0;
 };
 
 namespace detail {
-inline void delete_buffer(GLuint n) { glDeleteBuffers(1, &n); }
-inline void delete_texture(GLuint n) { glDeleteTextures(1, &n); }
-inline void delete_framebuffer(GLuint n) { glDeleteFramebuffers(1, &n); }
-inline void delete_renderbuffer(GLuint n) { glDeleteRenderbuffers(1, &n); }
-inline void delete_vertex_array(GLuint n) { glDeleteVertexArrays(1, &n); }
-inline void delete_query(GLuint n) { glDeleteQueries(1, &n); }
-inline void delete_program(GLuint n) { glDeleteProgram(n); }
-inline void delete_shader(GLuint n) { glDeleteShader(n); }
+inline void delete_buffer(GLuint n) {
+    glDeleteBuffers(1, &n);
+}
+inline void delete_texture(GLuint n) {
+    glDeleteTextures(1, &n);
+}
+inline void delete_framebuffer(GLuint n) {
+    glDeleteFramebuffers(1, &n);
+}
+inline void delete_renderbuffer(GLuint n) {
+    glDeleteRenderbuffers(1, &n);
+}
+inline void delete_vertex_array(GLuint n) {
+    glDeleteVertexArrays(1, &n);
+}
+inline void delete_query(GLuint n) {
+    glDeleteQueries(1, &n);
+}
+inline void delete_program(GLuint n) {
+    glDeleteProgram(n);
+}
+inline void delete_shader(GLuint n) {
+    glDeleteShader(n);
+}
 }  // namespace detail
 
 using Buffer = Object<detail::delete_buffer>;

@@ -23,7 +23,7 @@ struct ResolvedSource {
 };
 
 class ShaderSources {
-public:
+  public:
     // The files of shaders/ compiled into the binary (the default).
     static ShaderSources embedded();
     // The files of `folder` on disk, read afresh at every resolve() (hot reload). Throws
@@ -37,7 +37,7 @@ public:
     // "embedded" or the folder.
     const std::string& origin() const { return origin_; }
 
-private:
+  private:
     std::string read(const std::string& name) const;
     std::optional<std::string> folder_;
     std::string origin_;

@@ -1,0 +1,143 @@
+#pragma once
+// Offscreen renderer of one bump-mapped object with the four techniques of the project:
+//   bump       Blinn-Phong bump mapping with the trilinear-filtered normal map (lean1.rgb)
+//   lean       LEAN mapping (Olano & Baker 2010)
+//   fade       LEAN mapping with specular fading (the fading paper, eq. 6-7)
+//   reference  SPEC §7: k x k supersampling at LOD 0 with the baseline, box-filtered
+//
+// Spaces and units:
+// - World space is the mesh's object space moved so that its bounding-box centre is at the origin
+//   and scaled so that its bounding radius (scene::Bounds::radius) is 1: world units are bounding
+//   radii, for every scene. y is up.
+// - Images are linear radiance (RGB float, not sRGB), row 0 at the top.
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/settings.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/shader_library.hpp"
+#include "leanfade/scene/mesh.hpp"
+
+namespace leanfade::gl {
+
+enum class Technique { Bump, Lean, Fade, Reference };
+
+// "bump", "lean", "fade", "reference".
+const char* to_string(Technique technique);
+// Throws leanfade::Error(flag, cause) for an unknown name.
+Technique parse_technique(const std::string& name, const std::string& flag = "--techniques");
+// Parses a comma-separated list ("bump,lean,fade"); duplicates and empty lists are errors.
+std::vector<Technique> parse_techniques(const std::string& list,
+                                        const std::string& flag = "--techniques");
+
+// What the fragment stage writes (debug output modes for measurements).
+enum class OutputMode {
+    Color,     // (Ka + Kd NdotL + Specular) * light, then fog
+    Diffuse,   // (Ka + Kd NdotL) * light, no fog
+    Specular,  // Ks NdotL^sf D F * light, no fog
+};
+
+// Vertical field of view of the figures: at 3 bounding radii the teapot (the widest built-in
+// object relative to its bounding sphere) fills a square cell with a small margin.
+inline constexpr float kDefaultFovYDegrees = 34.0f;
+
+// A pinhole camera in world space.
+struct View {
+    glm::vec3 eye{0.0f, 0.0f, 3.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_y_degrees = kDefaultFovYDegrees;  // vertical field of view
+    float near_plane = 0.1f;                    // world units
+    float far_plane = 100.0f;                   // world units
+
+    glm::mat4 view_matrix() const;                    // world -> eye
+    glm::mat4 projection_matrix(float aspect) const;  // eye -> clip (OpenGL, depth -1..1)
+};
+
+// Default viewing direction of the figures: from the front (+z), slightly above.
+inline constexpr glm::vec3 kDefaultViewDirection{0.0f, 0.3f, 1.0f};
+
+// A camera looking at the world origin (the object's centre) from `distance` world units (object
+// bounding radii, > 1) along `direction` (from the centre toward the eye, any length), with near
+// and far planes enclosing the unit bounding sphere.
+View view_at_distance(float distance, float fov_y_degrees = kDefaultFovYDegrees,
+                      glm::vec3 direction = kDefaultViewDirection);
+
+// Radius in pixels of the object's bounding sphere as seen by `view` in an image `height` pixels
+// tall (the exact silhouette radius of a unit sphere at the view's distance).
+float projected_radius_pixels(const View& view, int height);
+
+struct RenderRequest {
+    Technique technique = Technique::Lean;
+    int width = 256;  // output pixels
+    int height = 256;
+    View view;
+    ShadingSettings settings;  // mip_bias, anisotropy and msaa included
+    OutputMode output = OutputMode::Color;
+    int reference_samples = 8;   // k of the reference (k x k samples per pixel), 1..16
+    glm::vec3 background{0.0f};  // linear RGB of pixels the object does not cover
+};
+
+// The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 layers (lean1, lean2) with every MIP
+// level of the map, rows flipped so that +v is up.
+struct LeanTextureInfo {
+    int width = 0;
+    int height = 0;
+    int levels = 0;
+    Storage storage = Storage::Unorm16;
+    float scale = 1.0f;            // sc, passed as a uniform
+    bool roughness_baked = false;  // inv_s_shading = 0 when true
+};
+
+class Renderer {
+  public:
+    // The context must stay alive and current while the renderer is used.
+    explicit Renderer(Context& context, ShaderSources sources = ShaderSources::embedded());
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Uploads the mesh; its model matrix maps it to the unit bounding sphere (see above). Throws
+    // leanfade::Error(mesh.name, cause) for an empty mesh or one with a zero radius.
+    void set_mesh(const scene::Mesh& mesh);
+    // Uploads the two layers with all levels. Throws leanfade::Error("LEAN map", cause) for a map
+    // without levels, inconsistent level sizes or byte counts, or one larger than the GL limit.
+    void set_lean_map(const PackedLeanMap& map);
+
+    // Renders one image (linear RGB, top row first). Requires a mesh and a LEAN map. Throws
+    // leanfade::Error for invalid settings or sizes and for GL errors.
+    Image render(const RenderRequest& request);
+
+    // Drops the compiled programs; the next render rebuilds them from the sources (hot reload).
+    void reload_shaders();
+
+    const glm::mat4& model_matrix() const { return model_; }
+    const LeanTextureInfo& lean_texture() const { return lean_info_; }
+    Context& context() { return context_; }
+
+  private:
+    struct Target;
+    GLuint program(const std::string& variant);
+    void draw_scene(GLuint program, const RenderRequest& request, const glm::mat4& clip);
+    void render_reference(const RenderRequest& request, Target& output);
+
+    Context& context_;
+    ShaderSources sources_;
+    std::map<std::string, Program> programs_;
+    VertexArray vertex_array_;
+    Buffer vertex_buffer_;
+    Buffer index_buffer_;
+    GLsizei index_count_ = 0;
+    glm::mat4 model_{1.0f};
+    Texture lean_;
+    LeanTextureInfo lean_info_;
+    VertexArray empty_vertex_array_;
+};
+
+}  // namespace leanfade::gl

@@ -1,0 +1,508 @@
+// Offscreen rendering of the four techniques into float render targets.
+#include "leanfade/gl/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::gl {
+namespace {
+
+// Largest side of a supersampled reference tile, in samples: 2048 x 2048 RGBA32F is 64 MiB, which
+// bounds the reference's memory whatever the output size and k.
+constexpr int kMaxReferenceTileSamples = 2048;
+constexpr int kMaxReferenceSamples = 16;
+
+GLint location(GLuint program, const char* name) {
+    return glGetUniformLocation(program, name);
+}
+
+void set(GLuint p, const char* name, float v) {
+    glProgramUniform1f(p, location(p, name), v);
+}
+void set(GLuint p, const char* name, int v) {
+    glProgramUniform1i(p, location(p, name), v);
+}
+void set(GLuint p, const char* name, const glm::vec3& v) {
+    glProgramUniform3fv(p, location(p, name), 1, glm::value_ptr(v));
+}
+void set(GLuint p, const char* name, const glm::ivec2& v) {
+    glProgramUniform2iv(p, location(p, name), 1, glm::value_ptr(v));
+}
+void set(GLuint p, const char* name, const glm::mat3& m) {
+    glProgramUniformMatrix3fv(p, location(p, name), 1, GL_FALSE, glm::value_ptr(m));
+}
+void set(GLuint p, const char* name, const glm::mat4& m) {
+    glProgramUniformMatrix4fv(p, location(p, name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
+GLint gl_integer(GLenum name) {
+    GLint value = 0;
+    glGetIntegerv(name, &value);
+    return value;
+}
+
+struct StorageFormat {
+    GLenum internal_format;
+    GLenum type;
+};
+
+StorageFormat storage_format(Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8:
+            return {GL_RGBA8, GL_UNSIGNED_BYTE};
+        case Storage::Unorm16:
+            return {GL_RGBA16, GL_UNSIGNED_SHORT};
+        case Storage::Float16:
+            return {GL_RGBA16F, GL_HALF_FLOAT};
+        case Storage::Float32:
+            return {GL_RGBA32F, GL_FLOAT};
+    }
+    return {GL_RGBA16, GL_UNSIGNED_SHORT};
+}
+
+// Rows bottom first for glTextureSubImage (OpenGL's first row is v = 0; core images are top first).
+std::vector<std::uint8_t> flipped(const std::vector<std::uint8_t>& bytes, std::size_t row_bytes,
+                                  int rows) {
+    std::vector<std::uint8_t> out(bytes.size());
+    for (int y = 0; y < rows; ++y)
+        std::copy_n(bytes.begin() + std::ptrdiff_t(std::size_t(y) * row_bytes), row_bytes,
+                    out.begin() + std::ptrdiff_t(std::size_t(rows - 1 - y) * row_bytes));
+    return out;
+}
+
+std::string variant_name(Technique t) {
+    return std::string("scene_") + to_string(t);
+}
+
+int output_constant(OutputMode mode) {
+    switch (mode) {
+        case OutputMode::Color:
+            return 0;
+        case OutputMode::Diffuse:
+            return 1;
+        case OutputMode::Specular:
+            return 2;
+    }
+    return 0;
+}
+
+}  // namespace
+
+const char* to_string(Technique technique) {
+    switch (technique) {
+        case Technique::Bump:
+            return "bump";
+        case Technique::Lean:
+            return "lean";
+        case Technique::Fade:
+            return "fade";
+        case Technique::Reference:
+            return "reference";
+    }
+    return "?";
+}
+
+Technique parse_technique(const std::string& name, const std::string& flag) {
+    for (Technique t : {Technique::Bump, Technique::Lean, Technique::Fade, Technique::Reference})
+        if (name == to_string(t)) return t;
+    throw Error(flag, "unknown technique '" + name + "' (expected bump, lean, fade or reference)");
+}
+
+std::vector<Technique> parse_techniques(const std::string& list, const std::string& flag) {
+    std::vector<Technique> result;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', start), list.size());
+        const Technique t = parse_technique(list.substr(start, comma - start), flag);
+        if (std::find(result.begin(), result.end(), t) != result.end())
+            throw Error(flag, std::string("technique '") + to_string(t) + "' given twice");
+        result.push_back(t);
+        start = comma + 1;
+    }
+    return result;
+}
+
+glm::mat4 View::view_matrix() const {
+    return glm::lookAt(eye, target, up);
+}
+
+glm::mat4 View::projection_matrix(float aspect) const {
+    return glm::perspective(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);
+}
+
+View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction) {
+    if (!(distance > 1.0f) || !std::isfinite(distance))
+        throw Error("--distances", "camera distances are in bounding radii and must be > 1, got " +
+                                       std::to_string(distance));
+    if (!(fov_y_degrees > 1.0f && fov_y_degrees < 170.0f))
+        throw Error("--fov", "must be in (1, 170) degrees, got " + std::to_string(fov_y_degrees));
+    View v;
+    v.eye = glm::normalize(direction) * distance;
+    v.target = glm::vec3(0.0f);
+    v.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    v.fov_y_degrees = fov_y_degrees;
+    v.near_plane = std::max(0.01f, 0.9f * (distance - 1.0f));
+    v.far_plane = 1.1f * (distance + 1.0f);
+    return v;
+}
+
+float projected_radius_pixels(const View& view, int height) {
+    const float d = glm::length(view.eye - view.target);
+    const float tangent = 1.0f / std::sqrt(std::max(d * d - 1.0f, 1e-6f));  // tan(asin(1/d))
+    return tangent / std::tan(glm::radians(view.fov_y_degrees) * 0.5f) * 0.5f * float(height);
+}
+
+// A float colour target (RGBA32F texture) with a depth buffer; optionally multisampled, then
+// resolved into `color` by resolve().
+struct Renderer::Target {
+    int width = 0, height = 0;
+    Texture color;
+    Framebuffer framebuffer;  // single-sample, color + depth (when not multisampled)
+    Renderbuffer depth;
+    Framebuffer ms_framebuffer;
+    Renderbuffer ms_color;
+    Renderbuffer ms_depth;
+    int samples = 1;
+
+    Target(int w, int h, int sample_count) : width(w), height(h), samples(sample_count) {
+        color = create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(color.get(), 1, GL_RGBA32F, w, h);
+        glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        framebuffer = create_framebuffer();
+        glNamedFramebufferTexture(framebuffer.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+        depth = create_renderbuffer();
+        glNamedRenderbufferStorage(depth.get(), GL_DEPTH_COMPONENT32F, w, h);
+        glNamedFramebufferRenderbuffer(framebuffer.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                       depth.get());
+        check_complete(framebuffer.get());
+        if (samples > 1) {
+            ms_framebuffer = create_framebuffer();
+            ms_color = create_renderbuffer();
+            glNamedRenderbufferStorageMultisample(ms_color.get(), samples, GL_RGBA32F, w, h);
+            ms_depth = create_renderbuffer();
+            glNamedRenderbufferStorageMultisample(ms_depth.get(), samples, GL_DEPTH_COMPONENT32F, w,
+                                                  h);
+            glNamedFramebufferRenderbuffer(ms_framebuffer.get(), GL_COLOR_ATTACHMENT0,
+                                           GL_RENDERBUFFER, ms_color.get());
+            glNamedFramebufferRenderbuffer(ms_framebuffer.get(), GL_DEPTH_ATTACHMENT,
+                                           GL_RENDERBUFFER, ms_depth.get());
+            check_complete(ms_framebuffer.get());
+        }
+    }
+
+    static void check_complete(GLuint fbo) {
+        const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE)
+            throw Error("GL",
+                        "float render target incomplete (status " + std::to_string(status) + ")");
+    }
+
+    GLuint draw_framebuffer() const {
+        return samples > 1 ? ms_framebuffer.get() : framebuffer.get();
+    }
+
+    void resolve() const {
+        if (samples > 1)
+            glBlitNamedFramebuffer(ms_framebuffer.get(), framebuffer.get(), 0, 0, width, height, 0,
+                                   0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+
+    Image read() const {
+        std::vector<float> rgba(std::size_t(width) * std::size_t(height) * 4);
+        glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, GLsizei(rgba.size() * sizeof(float)),
+                          rgba.data());
+        Image image(width, height, 3);
+        for (int y = 0; y < height; ++y) {
+            const float* src = rgba.data() + std::size_t(height - 1 - y) * std::size_t(width) * 4;
+            float* dst = image.row(y);
+            for (int x = 0; x < width; ++x)
+                for (int c = 0; c < 3; ++c) dst[x * 3 + c] = src[x * 4 + c];
+        }
+        return image;
+    }
+};
+
+Renderer::Renderer(Context& context, ShaderSources sources)
+    : context_(context), sources_(std::move(sources)) {
+    empty_vertex_array_ = create_vertex_array();
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::reload_shaders() {
+    programs_.clear();
+}
+
+GLuint Renderer::program(const std::string& name) {
+    auto it = programs_.find(name);
+    if (it == programs_.end())
+        it = programs_.emplace(name, build_program(sources_, shader_variant(name))).first;
+    return it->second.get();
+}
+
+void Renderer::set_mesh(const scene::Mesh& mesh) {
+    if (mesh.vertices.empty() || mesh.indices.empty() || mesh.indices.size() % 3 != 0)
+        throw Error(mesh.name, "the mesh has no triangles");
+    for (std::uint32_t i : mesh.indices)
+        if (i >= mesh.vertices.size()) throw Error(mesh.name, "a triangle index is out of range");
+    const float radius = mesh.bounds.radius();
+    if (!(radius > 0.0f) || !std::isfinite(radius))
+        throw Error(mesh.name, "the mesh's bounding radius is zero");
+    // Object -> world: centre to the origin, bounding radius to 1.
+    model_ = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / radius)) *
+             glm::translate(glm::mat4(1.0f), -mesh.bounds.center());
+
+    vertex_buffer_ = create_buffer();
+    glNamedBufferStorage(vertex_buffer_.get(),
+                         GLsizeiptr(mesh.vertices.size() * sizeof(scene::Vertex)),
+                         mesh.vertices.data(), 0);
+    index_buffer_ = create_buffer();
+    glNamedBufferStorage(index_buffer_.get(),
+                         GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)),
+                         mesh.indices.data(), 0);
+    index_count_ = GLsizei(mesh.indices.size());
+
+    vertex_array_ = create_vertex_array();
+    const GLuint vao = vertex_array_.get();
+    glVertexArrayVertexBuffer(vao, 0, vertex_buffer_.get(), 0, sizeof(scene::Vertex));
+    glVertexArrayElementBuffer(vao, index_buffer_.get());
+    const struct {
+        GLuint location;
+        GLint size;
+        std::size_t offset;
+    } attributes[] = {{0, 3, offsetof(scene::Vertex, position)},
+                      {1, 3, offsetof(scene::Vertex, normal)},
+                      {2, 2, offsetof(scene::Vertex, uv)},
+                      {3, 4, offsetof(scene::Vertex, tangent)}};
+    for (const auto& a : attributes) {
+        glEnableVertexArrayAttrib(vao, a.location);
+        glVertexArrayAttribFormat(vao, a.location, a.size, GL_FLOAT, GL_FALSE, GLuint(a.offset));
+        glVertexArrayAttribBinding(vao, a.location, 0);
+    }
+    context_.check("uploading mesh " + mesh.name);
+}
+
+void Renderer::set_lean_map(const PackedLeanMap& map) {
+    if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
+    const int width = map.levels[0].width, height = map.levels[0].height;
+    if (width < 1 || height < 1) throw Error("LEAN map", "the top level is empty");
+    if (width > gl_integer(GL_MAX_TEXTURE_SIZE) || height > gl_integer(GL_MAX_TEXTURE_SIZE))
+        throw Error("LEAN map", "the map is larger than GL_MAX_TEXTURE_SIZE (" +
+                                    std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) + ")");
+    if (int(map.levels.size()) > mip_level_count(width, height))
+        throw Error("LEAN map", "more MIP levels than the top level's size allows");
+    const std::size_t texel_bytes = std::size_t(bytes_per_texel(map.storage));
+    int w = width, h = height;
+    for (std::size_t i = 0; i < map.levels.size(); ++i) {
+        const PackedLevel& level = map.levels[i];
+        const std::size_t bytes = std::size_t(w) * std::size_t(h) * texel_bytes;
+        if (level.width != w || level.height != h || level.lean1.size() != bytes ||
+            level.lean2.size() != bytes)
+            throw Error("LEAN map", "level " + std::to_string(i) + " has the wrong size");
+        w = std::max(1, w / 2);
+        h = std::max(1, h / 2);
+    }
+
+    const StorageFormat format = storage_format(map.storage);
+    Texture texture = create_texture(GL_TEXTURE_2D_ARRAY);
+    const GLsizei levels = GLsizei(map.levels.size());
+    glTextureStorage3D(texture.get(), levels, format.internal_format, width, height, 2);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (GLsizei i = 0; i < levels; ++i) {
+        const PackedLevel& level = map.levels[std::size_t(i)];
+        const std::size_t row_bytes = std::size_t(level.width) * texel_bytes;
+        const std::vector<std::uint8_t>* layers[2] = {&level.lean1, &level.lean2};
+        for (int layer = 0; layer < 2; ++layer) {
+            const std::vector<std::uint8_t> rows = flipped(*layers[layer], row_bytes, level.height);
+            glTextureSubImage3D(texture.get(), i, 0, 0, layer, level.width, level.height, 1,
+                                GL_RGBA, format.type, rows.data());
+        }
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureParameteri(texture.get(), GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, levels - 1);
+    // A map whose chain stops early is still complete: trilinear uses the levels it has.
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    context_.check("uploading the LEAN map");
+
+    lean_ = std::move(texture);
+    lean_info_.width = width;
+    lean_info_.height = height;
+    lean_info_.levels = levels;
+    lean_info_.storage = map.storage;
+    lean_info_.scale = map.scale;
+    lean_info_.roughness_baked = map.roughness_baked;
+}
+
+void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat4& clip) {
+    const ShadingSettings& s = request.settings;
+    const glm::mat4 view = request.view.view_matrix();
+    set(p, "u_model", model_);
+    set(p, "u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model_))));
+    set(p, "u_view", view);
+    set(p, "u_clip", clip);
+    set(p, "u_eye_world", request.view.eye);
+    set(p, "u_light_world", glm::normalize(s.light_direction));
+    set(p, "u_tiling", s.tiling);
+    set(p, "u_scale", lean_info_.scale);
+
+    const shading::LfParams params = to_lf_params(s, lean_info_.roughness_baked);
+    set(p, "u_params.light_color", params.light_color);
+    set(p, "u_params.ambient", params.ambient);
+    set(p, "u_params.kd", params.kd);
+    set(p, "u_params.ks", params.ks);
+    set(p, "u_params.shininess", params.shininess);
+    set(p, "u_params.inv_s_shading", params.inv_s_shading);
+    set(p, "u_params.fresnel_bias", params.fresnel_bias);
+    set(p, "u_params.fresnel_scale", params.fresnel_scale);
+    set(p, "u_params.fade", params.fade);
+    set(p, "u_params.pmax", params.pmax);
+    set(p, "u_params.fade_exponent", params.fade_exponent);
+    set(p, "u_params.fade_distance", params.fade_distance);
+    set(p, "u_output", output_constant(request.output));
+    set(p, "u_fog_mode", to_shader_constant(s.fog));
+    set(p, "u_fog_color", s.fog_color);
+    set(p, "u_fog_start", s.fog_start);
+    set(p, "u_fog_end", s.fog_end);
+    set(p, "u_fog_density", s.fog_density);
+
+    glUseProgram(p);
+    glBindTextureUnit(0, lean_.get());
+    glBindVertexArray(vertex_array_.get());
+    glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+}
+
+Image Renderer::render(const RenderRequest& request) {
+    if (!vertex_array_) throw Error("render", "no mesh was set");
+    if (!lean_) throw Error("render", "no LEAN map was set");
+    validate(request.settings);
+    const int max_size =
+        std::min(gl_integer(GL_MAX_TEXTURE_SIZE), gl_integer(GL_MAX_RENDERBUFFER_SIZE));
+    if (request.width < 1 || request.height < 1 || request.width > max_size ||
+        request.height > max_size)
+        throw Error("--size", "image size must be 1.." + std::to_string(max_size) +
+                                  " pixels, got " + std::to_string(request.width) + "x" +
+                                  std::to_string(request.height));
+    if (request.technique == Technique::Reference &&
+        (request.reference_samples < 1 || request.reference_samples > kMaxReferenceSamples))
+        throw Error("--ref-samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
+                                         "], got " + std::to_string(request.reference_samples));
+    const ShadingSettings& s = request.settings;
+    int samples = request.technique == Technique::Reference ? 1 : s.msaa;
+    if (samples > gl_integer(GL_MAX_SAMPLES))
+        throw Error("--msaa", std::to_string(samples) +
+                                  " samples requested, the GL driver allows " +
+                                  std::to_string(gl_integer(GL_MAX_SAMPLES)));
+
+    // Sampler state of this render.
+    glTextureParameterf(lean_.get(), GL_TEXTURE_LOD_BIAS, s.mip_bias);
+    if (s.anisotropy > 1) {
+        const float max_aniso = context_.max_anisotropy();
+        if (max_aniso <= 1.0f)
+            throw Error("--aniso",
+                        "anisotropic filtering is not supported by " + context_.renderer());
+        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY,
+                            std::min(float(s.anisotropy), max_aniso));
+    } else if (context_.max_anisotropy() > 1.0f) {
+        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
+    }
+
+    Target target(request.width, request.height, samples);
+    const glm::vec3 clear =
+        request.output == OutputMode::Color ? request.background : glm::vec3(0.0f);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    if (request.technique == Technique::Reference) {
+        render_reference(request, target);
+    } else {
+        if (samples > 1) glEnable(GL_MULTISAMPLE);
+        const GLuint fbo = target.draw_framebuffer();
+        const float clear_color[4] = {clear.r, clear.g, clear.b, 1.0f};
+        const float clear_depth = 1.0f;
+        glClearNamedFramebufferfv(fbo, GL_COLOR, 0, clear_color);
+        glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &clear_depth);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glViewport(0, 0, request.width, request.height);
+        const float aspect = float(request.width) / float(request.height);
+        const glm::mat4 clip = request.view.projection_matrix(aspect) * request.view.view_matrix();
+        draw_scene(program(variant_name(request.technique)), request, clip);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        target.resolve();
+    }
+    Image image = target.read();
+    context_.check(std::string("rendering ") + to_string(request.technique));
+    return image;
+}
+
+// SPEC §7: k x k samples per pixel at LOD 0, shaded with the baseline, box-filtered. The
+// supersampled image is drawn in tiles of at most kMaxReferenceTileSamples squared samples, each
+// with the projection narrowed to its pixels, then reduced into the output.
+void Renderer::render_reference(const RenderRequest& request, Target& output) {
+    const int k = request.reference_samples;
+    const int tile = std::max(1, kMaxReferenceTileSamples / k);  // output pixels per tile side
+    Target samples(std::min(tile, request.width) * k, std::min(tile, request.height) * k, 1);
+    const GLuint scene_program = program(variant_name(Technique::Reference));
+    const GLuint filter_program = program("box_filter");
+    const float aspect = float(request.width) / float(request.height);
+    const glm::mat4 projection = request.view.projection_matrix(aspect);
+    const glm::mat4 view = request.view.view_matrix();
+    const glm::vec3 clear =
+        request.output == OutputMode::Color ? request.background : glm::vec3(0.0f);
+    const float clear_color[4] = {clear.r, clear.g, clear.b, 1.0f};
+    const float clear_depth = 1.0f;
+
+    for (int y0 = 0; y0 < request.height; y0 += tile) {
+        for (int x0 = 0; x0 < request.width; x0 += tile) {
+            const int tw = std::min(tile, request.width - x0);
+            const int th = std::min(tile, request.height - y0);
+            // Clip-space window of this tile: NDC [ax, bx] x [ay, by] mapped onto [-1, 1]^2.
+            const float ax = -1.0f + 2.0f * float(x0) / float(request.width);
+            const float bx = -1.0f + 2.0f * float(x0 + tw) / float(request.width);
+            const float ay = -1.0f + 2.0f * float(y0) / float(request.height);
+            const float by = -1.0f + 2.0f * float(y0 + th) / float(request.height);
+            glm::mat4 window(1.0f);
+            window[0][0] = 2.0f / (bx - ax);
+            window[1][1] = 2.0f / (by - ay);
+            window[3][0] = -(bx + ax) / (bx - ax);
+            window[3][1] = -(by + ay) / (by - ay);
+
+            glClearNamedFramebufferfv(samples.framebuffer.get(), GL_COLOR, 0, clear_color);
+            glClearNamedFramebufferfv(samples.framebuffer.get(), GL_DEPTH, 0, &clear_depth);
+            glBindFramebuffer(GL_FRAMEBUFFER, samples.framebuffer.get());
+            glViewport(0, 0, tw * k, th * k);
+            glEnable(GL_DEPTH_TEST);
+            draw_scene(scene_program, request, window * projection * view);
+
+            // Reduce into the output's pixels [x0, x0 + tw) x [y0, y0 + th) (GL window coords).
+            glBindFramebuffer(GL_FRAMEBUFFER, output.framebuffer.get());
+            glViewport(x0, y0, tw, th);
+            glDisable(GL_DEPTH_TEST);
+            set(filter_program, "u_factor", k);
+            set(filter_program, "u_tile_origin", glm::ivec2(x0, y0));
+            glUseProgram(filter_program);
+            glBindTextureUnit(0, samples.color.get());
+            glBindVertexArray(empty_vertex_array_.get());
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindVertexArray(0);
+        }
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glEnable(GL_DEPTH_TEST);
+}
+
+}  // namespace leanfade::gl

@@ -1,0 +1,61 @@
+#pragma once
+// Command-line binding of the shading settings (SPEC §4), of the LEAN map source and of the GL
+// context, shared by the subcommands that render (`render`, and later `view` and `eval`).
+//
+// Flags are parsed by CLI11 into the structs below; resolve_*() then converts the text values
+// (vectors, enum names) and validates ranges, throwing leanfade::Error(flag, cause), which the
+// subcommand reports as one line.
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/settings.hpp"
+
+namespace leanfade::cli {
+
+struct ShadingFlags {
+    ShadingSettings settings;  // scalar flags are bound to its fields directly
+    // "x,y,z" (colours also accept one value for grey); empty = the settings' default.
+    std::string light_dir, light_color, ambient, kd, ks, fog_color;
+    std::string fade_distance = to_string(FadeDistance::TangentZ);
+    std::string fog = to_string(FogMode::None);
+};
+
+// --light-dir --light-color --ambient --kd --ks --shininess --fresnel-bias --fresnel-scale --fade
+// --pmax --fade-exponent --fade-distance --fog --fog-color --fog-start --fog-end --fog-density
+// --strength --tiling --mip-bias --aniso --msaa, all in the "Shading" group.
+void add_shading_options(CLI::App& app, ShadingFlags& flags);
+// The settings with the text flags applied; validated (leanfade::validate).
+ShadingSettings resolve_shading(const ShadingFlags& flags);
+
+struct LeanSourceFlags {
+    std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
+    std::string from = "height";  // images: height | normal
+    bool directx = false;         // normal maps in the DirectX convention
+    std::string bits = "16";      // on-the-fly bakes: 8 | 16 | 16f | 32f
+    std::uint32_t seed = 1;       // built-in sets
+    int texture_size = 256;       // built-in sets, texels per side
+    int max_size = kDefaultMaxImageDimension;
+};
+
+// --bumps --from --directx --bits --seed --texture-size, in the "Bumps" group.
+void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
+// Reads a .ktx2 LEAN map (recognised by its extension), or bakes one from a built-in set or an
+// image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.
+PackedLeanMap load_lean_map(const LeanSourceFlags& flags, const ShadingSettings& settings);
+
+struct GlFlags {
+    std::string shader_dir;  // empty = the shaders compiled into the binary
+    int egl_device = -1;     // -1 = LEANFADE_EGL_DEVICE or automatic
+};
+// --shader-dir --egl-device, in the "OpenGL" group.
+void add_gl_options(CLI::App& app, GlFlags& flags);
+
+// "3,6,18" -> {3, 6, 18}; every value finite and > 1 (bounding radii). Throws Error(flag, ...).
+std::vector<float> parse_distances(const std::string& text, const std::string& flag);
+// "400x300" -> {400, 300}; each in [16, 8192]. Throws Error(flag, ...).
+std::pair<int, int> parse_size(const std::string& text, const std::string& flag);
+
+}  // namespace leanfade::cli
