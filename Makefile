@@ -22,13 +22,14 @@ build: configure
 
 demo: build
 	@mkdir -p out
-	$(LEANFADE) render --scene teapot --bumps bumps --techniques bump,lean,fade --distances 3,24 -o out/teaser.png
-	@echo "teaser written to out/teaser.png"
+	$(LEANFADE) render --scene teapot --bumps bumps --techniques bump,lean,fade --distances 3,24 --zoom -o out/teaser.png
+	@echo "teaser written to $(CURDIR)/out/teaser.png"
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
 bench: build
+	@LEANFADE_EXTRA_PACKAGES=libnvtt-bin scripts/install-deps.sh
 	@mkdir -p out/bench
 	$(BUILD_DIR)/bench/leanfade_bench_bake --benchmark_out=out/bench/bake.json --benchmark_out_format=json
 	@echo "bake benchmark written to out/bench/bake.json"
