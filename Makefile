@@ -5,7 +5,20 @@ JOBS ?= $(shell nproc)
 LEANFADE := $(BUILD_DIR)/tools/leanfade/leanfade
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build demo test bench sanitize fuzz clean format
+# Extra ctest arguments, e.g. CTEST_ARGS="-LE gl" to leave out the OpenGL suites.
+CTEST_ARGS ?=
+# `make fuzz`: seconds per target, the build folder and the compilers (libFuzzer needs clang).
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD_DIR ?= build-fuzz
+FUZZ_CC ?= clang-14
+FUZZ_CXX ?= clang++-14
+FUZZ_TARGETS ?= fuzz_image_bake fuzz_ktx2 fuzz_obj fuzz_cli fuzz_preset
+# Sanitizer settings of `make sanitize` (docs/robustness.md): leaks are errors, UBSan reports stop
+# the test with a stack trace. No suppressions.
+SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+.PHONY: all deps configure build demo test bench sanitize fuzz fuzz-build fuzz-seeds clean format
 
 all: build
 
@@ -26,19 +39,39 @@ demo: build
 	@echo "teaser written to $(CURDIR)/out/teaser.png"
 
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(CTEST_ARGS)
 
 bench: build
 	@LEANFADE_EXTRA_PACKAGES=libnvtt-bin scripts/install-deps.sh
 	@mkdir -p out/bench
 	$(BUILD_DIR)/bench/leanfade_bench_bake --benchmark_out=out/bench/bake.json --benchmark_out_format=json
 	@echo "bake benchmark written to out/bench/bake.json"
+	$(LEANFADE) bench --size 800x600 --frames 10 --warmup 2 --json out/bench/frames.json
+	@echo "frame benchmark written to out/bench/frames.json (docs/perf.md)"
 
+# The whole test suite built with AddressSanitizer + UndefinedBehaviorSanitizer (Debug).
 sanitize:
-	$(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DLEANFADE_SANITIZE=ON -DLEANFADE_BUILD_BENCH=OFF"
+	$(SANITIZE_ENV) $(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DLEANFADE_SANITIZE=ON -DLEANFADE_BUILD_BENCH=OFF"
+
+# libFuzzer targets (fuzz/), instrumented with ASan + UBSan, in their own build folder.
+fuzz-build:
+	@LEANFADE_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev zlib1g-dev" scripts/install-deps.sh
+	cmake -S . -B $(FUZZ_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+		-DCMAKE_C_COMPILER=$(FUZZ_CC) -DCMAKE_CXX_COMPILER=$(FUZZ_CXX) -DLEANFADE_BUILD_FUZZERS=ON \
+		-DLEANFADE_BUILD_TESTS=OFF -DLEANFADE_BUILD_BENCH=OFF -DLEANFADE_BUILD_VIEWER=OFF
+	cmake --build $(FUZZ_BUILD_DIR) -j $(JOBS) --target leanfade_fuzzers
+
+# Each target for FUZZ_SECONDS on its committed seeds (never modified); crashes in
+# $(FUZZ_BUILD_DIR)/artifacts/, summary in $(FUZZ_BUILD_DIR)/fuzz-summary.txt.
+fuzz: fuzz-build
+	scripts/run-fuzzers.sh $(FUZZ_BUILD_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# Rewrites the committed seed corpora fuzz/corpus/<target>/ (deterministic).
+fuzz-seeds: fuzz-build
+	$(FUZZ_BUILD_DIR)/fuzz/leanfade_fuzz_seeds fuzz/corpus
 
 clean:
-	rm -rf $(BUILD_DIR) build-sanitize
+	rm -rf $(BUILD_DIR) build-sanitize $(FUZZ_BUILD_DIR)
 
 format:
 	find libs tools tests bench viewer -name '*.cpp' -o -name '*.hpp' | xargs clang-format -i

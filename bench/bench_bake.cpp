@@ -1,16 +1,24 @@
 // Bake throughput: a 4096^2 16-bit normal map, core (slopes, moments, MIPs, packing) and
 // end-to-end (PNG decode -> KTX2 written), 1 and 2 threads, next to this machine's memory
-// bandwidth (a copy loop in the same run) and `nvcompress -rgb` (Debian libnvtt-bin) when found.
+// bandwidth (copy, read and write loops in the same run) and `nvcompress -rgb` (Debian
+// libnvtt-bin) on the same PNG when it is installed.
 //
-// Bytes-moved floor of the core: read the decoded input once (16.8 Mtexel x 3 floats) and write
-// the two packed layers with their MIP chains once (~358 MB at 16 bits), at the measured
-// bandwidth. Numbers are recorded in docs/perf.md.
+// Bytes-moved floor of the core: read the decoded input once (16.8 Mtexel x 3 floats = 201 MB)
+// and write the two packed layers with their MIP chains once (~358 MB at 16 bits), at the copy
+// bandwidth (BM_MemoryCopy counts read + written bytes). Numbers are recorded in docs/perf.md.
+//
+// BM_BakeCore bakes into the same PackedBakeResult every iteration (as BM_MemoryCopy copies
+// into the same buffer); BM_BakeCoreFresh allocates the output every time, as a one-off bake
+// does; BM_BakeCoreReference is the reference path (bake_lean_map + pack_lean_map) that the
+// fast path replaced, for the before / after comparison in one run. LEANFADE_BENCH_SIZE
+// changes the size.
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -73,44 +81,155 @@ std::size_t packed_bytes(const PackedLeanMap& map) {
     return total;
 }
 
+constexpr std::size_t kBandwidthBytes = std::size_t(512) << 20;
+
 void BM_MemoryCopy(benchmark::State& state) {
-    const std::size_t bytes = std::size_t(512) << 20;
-    std::vector<char> a(bytes, 1), b(bytes, 0);
+    std::vector<char> a(kBandwidthBytes, 1), b(kBandwidthBytes, 0);
     for (auto _ : state) {
-        std::memcpy(b.data(), a.data(), bytes);
+        std::memcpy(b.data(), a.data(), kBandwidthBytes);
         benchmark::DoNotOptimize(b.data());
         benchmark::ClobberMemory();
     }
     // A copy reads and writes every byte.
-    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(2 * bytes));
+    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(2 * kBandwidthBytes));
 }
 BENCHMARK(BM_MemoryCopy)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+// Read-only and write-only bandwidth, for the breakdown of the floor in docs/perf.md.
+void BM_MemoryRead(benchmark::State& state) {
+    std::vector<std::uint64_t> a(kBandwidthBytes / 8, 1);
+    for (auto _ : state) {
+        std::uint64_t sum = 0;
+        for (std::size_t i = 0; i < a.size(); i += 4) sum += a[i] ^ a[i + 1] ^ a[i + 2] ^ a[i + 3];
+        benchmark::DoNotOptimize(sum);
+    }
+    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(kBandwidthBytes));
+}
+BENCHMARK(BM_MemoryRead)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+void BM_MemoryWrite(benchmark::State& state) {
+    std::vector<char> a(kBandwidthBytes, 1);
+    int value = 0;
+    for (auto _ : state) {
+        std::memset(a.data(), ++value, kBandwidthBytes);
+        benchmark::DoNotOptimize(a.data());
+        benchmark::ClobberMemory();
+    }
+    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(kBandwidthBytes));
+}
+BENCHMARK(BM_MemoryWrite)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+void set_core_counters(benchmark::State& state, const Image& input, std::size_t packed) {
+    const std::size_t moved = input.pixels.size() * sizeof(float) + packed;
+    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(moved));
+    state.counters["texels_per_s"] = benchmark::Counter(
+        double(input.texel_count()) * double(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["simd"] = bake_simd_active() ? 1 : 0;
+}
 
 void BM_BakeCore(benchmark::State& state) {
     const Image& input = decoded_input();
     BakeOptions options;
     options.threads = int(state.range(0));
-    std::size_t moved = 0;
+    PackedBakeResult result;
+    // Untimed first bake: allocates (and faults in) the output, as BM_MemoryCopy's buffers are.
+    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+    for (auto _ : state) {
+        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+        benchmark::DoNotOptimize(result.packed.levels.data());
+    }
+    set_core_counters(state, input, packed_bytes(result.packed));
+}
+BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+void BM_BakeCoreFresh(benchmark::State& state) {
+    const Image& input = decoded_input();
+    BakeOptions options;
+    options.threads = int(state.range(0));
+    std::size_t bytes = 0;
+    for (auto _ : state) {
+        const PackedBakeResult r =
+            bake_packed(input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+        bytes = packed_bytes(r.packed);
+        benchmark::DoNotOptimize(r.packed.levels.data());
+    }
+    set_core_counters(state, input, bytes);
+}
+BENCHMARK(BM_BakeCoreFresh)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+// The portable kernels (what a CPU without AVX2 runs); same bytes.
+void BM_BakeCoreScalar(benchmark::State& state) {
+    const Image& input = decoded_input();
+    BakeOptions options;
+    options.threads = int(state.range(0));
+    PackedBakeResult result;
+    const bool previous = set_bake_simd(false);
+    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+    for (auto _ : state) {
+        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+        benchmark::DoNotOptimize(result.packed.levels.data());
+    }
+    set_core_counters(state, input, packed_bytes(result.packed));
+    set_bake_simd(previous);
+}
+BENCHMARK(BM_BakeCoreScalar)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BakeCoreReference(benchmark::State& state) {
+    const Image& input = decoded_input();
+    BakeOptions options;
+    options.threads = int(state.range(0));
+    std::size_t bytes = 0;
     for (auto _ : state) {
         const BakeResult r = bake_lean_map(input, BakeSource::Normal, options);
         const PackedLeanMap packed = pack_lean_map(r.map, Storage::Unorm16, "bench");
-        moved = input.pixels.size() * sizeof(float) + packed_bytes(packed);
+        bytes = packed_bytes(packed);
         benchmark::DoNotOptimize(packed.levels.data());
     }
-    state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(moved));
-    state.counters["texels_per_s"] = benchmark::Counter(
-        double(input.texel_count()) * double(state.iterations()), benchmark::Counter::kIsRate);
+    set_core_counters(state, input, bytes);
 }
-BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BakeCoreReference)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
+// The parts of the end-to-end time that are not the core.
+void BM_DecodePng(benchmark::State& state) {
+    input_png();  // written once, outside the timing
+    for (auto _ : state) {
+        const Image input = io::read_image(input_png());
+        benchmark::DoNotOptimize(input.pixels.data());
+    }
+}
+BENCHMARK(BM_DecodePng)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_WriteKtx2(benchmark::State& state) {
+    const PackedBakeResult r =
+        bake_packed(decoded_input(), BakeSource::Normal, BakeOptions{}, Storage::Unorm16, "bench");
+    const std::string out = (work_dir() / "write.ktx2").string();
+    for (auto _ : state) io::write_ktx2(out, r.packed);
+    state.SetBytesProcessed(std::int64_t(state.iterations()) *
+                            std::int64_t(packed_bytes(r.packed)));
+}
+BENCHMARK(BM_WriteKtx2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// What `leanfade bake in.png -o out.ktx2 --threads N` does.
 void BM_BakeEndToEnd(benchmark::State& state) {
     BakeOptions options;
     options.threads = int(state.range(0));
     const std::string out = (work_dir() / "out.ktx2").string();
+    input_png();
     for (auto _ : state) {
         const Image input = io::read_image(input_png());
-        const BakeResult r = bake_lean_map(input, BakeSource::Normal, options);
-        io::write_ktx2(out, pack_lean_map(r.map, Storage::Unorm16, "bench"));
+        const PackedBakeResult r =
+            bake_packed(input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+        io::write_ktx2(out, r.packed);
     }
     state.counters["texels_per_s"] =
         benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),
@@ -118,31 +237,77 @@ void BM_BakeEndToEnd(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeEndToEnd)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The same with the reference path (before the fast path), for the before / after table.
+void BM_BakeEndToEndReference(benchmark::State& state) {
+    BakeOptions options;
+    options.threads = int(state.range(0));
+    const std::string out = (work_dir() / "out_reference.ktx2").string();
+    input_png();
+    for (auto _ : state) {
+        const Image input = io::read_image(input_png());
+        const BakeResult r = bake_lean_map(input, BakeSource::Normal, options);
+        io::write_ktx2(out, pack_lean_map(r.map, Storage::Unorm16, "bench"));
+    }
+}
+BENCHMARK(BM_BakeEndToEndReference)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// nvcompress (NVIDIA Texture Tools 2, Debian libnvtt-bin) on the same 16-bit PNG: decode, MIP
+// chain, 8-bit RGBA DDS. Each iteration removes the output first and checks that a DDS of the
+// expected size (128-byte header + 4 bytes per texel over the chain) appeared.
 void BM_Nvcompress(benchmark::State& state) {
     if (std::system("command -v nvcompress >/dev/null 2>&1") != 0) {
         state.SkipWithError("nvcompress not installed (Debian libnvtt-bin)");
         return;
     }
-    const std::string cmd = "nvcompress -normal -rgb -nomips '" + input_png() + "' '" +
-                            (work_dir() / "out.dds").string() + "' >/dev/null 2>&1";
-    const std::string cmd_mips = "nvcompress -normal -rgb '" + input_png() + "' '" +
-                                 (work_dir() / "out.dds").string() + "' >/dev/null 2>&1";
-    const std::string& chosen = state.range(0) ? cmd_mips : cmd;
+    const bool mips = state.range(0) != 0;
+    const std::string dds = (work_dir() / "out.dds").string();
+    input_png();
+    const std::string cmd = std::string("nvcompress -normal -rgb ") + (mips ? "" : "-nomips ") +
+                            "'" + input_png() + "' '" + dds + "' >/dev/null 2>&1";
+    std::uint64_t texels = 0;
+    for (int w = bench_size(), h = bench_size();; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+        texels += std::uint64_t(w) * std::uint64_t(h);
+        if (!mips || (w == 1 && h == 1)) break;
+    }
+    const std::uint64_t expected = 128 + 4 * texels;
     for (auto _ : state) {
-        if (std::system(chosen.c_str()) != 0) {
+        fs::remove(dds);
+        if (std::system(cmd.c_str()) != 0) {
             state.SkipWithError("nvcompress failed");
             return;
         }
+        std::error_code ec;
+        const std::uintmax_t size = fs::file_size(dds, ec);
+        if (ec || size != expected) {
+            state.SkipWithError(("nvcompress wrote " + std::to_string(ec ? 0 : size) +
+                                 " bytes, expected " + std::to_string(expected))
+                                    .c_str());
+            return;
+        }
     }
+    state.counters["texels_per_s"] =
+        benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),
+                           benchmark::Counter::kIsRate);
 }
 // Arg 1: with its MIP chain (like our bake); 0: top level only.
-BENCHMARK(BM_Nvcompress)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_Nvcompress)
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
 
 }  // namespace
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::AddCustomContext("avx2_kernels", bake_simd_active() ? "yes" : "no");
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     std::error_code ec;

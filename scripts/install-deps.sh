@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libpng-dev libtinyexr-dev libstb-dev libcli11-dev nlohmann-json3-dev
   libtinyobjloader-dev libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
-  libglfw3-dev libimgui-dev glslang-tools xvfb xauth gnuplot-nox
+  libglfw3-dev libimgui-dev glslang-tools xvfb xauth libglx-mesa0 gnuplot-nox
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 # shellcheck disable=SC2206

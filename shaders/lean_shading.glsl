@@ -86,7 +86,9 @@ LF_FN float lf_blinn_phong_lobe(vec3 bump_normal, vec3 half_vector, float s) {
 // Schlick-form Fresnel of the fading paper's listing: clamp(Fb + Fs (1 - n.V)^5, 0, 1).
 LF_FN float lf_fresnel(vec3 n, vec3 view_dir, float bias, float scale) {
     float c = max(0.0f, 1.0f - dot(n, view_dir));
-    return clamp(bias + scale * pow(c, 5.0f), 0.0f, 1.0f);
+    // c^5 by multiplication: a pow would cost a log2 and an exp2 per pixel (docs/perf.md).
+    float c2 = c * c;
+    return clamp(bias + scale * (c2 * c2 * c), 0.0f, 1.0f);
 }
 
 // Distance measure of specular fading. view_unnormalised: tangent-space vector from the shaded
@@ -142,12 +144,71 @@ LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
     return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), sf, p);
 }
 
+// Peer techniques, baked from the same two LEAN layers. Both keep LEAN's diffuse term (the
+// filtered, unnormalised normal for NdotL and Fresnel) so that they differ from LEAN only in the
+// specular lobe.
+
+// Toksvig factor (Toksvig 2005, "Mipmapping normal maps", JGT 10(3)): a filtered normal of length
+// |Na| < 1 is read as a Gaussian spread of normals with variance sigma^2 = (1 - |Na|) / |Na|, and
+// the Blinn-Phong exponent s becomes ft s with ft = 1 / (1 + s sigma^2) = |Na| / (|Na| + s (1 -
+// |Na|)). The length is clamped to (0, 1]: quantisation can make a level-0 normal slightly long.
+LF_FN float lf_toksvig_factor(float normal_length, float s) {
+    float a = clamp(normal_length, 1e-6f, 1.0f);
+    return a / (a + s * (1.0f - a));
+}
+
+// Toksvig's lobe around the renormalised filtered normal Na / |Na| with the effective exponent
+// s' = ft s and Toksvig's energy factor (1 + ft s) / (1 + s) (same paper), on the baseline's
+// normalisation s / (2 pi) (SPEC §4), so that ft = 1 is exactly lf_blinn_phong_lobe.
+LF_FN float lf_toksvig_lobe(vec3 filtered_normal, vec3 half_vector, float s) {
+    float len = length(filtered_normal);
+    if (len <= 0.0f) return 0.0f;
+    float ft = lf_toksvig_factor(len, s);
+    float c = max(0.0f, dot(filtered_normal / len, half_vector));
+    return s / (2.0f * LF_PI) * ((1.0f + ft * s) / (1.0f + s)) * pow(c, ft * s);
+}
+
+// Toksvig mapping: lean1.rgb is the averaged, not renormalised normal map (SPEC §3).
+LF_FN LfShade lf_shade_toksvig(vec4 lean1, vec3 light_dir, vec3 view_unnormalised, LfParams p) {
+    vec3 n = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
+    vec3 v = normalize(view_unnormalised);
+    vec3 h = normalize(light_dir + v);
+    return lf_combine(n, light_dir, v, lf_toksvig_lobe(n, h, p.shininess), 1.0f, p);
+}
+
+// CLEAN covariance (Baker 2011, "CLEAN mapping", the isotropic reduction of LEAN eq. 5): only the
+// mean B and the scalar second moment m = E[Bx^2 + By^2] = Mxx + Myy are kept, and the covariance
+// is isotropic with LEAN's trace: Sigma = ((m - |B|^2) / 2 + 1/s) I, as (Sxx, Syy, Sxy).
+LF_FN vec3 lf_clean_covariance(vec2 mean, float second_isotropic, float inv_s) {
+    float variance = 0.5f * (second_isotropic - dot(mean, mean)) + inv_s;
+    return vec3(variance, variance, 0.0f);
+}
+
+// CLEAN mapping: LEAN's lobe (eq. 1, errata normalisation) with the isotropic covariance.
+LF_FN LfShade lf_shade_clean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
+                             vec3 view_unnormalised, LfParams p) {
+    LfMoments m = lf_unpack(lean1, lean2, sc);
+    vec3 sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
+    vec3 v = normalize(view_unnormalised);
+    vec3 h = normalize(light_dir + v);
+    return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), 1.0f, p);
+}
+
+// Inputs of specular fading at a LEAN texel, for calibration: (NdotL, d) with NdotL as
+// lf_combine computes it from the filtered normal and d as lf_fade_distance. A LEAN pixel with
+// specular term S becomes S NdotL^(sf - 1) with fading (fading paper eq. 7).
+LF_FN vec2 lf_fade_terms(vec4 lean1, vec3 light_dir, vec3 view_unnormalised, int mode) {
+    vec3 n = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
+    return vec2(clamp(dot(n, light_dir), 0.0f, 1.0f), lf_fade_distance(view_unnormalised, mode));
+}
+
 // Fog blend factor f (lecture 004): 1 = no fog. eye_depth in world units.
 LF_FN float lf_fog_factor(float eye_depth, int mode, float start, float end, float density) {
-    float f = 1.0f;
+    // One exp for both exponential modes: a SIMD rasteriser (llvmpipe) evaluates every branch.
+    float x = density * eye_depth;
+    float f = exp(-(mode == LF_FOG_EXP2 ? x * x : x));
     if (mode == LF_FOG_LINEAR) f = (end - eye_depth) / max(end - start, 1e-6f);
-    if (mode == LF_FOG_EXP) f = exp(-density * eye_depth);
-    if (mode == LF_FOG_EXP2) f = exp(-(density * eye_depth) * (density * eye_depth));
+    if (mode == LF_FOG_NONE) f = 1.0f;
     return clamp(f, 0.0f, 1.0f);
 }
 

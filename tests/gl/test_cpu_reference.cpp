@@ -97,6 +97,10 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             shading::LfShade shade;
             if (c.technique == gl::Technique::Bump)
                 shade = shading::lf_shade_blinn_phong(glm::vec3(lean1), light, view_t, params);
+            else if (c.technique == gl::Technique::Toksvig)
+                shade = shading::lf_shade_toksvig(lean1, light, view_t, params);
+            else if (c.technique == gl::Technique::Clean)
+                shade = shading::lf_shade_clean(lean1, lean2, map.scale, light, view_t, params);
             else
                 shade = shading::lf_shade_lean(lean1, lean2, map.scale, light, view_t, params,
                                                c.technique == gl::Technique::Fade);
@@ -124,6 +128,8 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
 INSTANTIATE_TEST_SUITE_P(Shading, GpuMatchesCpu,
                          ::testing::Values(Case{"bump", gl::Technique::Bump},
                                            Case{"lean", gl::Technique::Lean},
+                                           Case{"toksvig", gl::Technique::Toksvig},
+                                           Case{"clean", gl::Technique::Clean},
                                            Case{"fade_tangent_z", gl::Technique::Fade},
                                            Case{"fade_eye", gl::Technique::Fade, FadeDistance::Eye},
                                            Case{"lean_exp_fog", gl::Technique::Lean,

@@ -1,8 +1,11 @@
 #pragma once
 // Runs the leanfade executable as a user would and captures its exit code and output.
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,8 +16,9 @@ namespace leanfade::test {
 
 struct RunResult {
     int exit_code = -1;
-    std::string out;  // stdout
-    std::string err;  // stderr
+    std::string out;        // stdout
+    std::string err;        // stderr
+    long max_rss_kib = -1;  // run_leanfade_bounded: peak resident memory of the process tree
 };
 
 inline std::string shell_quote(const std::string& s) {
@@ -39,6 +43,38 @@ inline RunResult run_leanfade(const std::string& args, const std::filesystem::pa
     const int status = std::system(cmd.c_str());
     RunResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = read_text(out);
+    r.err = read_text(err);
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+    return r;
+}
+
+// run_leanfade with bounds, for hostile inputs: the run is killed after `seconds` (exit code 124,
+// or 137 when it ignores SIGTERM for 5 more seconds), so a hang fails the test instead of
+// blocking it, and max_rss_kib reports the largest resident set of the run (wait4), so that a
+// test can check that a small hostile file did not make leanfade allocate without bound.
+inline RunResult run_leanfade_bounded(const std::string& args, const std::filesystem::path& scratch,
+                                      int seconds = 20) {
+    const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
+    const std::string cmd = "timeout -k 5 " + std::to_string(seconds) + " " +
+                            shell_quote(LEANFADE_EXE) + " " + args + " >" +
+                            shell_quote(out.string()) + " 2>" + shell_quote(err.string()) +
+                            " </dev/null";
+    RunResult r;
+    const pid_t child = ::fork();
+    if (child == 0) {
+        ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    if (child < 0) return r;
+    int status = 0;
+    struct rusage usage {};
+    while (::wait4(child, &status, 0, &usage) < 0) {
+        if (errno != EINTR) return r;
+    }
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.max_rss_kib = usage.ru_maxrss;
     r.out = read_text(out);
     r.err = read_text(err);
     std::filesystem::remove(out);

@@ -160,9 +160,12 @@ int run_bake(const BakeArgs& args) {
         const auto start = std::chrono::steady_clock::now();
         const Image input = from_file ? io::read_image(name, read_options)
                                       : make_builtin_height(args.builtin, args.size, args.seed);
-        const BakeResult result =
-            bake_lean_map(input, from_file ? source : BakeSource::Height, options, name);
-        const PackedLeanMap packed = pack_lean_map(result.map, storage, generator_string());
+        // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
+        // summary, without the float MIP chain (docs/perf.md).
+        const PackedBakeResult baked =
+            bake_packed(input, from_file ? source : BakeSource::Height, options, storage,
+                        generator_string(), name);
+        const PackedLeanMap& packed = baked.packed;
         const std::string base = output_base(args, from_file ? name : args.builtin, from_file);
         std::string output;
         if (args.format == "png") {
@@ -180,7 +183,13 @@ int run_bake(const BakeArgs& args) {
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (progress) std::fprintf(stderr, "\r\033[K");
-        const LeanMapSummary s = summarize(result.map);
+        // What print_summary and summary_json read of a BakeResult: the source, the clamped
+        // count and the roughness flag.
+        BakeResult result;
+        result.source = baked.source;
+        result.clamped_texels = baked.clamped_texels;
+        result.map.roughness_baked = packed.roughness_baked;
+        const LeanMapSummary& s = baked.summary;
         print_summary(name, output, s, result, seconds);
         summaries.push_back(summary_json(name, output, s, result, seconds));
     };

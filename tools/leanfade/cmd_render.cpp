@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "cli_preset.hpp"
 #include "cli_render_options.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/preset.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/figure.hpp"
 #include "leanfade/gl/renderer.hpp"
@@ -31,6 +33,9 @@ struct RenderArgs {
     std::string cell_format = "pfm";
     int ref_samples = 8;
     float fov = gl::kDefaultFovYDegrees;
+    std::string view_dir = "0,0.3,1";  // from the target toward the eye
+    std::string target = "0,0,0";      // the point the camera looks at
+    std::string preset;                // JSON preset of `leanfade view`: the defaults of the flags
     ShadingFlags shading;
     LeanSourceFlags source;
     GlFlags gl;
@@ -47,6 +52,10 @@ int run_render(const RenderArgs& args) {
     request.settings = settings;
     request.zoom = args.zoom;
     request.fov_y_degrees = args.fov;
+    request.view_direction = parse_vector(args.view_dir, "--view-dir");
+    if (request.view_direction == glm::vec3(0.0f))
+        throw Error("--view-dir", "must not be the zero vector");
+    request.target = parse_vector(args.target, "--target");
     request.reference_samples = args.ref_samples;
     if (args.ref_samples < 1 || args.ref_samples > 16)
         throw Error("--ref-samples", "must be in [1, 16], got " + std::to_string(args.ref_samples));
@@ -105,20 +114,38 @@ int run_render(const RenderArgs& args) {
     return 0;
 }
 
+// `--preset FILE`: the preset's values become the flags' defaults, then the flags given on the
+// command line are applied again on top.
+void apply_preset(RenderArgs& args, CLI::App& app) {
+    const Preset preset = read_preset(args.preset);
+    check_preset_techniques(preset, args.preset);
+    args.scene = preset.scene;
+    args.techniques = join(preset.techniques);
+    args.distances = number_text(preset.camera.distance);
+    args.fov = preset.camera.fov_y_degrees;
+    args.view_dir = vector_text(preset.camera.direction);
+    args.target = vector_text(preset.camera.target);
+    args.ref_samples = preset.reference_samples;
+    set_shading_flags(preset.shading, args.shading);
+    set_source_flags(preset.bumps, args.source);
+    reapply_explicit_options(app);
+}
+
 const CommandRegistration registration{
     "render",
-    "Render the papers' comparison figure: a column per technique (bump, lean, fade, reference), "
-    "a row per camera distance",
+    "Render the papers' comparison figure: a column per technique (bump, toksvig, clean, lean, "
+    "fade, reference), a row per camera distance",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<RenderArgs>();
         app.add_option("--scene", args->scene,
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
-                       "Columns, comma-separated: bump, lean, fade, reference")
+                       "Columns, comma-separated: bump, toksvig, clean, lean, fade, reference")
             ->capture_default_str();
         app.add_option("--distances", args->distances,
-                       "Rows: camera distances from the object's centre in bounding radii (> 1)")
+                       "Rows: camera distances from the target (default the object's centre) in "
+                       "bounding radii (> 1)")
             ->capture_default_str();
         app.add_option("--size", args->size, "Size of each cell, WIDTHxHEIGHT pixels")
             ->capture_default_str();
@@ -136,10 +163,22 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--fov", args->fov, "Vertical field of view in degrees")
             ->capture_default_str();
+        app.add_option("--view-dir", args->view_dir,
+                       "Direction from the target toward the eye, world space (y up)")
+            ->capture_default_str();
+        app.add_option("--target", args->target,
+                       "Point the camera looks at, world units (bounding radii; 0 = the centre)")
+            ->capture_default_str();
+        app.add_option("--preset", args->preset,
+                       "Start from a preset saved by `leanfade view` (JSON): its scene, bumps, "
+                       "shading, camera (one row) and techniques; flags given here override it");
         add_shading_options(app, args->shading);
         add_lean_source_options(app, args->source);
         add_gl_options(app, args->gl);
-        return [args] { return run_render(*args); };
+        return [args, &app] {
+            if (!args->preset.empty()) apply_preset(*args, app);
+            return run_render(*args);
+        };
     }};
 
 }  // namespace

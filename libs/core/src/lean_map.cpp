@@ -10,6 +10,7 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/vec4.hpp>
 
+#include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/core/shading.hpp"
@@ -54,23 +55,8 @@ namespace {
 // The eight float moments of a texel, filtered together.
 using Moments = std::array<float, 8>;  // n.xyz, B.xy, M.xx, M.yy, M.xy
 
-// Area-weighted reduction from `src` to `dst` samples: destination i covers the source interval
-// [i r, (i + 1) r), r = src / dst, each source texel weighted by its overlap / r. For even sizes
-// this is the 2-tap box; for odd sizes 3 taps. The weights of every source texel sum to 1/r, so
-// the mean is preserved exactly and, the filter being linear, moments stay linear (LEAN §3).
-struct Tap { int index; double weight; };
-std::vector<std::vector<Tap>> reduction_taps(int src, int dst) {
-    std::vector<std::vector<Tap>> taps(static_cast<std::size_t>(dst));
-    for (int i = 0; i < dst; ++i) {
-        // Work in integer units of 1/dst to keep the overlaps exact: [i*src, (i+1)*src).
-        const std::int64_t lo = std::int64_t(i) * src, hi = std::int64_t(i + 1) * src;
-        for (std::int64_t j = lo / dst; j * dst < hi; ++j) {
-            const std::int64_t overlap = std::min(hi, (j + 1) * dst) - std::max(lo, j * dst);
-            if (overlap > 0) taps[std::size_t(i)].push_back({int(j), double(overlap) / double(src)});
-        }
-    }
-    return taps;
-}
+using detail::Tap;
+using detail::reduction_taps;
 
 MomentLevel from_moments(int width, int height, const std::vector<Moments>& in) {
     MomentLevel level;
@@ -147,13 +133,16 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
     // so every packed channel stays in range. Floor avoids a zero scale for a flat map.
     double max_b = 0.0, max_m = 0.0;
     for (const Moments& t : top) {
+        for (const float b : {t[3], t[4]}) {
+            if (!(std::abs(b) <= kMaxSlope)) {  // NaN fails the comparison too
+                throw Error("", "slope " + std::to_string(b) +
+                                    " not finite or steeper than the limit of 1e6");
+            }
+        }
         max_b = std::max({max_b, double(std::abs(t[3])), double(std::abs(t[4]))});
         max_m = std::max({max_m, double(t[5]), double(t[6])});
     }
-    map.scale = float(std::max({max_b, std::sqrt(max_m), 1e-4}));
-    // Round sc up so that sc * sc >= max_m and sc >= max_b hold in float arithmetic too.
-    while (double(map.scale) * double(map.scale) < max_m || double(map.scale) < max_b)
-        map.scale = std::nextafter(map.scale, std::numeric_limits<float>::infinity());
+    map.scale = detail::lean_scale(max_b, max_m);
 
     int lw = w, lh = h;
     std::vector<Moments> current = std::move(top);
@@ -187,15 +176,18 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
 
 namespace {
 
+// Clamp to [0, 1] with NaN -> 0: converting a NaN to an integer is undefined behaviour.
+float unit_clamp(float value) { return value > 0.0f ? std::min(value, 1.0f) : 0.0f; }
+
 void store_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
     switch (storage) {
         case Storage::Unorm8: {
-            const float q = std::round(std::clamp(value, 0.0f, 1.0f) * 255.0f);
+            const float q = std::round(unit_clamp(value) * 255.0f);
             texel[channel] = std::uint8_t(q);
             break;
         }
         case Storage::Unorm16: {
-            const auto q = std::uint16_t(std::round(std::clamp(value, 0.0f, 1.0f) * 65535.0f));
+            const auto q = std::uint16_t(std::round(unit_clamp(value) * 65535.0f));
             texel[2 * channel] = std::uint8_t(q & 0xFF);
             texel[2 * channel + 1] = std::uint8_t(q >> 8);
             break;
@@ -329,15 +321,7 @@ LeanMapSummary summarize(const LeanMap& map) {
     }
     s.mean_slope = float(sum / double(top.mean.size()));
     const MomentLevel& last = map.levels.back();
-    const glm::vec2 b = last.mean[0];
-    const glm::vec3 m = last.second[0];
-    s.coarsest_covariance = shading::lf_covariance(b, m, 0.0f);
-    const double a = s.coarsest_covariance.x, d = s.coarsest_covariance.y,
-                 c = s.coarsest_covariance.z;
-    const double mid = 0.5 * (a + d), rad = std::sqrt(0.25 * (a - d) * (a - d) + c * c);
-    const double lmax = mid + rad, lmin = mid - rad;
-    s.coarsest_anisotropy = lmin > 1e-12 ? float(std::sqrt(lmax / lmin))
-                                         : std::numeric_limits<float>::infinity();
+    detail::summarize_coarsest(s, last.mean[0], last.second[0]);
     return s;
 }
 

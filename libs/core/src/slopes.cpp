@@ -1,7 +1,11 @@
 // From bumps to projected slopes (SPEC §2).
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
+#include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/parallel.hpp"
@@ -26,7 +30,48 @@ void check_size(const Image& image, const std::string& source_name) {
         throw Error(source_name, "unsupported channel count " + std::to_string(image.channels));
 }
 
+// Serially, so that the error names the first texel (rows top first) for any thread count.
+void check_slopes(const Image& slopes, const std::string& source_name, const char* cause) {
+    for (int y = 0; y < slopes.height; ++y) {
+        for (int x = 0; x < slopes.width; ++x) {
+            for (int c = 0; c < 2; ++c) {
+                const float slope = slopes.at(x, y, c);
+                if (std::abs(slope) <= kMaxSlope) continue;  // false for NaN too
+                detail::throw_steep_slope(source_name, x, y, slope, cause);
+            }
+        }
+    }
+}
+
 }  // namespace
+
+namespace detail {
+
+void check_normal_map_shape(const Image& normals, const std::string& source_name) {
+    check_size(normals, source_name);
+    if (normals.channels < 3)
+        throw Error(source_name, "a normal map needs 3 or 4 channels, this image has " +
+                                     std::to_string(normals.channels));
+}
+
+void throw_non_finite_normal(const std::string& source_name, int x, int y) {
+    throw Error(source_name, "NaN or Inf normal at " + texel_name(x, y));
+}
+
+void throw_steep_slope(const std::string& source_name, int x, int y, float slope,
+                       const char* cause) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%.3g", double(slope));
+    throw Error(source_name, std::string("slope ") + value + " at " + texel_name(x, y) +
+                                 " is steeper than the limit of 1e6 (" + cause + ")");
+}
+
+void throw_negative_normal_z(const std::string& source_name, int x, int y, float z) {
+    throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) + " (z = " +
+                                 std::to_string(z) + "): not a tangent-space normal map");
+}
+
+}  // namespace detail
 
 SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                const std::string& source_name) {
@@ -54,20 +99,22 @@ SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                      (f(left, up) + 2 * f(left, y) + f(left, down))) / 8.0;
                 const double dfdv = ((f(left, up) + 2 * f(x, up) + f(right, up)) -
                                      (f(left, down) + 2 * f(x, down) + f(right, down))) / 8.0;
-                result.slopes.at(x, y, 0) = float(-options.strength * dfdu);
-                result.slopes.at(x, y, 1) = float(-options.strength * dfdv);
+                // Clamped to the float range so that the conversion cannot overflow;
+                // check_slopes refuses anything past kMaxSlope, naming the value.
+                const double huge = std::numeric_limits<float>::max();
+                const double sx = -options.strength * dfdu, sy = -options.strength * dfdv;
+                result.slopes.at(x, y, 0) = float(std::clamp(sx, -huge, huge));
+                result.slopes.at(x, y, 1) = float(std::clamp(sy, -huge, huge));
             }
         }
     });
+    check_slopes(result.slopes, source_name, "height steps times the strength are too large");
     return result;
 }
 
 SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
                                 const std::string& source_name) {
-    check_size(normals, source_name);
-    if (normals.channels < 3)
-        throw Error(source_name, "a normal map needs 3 or 4 channels, this image has " +
-                                     std::to_string(normals.channels));
+    detail::check_normal_map_shape(normals, source_name);
     const int w = normals.width, h = normals.height;
     SlopeResult result{Image(w, h, 2), 0};
     const float green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
@@ -76,12 +123,9 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
         for (int x = 0; x < w; ++x) {
             for (int c = 0; c < 3; ++c)
                 if (!std::isfinite(normals.at(x, y, c)))
-                    throw Error(source_name, "NaN or Inf normal at " + texel_name(x, y));
+                    detail::throw_non_finite_normal(source_name, x, y);
             const float z = 2.0f * normals.at(x, y, 2) - 1.0f;
-            if (z <= -kNormalZRejectEpsilon)
-                throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) +
-                                             " (z = " + std::to_string(z) +
-                                             "): not a tangent-space normal map");
+            if (z <= -kNormalZRejectEpsilon) detail::throw_negative_normal_z(source_name, x, y, z);
             if (z < kMinNormalZ) ++result.clamped_texels;
         }
     }
@@ -96,6 +140,7 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
             }
         }
     });
+    check_slopes(result.slopes, source_name, detail::kSteepNormalCause);
     return result;
 }
 

@@ -85,6 +85,7 @@ struct Context::Impl {
     std::string version;
     std::vector<std::string> errors;
     std::mutex errors_mutex;
+    bool adopted = false;  // Context::adopt_current: the context belongs to someone else
 
     // Tries to make a 4.5 core context on `candidate`; on failure returns the cause and leaves
     // nothing behind.
@@ -257,6 +258,11 @@ Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()
         throw Error("EGL", cause);
     }
 
+    install_debug_output();
+}
+
+void Context::install_debug_output() {
+    const ContextOptions& options = impl_->options;
     if ((options.debug || options.record_errors) &&
         (epoxy_gl_version() >= 43 || epoxy_has_gl_extension("GL_KHR_debug"))) {
         glEnable(GL_DEBUG_OUTPUT);
@@ -266,7 +272,39 @@ Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()
     }
 }
 
+std::unique_ptr<Context> Context::adopt_current(const ContextOptions& options,
+                                                const std::string& platform) {
+    return std::unique_ptr<Context>(new Context(Adopt{}, options, platform));
+}
+
+Context::Context(Adopt, const ContextOptions& options, const std::string& platform)
+    : impl_(std::make_unique<Impl>()) {
+    impl_->options = options;
+    impl_->adopted = true;
+    const GLubyte* version = glGetString(GL_VERSION);
+    const GLubyte* renderer = glGetString(GL_RENDERER);
+    if (version == nullptr || renderer == nullptr)
+        throw Error("GL", "no OpenGL context is current on this thread");
+    const int gl_version = epoxy_gl_version();
+    GLint profile = 0;
+    if (gl_version >= 32) glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+    if (!epoxy_is_desktop_gl() || gl_version < 45 || (profile & GL_CONTEXT_CORE_PROFILE_BIT) == 0)
+        throw Error("GL", "the current context is OpenGL " + std::to_string(gl_version / 10) + "." +
+                              std::to_string(gl_version % 10) +
+                              ((profile & GL_CONTEXT_CORE_PROFILE_BIT) != 0 ? " core" : "") +
+                              ", not the required 4.5 core");
+    impl_->platform = platform;
+    impl_->renderer = reinterpret_cast<const char*>(renderer);
+    impl_->version = reinterpret_cast<const char*>(version);
+    install_debug_output();
+}
+
 Context::~Context() {
+    if (impl_->adopted) {
+        if (impl_->options.debug || impl_->options.record_errors)
+            glDebugMessageCallback(nullptr, nullptr);
+        return;
+    }
     // The display is not terminated: EGL displays are per-process singletons and stay initialised
     // until the process exits, a later context reuses them, and eglTerminate would unload Mesa's
     // driver with a few of its allocations still live (LeakSanitizer reports them).
@@ -282,12 +320,14 @@ Context::~Context() {
 }
 
 void Context::make_current() {
+    if (impl_->adopted) return;
     if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context))
         throw Error("EGL", "eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
 }
 
 std::string Context::description() const {
-    return "OpenGL " + impl_->version + " / " + impl_->renderer + " (EGL " + impl_->platform + ")";
+    return "OpenGL " + impl_->version + " / " + impl_->renderer + " (" +
+           (impl_->adopted ? "" : "EGL ") + impl_->platform + ")";
 }
 
 const std::string& Context::platform() const {

@@ -171,7 +171,8 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
     };
     std::vector<Row> rows;
     for (float distance : request.distances) {
-        const View view = view_at_distance(distance, request.fov_y_degrees, request.view_direction);
+        const View view = view_at_distance(distance, request.fov_y_degrees, request.view_direction,
+                                           request.target);
         Row row{"d=" + distance_text(distance), {}};
         for (Technique technique : request.techniques) {
             RenderRequest r;

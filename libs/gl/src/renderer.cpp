@@ -80,6 +80,18 @@ std::string variant_name(Technique t) {
     return std::string("scene_") + to_string(t);
 }
 
+// The program that draws `request`: for the colour output without fog, the technique's
+// "_plain" variant when there is one (LF_PLAIN_COLOR: the same image without the output and fog
+// branches, which llvmpipe executes for every pixel; docs/perf.md).
+std::string variant_name(const RenderRequest& request) {
+    std::string name = variant_name(request.technique);
+    if (request.output != OutputMode::Color || request.settings.fog != FogMode::None) return name;
+    const std::string plain = name + "_plain";
+    for (const ShaderVariant& v : shader_variants())
+        if (v.name == plain) return plain;
+    return name;
+}
+
 int output_constant(OutputMode mode) {
     switch (mode) {
         case OutputMode::Color:
@@ -88,6 +100,8 @@ int output_constant(OutputMode mode) {
             return 1;
         case OutputMode::Specular:
             return 2;
+        case OutputMode::FadeTerms:
+            return 3;
     }
     return 0;
 }
@@ -104,14 +118,20 @@ const char* to_string(Technique technique) {
             return "fade";
         case Technique::Reference:
             return "reference";
+        case Technique::Toksvig:
+            return "toksvig";
+        case Technique::Clean:
+            return "clean";
     }
     return "?";
 }
 
 Technique parse_technique(const std::string& name, const std::string& flag) {
-    for (Technique t : {Technique::Bump, Technique::Lean, Technique::Fade, Technique::Reference})
+    for (Technique t : {Technique::Bump, Technique::Toksvig, Technique::Clean, Technique::Lean,
+                        Technique::Fade, Technique::Reference})
         if (name == to_string(t)) return t;
-    throw Error(flag, "unknown technique '" + name + "' (expected bump, lean, fade or reference)");
+    throw Error(flag, "unknown technique '" + name +
+                          "' (expected bump, toksvig, clean, lean, fade or reference)");
 }
 
 std::vector<Technique> parse_techniques(const std::string& list, const std::string& flag) {
@@ -136,19 +156,27 @@ glm::mat4 View::projection_matrix(float aspect) const {
     return glm::perspective(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);
 }
 
-View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction) {
+View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction,
+                      glm::vec3 target) {
     if (!(distance > 1.0f) || !std::isfinite(distance))
         throw Error("--distances", "camera distances are in bounding radii and must be > 1, got " +
                                        std::to_string(distance));
     if (!(fov_y_degrees > 1.0f && fov_y_degrees < 170.0f))
         throw Error("--fov", "must be in (1, 170) degrees, got " + std::to_string(fov_y_degrees));
+    if (!(glm::length(direction) > 0.0f) || !std::isfinite(glm::length(direction)))
+        throw Error("--view-dir", "must be a finite, non-zero vector");
+    if (!std::isfinite(target.x) || !std::isfinite(target.y) || !std::isfinite(target.z))
+        throw Error("--target", "must be finite");
     View v;
-    v.eye = glm::normalize(direction) * distance;
-    v.target = glm::vec3(0.0f);
-    v.up = glm::vec3(0.0f, 1.0f, 0.0f);
+    const glm::vec3 unit = glm::normalize(direction);
+    v.eye = target + unit * distance;
+    v.target = target;
+    v.up = std::abs(unit.y) > 0.9999f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
     v.fov_y_degrees = fov_y_degrees;
-    v.near_plane = std::max(0.01f, 0.9f * (distance - 1.0f));
-    v.far_plane = 1.1f * (distance + 1.0f);
+    // Near and far planes enclose the unit sphere about the object's centre (the origin).
+    const float centre_distance = target == glm::vec3(0.0f) ? distance : glm::length(v.eye);
+    v.near_plane = std::max(0.01f, 0.9f * (centre_distance - 1.0f));
+    v.far_plane = 1.1f * (centre_distance + 1.0f);
     return v;
 }
 
@@ -238,6 +266,13 @@ Renderer::~Renderer() = default;
 
 void Renderer::reload_shaders() {
     programs_.clear();
+}
+
+void Renderer::rebuild_shaders() {
+    std::map<std::string, Program> rebuilt;
+    for (const auto& entry : programs_)
+        rebuilt.emplace(entry.first, build_program(sources_, shader_variant(entry.first)));
+    programs_ = std::move(rebuilt);
 }
 
 GLuint Renderer::program(const std::string& name) {
@@ -385,6 +420,22 @@ void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat
 }
 
 Image Renderer::render(const RenderRequest& request) {
+    Target& target = render_target(request);
+    Image image = target.read();
+    context_.check(std::string("rendering ") + to_string(request.technique));
+    return image;
+}
+
+void Renderer::render_to(const RenderRequest& request, GLuint framebuffer, int x, int y) {
+    Target& target = render_target(request);
+    glBlitNamedFramebuffer(target.framebuffer.get(), framebuffer, 0, 0, target.width,
+                           target.height, x, y, x + target.width, y + target.height,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    context_.check(std::string("rendering ") + to_string(request.technique) +
+                   " into a framebuffer");
+}
+
+Renderer::Target& Renderer::render_target(const RenderRequest& request) {
     if (!vertex_array_) throw Error("render", "no mesh was set");
     if (!lean_) throw Error("render", "no LEAN map was set");
     validate(request.settings);
@@ -406,20 +457,12 @@ Image Renderer::render(const RenderRequest& request) {
                                   " samples requested, the GL driver allows " +
                                   std::to_string(gl_integer(GL_MAX_SAMPLES)));
 
-    // Sampler state of this render.
-    glTextureParameterf(lean_.get(), GL_TEXTURE_LOD_BIAS, s.mip_bias);
-    if (s.anisotropy > 1) {
-        const float max_aniso = context_.max_anisotropy();
-        if (max_aniso <= 1.0f)
-            throw Error("--aniso",
-                        "anisotropic filtering is not supported by " + context_.renderer());
-        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY,
-                            std::min(float(s.anisotropy), max_aniso));
-    } else if (context_.max_anisotropy() > 1.0f) {
-        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
-    }
+    apply_sampler_state(s);
 
-    Target target(request.width, request.height, samples);
+    if (!target_ || target_->width != request.width || target_->height != request.height ||
+        target_->samples != samples)
+        target_ = std::make_unique<Target>(request.width, request.height, samples);
+    Target& target = *target_;
     const glm::vec3 clear =
         request.output == OutputMode::Color ? request.background : glm::vec3(0.0f);
     glEnable(GL_DEPTH_TEST);
@@ -440,13 +483,47 @@ Image Renderer::render(const RenderRequest& request) {
         glViewport(0, 0, request.width, request.height);
         const float aspect = float(request.width) / float(request.height);
         const glm::mat4 clip = request.view.projection_matrix(aspect) * request.view.view_matrix();
-        draw_scene(program(variant_name(request.technique)), request, clip);
+        draw_scene(program(variant_name(request)), request, clip);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         target.resolve();
     }
-    Image image = target.read();
-    context_.check(std::string("rendering ") + to_string(request.technique));
-    return image;
+    return target;
+}
+
+void Renderer::apply_sampler_state(const ShadingSettings& s) {
+    glTextureParameterf(lean_.get(), GL_TEXTURE_LOD_BIAS, s.mip_bias);
+    if (s.anisotropy > 1) {
+        const float max_aniso = context_.max_anisotropy();
+        if (max_aniso <= 1.0f)
+            throw Error("--aniso",
+                        "anisotropic filtering is not supported by " + context_.renderer());
+        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY,
+                            std::min(float(s.anisotropy), max_aniso));
+    } else if (context_.max_anisotropy() > 1.0f) {
+        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
+    }
+}
+
+void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant) {
+    if (!vertex_array_) throw Error("render", "no mesh was set");
+    if (!lean_) throw Error("render", "no LEAN map was set");
+    if (variant.empty() && request.technique == Technique::Reference)
+        throw Error("render", "the reference is supersampled in several passes: use render()");
+    if (request.width < 1 || request.height < 1)
+        throw Error("--size", "the viewport must be at least 1x1 pixels");
+    validate(request.settings);
+    const GLuint p = program(variant.empty() ? variant_name(request) : variant);
+    apply_sampler_state(request.settings);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, request.width, request.height);
+    const float aspect = float(request.width) / float(request.height);
+    draw_scene(p, request, request.view.projection_matrix(aspect) * request.view.view_matrix());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 // SPEC §7: k x k samples per pixel at LOD 0, shaded with the baseline, box-filtered. The

@@ -172,7 +172,18 @@ const std::vector<ShaderVariant>& shader_variants() {
         {"scene_lean", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN"}},
         {"scene_fade", "scene.vert", "scene.frag", {"TECHNIQUE_FADE"}},
         {"scene_reference", "scene.vert", "scene.frag", {"TECHNIQUE_REFERENCE"}},
+        {"scene_toksvig", "scene.vert", "scene.frag", {"TECHNIQUE_TOKSVIG"}},
+        {"scene_clean", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN"}},
         {"box_filter", "fullscreen.vert", "box_filter.frag", {}},
+        {"scene_constant", "scene.vert", "constant.frag", {}},
+        // The renderer's ordinary frames (colour output, no fog) use these: the same images
+        // without the output and fog branches (LF_PLAIN_COLOR, docs/perf.md).
+        {"scene_bump_plain", "scene.vert", "scene.frag", {"TECHNIQUE_BUMP", "LF_PLAIN_COLOR"}},
+        {"scene_lean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN", "LF_PLAIN_COLOR"}},
+        {"scene_fade_plain", "scene.vert", "scene.frag", {"TECHNIQUE_FADE", "LF_PLAIN_COLOR"}},
+        {"scene_toksvig_plain", "scene.vert", "scene.frag",
+         {"TECHNIQUE_TOKSVIG", "LF_PLAIN_COLOR"}},
+        {"scene_clean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN", "LF_PLAIN_COLOR"}},
     };
     return variants;
 }
@@ -204,6 +215,27 @@ Program build_program(const ShaderSources& sources, const ShaderVariant& variant
         log.resize(std::strlen(log.c_str()));
         throw Error(variant.vertex + " + " + variant.fragment,
                     "does not link (" + variant.name + "): " + one_line(log));
+    }
+    return program;
+}
+
+Program build_compute_program(const ShaderSources& sources, const std::string& file,
+                              const std::vector<std::string>& defines) {
+    const ResolvedSource source = sources.resolve(file, defines);
+    Shader compute = compile_stage(GL_COMPUTE_SHADER, file, source);
+    Program program(glCreateProgram());
+    glAttachShader(program.get(), compute.get());
+    glLinkProgram(program.get());
+    glDetachShader(program.get(), compute.get());
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
+    if (ok != GL_TRUE) {
+        GLint length = 0;
+        glGetProgramiv(program.get(), GL_INFO_LOG_LENGTH, &length);
+        std::string log(std::size_t(std::max(length, 1)), '\0');
+        glGetProgramInfoLog(program.get(), GLsizei(log.size()), nullptr, log.data());
+        log.resize(std::strlen(log.c_str()));
+        throw Error(file, "does not link: " + one_line(log));
     }
     return program;
 }

@@ -106,6 +106,13 @@ float sample_value(const unsigned char* plane, int pixel_type, std::size_t index
     return value;
 }
 
+// tinyexr 1.0.1 (Debian 12) reads past the end of its input on some corrupt files: DecompressPiz
+// copies a chunk's PIZ bitmap (up to 8 KiB + 8 bytes) without checking the chunk's length (found
+// by fuzz_image_bake, see docs/robustness.md). tinyexr is given a copy of the file followed by
+// this many zero bytes, so such reads stay inside our buffer, see zeros, and the chunk is then
+// refused as corrupt. The size passed to tinyexr remains the file's.
+constexpr std::size_t kTinyexrReadPadding = 64 * 1024;
+
 }  // namespace
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -139,9 +146,11 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
         }
     }
 
+    std::vector<std::uint8_t> padded(bytes.size() + kTinyexrReadPadding, 0);
+    std::copy(bytes.begin(), bytes.end(), padded.begin());
     ExrImageGuard loaded;
     loaded.image.num_channels = header.header.num_channels;  // see ExrImageGuard
-    if (LoadEXRImageFromMemory(&loaded.image, &header.header, bytes.data(), bytes.size(),
+    if (LoadEXRImageFromMemory(&loaded.image, &header.header, padded.data(), bytes.size(),
                                &message) != TINYEXR_SUCCESS) {
         loaded.owned = false;
         throw Error(path, "truncated or corrupt OpenEXR data (" + take_message(message) + ")");

@@ -38,7 +38,12 @@ void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes) 
 }  // namespace
 
 Image read_image(const std::string& path, const ReadOptions& options) {
-    const std::vector<std::uint8_t> bytes = detail::InputFile(path).read_all();
+    return read_image_from_memory(detail::InputFile(path).read_all(), path, options);
+}
+
+Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& path,
+                             const ReadOptions& options) {
+    if (bytes.empty()) throw Error(path, "empty file");
     if (starts_like(bytes, kPngMagic)) {
         if (bytes.size() < sizeof kPngMagic) throw Error(path, "truncated PNG data");
         return detail::decode_png(path, bytes, options);

@@ -13,7 +13,9 @@
 namespace leanfade::io::detail {
 
 InputFile::InputFile(std::string path) : path_(std::move(path)) {
-    descriptor_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+    // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever (it is refused
+    // below as not a regular file); it changes nothing for regular files.
+    descriptor_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (descriptor_ < 0)
         throw Error(path_, std::string("cannot open (") + std::strerror(errno) + ")");
     struct stat status {};
@@ -26,11 +28,20 @@ InputFile::InputFile(std::string path) : path_(std::move(path)) {
         ::close(descriptor_);
         throw Error(path_, "is a directory");
     }
+    if (!S_ISREG(status.st_mode)) {  // FIFO, socket, device: no size to check against
+        ::close(descriptor_);
+        throw Error(path_, "is not a regular file");
+    }
     size_ = std::uint64_t(status.st_size);
     if (size_ == 0) {
         ::close(descriptor_);
         throw Error(path_, "empty file");
     }
+}
+
+InputFile::InputFile(std::string path, const std::uint8_t* bytes, std::size_t size)
+    : path_(std::move(path)), memory_(bytes), size_(size) {
+    if (size_ == 0) throw Error(path_, "empty file");
 }
 
 InputFile::~InputFile() {
@@ -40,6 +51,10 @@ InputFile::~InputFile() {
 void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t size,
                         const std::string& truncated_cause) const {
     if (offset > size_ || size > size_ - offset) throw Error(path_, truncated_cause);
+    if (memory_ != nullptr) {
+        if (size > 0) std::memcpy(destination, memory_ + offset, size);
+        return;
+    }
     auto* bytes = static_cast<unsigned char*>(destination);
     while (size > 0) {
         const ssize_t count = ::pread(descriptor_, bytes, size, off_t(offset));
@@ -63,8 +78,9 @@ std::vector<std::uint8_t> InputFile::read_all() const {
 void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,
                       int max_dimension) {
     if (width <= 0 || height <= 0) {
-        throw Error(path, "image width or height is 0 (" + std::to_string(width) + "x" +
-                              std::to_string(height) + ")");
+        throw Error(path, std::string("image width or height is ") +
+                              (width < 0 || height < 0 ? "negative" : "0") + " (" +
+                              std::to_string(width) + "x" + std::to_string(height) + ")");
     }
     if (width > max_dimension || height > max_dimension) {
         throw Error(path, "image size " + std::to_string(width) + "x" + std::to_string(height) +

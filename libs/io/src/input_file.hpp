@@ -1,7 +1,7 @@
 #pragma once
-// Internal: read-only random access to an input file, and small helpers shared by the readers.
-// Every failure throws leanfade::Error(path, cause). Inputs are opened read-only and never
-// modified.
+// Internal: read-only random access to an input file (or to a file's bytes already in memory),
+// and small helpers shared by the readers. Every failure throws leanfade::Error(path, cause).
+// Inputs are opened read-only and never modified.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -14,8 +14,12 @@ namespace leanfade::io::detail {
 
 class InputFile {
   public:
-    // Throws "cannot open (<reason>)", "is a directory" or "empty file".
+    // Throws "cannot open (<reason>)", "is a directory", "is not a regular file" (FIFO, device,
+    // socket: never waits on one) or "empty file".
     explicit InputFile(std::string path);
+    // The bytes of a file already in memory, named `path` in errors; they must outlive this
+    // object. Throws "empty file" for no bytes, like the file constructor.
+    InputFile(std::string path, const std::uint8_t* bytes, std::size_t size);
     ~InputFile();
     InputFile(const InputFile&) = delete;
     InputFile& operator=(const InputFile&) = delete;
@@ -31,6 +35,7 @@ class InputFile {
   private:
     std::string path_;
     int descriptor_ = -1;
+    const std::uint8_t* memory_ = nullptr;  // in-memory input, or nullptr for a file
     std::uint64_t size_ = 0;
 };
 

@@ -492,6 +492,19 @@ Ktx2Info inspect_open_file(const detail::InputFile& file, const ReadOptions* str
         throw Error(path, "levelCount " + std::to_string(info.level_count) + " is more than " +
                               std::to_string(kMaxLevelCount));
     }
+    // Any KTX2: at most one level per halving of the largest side; checked before the level
+    // index is read, so that a count past the chain is named as such (not as the garbage
+    // offsets the extra index entries would hold).
+    const std::uint32_t chain = full_chain_length(
+        std::max(info.pixel_width, info.pixel_depth), info.pixel_height);
+    if (info.level_count > chain) {
+        throw Error(path, "levelCount " + std::to_string(info.level_count) + " exceeds the " +
+                              std::to_string(chain) + " levels of a " +
+                              std::to_string(info.pixel_width) + "x" +
+                              std::to_string(info.pixel_height) +
+                              (info.pixel_depth > 1 ? "x" + std::to_string(info.pixel_depth) : "") +
+                              " MIP chain");
+    }
     const std::uint32_t index_entries = std::max<std::uint32_t>(1, info.level_count);
     std::vector<std::uint8_t> index(index_entries * kLevelIndexEntrySize);
     file.read_at(kHeaderSize, index.data(), index.size(), "truncated KTX2 level index");
@@ -566,15 +579,8 @@ const std::string& required_key(const std::string& path, const Ktx2Info& info, c
     return *value;
 }
 
-}  // namespace
-
-Ktx2Info inspect_ktx2(const std::string& path) {
-    const detail::InputFile file(path);
-    return inspect_open_file(file, nullptr);
-}
-
-PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options) {
-    const detail::InputFile file(path);
+PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& options) {
+    const std::string& path = file.path();
     const Ktx2Info info = inspect_open_file(file, &options);
     const FormatInfo* format = find_format(info.vk_format);
     for (std::uint32_t level = 0; level < info.level_count; ++level) {
@@ -649,6 +655,30 @@ PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options) {
         map.levels.push_back(std::move(packed));
     }
     return map;
+}
+
+}  // namespace
+
+Ktx2Info inspect_ktx2(const std::string& path) {
+    const detail::InputFile file(path);
+    return inspect_open_file(file, nullptr);
+}
+
+Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
+                                  const std::string& name) {
+    const detail::InputFile file(name, bytes.data(), bytes.size());
+    return inspect_open_file(file, nullptr);
+}
+
+PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options) {
+    const detail::InputFile file(path);
+    return read_open_file(file, options);
+}
+
+PackedLeanMap read_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
+                                    const std::string& name, const ReadOptions& options) {
+    const detail::InputFile file(name, bytes.data(), bytes.size());
+    return read_open_file(file, options);
 }
 
 std::string describe(const Ktx2Info& info) {

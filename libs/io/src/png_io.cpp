@@ -167,6 +167,56 @@ class PngWriteStruct {
     png_infop info_ = nullptr;
 };
 
+// Sum of the IDAT chunks' data lengths (as far as the file holds them), walking the chunks after
+// the signature up to IEND or the end of the file.
+std::uint64_t compressed_pixel_bytes(const std::vector<std::uint8_t>& bytes) {
+    std::uint64_t total = 0;
+    std::size_t position = 8;
+    while (bytes.size() - position >= 8) {
+        const std::uint64_t length = (std::uint64_t(bytes[position]) << 24) |
+                                     (std::uint64_t(bytes[position + 1]) << 16) |
+                                     (std::uint64_t(bytes[position + 2]) << 8) |
+                                     std::uint64_t(bytes[position + 3]);
+        const std::uint8_t* type = bytes.data() + position + 4;
+        const std::uint64_t available = bytes.size() - position - 8;
+        if (std::memcmp(type, "IDAT", 4) == 0) total += std::min(length, available);
+        if (std::memcmp(type, "IEND", 4) == 0 || length + 4 >= available) break;
+        position += std::size_t(length) + 12;
+    }
+    return total;
+}
+
+// Deflate expands at most 1032 times (a 258-byte match in 2 bits), so IDAT data of n bytes holds
+// at most 1032 n bytes of rows. A file declaring more pixels than that is truncated or a
+// decompression bomb: refused before libpng allocates rows for its declared size. Applied only
+// when the rows would take more than 16 MiB; smaller files get libpng's own, more specific,
+// diagnosis after the (harmless) allocation.
+void check_compressed_size(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                           std::uint64_t width, std::uint64_t height) {
+    if (bytes.size() < 26) return;  // libpng reports the truncated header
+    int samples = 0;
+    switch (bytes[25]) {  // IHDR colour type
+        case 0: samples = 1; break;  // gray
+        case 2: samples = 3; break;  // RGB
+        case 3: samples = 1; break;  // palette
+        case 4: samples = 2; break;  // gray + alpha
+        case 6: samples = 4; break;  // RGBA
+        default: return;             // libpng refuses it
+    }
+    const std::uint64_t bits_per_pixel = std::uint64_t(samples) * bytes[24];  // IHDR bit depth
+    // A lower bound for any filter and interlace method: the pixels alone, without filter bytes.
+    const std::uint64_t pixel_bytes = width * height * bits_per_pixel / 8;
+    if (pixel_bytes <= (std::uint64_t(1) << 24)) return;
+    const std::uint64_t compressed = compressed_pixel_bytes(bytes);
+    constexpr std::uint64_t kMaxDeflateRatio = 1032;
+    if (pixel_bytes > kMaxDeflateRatio * compressed + 1024) {
+        throw Error(path, "PNG pixel data too short for its " + std::to_string(width) + "x" +
+                              std::to_string(height) + " size (" + std::to_string(compressed) +
+                              " compressed bytes cannot hold " + std::to_string(pixel_bytes) +
+                              "): truncated or a decompression bomb");
+    }
+}
+
 [[noreturn]] void throw_png_error(const std::string& path, const PngContext& context) {
     if (context.truncated) throw Error(path, kTruncatedMessage);
     throw Error(path, std::string("corrupt PNG data (") + context.message + ")");
@@ -185,6 +235,8 @@ Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes
                    (std::int64_t(bytes[offset + 2]) << 8) | std::int64_t(bytes[offset + 3]);
         };
         check_dimensions(path, big_endian(16), big_endian(20), options.max_dimension);
+        check_compressed_size(path, bytes, std::uint64_t(big_endian(16)),
+                              std::uint64_t(big_endian(20)));
     }
 
     PngContext context{};

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -32,6 +33,9 @@ std::string read_file(const std::string& path) {
     }
     if (std::filesystem::is_directory(status)) {
         throw Error(path, "is a directory, not an OBJ file");
+    }
+    if (!std::filesystem::is_regular_file(status)) {  // a FIFO would block the read forever
+        throw Error(path, "is not a regular file");
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
@@ -74,8 +78,14 @@ std::string quoted(std::string_view token) {
 }
 
 // Checks every number on v / vt / vn lines and every index on f lines (Error(path, ...) with the
-// line number) and returns the text without comments ('#' to the end of a line, which
-// tinyobjloader only understands at the start of a line).
+// line number) and returns the text tinyobjloader parses: only the v, vt, vn and f lines (every
+// other line becomes empty, so line numbers stay), without comments ('#' to the end of a line,
+// which tinyobjloader only understands at the start of a line), each number rewritten as the
+// value checked here ("%.9g": 9 significant digits, enough for a float). tinyobjloader's own
+// number parser mis-reads forms strtod accepts (hex, "0e400" becomes NaN, an exponent past
+// INT_MAX overflows an int) and its parsers of lines leanfade ignores (vw, l, p, s, ...) have
+// undefined behaviour on hostile values (found by fuzz_obj, docs/robustness.md): they never see
+// the file's own text.
 std::string precheck(const std::string& path, const std::string& text) {
     std::string clean;
     clean.reserve(text.size());
@@ -95,10 +105,9 @@ std::string precheck(const std::string& path, const std::string& text) {
             throw Error(path, "line " + std::to_string(line_number) + ": " + cause);
         };
         const std::string_view data = line.substr(0, line.find('#'));
-        clean.append(data);
-        clean.push_back('\n');
         const auto tokens = split_whitespace(data);
         if (tokens.empty()) {
+            clean.push_back('\n');
             continue;
         }
         const std::string_view keyword = tokens[0];
@@ -109,6 +118,7 @@ std::string precheck(const std::string& path, const std::string& text) {
                 fail(std::string(keyword) + " needs at least " + std::to_string(needed) +
                      " numbers");
             }
+            clean.append(keyword);
             for (std::size_t k = 1; k < tokens.size(); ++k) {
                 const std::string token(tokens[k]);
                 char* parsed_end = nullptr;
@@ -119,7 +129,11 @@ std::string precheck(const std::string& path, const std::string& text) {
                 if (!std::isfinite(value) || std::abs(value) > std::numeric_limits<float>::max()) {
                     fail("non-finite coordinate " + quoted(tokens[k]));
                 }
+                char number[32];
+                std::snprintf(number, sizeof number, " %.9g", value);
+                clean.append(number);
             }
+            clean.push_back('\n');
             ++counts[kind];
         } else if (keyword == "f") {
             if (tokens.size() < 4) {
@@ -146,7 +160,17 @@ std::string precheck(const std::string& path, const std::string& text) {
                              std::to_string(counts[kind]) + " " + kinds[kind] + " defined)");
                     }
                 }
+                if (!rest.empty()) {
+                    fail("malformed face vertex " + quoted(tokens[k]));  // "1/2/3/4"
+                }
             }
+            for (const std::string_view token : tokens) {
+                clean.append(token);
+                clean.push_back(' ');
+            }
+            clean.back() = '\n';
+        } else {
+            clean.push_back('\n');
         }
     }
     return clean;
@@ -206,7 +230,11 @@ struct KeyHash {
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-    const std::string text = precheck(path, read_file(path));
+    return load_obj_from_memory(read_file(path), path);
+}
+
+Mesh load_obj_from_memory(const std::string& file_text, const std::string& path) {
+    const std::string text = precheck(path, file_text);
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;

@@ -77,21 +77,30 @@ struct BakeOptions {
 inline constexpr float kMinNormalZ = 1.0f / 64.0f;
 inline constexpr float kNormalZRejectEpsilon = 2.0f / 255.0f;
 
+// Largest accepted slope component |Bx|, |By| (a surface at 89.99994 degrees). Steeper slopes
+// come only from absurd data (height steps of millions of texel spacings times the strength,
+// normal map components far outside [0, 1]); past about 1e19 the second moments B^2 overflow
+// the float range and the map becomes NaN, so they are refused, naming the first such texel.
+inline constexpr float kMaxSlope = 1.0e6f;
+
 struct SlopeResult {
     Image slopes;                     // 2 channels: B~ (tangent space)
     std::size_t clamped_texels = 0;   // normal maps: texels whose z was raised to kMinNormalZ
 };
 
 // Height map (first channel used; values in height units where one unit = one texel spacing at
-// strength 1) -> projected slopes with the 3x3 Sobel filter / 8 (SPEC §2). Throws on NaN/Inf.
+// strength 1) -> projected slopes with the 3x3 Sobel filter / 8 (SPEC §2). Throws on NaN/Inf
+// and on a slope steeper than kMaxSlope.
 SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                const std::string& source_name = "");
-// Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (SPEC §2).
+// Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (SPEC §2). Throws
+// on NaN/Inf, z <= -kNormalZRejectEpsilon and a slope steeper than kMaxSlope.
 SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
                                 const std::string& source_name = "");
 
 // Top level moments from slopes, then the full MIP chain (area-weighted linear filter, exact for
-// odd sizes: every level's mean equals the top level's mean), then sc.
+// odd sizes: every level's mean equals the top level's mean), then sc. Throws when a slope is not
+// finite or steeper than kMaxSlope.
 LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 
 // Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
@@ -126,5 +135,32 @@ struct LeanMapSummary {
     float coarsest_anisotropy = 1.0f;     // sqrt(lambda_max / lambda_min) of that covariance
 };
 LeanMapSummary summarize(const LeanMap& map);
+
+// Fast path (bake_packed.cpp): bake_lean_map, pack_lean_map and summarize fused row by row, with
+// no float MIP chain in memory. The packed bytes, sc and the flags are exactly those of
+// pack_lean_map(bake_lean_map(input, source, options).map, storage, generator), for any thread
+// count (options.threads is used throughout); the summary equals summarize() of that map within
+// float rounding (|B| is taken in float, summed in double row by row). Throws what
+// bake_lean_map throws, with the same messages.
+struct PackedBakeResult {
+    PackedLeanMap packed;
+    BakeSource source = BakeSource::Height;  // what the input was taken as
+    std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
+    LeanMapSummary summary;
+};
+PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
+                             Storage storage, const std::string& generator,
+                             const std::string& source_name = "");
+// The same into `result`, reusing its buffers: baking another map of the same size and storage
+// allocates no output memory.
+void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
+                      const BakeOptions& options, Storage storage, const std::string& generator,
+                      const std::string& source_name = "");
+
+// bake_packed uses AVX2 kernels where the CPU has them (checked at run time), else portable C++;
+// both give the same bytes. For tests and benchmarks: switch AVX2 off or on again (returns the
+// previous setting), and whether it is in use.
+bool set_bake_simd(bool enabled);
+bool bake_simd_active();
 
 }  // namespace leanfade

@@ -12,6 +12,9 @@
 // leanfade::Error("EGL", cause) naming what each attempt gave (no display, no 4.5 core context).
 //
 // Rendering is offscreen (framebuffer objects); the context has no window surface.
+//
+// Context::adopt_current() instead wraps a context made by someone else (a GLFW window's, for the
+// interactive viewer): nothing is created or destroyed, and the renderer works in it unchanged.
 #include <memory>
 #include <string>
 #include <vector>
@@ -41,6 +44,14 @@ class Context {
   public:
     explicit Context(const ContextOptions& options = {});
     ~Context();
+
+    // Adopts the OpenGL context current on the calling thread (for example a GLFW window's):
+    // nothing is created, make_current() does nothing, and the destructor leaves the context to
+    // its owner (it must still be current then; the debug callback is removed). `platform` names
+    // it ("GLFW window"); options.device is ignored. Throws leanfade::Error("GL", cause) when no
+    // context is current or it is not OpenGL 4.5 core or newer.
+    static std::unique_ptr<Context> adopt_current(const ContextOptions& options,
+                                                  const std::string& platform);
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;
 
@@ -67,6 +78,9 @@ class Context {
     struct Impl;
 
   private:
+    struct Adopt {};
+    Context(Adopt, const ContextOptions& options, const std::string& platform);
+    void install_debug_output();
     std::unique_ptr<Impl> impl_;
 };
 

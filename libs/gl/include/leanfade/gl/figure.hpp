@@ -23,6 +23,8 @@ struct FigureRequest {
     int cell_height = 400;
     float fov_y_degrees = kDefaultFovYDegrees;
     glm::vec3 view_direction = kDefaultViewDirection;
+    // The point the camera looks at (world units); distances are measured from it.
+    glm::vec3 target{0.0f};
     ShadingSettings settings;
     int reference_samples = 8;
     // Adds, below each row whose object is smaller than a third of the cell, a row of

@@ -3,6 +3,8 @@
 //   bump       Blinn-Phong bump mapping with the trilinear-filtered normal map (lean1.rgb)
 //   lean       LEAN mapping (Olano & Baker 2010)
 //   fade       LEAN mapping with specular fading (the fading paper, eq. 6-7)
+//   toksvig    Toksvig mapping (Toksvig 2005): exponent from the filtered normal's length
+//   clean      CLEAN mapping (Baker 2011): LEAN with one isotropic second moment
 //   reference  SPEC §7: k x k supersampling at LOD 0 with the baseline, box-filtered
 //
 // Spaces and units:
@@ -11,6 +13,7 @@
 //   radii, for every scene. y is up.
 // - Images are linear radiance (RGB float, not sRGB), row 0 at the top.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,9 +29,9 @@
 
 namespace leanfade::gl {
 
-enum class Technique { Bump, Lean, Fade, Reference };
+enum class Technique { Bump, Lean, Fade, Reference, Toksvig, Clean };
 
-// "bump", "lean", "fade", "reference".
+// "bump", "lean", "fade", "reference", "toksvig", "clean".
 const char* to_string(Technique technique);
 // Throws leanfade::Error(flag, cause) for an unknown name.
 Technique parse_technique(const std::string& name, const std::string& flag = "--techniques");
@@ -41,6 +44,9 @@ enum class OutputMode {
     Color,     // (Ka + Kd NdotL + Specular) * light, then fog
     Diffuse,   // (Ka + Kd NdotL) * light, no fog
     Specular,  // Ks NdotL^sf D F * light, no fog
+    // (NdotL, d, 0): the inputs of specular fading from lean1 (lf_fade_terms), for calibration;
+    // any technique (all read lean1), no fog, 0 where the object does not cover.
+    FadeTerms,
 };
 
 // Vertical field of view of the figures: at 3 bounding radii the teapot (the widest built-in
@@ -63,11 +69,13 @@ struct View {
 // Default viewing direction of the figures: from the front (+z), slightly above.
 inline constexpr glm::vec3 kDefaultViewDirection{0.0f, 0.3f, 1.0f};
 
-// A camera looking at the world origin (the object's centre) from `distance` world units (object
-// bounding radii, > 1) along `direction` (from the centre toward the eye, any length), with near
-// and far planes enclosing the unit bounding sphere.
+// A camera looking at `target` (default: the world origin, the object's centre) from `distance`
+// world units (object bounding radii, > 1) along `direction` (from the target toward the eye, any
+// non-zero length), with near and far planes enclosing the unit bounding sphere. Looking straight
+// up or down, the image's up is -z.
 View view_at_distance(float distance, float fov_y_degrees = kDefaultFovYDegrees,
-                      glm::vec3 direction = kDefaultViewDirection);
+                      glm::vec3 direction = kDefaultViewDirection,
+                      glm::vec3 target = glm::vec3(0.0f));
 
 // Radius in pixels of the object's bounding sphere as seen by `view` in an image `height` pixels
 // tall (the exact silhouette radius of a unit sphere at the view's distance).
@@ -114,8 +122,28 @@ class Renderer {
     // leanfade::Error for invalid settings or sizes and for GL errors.
     Image render(const RenderRequest& request);
 
+    // Renders like render() but keeps the result on the GPU, for interactive display: the linear
+    // radiance is copied (glBlitNamedFramebuffer, nearest) into colour attachment 0 of
+    // `framebuffer` (0 = the default framebuffer) with its lower-left corner at (x, y) in GL
+    // window coordinates, request.width x request.height pixels. Nothing is read back.
+    void render_to(const RenderRequest& request, GLuint framebuffer, int x = 0, int y = 0);
+
+    // Draws the object once into `framebuffer` (0 = the default framebuffer), which the caller
+    // owns and clears (colour and depth attachments, any sample count): the viewport is
+    // (0, 0, request.width, request.height), the render state that of render(), and nothing is
+    // cleared, resolved, checked or read back, so a frame costs what its shading costs (the
+    // frame loop of `leanfade bench`). `variant` names another shader variant with the same
+    // vertex stage to draw with instead of the technique's: "scene_constant" is the
+    // constant-colour fill-rate floor. Throws leanfade::Error without a mesh or map, for invalid
+    // settings and for the reference (a multi-pass technique: render() only).
+    void draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant = {});
+
     // Drops the compiled programs; the next render rebuilds them from the sources (hot reload).
     void reload_shaders();
+    // Rebuilds every program built so far from the sources, all or nothing: on a compile or link
+    // error it throws leanfade::Error (naming the file) and keeps the previous programs, so that
+    // an interactive viewer goes on drawing with the last good shaders.
+    void rebuild_shaders();
 
     const glm::mat4& model_matrix() const { return model_; }
     const LeanTextureInfo& lean_texture() const { return lean_info_; }
@@ -126,6 +154,10 @@ class Renderer {
     GLuint program(const std::string& variant);
     void draw_scene(GLuint program, const RenderRequest& request, const glm::mat4& clip);
     void render_reference(const RenderRequest& request, Target& output);
+    // The LEAN texture's LOD bias and anisotropy from the settings.
+    void apply_sampler_state(const ShadingSettings& settings);
+    // Validates the request and renders it into target_ (kept while the size and samples stay).
+    Target& render_target(const RenderRequest& request);
 
     Context& context_;
     ShaderSources sources_;
@@ -138,6 +170,7 @@ class Renderer {
     Texture lean_;
     LeanTextureInfo lean_info_;
     VertexArray empty_vertex_array_;
+    std::unique_ptr<Target> target_;
 };
 
 }  // namespace leanfade::gl

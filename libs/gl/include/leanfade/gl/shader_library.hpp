@@ -60,4 +60,9 @@ const ShaderVariant& shader_variant(const std::string& name);
 // file of the failing stage and the files of its source strings.
 Program build_program(const ShaderSources& sources, const ShaderVariant& variant);
 
+// Compiles and links a compute program from one file (e.g. "generate_lean.comp") with `defines`
+// inserted after its #version line. Throws leanfade::Error(file, <compiler or linker log>).
+Program build_compute_program(const ShaderSources& sources, const std::string& file,
+                              const std::vector<std::string>& defines);
+
 }  // namespace leanfade::gl

@@ -33,8 +33,16 @@ struct ReadOptions {
 //   in that order, Y, or Y + A; more channels only if R, G, B, A select 1-4 of them); values as
 //   stored (linear), NaN or infinity refused.
 // - PFM: "PF" (RGB) or "Pf" (gray), either endianness; values as stored, NaN or infinity refused.
-// The input file is opened read-only and never modified.
+// Bounds (docs/robustness.md): width and height are checked against options.max_dimension on
+// the header, before any pixel memory is allocated; a PNG is also refused before decoding when
+// its IDAT data is too short to hold the declared pixels (deflate expands at most 1032 times).
+// The input file is opened read-only (never waiting on a FIFO) and never modified.
 Image read_image(const std::string& path, const ReadOptions& options = {});
+
+// read_image on a file's bytes already in memory (same formats, checks and messages); `name` is
+// the file name the errors give. For callers that hold the data, and for the fuzz targets.
+Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
+                             const ReadOptions& options = {});
 
 // Writes an 8- or 16-bit PNG of 1-4 channels. Values are clamped to [0,1] and quantised with
 // rounding (v * 255 or v * 65535); they are written as-is, with no colour-space conversion. NaN

@@ -47,6 +47,11 @@ void write_ktx2(const std::string& path, const PackedLeanMap& map);
 // Sizes are checked before any level memory is allocated.
 PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {});
 
+// read_ktx2 on a file's bytes already in memory (same checks and messages); `name` is the file
+// name the errors give.
+PackedLeanMap read_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
+                                    const std::string& name, const ReadOptions& options = {});
+
 struct Ktx2Sample {
     std::uint32_t bit_offset = 0;
     std::uint32_t bit_length = 0;    // number of bits (the file stores bit_length - 1)
@@ -112,6 +117,9 @@ struct Ktx2Info {
 // key/value data inside the file) without reading texel data and without the leanfade-specific
 // checks of read_ktx2, so that `leanfade info` can describe files from other writers.
 Ktx2Info inspect_ktx2(const std::string& path);
+// inspect_ktx2 on a file's bytes already in memory; Ktx2Info::path is `name`.
+Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
+                                  const std::string& name);
 
 // Multi-line human-readable description: header fields, data format, each level's size, offset
 // and length, and all key/values (non-printable bytes escaped as \xHH). Ends with a newline.

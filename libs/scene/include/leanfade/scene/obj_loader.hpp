@@ -19,4 +19,8 @@ namespace leanfade::scene {
 // not parse, has a non-numeric or non-finite coordinate, an index out of range, or no triangles.
 Mesh load_obj(const std::string& path);
 
+// load_obj on a file's text already in memory (same checks and messages); `name` is the file
+// name the errors give and whose stem names the mesh.
+Mesh load_obj_from_memory(const std::string& text, const std::string& name);
+
 }  // namespace leanfade::scene

@@ -1,0 +1,72 @@
+// Fuzz target: image decoding (PNG, OpenEXR, PFM; io::read_image_from_memory) and the whole bake
+// of what decodes, differentially: the reference path (bake_lean_map, pack_lean_map) and the fast
+// path `leanfade bake` runs (bake_packed, AVX2 or portable) must throw the same message or give
+// the same bytes (lean_map.hpp promises both); then unpack and summarize.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "fuzz_common.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/image_io.hpp"
+
+using namespace leanfade;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    io::ReadOptions read_options;
+    read_options.max_dimension = fuzz::kMaxDimension;
+    Image image;
+    try {
+        image = io::read_image_from_memory(fuzz::to_bytes(data, size), "fuzz-input", read_options);
+    } catch (const Error&) {
+        return 0;
+    }
+
+    // The bake settings vary with the input (deterministically), so every path is reached.
+    const std::uint8_t selector = data[size - 1];
+    BakeOptions options;
+    options.threads = 1;
+    options.wrap = (selector & 1) != 0 ? Wrap::Clamp : Wrap::Repeat;
+    options.convention = (selector & 2) != 0 ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.bake_roughness_shininess = (selector & 4) != 0 ? 64.0f : 0.0f;
+    options.strength = (selector & 8) != 0 ? 40.0f : 1.0f;
+    const BakeSource source = (selector & 0x30) == 0x10   ? BakeSource::Height
+                              : (selector & 0x30) == 0x20 ? BakeSource::Normal
+                                                          : BakeSource::Auto;
+    static constexpr Storage kStorages[4] = {Storage::Unorm8, Storage::Unorm16, Storage::Float16,
+                                             Storage::Float32};
+    const Storage storage = kStorages[(selector >> 6) & 3];
+    PackedLeanMap reference;
+    std::string reference_error;
+    try {
+        const BakeResult result = bake_lean_map(image, source, options, "fuzz-input");
+        reference = pack_lean_map(result.map, storage, "fuzz");
+    } catch (const Error& e) {
+        reference_error = e.what();
+    }
+    set_bake_simd(size % 2 == 0);
+    PackedBakeResult fast;
+    std::string fast_error;
+    try {
+        fast = bake_packed(image, source, options, storage, "fuzz", "fuzz-input");
+    } catch (const Error& e) {
+        fast_error = e.what();
+    }
+    if (fast_error != reference_error) __builtin_trap();
+    if (!reference_error.empty()) return 0;
+
+    if (fast.packed.scale != reference.scale ||
+        fast.packed.levels.size() != reference.levels.size()) {
+        __builtin_trap();
+    }
+    for (std::size_t i = 0; i < reference.levels.size(); ++i) {
+        if (fast.packed.levels[i].lean1 != reference.levels[i].lean1 ||
+            fast.packed.levels[i].lean2 != reference.levels[i].lean2) {
+            __builtin_trap();
+        }
+    }
+    const LeanMapSummary summary = summarize(unpack_lean_map(reference));
+    if (summary.levels != mip_level_count(image.width, image.height)) __builtin_trap();
+    return 0;
+}

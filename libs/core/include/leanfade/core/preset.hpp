@@ -1,0 +1,89 @@
+#pragma once
+// Presets: every parameter of a view (scene, bumps, shading, camera, panes) as a JSON file, saved
+// and loaded by `leanfade view` and read by `leanfade render --preset`. GL-free.
+//
+// Format (every key optional; a missing key keeps the default below; see docs/viewer.md):
+//   {
+//     "leanfade_preset": 1,
+//     "scene": "teapot",
+//     "bumps": {"source": "bumps", "from": "height", "directx": false, "bits": "16",
+//               "seed": 1, "texture_size": 256},
+//     "shading": {"light_direction": [-1, 1, 1], "light_color": [1, 1, 1], ...,
+//                 "fade_distance": "tangent-z", "fog": "none", ..., "msaa": 1},
+//     "camera": {"target": [0, 0, 0], "direction": [0, 0.3, 1], "distance": 3,
+//                "fov_y_degrees": 34},
+//     "view": {"techniques": ["lean"], "layout": "single", "divider": 0.5,
+//              "reference_samples": 4, "resolution_scale": 1,
+//              "fly_away": {"near": 2.5, "far": 60, "period": 8}}
+//   }
+// The keys of "shading" are the member names of ShadingSettings; vectors are arrays of three
+// numbers; enums are the command line's names. Reading is strict: an unknown or repeated key, a
+// value of the wrong type (a string for a number, 2.5 for an integer), a number that is not
+// finite, or a value out of range throws leanfade::Error(file, "key 'shading.fade': cause").
+// Technique names are not checked here (the renderer knows them): callers check them.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "leanfade/core/settings.hpp"
+
+namespace leanfade {
+
+// Where the bumps come from (the "Bumps" flags of the command line).
+struct BumpSource {
+    std::string source = "bumps";  // built-in set name, height/normal map image, or .ktx2 map
+    std::string from = "height";   // images: "height" | "normal"
+    bool directx = false;          // normal maps in the DirectX convention
+    std::string bits = "16";       // storage of on-the-fly bakes: "8" | "16" | "16f" | "32f"
+    std::uint32_t seed = 1;        // built-in sets
+    int texture_size = 256;        // built-in sets, texels per side, [4, 16384]
+};
+
+// An orbit camera in world space (units are object bounding radii, y up; see gl/renderer.hpp).
+struct CameraSettings {
+    glm::vec3 target{0.0f};                 // the point looked at; the object's centre is 0
+    glm::vec3 direction{0.0f, 0.3f, 1.0f};  // from the target toward the eye, non-zero
+    float distance = 3.0f;                  // eye to target, > 1 and <= kMaxCameraDistance
+    float fov_y_degrees = 34.0f;            // vertical field of view, (1, 170)
+};
+
+inline constexpr float kMaxCameraDistance = 10000.0f;
+
+// The "fly away" animation of the viewer: the distance goes from near to far and back.
+struct FlyAwaySettings {
+    float near_distance = 2.5f;  // bounding radii, > 1
+    float far_distance = 60.0f;  // > near_distance, <= kMaxCameraDistance
+    float period = 8.0f;         // seconds for near -> far -> near, [0.5, 600]
+};
+
+struct Preset {
+    std::string scene = "teapot";  // built-in name or an .obj path
+    BumpSource bumps;
+    ShadingSettings shading;
+    CameraSettings camera;
+    // The panes, left to right: 1 for "single", 2 for "split", 2 or 3 for "side-by-side".
+    std::vector<std::string> techniques{"lean"};
+    std::string layout = "single";  // "single" | "split" (draggable divider) | "side-by-side"
+    float divider = 0.5f;           // split: divider position, fraction of the width, [0, 1]
+    int reference_samples = 4;      // k of the reference technique, [1, 16]
+    float resolution_scale = 1.0f;  // viewer: internal resolution / window, [0.1, 1]
+    FlyAwaySettings fly_away;
+};
+
+// Names of the layouts in the order of the viewer's list.
+const std::vector<std::string>& preset_layouts();
+
+// Parses a preset from JSON text; `name` (the file) is named in errors. Throws leanfade::Error.
+Preset preset_from_json(const std::string& text, const std::string& name);
+// Reads a preset file. Throws leanfade::Error(path, cause) for a missing or unreadable file and
+// for everything preset_from_json refuses.
+Preset read_preset(const std::string& path);
+// The preset as pretty-printed JSON with every key; numbers in their shortest exact form, so that
+// preset_from_json(preset_to_json(p)) == p.
+std::string preset_to_json(const Preset& preset);
+// Checks every value as read_preset does; throws leanfade::Error(name, "key '...': cause").
+void validate(const Preset& preset, const std::string& name);
+
+}  // namespace leanfade

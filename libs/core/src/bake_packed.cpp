@@ -1,0 +1,1084 @@
+// Fast bake (SPEC §2-3): slopes -> top-level moments -> packing -> MIP chain, fused row by row,
+// without the float MIP chain in memory. Every value is computed with the same float / double
+// operations, in the same order, as the reference path (slopes.cpp, build_lean_map, pack_lean_map),
+// so the packed bytes are identical; docs/perf.md has the design and the measurements.
+//
+//   pass 0  validate the input and find max |B|, max M: sc (SPEC §3) must be known before the
+//           first texel can be packed;
+//   pass 1  the rows of a "store level" S (64 rows for 4096^2) split across threads. A row is made
+//           by making the (2 or 3) rows of the level above it filters, recursively up to the top
+//           level, which is computed from the input in cache-sized chunks, packed straight from
+//           registers and box-filtered into level 1. Each level keeps only the last 3 rows. A row
+//           is packed by the thread that makes it for its first consumer, so exactly once;
+//   pass 2  the levels below S, serially, from the stored float rows of level S.
+//
+// Kernels: AVX2 (runtime-detected, GCC/Clang target attribute, no FMA so that no a * b + c is
+// contracted) and portable C++; both give the same bytes.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include <glm/gtc/packing.hpp>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+#include "lean_map_internal.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/parallel.hpp"
+
+#if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
+#define LEANFADE_AVX2_KERNELS 1
+#include <immintrin.h>
+#define LF_AVX2 __attribute__((target("avx2")))
+#define LF_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+#else
+#define LEANFADE_AVX2_KERNELS 0
+#endif
+
+namespace leanfade {
+namespace {
+
+using detail::Tap;
+using TapTable = std::vector<std::vector<Tap>>;
+
+constexpr int kMoments = 8;  // n.xyz, B.xy, M.xx, M.yy, M.xy (the order of lean_map.cpp)
+enum Moment { kNx, kNy, kNz, kBx, kBy, kMxx, kMyy, kMxy };
+constexpr int kChunk = 256;        // top-level texels per chunk of the fused pass (fits L1)
+constexpr int kMaxStoreLevel = 6;  // pass 1 ends at most here (64 rows of a 4096^2 map)
+constexpr int kMinStoreRows = 16;  // ... and at a level with at least this many rows
+// 0.5 - 2^-25, the largest float below 0.5 (see quantise8).
+constexpr float kBelowHalf = 0.49999997f;
+
+std::atomic<bool> g_simd_enabled{true};
+
+bool cpu_has_avx2() {
+#if LEANFADE_AVX2_KERNELS
+    static const bool has = __builtin_cpu_supports("avx2") != 0;
+    return has;
+#else
+    return false;
+#endif
+}
+
+// The eight moment planes of one row: moment c of texel x at p[c * stride + x].
+struct Planes {
+    float* p = nullptr;
+    std::size_t stride = 0;
+    float* operator[](int c) const { return p + std::size_t(c) * stride; }
+};
+
+struct PackScale {
+    float sc;
+    float sc2;
+};
+
+// Where one row of one level is packed.
+struct RowDest {
+    std::uint8_t* lean1;
+    std::uint8_t* lean2;
+};
+
+// The top level's source: an encoded normal map (3 or 4 channels) or slopes (2 channels).
+struct TopInput {
+    const float* pixels = nullptr;
+    int width = 0;
+    int channels = 0;
+    float green_sign = 1.0f;
+    float inv_s = 0.0f;  // 1/s baked into M.xx, M.yy (LEAN eq. 6), else 0
+    const float* row(int y) const {
+        return pixels + std::size_t(y) * std::size_t(width) * std::size_t(channels);
+    }
+};
+
+// Summary statistics of one top row, taken in pass 0: |B| of texel x accumulated in lane x % 8
+// by the AVX2 and the scalar kernels alike, so that both give the same sums.
+struct RowStats {
+    double lanes[8] = {};
+    float max = 0.0f;
+    void add(int x, float length) {
+        lanes[x & 7] += double(length);
+        max = std::max(max, length);
+    }
+    double total() const {
+        return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) +
+               ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+    }
+};
+
+// ---- Scalar kernels: the reference arithmetic, one texel at a time -------------------------
+
+// B = n.xy / n.z of an encoded normal 0.5 n + 0.5 (SPEC §2), as slopes_from_normals.
+inline void normal_slope(const float* t, float green_sign, float& bx, float& by) {
+    const float nx = 2.0f * t[0] - 1.0f;
+    const float ny = green_sign * (2.0f * t[1] - 1.0f);
+    const float nz = std::max(2.0f * t[2] - 1.0f, kMinNormalZ);
+    bx = nx / nz;
+    by = ny / nz;
+}
+
+template <int Channels>
+inline void input_slope(const TopInput& in, const float* row, int x, float& bx, float& by) {
+    const float* t = row + std::size_t(x) * Channels;
+    if constexpr (Channels == 2) {
+        bx = t[0];
+        by = t[1];
+    } else {
+        normal_slope(t, in.green_sign, bx, by);
+    }
+}
+
+// Top-level moments (SPEC §2), as build_lean_map: n = normalize(B, 1), B, M = (Bx^2, By^2, Bx By)
+// plus 1/s on the diagonal.
+inline void texel_moments(float bx, float by, float inv_s, float* m) {
+    const float inv_len = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+    m[kNx] = bx * inv_len;
+    m[kNy] = by * inv_len;
+    m[kNz] = inv_len;
+    m[kBx] = bx;
+    m[kBy] = by;
+    m[kMxx] = bx * bx + inv_s;
+    m[kMyy] = by * by + inv_s;
+    m[kMxy] = bx * by;
+}
+
+// lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5), lean2 = (0.5 B / sc + 0.5, Mxx / sc^2,
+// Myy / sc^2) (SPEC §3), as pack_lean_map.
+inline void lean_texel(const float* m, PackScale s, float* l1, float* l2) {
+    l1[0] = 0.5f * m[kNx] + 0.5f;
+    l1[1] = 0.5f * m[kNy] + 0.5f;
+    l1[2] = 0.5f * m[kNz] + 0.5f;
+    l1[3] = 0.5f * m[kMxy] / s.sc2 + 0.5f;
+    l2[0] = 0.5f * m[kBx] / s.sc + 0.5f;
+    l2[1] = 0.5f * m[kBy] / s.sc + 0.5f;
+    l2[2] = m[kMxx] / s.sc2;
+    l2[3] = m[kMyy] / s.sc2;
+}
+
+// [0, 1] with NaN -> 0, as pack_lean_map.
+inline float unit_clamp(float value) {
+    return value > 0.0f ? std::min(value, 1.0f) : 0.0f;
+}
+
+template <Storage S>
+constexpr int kTexelBytes = S == Storage::Unorm8    ? 4
+                            : S == Storage::Float32 ? 16
+                                                    : 8;
+
+// One RGBA texel of one layer, little-endian, as pack_lean_map's store_channel.
+template <Storage S>
+inline void store_texel(std::uint8_t* t, const float* v) {
+    for (int c = 0; c < 4; ++c) {
+        if constexpr (S == Storage::Unorm8) {
+            t[c] = std::uint8_t(std::round(unit_clamp(v[c]) * 255.0f));
+        } else if constexpr (S == Storage::Unorm16) {
+            const auto q = std::uint16_t(std::round(unit_clamp(v[c]) * 65535.0f));
+            t[2 * c] = std::uint8_t(q & 0xFF);
+            t[2 * c + 1] = std::uint8_t(q >> 8);
+        } else if constexpr (S == Storage::Float16) {
+            const std::uint16_t q = glm::packHalf1x16(v[c]);
+            t[2 * c] = std::uint8_t(q & 0xFF);
+            t[2 * c + 1] = std::uint8_t(q >> 8);
+        } else {
+            std::memcpy(t + 4 * c, &v[c], 4);
+        }
+    }
+}
+
+template <Storage S>
+inline void pack_texel(const float* m, PackScale s, const RowDest& d, int x) {
+    float l1[4], l2[4];
+    lean_texel(m, s, l1, l2);
+    store_texel<S>(d.lean1 + std::size_t(x) * kTexelBytes<S>, l1);
+    store_texel<S>(d.lean2 + std::size_t(x) * kTexelBytes<S>, l2);
+}
+
+// One top-level texel: moments into the planes (indexed from x0), packed when d is set.
+template <Storage S, int Channels>
+inline void top_texel(const TopInput& in, const float* row, PackScale s, int x, int x0, Planes out,
+                      const RowDest* d) {
+    float bx, by, m[kMoments];
+    input_slope<Channels>(in, row, x, bx, by);
+    texel_moments(bx, by, in.inv_s, m);
+    for (int c = 0; c < kMoments; ++c) out[c][x - x0] = m[c];
+    if (d != nullptr) pack_texel<S>(m, s, *d, x);
+}
+
+template <Storage S, int Channels>
+void top_range_scalar(const TopInput& in, PackScale s, int y, int x0, int x1, Planes out,
+                      const RowDest* d) {
+    const float* row = in.row(y);
+    for (int x = x0; x < x1; ++x) top_texel<S, Channels>(in, row, s, x, x0, out, d);
+}
+
+template <Storage S>
+void pack_range_scalar(Planes p, int x0, int x1, const RowDest& d, PackScale s) {
+    for (int x = x0; x < x1; ++x) {
+        float m[kMoments];
+        for (int c = 0; c < kMoments; ++c) m[c] = p[c][x];
+        pack_texel<S>(m, s, d, x);
+    }
+}
+
+// The 2x2 box of even sizes. The reference's vertical then horizontal passes in double,
+// ((0 + a/2) + c/2) and ((0 + r0/2) + r1/2), equal ((a + c) + (b + d)) / 4 exactly: halving
+// commutes with rounding (no double can underflow here), and the final + 0.0 turns the one
+// possible -0 into the reference's +0.
+inline float box4(float a0, float a1, float c0, float c1) {
+    return float(((double(a0) + double(c0)) + (double(a1) + double(c1))) * 0.25 + 0.0);
+}
+
+void reduce_box_scalar(const float* a, const float* c, float* out, int x0, int x1) {
+    for (int x = x0; x < x1; ++x) out[x] = box4(a[2 * x], a[2 * x + 1], c[2 * x], c[2 * x + 1]);
+}
+
+// General vertical pass, literally the reference's: sum over taps of weight * source, from 0.
+void vertical_scalar(const float* const* src, const double* w, int taps, int x0, int x1,
+                     double* out) {
+    for (int x = x0; x < x1; ++x) {
+        double acc = 0.0;
+        for (int k = 0; k < taps; ++k) acc += w[k] * double(src[k][x]);
+        out[x] = acc;
+    }
+}
+
+// Horizontal pass. Pairs (sw = 2 dw, both weights exactly 0.5): (h0 + h1) + 0.0 equals the
+// reference's (0.0 + h0) + h1 (they differ only in the sign of a zero sum). Otherwise literal.
+void horizontal_scalar(const double* row, int sw, int dw, const TapTable& xtaps, int x0,
+                       float* out) {
+    if (sw == 2 * dw) {
+        for (int x = x0; x < dw; ++x)
+            out[x] = float((0.5 * row[2 * x] + 0.5 * row[2 * x + 1]) + 0.0);
+        return;
+    }
+    for (int x = x0; x < dw; ++x) {
+        double acc = 0.0;
+        for (const Tap& t : xtaps[std::size_t(x)]) acc += t.weight * row[t.index];
+        out[x] = float(acc);
+    }
+}
+
+// Pass 0 on one row: validation (as slopes_from_normals), the clamped count, max |B| and the
+// summary statistics.
+// max M and the steepness check follow from max |B| alone (see scan_input).
+struct RowScan {
+    float max_b = 0.0f;      // max |Bx|, |By|
+    bool nan_slope = false;  // a NaN slope (max drops NaN): finite components near the float
+                             // maximum overflow 2 n - 1 to infinity, and inf / inf is NaN
+    std::uint32_t clamped = 0;
+    int bad_x = -1;  // first NaN / Inf normal or normal with z <= -epsilon
+    RowStats stats;  // summary: |B| = sqrt(Bx Bx + By By) in float
+};
+
+// Returns false at a bad texel (scanning stops there: the reference throws at the first).
+template <int Channels>
+bool scan_texel(const TopInput& in, const float* row, int x, RowScan& r) {
+    if constexpr (Channels > 2) {
+        const float* t = row + std::size_t(x) * Channels;
+        if (!std::isfinite(t[0]) || !std::isfinite(t[1]) || !std::isfinite(t[2]) ||
+            2.0f * t[2] - 1.0f <= -kNormalZRejectEpsilon) {
+            r.bad_x = x;
+            return false;
+        }
+        if (2.0f * t[2] - 1.0f < kMinNormalZ) ++r.clamped;
+    }
+    float bx, by;
+    input_slope<Channels>(in, row, x, bx, by);
+    r.max_b = std::max({r.max_b, std::abs(bx), std::abs(by)});
+    r.nan_slope = r.nan_slope || std::isnan(bx) || std::isnan(by);
+    r.stats.add(x, std::sqrt(bx * bx + by * by));
+    return true;
+}
+
+template <int Channels>
+bool scan_range_scalar(const TopInput& in, int y, int x0, RowScan& r) {
+    const float* row = in.row(y);
+    for (int x = x0; x < in.width; ++x)
+        if (!scan_texel<Channels>(in, row, x, r)) return false;
+    return true;
+}
+
+template <int Channels>
+bool scan_row_scalar(const TopInput& in, int y, RowScan& r) {
+    return scan_range_scalar<Channels>(in, y, 0, r);
+}
+
+// ---- AVX2 kernels: the same operations on 8 texels (or 4 doubles) at a time ----------------
+#if LEANFADE_AVX2_KERNELS
+
+// r, g, b of 8 texels of 3 interleaved floats.
+LF_AVX2_INLINE void load_rgb8(const float* p, __m256& r, __m256& g, __m256& b) {
+    const __m256 v0 = _mm256_loadu_ps(p), v1 = _mm256_loadu_ps(p + 8), v2 = _mm256_loadu_ps(p + 16);
+    r = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x92), v2, 0x24),
+                                 _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    g = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x24), v2, 0x49),
+                                 _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    b = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(v0, v1, 0x49), v2, 0x92),
+                                 _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+
+// r, g, b of 8 texels of 4 interleaved floats (alpha unused).
+LF_AVX2_INLINE void load_rgba8(const float* p, __m256& r, __m256& g, __m256& b) {
+    const __m256 v0 = _mm256_loadu_ps(p), v1 = _mm256_loadu_ps(p + 8);
+    const __m256 v2 = _mm256_loadu_ps(p + 16), v3 = _mm256_loadu_ps(p + 24);
+    const __m256 t0 = _mm256_unpacklo_ps(v0, v1), t1 = _mm256_unpackhi_ps(v0, v1);
+    const __m256 t2 = _mm256_unpacklo_ps(v2, v3), t3 = _mm256_unpackhi_ps(v2, v3);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    r = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0x44), order);
+    g = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t0, t2, 0xEE), order);
+    b = _mm256_permutevar8x32_ps(_mm256_shuffle_ps(t1, t3, 0x44), order);
+}
+
+// x, y of 8 texels of 2 interleaved floats.
+LF_AVX2_INLINE void load_xy8(const float* p, __m256& x, __m256& y) {
+    const __m256 v0 = _mm256_loadu_ps(p), v1 = _mm256_loadu_ps(p + 8);
+    x = _mm256_castpd_ps(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0x88)), 0xD8));
+    y = _mm256_castpd_ps(
+        _mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(v0, v1, 0xDD)), 0xD8));
+}
+
+LF_AVX2_INLINE void normal_slope8(__m256 r, __m256 g, __m256 b, float green_sign, __m256& bx,
+                                  __m256& by) {
+    const __m256 two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
+    const __m256 nx = _mm256_sub_ps(_mm256_mul_ps(two, r), one);
+    const __m256 ny =
+        _mm256_mul_ps(_mm256_set1_ps(green_sign), _mm256_sub_ps(_mm256_mul_ps(two, g), one));
+    const __m256 nz =
+        _mm256_max_ps(_mm256_sub_ps(_mm256_mul_ps(two, b), one), _mm256_set1_ps(kMinNormalZ));
+    bx = _mm256_div_ps(nx, nz);
+    by = _mm256_div_ps(ny, nz);
+}
+
+template <int Channels>
+LF_AVX2_INLINE void input_slope8(const TopInput& in, const float* row, int x, __m256& bx,
+                                 __m256& by) {
+    const float* p = row + std::size_t(x) * Channels;
+    if constexpr (Channels == 2) {
+        load_xy8(p, bx, by);
+    } else {
+        __m256 r, g, b;
+        if constexpr (Channels == 3)
+            load_rgb8(p, r, g, b);
+        else
+            load_rgba8(p, r, g, b);
+        normal_slope8(r, g, b, in.green_sign, bx, by);
+    }
+}
+
+LF_AVX2_INLINE void moments8(__m256 bx, __m256 by, float inv_s, __m256* m) {
+    const __m256 one = _mm256_set1_ps(1.0f), s = _mm256_set1_ps(inv_s);
+    const __m256 xx = _mm256_mul_ps(bx, bx), yy = _mm256_mul_ps(by, by);
+    const __m256 len2 = _mm256_add_ps(xx, yy);
+    const __m256 inv_len = _mm256_div_ps(one, _mm256_sqrt_ps(_mm256_add_ps(len2, one)));
+    m[kNx] = _mm256_mul_ps(bx, inv_len);
+    m[kNy] = _mm256_mul_ps(by, inv_len);
+    m[kNz] = inv_len;
+    m[kBx] = bx;
+    m[kBy] = by;
+    m[kMxx] = _mm256_add_ps(xx, s);
+    m[kMyy] = _mm256_add_ps(yy, s);
+    m[kMxy] = _mm256_mul_ps(bx, by);
+}
+
+// round(unit_clamp(v) * scale) as int32 before saturation to [0, scale] (packus in
+// store_layer8): x = min(1, v) * scale, then trunc(x + (0.5 - 2^-25)), which equals
+// std::round(x) (half away from zero) for every float x in [0, 65536] (checked exhaustively,
+// docs/perf.md): the constant just below 0.5 keeps x + c from rounding up to the next integer
+// when x is just below a half, and a tie k + 0.5 still reaches k + 1 because k + 1 - 2^-25
+// rounds to k + 1. Below zero the result is <= 0 and saturates to 0, as unit_clamp's 0; a NaN
+// passes min(1, NaN) as NaN, converts to INT_MIN and saturates to 0, as unit_clamp's 0.
+LF_AVX2_INLINE __m256i quantise8(__m256 v, float scale) {
+    const __m256 x = _mm256_mul_ps(_mm256_min_ps(_mm256_set1_ps(1.0f), v), _mm256_set1_ps(scale));
+    return _mm256_cvttps_epi32(_mm256_add_ps(x, _mm256_set1_ps(kBelowHalf)));
+}
+
+LF_AVX2_INLINE void store32(std::uint8_t* d, __m256i v) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(d), v);
+}
+
+// One layer (4 channel vectors) of 8 texels, little-endian RGBA.
+template <Storage S>
+LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
+    if constexpr (S == Storage::Unorm16) {
+        // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16,
+        // then interleaved to R G B A per texel.
+        const __m256i rb =
+            _mm256_packus_epi32(quantise8(l[0], 65535.0f), quantise8(l[2], 65535.0f));
+        const __m256i ga =
+            _mm256_packus_epi32(quantise8(l[1], 65535.0f), quantise8(l[3], 65535.0f));
+        const __m256i rg = _mm256_unpacklo_epi16(rb, ga), ba = _mm256_unpackhi_epi16(rb, ga);
+        const __m256i lo = _mm256_unpacklo_epi32(rg, ba), hi = _mm256_unpackhi_epi32(rg, ba);
+        store32(d, _mm256_permute2x128_si256(lo, hi, 0x20));
+        store32(d + 32, _mm256_permute2x128_si256(lo, hi, 0x31));
+    } else if constexpr (S == Storage::Unorm8) {
+        // Saturating packs to [R0-3 B0-3 G0-3 A0-3 | R4-7 B4-7 G4-7 A4-7] bytes, then a byte
+        // shuffle to R G B A per texel within each half.
+        const __m256i rb = _mm256_packus_epi32(quantise8(l[0], 255.0f), quantise8(l[2], 255.0f));
+        const __m256i ga = _mm256_packus_epi32(quantise8(l[1], 255.0f), quantise8(l[3], 255.0f));
+        const __m256i bytes = _mm256_packus_epi16(rb, ga);
+        const __m256i order =
+            _mm256_setr_epi8(0, 8, 4, 12, 1, 9, 5, 13, 2, 10, 6, 14, 3, 11, 7, 15, 0, 8, 4, 12, 1,
+                             9, 5, 13, 2, 10, 6, 14, 3, 11, 7, 15);
+        store32(d, _mm256_shuffle_epi8(bytes, order));
+    } else if constexpr (S == Storage::Float32) {
+        const __m256 t0 = _mm256_unpacklo_ps(l[0], l[1]), t1 = _mm256_unpackhi_ps(l[0], l[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(l[2], l[3]), t3 = _mm256_unpackhi_ps(l[2], l[3]);
+        const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
+        const __m256 u2 = _mm256_shuffle_ps(t1, t3, 0x44), u3 = _mm256_shuffle_ps(t1, t3, 0xEE);
+        store32(d, _mm256_castps_si256(_mm256_permute2f128_ps(u0, u1, 0x20)));
+        store32(d + 32, _mm256_castps_si256(_mm256_permute2f128_ps(u2, u3, 0x20)));
+        store32(d + 64, _mm256_castps_si256(_mm256_permute2f128_ps(u0, u1, 0x31)));
+        store32(d + 96, _mm256_castps_si256(_mm256_permute2f128_ps(u2, u3, 0x31)));
+    } else {  // Float16: glm's conversion, value by value
+        alignas(32) float v[4][8];
+        for (int c = 0; c < 4; ++c) _mm256_store_ps(v[c], l[c]);
+        for (int i = 0; i < 8; ++i) {
+            const float texel[4] = {v[0][i], v[1][i], v[2][i], v[3][i]};
+            store_texel<S>(d + 8 * i, texel);
+        }
+    }
+}
+
+// lean1, lean2 of 8 texels (SPEC §3), the operations of lean_texel.
+template <Storage S>
+LF_AVX2_INLINE void pack8(const __m256* m, PackScale s, const RowDest& d, int x) {
+    const __m256 half = _mm256_set1_ps(0.5f);
+    const __m256 sc = _mm256_set1_ps(s.sc), sc2 = _mm256_set1_ps(s.sc2);
+    __m256 l1[4], l2[4];
+    l1[0] = _mm256_add_ps(_mm256_mul_ps(half, m[kNx]), half);
+    l1[1] = _mm256_add_ps(_mm256_mul_ps(half, m[kNy]), half);
+    l1[2] = _mm256_add_ps(_mm256_mul_ps(half, m[kNz]), half);
+    l1[3] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kMxy]), sc2), half);
+    l2[0] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBx]), sc), half);
+    l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
+    l2[2] = _mm256_div_ps(m[kMxx], sc2);
+    l2[3] = _mm256_div_ps(m[kMyy], sc2);
+    store_layer8<S>(l1, d.lean1 + std::size_t(x) * kTexelBytes<S>);
+    store_layer8<S>(l2, d.lean2 + std::size_t(x) * kTexelBytes<S>);
+}
+
+// Top-level texels [x0, x1) of row y: moments into the planes (indexed from x0), packed into d.
+template <Storage S, int Channels>
+LF_AVX2 void top_range_avx2(const TopInput& in, PackScale s, int y, int x0, int x1, Planes out,
+                            const RowDest* d) {
+    const float* row = in.row(y);
+    int x = x0;
+    for (; x + 8 <= x1; x += 8) {
+        __m256 bx, by, m[kMoments];
+        input_slope8<Channels>(in, row, x, bx, by);
+        moments8(bx, by, in.inv_s, m);
+        for (int c = 0; c < kMoments; ++c) _mm256_storeu_ps(out[c] + (x - x0), m[c]);
+        if (d != nullptr) pack8<S>(m, s, *d, x);
+    }
+    for (; x < x1; ++x) top_texel<S, Channels>(in, row, s, x, x0, out, d);
+}
+
+template <Storage S>
+LF_AVX2 void pack_range_avx2(Planes p, int x0, int x1, const RowDest& d, PackScale s) {
+    int x = x0;
+    for (; x + 8 <= x1; x += 8) {
+        __m256 m[kMoments];
+        for (int c = 0; c < kMoments; ++c) m[c] = _mm256_loadu_ps(p[c] + x);
+        pack8<S>(m, s, d, x);
+    }
+    pack_range_scalar<S>(p, x, x1, d, s);
+}
+
+// Four floats (the low or high half of v) as doubles.
+LF_AVX2_INLINE __m256d low_pd(__m256 v) {
+    return _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+}
+LF_AVX2_INLINE __m256d high_pd(__m256 v) {
+    return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
+}
+
+// (even + odd) / 4 + 0 in double, as floats (the last steps of box4).
+LF_AVX2_INLINE __m128 box_finish(__m256d even, __m256d odd) {
+    return _mm256_cvtpd_ps(_mm256_add_pd(
+        _mm256_mul_pd(_mm256_add_pd(even, odd), _mm256_set1_pd(0.25)), _mm256_setzero_pd()));
+}
+
+// box4 on 8 outputs per step. Even and odd columns are split in float (exact), then the
+// vertical sums a + c and their pairwise sums are taken in double, as box4 does.
+LF_AVX2 void reduce_box_avx2(const float* a, const float* c, float* out, int x0, int x1) {
+    int x = x0;
+    for (; x + 8 <= x1; x += 8) {
+        const __m256 a0 = _mm256_loadu_ps(a + 2 * x), a1 = _mm256_loadu_ps(a + 2 * x + 8);
+        const __m256 c0 = _mm256_loadu_ps(c + 2 * x), c1 = _mm256_loadu_ps(c + 2 * x + 8);
+        // Columns 2i and 2i + 1 of outputs i, in the lane order 0 1 4 5 | 2 3 6 7.
+        const __m256 ae = _mm256_shuffle_ps(a0, a1, 0x88), ao = _mm256_shuffle_ps(a0, a1, 0xDD);
+        const __m256 ce = _mm256_shuffle_ps(c0, c1, 0x88), co = _mm256_shuffle_ps(c0, c1, 0xDD);
+        const __m128 lo = box_finish(_mm256_add_pd(low_pd(ae), low_pd(ce)),
+                                     _mm256_add_pd(low_pd(ao), low_pd(co)));
+        const __m128 hi = box_finish(_mm256_add_pd(high_pd(ae), high_pd(ce)),
+                                     _mm256_add_pd(high_pd(ao), high_pd(co)));
+        const __m256 sums = _mm256_insertf128_ps(_mm256_castps128_ps256(lo), hi, 1);
+        _mm256_storeu_ps(out + x,
+                         _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(sums), 0xD8)));
+    }
+    reduce_box_scalar(a, c, out, x, x1);
+}
+
+LF_AVX2 void vertical_avx2(const float* const* src, const double* w, int taps, int x0, int x1,
+                           double* out) {
+    int x = x0;
+    for (; x + 4 <= x1; x += 4) {
+        __m256d acc = _mm256_setzero_pd();
+        for (int k = 0; k < taps; ++k)
+            acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(w[k]),
+                                                   _mm256_cvtps_pd(_mm_loadu_ps(src[k] + x))));
+        _mm256_storeu_pd(out + x, acc);
+    }
+    vertical_scalar(src, w, taps, x, x1, out);
+}
+
+LF_AVX2 void horizontal_avx2(const double* row, int sw, int dw, const TapTable& xtaps, float* out) {
+    int x = 0;
+    if (sw == 2 * dw) {
+        const __m256d half = _mm256_set1_pd(0.5), zero = _mm256_setzero_pd();
+        for (; x + 4 <= dw; x += 4) {
+            const __m256d lo = _mm256_mul_pd(half, _mm256_loadu_pd(row + 2 * x));
+            const __m256d hi = _mm256_mul_pd(half, _mm256_loadu_pd(row + 2 * x + 4));
+            const __m256d sums = _mm256_permute4x64_pd(_mm256_hadd_pd(lo, hi), 0xD8);
+            _mm_storeu_ps(out + x, _mm256_cvtpd_ps(_mm256_add_pd(sums, zero)));
+        }
+    }
+    horizontal_scalar(row, sw, dw, xtaps, x, out);
+}
+
+// Pass 0 on 8-texel blocks; at a block with a bad texel the scalar scan takes over, so that
+// the first one in row-major order is reported.
+template <int Channels>
+LF_AVX2 bool scan_row_avx2(const TopInput& in, int y, RowScan& r) {
+    const float* row = in.row(y);
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+    __m256 max_b = _mm256_setzero_ps(), max_len = _mm256_setzero_ps();
+    __m256 nan = _mm256_setzero_ps();
+    __m256d sum_lo = _mm256_setzero_pd(), sum_hi = _mm256_setzero_pd();
+    int x = 0;
+    for (; x + 8 <= in.width; x += 8) {
+        __m256 bx, by;
+        if constexpr (Channels > 2) {
+            __m256 cr, cg, cb;
+            if constexpr (Channels == 3)
+                load_rgb8(row + std::size_t(x) * 3, cr, cg, cb);
+            else
+                load_rgba8(row + std::size_t(x) * 4, cr, cg, cb);
+            const __m256 finite = _mm256_and_ps(
+                _mm256_and_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, cr), inf, _CMP_LT_OQ),
+                              _mm256_cmp_ps(_mm256_andnot_ps(sign, cg), inf, _CMP_LT_OQ)),
+                _mm256_cmp_ps(_mm256_andnot_ps(sign, cb), inf, _CMP_LT_OQ));
+            const __m256 z =
+                _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(2.0f), cb), _mm256_set1_ps(1.0f));
+            const __m256 ok = _mm256_andnot_ps(
+                _mm256_cmp_ps(z, _mm256_set1_ps(-kNormalZRejectEpsilon), _CMP_LE_OQ), finite);
+            if (_mm256_movemask_ps(ok) != 0xFF) break;  // the scalar scan finds and reports it
+            r.clamped += std::uint32_t(std::popcount(unsigned(
+                _mm256_movemask_ps(_mm256_cmp_ps(z, _mm256_set1_ps(kMinNormalZ), _CMP_LT_OQ)))));
+            normal_slope8(cr, cg, cb, in.green_sign, bx, by);
+        } else {
+            load_xy8(row + std::size_t(x) * 2, bx, by);
+        }
+        max_b = _mm256_max_ps(
+            max_b, _mm256_max_ps(_mm256_andnot_ps(sign, bx), _mm256_andnot_ps(sign, by)));
+        nan = _mm256_or_ps(nan, _mm256_cmp_ps(bx, by, _CMP_UNORD_Q));
+        const __m256 len =
+            _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(bx, bx), _mm256_mul_ps(by, by)));
+        sum_lo = _mm256_add_pd(sum_lo, low_pd(len));
+        sum_hi = _mm256_add_pd(sum_hi, high_pd(len));
+        max_len = _mm256_max_ps(max_len, len);
+    }
+    _mm256_storeu_pd(r.stats.lanes, sum_lo);
+    _mm256_storeu_pd(r.stats.lanes + 4, sum_hi);
+    alignas(32) float lanes_b[8], lanes_len[8];
+    _mm256_store_ps(lanes_b, max_b);
+    _mm256_store_ps(lanes_len, max_len);
+    for (int i = 0; i < 8; ++i) {
+        r.max_b = std::max(r.max_b, lanes_b[i]);
+        r.stats.max = std::max(r.stats.max, lanes_len[i]);
+    }
+    r.nan_slope = r.nan_slope || _mm256_movemask_ps(nan) != 0;
+    return scan_range_scalar<Channels>(in, y, x, r);
+}
+
+#endif  // LEANFADE_AVX2_KERNELS
+
+// ---- Kernel selection ----------------------------------------------------------------------
+
+using TopFn = void (*)(const TopInput&, PackScale, int, int, int, Planes, const RowDest*);
+using PackFn = void (*)(Planes, int, int, const RowDest&, PackScale);
+using ScanFn = bool (*)(const TopInput&, int, RowScan&);
+
+template <Storage S>
+TopFn top_fn(int channels, bool avx2) {
+#if LEANFADE_AVX2_KERNELS
+    if (avx2) {
+        if (channels == 2) return top_range_avx2<S, 2>;
+        if (channels == 3) return top_range_avx2<S, 3>;
+        return top_range_avx2<S, 4>;
+    }
+#endif
+    (void)avx2;
+    if (channels == 2) return top_range_scalar<S, 2>;
+    if (channels == 3) return top_range_scalar<S, 3>;
+    return top_range_scalar<S, 4>;
+}
+
+template <Storage S>
+PackFn pack_fn(bool avx2) {
+#if LEANFADE_AVX2_KERNELS
+    if (avx2) return pack_range_avx2<S>;
+#endif
+    (void)avx2;
+    return pack_range_scalar<S>;
+}
+
+TopFn select_top(Storage storage, int channels, bool avx2) {
+    switch (storage) {
+        case Storage::Unorm8:
+            return top_fn<Storage::Unorm8>(channels, avx2);
+        case Storage::Unorm16:
+            return top_fn<Storage::Unorm16>(channels, avx2);
+        case Storage::Float16:
+            return top_fn<Storage::Float16>(channels, avx2);
+        case Storage::Float32:
+            return top_fn<Storage::Float32>(channels, avx2);
+    }
+    throw std::invalid_argument("bake_packed: unknown storage");
+}
+
+PackFn select_pack(Storage storage, bool avx2) {
+    switch (storage) {
+        case Storage::Unorm8:
+            return pack_fn<Storage::Unorm8>(avx2);
+        case Storage::Unorm16:
+            return pack_fn<Storage::Unorm16>(avx2);
+        case Storage::Float16:
+            return pack_fn<Storage::Float16>(avx2);
+        case Storage::Float32:
+            return pack_fn<Storage::Float32>(avx2);
+    }
+    throw std::invalid_argument("bake_packed: unknown storage");
+}
+
+ScanFn select_scan(int channels, bool avx2) {
+#if LEANFADE_AVX2_KERNELS
+    if (avx2) {
+        if (channels == 2) return scan_row_avx2<2>;
+        if (channels == 3) return scan_row_avx2<3>;
+        return scan_row_avx2<4>;
+    }
+#endif
+    (void)avx2;
+    if (channels == 2) return scan_row_scalar<2>;
+    if (channels == 3) return scan_row_scalar<3>;
+    return scan_row_scalar<4>;
+}
+
+void reduce_box(bool avx2, const float* a, const float* c, float* out, int dw) {
+#if LEANFADE_AVX2_KERNELS
+    if (avx2) return reduce_box_avx2(a, c, out, 0, dw);
+#endif
+    reduce_box_scalar(a, c, out, 0, dw);
+}
+
+// ---- The plan and the row pipeline ---------------------------------------------------------
+
+struct LevelPlan {
+    int width = 0;
+    int height = 0;
+    std::size_t stride = 0;           // floats per plane in row buffers (width rounded up to 8)
+    bool box = false;                 // made from the level above by the 2x2 box (even sizes)
+    TapTable ytaps, xtaps;            // from the level above (levels > 0)
+    std::vector<int> first_consumer;  // per row: the first row of the next level that filters it
+};
+
+struct Plan {
+    TopInput top;
+    std::vector<LevelPlan> levels;
+    int store_level = 0;
+    PackScale scale{1.0f, 1.0f};
+    bool avx2 = false;
+    TopFn top_range = nullptr;
+    PackFn pack_range = nullptr;
+    int texel_bytes = 0;
+    PackedLeanMap* packed = nullptr;
+    std::vector<float> stored;  // the planes of every row of the store level
+
+    Planes stored_row(int y) {
+        const std::size_t stride = levels[std::size_t(store_level)].stride;
+        return {stored.data() + std::size_t(y) * kMoments * stride, stride};
+    }
+    RowDest dest(int level, int y) const {
+        const LevelPlan& lp = levels[std::size_t(level)];
+        PackedLevel& out = packed->levels[std::size_t(level)];
+        const std::size_t offset =
+            std::size_t(y) * std::size_t(lp.width) * std::size_t(texel_bytes);
+        return {out.lean1.data() + offset, out.lean2.data() + offset};
+    }
+};
+
+// Makes rows of any level on demand, keeping the last 3 rows of each level.
+class RowMaker {
+  public:
+    // from_stored: the store level's rows are read from plan.stored (pass 2); otherwise the top
+    // level is computed from the input and the store level's rows are written to plan.stored.
+    RowMaker(Plan& plan, bool from_stored)
+        : plan_(plan),
+          from_stored_(from_stored),
+          rings_(plan.levels.size()),
+          ring_rows_(plan.levels.size(), std::array<int, 3>{-1, -1, -1}) {}
+
+    // Row y of `level`; packs it (and the rows it is made from that it is the first consumer
+    // of) when `owned`. The planes stay valid until the next 3 rows of that level are made.
+    Planes row(int level, int y, bool owned) {
+        const LevelPlan& lp = plan_.levels[std::size_t(level)];
+        if (level == plan_.store_level) {
+            if (from_stored_) return plan_.stored_row(y);
+            const Planes out = plan_.stored_row(y);
+            make(level, y, owned, out);
+            return out;
+        }
+        std::vector<float>& ring = rings_[std::size_t(level)];
+        if (ring.empty()) ring.resize(3 * kMoments * lp.stride);
+        const int slot = y % 3;
+        const Planes out{ring.data() + std::size_t(slot) * kMoments * lp.stride, lp.stride};
+        int& cached = ring_rows_[std::size_t(level)][std::size_t(slot)];
+        if (cached == y) return out;
+        make(level, y, owned, out);
+        cached = y;
+        return out;
+    }
+
+  private:
+    void make(int level, int y, bool owned, Planes out) {
+        const LevelPlan& lp = plan_.levels[std::size_t(level)];
+        if (level == 0) {
+            make_top(y, 0, lp.width, out, owned);
+            return;
+        }
+        if (level == 1 && lp.box && !from_stored_) {
+            make_first_box(y, out, owned);
+            return;
+        }
+        const LevelPlan& up = plan_.levels[std::size_t(level - 1)];
+        const auto& taps = lp.ytaps[std::size_t(y)];
+        const int count = int(taps.size());
+        if (count > 3) throw std::logic_error("bake_packed: more than 3 filter taps");
+        Planes src[3];
+        double weights[3];
+        for (int k = 0; k < count; ++k) {
+            const int s = taps[std::size_t(k)].index;
+            src[k] = row(level - 1, s, owned && up.first_consumer[std::size_t(s)] == y);
+            weights[k] = taps[std::size_t(k)].weight;
+        }
+        if (lp.box) {
+            for (int c = 0; c < kMoments; ++c)
+                reduce_box(plan_.avx2, src[0][c], src[1][c], out[c], lp.width);
+        } else {
+            if (vertical_.size() < std::size_t(up.width)) vertical_.resize(std::size_t(up.width));
+            for (int c = 0; c < kMoments; ++c) {
+                const float* rows[3] = {src[0][c], count > 1 ? src[1][c] : nullptr,
+                                        count > 2 ? src[2][c] : nullptr};
+                filter_channel(rows, weights, count, up.width, lp, out[c]);
+            }
+        }
+        if (owned) {
+            const RowDest d = plan_.dest(level, y);
+            plan_.pack_range(out, 0, lp.width, d, plan_.scale);
+        }
+    }
+
+    void filter_channel(const float* const* rows, const double* weights, int count, int sw,
+                        const LevelPlan& lp, float* out) {
+#if LEANFADE_AVX2_KERNELS
+        if (plan_.avx2) {
+            vertical_avx2(rows, weights, count, 0, sw, vertical_.data());
+            horizontal_avx2(vertical_.data(), sw, lp.width, lp.xtaps, out);
+            return;
+        }
+#endif
+        vertical_scalar(rows, weights, count, 0, sw, vertical_.data());
+        horizontal_scalar(vertical_.data(), sw, lp.width, lp.xtaps, 0, out);
+    }
+
+    // Top-level texels [x0, x1) of row y into planes indexed from x0.
+    void make_top(int y, int x0, int x1, Planes out, bool owned) {
+        const RowDest d = owned ? plan_.dest(0, y) : RowDest{};
+        plan_.top_range(plan_.top, plan_.scale, y, x0, x1, out, owned ? &d : nullptr);
+    }
+
+    // Level 1 row y from top rows 2y, 2y + 1 (even sizes), chunk by chunk so that the top
+    // moments never leave L1: compute, pack, box-filter.
+    void make_first_box(int y, Planes out, bool owned) {
+        const int w0 = plan_.levels[0].width;
+        if (chunk_.empty()) chunk_.resize(2 * kMoments * std::size_t(kChunk));
+        const Planes a{chunk_.data(), kChunk}, c{chunk_.data() + kMoments * kChunk, kChunk};
+        for (int x0 = 0; x0 < w0; x0 += kChunk) {
+            const int x1 = std::min(w0, x0 + kChunk);
+            make_top(2 * y, x0, x1, a, owned);
+            make_top(2 * y + 1, x0, x1, c, owned);
+            for (int m = 0; m < kMoments; ++m)
+                reduce_box(plan_.avx2, a[m], c[m], out[m] + x0 / 2, (x1 - x0) / 2);
+        }
+        if (owned) {
+            const RowDest d = plan_.dest(1, y);
+            plan_.pack_range(out, 0, plan_.levels[1].width, d, plan_.scale);
+        }
+    }
+
+    Plan& plan_;
+    bool from_stored_;
+    std::vector<std::vector<float>> rings_;
+    std::vector<std::array<int, 3>> ring_rows_;
+    std::vector<float> chunk_;
+    std::vector<double> vertical_;
+};
+
+std::vector<LevelPlan> plan_levels(int width, int height) {
+    const int count = mip_level_count(width, height);
+    std::vector<LevelPlan> levels(static_cast<std::size_t>(count));
+    for (int l = 0; l < count; ++l) {
+        LevelPlan& lp = levels[std::size_t(l)];
+        lp.width = width;
+        lp.height = height;
+        lp.stride = (std::size_t(width) + 7) / 8 * 8;
+        if (l > 0) {
+            const LevelPlan& up = levels[std::size_t(l - 1)];
+            lp.box = up.width == 2 * width && up.height == 2 * height;
+            lp.ytaps = detail::reduction_taps(up.height, height);
+            lp.xtaps = detail::reduction_taps(up.width, width);
+        }
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+    }
+    for (int l = 0; l + 1 < count; ++l) {
+        LevelPlan& lp = levels[std::size_t(l)];
+        lp.first_consumer.assign(std::size_t(lp.height), -1);
+        const TapTable& taps = levels[std::size_t(l + 1)].ytaps;
+        for (std::size_t r = 0; r < taps.size(); ++r)
+            for (const Tap& t : taps[r])
+                if (lp.first_consumer[std::size_t(t.index)] < 0)
+                    lp.first_consumer[std::size_t(t.index)] = int(r);
+    }
+    return levels;
+}
+
+int choose_store_level(const std::vector<LevelPlan>& levels) {
+    int store = 0;
+    for (int l = 1; l < int(levels.size()) && l <= kMaxStoreLevel; ++l)
+        if (levels[std::size_t(l)].height >= kMinStoreRows) store = l;
+    return store;
+}
+
+// Pass 0: validation as slopes_from_normals (first bad texel in row-major order; every NaN and
+// z check before any slope check), the clamped count and the maxima for sc.
+struct ScanTotals {
+    double max_b = 0.0, max_m = 0.0;
+    std::size_t clamped = 0;
+    double sum_slope = 0.0;  // sum of |B|, row by row in order
+    float max_slope = 0.0f;  // max |B|
+};
+
+ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
+                      const std::string& source_name, const char* steep_cause) {
+    std::vector<RowScan> rows(static_cast<std::size_t>(height));
+    const ScanFn scan = select_scan(in.channels, avx2);
+    parallel_for_rows(height, threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y)
+            if (!scan(in, y, rows[std::size_t(y)])) return;
+    });
+    for (int y = 0; y < height; ++y) {
+        const RowScan& r = rows[std::size_t(y)];
+        if (r.bad_x < 0) continue;
+        const float* t = in.row(y) + std::size_t(r.bad_x) * std::size_t(in.channels);
+        if (!std::isfinite(t[0]) || !std::isfinite(t[1]) || !std::isfinite(t[2]))
+            detail::throw_non_finite_normal(source_name, r.bad_x, y);
+        detail::throw_negative_normal_z(source_name, r.bad_x, y, 2.0f * t[2] - 1.0f);
+    }
+    ScanTotals totals;
+    float max_b = 0.0f;
+    bool nan_slope = false;
+    for (const RowScan& r : rows) {
+        max_b = std::max(max_b, r.max_b);
+        nan_slope = nan_slope || r.nan_slope;
+        totals.clamped += r.clamped;
+        totals.sum_slope += r.stats.total();
+        totals.max_slope = std::max(totals.max_slope, r.stats.max);
+    }
+    // A slope steeper than the limit, or NaN (n is finite, but 2 n - 1 may overflow; found by
+    // fuzz_image_bake), exists exactly when max |B| exceeds it or a row saw a NaN; then find the
+    // first one.
+    if (!(max_b <= kMaxSlope) || nan_slope) {
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < in.width; ++x) {
+                float bx, by;
+                const float* t = in.row(y) + std::size_t(x) * std::size_t(in.channels);
+                if (in.channels == 2) {
+                    bx = t[0];
+                    by = t[1];
+                } else {
+                    normal_slope(t, in.green_sign, bx, by);
+                }
+                if (!(std::abs(bx) <= kMaxSlope))
+                    detail::throw_steep_slope(source_name, x, y, bx, steep_cause);
+                if (!(std::abs(by) <= kMaxSlope))
+                    detail::throw_steep_slope(source_name, x, y, by, steep_cause);
+            }
+    }
+    // build_lean_map takes max M over Mxx = fl(Bx * Bx + 1/s) and Myy; that is non-decreasing
+    // in |B| (each rounding is monotonic), so max M = fl(max|B| * max|B| + 1/s), exactly.
+    totals.max_b = double(max_b);
+    totals.max_m = double(max_b * max_b + in.inv_s);
+    return totals;
+}
+
+// Resizes one output layer. A new vector's bytes are zero-filled by resize, which faults every
+// page in: on Linux the buffer is allocated first and advised to use transparent huge pages
+// (2 MiB), 512 times fewer page faults (docs/perf.md). Reused buffers are left as they are.
+void size_layer(std::vector<std::uint8_t>& layer, std::size_t bytes) {
+#if defined(__linux__)
+    constexpr std::size_t kHugeBytes = std::size_t(4) << 20;
+    if (bytes >= kHugeBytes && layer.capacity() < bytes) {
+        std::vector<std::uint8_t>().swap(layer);
+        layer.reserve(bytes);
+        const std::uintptr_t page = 4096;
+        const auto begin = reinterpret_cast<std::uintptr_t>(layer.data());
+        const std::uintptr_t first = (begin + page - 1) & ~(page - 1);
+        const std::uintptr_t last = (begin + bytes) & ~(page - 1);
+        if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    }
+#endif
+    layer.resize(bytes);
+}
+
+// Sizes the output levels; lean1 and lean2 by different threads, sharing the first touch.
+void size_output(PackedLeanMap& packed, const std::vector<LevelPlan>& levels, int texel_bytes,
+                 int threads) {
+    const std::size_t count = levels.size();
+    packed.levels.resize(count);
+    parallel_for_rows(int(2 * count), std::min(threads, 2), [&](int first, int end) {
+        for (int job = first; job < end; ++job) {
+            const std::size_t l = std::size_t(job) % count;
+            PackedLevel& out = packed.levels[l];
+            const std::size_t bytes = std::size_t(levels[l].width) * std::size_t(levels[l].height) *
+                                      std::size_t(texel_bytes);
+            size_layer(std::size_t(job) < count ? out.lean1 : out.lean2, bytes);
+        }
+    });
+    for (std::size_t l = 0; l < count; ++l) {
+        packed.levels[l].width = levels[l].width;
+        packed.levels[l].height = levels[l].height;
+    }
+}
+
+}  // namespace
+
+bool set_bake_simd(bool enabled) {
+    return g_simd_enabled.exchange(enabled);
+}
+
+bool bake_simd_active() {
+    return cpu_has_avx2() && g_simd_enabled.load();
+}
+
+void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
+                      const BakeOptions& options, Storage storage, const std::string& generator,
+                      const std::string& source_name) {
+    result.source = source;
+    if (source == BakeSource::Auto)
+        result.source = input.channels >= 3 ? BakeSource::Normal : BakeSource::Height;
+    result.clamped_texels = 0;
+    const bool avx2 = bake_simd_active();
+
+    Plan plan;
+    plan.avx2 = avx2;
+    plan.top.green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
+    plan.top.inv_s =
+        options.bake_roughness_shininess > 0.0f ? 1.0f / options.bake_roughness_shininess : 0.0f;
+
+    // Pass 0. Height maps go through the reference slope filter (Sobel in double, SPEC §2),
+    // which also validates them; normal maps are decoded on the fly in pass 1.
+    Image slopes;
+    ScanTotals totals;
+    if (result.source == BakeSource::Normal) {
+        detail::check_normal_map_shape(input, source_name);
+        plan.top.pixels = input.pixels.data();
+        plan.top.width = input.width;
+        plan.top.channels = input.channels;
+        totals = scan_input(plan.top, input.height, options.threads, avx2, source_name,
+                            detail::kSteepNormalCause);
+        result.clamped_texels = totals.clamped;
+    } else {
+        slopes = slopes_from_height(input, options, source_name).slopes;
+        plan.top.pixels = slopes.pixels.data();
+        plan.top.width = slopes.width;
+        plan.top.channels = 2;
+        totals = scan_input(plan.top, slopes.height, options.threads, avx2, source_name,
+                            "height steps times the strength are too large");
+    }
+    const int width = input.width, height = input.height;
+    const float sc = detail::lean_scale(totals.max_b, totals.max_m);
+    plan.scale = {sc, sc * sc};
+
+    const int texel_bytes = bytes_per_texel(storage);
+    plan.texel_bytes = texel_bytes;
+    plan.levels = plan_levels(width, height);
+    plan.store_level = choose_store_level(plan.levels);
+    plan.top_range = select_top(storage, plan.top.channels, avx2);
+    plan.pack_range = select_pack(storage, avx2);
+    const LevelPlan& store = plan.levels[std::size_t(plan.store_level)];
+    plan.stored.resize(std::size_t(store.height) * kMoments * store.stride);
+
+    PackedLeanMap& packed = result.packed;
+    packed.storage = storage;
+    packed.scale = sc;
+    packed.roughness_baked = plan.top.inv_s > 0.0f;
+    packed.baked_shininess = packed.roughness_baked ? options.bake_roughness_shininess : 0.0f;
+    packed.source_convention = options.convention;
+    packed.generator = generator;
+    size_output(packed, plan.levels, texel_bytes, resolve_thread_count(options.threads));
+    plan.packed = &packed;
+
+    // Pass 1: the store level's rows (and everything above them), split across threads.
+    parallel_for_rows(store.height, options.threads, [&](int first, int end) {
+        RowMaker maker(plan, false);
+        for (int y = first; y < end; ++y) maker.row(plan.store_level, y, true);
+    });
+    // Pass 2: the small levels below, from the stored rows.
+    RowMaker maker(plan, true);
+    const int last = int(plan.levels.size()) - 1;
+    const Planes coarsest = maker.row(last, 0, true);
+
+    LeanMapSummary& s = result.summary;
+    s = LeanMapSummary{};
+    s.width = width;
+    s.height = height;
+    s.levels = int(plan.levels.size());
+    s.scale = sc;
+    s.max_slope = totals.max_slope;
+    s.mean_slope = float(totals.sum_slope / (double(width) * double(height)));
+    detail::summarize_coarsest(s, {coarsest[kBx][0], coarsest[kBy][0]},
+                               {coarsest[kMxx][0], coarsest[kMyy][0], coarsest[kMxy][0]});
+}
+
+PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
+                             Storage storage, const std::string& generator,
+                             const std::string& source_name) {
+    PackedBakeResult result;
+    bake_packed_into(result, input, source, options, storage, generator, source_name);
+    return result;
+}
+
+}  // namespace leanfade

@@ -1,0 +1,45 @@
+// Shared pieces of the reference bake and the fast path (see lean_map_internal.hpp).
+#include "lean_map_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade::detail {
+
+std::vector<std::vector<Tap>> reduction_taps(int src, int dst) {
+    std::vector<std::vector<Tap>> taps(static_cast<std::size_t>(dst));
+    for (int i = 0; i < dst; ++i) {
+        // Work in integer units of 1/dst to keep the overlaps exact: [i*src, (i+1)*src).
+        const std::int64_t lo = std::int64_t(i) * src, hi = std::int64_t(i + 1) * src;
+        for (std::int64_t j = lo / dst; j * dst < hi; ++j) {
+            const std::int64_t overlap = std::min(hi, (j + 1) * dst) - std::max(lo, j * dst);
+            if (overlap > 0)
+                taps[std::size_t(i)].push_back({int(j), double(overlap) / double(src)});
+        }
+    }
+    return taps;
+}
+
+float lean_scale(double max_b, double max_m) {
+    float scale = float(std::max({max_b, std::sqrt(max_m), 1e-4}));
+    // Round sc up so that sc * sc >= max_m and sc >= max_b hold in float arithmetic too.
+    while (double(scale) * double(scale) < max_m || double(scale) < max_b)
+        scale = std::nextafter(scale, std::numeric_limits<float>::infinity());
+    return scale;
+}
+
+void summarize_coarsest(LeanMapSummary& s, glm::vec2 mean, glm::vec3 second) {
+    s.coarsest_covariance = shading::lf_covariance(mean, second, 0.0f);
+    const double a = s.coarsest_covariance.x, d = s.coarsest_covariance.y,
+                 c = s.coarsest_covariance.z;
+    const double mid = 0.5 * (a + d), rad = std::sqrt(0.25 * (a - d) * (a - d) + c * c);
+    const double lmax = mid + rad, lmin = mid - rad;
+    s.coarsest_anisotropy =
+        lmin > 1e-12 ? float(std::sqrt(lmax / lmin)) : std::numeric_limits<float>::infinity();
+}
+
+}  // namespace leanfade::detail

@@ -1,0 +1,491 @@
+// Presets as JSON: strict reading (unknown and repeated keys, types, finiteness, ranges) and
+// writing with the shortest exact numbers.
+#include "leanfade/core/preset.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/image.hpp"
+
+namespace leanfade {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+// Key of "shading" <-> the `leanfade render` flag that validate(ShadingSettings) names.
+struct ShadingKey {
+    const char* key;
+    const char* flag;
+};
+constexpr ShadingKey kShadingKeys[] = {
+    {"light_direction", "--light-dir"},
+    {"light_color", "--light-color"},
+    {"ambient", "--ambient"},
+    {"kd", "--kd"},
+    {"ks", "--ks"},
+    {"shininess", "--shininess"},
+    {"fresnel_bias", "--fresnel-bias"},
+    {"fresnel_scale", "--fresnel-scale"},
+    {"fade", "--fade"},
+    {"pmax", "--pmax"},
+    {"fade_exponent", "--fade-exponent"},
+    {"fade_distance", "--fade-distance"},
+    {"fog", "--fog"},
+    {"fog_color", "--fog-color"},
+    {"fog_start", "--fog-start"},
+    {"fog_end", "--fog-end"},
+    {"fog_density", "--fog-density"},
+    {"bump_strength", "--strength"},
+    {"tiling", "--tiling"},
+    {"mip_bias", "--mip-bias"},
+    {"anisotropy", "--aniso"},
+    {"msaa", "--msaa"},
+};
+
+// Throws Error(file, "key 'path': cause").
+[[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& cause) {
+    throw Error(file, "key '" + key + "': " + cause);
+}
+
+std::string join(const std::string& parent, const std::string& key) {
+    return parent.empty() ? key : parent + "." + key;
+}
+
+// Reads the members of JSON objects into C++ values, naming the file and the key in errors.
+class Reader {
+  public:
+    explicit Reader(std::string file) : file_(std::move(file)) {}
+
+    using Field = std::function<void(const json& value, const std::string& key)>;
+
+    // `value` must be an object whose keys are all in `fields`; each present key is read.
+    void object(const json& value, const std::string& key,
+                const std::vector<std::pair<std::string, Field>>& fields) const {
+        if (!value.is_object())
+            fail(file_, key.empty() ? "(top level)" : key,
+                 std::string("expected an object, got ") + value.type_name());
+        for (const auto& item : value.items()) {
+            const auto it = std::find_if(fields.begin(), fields.end(),
+                                         [&](const auto& f) { return f.first == item.key(); });
+            if (it == fields.end()) {
+                std::string expected;
+                for (const auto& f : fields) expected += (expected.empty() ? "" : ", ") + f.first;
+                fail(file_, join(key, item.key()),
+                     "unknown key (expected one of: " + expected + ")");
+            }
+            it->second(item.value(), join(key, item.key()));
+        }
+    }
+
+    float number(const json& value, const std::string& key) const {
+        if (!value.is_number())
+            fail(file_, key, std::string("expected a number, got ") + value.type_name());
+        const double d = value.get<double>();
+        if (!std::isfinite(d) || std::abs(d) > double(std::numeric_limits<float>::max()))
+            fail(file_, key, "must be a finite number");
+        return float(d);
+    }
+
+    std::int64_t integer(const json& value, const std::string& key, std::int64_t min,
+                         std::int64_t max) const {
+        if (!value.is_number_integer())
+            fail(file_, key,
+                 std::string("expected an integer, got ") +
+                     (value.is_number() ? "a fraction" : value.type_name()));
+        std::int64_t v = 0;
+        if (value.is_number_unsigned()) {
+            const std::uint64_t u = value.get<std::uint64_t>();
+            if (u > std::uint64_t(max))
+                fail(file_, key,
+                     "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " +
+                         std::to_string(u));
+            v = std::int64_t(u);
+        } else {
+            v = value.get<std::int64_t>();
+        }
+        if (v < min || v > max)
+            fail(file_, key,
+                 "must be in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " +
+                     std::to_string(v));
+        return v;
+    }
+
+    bool boolean(const json& value, const std::string& key) const {
+        if (!value.is_boolean())
+            fail(file_, key, std::string("expected true or false, got ") + value.type_name());
+        return value.get<bool>();
+    }
+
+    std::string string(const json& value, const std::string& key) const {
+        if (!value.is_string())
+            fail(file_, key, std::string("expected a string, got ") + value.type_name());
+        return value.get<std::string>();
+    }
+
+    glm::vec3 vec3(const json& value, const std::string& key) const {
+        if (!value.is_array() || value.size() != 3)
+            fail(file_, key,
+                 std::string("expected an array of 3 numbers, got ") +
+                     (value.is_array() ? "an array of " + std::to_string(value.size())
+                                       : std::string(value.type_name())));
+        glm::vec3 v;
+        for (int i = 0; i < 3; ++i)
+            v[i] = number(value[std::size_t(i)], key + "[" + std::to_string(i) + "]");
+        return v;
+    }
+
+    const std::string& file() const { return file_; }
+
+  private:
+    std::string file_;
+};
+
+// Shortest decimal that reads back as the same float, stored as a double (0.15f -> 0.15).
+json exact(float value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    *result.ptr = 0;
+    return std::strtod(buffer, nullptr);
+}
+
+json exact(const glm::vec3& v) {
+    return json::array({exact(v.x), exact(v.y), exact(v.z)});
+}
+
+// Parses with a check for repeated keys (nlohmann keeps the last one silently).
+json parse_strict(const std::string& text, const std::string& file) {
+    std::vector<std::vector<std::string>> seen;  // keys of each open object
+    std::vector<std::string> path;               // current key of each open object
+    std::string repeated;
+    const json::parser_callback_t callback = [&](int, json::parse_event_t event, json& parsed) {
+        switch (event) {
+            case json::parse_event_t::object_start:
+                seen.emplace_back();
+                path.emplace_back();
+                break;
+            case json::parse_event_t::object_end:
+                if (!seen.empty()) seen.pop_back();
+                if (!path.empty()) path.pop_back();
+                break;
+            case json::parse_event_t::key: {
+                const std::string key = parsed.get<std::string>();
+                if (!seen.empty()) {
+                    auto& keys = seen.back();
+                    if (std::find(keys.begin(), keys.end(), key) != keys.end() &&
+                        repeated.empty()) {
+                        std::string full;
+                        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                            full = join(full, path[i]);
+                        repeated = join(full, key);
+                    }
+                    keys.push_back(key);
+                    path.back() = key;
+                }
+                break;
+            }
+            default:
+                break;
+        }
+        return true;
+    };
+    json value;
+    try {
+        value = json::parse(text, callback);
+    } catch (const json::exception& e) {
+        std::string cause = e.what();
+        // "[json.exception.parse_error.101] parse error at line 1, ..." -> "parse error at ..."
+        if (const std::size_t close = cause.find("] "); close != std::string::npos)
+            cause = cause.substr(close + 2);
+        // The key being read when the text went wrong (NaN, an overflowing number, ...).
+        std::string where;
+        for (const std::string& k : path)
+            if (!k.empty()) where = join(where, k);
+        if (!where.empty()) fail(file, where, "not valid JSON: " + cause);
+        throw Error(file, "not valid JSON: " + cause);
+    }
+    if (!repeated.empty()) fail(file, repeated, "given more than once");
+    return value;
+}
+
+const char* layout_requirement(const std::string& layout) {
+    if (layout == "single") return "exactly 1 technique";
+    if (layout == "split") return "exactly 2 techniques";
+    return "2 or 3 techniques";
+}
+
+bool layout_accepts(const std::string& layout, std::size_t count) {
+    if (layout == "single") return count == 1;
+    if (layout == "split") return count == 2;
+    return count == 2 || count == 3;
+}
+
+}  // namespace
+
+const std::vector<std::string>& preset_layouts() {
+    static const std::vector<std::string> layouts{"single", "split", "side-by-side"};
+    return layouts;
+}
+
+void validate(const Preset& p, const std::string& file) {
+    if (p.scene.empty()) fail(file, "scene", "must not be empty");
+    const BumpSource& b = p.bumps;
+    if (b.source.empty()) fail(file, "bumps.source", "must not be empty");
+    if (b.from != "height" && b.from != "normal")
+        fail(file, "bumps.from", "expected \"height\" or \"normal\", got \"" + b.from + "\"");
+    if (b.bits != "8" && b.bits != "16" && b.bits != "16f" && b.bits != "32f")
+        fail(file, "bumps.bits",
+             "expected \"8\", \"16\", \"16f\" or \"32f\", got \"" + b.bits + "\"");
+    if (b.texture_size < 4 || b.texture_size > kDefaultMaxImageDimension)
+        fail(file, "bumps.texture_size",
+             "must be in [4, " + std::to_string(kDefaultMaxImageDimension) + "], got " +
+                 std::to_string(b.texture_size));
+    try {
+        validate(p.shading);
+    } catch (const Error& e) {
+        for (const ShadingKey& k : kShadingKeys)
+            if (e.file() == k.flag) fail(file, std::string("shading.") + k.key, e.cause());
+        fail(file, "shading", e.what());
+    }
+
+    const CameraSettings& c = p.camera;
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(c.target[i])) fail(file, "camera.target", "must be finite");
+    const float length = std::sqrt(c.direction.x * c.direction.x + c.direction.y * c.direction.y +
+                                   c.direction.z * c.direction.z);
+    if (!std::isfinite(length) || !(length > 0.0f))
+        fail(file, "camera.direction", "must be a finite, non-zero vector");
+    if (!(c.distance > 1.0f && c.distance <= kMaxCameraDistance))
+        fail(file, "camera.distance",
+             "must be in (1, " + std::to_string(int(kMaxCameraDistance)) +
+                 "] bounding radii, got " + std::to_string(c.distance));
+    if (!(c.fov_y_degrees > 1.0f && c.fov_y_degrees < 170.0f))
+        fail(file, "camera.fov_y_degrees",
+             "must be in (1, 170) degrees, got " + std::to_string(c.fov_y_degrees));
+
+    const auto& layouts = preset_layouts();
+    if (std::find(layouts.begin(), layouts.end(), p.layout) == layouts.end())
+        fail(file, "view.layout",
+             "expected \"single\", \"split\" or \"side-by-side\", got \"" + p.layout + "\"");
+    if (!layout_accepts(p.layout, p.techniques.size()))
+        fail(file, "view.techniques",
+             "layout \"" + p.layout + "\" needs " + layout_requirement(p.layout) + ", got " +
+                 std::to_string(p.techniques.size()));
+    for (std::size_t i = 0; i < p.techniques.size(); ++i) {
+        if (p.techniques[i].empty()) fail(file, "view.techniques", "a name is empty");
+        for (std::size_t j = 0; j < i; ++j)
+            if (p.techniques[j] == p.techniques[i])
+                fail(file, "view.techniques", "\"" + p.techniques[i] + "\" given twice");
+    }
+    if (!(p.divider >= 0.0f && p.divider <= 1.0f))
+        fail(file, "view.divider", "must be in [0, 1], got " + std::to_string(p.divider));
+    if (p.reference_samples < 1 || p.reference_samples > 16)
+        fail(file, "view.reference_samples",
+             "must be in [1, 16], got " + std::to_string(p.reference_samples));
+    if (!(p.resolution_scale >= 0.1f && p.resolution_scale <= 1.0f))
+        fail(file, "view.resolution_scale",
+             "must be in [0.1, 1], got " + std::to_string(p.resolution_scale));
+    const FlyAwaySettings& f = p.fly_away;
+    if (!(f.near_distance > 1.0f))
+        fail(file, "view.fly_away.near", "must be > 1, got " + std::to_string(f.near_distance));
+    if (!(f.far_distance > f.near_distance && f.far_distance <= kMaxCameraDistance))
+        fail(file, "view.fly_away.far",
+             "must be greater than near and at most " + std::to_string(int(kMaxCameraDistance)) +
+                 ", got " + std::to_string(f.far_distance));
+    if (!(f.period >= 0.5f && f.period <= 600.0f))
+        fail(file, "view.fly_away.period",
+             "must be in [0.5, 600] seconds, got " + std::to_string(f.period));
+}
+
+Preset preset_from_json(const std::string& text, const std::string& file) {
+    const json root = parse_strict(text, file);
+    const Reader r(file);
+    Preset p;
+    ShadingSettings& s = p.shading;
+    auto num = [&](float& target) {
+        return [&r, &target](const json& v, const std::string& k) { target = r.number(v, k); };
+    };
+    auto vec = [&](glm::vec3& target) {
+        return [&r, &target](const json& v, const std::string& k) { target = r.vec3(v, k); };
+    };
+    auto str = [&](std::string& target) {
+        return [&r, &target](const json& v, const std::string& k) { target = r.string(v, k); };
+    };
+    auto integer = [&](int& target, int min, int max) {
+        return [&r, &target, min, max](const json& v, const std::string& k) {
+            target = int(r.integer(v, k, min, max));
+        };
+    };
+
+    const Reader::Field bumps = [&](const json& v, const std::string& key) {
+        BumpSource& b = p.bumps;
+        r.object(
+            v, key,
+            {{"source", str(b.source)},
+             {"from", str(b.from)},
+             {"directx", [&](const json& x, const std::string& k) { b.directx = r.boolean(x, k); }},
+             {"bits", str(b.bits)},
+             {"seed",
+              [&](const json& x, const std::string& k) {
+                  b.seed = std::uint32_t(r.integer(x, k, 0, 0xFFFFFFFFll));
+              }},
+             {"texture_size", integer(b.texture_size, 4, kDefaultMaxImageDimension)}});
+    };
+    const Reader::Field shading = [&](const json& v, const std::string& key) {
+        r.object(v, key,
+                 {{"light_direction", vec(s.light_direction)},
+                  {"light_color", vec(s.light_color)},
+                  {"ambient", vec(s.ambient)},
+                  {"kd", vec(s.kd)},
+                  {"ks", vec(s.ks)},
+                  {"shininess", num(s.shininess)},
+                  {"fresnel_bias", num(s.fresnel_bias)},
+                  {"fresnel_scale", num(s.fresnel_scale)},
+                  {"fade", num(s.fade)},
+                  {"pmax", num(s.pmax)},
+                  {"fade_exponent", num(s.fade_exponent)},
+                  {"fade_distance",
+                   [&](const json& x, const std::string& k) {
+                       const std::string name = r.string(x, k);
+                       try {
+                           s.fade_distance = parse_fade_distance(name, k);
+                       } catch (const Error& e) {
+                           fail(file, k, e.cause());
+                       }
+                   }},
+                  {"fog",
+                   [&](const json& x, const std::string& k) {
+                       const std::string name = r.string(x, k);
+                       try {
+                           s.fog = parse_fog_mode(name, k);
+                       } catch (const Error& e) {
+                           fail(file, k, e.cause());
+                       }
+                   }},
+                  {"fog_color", vec(s.fog_color)},
+                  {"fog_start", num(s.fog_start)},
+                  {"fog_end", num(s.fog_end)},
+                  {"fog_density", num(s.fog_density)},
+                  {"bump_strength", num(s.bump_strength)},
+                  {"tiling", num(s.tiling)},
+                  {"mip_bias", num(s.mip_bias)},
+                  {"anisotropy", integer(s.anisotropy, 1, 16)},
+                  {"msaa", integer(s.msaa, 1, 16)}});
+    };
+    const Reader::Field camera = [&](const json& v, const std::string& key) {
+        CameraSettings& c = p.camera;
+        r.object(v, key,
+                 {{"target", vec(c.target)},
+                  {"direction", vec(c.direction)},
+                  {"distance", num(c.distance)},
+                  {"fov_y_degrees", num(c.fov_y_degrees)}});
+    };
+    const Reader::Field fly_away = [&](const json& v, const std::string& key) {
+        FlyAwaySettings& f = p.fly_away;
+        r.object(v, key,
+                 {{"near", num(f.near_distance)},
+                  {"far", num(f.far_distance)},
+                  {"period", num(f.period)}});
+    };
+    const Reader::Field view = [&](const json& v, const std::string& key) {
+        r.object(
+            v, key,
+            {{"techniques",
+              [&](const json& x, const std::string& k) {
+                  if (!x.is_array())
+                      fail(file, k,
+                           std::string("expected an array of names, got ") + x.type_name());
+                  p.techniques.clear();
+                  for (std::size_t i = 0; i < x.size(); ++i)
+                      p.techniques.push_back(r.string(x[i], k + "[" + std::to_string(i) + "]"));
+              }},
+             {"layout", str(p.layout)},
+             {"divider", num(p.divider)},
+             {"reference_samples", integer(p.reference_samples, 1, 16)},
+             {"resolution_scale", num(p.resolution_scale)},
+             {"fly_away", fly_away}});
+    };
+    r.object(root, "",
+             {{"leanfade_preset",
+               [&](const json& x, const std::string& k) {
+                   const std::int64_t version =
+                       r.integer(x, k, 0, std::numeric_limits<std::int64_t>::max());
+                   if (version != 1)
+                       fail(file, k,
+                            "unsupported preset version " + std::to_string(version) +
+                                " (this leanfade reads version 1)");
+               }},
+              {"scene", str(p.scene)},
+              {"bumps", bumps},
+              {"shading", shading},
+              {"camera", camera},
+              {"view", view}});
+    validate(p, file);
+    return p;
+}
+
+Preset read_preset(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path, "cannot open the preset file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw Error(path, "cannot read the preset file");
+    return preset_from_json(text.str(), path);
+}
+
+std::string preset_to_json(const Preset& p) {
+    const ShadingSettings& s = p.shading;
+    json root = json::object();
+    root["leanfade_preset"] = 1;
+    root["scene"] = p.scene;
+    root["bumps"] = {{"source", p.bumps.source},   {"from", p.bumps.from},
+                     {"directx", p.bumps.directx}, {"bits", p.bumps.bits},
+                     {"seed", p.bumps.seed},       {"texture_size", p.bumps.texture_size}};
+    root["shading"] = {{"light_direction", exact(s.light_direction)},
+                       {"light_color", exact(s.light_color)},
+                       {"ambient", exact(s.ambient)},
+                       {"kd", exact(s.kd)},
+                       {"ks", exact(s.ks)},
+                       {"shininess", exact(s.shininess)},
+                       {"fresnel_bias", exact(s.fresnel_bias)},
+                       {"fresnel_scale", exact(s.fresnel_scale)},
+                       {"fade", exact(s.fade)},
+                       {"pmax", exact(s.pmax)},
+                       {"fade_exponent", exact(s.fade_exponent)},
+                       {"fade_distance", to_string(s.fade_distance)},
+                       {"fog", to_string(s.fog)},
+                       {"fog_color", exact(s.fog_color)},
+                       {"fog_start", exact(s.fog_start)},
+                       {"fog_end", exact(s.fog_end)},
+                       {"fog_density", exact(s.fog_density)},
+                       {"bump_strength", exact(s.bump_strength)},
+                       {"tiling", exact(s.tiling)},
+                       {"mip_bias", exact(s.mip_bias)},
+                       {"anisotropy", s.anisotropy},
+                       {"msaa", s.msaa}};
+    root["camera"] = {{"target", exact(p.camera.target)},
+                      {"direction", exact(p.camera.direction)},
+                      {"distance", exact(p.camera.distance)},
+                      {"fov_y_degrees", exact(p.camera.fov_y_degrees)}};
+    root["view"] = {{"techniques", p.techniques},
+                    {"layout", p.layout},
+                    {"divider", exact(p.divider)},
+                    {"reference_samples", p.reference_samples},
+                    {"resolution_scale", exact(p.resolution_scale)},
+                    {"fly_away",
+                     {{"near", exact(p.fly_away.near_distance)},
+                      {"far", exact(p.fly_away.far_distance)},
+                      {"period", exact(p.fly_away.period)}}}};
+    return root.dump(2) + "\n";
+}
+
+}  // namespace leanfade

@@ -1,0 +1,107 @@
+#pragma once
+// Results of `leanfade eval` and their files: the sweep's parameters, one row per (technique,
+// distance, shininess) case, results.csv, results.json, gnuplot plots and the index.html report.
+// GL-free.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "leanfade/core/image.hpp"
+
+namespace leanfade::eval {
+
+// One measured case. The CSV holds the first seven fields; results.json all of them.
+struct CaseResult {
+    std::string technique;  // "bump", "toksvig", "clean", "lean", "fade"
+    float distance = 0.0f;  // camera distance, bounding radii
+    float shininess = 0.0f;
+    double energy = 0.0;   // specular_mean / reference_specular_mean
+    double rmse = 0.0;     // relative RMSE of the linear colour against the reference
+    double ssim = 0.0;     // masked SSIM of the sRGB images
+    double flicker = 0.0;  // change / reference_change (NaN when the reference does not change)
+
+    double specular_mean = 0.0;            // mean specular radiance over the object's pixels
+    double reference_specular_mean = 0.0;  // the same for the reference
+    double reference_mean = 0.0;           // mean linear colour of the reference (rmse's scale)
+    double change = 0.0;            // mean |frame - previous frame| per object pixel and channel
+    double reference_change = 0.0;  // the same for the reference
+    int object_pixels = 0;          // pixels measured in frame 0
+    int reference_spp = 0;          // samples per pixel of the reference in this case
+    // Estimated relative standard errors of the reference itself, from a second reference with
+    // a quarter of the samples (k/2 x k/2): for n times fewer samples the difference of the two
+    // has sqrt(1 + n) times the error of the better one. reference_noise: per pixel, relative to
+    // reference_mean (a floor under rmse); reference_energy_error: of reference_specular_mean.
+    double reference_noise = 0.0;
+    double reference_energy_error = 0.0;
+};
+
+// Cases whose reference_energy_error is above this are flagged as "reference not converged".
+inline constexpr double kUnconvergedEnergyError = 0.1;
+
+// What was swept and how; written to results.json and the report.
+struct SweepInfo {
+    std::string scene;
+    std::string bumps;
+    std::vector<std::string> techniques;
+    std::vector<float> distances;
+    std::vector<float> shininesses;
+    int width = 0;  // the full frame; only the square around the object is rendered
+    int height = 0;
+    float fov_y_degrees = 0.0f;
+    int reference_samples = 0;  // k: k x k samples per pixel (at least; see adaptive_reference)
+    bool adaptive_reference = false;  // k raised where the object is small (SweepRequest)
+    int frames = 0;
+    float motion_pixels = 0.0f;  // camera pan per frame, pixels at the object's centre
+    std::string preset_json;     // scene, bumps and shading as a preset (core/preset.hpp)
+    std::string renderer;        // GL_RENDERER
+    double seconds = 0.0;        // wall time of the sweep
+};
+
+// Frame-0 colour images of one (shininess, distance): the reference and each technique, linear
+// RGB, the same crop, background filled.
+struct CaseImages {
+    float shininess = 0.0f;
+    float distance = 0.0f;
+    Image reference;
+    std::vector<std::pair<std::string, Image>> techniques;
+};
+
+// "A:B:N" (N >= 2 log-spaced distances from A to B, 1 < A < B; N = 1 gives A) or a comma list of
+// distances > 1 (bounding radii). Throws leanfade::Error(flag, cause).
+std::vector<float> parse_distance_sweep(const std::string& text, const std::string& flag);
+// Comma list of Blinn-Phong exponents > 0. Throws leanfade::Error(flag, cause).
+std::vector<float> parse_shininess_list(const std::string& text, const std::string& flag);
+
+// The header and one line per case (%.6g numbers; NaN as "nan").
+std::string results_csv(const std::vector<CaseResult>& cases);
+// {"sweep": {...}, "definitions": {...}, "cases": [...]}; NaN as null.
+std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& cases);
+
+// Writes into `folder` (created if missing): results.csv, results.json, images/*.png (the
+// images' sRGB encodings), plots (see write_plots) and index.html, whose image grid shows the
+// files of images/ present for the cases. Files are written atomically. Returns the report's
+// notes (e.g. "gnuplot not found: ..."), also shown in index.html.
+// With no images (a redraw from read_results_json), the existing images/ are shown.
+std::vector<std::string> write_report(const std::string& folder, const SweepInfo& info,
+                                      const std::vector<CaseResult>& cases,
+                                      const std::vector<CaseImages>& images);
+
+// The plots of a sweep: energy.png, rmse.png, ssim.png and flicker.png in `folder`, each with a
+// panel per shininess and a line per technique against log distance, drawn by gnuplot from
+// plot_data.tsv and plots.gp (both kept, so the plots can be redrawn by hand). Returns false and
+// sets `note` when gnuplot is not installed (Debian: gnuplot-nox) or fails: the data and the
+// script are written anyway.
+bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases,
+                 const std::vector<float>& shininesses, std::string& note);
+
+// Reads a results.json written by results_json (the fields of SweepInfo and CaseResult it
+// holds). Throws leanfade::Error(path, cause) for a missing or malformed file.
+void read_results_json(const std::string& path, SweepInfo& info, std::vector<CaseResult>& cases);
+
+// Runs gnuplot on a script file; false with `note` set when gnuplot is missing or fails.
+bool run_gnuplot(const std::string& script_path, std::string& note);
+
+// Writes text to a file atomically (throws leanfade::Error(path, cause)).
+void write_text_file(const std::string& path, const std::string& text);
+
+}  // namespace leanfade::eval

@@ -1,0 +1,94 @@
+#pragma once
+// LEAN maps generated on the GPU (the LEAN paper's "per-frame generation", §5): a compute pass
+// (shaders/generate_lean.comp) writes the top level of both layers from a height or normal
+// texture, exactly as the CPU baker computes its top level (SPEC §2-3), then glGenerateMipmap
+// builds the other levels by averaging the packed values (correct because the packing is affine
+// per channel, SPEC §3; for power-of-two sizes the 2 x 2 box equals the CPU's area filter, up to
+// the re-quantisation of each level).
+//
+// The texture has the layout Renderer::set_lean_map uploads: a GL_TEXTURE_2D_ARRAY of two layers
+// (lean1, lean2) with every MIP level, texel row 0 at v = 0 (the bottom row of an image file).
+#include <string>
+
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/shader_library.hpp"
+#include "leanfade/gl/timer.hpp"
+
+namespace leanfade::gl {
+
+enum class GenerateInput {
+    Height,  // first channel: heights in texel units (SPEC §2, Sobel / 8)
+    Normal,  // channels 0-2: a tangent-space normal map encoded 0.5 n + 0.5
+};
+
+struct GenerateOptions {
+    float strength = 1.0f;  // height per texel spacing (height maps)
+    Wrap wrap = Wrap::Repeat;  // Sobel taps past the edge (height maps)
+    NormalConvention convention = NormalConvention::OpenGL;  // normal maps
+    float scale = 1.0f;                    // sc the layers are packed with (SPEC §3), > 0
+    float bake_roughness_shininess = 0.0f;  // s > 0: 1/s added to Mxx, Myy (LEAN eq. 6)
+    Storage storage = Storage::Unorm16;    // texel format of both layers
+};
+
+class LeanGenerator {
+  public:
+    // The context must stay alive and current while the generator is used.
+    explicit LeanGenerator(Context& context, ShaderSources sources = ShaderSources::embedded());
+    LeanGenerator(const LeanGenerator&) = delete;
+    LeanGenerator& operator=(const LeanGenerator&) = delete;
+
+    // Uploads the source as a float texture, rows flipped so that +v is up. Heights: the first
+    // channel (R32F); normals: channels 0-2 (RGB32F), at least 3 channels. Throws
+    // leanfade::Error("generate", cause) for an empty image, too few channels or a size above
+    // GL_MAX_TEXTURE_SIZE.
+    void set_source(const Image& image, GenerateInput input);
+
+    // The compute pass: level 0 of both layers. (Re)allocates the texture, with every MIP level,
+    // when the source size or the storage changed. Throws leanfade::Error("generate", cause)
+    // without a source, for sc <= 0 or a non-finite option.
+    void write_top_level(const GenerateOptions& options);
+    // glGenerateTextureMipmap: levels 1.. from level 0.
+    void generate_mipmaps();
+    // Both of the above.
+    void generate(const GenerateOptions& options);
+
+    // The generated texture (0 before the first write_top_level).
+    GLuint texture() const { return texture_.get(); }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int levels() const { return levels_; }
+
+    // Every level read back in the CPU baker's layout (rows top first), with sc, storage and the
+    // baked-roughness flag of the last pass; generator "leanfade GPU". Waits for the GPU.
+    PackedLeanMap read_back() const;
+
+  private:
+    GLuint program(Storage storage);
+
+    Context& context_;
+    ShaderSources sources_;
+    GenerateInput input_ = GenerateInput::Height;
+    Texture source_;
+    Texture texture_;
+    Program programs_[2][4];  // [input][storage], built on first use
+    int width_ = 0, height_ = 0, levels_ = 0;
+    Storage storage_ = Storage::Unorm16;
+    float scale_ = 1.0f;
+    float baked_shininess_ = 0.0f;
+    NormalConvention convention_ = NormalConvention::OpenGL;
+};
+
+// Frame times of per-frame generation: after `warmup` untimed generations, `frames` timed ones,
+// the compute pass and the MIP generation timed as separate intervals of `timer` (milliseconds,
+// one value per frame each).
+struct GenerationTimes {
+    std::vector<double> pass_ms;
+    std::vector<double> mipmap_ms;
+};
+GenerationTimes time_generation(LeanGenerator& generator, const GenerateOptions& options,
+                                int frames, int warmup, IntervalTimer& timer);
+
+}  // namespace leanfade::gl

@@ -1,0 +1,327 @@
+// bake_packed (the fused fast path) against the reference pack_lean_map(bake_lean_map(...)):
+// the same bytes for every storage, size, wrap mode, input kind, baked roughness, kernel set and
+// thread count; the same summary within float rounding; the same errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "test_helpers.hpp"
+
+using namespace leanfade;
+
+namespace {
+
+constexpr Storage kStorages[] = {Storage::Unorm8, Storage::Unorm16, Storage::Float16,
+                                 Storage::Float32};
+
+// Sizes covering: 1x1, single rows and columns, odd (3-tap) reductions, even (box) reductions
+// with and without a stored level below the top, and mixed even/odd axes.
+const std::vector<std::pair<int, int>>& sizes() {
+    static const std::vector<std::pair<int, int>> list = {
+        {1, 1},   {1, 9},    {9, 1},    {37, 23},  {129, 5}, {2, 2},    {16, 16},
+        {64, 64}, {128, 67}, {67, 128}, {131, 77}, {96, 40}, {263, 130}};
+    return list;
+}
+
+Image height_map(int w, int h) {
+    return test::height_from(w, h, [](double x, double y) {
+        return 3 * std::sin(x * 0.37 + 0.2) + 2 * std::cos(y * 0.23 + x * 0.11) +
+               0.7 * std::sin(x * y * 0.013);
+    });
+}
+
+// A normal map with `channels` (3 or 4) from the slopes of height_map, with a few texels whose
+// z is just below zero (raised to kMinNormalZ, counted) and a few at the edge of the range.
+Image normal_map(int w, int h, int channels) {
+    const Image slopes = slopes_from_height(height_map(w, h), BakeOptions{}).slopes;
+    Image normals(w, h, channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float bx = slopes.at(x, y, 0), by = slopes.at(x, y, 1);
+            const float inv = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+            normals.at(x, y, 0) = 0.5f * bx * inv + 0.5f;
+            normals.at(x, y, 1) = 0.5f * by * inv + 0.5f;
+            normals.at(x, y, 2) = 0.5f * inv + 0.5f;
+            if (channels == 4) normals.at(x, y, 3) = 0.25f;
+            if ((x * 7 + y * 3) % 23 == 0) {  // z slightly negative: clamped, counted
+                normals.at(x, y, 0) = 0.95f;
+                normals.at(x, y, 2) = 0.4995f;
+            }
+            if ((x + y * 5) % 31 == 0) {  // grazing: |B| near 64
+                normals.at(x, y, 1) = 0.0f;
+                normals.at(x, y, 2) = 0.5f + 0.5f * kMinNormalZ;
+            }
+        }
+    return normals;
+}
+
+void expect_same_packed(const PackedLeanMap& fast, const PackedLeanMap& ref,
+                        const std::string& what) {
+    EXPECT_EQ(fast.storage, ref.storage) << what;
+    EXPECT_EQ(fast.scale, ref.scale) << what;
+    EXPECT_EQ(fast.roughness_baked, ref.roughness_baked) << what;
+    EXPECT_EQ(fast.baked_shininess, ref.baked_shininess) << what;
+    EXPECT_EQ(fast.source_convention, ref.source_convention) << what;
+    EXPECT_EQ(fast.generator, ref.generator) << what;
+    ASSERT_EQ(fast.levels.size(), ref.levels.size()) << what;
+    for (std::size_t l = 0; l < ref.levels.size(); ++l) {
+        const PackedLevel& a = fast.levels[l];
+        const PackedLevel& b = ref.levels[l];
+        EXPECT_EQ(a.width, b.width) << what << " level " << l;
+        EXPECT_EQ(a.height, b.height) << what << " level " << l;
+        // Byte-identical: report the first differing byte rather than two huge vectors.
+        for (int layer = 0; layer < 2; ++layer) {
+            const auto& x = layer == 0 ? a.lean1 : a.lean2;
+            const auto& y = layer == 0 ? b.lean1 : b.lean2;
+            ASSERT_EQ(x.size(), y.size()) << what << " level " << l;
+            for (std::size_t i = 0; i < x.size(); ++i)
+                if (x[i] != y[i]) {
+                    ADD_FAILURE() << what << ": level " << l << " lean" << layer + 1
+                                  << " differs first at byte " << i << " (" << int(x[i]) << " vs "
+                                  << int(y[i]) << ")";
+                    break;
+                }
+        }
+    }
+}
+
+void expect_summary_close(const LeanMapSummary& fast, const LeanMapSummary& ref,
+                          const std::string& what) {
+    EXPECT_EQ(fast.width, ref.width) << what;
+    EXPECT_EQ(fast.height, ref.height) << what;
+    EXPECT_EQ(fast.levels, ref.levels) << what;
+    EXPECT_EQ(fast.scale, ref.scale) << what;
+    // |B| in float instead of hypot in double: a few float ulps at most.
+    EXPECT_NEAR(fast.mean_slope, ref.mean_slope, 4e-7f * ref.mean_slope + 1e-30f) << what;
+    EXPECT_NEAR(fast.max_slope, ref.max_slope, 4e-7f * ref.max_slope + 1e-30f) << what;
+    // The 1x1 level's floats are the reference's exactly.
+    EXPECT_EQ(fast.coarsest_covariance, ref.coarsest_covariance) << what;
+    if (std::isinf(ref.coarsest_anisotropy))
+        EXPECT_TRUE(std::isinf(fast.coarsest_anisotropy)) << what;
+    else
+        EXPECT_EQ(fast.coarsest_anisotropy, ref.coarsest_anisotropy) << what;
+}
+
+struct Case {
+    Image input;
+    BakeSource source;
+    BakeOptions options;
+    std::string name;
+};
+
+void check_case(const Case& c, Storage storage) {
+    const std::string what =
+        c.name + " storage " + to_string(storage) + (bake_simd_active() ? " avx2" : " scalar");
+    const BakeResult ref = bake_lean_map(c.input, c.source, c.options, "in");
+    const PackedLeanMap ref_packed = pack_lean_map(ref.map, storage, "gen");
+    const PackedBakeResult fast = bake_packed(c.input, c.source, c.options, storage, "gen", "in");
+    EXPECT_EQ(fast.source, ref.source) << what;
+    EXPECT_EQ(fast.clamped_texels, ref.clamped_texels) << what;
+    expect_same_packed(fast.packed, ref_packed, what);
+    expect_summary_close(fast.summary, summarize(ref.map), what);
+}
+
+std::vector<Case> cases_for(int w, int h) {
+    std::vector<Case> cases;
+    const std::string size = std::to_string(w) + "x" + std::to_string(h);
+    for (Wrap wrap : {Wrap::Repeat, Wrap::Clamp}) {
+        for (float s : {0.0f, 300.0f}) {
+            BakeOptions options;
+            options.wrap = wrap;
+            options.bake_roughness_shininess = s;
+            options.strength = 0.8f;
+            const std::string tag = size + " " + to_string(wrap) + " s=" + std::to_string(s);
+            cases.push_back({height_map(w, h), BakeSource::Height, options, "height " + tag});
+            cases.push_back({normal_map(w, h, 3), BakeSource::Normal, options, "rgb " + tag});
+            if (wrap == Wrap::Repeat) {
+                cases.push_back({normal_map(w, h, 4), BakeSource::Auto, options, "rgba " + tag});
+                BakeOptions dx = options;
+                dx.convention = NormalConvention::DirectX;
+                cases.push_back({normal_map(w, h, 3), BakeSource::Normal, dx, "directx " + tag});
+            }
+        }
+    }
+    return cases;
+}
+
+// Runs `body` with the AVX2 kernels (where the CPU has them) and with the portable ones.
+template <typename Body>
+void for_each_kernel_set(Body body) {
+    const bool previous = set_bake_simd(true);
+    body();
+    if (bake_simd_active()) {
+        set_bake_simd(false);
+        body();
+    }
+    set_bake_simd(previous);
+}
+
+}  // namespace
+
+TEST(BakeFastPath, SameBytesAsReferenceForEveryStorageSizeAndInput) {
+    for_each_kernel_set([] {
+        for (auto [w, h] : sizes())
+            for (const Case& c : cases_for(w, h))
+                for (Storage storage : kStorages) check_case(c, storage);
+    });
+}
+
+TEST(BakeFastPath, SameBytesForBuiltinSets) {
+    for_each_kernel_set([] {
+        for (const std::string& name : builtin_bump_names()) {
+            BakeOptions options;
+            const Image height = make_builtin_height(name, 128, 3);
+            check_case({height, BakeSource::Height, options, name}, Storage::Unorm16);
+            check_case({height, BakeSource::Height, options, name}, Storage::Float32);
+        }
+    });
+}
+
+TEST(BakeFastPath, ThreadCountDoesNotChangeAnything) {
+    for_each_kernel_set([] {
+        for (auto [w, h] : {std::pair{256, 192}, std::pair{131, 77}, std::pair{1, 9}}) {
+            for (BakeSource source : {BakeSource::Height, BakeSource::Normal}) {
+                const Image input =
+                    source == BakeSource::Height ? height_map(w, h) : normal_map(w, h, 3);
+                BakeOptions options;
+                options.threads = 1;
+                const PackedBakeResult one =
+                    bake_packed(input, source, options, Storage::Unorm16, "gen");
+                for (int threads : {2, 3}) {
+                    options.threads = threads;
+                    const PackedBakeResult many =
+                        bake_packed(input, source, options, Storage::Unorm16, "gen");
+                    const std::string what = std::to_string(w) + "x" + std::to_string(h) +
+                                             " threads " + std::to_string(threads);
+                    expect_same_packed(many.packed, one.packed, what);
+                    EXPECT_EQ(many.summary.mean_slope, one.summary.mean_slope) << what;
+                    EXPECT_EQ(many.summary.max_slope, one.summary.max_slope) << what;
+                    EXPECT_EQ(many.clamped_texels, one.clamped_texels) << what;
+                }
+            }
+        }
+    });
+}
+
+TEST(BakeFastPath, KernelSetsGiveTheSameSummary) {
+    if (!bake_simd_active()) GTEST_SKIP() << "no AVX2 on this CPU";
+    const Image input = normal_map(263, 130, 3);
+    const PackedBakeResult simd = bake_packed(input, BakeSource::Normal, {}, Storage::Unorm16, "");
+    const bool previous = set_bake_simd(false);
+    const PackedBakeResult scalar =
+        bake_packed(input, BakeSource::Normal, {}, Storage::Unorm16, "");
+    set_bake_simd(previous);
+    EXPECT_EQ(simd.summary.mean_slope, scalar.summary.mean_slope);
+    EXPECT_EQ(simd.summary.max_slope, scalar.summary.max_slope);
+}
+
+TEST(BakeFastPath, RoundingShortcutEqualsStdRound) {
+    // The AVX2 packers quantise with trunc(x + (0.5 - 2^-25)) instead of std::round(x) for x in
+    // [0, 65535] (checked for every float there once, docs/perf.md); here every float in
+    // [0.25, 2) and the 32 floats around every half-integer up to 65535.5.
+    const float below_half = 0.5f - std::ldexp(1.0f, -25);
+    auto check = [&](float x) {
+        ASSERT_EQ(int(x + below_half), int(std::round(x))) << x;
+    };
+    for (float x = 0.25f; x < 2.0f; x = std::nextafter(x, 1e9f)) check(x);
+    for (int k = 0; k <= 65535; ++k) {
+        const float tie = float(k) + 0.5f;
+        float down = tie, up = tie;
+        for (int i = 0; i < 16; ++i) {
+            check(down);
+            check(up);
+            down = std::nextafter(down, 0.0f);
+            up = std::nextafter(up, 1e9f);
+        }
+    }
+}
+
+TEST(BakeFastPath, ReusedResultEqualsAFreshOne) {
+    PackedBakeResult reused;
+    for (auto [w, h, storage] :
+         {std::tuple{64, 64, Storage::Unorm16}, std::tuple{37, 23, Storage::Float32},
+          std::tuple{64, 64, Storage::Unorm8}}) {
+        const Image input = normal_map(w, h, 3);
+        bake_packed_into(reused, input, BakeSource::Normal, {}, storage, "gen");
+        const PackedBakeResult fresh = bake_packed(input, BakeSource::Normal, {}, storage, "gen");
+        expect_same_packed(reused.packed, fresh.packed, std::to_string(w));
+    }
+}
+
+TEST(BakeFastPath, RefusesWhatTheReferenceRefusesWithTheSameMessage) {
+    auto message = [](auto&& bake) -> std::string {
+        try {
+            bake();
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<std::pair<std::string, Image>> inputs;
+    {
+        Image img = normal_map(40, 30, 3);
+        img.at(17, 21, 1) = nan;  // first in row-major order
+        img.at(3, 25, 2) = 0.2f;  // z < 0 later
+        inputs.push_back({"nan then negative z", img});
+    }
+    {
+        Image img = normal_map(40, 30, 3);
+        img.at(30, 2, 2) = 0.1f;  // z <= 0 first
+        img.at(5, 28, 0) = nan;   // NaN later (another thread's rows)
+        inputs.push_back({"negative z then nan", img});
+    }
+    {
+        Image img = normal_map(40, 30, 4);
+        img.at(9, 4, 0) = 1.0e9f;  // slope ~1e9: steeper than kMaxSlope
+        img.at(33, 29, 2) = 0.0f;  // ... but a bad z anywhere is reported first
+        inputs.push_back({"steep then bad z", img});
+    }
+    {
+        Image img = normal_map(40, 30, 3);
+        img.at(9, 4, 1) = -3.0e8f;  // steep in y
+        img.at(2, 20, 0) = 5.0e8f;
+        inputs.push_back({"two steep", img});
+    }
+    {
+        // Finite components near the float maximum: 2 n - 1 overflows, n.x / n.z is inf / inf.
+        Image img = normal_map(40, 30, 3);
+        img.at(5, 6, 0) = 3.0e38f;
+        img.at(5, 6, 2) = 3.0e38f;
+        inputs.push_back({"nan slope", img});
+    }
+    {
+        Image img = normal_map(40, 30, 3);
+        img.at(0, 0, 2) = std::numeric_limits<float>::infinity();
+        inputs.push_back({"inf", img});
+    }
+    {
+        Image img = height_map(40, 30);
+        img.at(12, 13) = nan;
+        inputs.push_back({"nan height", img});
+    }
+    {
+        Image img(2, 2, 2);
+        inputs.push_back({"two channels as normal map", img});
+    }
+    for (int threads : {1, 2, 3}) {
+        BakeOptions options;
+        options.threads = threads;
+        for (const auto& [name, img] : inputs) {
+            const BakeSource source =
+                name == "nan height" ? BakeSource::Height : BakeSource::Normal;
+            const std::string ref = message([&] { bake_lean_map(img, source, options, "f.png"); });
+            const std::string fast =
+                message([&] { bake_packed(img, source, options, Storage::Unorm16, "g", "f.png"); });
+            EXPECT_NE(ref, "(no error)") << name;
+            EXPECT_EQ(fast, ref) << name << " threads " << threads;
+        }
+    }
+}

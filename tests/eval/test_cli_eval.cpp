@@ -1,0 +1,120 @@
+// `leanfade eval` and `leanfade calibrate` as a user runs them: the files, the report, and
+// one-line errors naming the flag.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+
+namespace leanfade::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "eval" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::size_t count_lines(const std::string& text) {
+    return std::size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(CliEval, WritesCsvJsonPlotsAndReport) {
+    const fs::path dir = scratch("cli_eval");
+    const RunResult r = run_leanfade(
+        "eval --scene sphere --techniques bump,toksvig,clean,lean,fade --distances 3:12:2 "
+        "--shininess 128,2048 --spp 4 --frames 3 --size 48x40 --texture-size 64 --out " +
+            shell_quote((dir / "out").string()),
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << "no progress bar when stderr is not a terminal: " << r.err;
+    const std::string csv = read_text(dir / "out" / "results.csv");
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "technique,distance,shininess,energy,rmse,ssim,flicker");
+    EXPECT_EQ(count_lines(csv), 1u + 5u * 2u * 2u);
+    const nlohmann::json json = nlohmann::json::parse(read_text(dir / "out" / "results.json"));
+    EXPECT_EQ(json["sweep"]["distances"], nlohmann::json({3, 12}));
+    EXPECT_EQ(json["cases"].size(), 20u);
+    EXPECT_TRUE(json["definitions"].contains("flicker"));
+    EXPECT_EQ(json["sweep"]["preset"]["scene"], "sphere");
+    for (const char* f : {"index.html", "energy.png", "rmse.png", "ssim.png", "flicker.png",
+                          "images/s2048_d12_reference.png", "images/s128_d3_toksvig.png"})
+        EXPECT_TRUE(fs::is_regular_file(dir / "out" / f)) << f;
+    EXPECT_NE(r.out.find("results.csv: 20 cases"), std::string::npos) << r.out;
+
+    // --replot redraws from results.json without a GL context.
+    fs::remove(dir / "out" / "energy.png");
+    const RunResult again =
+        run_leanfade("eval --replot " + shell_quote((dir / "out").string()), dir);
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "energy.png"));
+    EXPECT_EQ(read_text(dir / "out" / "results.csv"), csv);
+}
+
+TEST(CliEval, BadFlagsNameTheFlag) {
+    const fs::path dir = scratch("cli_eval_bad");
+    const struct {
+        const char* args;
+        const char* flag;
+    } cases[] = {
+        {"--spp 10", "--spp"},
+        {"--spp 0", "--spp"},
+        {"--frames 1", "--frames"},
+        {"--techniques lean,reference", "--techniques"},
+        {"--techniques lean,phong", "--techniques"},
+        {"--distances 1:64:8", "--distances"},
+        {"--shininess 0", "--shininess"},
+        {"--size 8x8", "--size"},
+        {"--motion 0", "--motion"},
+    };
+    for (const auto& c : cases) {
+        const RunResult r = run_leanfade(std::string("eval ") + c.args + " --out x", dir);
+        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(std::string("leanfade eval: ") + c.flag + ":"), std::string::npos)
+            << c.args << ": " << r.err;
+        EXPECT_EQ(count_lines(r.err), 1u) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "x")) << "nothing is written before the flags are checked";
+}
+
+TEST(CliCalibrate, FitsAnExponentialAndPlots) {
+    const fs::path dir = scratch("cli_calibrate");
+    const RunResult r = run_leanfade(
+        "calibrate --target exp:0.04 --scene sphere --distances 2:32:4 --size 64x64 "
+        "--texture-size 64 --shininess 256 --plot " +
+            shell_quote((dir / "fit.png").string()) + " --json " +
+            shell_quote((dir / "fit.json").string()),
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("Fade = "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("residual"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::is_regular_file(dir / "fit.png"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "fit.tsv"));
+    const nlohmann::json json = nlohmann::json::parse(read_text(dir / "fit.json"));
+    EXPECT_EQ(json["target"], "exp:0.04");
+    EXPECT_GT(json["fade"].get<double>(), 0.0);
+    EXPECT_EQ(json["points"].size(), 4u);
+    EXPECT_FALSE(json["pmax_fitted"].get<bool>());
+}
+
+TEST(CliCalibrate, BadTargetsNameTheFlag) {
+    const fs::path dir = scratch("cli_calibrate_bad");
+    for (const char* args : {"--target exp:-1", "--target sun", "--target fog"}) {
+        const RunResult r = run_leanfade(std::string("calibrate ") + args, dir);
+        EXPECT_EQ(r.exit_code, 1) << args;
+        EXPECT_NE(r.err.find("leanfade calibrate: --target:"), std::string::npos)
+            << args << ": " << r.err;
+    }
+    const RunResult missing = run_leanfade("calibrate --scene sphere", dir);
+    EXPECT_EQ(missing.exit_code, 2) << "CLI11 reports the missing required flag";
+    EXPECT_NE(missing.err.find("--target"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace leanfade::test

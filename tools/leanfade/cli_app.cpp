@@ -1,0 +1,72 @@
+// The leanfade command line: the subcommand registry, CLI11 parsing and one-line error reports.
+#include "cli_app.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+
+namespace leanfade::cli {
+
+std::vector<Command>& command_registry() {
+    static std::vector<Command> commands;
+    return commands;
+}
+
+bool stderr_is_terminal() { return isatty(STDERR_FILENO) != 0; }
+
+int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
+    CLI::App app{
+        "leanfade: LEAN mapping and specular fading toolkit (version " LEANFADE_VERSION ")",
+        "leanfade"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("leanfade ") + LEANFADE_VERSION);
+
+    auto& commands = command_registry();
+    std::sort(commands.begin(), commands.end(),
+              [](const Command& a, const Command& b) { return a.name < b.name; });
+    std::vector<std::pair<CLI::App*, Runner>> runners;
+    for (const Command& command : commands) {
+        CLI::App* sub = app.add_subcommand(command.name, command.description);
+        runners.emplace_back(sub, command.setup(*sub));
+    }
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // One line, naming the cause; CLI11's default adds a second line.
+        std::fprintf(stderr, "leanfade: %s (see leanfade --help)\n", e.what());
+        return 2;
+    }
+    if (options.parse_only) return 0;
+
+    for (auto& [sub, run] : runners) {
+        if (!sub->parsed()) continue;
+        try {
+            return run();
+        } catch (const leanfade::Error& e) {
+            std::fprintf(stderr, "leanfade %s: %s\n", sub->get_name().c_str(), e.what());
+            return 1;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "leanfade %s: internal error: %s\n", sub->get_name().c_str(),
+                         e.what());
+            return 3;
+        }
+    }
+    return 2;
+}
+
+}  // namespace leanfade::cli

@@ -1,0 +1,90 @@
+// Presets on the command line: preset values as flag defaults, explicit flags on top.
+#include "cli_preset.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/gl/renderer.hpp"
+
+namespace leanfade::cli {
+
+void set_shading_flags(const ShadingSettings& settings, ShadingFlags& flags) {
+    flags.settings = settings;
+    // Empty vector flags keep flags.settings' values (see resolve_shading).
+    flags.light_dir.clear();
+    flags.light_color.clear();
+    flags.ambient.clear();
+    flags.kd.clear();
+    flags.ks.clear();
+    flags.fog_color.clear();
+    flags.fade_distance = to_string(settings.fade_distance);
+    flags.fog = to_string(settings.fog);
+}
+
+void set_source_flags(const BumpSource& source, LeanSourceFlags& flags) {
+    flags.bumps = source.source;
+    flags.from = source.from;
+    flags.directx = source.directx;
+    flags.bits = source.bits;
+    flags.seed = source.seed;
+    flags.texture_size = source.texture_size;
+}
+
+BumpSource to_bump_source(const LeanSourceFlags& flags) {
+    BumpSource source;
+    source.source = flags.bumps;
+    source.from = flags.from;
+    source.directx = flags.directx;
+    source.bits = flags.bits;
+    source.seed = flags.seed;
+    source.texture_size = flags.texture_size;
+    return source;
+}
+
+void reapply_explicit_options(CLI::App& app) {
+    for (CLI::Option* option : app.get_options())
+        if (option->count() > 0) option->run_callback();
+}
+
+void check_preset_techniques(const Preset& preset, const std::string& file) {
+    for (const std::string& name : preset.techniques)
+        gl::parse_technique(name, file + ": key 'view.techniques'");
+}
+
+std::string number_text(float value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+std::string vector_text(const glm::vec3& v) {
+    return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
+}
+
+std::string join(const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& n : names) text += (text.empty() ? "" : ",") + n;
+    return text;
+}
+
+glm::vec3 parse_vector(const std::string& text, const std::string& flag) {
+    glm::vec3 v(0.0f);
+    std::size_t start = 0;
+    for (int i = 0; i < 3; ++i) {
+        const std::size_t comma = text.find(',', start);
+        const bool last = i == 2;
+        if ((comma == std::string::npos) != last)
+            throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+        const std::string part = text.substr(start, last ? std::string::npos : comma - start);
+        char* end = nullptr;
+        v[i] = std::strtof(part.c_str(), &end);
+        if (part.empty() || end == nullptr || *end != 0 || !std::isfinite(v[i]))
+            throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+        start = comma + 1;
+    }
+    return v;
+}
+
+}  // namespace leanfade::cli

@@ -1,0 +1,307 @@
+// leanfade bench: frame times of the techniques by the papers' protocol (one object filling the
+// screen, then near / mid / far), with overhead ratios from interleaved frames; --bake: bake
+// throughput against the memory bandwidth; --generate: per-frame LEAN map generation on the GPU.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "cli_bench_bake.hpp"
+#include "cli_bench_report.hpp"
+#include "cli_render_options.hpp"
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/frame_bench.hpp"
+#include "leanfade/gl/generate.hpp"
+#include "leanfade/gl/renderer.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/scene/scene.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BenchArgs {
+    std::string size = "1600x1200";
+    std::string scenes = "sphere,torus,teapot,terrain";
+    std::string techniques;  // empty: every real-time technique of this build
+    std::string distances = "3,8,24";
+    bool no_fill = false;
+    bool no_floor = false;
+    int frames = 20;
+    int warmup = 3;
+    std::string timing = "auto";
+    std::string json;
+    bool bake = false;
+    std::string bake_sizes = "1024,2048,4096,8192";
+    int bake_runs = 0;
+    int threads = 0;
+    bool generate = false;
+    std::string generate_sizes = "512,1024,2048,4096";
+    ShadingFlags shading;
+    LeanSourceFlags source;
+    GlFlags gl;
+};
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        parts.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return parts;
+}
+
+std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low,
+                             int high) {
+    std::vector<int> sizes;
+    for (const std::string& part : split_list(text)) {
+        char* end = nullptr;
+        const long value = std::strtol(part.c_str(), &end, 10);
+        if (part.empty() || *end != 0)
+            throw Error(flag, "expected comma-separated sizes in texels, got '" + text + "'");
+        if (value < low || value > high)
+            throw Error(flag, "sizes must be in [" + std::to_string(low) + ", " +
+                                  std::to_string(high) + "], got " + part);
+        sizes.push_back(int(value));
+    }
+    return sizes;
+}
+
+// Every real-time technique this build knows (the reference is offline), in the papers' order.
+std::string default_techniques() {
+    std::string list;
+    for (const char* name : {"bump", "toksvig", "clean", "lean", "fade"}) {
+        try {
+            gl::parse_technique(name);
+        } catch (const Error&) {
+            continue;  // not in this build
+        }
+        list += (list.empty() ? "" : ",") + std::string(name);
+    }
+    return list;
+}
+
+Storage parse_bits(const std::string& bits) {
+    if (bits == "8") return Storage::Unorm8;
+    if (bits == "16") return Storage::Unorm16;
+    if (bits == "16f") return Storage::Float16;
+    if (bits == "32f") return Storage::Float32;
+    throw Error("--bits", "expected 8, 16, 16f or 32f, got '" + bits + "'");
+}
+
+std::unique_ptr<gl::Context> make_context(const GlFlags& flags) {
+    gl::ContextOptions options;
+    options.device = flags.egl_device;
+    options.debug = false;  // no debug context: it slows some drivers down
+    return std::make_unique<gl::Context>(options);
+}
+
+std::vector<GenerateBenchRow> run_generate_bench(gl::Context& context, const BenchArgs& args,
+                                                 const std::vector<int>& sizes, Storage storage,
+                                                 float strength,
+                                                 const std::function<void(const std::string&)>& say,
+                                                 gl::TimingChoice& timing) {
+    timing = gl::choose_timing(gl::parse_timing_method(args.timing), context);
+    gl::LeanGenerator generator(context, args.gl.shader_dir.empty()
+                                             ? gl::ShaderSources::embedded()
+                                             : gl::ShaderSources::directory(args.gl.shader_dir));
+    gl::IntervalTimer timer(timing.method);
+    std::vector<GenerateBenchRow> rows;
+    for (int size : sizes) {
+        say("generating " + std::to_string(size) + "^2 on the GPU");
+        const Image height = tiled_bumps_height(size);
+        BakeOptions bake_options;
+        bake_options.strength = strength;
+        const SlopeResult slopes = slopes_from_height(height, bake_options, "bench");
+        float max_b = 0.0f;
+        for (float v : slopes.slopes.pixels) max_b = std::max(max_b, std::abs(v));
+        gl::GenerateOptions options;
+        options.strength = strength;
+        options.scale = std::max(max_b, 1e-6f);
+        options.storage = storage;
+        generator.set_source(height, gl::GenerateInput::Height);
+        const gl::GenerationTimes times =
+            gl::time_generation(generator, options, args.frames, args.warmup, timer);
+        GenerateBenchRow row;
+        row.size = size;
+        row.storage = to_string(storage);
+        row.pass = gl::sample_stats(times.pass_ms);
+        row.mipmap = gl::sample_stats(times.mipmap_ms);
+        std::vector<double> total;
+        for (std::size_t i = 0; i < times.pass_ms.size(); ++i)
+            total.push_back(times.pass_ms[i] + times.mipmap_ms[i]);
+        row.total = gl::sample_stats(total);
+        row.texels_per_second =
+            row.total.median > 0.0 ? double(size) * double(size) / (row.total.median * 1e-3)
+                                   : 0.0;
+        rows.push_back(row);
+    }
+    context.check("per-frame generation");
+    return rows;
+}
+
+int run_bench(const BenchArgs& args) {
+    // Every flag is checked before anything is measured.
+    const ShadingSettings settings = resolve_shading(args.shading);
+    const bool frames_mode = !args.bake && !args.generate;
+    gl::FrameBenchRequest request;
+    std::tie(request.width, request.height) = parse_size(args.size, "--size");
+    request.techniques = gl::parse_techniques(
+        args.techniques.empty() ? default_techniques() : args.techniques, "--techniques");
+    request.distances = args.distances.empty() || args.distances == "none"
+                            ? std::vector<float>{}
+                            : parse_distances(args.distances, "--distances");
+    request.fill = !args.no_fill;
+    request.floor = !args.no_floor;
+    request.frames = args.frames;
+    request.warmup = args.warmup;
+    request.timing = gl::parse_timing_method(args.timing, "--timing");
+    request.settings = settings;
+    gl::validate_frame_bench(request);
+    const std::vector<std::string> scene_names = split_list(args.scenes);
+    for (std::size_t i = 0; i < scene_names.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+            if (scene_names[i] == scene_names[j])
+                throw Error("--scenes", "scene '" + scene_names[i] + "' given twice");
+    const std::vector<int> bake_sizes =
+        parse_sizes(args.bake_sizes, "--bake-sizes", 4, kDefaultMaxImageDimension);
+    const std::vector<int> generate_sizes =
+        parse_sizes(args.generate_sizes, "--generate-sizes", 4, kDefaultMaxImageDimension);
+    const Storage storage = parse_bits(args.source.bits);
+    if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
+    if (args.bake_runs < 0 || args.bake_runs > 1000)
+        throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");
+    if (!args.json.empty()) {
+        const fs::path parent = fs::path(args.json).parent_path();
+        if (!parent.empty() && !fs::is_directory(parent))
+            throw Error(args.json, "its folder does not exist");
+    }
+
+    const bool tty = stderr_is_terminal();
+    auto say = [&](const std::string& text) {
+        if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
+    };
+    BenchSystem system = describe_system();
+    nlohmann::json root = {{"tool", "leanfade bench"}, {"version", LEANFADE_VERSION}};
+    std::string report;
+
+    std::unique_ptr<gl::Context> context;
+    if (frames_mode || args.generate) {
+        context = make_context(args.gl);
+        system.gl_renderer = context->renderer();
+        system.gl_version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    }
+
+    if (frames_mode) {
+        say("loading the scenes and the LEAN map...");
+        std::vector<scene::Mesh> meshes;
+        for (const std::string& name : scene_names) meshes.push_back(scene::make_scene_mesh(name));
+        std::vector<gl::FrameBenchScene> scenes;
+        for (std::size_t i = 0; i < meshes.size(); ++i)
+            scenes.push_back({scene_names[i], &meshes[i]});
+        const PackedLeanMap map = load_lean_map(args.source, settings);
+        gl::Renderer renderer(*context, args.gl.shader_dir.empty()
+                                            ? gl::ShaderSources::embedded()
+                                            : gl::ShaderSources::directory(args.gl.shader_dir));
+        renderer.set_lean_map(map);
+        const gl::FrameBenchResult result =
+            gl::run_frame_bench(renderer, scenes, request, [&](int done, int total) {
+                say("measuring view " + std::to_string(done) + "/" + std::to_string(total) +
+                    " on " + context->renderer());
+            });
+        system.timing = gl::to_string(result.timing.method);
+        system.timing_description = result.timing.description;
+        report += frame_tables(result, request);
+        root["frames"] = frame_json(result, request);
+        root["frames"]["lean_map"] = {{"bumps", args.source.bumps},
+                                      {"texture_size", map.levels.front().width},
+                                      {"storage", to_string(map.storage)}};
+    }
+    if (args.bake) {
+        const BakeBenchResult bake = run_bake_bench(bake_sizes, args.threads, args.bake_runs, say);
+        report += bake_table(bake);
+        root["bake"] = bake_json(bake);
+    }
+    if (args.generate) {
+        gl::TimingChoice timing;
+        const std::vector<GenerateBenchRow> rows = run_generate_bench(
+            *context, args, generate_sizes, storage, settings.bump_strength, say, timing);
+        system.timing = gl::to_string(timing.method);
+        system.timing_description = timing.description;
+        report += generate_table(rows);
+        root["generate"] = generate_json(rows);
+        root["generate_settings"] = {{"frames", args.frames}, {"warmup", args.warmup}};
+    }
+    if (tty) std::fprintf(stderr, "\r\033[K");
+
+    std::fputs((system_header(system) + report).c_str(), stdout);
+    root["system"] = system_json(system);
+    if (!args.json.empty()) {
+        const std::string text = root.dump(2) + "\n";
+        io::AtomicFile file(args.json);
+        file.write(text.data(), text.size());
+        file.commit();
+        std::printf("\nJSON written to %s\n", args.json.c_str());
+    }
+    return 0;
+}
+
+const CommandRegistration registration{
+    "bench",
+    "Measure frame times of the techniques by the papers' protocol (object filling the screen, "
+    "near / mid / far) with overhead ratios; --bake: bake throughput; --generate: per-frame "
+    "LEAN map generation on the GPU",
+    [](CLI::App& app) -> Runner {
+        auto args = std::make_shared<BenchArgs>();
+        args->source.texture_size = 1024;
+        app.add_option("--size", args->size, "Framebuffer size, WIDTHxHEIGHT pixels")
+            ->capture_default_str();
+        app.add_option("--scenes", args->scenes,
+                       "Objects, comma-separated: sphere, torus, teapot, terrain, plane, .obj")
+            ->capture_default_str();
+        app.add_option("--techniques", args->techniques,
+                       "Techniques, comma-separated (default: every real-time technique: " +
+                           default_techniques() + ")");
+        app.add_option("--distances", args->distances,
+                       "Camera distances of the near / mid / far views in bounding radii (> 1), "
+                       "or 'none'")
+            ->capture_default_str();
+        app.add_flag("--no-fill", args->no_fill, "Skip the object-filling-the-screen view");
+        app.add_flag("--no-floor", args->no_floor, "Skip the constant-colour fill-rate floor");
+        app.add_option("--frames", args->frames,
+                       "Timed frames per technique and view (generation: per size)")
+            ->capture_default_str();
+        app.add_option("--warmup", args->warmup, "Untimed frames first")->capture_default_str();
+        app.add_option("--timing", args->timing,
+                       "auto (GPU timer queries unless the renderer is a software one), gpu "
+                       "(GL_TIME_ELAPSED) or cpu (glFinish + steady clock)")
+            ->capture_default_str();
+        app.add_option("--json", args->json, "Also write the results as JSON");
+        app.add_flag("--bake", args->bake,
+                     "Measure bake throughput (MB/s, texels/s) against the memory bandwidth");
+        app.add_option("--bake-sizes", args->bake_sizes, "Sizes of --bake, texels per side")
+            ->capture_default_str();
+        app.add_option("--bake-runs", args->bake_runs,
+                       "Timed bakes per size (0: 5 up to 2048, 3 at 4096, 2 above)")
+            ->capture_default_str();
+        app.add_option("--threads", args->threads, "Bake threads (0 = all hardware threads)")
+            ->capture_default_str();
+        app.add_flag("--generate", args->generate,
+                     "Measure per-frame LEAN map generation on the GPU");
+        app.add_option("--generate-sizes", args->generate_sizes,
+                       "Sizes of --generate, texels per side")
+            ->capture_default_str();
+        add_shading_options(app, args->shading);
+        add_lean_source_options(app, args->source);
+        add_gl_options(app, args->gl);
+        return [args] { return run_bench(*args); };
+    }};
+
+}  // namespace
+}  // namespace leanfade::cli

@@ -1,0 +1,184 @@
+// leanfade calibrate: gives specular fading (the fading paper, eq. 6-7) a physical handle. Finds
+// Fade (and Pmax with --fit-pmax) so that fade's specular energy relative to LEAN's, over a sweep
+// of camera distances, follows exp(-SIGMA d), the scene fog's transmittance or the supersampled
+// truth's specular energy relative to LEAN's in least squares;
+// prints the parameters and the residual, and plots target versus achieved.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "cli_render_options.hpp"
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/eval/calibration.hpp"
+#include "leanfade/eval/results.hpp"
+#include "leanfade/eval/runner.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/renderer.hpp"
+#include "leanfade/scene/scene.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateArgs {
+    std::string target;
+    bool fit_pmax = false;
+    std::string scene = "teapot";
+    std::string distances = "2:64:10";
+    std::string size = "128x128";
+    float fov = gl::kDefaultFovYDegrees;
+    std::string plot = "calibration.png";
+    std::string json;
+    int spp = 64;
+    ShadingFlags shading;
+    LeanSourceFlags source;
+    GlFlags gl;
+};
+
+std::string plot_script(const eval::FadeCalibration& c, const std::string& target,
+                        const std::string& plot_file, const std::string& data_file) {
+    std::ostringstream gp;
+    gp << "# gnuplot script written by leanfade calibrate\n"
+       << "set terminal pngcairo size 640,420 font 'sans,10'\n"
+       << "set output '" << plot_file << "'\n"
+       << "set logscale x 2\nset grid\nset key top right\n"
+       << "set xlabel 'camera distance (bounding radii)'\n"
+       << "set ylabel 'specular energy, fade / lean'\n"
+       << "set yrange [0:1.05]\n"
+       << "set title 'target " << target << ": Fade = " << c.fit.fade << ", Pmax = " << c.fit.pmax
+       << "'\n"
+       << "plot '" << data_file << "' using 1:2 with lines lw 2 lc rgb '#000000' title 'target', "
+       << "'' using 1:4 with linespoints lw 2 pt 7 lc rgb '#2ca02c' title 'achieved (rendered)', "
+       << "'' using 1:3 with points pt 6 ps 2 lc rgb '#1f77b4' title 'model of the fit'\n";
+    return gp.str();
+}
+
+int run_calibrate(const CalibrateArgs& args) {
+    if (args.target.empty()) throw Error("--target", "required: exp:SIGMA, fog or reference");
+    const eval::FadeTarget target = eval::parse_fade_target(args.target, "--target");
+    eval::FadeCalibrationRequest request;
+    request.settings = resolve_shading(args.shading);
+    request.target = target;
+    request.fit_pmax = args.fit_pmax;
+    request.cameras.distances = eval::parse_distance_sweep(args.distances, "--distances");
+    std::tie(request.cameras.width, request.cameras.height) = parse_size(args.size, "--size");
+    if (!(args.fov > 1.0f && args.fov < 170.0f))
+        throw Error("--fov", "must be in (1, 170) degrees");
+    request.cameras.fov_y_degrees = args.fov;
+    // Checked before rendering: fog needs the scene's fog.
+    if (target.kind != eval::FadeTarget::Kind::Reference)
+        eval::target_attenuation(target, request.cameras.distances, request.settings);
+    const int k = int(std::lround(std::sqrt(double(std::max(args.spp, 0)))));
+    if (args.spp < 1 || k * k != args.spp || k > 16)
+        throw Error("--spp",
+                    "the reference takes k x k samples per pixel: 1, 4, 9, ..., 256, "
+                    "got " +
+                        std::to_string(args.spp));
+    request.reference_samples = k;
+
+    const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
+    const PackedLeanMap map = load_lean_map(args.source, request.settings);
+    gl::ContextOptions context_options;
+    context_options.device = args.gl.egl_device;
+    gl::Context context(context_options);
+    gl::Renderer renderer(context, args.gl.shader_dir.empty()
+                                       ? gl::ShaderSources::embedded()
+                                       : gl::ShaderSources::directory(args.gl.shader_dir));
+    renderer.set_mesh(mesh);
+    renderer.set_lean_map(map);
+    const eval::FadeCalibration c = eval::calibrate_fade(renderer, request);
+
+    std::printf("target %s over %zu distances (%g to %g bounding radii), %s / %s\n",
+                eval::to_string(target).c_str(), c.distances.size(), c.distances.front(),
+                c.distances.back(), args.scene.c_str(), args.source.bumps.c_str());
+    std::printf("Fade = %.6g per bounding radius, Pmax = %.6g%s, p = %g, distance %s\n", c.fit.fade,
+                c.fit.pmax, args.fit_pmax ? "" : " (fixed)", request.settings.fade_exponent,
+                to_string(request.settings.fade_distance));
+    std::printf("residual (RMS of fade/lean energy - target): model %.4g, rendered %.4g\n",
+                c.fit.residual, c.achieved_residual);
+    std::printf("%9s %9s %9s %9s\n", "distance", "target", "model", "achieved");
+    for (std::size_t i = 0; i < c.distances.size(); ++i)
+        std::printf("%9g %9.4f %9.4f %9.4f\n", c.distances[i], c.target[i], c.fit.model[i],
+                    c.achieved[i]);
+
+    if (!args.plot.empty()) {
+        const fs::path plot = fs::absolute(args.plot);
+        const fs::path data = fs::path(plot).replace_extension(".tsv");
+        const fs::path script = fs::path(plot).replace_extension(".gp");
+        std::ostringstream tsv;
+        tsv << "# distance target model achieved\n";
+        for (std::size_t i = 0; i < c.distances.size(); ++i)
+            tsv << c.distances[i] << "\t" << c.target[i] << "\t" << c.fit.model[i] << "\t"
+                << c.achieved[i] << "\n";
+        eval::write_text_file(data.string(), tsv.str());
+        eval::write_text_file(script.string(),
+                              plot_script(c, eval::to_string(target), plot.filename().string(),
+                                          data.filename().string()));
+        std::string note;
+        if (eval::run_gnuplot(script.string(), note))
+            std::printf("plot: %s\n", plot.string().c_str());
+        else
+            std::fprintf(stderr, "leanfade calibrate: %s\n", note.c_str());
+    }
+    if (!args.json.empty()) {
+        std::ostringstream j;
+        j << "{\n  \"target\": \"" << eval::to_string(target) << "\",\n  \"fade\": " << c.fit.fade
+          << ",\n  \"pmax\": " << c.fit.pmax
+          << ",\n  \"pmax_fitted\": " << (args.fit_pmax ? "true" : "false")
+          << ",\n  \"fade_exponent\": " << request.settings.fade_exponent
+          << ",\n  \"residual_model\": " << c.fit.residual
+          << ",\n  \"residual_rendered\": " << c.achieved_residual << ",\n  \"points\": [";
+        for (std::size_t i = 0; i < c.distances.size(); ++i)
+            j << (i ? "," : "") << "\n    {\"distance\": " << c.distances[i]
+              << ", \"target\": " << c.target[i] << ", \"model\": " << c.fit.model[i]
+              << ", \"achieved\": " << c.achieved[i] << "}";
+        j << "\n  ]\n}\n";
+        eval::write_text_file(args.json, j.str());
+    }
+    return 0;
+}
+
+const CommandRegistration registration{
+    "calibrate",
+    "Fit specular fading (Fade, optionally Pmax) so that fade's energy relative to LEAN follows "
+    "exp(-SIGMA d), the scene's fog or the supersampled truth over distance",
+    [](CLI::App& app) -> Runner {
+        auto args = std::make_shared<CalibrateArgs>();
+        app.add_option("--target", args->target,
+                       "Attenuation to follow: exp:SIGMA (per bounding radius), fog (the --fog "
+                       "settings' transmittance) or reference (the supersampled truth's specular "
+                       "energy relative to LEAN's)")
+            ->required();
+        app.add_option("--spp", args->spp,
+                       "Reference samples per pixel for --target reference (k x k; more where "
+                       "the object is small)")
+            ->capture_default_str();
+        app.add_flag("--fit-pmax", args->fit_pmax, "Fit Pmax too (otherwise --pmax is kept)");
+        app.add_option("--scene", args->scene,
+                       "Object: sphere, torus, teapot, terrain, plane or an .obj file")
+            ->capture_default_str();
+        app.add_option("--distances", args->distances,
+                       "Camera distances in bounding radii: A:B:N (log-spaced) or a comma list")
+            ->capture_default_str();
+        app.add_option("--size", args->size, "Frame WIDTHxHEIGHT pixels of the renders")
+            ->capture_default_str();
+        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
+            ->capture_default_str();
+        app.add_option("--plot", args->plot,
+                       "PNG of target versus achieved (gnuplot; empty: none); its .tsv data and "
+                       ".gp script are written beside it")
+            ->capture_default_str();
+        app.add_option("--json", args->json, "Also write the fit as JSON to this file");
+        add_shading_options(app, args->shading);
+        add_lean_source_options(app, args->source);
+        add_gl_options(app, args->gl);
+        return [args] { return run_calibrate(*args); };
+    }};
+
+}  // namespace
+}  // namespace leanfade::cli

@@ -1,0 +1,234 @@
+// leanfade eval: every technique against the supersampled ground truth (SPEC §7) over a sweep of
+// distances and shininesses: specular energy, error (relative RMSE, SSIM) and flicker, written
+// as results.csv, results.json, gnuplot plots and an index.html report.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "cli_render_options.hpp"
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/preset.hpp"
+#include "leanfade/eval/results.hpp"
+#include "leanfade/eval/runner.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/renderer.hpp"
+#include "leanfade/scene/scene.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+struct EvalArgs {
+    std::string scene = "teapot";
+    std::string techniques = "bump,toksvig,clean,lean,fade";
+    std::string distances = "2:64:6";
+    std::string shininess = "128,1024,13777";
+    int spp = 64;
+    int frames = 16;
+    float motion = 0.25f;
+    bool fixed_spp = false;
+    std::string size = "256x256";
+    float fov = gl::kDefaultFovYDegrees;
+    std::string out = "eval";
+    std::string replot;
+    ShadingFlags shading;
+    LeanSourceFlags source;
+    GlFlags gl;
+};
+
+std::string duration_text(double seconds) {
+    char buffer[32];
+    const int s = int(std::lround(seconds));
+    if (s >= 60)
+        std::snprintf(buffer, sizeof buffer, "%dm%02ds", s / 60, s % 60);
+    else
+        std::snprintf(buffer, sizeof buffer, "%ds", s);
+    return buffer;
+}
+
+// --replot: the plots, results.csv and index.html again from a folder's results.json.
+int run_replot(const std::string& folder) {
+    eval::SweepInfo info;
+    std::vector<eval::CaseResult> cases;
+    eval::read_results_json(folder + "/results.json", info, cases);
+    for (const std::string& note : eval::write_report(folder, info, cases, {}))
+        std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
+    std::printf("%s: redrew the plots and the report of %zu cases\n", folder.c_str(), cases.size());
+    return 0;
+}
+
+int run_eval(const EvalArgs& args) {
+    if (!args.replot.empty()) return run_replot(args.replot);
+    const auto start = std::chrono::steady_clock::now();
+    // Every flag is checked before anything is read or rendered.
+    eval::SweepRequest request;
+    request.settings = resolve_shading(args.shading);
+    request.techniques = gl::parse_techniques(args.techniques, "--techniques");
+    request.distances = eval::parse_distance_sweep(args.distances, "--distances");
+    request.shininesses = eval::parse_shininess_list(args.shininess, "--shininess");
+    std::tie(request.width, request.height) = parse_size(args.size, "--size");
+    const int k = int(std::lround(std::sqrt(double(std::max(args.spp, 0)))));
+    if (args.spp < 1 || k * k != args.spp || k > 16)
+        throw Error("--spp",
+                    "the reference takes k x k samples per pixel: 1, 4, 9, ..., 256, "
+                    "got " +
+                        std::to_string(args.spp));
+    request.reference_samples = k;
+    request.adaptive_reference = !args.fixed_spp;
+    request.frames = args.frames;
+    request.motion_pixels = args.motion;
+    if (!(args.fov > 1.0f && args.fov < 170.0f))
+        throw Error("--fov", "must be in (1, 170) degrees");
+    request.fov_y_degrees = args.fov;
+    request.background = glm::vec3(0.012f, 0.013f, 0.016f);
+    if (request.techniques.empty()) throw Error("--techniques", "no technique");
+    for (gl::Technique t : request.techniques)
+        if (t == gl::Technique::Reference)
+            throw Error("--techniques",
+                        "the reference is what every technique is measured against; list only "
+                        "bump, toksvig, clean, lean, fade");
+    if (args.frames < 2 || args.frames > 1000)
+        throw Error("--frames",
+                    "flicker needs 2 to 1000 frames, got " + std::to_string(args.frames));
+    if (!(args.motion > 0.0f && args.motion <= 4.0f))
+        throw Error("--motion", "the pan per frame must be in (0, 4] pixels");
+
+    const bool tty = stderr_is_terminal();
+    auto status = [&](const std::string& text) {
+        if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
+    };
+    status("loading " + args.scene + " and " + args.source.bumps + "...");
+    const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
+    const PackedLeanMap map = load_lean_map(args.source, request.settings);
+
+    gl::ContextOptions context_options;
+    context_options.device = args.gl.egl_device;
+    gl::Context context(context_options);
+    gl::Renderer renderer(context, args.gl.shader_dir.empty()
+                                       ? gl::ShaderSources::embedded()
+                                       : gl::ShaderSources::directory(args.gl.shader_dir));
+    renderer.set_mesh(mesh);
+    renderer.set_lean_map(map);
+
+    const auto sweep_start = std::chrono::steady_clock::now();
+    const eval::SweepOutput output = eval::run_sweep(renderer, request, [&](int done, int total) {
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start).count();
+        const int width = 30;
+        const int filled = done * width / std::max(total, 1);
+        const std::string bar =
+            std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.');
+        status("[" + bar + "] " + std::to_string(done) + "/" + std::to_string(total) + " frames, " +
+               duration_text(elapsed * (total - done) / std::max(done, 1)) + " left");
+    });
+    if (tty) std::fprintf(stderr, "\r\033[K");
+
+    eval::SweepInfo info;
+    info.scene = args.scene;
+    info.bumps = args.source.bumps;
+    for (gl::Technique t : request.techniques) info.techniques.push_back(gl::to_string(t));
+    info.distances = request.distances;
+    info.shininesses = request.shininesses;
+    info.width = request.width;
+    info.height = request.height;
+    info.fov_y_degrees = request.fov_y_degrees;
+    info.reference_samples = request.reference_samples;
+    info.adaptive_reference = request.adaptive_reference;
+    info.frames = request.frames;
+    info.motion_pixels = request.motion_pixels;
+    info.renderer = context.renderer();
+    Preset preset;
+    preset.scene = args.scene;
+    preset.bumps.source = args.source.bumps;
+    preset.bumps.from = args.source.from;
+    preset.bumps.directx = args.source.directx;
+    preset.bumps.bits = args.source.bits;
+    preset.bumps.seed = args.source.seed;
+    preset.bumps.texture_size = args.source.texture_size;
+    preset.shading = request.settings;
+    preset.camera.direction = request.view_direction;
+    preset.camera.fov_y_degrees = request.fov_y_degrees;
+    preset.techniques = info.techniques;
+    info.preset_json = preset_to_json(preset);
+    info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    const std::vector<std::string> notes =
+        eval::write_report(args.out, info, output.cases, output.images);
+
+    std::printf("%-9s %8s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
+                "energy", "rmse", "ssim", "flicker", "refspp");
+    bool any_flagged = false;
+    for (const eval::CaseResult& c : output.cases) {
+        const bool flagged = !(c.reference_energy_error <= eval::kUnconvergedEnergyError);
+        any_flagged = any_flagged || flagged;
+        std::printf("%-9s %8g %9g %9.4g %9.4g %7.4f %8.3g %6d%s\n", c.technique.c_str(), c.distance,
+                    c.shininess, c.energy, c.rmse, c.ssim, c.flicker, c.reference_spp,
+                    flagged ? " *" : "");
+    }
+    std::printf(
+        "energy: specular / reference's; rmse: relative to the reference's mean; ssim: "
+        "sRGB; flicker: frame-to-frame change / reference's\n");
+    if (any_flagged)
+        std::printf(
+            "*: the reference's specular energy is uncertain by more than %.0f%% (not "
+            "converged)\n",
+            eval::kUnconvergedEnergyError * 100.0);
+    for (const std::string& note : notes) std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
+    std::printf("%s: %zu cases (%s, %s), %.1f s on %s; report %s/index.html\n",
+                (args.out + "/results.csv").c_str(), output.cases.size(), args.scene.c_str(),
+                args.source.bumps.c_str(), info.seconds, context.renderer().c_str(),
+                args.out.c_str());
+    return 0;
+}
+
+const CommandRegistration registration{
+    "eval",
+    "Measure each technique against the supersampled ground truth over distances and "
+    "shininesses: specular energy, error (RMSE, SSIM) and flicker; CSV, JSON, plots, HTML report",
+    [](CLI::App& app) -> Runner {
+        auto args = std::make_shared<EvalArgs>();
+        app.add_option("--scene", args->scene,
+                       "Object: sphere, torus, teapot, terrain, plane or an .obj file")
+            ->capture_default_str();
+        app.add_option("--techniques", args->techniques,
+                       "Techniques to measure, comma-separated: bump, toksvig, clean, lean, fade")
+            ->capture_default_str();
+        app.add_option("--distances", args->distances,
+                       "Camera distances in bounding radii: A:B:N (N log-spaced from A to B) or "
+                       "a comma list")
+            ->capture_default_str();
+        app.add_option("--spp", args->spp,
+                       "Reference samples per pixel (a square: k x k at LOD 0, SPEC §7)")
+            ->capture_default_str();
+        app.add_flag("--fixed-spp", args->fixed_spp,
+                     "Keep --spp at every distance (by default far, small objects get more "
+                     "samples per pixel, at most the full frame's samples per frame)");
+        app.add_option("--frames", args->frames, "Frames of the flicker measurement (>= 2)")
+            ->capture_default_str();
+        app.add_option("--motion", args->motion,
+                       "Camera pan per frame of the flicker measurement, pixels")
+            ->capture_default_str();
+        app.add_option("--size", args->size,
+                       "Frame WIDTHxHEIGHT pixels (only the object's square is rendered)")
+            ->capture_default_str();
+        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
+            ->capture_default_str();
+        app.add_option("--out", args->out,
+                       "Output folder: results.csv, results.json, plots, images/, index.html")
+            ->capture_default_str();
+        app.add_option("--replot", args->replot,
+                       "Only redraw the plots, results.csv and index.html of this folder from its "
+                       "results.json (no rendering)");
+        add_shading_options(app, args->shading);
+        // The sweep's list replaces the shading group's single --shininess.
+        app.remove_option(app.get_option("--shininess"));
+        app.add_option("--shininess", args->shininess, "Blinn-Phong exponents, comma-separated")
+            ->capture_default_str();
+        add_lean_source_options(app, args->source);
+        add_gl_options(app, args->gl);
+        return [args] { return run_eval(*args); };
+    }};
+
+}  // namespace
+}  // namespace leanfade::cli

@@ -1,0 +1,340 @@
+// The viewer's Dear ImGui panel: every parameter of the view, loading, presets, messages.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "app.hpp"
+#include "imgui_stdlib.h"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "leanfade/eval/runner.hpp"
+#include "leanfade/scene/scene.hpp"
+
+namespace leanfade::viewer {
+namespace {
+
+constexpr ImGuiSliderFlags kLog = ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp;
+constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;
+constexpr ImGuiColorEditFlags kColour = ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR;
+
+const ImVec4 kErrorColour(1.0f, 0.45f, 0.42f, 1.0f);
+const ImVec4 kStatusColour(0.55f, 0.85f, 0.55f, 1.0f);
+const ImVec4 kNoteColour(0.65f, 0.65f, 0.7f, 1.0f);
+
+void note(const char* text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kNoteColour);
+    ImGui::TextWrapped("%s", text);
+    ImGui::PopStyleColor();
+}
+
+// A combo over a list of names; returns true when the selection changed.
+bool combo(const char* label, int& index, const std::vector<std::string>& names) {
+    bool changed = false;
+    const char* preview =
+        index >= 0 && index < int(names.size()) ? names[std::size_t(index)].c_str() : "";
+    if (ImGui::BeginCombo(label, preview)) {
+        for (int i = 0; i < int(names.size()); ++i) {
+            const bool selected = i == index;
+            if (ImGui::Selectable(names[std::size_t(i)].c_str(), selected) && i != index) {
+                index = i;
+                changed = true;
+            }
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
+int index_of(const std::vector<std::string>& names, const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : int(it - names.begin());
+}
+
+}  // namespace
+
+void App::draw_panel() {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float scale = io.DisplayFramebufferScale.x > 0.0f ? io.DisplayFramebufferScale.x : 1.0f;
+    ImGui::SetNextWindowPos(ImVec2(0.0f, 0.0f));
+    ImGui::SetNextWindowSize(ImVec2(float(area_x_ > 0 ? area_x_ : 380) / scale, io.DisplaySize.y));
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                                   ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
+    if (ImGui::Begin("leanfade view", nullptr, flags)) {
+        ImGui::PushItemWidth(-150.0f);
+        panel_messages();
+        panel_view();
+        panel_camera();
+        panel_shading();
+        panel_bumps();
+        panel_files();
+        if (ImGui::CollapsingHeader("Mouse and keys")) {
+            ImGui::BulletText("left drag: orbit; right/middle or shift+left drag: pan");
+            ImGui::BulletText("wheel, +/- or PgUp/PgDn: zoom; arrows: orbit");
+            ImGui::BulletText("shift+arrows: pan; Home: reset the camera");
+            ImGui::BulletText("Space: fly away; T: next technique");
+            ImGui::BulletText("R: reload shaders; F12: screenshot");
+            ImGui::BulletText("F1: hide/show this panel; Esc: quit");
+            ImGui::BulletText("split view: drag the divider");
+        }
+        ImGui::PopItemWidth();
+    }
+    ImGui::End();
+}
+
+void App::panel_messages() {
+    ImGui::TextWrapped("%s", context_->renderer().c_str());
+    ImGui::Text("frame %.1f ms (%.0f fps)", frame_ms_, frame_ms_ > 0.0 ? 1000.0 / frame_ms_ : 0.0);
+    if (!session_->status().empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kStatusColour);
+        ImGui::TextWrapped("%s", session_->status().c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!session_->errors().empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, kErrorColour);
+        for (const std::string& e : session_->errors()) ImGui::TextWrapped("%s", e.c_str());
+        ImGui::PopStyleColor();
+        if (ImGui::SmallButton("clear messages")) session_->clear_errors();
+    }
+    ImGui::Separator();
+}
+
+void App::panel_view() {
+    if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    Preset& p = session_->preset();
+    static const std::vector<std::string> layouts{"single", "split (drag the divider)",
+                                                  "side by side (2)", "side by side (3)"};
+    int layout = int(layout_);
+    if (combo("layout", layout, layouts)) {
+        layout_ = Layout(layout);
+        // Distinct techniques in the visible panes.
+        for (int i = 1; i < pane_count(); ++i)
+            for (int j = 0; j < i; ++j)
+                if (chosen_[std::size_t(i)] == chosen_[std::size_t(j)]) {
+                    for (gl::Technique t : known_techniques())
+                        if (std::find(chosen_.begin(), chosen_.begin() + i, t) ==
+                            chosen_.begin() + i) {
+                            chosen_[std::size_t(i)] = t;
+                            break;
+                        }
+                }
+        apply_layout();
+    }
+    std::vector<std::string> names;
+    const std::vector<gl::Technique> all = known_techniques();
+    for (gl::Technique t : all) names.push_back(gl::to_string(t));
+    static const char* const two[] = {"left technique", "right technique"};
+    static const char* const three[] = {"left technique", "middle technique", "right technique"};
+    for (int i = 0; i < pane_count(); ++i) {
+        const char* label = pane_count() == 1 ? "technique" : pane_count() == 2 ? two[i] : three[i];
+        int index = index_of(names, gl::to_string(chosen_[std::size_t(i)]));
+        if (combo(label, index, names)) {
+            const gl::Technique picked = all[std::size_t(index)];
+            // Picking one shown in another pane swaps the two.
+            for (int j = 0; j < pane_count(); ++j)
+                if (j != i && chosen_[std::size_t(j)] == picked)
+                    chosen_[std::size_t(j)] = chosen_[std::size_t(i)];
+            chosen_[std::size_t(i)] = picked;
+            apply_layout();
+        }
+    }
+    if (layout_ == Layout::Split)
+        ImGui::SliderFloat("divider", &p.divider, 0.0f, 1.0f, "%.2f", kClamp);
+    ImGui::SliderInt("reference k", &p.reference_samples, 1, 16, "%d", kClamp);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Reference technique: k x k samples per pixel at LOD 0 (slow)");
+    ImGui::SliderFloat("resolution", &p.resolution_scale, 0.1f, 1.0f, "%.2f", kClamp);
+    if (pane_count() > 0 && panes_[0].canvas.width() > 0)
+        ImGui::Text("internal %dx%d per pane (%.0f%% of the window)", panes_[0].canvas.width(),
+                    panes_[0].canvas.height(), double(p.resolution_scale) * 100.0);
+    int timing = timing_mode_ == PaneTimer::Mode::Gpu ? 0 : 1;
+    ImGui::Text("frame time per pane:");
+    bool changed = ImGui::RadioButton("GPU queries", &timing, 0);
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton("CPU + glFinish", &timing, 1);
+    if (changed) {
+        timing_mode_ = timing == 0 ? PaneTimer::Mode::Gpu : PaneTimer::Mode::Cpu;
+        for (Pane& pane : panes_) pane.timer.reset();
+    }
+    if (software_renderer_)
+        note(timing_mode_ == PaneTimer::Mode::Cpu
+                 ? "Software renderer: CPU time is shown (its timer queries under-report)."
+                 : "Software renderer: timer queries under-report here; prefer CPU time.");
+    ImGui::Checkbox("redraw every frame", &continuous_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keeps the frame times current");
+}
+
+void App::panel_camera() {
+    if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    OrbitCamera& c = session_->camera();
+    if (ImGui::SliderFloat("distance (radii)", &c.distance, kMinOrbitDistance, 1000.0f, "%.2f",
+                           kLog))
+        fly_active_ = false;
+    ImGui::SliderFloat("yaw", &c.yaw_degrees, -180.0f, 180.0f, "%.1f deg", kClamp);
+    ImGui::SliderFloat("pitch", &c.pitch_degrees, -kMaxPitchDegrees, kMaxPitchDegrees, "%.1f deg",
+                       kClamp);
+    ImGui::SliderFloat("field of view", &c.fov_y_degrees, 5.0f, 120.0f, "%.1f deg", kClamp);
+    ImGui::DragFloat3("target (pan)", &c.target.x, 0.01f, -50.0f, 50.0f, "%.2f");
+    if (ImGui::Button("reset camera (Home)")) {
+        c = OrbitCamera(CameraSettings{});
+        fly_active_ = false;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("reset pan")) c.target = glm::vec3(0.0f);
+
+    bool fly = fly_active_;
+    if (ImGui::Checkbox("fly away (Space)", &fly)) set_fly_away(fly);
+    FlyAwaySettings& f = session_->preset().fly_away;
+    ImGui::SliderFloat("near", &f.near_distance, kMinOrbitDistance, 100.0f, "%.2f", kLog);
+    ImGui::SliderFloat("far", &f.far_distance, 2.0f, 1000.0f, "%.1f", kLog);
+    ImGui::SliderFloat("period (s)", &f.period, 0.5f, 60.0f, "%.1f", kLog);
+    f.far_distance = std::max(f.far_distance, f.near_distance * 1.01f);
+}
+
+void App::panel_shading() {
+    ShadingSettings& s = session_->preset().shading;
+    if (ImGui::CollapsingHeader("Light and material", ImGuiTreeNodeFlags_DefaultOpen)) {
+        glm::vec3 light = s.light_direction;
+        if (ImGui::SliderFloat3("light direction", &light.x, -1.0f, 1.0f, "%.2f", kClamp) &&
+            light != glm::vec3(0.0f))
+            s.light_direction = light;
+        ImGui::ColorEdit3("light colour", &s.light_color.x, kColour);
+        ImGui::ColorEdit3("ambient Ka", &s.ambient.x, kColour);
+        ImGui::ColorEdit3("diffuse Kd", &s.kd.x, kColour);
+        ImGui::ColorEdit3("specular Ks", &s.ks.x, kColour);
+        ImGui::SliderFloat("shininess s", &s.shininess, 1.0f, 20000.0f, "%.0f", kLog);
+        ImGui::SliderFloat("Fresnel bias", &s.fresnel_bias, 0.0f, 1.0f, "%.3f", kClamp);
+        ImGui::SliderFloat("Fresnel scale", &s.fresnel_scale, 0.0f, 1.0f, "%.3f", kClamp);
+        note("Colours are linear RGB.");
+    }
+    if (ImGui::CollapsingHeader("Specular fading", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::SliderFloat("Fade", &s.fade, 0.0f, 4.0f, "%.4f", kLog);
+        ImGui::SliderFloat("Pmax", &s.pmax, 1.0f, 256.0f, "%.2f", kLog);
+        ImGui::SliderFloat("exponent p", &s.fade_exponent, 0.25f, 8.0f, "%.2f", kClamp);
+        static const std::vector<std::string> modes{"tangent-z", "eye"};
+        int mode = s.fade_distance == FadeDistance::Eye ? 1 : 0;
+        if (combo("distance d", mode, modes))
+            s.fade_distance = mode == 1 ? FadeDistance::Eye : FadeDistance::TangentZ;
+        note("sf = clamp(1 + (d Fade)^p, 1, Pmax); Fade = 0 is plain LEAN.");
+        // `leanfade calibrate` for this view: Fade such that fade's specular energy relative to
+        // LEAN follows exp(-sigma d) (or the fog) over 2 to 64 radii along this direction.
+        static float sigma = 0.05f;
+        ImGui::SliderFloat("target sigma", &sigma, 0.001f, 1.0f, "%.4f", kLog);
+        const bool to_exp = ImGui::Button("fit Fade to exp(-sigma d)");
+        ImGui::SameLine();
+        const bool to_fog = ImGui::Button("fit Fade to the fog");
+        if (to_exp || to_fog) {
+            try {
+                eval::FadeCalibrationRequest request;
+                request.cameras.view_direction = session_->camera().direction();
+                request.cameras.fov_y_degrees = session_->camera().fov_y_degrees;
+                request.settings = s;
+                request.target.kind =
+                    to_fog ? eval::FadeTarget::Kind::Fog : eval::FadeTarget::Kind::Exponential;
+                request.target.sigma = sigma;
+                const eval::FadeCalibration c = eval::calibrate_fade(session_->renderer(), request);
+                s.fade = c.fit.fade;
+                char text[128];
+                std::snprintf(text, sizeof text, "Fade %.4g fits %s (RMS residual %.3f)",
+                              double(c.fit.fade), eval::to_string(request.target).c_str(),
+                              c.achieved_residual);
+                session_->report_status(text);
+            } catch (const Error& e) {
+                session_->report_error(e.what());
+            }
+        }
+    }
+    if (ImGui::CollapsingHeader("Fog")) {
+        static const std::vector<std::string> modes{"none", "linear", "exp", "exp2"};
+        int mode = index_of(modes, to_string(s.fog));
+        if (combo("fog", mode, modes)) s.fog = parse_fog_mode(modes[std::size_t(mode)]);
+        ImGui::ColorEdit3("fog colour", &s.fog_color.x, kColour);
+        ImGui::SliderFloat("fog start", &s.fog_start, 0.0f, 500.0f, "%.2f", kLog);
+        ImGui::SliderFloat("fog end", &s.fog_end, 0.01f, 1000.0f, "%.2f", kLog);
+        ImGui::SliderFloat("fog density", &s.fog_density, 0.0f, 2.0f, "%.4f", kLog);
+    }
+}
+
+void App::panel_bumps() {
+    if (!ImGui::CollapsingHeader("Scene, bumps and textures", ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    Preset& p = session_->preset();
+    ShadingSettings& s = p.shading;
+
+    ImGui::TextWrapped("%s", session_->mesh_description().c_str());
+    const std::vector<std::string> scenes = scene::builtin_scene_names();
+    int scene = index_of(scenes, p.scene);
+    if (combo("built-in scene", scene, scenes)) session_->load_scene(scenes[std::size_t(scene)]);
+    ImGui::InputText("OBJ file", &scene_field_);
+    ImGui::SameLine();
+    if (ImGui::Button("load##obj")) session_->load_scene(scene_field_);
+
+    ImGui::Separator();
+    ImGui::TextWrapped("bumps: %s (%s)", p.bumps.source.c_str(),
+                       session_->map_description().c_str());
+    const std::vector<std::string>& sets = builtin_bump_names();
+    int set = index_of(sets, p.bumps.source);
+    if (combo("built-in bumps", set, sets)) {
+        BumpSource source = p.bumps;
+        source.source = sets[std::size_t(set)];
+        if (session_->load_bumps(source)) bumps_field_ = source;
+    }
+    ImGui::InputText("image / .ktx2", &bumps_field_.source);
+    ImGui::SameLine();
+    if (ImGui::Button("load##bumps")) session_->load_bumps(bumps_field_);
+    int from = bumps_field_.from == "normal" ? 1 : 0;
+    if (ImGui::RadioButton("height map", &from, 0)) bumps_field_.from = "height";
+    ImGui::SameLine();
+    if (ImGui::RadioButton("normal map", &from, 1)) bumps_field_.from = "normal";
+    ImGui::SameLine();
+    ImGui::Checkbox("DirectX", &bumps_field_.directx);
+    static const std::vector<std::string> bits{"8", "16", "16f", "32f"};
+    int bit = index_of(bits, bumps_field_.bits);
+    if (combo("storage bits", bit, bits)) bumps_field_.bits = bits[std::size_t(bit)];
+    int seed = int(bumps_field_.seed);
+    if (ImGui::InputInt("seed", &seed)) bumps_field_.seed = std::uint32_t(std::max(0, seed));
+    static const std::vector<std::string> sizes{"64", "128", "256", "512", "1024", "2048"};
+    int size = index_of(sizes, std::to_string(bumps_field_.texture_size));
+    if (combo("texture size", size, sizes))
+        bumps_field_.texture_size = std::stoi(sizes[std::size_t(size)]);
+    if (ImGui::Button("bake / load with these settings")) session_->load_bumps(bumps_field_);
+
+    ImGui::SliderFloat("bump strength", &s.bump_strength, 0.05f, 20.0f, "%.3f", kLog);
+    if (ImGui::IsItemDeactivatedAfterEdit()) session_->rebake_bumps();
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Height per texel spacing; re-bakes height maps on release");
+    ImGui::SliderFloat("tiling", &s.tiling, 0.05f, 64.0f, "%.3f", kLog);
+    ImGui::SliderFloat("MIP bias", &s.mip_bias, -4.0f, 4.0f, "%.2f", kClamp);
+    ImGui::BeginDisabled(max_anisotropy_ <= 1.0f);
+    ImGui::SliderInt("anisotropy", &s.anisotropy, 1,
+                     std::max(1, std::min(16, int(max_anisotropy_))), "%d", kClamp);
+    ImGui::EndDisabled();
+    std::vector<std::string> msaa_names;
+    for (int m : {1, 2, 4, 8, 16})
+        if (m == 1 || m <= max_samples_) msaa_names.push_back(std::to_string(m));
+    int msaa = index_of(msaa_names, std::to_string(s.msaa));
+    if (combo("MSAA samples", msaa, msaa_names)) s.msaa = std::stoi(msaa_names[std::size_t(msaa)]);
+}
+
+void App::panel_files() {
+    if (!ImGui::CollapsingHeader("Presets, screenshots, shaders", ImGuiTreeNodeFlags_DefaultOpen))
+        return;
+    ImGui::InputText("preset", &preset_field_);
+    if (ImGui::Button("save preset")) session_->save_preset(preset_field_);
+    ImGui::SameLine();
+    if (ImGui::Button("load preset") && session_->load_preset(preset_field_)) sync_from_preset();
+
+    ImGui::InputTextWithHint("screenshot", "leanfade-view-NNN.png", &screenshot_field_);
+    if (ImGui::Button("save screenshot (F12)")) screenshot_requested_ = true;
+
+    ImGui::TextWrapped("shaders: %s", session_->shader_origin().c_str());
+    ImGui::BeginDisabled(!session_->shaders_reloadable());
+    if (ImGui::Button("reload shaders (R)")) session_->reload_shaders();
+    ImGui::EndDisabled();
+    if (!session_->shaders_reloadable())
+        note("Built-in shaders: run from a checkout or pass --shader-dir to edit them live.");
+}
+
+}  // namespace leanfade::viewer
