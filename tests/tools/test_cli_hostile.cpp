@@ -178,9 +178,8 @@ Bytes exr_with_values(int width, int height, const std::vector<float>& values) {
 
 Bytes pfm(const std::string& header, const std::vector<float>& values) {
     Bytes bytes(header.begin(), header.end());
-    const std::size_t start = bytes.size();
-    bytes.resize(start + 4 * values.size());
-    std::memcpy(bytes.data() + start, values.data(), 4 * values.size());  // little-endian host
+    const auto* raw = reinterpret_cast<const std::uint8_t*>(values.data());
+    bytes.insert(bytes.end(), raw, raw + 4 * values.size());  // little-endian host
     return bytes;
 }
 

@@ -40,7 +40,9 @@ struct WindowHandle {
 };
 
 struct ImGuiHandle {
-    bool ready = false;
+    bool context = false;  // ImGui::CreateContext
+    bool glfw = false;     // the GLFW backend started
+    bool opengl = false;   // the OpenGL 3 backend started
     ImGuiHandle() = default;
     ImGuiHandle(const ImGuiHandle&) = delete;
     ImGuiHandle& operator=(const ImGuiHandle&) = delete;

@@ -114,9 +114,10 @@ App::App(ViewerOptions options) : options_(std::move(options)) {
     io.IniFilename = nullptr;  // no imgui.ini in the user's folder
     io.LogFilename = nullptr;
     ImGui::StyleColorsDark();
-    imgui_.ready = true;
-    ImGui_ImplGlfw_InitForOpenGL(window_.window, true);
-    ImGui_ImplOpenGL3_Init("#version 450 core");
+    imgui_.context = true;
+    imgui_.glfw = ImGui_ImplGlfw_InitForOpenGL(window_.window, true);
+    imgui_.opengl = imgui_.glfw && ImGui_ImplOpenGL3_Init("#version 450 core");
+    if (!imgui_.opengl) throw Error("ImGui", "the GLFW / OpenGL 3 backends did not start");
 
     preset_field_ = options_.preset_path;
     sync_from_preset();
@@ -132,10 +133,9 @@ WindowHandle::~WindowHandle() {
 }
 
 ImGuiHandle::~ImGuiHandle() {
-    if (!ready) return;
-    ImGui_ImplOpenGL3_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
+    if (opengl) ImGui_ImplOpenGL3_Shutdown();
+    if (glfw) ImGui_ImplGlfw_Shutdown();
+    if (context) ImGui::DestroyContext();
 }
 
 void App::open_window() {
