@@ -12,8 +12,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     leanfade::Preset preset;
     try {
-        preset = leanfade::preset_from_json(
-            std::string(reinterpret_cast<const char*>(data), size), "fuzz.json");
+        preset = leanfade::preset_from_json(std::string(reinterpret_cast<const char*>(data), size),
+                                            "fuzz.json");
     } catch (const leanfade::Error&) {
         return 0;
     }

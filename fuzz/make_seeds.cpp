@@ -67,9 +67,9 @@ bool write_png_rows(FILE* file, const RawPng& layout, const png_byte* rows, std:
         return false;
     }
     png_init_io(png, file);
-    png_set_IHDR(png, info, png_uint_32(layout.width), png_uint_32(layout.height),
-                 layout.bit_depth, layout.color_type, layout.interlace,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, png_uint_32(layout.width), png_uint_32(layout.height), layout.bit_depth,
+                 layout.color_type, layout.interlace, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
     if (layout.color_type == PNG_COLOR_TYPE_PALETTE) {
         png_color palette[4] = {{0, 0, 0}, {90, 128, 255}, {128, 90, 240}, {128, 128, 255}};
         png_set_PLTE(png, info, palette, 4);
@@ -98,7 +98,7 @@ void write_png_raw(const fs::path& path, const RawPng& layout) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
         // Palette indices stay below the palette's 4 entries (2 bits per index here).
         rows[i] = layout.color_type == PNG_COLOR_TYPE_PALETTE ? png_byte(i % 4)
-                                                             : png_byte(37 * i + (i >> 3));
+                                                              : png_byte(37 * i + (i >> 3));
     }
     FILE* file = std::fopen(path.c_str(), "wb");
     if (file == nullptr) throw Error(path.string(), "cannot write seed");
@@ -174,8 +174,8 @@ void image_seeds(const fs::path& dir) {
 
     io::write_exr((dir / "height_zip.exr").string(), sample_image(8, 8, 1));
     io::write_exr((dir / "normal_rgba_zip.exr").string(), sample_image(4, 4, 4));
-    write_exr_raw(dir / "height_half_none.exr", sample_image(6, 5, 1),
-                  TINYEXR_COMPRESSIONTYPE_NONE, true, false);
+    write_exr_raw(dir / "height_half_none.exr", sample_image(6, 5, 1), TINYEXR_COMPRESSIONTYPE_NONE,
+                  true, false);
     write_exr_raw(dir / "normal_half_rle.exr", sample_image(5, 5, 3), TINYEXR_COMPRESSIONTYPE_RLE,
                   true, false);
     write_exr_raw(dir / "normal_zips.exr", sample_image(4, 6, 3), TINYEXR_COMPRESSIONTYPE_ZIPS,

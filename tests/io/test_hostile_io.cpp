@@ -140,8 +140,8 @@ TEST(HostileIo, ExrPizBitmapPastTheEndOfTheFileIsRefusedWithoutReadingPastTheBuf
     const std::size_t chunk = only_chunk(exr);  // int32 y, int32 data size, data
     ASSERT_GT(chunk, 0u);
     exr.resize(chunk + 16);
-    store_u32_le(exr, chunk + 4, 8);             // 8 bytes of PIZ data, not 512 (uncompressed)
-    store_u32_le(exr, chunk + 8, 0x1FFF0000u);   // minNonZero 0, maxNonZero 8191
+    store_u32_le(exr, chunk + 4, 8);            // 8 bytes of PIZ data, not 512 (uncompressed)
+    store_u32_le(exr, chunk + 8, 0x1FFF0000u);  // minNonZero 0, maxNonZero 8191
     const std::string path = scratch_folder() + "/piz.exr";
     write_bytes(path, exr);
     expect_error([&] { read_image(path); }, path, "truncated or corrupt OpenEXR data");

@@ -53,10 +53,11 @@ TEST(ObjHostile, NumbersAreTheCheckedValues) {
 // Found by fuzz_obj (UBSan in tinyobjloader: an infinite joint id of a "vw" skin-weight line
 // converted to int). Lines leanfade does not use never reach tinyobjloader.
 TEST(ObjHostile, IgnoredLinesWithHostileValuesDoNotMatter) {
-    const Mesh mesh = load_obj_from_memory("v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 0 1e39 0.5\n"
-                                           "vw 1 -nan inf\nl 1 99999999999\np -7\n"
-                                           "s 1e99\ng \xa0\xff\nusemtl \x01\nf 1 2 3\n",
-                                           "ignored.obj");
+    const Mesh mesh = load_obj_from_memory(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvw 0 1e39 0.5\n"
+        "vw 1 -nan inf\nl 1 99999999999\np -7\n"
+        "s 1e99\ng \xa0\xff\nusemtl \x01\nf 1 2 3\n",
+        "ignored.obj");
     EXPECT_EQ(mesh.triangle_count(), 1u);
 }
 
@@ -83,8 +84,9 @@ TEST(ObjHostile, FifoIsNotARegularFile) {
 }
 
 TEST(ObjHostile, LoadFromMemoryMatchesLoadFromFile) {
-    const std::string text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
-                             "vt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    const std::string text =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+        "vt 0 1\nf 1/1 2/2 3/3 4/4\n";
     const std::string path = (scratch() / "quad.obj").string();
     std::ofstream(path, std::ios::binary) << text;
     const Mesh from_file = load_obj(path);

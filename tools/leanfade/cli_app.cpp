@@ -20,12 +20,14 @@ std::vector<Command>& command_registry() {
     return commands;
 }
 
-bool stderr_is_terminal() { return isatty(STDERR_FILENO) != 0; }
+bool stderr_is_terminal() {
+    return isatty(STDERR_FILENO) != 0;
+}
 
 int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
-    CLI::App app{
-        "leanfade: LEAN mapping and specular fading toolkit (version " LEANFADE_VERSION ")",
-        "leanfade"};
+    CLI::App app{std::string("leanfade: LEAN mapping and specular fading toolkit (version ") +
+                     LEANFADE_VERSION + ")",
+                 "leanfade"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("leanfade ") + LEANFADE_VERSION);
 

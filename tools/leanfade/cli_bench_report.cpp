@@ -19,6 +19,11 @@ std::string format(const char* pattern, double value) {
     return buffer;
 }
 
+// Milliseconds with about four significant digits.
+std::string ms_text(double ms) {
+    return format(ms < 10.0 ? "%.3f" : (ms < 100.0 ? "%.2f" : "%.1f"), ms);
+}
+
 std::string pad(const std::string& text, std::size_t width) {
     return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
 }
@@ -110,7 +115,7 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
            std::to_string(r.height) + ", median of " + std::to_string(r.frames) +
            " interleaved frames after " + std::to_string(r.warmup) +
            " warm-up (LEAN Fig. 12 layout)\n";
-    const std::size_t first = 11, cell = 25;
+    const std::size_t first = 15, cell = 25;
     std::string header = pad("technique", first);
     for (const gl::SceneResult& s : result.scenes) header += pad(s.name, cell);
     out += header + "\n";
@@ -129,7 +134,7 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
 
     out += "\nOverhead ratios of frame times (median of per-round ratios, same view)\n";
     header = pad("ratio", first);
-    for (const gl::SceneResult& s : result.scenes) header += pad(s.name, 10);
+    for (const gl::SceneResult& s : result.scenes) header += pad(s.name, cell);
     out += header + "\n";
     std::vector<std::string> ratio_names;
     for (const gl::SceneResult& s : result.scenes)
@@ -144,7 +149,7 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
             if (const gl::ViewResult* v = headline_view(s))
                 for (const auto& [name, value] : view_ratios(*v))
                     if (name == ratio) text = format("%.3f", value);
-            row += pad(text, 10);
+            row += pad(text, cell);
         }
         out += row + "\n";
     }
@@ -154,7 +159,7 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
         out += s.name + " (" + std::to_string(s.triangles) + " triangles, " +
                std::to_string(s.vertices) + " vertices)\n";
         std::string h = "  " + pad("view", 7) + pad("fov", 6) + pad("cover", 7);
-        for (const std::string& name : names) h += pad(name, 24);
+        for (const std::string& name : names) h += pad(name, 25);
         out += h + "\n";
         for (const gl::ViewResult& v : s.views) {
             std::string row = "  " + pad(v.name, 7) + pad(format("%.1f", v.fov_y_degrees), 6) +
@@ -162,10 +167,10 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
             for (const std::string& name : names) {
                 const gl::TechniqueTiming* t = v.find(name);
                 row += pad(t == nullptr ? "-"
-                                        : rpad_num(format("%.3f", t->stats.median), 8) + " [" +
-                                              format("%.3f", t->stats.p25) + ".." +
-                                              format("%.3f", t->stats.p75) + "]",
-                           24);
+                                        : rpad_num(ms_text(t->stats.median), 6) + " [" +
+                                              ms_text(t->stats.p25) + ".." +
+                                              ms_text(t->stats.p75) + "]",
+                           25);
             }
             out += row + "\n";
         }

@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli_preset.hpp"
 #include "cli_render_options.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -32,6 +33,7 @@ struct CalibrateArgs {
     std::string distances = "2:64:10";
     std::string size = "128x128";
     float fov = gl::kDefaultFovYDegrees;
+    std::string view_dir = "0,0.3,1";  // from the object's centre toward the eye
     std::string plot = "calibration.png";
     std::string json;
     int spp = 64;
@@ -70,6 +72,9 @@ int run_calibrate(const CalibrateArgs& args) {
     if (!(args.fov > 1.0f && args.fov < 170.0f))
         throw Error("--fov", "must be in (1, 170) degrees");
     request.cameras.fov_y_degrees = args.fov;
+    request.cameras.view_direction = parse_vector(args.view_dir, "--view-dir");
+    if (request.cameras.view_direction == glm::vec3(0.0f))
+        throw Error("--view-dir", "must not be the zero vector");
     // Checked before rendering: fog needs the scene's fog.
     if (target.kind != eval::FadeTarget::Kind::Reference)
         eval::target_attenuation(target, request.cameras.distances, request.settings);
@@ -168,6 +173,9 @@ const CommandRegistration registration{
         app.add_option("--size", args->size, "Frame WIDTHxHEIGHT pixels of the renders")
             ->capture_default_str();
         app.add_option("--fov", args->fov, "Vertical field of view in degrees")
+            ->capture_default_str();
+        app.add_option("--view-dir", args->view_dir,
+                       "Direction from the object's centre toward the eye, world space (y up)")
             ->capture_default_str();
         app.add_option("--plot", args->plot,
                        "PNG of target versus achieved (gnuplot; empty: none); its .tsv data and "

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "cli_preset.hpp"
 #include "cli_render_options.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -30,6 +31,7 @@ struct EvalArgs {
     bool fixed_spp = false;
     std::string size = "256x256";
     float fov = gl::kDefaultFovYDegrees;
+    std::string view_dir = "0,0.3,1";  // from the object's centre toward the eye
     std::string out = "eval";
     std::string replot;
     ShadingFlags shading;
@@ -81,6 +83,9 @@ int run_eval(const EvalArgs& args) {
     if (!(args.fov > 1.0f && args.fov < 170.0f))
         throw Error("--fov", "must be in (1, 170) degrees");
     request.fov_y_degrees = args.fov;
+    request.view_direction = parse_vector(args.view_dir, "--view-dir");
+    if (request.view_direction == glm::vec3(0.0f))
+        throw Error("--view-dir", "must not be the zero vector");
     request.background = glm::vec3(0.012f, 0.013f, 0.016f);
     if (request.techniques.empty()) throw Error("--techniques", "no technique");
     for (gl::Technique t : request.techniques)
@@ -213,6 +218,9 @@ const CommandRegistration registration{
                        "Frame WIDTHxHEIGHT pixels (only the object's square is rendered)")
             ->capture_default_str();
         app.add_option("--fov", args->fov, "Vertical field of view in degrees")
+            ->capture_default_str();
+        app.add_option("--view-dir", args->view_dir,
+                       "Direction from the object's centre toward the eye, world space (y up)")
             ->capture_default_str();
         app.add_option("--out", args->out,
                        "Output folder: results.csv, results.json, plots, images/, index.html")
