@@ -15,8 +15,9 @@ FUZZ_CXX ?= clang++-14
 FUZZ_TARGETS ?= fuzz_image_bake fuzz_ktx2 fuzz_obj fuzz_cli fuzz_preset
 # Sanitizer settings of `make sanitize` (docs/robustness.md): leaks are errors, UBSan reports stop
 # the test with a stack trace. No suppressions.
-SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1 \
-	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+ASAN_CHECKS := detect_leaks=1:detect_stack_use_after_return=1
+ASAN_CHECKS := $(ASAN_CHECKS):check_initialization_order=1:strict_init_order=1
+SANITIZE_ENV := ASAN_OPTIONS=$(ASAN_CHECKS) UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
 .PHONY: all deps configure build demo test bench sanitize fuzz fuzz-build fuzz-seeds clean format
 
@@ -51,7 +52,8 @@ bench: build
 
 # The whole test suite built with AddressSanitizer + UndefinedBehaviorSanitizer (Debug).
 sanitize:
-	$(SANITIZE_ENV) $(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug CMAKE_FLAGS="-DLEANFADE_SANITIZE=ON -DLEANFADE_BUILD_BENCH=OFF"
+	$(SANITIZE_ENV) $(MAKE) test BUILD_DIR=build-sanitize BUILD_TYPE=Debug \
+		CMAKE_FLAGS="-DLEANFADE_SANITIZE=ON -DLEANFADE_BUILD_BENCH=OFF"
 
 # libFuzzer targets (fuzz/), instrumented with ASan + UBSan, in their own build folder.
 fuzz-build:

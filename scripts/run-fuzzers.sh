@@ -50,7 +50,8 @@ for target in "$@"; do
     elapsed=$(( $(date +%s) - start ))
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
     coverage=$(grep -o 'cov: [0-9]* ft: [0-9]* corp: [0-9]*/[0-9]*[a-zA-Z]*' "$log" | tail -n 1)
-    if [ $result -eq 0 ]; then verdict=ok; else verdict="FAILED (exit $result, see $log)"; status=1; fi
+    verdict=ok
+    if [ $result -ne 0 ]; then verdict="FAILED (exit $result, see $log)"; status=1; fi
     line="$target: ${elapsed}s, ${runs:-?} executions, ${coverage:-no coverage line}, $verdict"
     echo "$line"
     echo "$(date -u +%Y-%m-%dT%H:%M:%SZ) $line" >>"$build/fuzz-summary.txt"

@@ -9,7 +9,7 @@
 // affine per channel (SPEC §3).
 //
 // Defines (exactly one of each pair, set by leanfade::gl::LeanGenerator):
-//   SOURCE_HEIGHT | SOURCE_NORMAL     what u_source holds (height in .r; normal encoded 0.5 n + 0.5)
+//   SOURCE_HEIGHT | SOURCE_NORMAL     what u_source holds (height in .r; normal as 0.5 n + 0.5)
 //   LAYER_FORMAT <qualifier>          rgba8 | rgba16 | rgba16f | rgba32f, the texture's storage
 //
 // Texel coordinates are GL's: row 0 is v = 0 (the bottom row of the image file), so +v is +y here.

@@ -32,8 +32,8 @@ std::string slurp(const fs::path& path) {
 Result run_bench(const std::string& args, const fs::path& dir) {
     const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
     const std::string command = "cd '" + dir.string() + "' && '" + std::string(LEANFADE_EXE) +
-                                "' bench " + args + " >'" + out.string() + "' 2>'" +
-                                err.string() + "' </dev/null";
+                                "' bench " + args + " >'" + out.string() + "' 2>'" + err.string() +
+                                "' </dev/null";
     const int status = std::system(command.c_str());
     Result r;
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -78,8 +78,8 @@ TEST(CliBench, PrintsTheTablesAndWritesTheDocumentedJson) {
         SCOPED_TRACE(scene);
         const nlohmann::json& s = frames.at("scenes").at(scene);
         EXPECT_EQ(s.at("ratios_view"), "fill");
-        for (const char* ratio : {"lean/bump", "fade/lean", "lean/floor", "bump/floor",
-                                  "fade/floor"})
+        for (const char* ratio :
+             {"lean/bump", "fade/lean", "lean/floor", "bump/floor", "fade/floor"})
             EXPECT_TRUE(positive_number(s.at("ratios").at(ratio))) << ratio;
         for (const char* view : {"fill", "d3", "d24"}) {
             const nlohmann::json& v = s.at("views").at(view);
@@ -99,6 +99,28 @@ TEST(CliBench, PrintsTheTablesAndWritesTheDocumentedJson) {
         EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
+// --timing gpu runs the GL_TIME_ELAPSED path on any driver with timer counter bits; on llvmpipe the
+// output says that the figures under-report.
+TEST(CliBench, ForcedGpuTimingRunsAndSaysSo) {
+    const fs::path dir = scratch_dir("cli_bench_gpu");
+    const Result r = run_bench(
+        "--timing gpu --size 32x32 --frames 2 --warmup 0 --scenes sphere --distances none "
+        "--texture-size 16 --json gpu.json",
+        dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("Timing: GL_TIME_ELAPSED"), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "gpu.json"));
+    EXPECT_EQ(j.at("system").at("timing"), "gpu");
+    const std::string renderer = j.at("system").at("gl_renderer");
+    if (renderer.find("llvmpipe") != std::string::npos) {
+        EXPECT_NE(r.out.find("under-report"), std::string::npos) << r.out;
+    }
+    for (const auto& [name, t] :
+         j.at("frames").at("scenes").at("sphere").at("views").at("fill").at("techniques").items())
+        for (const nlohmann::json& ms : t.at("frame_ms"))
+            EXPECT_TRUE(ms.is_number() && ms.get<double>() >= 0.0) << name;
+}
+
 TEST(CliBench, BakeAndGenerateModes) {
     const fs::path dir = scratch_dir("cli_bench_modes");
     const Result r = run_bench(
@@ -114,13 +136,15 @@ TEST(CliBench, BakeAndGenerateModes) {
     EXPECT_FALSE(j.contains("frames"));
     const nlohmann::json& bake = j.at("bake");
     EXPECT_TRUE(positive_number(bake.at("copy_bytes_per_second")));
-    ASSERT_EQ(bake.at("rows").size(), 2u);
+    ASSERT_EQ(bake.at("rows").size(), 4u);  // normal and height inputs, two sizes each
     for (const nlohmann::json& row : bake.at("rows")) {
         EXPECT_TRUE(positive_number(row.at("megabytes_per_second")));
         EXPECT_TRUE(positive_number(row.at("texels_per_second")));
         EXPECT_TRUE(positive_number(row.at("floor_ratio")));
     }
     EXPECT_EQ(bake.at("rows")[1].at("size"), 64);
+    EXPECT_EQ(bake.at("rows")[0].at("input"), "normal");
+    EXPECT_EQ(bake.at("rows")[3].at("input"), "height");
     const nlohmann::json& generate = j.at("generate");
     ASSERT_EQ(generate.size(), 2u);
     EXPECT_EQ(generate[0].at("size"), 16);
@@ -144,6 +168,7 @@ TEST(CliBench, BadFlagsAreOneLineErrors) {
         "--scenes cube",
         "--distances 3,0.5",
         "--bake --bake-sizes 2",
+        "--bake --bake-input png",
         "--generate --generate-sizes 64,x",
         "--threads -1",
         "--bits 12",

@@ -16,7 +16,8 @@ class FrameBench : public GlTest {
     void SetUp() override {
         renderer_ = std::make_unique<gl::Renderer>(context());
         renderer_->set_lean_map(make_bumps_map(64));
-        for (const char* name : {"sphere", "torus"}) meshes_.push_back(scene::make_scene_mesh(name));
+        for (const char* name : {"sphere", "torus"})
+            meshes_.push_back(scene::make_scene_mesh(name));
     }
     void TearDown() override {
         renderer_.reset();
@@ -104,8 +105,7 @@ TEST_F(FrameBench, LeanCostsMoreThanTheFloorWhenFillingTheScreen) {
     request.frames = 5;
     request.distances = {};
     request.techniques = {gl::Technique::Lean};
-    const gl::FrameBenchResult result =
-        gl::run_frame_bench(*renderer_, {scenes()[0]}, request);
+    const gl::FrameBenchResult result = gl::run_frame_bench(*renderer_, {scenes()[0]}, request);
     const gl::ViewResult& fill = result.scenes[0].views[0];
     EXPECT_GT(fill.ratio("lean", gl::kFloorName), 1.0);
 }
@@ -119,8 +119,7 @@ TEST_F(FrameBench, ForcedGpuTimingRunsAndGivesFiniteNumbers) {
     }
     request.frames = 2;
     request.distances = {8.0f};
-    const gl::FrameBenchResult result =
-        gl::run_frame_bench(*renderer_, {scenes()[1]}, request);
+    const gl::FrameBenchResult result = gl::run_frame_bench(*renderer_, {scenes()[1]}, request);
     EXPECT_EQ(result.timing.method, gl::TimingMethod::Gpu);
     for (const gl::ViewResult& view : result.scenes[0].views)
         for (const gl::TechniqueTiming& t : view.timings)

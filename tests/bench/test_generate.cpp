@@ -43,8 +43,8 @@ Image bumps_normal_map(int width, int height, float strength) {
     Image normals(width, height, 3);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::vec3 n = glm::normalize(glm::vec3(slopes.at(x, y, 0), slopes.at(x, y, 1),
-                                                         1.0f));
+            const glm::vec3 n =
+                glm::normalize(glm::vec3(slopes.at(x, y, 0), slopes.at(x, y, 1), 1.0f));
             for (int c = 0; c < 3; ++c) normals.at(x, y, c) = 0.5f * n[c] + 0.5f;
         }
     return normals;
@@ -82,8 +82,7 @@ class Generate : public GlTest {
         options.convention = c.convention;
         options.bake_roughness_shininess = c.bake_shininess;
         const BakeResult cpu = bake_lean_map(
-            image,
-            c.input == gl::GenerateInput::Height ? BakeSource::Height : BakeSource::Normal,
+            image, c.input == gl::GenerateInput::Height ? BakeSource::Height : BakeSource::Normal,
             options, c.name);
         if (cpu_float != nullptr) *cpu_float = cpu.map;
 
@@ -135,9 +134,9 @@ TEST_F(Generate, TopLevelMatchesTheCpuBakerWithinQuantisation) {
                         const float d = std::abs(a[ch] - b[ch]);
                         worst = std::max(worst, d);
                         if (d > tolerance && off++ < 5)
-                            ADD_FAILURE() << "layer " << layer << " texel (" << x << ", " << y
-                                          << ") channel " << ch << ": cpu " << a[ch] << ", gpu "
-                                          << b[ch];
+                            ADD_FAILURE()
+                                << "layer " << layer << " texel (" << x << ", " << y << ") channel "
+                                << ch << ": cpu " << a[ch] << ", gpu " << b[ch];
                     }
                 }
         EXPECT_EQ(off, 0) << off << " values off; largest difference " << worst;
@@ -152,9 +151,8 @@ TEST_F(Generate, CoarsestLevelMomentsMatchTheCpuMean) {
     for (Storage storage : {Storage::Unorm16, Storage::Float16}) {
         SCOPED_TRACE(to_string(storage));
         LeanMap cpu_float;
-        const auto gpu = both({"height", gl::GenerateInput::Height, 128, 128, storage},
-                              &cpu_float)
-                             .second;
+        const auto gpu =
+            both({"height", gl::GenerateInput::Height, 128, 128, storage}, &cpu_float).second;
         const int last = int(gpu.levels.size()) - 1;
         ASSERT_EQ(gpu.levels[std::size_t(last)].width, 1);
         const auto m = shading::lf_unpack(fetch_packed_texel(gpu, last, 0, 0, 0),

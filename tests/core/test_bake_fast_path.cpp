@@ -18,8 +18,8 @@ using namespace leanfade;
 
 namespace {
 
-constexpr Storage kStorages[] = {Storage::Unorm8, Storage::Unorm16, Storage::Float16,
-                                 Storage::Float32};
+const std::vector<Storage> kStorages = {Storage::Unorm8, Storage::Unorm16, Storage::Float16,
+                                        Storage::Float32};
 
 // Sizes covering: 1x1, single rows and columns, odd (3-tap) reductions, even (box) reductions
 // with and without a stored level below the top, and mixed even/odd axes.
@@ -109,6 +109,18 @@ void expect_summary_close(const LeanMapSummary& fast, const LeanMapSummary& ref,
         EXPECT_EQ(fast.coarsest_anisotropy, ref.coarsest_anisotropy) << what;
 }
 
+// Runs `body` with the AVX2 kernels (where the CPU has them) and with the portable ones.
+template <typename Body>
+void for_each_kernel_set(Body body) {
+    const bool previous = set_bake_simd(true);
+    body();
+    if (bake_simd_active()) {
+        set_bake_simd(false);
+        body();
+    }
+    set_bake_simd(previous);
+}
+
 struct Case {
     Image input;
     BakeSource source;
@@ -116,16 +128,24 @@ struct Case {
     std::string name;
 };
 
-void check_case(const Case& c, Storage storage) {
-    const std::string what =
-        c.name + " storage " + to_string(storage) + (bake_simd_active() ? " avx2" : " scalar");
+// The reference once, then bake_packed for each storage with both kernel sets (where the CPU
+// has AVX2).
+void check_case(const Case& c, const std::vector<Storage>& storages) {
     const BakeResult ref = bake_lean_map(c.input, c.source, c.options, "in");
-    const PackedLeanMap ref_packed = pack_lean_map(ref.map, storage, "gen");
-    const PackedBakeResult fast = bake_packed(c.input, c.source, c.options, storage, "gen", "in");
-    EXPECT_EQ(fast.source, ref.source) << what;
-    EXPECT_EQ(fast.clamped_texels, ref.clamped_texels) << what;
-    expect_same_packed(fast.packed, ref_packed, what);
-    expect_summary_close(fast.summary, summarize(ref.map), what);
+    const LeanMapSummary ref_summary = summarize(ref.map);
+    for (Storage storage : storages) {
+        const PackedLeanMap ref_packed = pack_lean_map(ref.map, storage, "gen");
+        for_each_kernel_set([&] {
+            const std::string what = c.name + " storage " + to_string(storage) +
+                                     (bake_simd_active() ? " avx2" : " scalar");
+            const PackedBakeResult fast =
+                bake_packed(c.input, c.source, c.options, storage, "gen", "in");
+            EXPECT_EQ(fast.source, ref.source) << what;
+            EXPECT_EQ(fast.clamped_texels, ref.clamped_texels) << what;
+            expect_same_packed(fast.packed, ref_packed, what);
+            expect_summary_close(fast.summary, ref_summary, what);
+        });
+    }
 }
 
 std::vector<Case> cases_for(int w, int h) {
@@ -151,37 +171,17 @@ std::vector<Case> cases_for(int w, int h) {
     return cases;
 }
 
-// Runs `body` with the AVX2 kernels (where the CPU has them) and with the portable ones.
-template <typename Body>
-void for_each_kernel_set(Body body) {
-    const bool previous = set_bake_simd(true);
-    body();
-    if (bake_simd_active()) {
-        set_bake_simd(false);
-        body();
-    }
-    set_bake_simd(previous);
-}
-
 }  // namespace
 
 TEST(BakeFastPath, SameBytesAsReferenceForEveryStorageSizeAndInput) {
-    for_each_kernel_set([] {
-        for (auto [w, h] : sizes())
-            for (const Case& c : cases_for(w, h))
-                for (Storage storage : kStorages) check_case(c, storage);
-    });
+    for (auto [w, h] : sizes())
+        for (const Case& c : cases_for(w, h)) check_case(c, kStorages);
 }
 
 TEST(BakeFastPath, SameBytesForBuiltinSets) {
-    for_each_kernel_set([] {
-        for (const std::string& name : builtin_bump_names()) {
-            BakeOptions options;
-            const Image height = make_builtin_height(name, 128, 3);
-            check_case({height, BakeSource::Height, options, name}, Storage::Unorm16);
-            check_case({height, BakeSource::Height, options, name}, Storage::Float32);
-        }
-    });
+    for (const std::string& name : builtin_bump_names())
+        check_case({make_builtin_height(name, 128, 3), BakeSource::Height, BakeOptions{}, name},
+                   {Storage::Unorm16, Storage::Float32});
 }
 
 TEST(BakeFastPath, ThreadCountDoesNotChangeAnything) {
@@ -227,9 +227,7 @@ TEST(BakeFastPath, RoundingShortcutEqualsStdRound) {
     // [0, 65535] (checked for every float there once, docs/perf.md); here every float in
     // [0.25, 2) and the 32 floats around every half-integer up to 65535.5.
     const float below_half = 0.5f - std::ldexp(1.0f, -25);
-    auto check = [&](float x) {
-        ASSERT_EQ(int(x + below_half), int(std::round(x))) << x;
-    };
+    auto check = [&](float x) { ASSERT_EQ(int(x + below_half), int(std::round(x))) << x; };
     for (float x = 0.25f; x < 2.0f; x = std::nextafter(x, 1e9f)) check(x);
     for (int k = 0; k <= 65535; ++k) {
         const float tie = float(k) + 0.5f;

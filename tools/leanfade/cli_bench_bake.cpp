@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <memory>
 
@@ -38,6 +39,23 @@ Image tiled_bumps_height(int size) {
     return image;
 }
 
+Image tiled_bumps_normals(int size) {
+    const int tile_size = std::min(size, kTileSize);
+    const Image slopes =
+        slopes_from_height(make_builtin_height("bumps", tile_size, 1), BakeOptions{}).slopes;
+    Image image(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const float bx = slopes.at(x % tile_size, y % tile_size, 0);
+            const float by = slopes.at(x % tile_size, y % tile_size, 1);
+            const float inv = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+            image.at(x, y, 0) = 0.5f * bx * inv + 0.5f;
+            image.at(x, y, 1) = 0.5f * by * inv + 0.5f;
+            image.at(x, y, 2) = 0.5f * inv + 0.5f;
+        }
+    return image;
+}
+
 double measure_copy_bandwidth(std::size_t bytes, int threads, int repeats) {
     const std::size_t chunks = 256;
     const std::size_t chunk = (bytes + chunks - 1) / chunks;
@@ -67,15 +85,55 @@ double measure_copy_bandwidth(std::size_t bytes, int threads, int repeats) {
     return best;
 }
 
-BakeBenchResult run_bake_bench(const std::vector<int>& sizes, int threads, int runs,
+namespace {
+
+// One input kind and size: an untimed bake (allocating the output), then the timed ones.
+BakeBenchRow bake_row(const std::string& input, int size, const BakeOptions& options, int runs,
+                      const std::function<void(const std::string&)>& say) {
+    say("baking a " + std::to_string(size) + "^2 " + input + " map");
+    const bool normal = input == "normal";
+    const Image image = normal ? tiled_bumps_normals(size) : tiled_bumps_height(size);
+    const BakeSource source = normal ? BakeSource::Normal : BakeSource::Height;
+    PackedBakeResult baked;
+    bake_packed_into(baked, image, source, options, Storage::Unorm16, "bench");
+    BakeBenchRow row;
+    row.input = input;
+    row.size = size;
+    row.runs = runs > 0 ? runs : (size <= 2048 ? 5 : (size <= 4096 ? 3 : 2));
+    std::vector<double> seconds;
+    for (int r = 0; r < row.runs; ++r) {
+        const Clock::time_point start = Clock::now();
+        bake_packed_into(baked, image, source, options, Storage::Unorm16, "bench");
+        seconds.push_back(seconds_since(start));
+    }
+    std::sort(seconds.begin(), seconds.end());
+    const std::size_t n = seconds.size();
+    row.median_seconds = n % 2 == 1 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
+    row.min_seconds = seconds.front();
+    row.input_bytes = image.pixels.size() * sizeof(float);
+    for (const PackedLevel& level : baked.packed.levels)
+        row.output_bytes += level.lean1.size() + level.lean2.size();
+    const double bytes = double(row.input_bytes + row.output_bytes);
+    row.megabytes_per_second = bytes / row.median_seconds / 1e6;
+    row.texels_per_second = double(size) * double(size) / row.median_seconds;
+    return row;
+}
+
+}  // namespace
+
+BakeBenchResult run_bake_bench(const std::vector<std::string>& inputs,
+                               const std::vector<int>& sizes, int threads, int runs,
                                const std::function<void(const std::string&)>& progress) {
+    for (const std::string& input : inputs)
+        if (input != "normal" && input != "height")
+            throw Error("--bake-input", "expected normal or height, got '" + input + "'");
     for (int size : sizes)
         if (size < 4 || size > kDefaultMaxImageDimension)
             throw Error("--bake-sizes", "sizes must be in [4, " +
-                                            std::to_string(kDefaultMaxImageDimension) +
-                                            "], got " + std::to_string(size));
+                                            std::to_string(kDefaultMaxImageDimension) + "], got " +
+                                            std::to_string(size));
     if (runs < 0 || runs > 1000) throw Error("--bake-runs", "must be in [0, 1000]");
-    auto say = [&](const std::string& text) {
+    const std::function<void(const std::string&)> say = [&](const std::string& text) {
         if (progress) progress(text);
     };
     BakeBenchResult result;
@@ -87,37 +145,13 @@ BakeBenchResult run_bake_bench(const std::vector<int>& sizes, int threads, int r
 
     BakeOptions options;
     options.threads = threads;
-    for (int size : sizes) {
-        say("baking " + std::to_string(size) + "^2");
-        const Image height = tiled_bumps_height(size);
-        PackedBakeResult baked;
-        bake_packed_into(baked, height, BakeSource::Height, options, Storage::Unorm16, "bench");
-        BakeBenchRow row;
-        row.size = size;
-        row.runs = runs > 0 ? runs : (size <= 2048 ? 5 : (size <= 4096 ? 3 : 2));
-        std::vector<double> seconds;
-        for (int r = 0; r < row.runs; ++r) {
-            const Clock::time_point start = Clock::now();
-            bake_packed_into(baked, height, BakeSource::Height, options, Storage::Unorm16,
-                             "bench");
-            seconds.push_back(seconds_since(start));
-        }
-        std::sort(seconds.begin(), seconds.end());
-        row.median_seconds = seconds.size() % 2 == 1
-                                 ? seconds[seconds.size() / 2]
-                                 : 0.5 * (seconds[seconds.size() / 2 - 1] +
-                                          seconds[seconds.size() / 2]);
-        row.min_seconds = seconds.front();
-        row.input_bytes = height.pixels.size() * sizeof(float);
-        for (const PackedLevel& level : baked.packed.levels)
-            row.output_bytes += level.lean1.size() + level.lean2.size();
+    for (const std::string& input : inputs)
+        for (int size : sizes) result.rows.push_back(bake_row(input, size, options, runs, say));
+    const double bandwidth = result.copy_bytes_per_second;
+    for (BakeBenchRow& row : result.rows) {
         const double bytes = double(row.input_bytes + row.output_bytes);
-        row.megabytes_per_second = bytes / row.median_seconds / 1e6;
-        row.texels_per_second = double(size) * double(size) / row.median_seconds;
-        row.floor_seconds =
-            result.copy_bytes_per_second > 0.0 ? bytes / result.copy_bytes_per_second : 0.0;
+        row.floor_seconds = bandwidth > 0.0 ? bytes / bandwidth : 0.0;
         row.floor_ratio = row.floor_seconds > 0.0 ? row.median_seconds / row.floor_seconds : 0.0;
-        result.rows.push_back(row);
     }
     return result;
 }

@@ -49,7 +49,7 @@ std::vector<std::string> measured_names(const gl::FrameBenchResult& result) {
 }
 
 nlohmann::json stats_json(const gl::SampleStats& s) {
-    return {{"median_ms", s.median}, {"p25_ms", s.p25}, {"p75_ms", s.p75}, {"min_ms", s.min},
+    return {{"median_ms", s.median}, {"p25_ms", s.p25},   {"p75_ms", s.p75}, {"min_ms", s.min},
             {"max_ms", s.max},       {"mean_ms", s.mean}, {"count", s.count}};
 }
 
@@ -110,8 +110,10 @@ std::string system_header(const BenchSystem& s) {
 
 std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenchRequest& r) {
     const std::vector<std::string> names = measured_names(result);
+    const bool cpu_time = result.timing.method == gl::TimingMethod::CpuTime;
     std::string out;
-    out += "\nFrame time with the object filling the screen, " + std::to_string(r.width) + "x" +
+    out += std::string(cpu_time ? "\nCPU time per frame" : "\nFrame time") +
+           " with the object filling the screen, " + std::to_string(r.width) + "x" +
            std::to_string(r.height) + ", median of " + std::to_string(r.frames) +
            " interleaved frames after " + std::to_string(r.warmup) +
            " warm-up (LEAN Fig. 12 layout)\n";
@@ -124,10 +126,12 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
         for (const gl::SceneResult& s : result.scenes) {
             const gl::ViewResult* v = headline_view(s);
             const gl::TechniqueTiming* t = v != nullptr ? v->find(name) : nullptr;
-            row += pad(t == nullptr ? "-"
-                                    : format("%8.3f ms", t->stats.median) +
-                                          format(" %8.1f FPS", t->fps),
-                       cell);
+            std::string text = "-";
+            if (t != nullptr) {
+                text = format("%8.3f ms", t->stats.median);
+                if (!cpu_time) text += format(" %8.1f FPS", t->fps);
+            }
+            row += pad(text, cell);
         }
         out += row + "\n";
     }
@@ -166,10 +170,10 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
                               pad(format("%.0f%%", 100.0 * v.coverage), 7);
             for (const std::string& name : names) {
                 const gl::TechniqueTiming* t = v.find(name);
-                row += pad(t == nullptr ? "-"
-                                        : rpad_num(ms_text(t->stats.median), 6) + " [" +
-                                              ms_text(t->stats.p25) + ".." +
-                                              ms_text(t->stats.p75) + "]",
+                row += pad(t == nullptr
+                               ? "-"
+                               : rpad_num(ms_text(t->stats.median), 6) + " [" +
+                                     ms_text(t->stats.p25) + ".." + ms_text(t->stats.p75) + "]",
                            25);
             }
             out += row + "\n";
@@ -179,27 +183,27 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
 }
 
 std::string bake_table(const BakeBenchResult& b) {
-    std::string out = "\nBake throughput (bake_packed, height map -> 16-bit LEAN map with every "
-                      "level, " +
-                      std::to_string(b.threads) + " threads, AVX2 " + (b.simd ? "on" : "off") +
-                      ")\n";
+    std::string out =
+        "\nBake throughput (bake_packed: float input -> 16-bit LEAN map with every "
+        "level, " +
+        std::to_string(b.threads) + " threads, AVX2 " + (b.simd ? "on" : "off") + ")\n";
     out += "copy bandwidth (memcpy of " + std::to_string(b.copy_bytes >> 20) +
            " MiB, read + write): " + format("%.0f MB/s", b.copy_bytes_per_second / 1e6) + "\n";
-    out += "size     runs  median s   MB/s      Mtexel/s  floor s   x floor\n";
+    out += "input   size     runs  median s   MB/s      Mtexel/s  floor s   x floor\n";
     for (const BakeBenchRow& row : b.rows) {
-        out += pad(std::to_string(row.size) + "^2", 9) + pad(std::to_string(row.runs), 6) +
-               pad(format("%.4f", row.median_seconds), 11) +
+        out += pad(row.input, 8) + pad(std::to_string(row.size) + "^2", 9) +
+               pad(std::to_string(row.runs), 6) + pad(format("%.4f", row.median_seconds), 11) +
                pad(format("%.0f", row.megabytes_per_second), 10) +
                pad(format("%.1f", row.texels_per_second / 1e6), 10) +
-               pad(format("%.4f", row.floor_seconds), 10) + format("%.2f", row.floor_ratio) +
-               "\n";
+               pad(format("%.4f", row.floor_seconds), 10) + format("%.2f", row.floor_ratio) + "\n";
     }
     return out;
 }
 
 std::string generate_table(const std::vector<GenerateBenchRow>& rows) {
-    std::string out = "\nPer-frame LEAN map generation on the GPU (compute pass + glGenerateMipmap; "
-                      "LEAN paper's per-frame generation)\n";
+    std::string out =
+        "\nPer-frame LEAN map generation on the GPU (compute pass + glGenerateMipmap; "
+        "LEAN paper's per-frame generation)\n";
     out += "size     storage  pass ms    mipmap ms  total ms   Mtexel/s\n";
     for (const GenerateBenchRow& row : rows)
         out += pad(std::to_string(row.size) + "^2", 9) + pad(row.storage, 9) +
@@ -211,11 +215,11 @@ std::string generate_table(const std::vector<GenerateBenchRow>& rows) {
 }
 
 nlohmann::json system_json(const BenchSystem& s) {
-    nlohmann::json j = {{"date", s.date},
-                        {"cpu", s.cpu},
-                        {"hardware_threads", s.hardware_threads},
-                        {"load_average",
-                         {s.load_average[0], s.load_average[1], s.load_average[2]}}};
+    nlohmann::json j = {
+        {"date", s.date},
+        {"cpu", s.cpu},
+        {"hardware_threads", s.hardware_threads},
+        {"load_average", {s.load_average[0], s.load_average[1], s.load_average[2]}}};
     if (!s.gl_renderer.empty()) {
         j["gl_renderer"] = s.gl_renderer;
         j["gl_version"] = s.gl_version;
@@ -244,12 +248,12 @@ nlohmann::json frame_json(const gl::FrameBenchResult& result, const gl::FrameBen
                              {"ratios", ratios_json(v)}};
         }
         const gl::ViewResult* headline = headline_view(s);
-        scenes[s.name] = {{"triangles", s.triangles},
-                          {"vertices", s.vertices},
-                          {"ratios_view", headline != nullptr ? headline->name : ""},
-                          {"ratios", headline != nullptr ? ratios_json(*headline)
-                                                         : nlohmann::json::object()},
-                          {"views", views}};
+        scenes[s.name] = {
+            {"triangles", s.triangles},
+            {"vertices", s.vertices},
+            {"ratios_view", headline != nullptr ? headline->name : ""},
+            {"ratios", headline != nullptr ? ratios_json(*headline) : nlohmann::json::object()},
+            {"views", views}};
     }
     std::vector<std::string> techniques;
     for (gl::Technique t : r.techniques) techniques.push_back(gl::to_string(t));
@@ -270,7 +274,8 @@ nlohmann::json frame_json(const gl::FrameBenchResult& result, const gl::FrameBen
 nlohmann::json bake_json(const BakeBenchResult& b) {
     nlohmann::json rows = nlohmann::json::array();
     for (const BakeBenchRow& row : b.rows)
-        rows.push_back({{"size", row.size},
+        rows.push_back({{"input", row.input},
+                        {"size", row.size},
                         {"runs", row.runs},
                         {"median_seconds", row.median_seconds},
                         {"min_seconds", row.min_seconds},
@@ -281,7 +286,7 @@ nlohmann::json bake_json(const BakeBenchResult& b) {
                         {"floor_seconds", row.floor_seconds},
                         {"floor_ratio", row.floor_ratio}});
     return {{"function", "bake_packed"},
-            {"input", "height map, built-in bumps tiled, float"},
+            {"source", "built-in bumps (seed 1) tiled from 1024, float texels"},
             {"storage", b.storage},
             {"threads", b.threads},
             {"avx2", b.simd},

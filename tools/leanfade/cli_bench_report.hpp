@@ -14,13 +14,13 @@ namespace leanfade::cli {
 
 // The machine and the run, printed first and stored under "system".
 struct BenchSystem {
-    std::string date;       // UTC, ISO 8601
-    std::string cpu;        // /proc/cpuinfo model name
+    std::string date;  // UTC, ISO 8601
+    std::string cpu;   // /proc/cpuinfo model name
     int hardware_threads = 0;
     double load_average[3] = {0.0, 0.0, 0.0};  // at the start of the run
-    std::string gl_renderer;   // empty when no GL was used (--bake only)
+    std::string gl_renderer;                   // empty when no GL was used (--bake only)
     std::string gl_version;
-    std::string timing;        // "gpu" / "cpu"
+    std::string timing;  // "gpu" / "cpu"
     std::string timing_description;
 };
 BenchSystem describe_system();
@@ -29,9 +29,9 @@ BenchSystem describe_system();
 struct GenerateBenchRow {
     int size = 0;
     std::string storage;
-    gl::SampleStats pass;     // compute pass, ms
-    gl::SampleStats mipmap;   // glGenerateMipmap, ms
-    gl::SampleStats total;    // per frame, pass + mipmap, ms
+    gl::SampleStats pass;            // compute pass, ms
+    gl::SampleStats mipmap;          // glGenerateMipmap, ms
+    gl::SampleStats total;           // per frame, pass + mipmap, ms
     double texels_per_second = 0.0;  // top-level texels / median total
 };
 

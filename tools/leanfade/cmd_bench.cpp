@@ -37,6 +37,7 @@ struct BenchArgs {
     std::string json;
     bool bake = false;
     std::string bake_sizes = "1024,2048,4096,8192";
+    std::string bake_input = "normal,height";
     int bake_runs = 0;
     int threads = 0;
     bool generate = false;
@@ -57,8 +58,7 @@ std::vector<std::string> split_list(const std::string& text) {
     return parts;
 }
 
-std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low,
-                             int high) {
+std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low, int high) {
     std::vector<int> sizes;
     for (const std::string& part : split_list(text)) {
         char* end = nullptr;
@@ -138,8 +138,7 @@ std::vector<GenerateBenchRow> run_generate_bench(gl::Context& context, const Ben
             total.push_back(times.pass_ms[i] + times.mipmap_ms[i]);
         row.total = gl::sample_stats(total);
         row.texels_per_second =
-            row.total.median > 0.0 ? double(size) * double(size) / (row.total.median * 1e-3)
-                                   : 0.0;
+            row.total.median > 0.0 ? double(size) * double(size) / (row.total.median * 1e-3) : 0.0;
         rows.push_back(row);
     }
     context.check("per-frame generation");
@@ -173,6 +172,10 @@ int run_bench(const BenchArgs& args) {
         parse_sizes(args.bake_sizes, "--bake-sizes", 4, kDefaultMaxImageDimension);
     const std::vector<int> generate_sizes =
         parse_sizes(args.generate_sizes, "--generate-sizes", 4, kDefaultMaxImageDimension);
+    const std::vector<std::string> bake_inputs = split_list(args.bake_input);
+    for (const std::string& input : bake_inputs)
+        if (input != "normal" && input != "height")
+            throw Error("--bake-input", "expected normal or height, got '" + input + "'");
     const Storage storage = parse_bits(args.source.bits);
     if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
     if (args.bake_runs < 0 || args.bake_runs > 1000)
@@ -224,7 +227,8 @@ int run_bench(const BenchArgs& args) {
                                       {"storage", to_string(map.storage)}};
     }
     if (args.bake) {
-        const BakeBenchResult bake = run_bake_bench(bake_sizes, args.threads, args.bake_runs, say);
+        const BakeBenchResult bake =
+            run_bake_bench(bake_inputs, bake_sizes, args.threads, args.bake_runs, say);
         report += bake_table(bake);
         root["bake"] = bake_json(bake);
     }
@@ -280,12 +284,16 @@ const CommandRegistration registration{
         app.add_option("--warmup", args->warmup, "Untimed frames first")->capture_default_str();
         app.add_option("--timing", args->timing,
                        "auto (GPU timer queries unless the renderer is a software one), gpu "
-                       "(GL_TIME_ELAPSED) or cpu (glFinish + steady clock)")
+                       "(GL_TIME_ELAPSED), cpu (glFinish + steady clock) or cputime (glFinish + "
+                       "the process's CPU time: software renderers on a busy machine)")
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the results as JSON");
         app.add_flag("--bake", args->bake,
                      "Measure bake throughput (MB/s, texels/s) against the memory bandwidth");
         app.add_option("--bake-sizes", args->bake_sizes, "Sizes of --bake, texels per side")
+            ->capture_default_str();
+        app.add_option("--bake-input", args->bake_input,
+                       "Inputs of --bake, comma-separated: normal (3 floats per texel), height")
             ->capture_default_str();
         app.add_option("--bake-runs", args->bake_runs,
                        "Timed bakes per size (0: 5 up to 2048, 3 at 4096, 2 above)")

@@ -44,6 +44,9 @@ struct CalibrateArgs {
 
 std::string plot_script(const eval::FadeCalibration& c, const std::string& target,
                         const std::string& plot_file, const std::string& data_file) {
+    double top = 1.05;  // ratios above 1 (the truth brighter than LEAN) stay in view
+    for (std::size_t i = 0; i < c.target.size(); ++i)
+        top = std::max({top, 1.05 * c.target[i], 1.05 * c.achieved[i]});
     std::ostringstream gp;
     gp << "# gnuplot script written by leanfade calibrate\n"
        << "set terminal pngcairo size 640,420 font 'sans,10'\n"
@@ -51,7 +54,7 @@ std::string plot_script(const eval::FadeCalibration& c, const std::string& targe
        << "set logscale x 2\nset grid\nset key top right\n"
        << "set xlabel 'camera distance (bounding radii)'\n"
        << "set ylabel 'specular energy, fade / lean'\n"
-       << "set yrange [0:1.05]\n"
+       << "set yrange [0:" << top << "]\n"
        << "set title 'target " << target << ": Fade = " << c.fit.fade << ", Pmax = " << c.fit.pmax
        << "'\n"
        << "plot '" << data_file << "' using 1:2 with lines lw 2 lc rgb '#000000' title 'target', "

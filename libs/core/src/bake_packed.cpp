@@ -3,13 +3,14 @@
 // operations, in the same order, as the reference path (slopes.cpp, build_lean_map, pack_lean_map),
 // so the packed bytes are identical; docs/perf.md has the design and the measurements.
 //
-//   pass 0  validate the input and find max |B|, max M: sc (SPEC §3) must be known before the
-//           first texel can be packed;
-//   pass 1  the rows of a "store level" S (64 rows for 4096^2) split across threads. A row is made
-//           by making the (2 or 3) rows of the level above it filters, recursively up to the top
-//           level, which is computed from the input in cache-sized chunks, packed straight from
-//           registers and box-filtered into level 1. Each level keeps only the last 3 rows. A row
-//           is packed by the thread that makes it for its first consumer, so exactly once;
+//   pass 0  validate the input, find max |B| and max M (sc, SPEC §3, must be known before the
+//           first texel can be packed) and take the summary's statistics of |B|;
+//   pass 1  the rows of a "store level" S (64 rows for 4096^2), each to whichever thread is free.
+//           A row is made by making the (2 or 3) rows of the level above that it filters,
+//           recursively up to the top level, which is computed from the input in cache-sized
+//           chunks, packed straight from registers and box-filtered into level 1. Each level keeps
+//           only its last 3 rows. A row is packed by the thread that makes it for its first
+//           consumer, so exactly once, whatever the number of threads;
 //   pass 2  the levels below S, serially, from the stored float rows of level S.
 //
 // Kernels: AVX2 (runtime-detected, GCC/Clang target attribute, no FMA so that no a * b + c is
@@ -23,6 +24,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -56,6 +58,7 @@ enum Moment { kNx, kNy, kNz, kBx, kBy, kMxx, kMyy, kMxy };
 constexpr int kChunk = 256;        // top-level texels per chunk of the fused pass (fits L1)
 constexpr int kMaxStoreLevel = 6;  // pass 1 ends at most here (64 rows of a 4096^2 map)
 constexpr int kMinStoreRows = 16;  // ... and at a level with at least this many rows
+constexpr int kScanGrain = 16;     // top rows per chunk of pass 0
 // 0.5 - 2^-25, the largest float below 0.5 (see quantise8).
 constexpr float kBelowHalf = 0.49999997f;
 
@@ -268,8 +271,7 @@ void horizontal_scalar(const double* row, int sw, int dw, const TapTable& xtaps,
 }
 
 // Pass 0 on one row: validation (as slopes_from_normals), the clamped count, max |B| and the
-// summary statistics.
-// max M and the steepness check follow from max |B| alone (see scan_input).
+// summary statistics. max M and the steepness check follow from max |B| (see scan_input).
 struct RowScan {
     float max_b = 0.0f;      // max |Bx|, |By|
     bool nan_slope = false;  // a NaN slope (max drops NaN): finite components near the float
@@ -895,9 +897,17 @@ ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
                       const std::string& source_name, const char* steep_cause) {
     std::vector<RowScan> rows(static_cast<std::size_t>(height));
     const ScanFn scan = select_scan(in.channels, avx2);
-    parallel_for_rows(height, threads, [&](int first, int end) {
-        for (int y = first; y < end; ++y)
-            if (!scan(in, y, rows[std::size_t(y)])) return;
+    // Chunks are handed out in increasing order, so once a bad texel is found every row before
+    // it has been (or is being) scanned and no further chunk is needed.
+    std::atomic<bool> bad{false};
+    parallel_for_dynamic(height, threads, kScanGrain, [&](int, int first, int end) {
+        if (bad.load(std::memory_order_relaxed)) return;
+        for (int y = first; y < end; ++y) {
+            if (!scan(in, y, rows[std::size_t(y)])) {
+                bad = true;
+                return;
+            }
+        }
     });
     for (int y = 0; y < height; ++y) {
         const RowScan& r = rows[std::size_t(y)];
@@ -1051,10 +1061,14 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     size_output(packed, plan.levels, texel_bytes, resolve_thread_count(options.threads));
     plan.packed = &packed;
 
-    // Pass 1: the store level's rows (and everything above them), split across threads.
-    parallel_for_rows(store.height, options.threads, [&](int first, int end) {
-        RowMaker maker(plan, false);
-        for (int y = first; y < end; ++y) maker.row(plan.store_level, y, true);
+    // Pass 1: the store level's rows (and everything above them), one at a time to whichever
+    // thread is free. Which thread makes a row changes nothing in it.
+    std::vector<std::unique_ptr<RowMaker>> makers(
+        static_cast<std::size_t>(resolve_thread_count(options.threads)));
+    parallel_for_dynamic(store.height, options.threads, 1, [&](int worker, int first, int end) {
+        auto& maker = makers[std::size_t(worker)];
+        if (!maker) maker = std::make_unique<RowMaker>(plan, false);
+        for (int y = first; y < end; ++y) maker->row(plan.store_level, y, true);
     });
     // Pass 2: the small levels below, from the stored rows.
     RowMaker maker(plan, true);

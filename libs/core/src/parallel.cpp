@@ -1,6 +1,7 @@
 #include "leanfade/core/parallel.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <exception>
 #include <thread>
@@ -34,6 +35,41 @@ void parallel_for_rows(int row_count, int threads, const std::function<void(int,
             errors[std::size_t(w)] = std::current_exception();
         }
     };
+    for (int w = 1; w < workers; ++w) pool.emplace_back(run, w);
+    run(0);
+    for (auto& t : pool) t.join();
+    for (auto& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+void parallel_for_dynamic(int row_count, int threads, int grain,
+                          const std::function<void(int, int, int)>& body) {
+    if (row_count <= 0) return;
+    grain = std::max(1, grain);
+    const int chunks = (row_count - 1) / grain + 1;
+    const int workers = std::clamp(resolve_thread_count(threads), 1, chunks);
+    if (workers == 1) {
+        body(0, 0, row_count);
+        return;
+    }
+    std::atomic<int> next{0};
+    std::atomic<bool> failed{false};
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(workers));
+    auto run = [&](int w) {
+        try {
+            while (!failed.load(std::memory_order_relaxed)) {
+                const int chunk = next.fetch_add(1, std::memory_order_relaxed);
+                if (chunk >= chunks) break;
+                const int first = chunk * grain;
+                body(w, first, std::min(row_count, first + grain));
+            }
+        } catch (...) {
+            errors[std::size_t(w)] = std::current_exception();
+            failed = true;
+        }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(std::size_t(workers - 1));
     for (int w = 1; w < workers; ++w) pool.emplace_back(run, w);
     run(0);
     for (auto& t : pool) t.join();

@@ -11,10 +11,10 @@
 namespace leanfade::gl {
 namespace {
 
-constexpr float kFillDistance = 3.0f;   // bounding radii
-constexpr float kMinFillFov = 1.5f;     // degrees
+constexpr float kFillDistance = 3.0f;  // bounding radii
+constexpr float kMinFillFov = 1.5f;    // degrees
 constexpr float kFillFovStep = 0.8f;
-constexpr int kProbeHeight = 96;        // pixels of the fill view's coverage probe
+constexpr int kProbeHeight = 96;  // pixels of the fill view's coverage probe
 constexpr int kMaxBenchSize = 8192;
 
 // An RGBA8 colour texture and a 24-bit depth renderbuffer: a window's back buffer, offscreen.
@@ -165,8 +165,7 @@ void validate_frame_bench(const FrameBenchRequest& r) {
     if (r.width < 16 || r.height < 16 || r.width > kMaxBenchSize || r.height > kMaxBenchSize)
         throw Error("--size", "must be 16..8192 pixels on a side, got " + std::to_string(r.width) +
                                   "x" + std::to_string(r.height));
-    if (r.techniques.empty() && !r.floor)
-        throw Error("--techniques", "nothing to measure");
+    if (r.techniques.empty() && !r.floor) throw Error("--techniques", "nothing to measure");
     for (Technique t : r.techniques)
         if (t == Technique::Reference)
             throw Error("--techniques",
@@ -179,9 +178,8 @@ void validate_frame_bench(const FrameBenchRequest& r) {
     if (!r.fill && r.distances.empty()) throw Error("--distances", "no view to measure");
     for (float d : r.distances)
         if (!(d > 1.0f) || !std::isfinite(d))
-            throw Error("--distances",
-                        "distances are in bounding radii and must be > 1, got " +
-                            std::to_string(d));
+            throw Error("--distances", "distances are in bounding radii and must be > 1, got " +
+                                           std::to_string(d));
     leanfade::validate(r.settings);
 }
 
@@ -231,8 +229,8 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
     if (request.width > max_size || request.height > max_size)
-        throw Error("--size", "larger than GL_MAX_RENDERBUFFER_SIZE (" +
-                                  std::to_string(max_size) + ")");
+        throw Error("--size",
+                    "larger than GL_MAX_RENDERBUFFER_SIZE (" + std::to_string(max_size) + ")");
 
     FrameBenchResult result;
     result.timing = choose_timing(request.timing, renderer.context());

@@ -46,9 +46,9 @@ GLuint LeanGenerator::program(Storage storage) {
     if (!p) {
         const std::string source =
             input_ == GenerateInput::Height ? "SOURCE_HEIGHT" : "SOURCE_NORMAL";
-        p = build_compute_program(sources_, "generate_lean.comp",
-                                  {source, std::string("LAYER_FORMAT ") +
-                                               layer_format(storage).qualifier});
+        p = build_compute_program(
+            sources_, "generate_lean.comp",
+            {source, std::string("LAYER_FORMAT ") + layer_format(storage).qualifier});
     }
     return p.get();
 }
@@ -72,8 +72,7 @@ void LeanGenerator::set_source(const Image& image, GenerateInput input) {
         const float* src = image.row(image.height - 1 - y);
         float* dst = &texels[std::size_t(y) * std::size_t(image.width) * std::size_t(channels)];
         for (int x = 0; x < image.width; ++x)
-            for (int c = 0; c < channels; ++c)
-                dst[x * channels + c] = src[x * image.channels + c];
+            for (int c = 0; c < channels; ++c) dst[x * channels + c] = src[x * image.channels + c];
     }
     Texture texture = create_texture(GL_TEXTURE_2D);
     glTextureStorage2D(texture.get(), 1, channels == 1 ? GL_R32F : GL_RGB32F, image.width,
@@ -112,9 +111,8 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
         storage_ = options.storage;
     }
     const GLuint p = program(options.storage);
-    const float inv_s = options.bake_roughness_shininess > 0.0f
-                            ? 1.0f / options.bake_roughness_shininess
-                            : 0.0f;
+    const float inv_s =
+        options.bake_roughness_shininess > 0.0f ? 1.0f / options.bake_roughness_shininess : 0.0f;
     glProgramUniform1f(p, location(p, "u_strength"), options.strength);
     glProgramUniform1f(p, location(p, "u_scale"), options.scale);
     glProgramUniform1f(p, location(p, "u_inv_s"), inv_s);

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <numeric>
 
 #include "leanfade/core/error.hpp"
@@ -12,7 +13,12 @@
 namespace leanfade::gl {
 namespace {
 
-std::int64_t now_ns() {
+std::int64_t now_ns(TimingMethod method) {
+    if (method == TimingMethod::CpuTime) {
+        timespec t{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return std::int64_t(t.tv_sec) * 1000000000 + t.tv_nsec;
+    }
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
                std::chrono::steady_clock::now().time_since_epoch())
         .count();
@@ -33,14 +39,17 @@ const char* to_string(TimingMethod method) {
             return "gpu";
         case TimingMethod::Cpu:
             return "cpu";
+        case TimingMethod::CpuTime:
+            return "cputime";
     }
     return "?";
 }
 
 TimingMethod parse_timing_method(const std::string& text, const std::string& flag) {
-    for (TimingMethod m : {TimingMethod::Auto, TimingMethod::Gpu, TimingMethod::Cpu})
+    for (TimingMethod m :
+         {TimingMethod::Auto, TimingMethod::Gpu, TimingMethod::Cpu, TimingMethod::CpuTime})
         if (text == to_string(m)) return m;
-    throw Error(flag, "expected auto, gpu or cpu, got '" + text + "'");
+    throw Error(flag, "expected auto, gpu, cpu or cputime, got '" + text + "'");
 }
 
 bool is_software_renderer(const std::string& renderer) {
@@ -79,6 +88,12 @@ TimingChoice choose_timing(TimingMethod requested, const Context& context,
             choice.method = TimingMethod::Cpu;
             choice.description = finish + ", forced";
             return choice;
+        case TimingMethod::CpuTime:
+            choice.method = TimingMethod::CpuTime;
+            choice.description =
+                "glFinish + process CPU time (every thread; leaves out waiting and other "
+                "processes' load: a cost, not a frame time), forced";
+            return choice;
         case TimingMethod::Auto:
             break;
     }
@@ -108,7 +123,7 @@ void IntervalTimer::begin() {
         glBeginQuery(GL_TIME_ELAPSED, queries_[used_].get());
     } else {
         glFinish();
-        started_ns_ = now_ns();
+        started_ns_ = now_ns(method_);
     }
 }
 
@@ -120,7 +135,7 @@ void IntervalTimer::end() {
         ++used_;
     } else {
         glFinish();
-        cpu_ms_.push_back(double(now_ns() - started_ns_) * 1e-6);
+        cpu_ms_.push_back(double(now_ns(method_) - started_ns_) * 1e-6);
     }
 }
 

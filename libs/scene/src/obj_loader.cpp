@@ -82,10 +82,10 @@ std::string quoted(std::string_view token) {
 // other line becomes empty, so line numbers stay), without comments ('#' to the end of a line,
 // which tinyobjloader only understands at the start of a line), each number rewritten as the
 // value checked here ("%.9g": 9 significant digits, enough for a float). tinyobjloader's own
-// number parser mis-reads forms strtod accepts (hex, "0e400" becomes NaN, an exponent past
-// INT_MAX overflows an int) and its parsers of lines leanfade ignores (vw, l, p, s, ...) have
-// undefined behaviour on hostile values (found by fuzz_obj, docs/robustness.md): they never see
-// the file's own text.
+// number parser mis-reads forms strtod accepts ("0x10" becomes 0; the exponent of
+// "0e2147483649" overflows an int) and its parsers of lines leanfade ignores (vw, l, p, s, ...)
+// have undefined behaviour on hostile values (found by fuzz_obj, docs/robustness.md): they
+// never see the file's own text.
 std::string precheck(const std::string& path, const std::string& text) {
     std::string clean;
     clean.reserve(text.size());

@@ -29,8 +29,8 @@ struct FrameBenchRequest {
     int width = 1600;  // framebuffer pixels
     int height = 1200;
     std::vector<Technique> techniques{Technique::Bump, Technique::Lean, Technique::Fade};
-    bool floor = true;                        // measure the constant-colour floor too
-    bool fill = true;                         // the object-filling-the-screen view
+    bool floor = true;                                // measure the constant-colour floor too
+    bool fill = true;                                 // the object-filling-the-screen view
     std::vector<float> distances{3.0f, 8.0f, 24.0f};  // near / mid / far, bounding radii (> 1)
     int frames = 20;  // timed rounds (each draws every technique once), >= 1
     int warmup = 3;   // untimed rounds first, >= 0
@@ -40,17 +40,17 @@ struct FrameBenchRequest {
 };
 
 struct TechniqueTiming {
-    std::string name;               // "bump", "lean", ..., or kFloorName
-    std::vector<double> frame_ms;   // one per timed round, in round order
-    SampleStats stats;              // of frame_ms
-    double fps = 0.0;               // 1000 / median
+    std::string name;              // "bump", "lean", ..., or kFloorName
+    std::vector<double> frame_ms;  // one per timed round, in round order
+    SampleStats stats;             // of frame_ms
+    double fps = 0.0;              // 1000 / median
 };
 
 struct ViewResult {
-    std::string name;             // "fill", or "d3", "d8", ... ("d" + distance_text)
-    float distance = 0.0f;        // camera distance from the centre, bounding radii
-    float fov_y_degrees = 0.0f;   // the fill view narrows the field of view until covered
-    double coverage = 0.0;        // fraction of the framebuffer's pixels the object covers
+    std::string name;                      // "fill", or "d3", "d8", ... ("d" + distance_text)
+    float distance = 0.0f;                 // camera distance from the centre, bounding radii
+    float fov_y_degrees = 0.0f;            // the fill view narrows the field of view until covered
+    double coverage = 0.0;                 // fraction of the framebuffer's pixels the object covers
     std::vector<TechniqueTiming> timings;  // request order, the floor (when measured) first
     // Per timed round, the indices into `timings` in the order they were drawn.
     std::vector<std::vector<int>> order;

@@ -25,12 +25,12 @@ enum class GenerateInput {
 };
 
 struct GenerateOptions {
-    float strength = 1.0f;  // height per texel spacing (height maps)
+    float strength = 1.0f;     // height per texel spacing (height maps)
     Wrap wrap = Wrap::Repeat;  // Sobel taps past the edge (height maps)
     NormalConvention convention = NormalConvention::OpenGL;  // normal maps
-    float scale = 1.0f;                    // sc the layers are packed with (SPEC §3), > 0
+    float scale = 1.0f;                     // sc the layers are packed with (SPEC §3), > 0
     float bake_roughness_shininess = 0.0f;  // s > 0: 1/s added to Mxx, Myy (LEAN eq. 6)
-    Storage storage = Storage::Unorm16;    // texel format of both layers
+    Storage storage = Storage::Unorm16;     // texel format of both layers
 };
 
 class LeanGenerator {

@@ -22,9 +22,13 @@ enum class TimingMethod {
     Auto,  // Gpu when the driver has GL_TIME_ELAPSED counter bits and is not a software renderer
     Gpu,   // GL_TIME_ELAPSED queries
     Cpu,   // glFinish, steady_clock, glFinish
+    // glFinish, then the CPU time of the whole process (every llvmpipe thread) instead of the
+    // clock: for software renderers on a shared machine, where other processes' load inflates
+    // wall-clock times. Not a frame time (it leaves out waiting); only chosen when asked for.
+    CpuTime,
 };
 
-// "auto", "gpu", "cpu".
+// "auto", "gpu", "cpu", "cputime".
 const char* to_string(TimingMethod method);
 // Throws leanfade::Error(flag, cause) for an unknown name.
 TimingMethod parse_timing_method(const std::string& text, const std::string& flag = "--timing");
@@ -38,7 +42,7 @@ int time_elapsed_counter_bits();
 
 // The method a benchmark uses, and why, for its output.
 struct TimingChoice {
-    TimingMethod method = TimingMethod::Cpu;  // Gpu or Cpu, never Auto
+    TimingMethod method = TimingMethod::Cpu;  // never Auto
     std::string description;                  // one line: the method and the reason
 };
 
@@ -55,7 +59,7 @@ TimingChoice choose_timing(TimingMethod requested, const Context& context,
 // - Gpu: each interval is a GL_TIME_ELAPSED query (queries are pooled and reused); collect()
 //   waits for their results. Intervals must not nest (a GL rule for queries of one target).
 // - Cpu: begin() calls glFinish and reads the steady clock, end() calls glFinish and reads it
-//   again; collect() only hands back the values.
+//   again; collect() only hands back the values. CpuTime: the same with the process's CPU time.
 class IntervalTimer {
   public:
     explicit IntervalTimer(TimingMethod method);
