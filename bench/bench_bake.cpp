@@ -229,7 +229,9 @@ void BM_BakeEndToEnd(benchmark::State& state) {
         const Image input = io::read_image(input_png());
         const PackedBakeResult r =
             bake_packed(input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-        io::write_ktx2(out, r.packed);
+        io::WriteOptions write_options;
+        write_options.threads = options.threads;
+        io::write_ktx2(out, r.packed, write_options);
     }
     state.counters["texels_per_s"] =
         benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),

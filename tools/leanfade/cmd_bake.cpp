@@ -33,6 +33,7 @@ struct BakeArgs {
     std::string wrap = "repeat";
     std::string format = "ktx2";
     int threads = 0;
+    bool fsync = false;
     std::string builtin;
     int size = 1024;
     std::uint32_t seed = 1;
@@ -47,7 +48,9 @@ Storage parse_storage(const std::string& bits) {
     return Storage::Float32;
 }
 
-std::string generator_string() { return std::string("leanfade ") + LEANFADE_VERSION; }
+std::string generator_string() {
+    return std::string("leanfade ") + LEANFADE_VERSION;
+}
 
 // Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
 std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
@@ -63,7 +66,8 @@ std::string output_base(const BakeArgs& args, const std::string& input_name, boo
     return (folder / stem).string();
 }
 
-void write_png_previews(const std::string& base, const PackedLeanMap& packed) {
+void write_png_previews(const std::string& base, const PackedLeanMap& packed,
+                        const io::WriteOptions& write_options) {
     // The top level of both layers as 16-bit RGBA, as the fading paper's Figs. 2-3 show them.
     const PackedLevel& top = packed.levels.front();
     std::vector<std::string> written;
@@ -76,7 +80,7 @@ void write_png_previews(const std::string& base, const PackedLeanMap& packed) {
                     for (int c = 0; c < 4; ++c) img.at(x, y, c) = t[c];
                 }
             const std::string path = base + (layer == 0 ? ".lean1.png" : ".lean2.png");
-            io::write_png(path, img, 16);
+            io::write_png(path, img, 16, write_options);
             written.push_back(path);
         }
     } catch (...) {
@@ -99,9 +103,9 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
             {"max_slope", s.max_slope},
             {"coarsest_covariance",
              {s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z}},
-            {"coarsest_anisotropy",
-             std::isfinite(s.coarsest_anisotropy) ? nlohmann::json(s.coarsest_anisotropy)
-                                                  : nlohmann::json("inf")},
+            {"coarsest_anisotropy", std::isfinite(s.coarsest_anisotropy)
+                                        ? nlohmann::json(s.coarsest_anisotropy)
+                                        : nlohmann::json("inf")},
             {"clamped_normals", result.clamped_texels},
             {"roughness_baked", result.map.roughness_baked},
             {"seconds", seconds}};
@@ -148,6 +152,9 @@ int run_bake(const BakeArgs& args) {
     const Storage storage = parse_storage(args.bits);
     io::ReadOptions read_options;
     read_options.max_dimension = args.max_size;
+    io::WriteOptions write_options;
+    write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
+    write_options.threads = args.threads;
 
     nlohmann::json summaries = nlohmann::json::array();
     int failures = 0;
@@ -162,9 +169,8 @@ int run_bake(const BakeArgs& args) {
                                       : make_builtin_height(args.builtin, args.size, args.seed);
         // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
         // summary, without the float MIP chain (docs/perf.md).
-        const PackedBakeResult baked =
-            bake_packed(input, from_file ? source : BakeSource::Height, options, storage,
-                        generator_string(), name);
+        const PackedBakeResult baked = bake_packed(input, from_file ? source : BakeSource::Height,
+                                                   options, storage, generator_string(), name);
         const PackedLeanMap& packed = baked.packed;
         const std::string base = output_base(args, from_file ? name : args.builtin, from_file);
         std::string output;
@@ -173,12 +179,12 @@ int run_bake(const BakeArgs& args) {
                 io::ensure_not_same_file(base + ".lean1.png", name);
                 io::ensure_not_same_file(base + ".lean2.png", name);
             }
-            write_png_previews(base, packed);
+            write_png_previews(base, packed, write_options);
             output = base + ".lean{1,2}.png";
         } else {
             output = !args.output.empty() ? args.output : base + ".ktx2";
             if (from_file) io::ensure_not_same_file(output, name);
-            io::write_ktx2(output, packed);
+            io::write_ktx2(output, packed, write_options);
         }
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -209,7 +215,7 @@ int run_bake(const BakeArgs& args) {
 
     if (!args.json.empty()) {
         const std::string text = summaries.dump(2) + "\n";
-        io::AtomicFile file(args.json);
+        io::AtomicFile file(args.json, write_options.durability);
         file.write(text.data(), text.size());
         file.commit();
     }
@@ -248,6 +254,9 @@ const CommandRegistration registration{
         app.add_option("--format", args->format, "ktx2 (GPU-ready) or png (top level previews)")
             ->check(CLI::IsMember({"ktx2", "png"}))
             ->capture_default_str();
+        app.add_flag("--fsync", args->fsync,
+                     "Flush each output to disk before it replaces the old one (survives a "
+                     "power cut; slower)");
         app.add_option("--threads", args->threads, "Worker threads (0 = all cores)")
             ->check(CLI::Range(0, 256));
         app.add_option("--builtin", args->builtin, "Bake a built-in bump set instead of a file")

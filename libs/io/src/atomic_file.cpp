@@ -1,6 +1,7 @@
 #include "leanfade/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
@@ -38,11 +40,13 @@ void sync_folder(const std::string& folder) {
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+AtomicFile::AtomicFile(std::string path, Durability durability)
+    : path_(std::move(path)), durability_(durability) {
     if (path_.empty()) throw Error(path_, "empty output path");
     temporary_path_ = path_ + ".tmp-" + std::to_string(::getpid()) + "-" +
                       std::to_string(temporary_counter.fetch_add(1));
-    descriptor_ = ::open(temporary_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    descriptor_ = ::open(temporary_path_.c_str(),
+                         O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC /* mmap needs read */, 0666);
     if (descriptor_ < 0) {
         throw Error(path_, "cannot create temporary file " + temporary_path_ + " (" +
                                errno_text(errno) + ")");
@@ -50,12 +54,15 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 }
 
 AtomicFile::~AtomicFile() {
+    if (mapping_ != nullptr) ::munmap(mapping_, mapping_size_);
     if (descriptor_ >= 0) ::close(descriptor_);
     if (!committed_) ::unlink(temporary_path_.c_str());
 }
 
 void AtomicFile::write(const void* data, std::size_t size) {
     if (descriptor_ < 0) throw Error(path_, "write after commit");
+    if (mapping_ != nullptr) throw Error(path_, "write to a mapped file");
+    written_ = true;
     const auto* bytes = static_cast<const unsigned char*>(data);
     while (size > 0) {
         const ssize_t written = ::write(descriptor_, bytes, size);
@@ -68,9 +75,38 @@ void AtomicFile::write(const void* data, std::size_t size) {
     }
 }
 
+std::uint8_t* AtomicFile::map(std::size_t size) {
+    if (descriptor_ < 0) throw Error(path_, "map after commit");
+    if (mapping_ != nullptr || written_) throw Error(path_, "map of a file already written");
+    if (size == 0) return nullptr;
+    if (size > std::size_t(std::numeric_limits<off_t>::max())) {
+        throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (too large)");
+    }
+    // Reserve the blocks first: a full disk must be an error here, not a SIGBUS while the caller
+    // fills the mapping.
+    const int reserve_error = ::posix_fallocate(descriptor_, 0, off_t(size));
+    if (reserve_error != 0) {
+        throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (" +
+                               errno_text(reserve_error) + ")");
+    }
+    void* mapping = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, descriptor_, 0);
+    if (mapping == MAP_FAILED) {
+        throw Error(path_, "cannot map the output file (" + errno_text(errno) + ")");
+    }
+    mapping_ = static_cast<std::uint8_t*>(mapping);
+    mapping_size_ = size;
+    return mapping_;
+}
+
 void AtomicFile::commit() {
     if (descriptor_ < 0) throw Error(path_, "commit called twice");
-    if (::fsync(descriptor_) != 0) throw Error(path_, "fsync failed (" + errno_text(errno) + ")");
+    if (mapping_ != nullptr) {  // the mapped pages are the file's page cache: fsync covers them
+        ::munmap(mapping_, mapping_size_);
+        mapping_ = nullptr;
+    }
+    if (durability_ == Durability::Flush && ::fsync(descriptor_) != 0) {
+        throw Error(path_, "fsync failed (" + errno_text(errno) + ")");
+    }
     const int descriptor = descriptor_;
     descriptor_ = -1;
     if (::close(descriptor) != 0) throw Error(path_, "close failed (" + errno_text(errno) + ")");
@@ -78,7 +114,7 @@ void AtomicFile::commit() {
         throw Error(path_, "cannot replace the file (" + errno_text(errno) + ")");
     }
     committed_ = true;
-    sync_folder(folder_of(path_));
+    if (durability_ == Durability::Flush) sync_folder(folder_of(path_));
 }
 
 void ensure_not_same_file(const std::string& output, const std::string& input) {

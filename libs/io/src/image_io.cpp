@@ -29,8 +29,9 @@ bool is_pfm(const std::vector<std::uint8_t>& bytes) {
            bytes[2] == '\r';
 }
 
-void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-    AtomicFile file(path);
+void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
+               Durability durability = Durability::Rename) {
+    AtomicFile file(path, durability);
     file.write(bytes);
     file.commit();
 }
@@ -59,8 +60,8 @@ Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::
     throw Error(path, "unknown image format (expected PNG, OpenEXR or PFM)");
 }
 
-void write_png(const std::string& path, const Image& image, int bits) {
-    write_all(path, detail::encode_png(path, image, bits));
+void write_png(const std::string& path, const Image& image, int bits, const WriteOptions& options) {
+    write_all(path, detail::encode_png(path, image, bits), options.durability);
 }
 
 void write_pfm(const std::string& path, const Image& image) {

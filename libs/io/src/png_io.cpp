@@ -76,6 +76,7 @@ struct PngHeader {
     int channels;
     int bit_depth;
     std::size_t row_bytes;
+    bool interlaced;
 };
 
 // Reads the chunks before the pixels and sets up the expansions. False after a libpng error.
@@ -94,6 +95,33 @@ bool read_png_header(png_structp png, png_infop info, PngContext& context, PngHe
     header.channels = png_get_channels(png, info);
     header.bit_depth = png_get_bit_depth(png, info);
     header.row_bytes = png_get_rowbytes(png, info);
+    header.interlaced = png_get_interlace_type(png, info) != PNG_INTERLACE_NONE;
+    return true;
+}
+
+// Samples of one decoded row (8-bit, or 16-bit big-endian as PNG stores them) to floats in [0, 1].
+void convert_row(const std::uint8_t* source, float* destination, std::size_t values,
+                 int bit_depth) {
+    if (bit_depth == 8) {
+        for (std::size_t i = 0; i < values; ++i) destination[i] = source[i] / 255.0f;
+    } else {
+        for (std::size_t i = 0; i < values; ++i) {
+            const unsigned value = (unsigned(source[2 * i]) << 8) | source[2 * i + 1];
+            destination[i] = float(value) / 65535.0f;
+        }
+    }
+}
+
+// A non-interlaced image, one row at a time straight into `image` (no buffer of all samples).
+bool read_png_rows_into(png_structp png, png_infop info, PngContext& context,
+                        const PngHeader& header, std::uint8_t* row, Image& image) {
+    if (setjmp(context.jump) != 0) return false;
+    const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
+    for (png_uint_32 y = 0; y < header.height; ++y) {
+        png_read_row(png, row, nullptr);
+        convert_row(row, image.row(int(y)), values_per_row, header.bit_depth);
+    }
+    png_read_end(png, info);
     return true;
 }
 
@@ -173,10 +201,9 @@ std::uint64_t compressed_pixel_bytes(const std::vector<std::uint8_t>& bytes) {
     std::uint64_t total = 0;
     std::size_t position = 8;
     while (bytes.size() - position >= 8) {
-        const std::uint64_t length = (std::uint64_t(bytes[position]) << 24) |
-                                     (std::uint64_t(bytes[position + 1]) << 16) |
-                                     (std::uint64_t(bytes[position + 2]) << 8) |
-                                     std::uint64_t(bytes[position + 3]);
+        const std::uint64_t length =
+            (std::uint64_t(bytes[position]) << 24) | (std::uint64_t(bytes[position + 1]) << 16) |
+            (std::uint64_t(bytes[position + 2]) << 8) | std::uint64_t(bytes[position + 3]);
         const std::uint8_t* type = bytes.data() + position + 4;
         const std::uint64_t available = bytes.size() - position - 8;
         if (std::memcmp(type, "IDAT", 4) == 0) total += std::min(length, available);
@@ -196,12 +223,23 @@ void check_compressed_size(const std::string& path, const std::vector<std::uint8
     if (bytes.size() < 26) return;  // libpng reports the truncated header
     int samples = 0;
     switch (bytes[25]) {  // IHDR colour type
-        case 0: samples = 1; break;  // gray
-        case 2: samples = 3; break;  // RGB
-        case 3: samples = 1; break;  // palette
-        case 4: samples = 2; break;  // gray + alpha
-        case 6: samples = 4; break;  // RGBA
-        default: return;             // libpng refuses it
+        case 0:
+            samples = 1;
+            break;  // gray
+        case 2:
+            samples = 3;
+            break;  // RGB
+        case 3:
+            samples = 1;
+            break;  // palette
+        case 4:
+            samples = 2;
+            break;  // gray + alpha
+        case 6:
+            samples = 4;
+            break;  // RGBA
+        default:
+            return;  // libpng refuses it
     }
     const std::uint64_t bits_per_pixel = std::uint64_t(samples) * bytes[24];  // IHDR bit depth
     // A lower bound for any filter and interlace method: the pixels alone, without filter bytes.
@@ -257,26 +295,24 @@ Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes
                               " channels of " + std::to_string(header.bit_depth) + " bits)");
     }
 
+    Image image(int(header.width), int(header.height), header.channels);
+    const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
+    if (!header.interlaced) {
+        std::vector<std::uint8_t> row(header.row_bytes);
+        if (!read_png_rows_into(reader.png(), reader.info(), context, header, row.data(), image)) {
+            throw_png_error(path, context);
+        }
+        return image;
+    }
+    // Adam7: libpng fills every row over seven passes, so all rows are kept until the end.
     std::vector<std::uint8_t> samples(header.row_bytes * header.height);
     std::vector<png_bytep> rows(header.height);
     for (png_uint_32 y = 0; y < header.height; ++y) rows[y] = samples.data() + y * header.row_bytes;
     if (!read_png_rows(reader.png(), reader.info(), context, rows.data())) {
         throw_png_error(path, context);
     }
-
-    Image image(int(header.width), int(header.height), header.channels);
-    const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
     for (png_uint_32 y = 0; y < header.height; ++y) {
-        const std::uint8_t* source = rows[y];
-        float* destination = image.row(int(y));
-        if (header.bit_depth == 8) {
-            for (std::size_t i = 0; i < values_per_row; ++i) destination[i] = source[i] / 255.0f;
-        } else {  // 16-bit samples are big-endian in PNG
-            for (std::size_t i = 0; i < values_per_row; ++i) {
-                const unsigned value = (unsigned(source[2 * i]) << 8) | source[2 * i + 1];
-                destination[i] = float(value) / 65535.0f;
-            }
-        }
+        convert_row(rows[y], image.row(int(y)), values_per_row, header.bit_depth);
     }
     return image;
 }

@@ -8,15 +8,24 @@
 
 namespace leanfade::io {
 
-// Writes to a temporary file `<path>.tmp-<pid>-<counter>` in the target's folder; commit() flushes
-// it to disk (fsync), closes it and renames it over `path`, which atomically replaces any existing
-// file. If commit() is never reached (an exception, an early return) the destructor removes the
-// temporary. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
+// How far commit() goes before it returns.
+enum class Durability {
+    // Close and rename: readers (and a crashed or killed writer) never see a partial file. Like
+    // most asset tools, no fsync: after a power cut the kernel may not have written the data yet.
+    Rename,
+    // fsync the file before the rename and the folder after it: the new file survives a power cut.
+    Flush,
+};
+
+// Writes to a temporary file `<path>.tmp-<pid>-<counter>` in the target's folder; commit() closes
+// it (after an fsync with Durability::Flush) and renames it over `path`, which atomically replaces
+// any existing file. If commit() is never reached (an exception, an early return) the destructor
+// removes the temporary. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
 class AtomicFile {
   public:
     // Creates the temporary file (mode 0666 minus the umask). Throws if it cannot be created, for
     // example when the folder does not exist or is not writable.
-    explicit AtomicFile(std::string path);
+    explicit AtomicFile(std::string path, Durability durability = Durability::Rename);
     ~AtomicFile();
 
     AtomicFile(const AtomicFile&) = delete;
@@ -26,8 +35,17 @@ class AtomicFile {
     void write(const void* data, std::size_t size);
     void write(const std::vector<std::uint8_t>& bytes) { write(bytes.data(), bytes.size()); }
 
-    // fsync + close + rename over the target, then fsync of the folder. Throws on failure (the
-    // temporary is then removed by the destructor). Calling write() or commit() afterwards throws.
+    // Sizes the temporary file to exactly `size` bytes, with its disk space reserved (so that a
+    // full disk is an error here, not a crash later), and maps it into memory for writing: the
+    // caller fills the returned bytes (from several threads if it likes) instead of calling
+    // write(). For large outputs this avoids a copy through write() and lets the page cache be
+    // filled in parallel. Only once per file, and not after write(). Throws on failure ("cannot
+    // reserve N bytes (No space left on device)").
+    std::uint8_t* map(std::size_t size);
+
+    // [fsync] + close + rename over the target [+ fsync of the folder] (brackets: Flush only).
+    // Unmaps a map()ped file first. Throws on failure (the temporary is then removed by the
+    // destructor). Calling write(), map() or commit() afterwards throws.
     void commit();
 
     const std::string& path() const noexcept { return path_; }
@@ -37,8 +55,12 @@ class AtomicFile {
   private:
     std::string path_;
     std::string temporary_path_;
+    Durability durability_ = Durability::Rename;
     int descriptor_ = -1;
     bool committed_ = false;
+    bool written_ = false;
+    std::uint8_t* mapping_ = nullptr;
+    std::size_t mapping_size_ = 0;
 };
 
 // Throws leanfade::Error(output, "is the same file as the input <input>") when both paths exist and

@@ -17,8 +17,15 @@
 #include <vector>
 
 #include "leanfade/core/image.hpp"
+#include "leanfade/io/atomic_file.hpp"
 
 namespace leanfade::io {
+
+// How writers write. Every writer replaces its output atomically (AtomicFile).
+struct WriteOptions {
+    Durability durability = Durability::Rename;  // Flush: fsync before the rename
+    int threads = 0;                             // for copying large outputs; <= 0: all cores
+};
 
 struct ReadOptions {
     // Largest accepted width or height, checked on the header before any pixel memory is
@@ -47,7 +54,8 @@ Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::
 // Writes an 8- or 16-bit PNG of 1-4 channels. Values are clamped to [0,1] and quantised with
 // rounding (v * 255 or v * 65535); they are written as-is, with no colour-space conversion. NaN
 // is refused.
-void write_png(const std::string& path, const Image& image, int bits);
+void write_png(const std::string& path, const Image& image, int bits,
+               const WriteOptions& options = {});
 
 // Writes a little-endian PFM of linear float values: 1 channel -> "Pf"; 3 channels -> "PF";
 // 2 channels -> "PF" with blue 0; 4 channels -> "PF", alpha dropped. NaN/infinity are refused.

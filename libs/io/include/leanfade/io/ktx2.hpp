@@ -37,7 +37,8 @@ const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
 // of every level width * height * bytes_per_texel(storage) bytes, rows top first). Throws on an
 // inconsistent map (sizes, chain, byte counts, scale not finite and > 0, shininess not finite and
 // >= 0). The generator string becomes KTXwriter ("leanfade <version>" when empty).
-void write_ktx2(const std::string& path, const PackedLeanMap& map);
+void write_ktx2(const std::string& path, const PackedLeanMap& map,
+                const WriteOptions& options = {});
 
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
@@ -49,8 +50,8 @@ PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {}
 
 // read_ktx2 on a file's bytes already in memory (same checks and messages); `name` is the file
 // name the errors give.
-PackedLeanMap read_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
-                                    const std::string& name, const ReadOptions& options = {});
+PackedLeanMap read_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
+                                    const ReadOptions& options = {});
 
 struct Ktx2Sample {
     std::uint32_t bit_offset = 0;
@@ -118,8 +119,7 @@ struct Ktx2Info {
 // checks of read_ktx2, so that `leanfade info` can describe files from other writers.
 Ktx2Info inspect_ktx2(const std::string& path);
 // inspect_ktx2 on a file's bytes already in memory; Ktx2Info::path is `name`.
-Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes,
-                                  const std::string& name);
+Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name);
 
 // Multi-line human-readable description: header fields, data format, each level's size, offset
 // and length, and all key/values (non-printable bytes escaped as \xHH). Ends with a newline.
