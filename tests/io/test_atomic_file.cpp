@@ -1,6 +1,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <string>
 
@@ -184,6 +185,78 @@ TEST(EnsureNotSameFile, AcceptsDifferentOrMissingFiles) {
     EXPECT_NO_THROW(ensure_not_same_file(folder + "/a", folder + "/b"));
     EXPECT_NO_THROW(ensure_not_same_file(folder + "/new", folder + "/a"));
     EXPECT_NO_THROW(ensure_not_same_file(folder + "/a", folder + "/missing"));
+}
+
+TEST(AtomicFile, MappedFileIsWrittenAndReplacesTheOld) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/mapped.bin";
+    for (Durability durability : {Durability::Rename, Durability::Flush}) {
+        write_bytes(path, bytes_of("old contents"));
+        AtomicFile file(path, durability);
+        std::uint8_t* bytes = file.map(5);
+        ASSERT_NE(bytes, nullptr);
+        EXPECT_EQ(bytes[0], 0) << "a newly reserved file reads as zeros";
+        std::memcpy(bytes, "abcde", 5);
+        EXPECT_EQ(read_bytes(path), bytes_of("old contents")) << "not replaced before commit";
+        file.commit();
+        EXPECT_EQ(read_bytes(path), bytes_of("abcde"));
+        EXPECT_EQ(folder_entries(folder), std::vector<std::string>{"mapped.bin"});
+    }
+}
+
+TEST(AtomicFile, UncommittedMappedFileLeavesNothing) {
+    const std::string folder = scratch_folder();
+    {
+        AtomicFile file(folder + "/out.bin");
+        std::memset(file.map(1 << 20), 7, 1 << 20);
+    }
+    EXPECT_TRUE(folder_entries(folder).empty());
+}
+
+TEST(AtomicFile, MapAndWriteDoNotMix) {
+    const std::string folder = scratch_folder();
+    AtomicFile written(folder + "/a");
+    written.write(bytes_of("x"));
+    expect_error([&] { written.map(4); }, folder + "/a", "map of a file already written");
+    AtomicFile mapped(folder + "/b");
+    mapped.map(4);
+    expect_error([&] { mapped.write(bytes_of("x")); }, folder + "/b", "write to a mapped file");
+    expect_error([&] { mapped.map(4); }, folder + "/b", "map of a file already written");
+    mapped.commit();
+    expect_error([&] { mapped.map(4); }, folder + "/b", "map after commit");
+}
+
+TEST(AtomicFile, Ktx2BytesDoNotDependOnThreadsOrDurability) {
+    const std::string folder = scratch_folder();
+    PackedLeanMap map;
+    map.storage = Storage::Unorm16;
+    for (int size = 37; size >= 1; size /= 2) {
+        PackedLevel level;
+        level.width = size;
+        level.height = size;
+        level.lean1.resize(std::size_t(size) * std::size_t(size) * 8);
+        level.lean2.resize(level.lean1.size());
+        for (std::size_t i = 0; i < level.lean1.size(); ++i) {
+            level.lean1[i] = std::uint8_t(i * 7 + std::size_t(size));
+            level.lean2[i] = std::uint8_t(i * 13 + 5);
+        }
+        map.levels.push_back(std::move(level));
+        if (size == 1) break;
+    }
+    WriteOptions one_thread;
+    one_thread.threads = 1;
+    WriteOptions two_threads_flushed;
+    two_threads_flushed.threads = 2;
+    two_threads_flushed.durability = Durability::Flush;
+    write_ktx2(folder + "/a.ktx2", map, one_thread);
+    write_ktx2(folder + "/b.ktx2", map, two_threads_flushed);
+    EXPECT_EQ(read_bytes(folder + "/a.ktx2"), read_bytes(folder + "/b.ktx2"));
+    const PackedLeanMap back = read_ktx2(folder + "/b.ktx2");
+    ASSERT_EQ(back.levels.size(), map.levels.size());
+    for (std::size_t l = 0; l < map.levels.size(); ++l) {
+        EXPECT_EQ(back.levels[l].lean1, map.levels[l].lean1) << "level " << l;
+        EXPECT_EQ(back.levels[l].lean2, map.levels[l].lean2) << "level " << l;
+    }
 }
 
 }  // namespace
