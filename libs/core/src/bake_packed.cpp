@@ -30,12 +30,9 @@
 
 #include <glm/gtc/packing.hpp>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include "lean_map_internal.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
 
 #if (defined(__x86_64__) || defined(__i386__)) && (defined(__GNUC__) || defined(__clang__))
@@ -955,21 +952,13 @@ ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
 }
 
 // Resizes one output layer. A new vector's bytes are zero-filled by resize, which faults every
-// page in: on Linux the buffer is allocated first and advised to use transparent huge pages
-// (2 MiB), 512 times fewer page faults (docs/perf.md). Reused buffers are left as they are.
+// page in: a new buffer is advised to use huge pages first (assign_large, docs/perf.md). Reused
+// buffers are left as they are.
 void size_layer(std::vector<std::uint8_t>& layer, std::size_t bytes) {
-#if defined(__linux__)
-    constexpr std::size_t kHugeBytes = std::size_t(4) << 20;
-    if (bytes >= kHugeBytes && layer.capacity() < bytes) {
-        std::vector<std::uint8_t>().swap(layer);
-        layer.reserve(bytes);
-        const std::uintptr_t page = 4096;
-        const auto begin = reinterpret_cast<std::uintptr_t>(layer.data());
-        const std::uintptr_t first = (begin + page - 1) & ~(page - 1);
-        const std::uintptr_t last = (begin + bytes) & ~(page - 1);
-        if (last > first) ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    if (layer.capacity() < bytes) {
+        assign_large(layer, bytes, std::uint8_t(0));
+        return;
     }
-#endif
     layer.resize(bytes);
 }
 

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/memory.hpp"
 
 namespace leanfade::io::detail {
 
@@ -70,7 +71,8 @@ void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t siz
 }
 
 std::vector<std::uint8_t> InputFile::read_all() const {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size_));
+    std::vector<std::uint8_t> bytes;
+    assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
     read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
     return bytes;
 }
