@@ -99,9 +99,17 @@ LF_FN float lf_fade_distance(vec3 view_unnormalised, int mode) {
 }
 
 // Specular fading exponent (fading paper eq. 6-7): sf = clamp(1 + (d Fade)^p, 1, Pmax).
+// Shaders compiled with LF_FADE_EXPONENT_2 (the renderer's variant for the default p = 2) take
+// (d Fade)^2 as a product: on a GPU pow(x, 2) = exp2(2 log2 x) costs a log2 and an exp2 per pixel
+// and is not exact (docs/perf.md); `exponent` is then ignored.
 LF_FN float lf_fade_factor(float distance, float fade, float exponent, float pmax) {
     float x = max(0.0f, distance * fade);
-    return clamp(1.0f + pow(x, exponent), 1.0f, max(pmax, 1.0f));
+#if defined(LF_FADE_EXPONENT_2)
+    float power = x * x;
+#else
+    float power = pow(x, exponent);
+#endif
+    return clamp(1.0f + power, 1.0f, max(pmax, 1.0f));
 }
 
 // Shared tail of every technique: (Ka + Kd NdotL) + Ks NdotL^sf D F, times the light colour.

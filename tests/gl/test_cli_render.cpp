@@ -1,6 +1,7 @@
 // `leanfade render` as a user runs it: outputs, cells, and one-line errors.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,11 +27,13 @@ std::string slurp(const fs::path& path) {
     return s.str();
 }
 
-Result run_render(const std::string& args, const fs::path& dir) {
+// Runs `leanfade render <args>` in `dir`; `env` ("NAME=value ...") is added to its environment.
+Result run_render(const std::string& args, const fs::path& dir, const std::string& env = "") {
     const std::string exe = std::string(LEANFADE_BINARY_DIR) + "/tools/leanfade/leanfade";
     const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-    const std::string command = "cd '" + dir.string() + "' && '" + exe + "' render " + args +
-                                " >'" + out.string() + "' 2>'" + err.string() + "' </dev/null";
+    const std::string command = "cd '" + dir.string() + "' && env " + env + " '" + exe +
+                                "' render " + args + " >'" + out.string() + "' 2>'" + err.string() +
+                                "' </dev/null";
     const int status = std::system(command.c_str());
     Result r;
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -108,6 +111,125 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
     const Result r = run_render("--shininess shiny -o never.png", dir);
     EXPECT_NE(r.status, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
+// The image size limit (docs/robustness.md): refused on the header by default, --max-size
+// lowers or raises it.
+TEST(CliRender, MaxSizeLimitsTheBumpImage) {
+    const fs::path dir = scratch_dir("cli_render_max_size");
+    Image height(40, 24, 1);
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 40; ++x) height.at(x, y, 0) = float((x * 7 + y * 3) % 11) / 10.0f;
+    io::write_png((dir / "height.png").string(), height, 16);
+    const std::string common = "--scene sphere --size 32x32 --techniques lean --distances 3 ";
+
+    Result r = run_render(common + "--bumps height.png --max-size 32 -o never.png", dir);
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("height.png: image size 40x24 exceeds the limit of 32 texels per side"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never.png"));
+
+    r = run_render(common + "--bumps height.png --max-size 0 -o never.png", dir);
+    EXPECT_NE(r.status, 0) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never.png"));
+
+    r = run_render(common + "--bumps height.png --max-size 40 -o ok.png", dir);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "ok.png"));
+}
+
+// Determinism: the same command twice writes byte-identical files (same driver).
+TEST(CliRender, SameCommandTwiceWritesIdenticalFiles) {
+    const fs::path dir = scratch_dir("cli_render_twice");
+    const std::string args =
+        "--scene teapot --techniques bump,lean,fade,reference --distances 3,24 --size 48x40 "
+        "--ref-samples 2 --texture-size 64 --msaa 4 --fog linear --fog-start 2 --fog-end 30 "
+        "--cell-format pfm";
+    for (const char* run : {"a", "b"}) {
+        const Result r =
+            run_render(args + " --cells cells_" + run + " -o grid_" + run + ".png", dir);
+        ASSERT_EQ(r.status, 0) << r.err;
+    }
+    EXPECT_EQ(slurp(dir / "grid_a.png"), slurp(dir / "grid_b.png"));
+    std::size_t cells = 0;
+    for (const auto& entry : fs::directory_iterator(dir / "cells_a")) {
+        SCOPED_TRACE(entry.path().filename().string());
+        EXPECT_EQ(slurp(entry.path()), slurp(dir / "cells_b" / entry.path().filename()));
+        ++cells;
+    }
+    EXPECT_EQ(cells, 4u * 2u * 2u);  // 4 techniques x 2 distances, PNG and PFM
+}
+
+// GL faults: each is one line naming the cause, exit code 1 and no output file.
+
+// glvnd's vendor file of Mesa's libEGL (Debian: libegl-mesa0), or "" when there is none.
+std::string mesa_egl_vendor_file() {
+    for (const char* folder : {"/usr/share/glvnd/egl_vendor.d", "/etc/glvnd/egl_vendor.d",
+                               "/usr/local/share/glvnd/egl_vendor.d"}) {
+        std::error_code ec;
+        for (const auto& entry : fs::directory_iterator(folder, ec))
+            if (entry.path().filename().string().find("mesa") != std::string::npos)
+                return entry.path().string();
+    }
+    return {};
+}
+
+TEST(CliRenderGlFaults, NoEglDisplay) {
+    const fs::path dir = scratch_dir("cli_render_no_display");
+    // glvnd's libEGL with no vendor library: every platform gives EGL_NO_DISPLAY.
+    const Result r = run_render("--scene sphere --size 32x32 -o never.png", dir,
+                                "-u LEANFADE_EGL_DEVICE "
+                                "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/no-vendor.json");
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_EQ(r.err.rfind("leanfade render: EGL: no EGL display", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("no driver"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
+TEST(CliRenderGlFaults, ContextBelowOpenGl45) {
+    const fs::path dir = scratch_dir("cli_render_old_gl");
+    const std::string mesa = mesa_egl_vendor_file();
+    ASSERT_FALSE(mesa.empty()) << "Mesa's EGL vendor file was not found (Debian: libegl-mesa0)";
+    // Mesa only (llvmpipe), told to offer OpenGL 3.3 at most: a driver too old for leanfade.
+    const Result r = run_render("--scene sphere --size 32x32 -o never.png", dir,
+                                "-u LEANFADE_EGL_DEVICE __EGL_VENDOR_LIBRARY_FILENAMES='" + mesa +
+                                    "' LIBGL_ALWAYS_SOFTWARE=1 MESA_GL_VERSION_OVERRIDE=3.3");
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_EQ(r.err.rfind("leanfade render: EGL: no OpenGL 4.5 core context could be made", 0), 0u)
+        << r.err;
+    EXPECT_NE(r.err.find("offers OpenGL 3.3 core at most, below the required 4.5 core"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
+TEST(CliRenderGlFaults, ShaderThatDoesNotCompileFromShaderDir) {
+    const fs::path dir = scratch_dir("cli_render_broken_shader");
+    const fs::path shaders = dir / "shaders";
+    fs::create_directories(shaders);
+    for (const auto& entry : fs::directory_iterator(fs::path(LEANFADE_SOURCE_DIR) / "shaders"))
+        fs::copy_file(entry.path(), shaders / entry.path().filename());
+    // An error on a known line of the shared header (included by scene.frag).
+    std::string text = slurp(shaders / "lean_shading.glsl");
+    if (!text.empty() && text.back() != '\n') text += '\n';
+    const int line = 1 + int(std::count(text.begin(), text.end(), '\n'));
+    text += "this is not GLSL;\n";
+    std::ofstream(shaders / "lean_shading.glsl", std::ios::binary | std::ios::trunc) << text;
+
+    const Result r = run_render("--scene sphere --size 32x32 --techniques lean --shader-dir '" +
+                                    shaders.string() + "' -o never.png",
+                                dir);
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    const std::string where = "leanfade render: " + (shaders / "lean_shading.glsl").string() +
+                              ": line " + std::to_string(line) + ", column 1: error:";
+    EXPECT_EQ(r.err.rfind(where, 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("fragment shader scene.frag"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 }
 

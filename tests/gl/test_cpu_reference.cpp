@@ -27,6 +27,7 @@ struct Case {
     gl::Technique technique;
     FadeDistance fade_distance = FadeDistance::TangentZ;
     FogMode fog = FogMode::None;
+    float fade_exponent = 2.0f;  // 2: the LF_FADE_EXPONENT_2 variant; other values: pow
 };
 
 // Test names show the case's name instead of its bytes.
@@ -58,6 +59,7 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
     s.fade = 0.6f;  // sf = 1 + (d Fade)^2 between ~1.8 and Pmax over the quad
     s.pmax = 6.0f;
     s.fade_distance = c.fade_distance;
+    s.fade_exponent = c.fade_exponent;
     s.fog = c.fog;
     s.fog_color = {0.3f, 0.4f, 0.5f};
     s.fog_density = 0.3f;
@@ -125,18 +127,17 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
     std::printf("%s: %d pixels, worst relative error %.3g\n", c.name, compared, worst);
 }
 
-INSTANTIATE_TEST_SUITE_P(Shading, GpuMatchesCpu,
-                         ::testing::Values(Case{"bump", gl::Technique::Bump},
-                                           Case{"lean", gl::Technique::Lean},
-                                           Case{"toksvig", gl::Technique::Toksvig},
-                                           Case{"clean", gl::Technique::Clean},
-                                           Case{"fade_tangent_z", gl::Technique::Fade},
-                                           Case{"fade_eye", gl::Technique::Fade, FadeDistance::Eye},
-                                           Case{"lean_exp_fog", gl::Technique::Lean,
-                                                FadeDistance::TangentZ, FogMode::Exp}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                             return std::string(info.param.name);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Shading, GpuMatchesCpu,
+    ::testing::Values(
+        Case{"bump", gl::Technique::Bump}, Case{"lean", gl::Technique::Lean},
+        Case{"toksvig", gl::Technique::Toksvig}, Case{"clean", gl::Technique::Clean},
+        Case{"fade_tangent_z", gl::Technique::Fade},
+        Case{"fade_eye", gl::Technique::Fade, FadeDistance::Eye},
+        Case{"fade_power_1_7", gl::Technique::Fade, FadeDistance::TangentZ, FogMode::None, 1.7f},
+        Case{"fade_exp_fog", gl::Technique::Fade, FadeDistance::Eye, FogMode::Exp},
+        Case{"lean_exp_fog", gl::Technique::Lean, FadeDistance::TangentZ, FogMode::Exp}),
+    [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 // Core images are stored top row first; the upload flips them so that the top row lies at v = 1
 // (+v up, SPEC §1). A 2 x 2 map whose top row tilts toward +x and bottom row toward -x, on the

@@ -111,6 +111,59 @@ TEST(ShaderSources, ReportsMissingAndMalformedFiles) {
     EXPECT_THROW(gl::shader_variant("scene_unknown"), Error);
 }
 
+// The drivers' log formats, resolved to files and lines (no context needed).
+TEST(ShaderSources, CompileLogsOfEachDriverNameTheFileAndLine) {
+    const fs::path dir = scratch_dir("compile_logs");
+    const gl::ShaderSources folder = gl::ShaderSources::directory(dir.string());
+    gl::ResolvedSource source;
+    source.files = {"scene.frag", "lean_shading.glsl"};
+    const std::string header = (dir / "lean_shading.glsl").string();
+    const std::string main_file = (dir / "scene.frag").string();
+
+    // Mesa: the first error names the file, even after a warning; the others keep their files.
+    Error mesa = gl::compile_error(GL_FRAGMENT_SHADER, "scene.frag", source, folder,
+                                   "0:12(5): warning: unused x\n"
+                                   "1:221(1): error: illegal use of reserved word `this'\n"
+                                   "1:221(1): error: syntax error\n");
+    EXPECT_EQ(mesa.file(), header);
+    EXPECT_EQ(mesa.cause(),
+              "line 221, column 1: error: illegal use of reserved word `this'; " + main_file +
+                  " line 12, column 5: warning: unused x; line 221, column 1: error: syntax "
+                  "error (included by the fragment shader scene.frag, which does not compile)");
+
+    // NVIDIA.
+    Error nvidia = gl::compile_error(GL_FRAGMENT_SHADER, "scene.frag", source, folder,
+                                     "1(40) : error C1008: undefined variable \"q\"\n");
+    EXPECT_EQ(nvidia.file(), header);
+    EXPECT_EQ(nvidia.cause().rfind("line 40: error C1008: undefined variable \"q\"", 0), 0u)
+        << nvidia.what();
+
+    // AMD, Intel and glslang.
+    Error glslang = gl::compile_error(GL_VERTEX_SHADER, "scene.frag", source, folder,
+                                      "ERROR: 0:7: 'x' : undeclared identifier\n"
+                                      "ERROR: 1 compilation errors.  No code generated.\n");
+    EXPECT_EQ(glslang.file(), main_file);
+    EXPECT_EQ(glslang.cause(),
+              "line 7: error: 'x' : undeclared identifier; ERROR: 1 compilation errors.  No code "
+              "generated. (the vertex shader scene.frag does not compile)");
+
+    // A log without locations is passed on; an unknown source string is named as such.
+    Error plain =
+        gl::compile_error(GL_COMPUTE_SHADER, "scene.frag", source, folder, "out of registers\n");
+    EXPECT_EQ(plain.file(), main_file);
+    EXPECT_EQ(plain.cause(), "out of registers (the compute shader scene.frag does not compile)");
+    Error unknown =
+        gl::compile_error(GL_FRAGMENT_SHADER, "scene.frag", source, folder, "7:3(2): error: x\n");
+    EXPECT_EQ(unknown.file(), "source string 7");
+    Error empty = gl::compile_error(GL_FRAGMENT_SHADER, "scene.frag", source, folder, "");
+    EXPECT_EQ(empty.cause().rfind("the driver gave no log", 0), 0u) << empty.what();
+
+    // The embedded shaders are named by their names under shaders/.
+    Error embedded = gl::compile_error(GL_FRAGMENT_SHADER, "scene.frag", source,
+                                       gl::ShaderSources::embedded(), "1:3(1): error: x\n");
+    EXPECT_EQ(embedded.file(), "lean_shading.glsl");
+}
+
 class GlShaders : public GlTest {};
 
 TEST_F(GlShaders, EveryVariantCompilesAndLinks) {
@@ -121,24 +174,83 @@ TEST_F(GlShaders, EveryVariantCompilesAndLinks) {
     }
 }
 
-TEST_F(GlShaders, CompileErrorsNameTheFiles) {
-    const fs::path dir = scratch_dir("broken_shaders");
+// A copy of shaders/ in `dir`.
+void copy_shaders(const fs::path& dir) {
     const fs::path source_dir = fs::path(LEANFADE_SOURCE_DIR) / "shaders";
     for (const auto& entry : fs::directory_iterator(source_dir))
         fs::copy_file(entry.path(), dir / entry.path().filename());
+}
+
+// Appends `bad` to `file` on a line of its own; returns that line's number.
+int append_line(const fs::path& file, const std::string& bad) {
+    std::string text;
     {
-        std::ofstream out(dir / "lean_shading.glsl", std::ios::app);
-        out << "\nthis is not GLSL;\n";
+        std::ifstream in(file, std::ios::binary);
+        std::ostringstream s;
+        s << in.rdbuf();
+        text = s.str();
     }
+    if (!text.empty() && text.back() != '\n') text += '\n';
+    text += "\n" + bad + "\n";
+    write_file(file, text);
+    return int(count(text, "\n"));  // text ends with a newline: the last line, counted from 1
+}
+
+TEST_F(GlShaders, CompileErrorsNameTheIncludedFileAndLine) {
+    const fs::path dir = scratch_dir("broken_shaders");
+    copy_shaders(dir);
+    const int line = append_line(dir / "lean_shading.glsl", "this is not GLSL;");
     try {
         gl::build_program(gl::ShaderSources::directory(dir.string()),
                           gl::shader_variant("scene_lean"));
         FAIL() << "a broken shared header must not compile";
     } catch (const Error& e) {
-        EXPECT_EQ(e.file(), "scene.frag");
-        EXPECT_NE(e.cause().find("1 = lean_shading.glsl"), std::string::npos) << e.what();
+        // The error is in the included file: its path, its line, and the stage that includes it.
+        EXPECT_EQ(e.file(), (dir / "lean_shading.glsl").string()) << e.what();
+        EXPECT_EQ(e.cause().rfind("line " + std::to_string(line) + ", column 1: error:", 0), 0u)
+            << e.what();
+        EXPECT_NE(e.cause().find("fragment shader scene.frag"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     }
     // The driver's info log is not an error of the GL API.
+    EXPECT_TRUE(context().take_errors().empty());
+}
+
+TEST_F(GlShaders, CompileErrorsNameTheMainFileAndLine) {
+    const fs::path dir = scratch_dir("broken_main_shader");
+    copy_shaders(dir);
+    const int line = append_line(dir / "scene.vert", "float broken = ;");
+    for (const char* variant : {"scene_bump", "scene_lean_plain"}) {
+        try {
+            gl::build_program(gl::ShaderSources::directory(dir.string()),
+                              gl::shader_variant(variant));
+            FAIL() << variant << ": a broken vertex stage must not compile";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), (dir / "scene.vert").string()) << e.what();
+            // The variant's #defines after #version do not shift the line numbers.
+            EXPECT_EQ(e.cause().rfind("line " + std::to_string(line) + ",", 0), 0u) << e.what();
+            EXPECT_NE(e.cause().find("(the vertex shader scene.vert does not compile)"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_TRUE(context().take_errors().empty());
+}
+
+TEST_F(GlShaders, ComputeCompileErrorsNameTheFileAndLine) {
+    const fs::path dir = scratch_dir("broken_compute_shader");
+    copy_shaders(dir);
+    const int line = append_line(dir / "generate_lean.comp", "float broken = ;");
+    try {
+        gl::build_compute_program(gl::ShaderSources::directory(dir.string()), "generate_lean.comp",
+                                  {"SOURCE_HEIGHT", "LAYER_FORMAT rgba16f"});
+        FAIL() << "a broken compute shader must not compile";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), (dir / "generate_lean.comp").string()) << e.what();
+        EXPECT_EQ(e.cause().rfind("line " + std::to_string(line) + ",", 0), 0u) << e.what();
+        EXPECT_NE(e.cause().find("compute shader generate_lean.comp"), std::string::npos)
+            << e.what();
+    }
     EXPECT_TRUE(context().take_errors().empty());
 }
 

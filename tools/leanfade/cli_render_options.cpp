@@ -147,6 +147,12 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
     app.add_option("--texture-size", f.texture_size, "Texels per side of a built-in bump set")
         ->capture_default_str()
         ->group(group);
+    app.add_option("--max-size", f.max_size,
+                   "Largest accepted width or height of a --bumps image or .ktx2 map (refused "
+                   "before decoding)")
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str()
+        ->group(group);
 }
 
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
@@ -158,7 +164,9 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
                                           std::to_string(f.texture_size));
     const Storage storage = parse_storage(f.bits);
-    if (ends_with(f.bumps, ".ktx2")) return io::read_ktx2(f.bumps);
+    io::ReadOptions read_options;
+    read_options.max_dimension = f.max_size;
+    if (ends_with(f.bumps, ".ktx2")) return io::read_ktx2(f.bumps, read_options);
 
     BakeOptions options;
     options.strength = settings.bump_strength;
@@ -169,8 +177,6 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
         result = bake_lean_map(make_builtin_height(f.bumps, f.texture_size, f.seed),
                                BakeSource::Height, options, f.bumps);
     } else {
-        io::ReadOptions read_options;
-        read_options.max_dimension = f.max_size;
         const Image image = io::read_image(f.bumps, read_options);
         result = bake_lean_map(image, f.from == "normal" ? BakeSource::Normal : BakeSource::Height,
                                options, f.bumps);

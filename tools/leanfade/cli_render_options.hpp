@@ -37,10 +37,10 @@ struct LeanSourceFlags {
     std::string bits = "16";      // on-the-fly bakes: 8 | 16 | 16f | 32f
     std::uint32_t seed = 1;       // built-in sets
     int texture_size = 256;       // built-in sets, texels per side
-    int max_size = kDefaultMaxImageDimension;
+    int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
 };
 
-// --bumps --from --directx --bits --seed --texture-size, in the "Bumps" group.
+// --bumps --from --directx --bits --seed --texture-size --max-size, in the "Bumps" group.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
 // Reads a .ktx2 LEAN map (recognised by its extension), or bakes one from a built-in set or an
 // image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.

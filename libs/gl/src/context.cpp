@@ -4,10 +4,12 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
 #include <sstream>
+#include <utility>
 
 #include "leanfade/core/error.hpp"
 
@@ -128,8 +130,29 @@ std::string Context::Impl::try_display(EGLDisplay candidate, const std::string& 
                                          debug ? EGL_TRUE : EGL_FALSE,
                                          EGL_NONE};
     EGLContext created = eglCreateContext(candidate, config, EGL_NO_CONTEXT, context_attributes);
-    if (created == EGL_NO_CONTEXT)
-        return fail("no OpenGL 4.5 core context (" + egl_error_name(eglGetError()) + ")");
+    if (created == EGL_NO_CONTEXT) {
+        const std::string code = egl_error_name(eglGetError());
+        // Say what the driver offers instead: the newest core version it makes a context of.
+        for (const auto& [probe_major, probe_minor] :
+             {std::pair{4, 4}, {4, 3}, {4, 2}, {4, 1}, {4, 0}, {3, 3}, {3, 2}}) {
+            const EGLint probe_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                               probe_major,
+                                               EGL_CONTEXT_MINOR_VERSION,
+                                               probe_minor,
+                                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                               EGL_NONE};
+            EGLContext probe =
+                eglCreateContext(candidate, config, EGL_NO_CONTEXT, probe_attributes);
+            if (probe == EGL_NO_CONTEXT) continue;
+            eglDestroyContext(candidate, probe);
+            return fail("the driver offers OpenGL " + std::to_string(probe_major) + "." +
+                        std::to_string(probe_minor) +
+                        " core at most, below the required 4.5 core (" + code + ")");
+        }
+        return fail("no OpenGL 4.5 core context (" + code +
+                    "), nor any core context of version 3.2 or later");
+    }
     if (!eglMakeCurrent(candidate, EGL_NO_SURFACE, EGL_NO_SURFACE, created)) {
         eglDestroyContext(candidate, created);
         return fail("eglMakeCurrent failed (" + egl_error_name(eglGetError()) + ")");
@@ -252,9 +275,23 @@ Context::Context(const ContextOptions& options) : impl_(std::make_unique<Impl>()
             made = attempt(eglGetDisplay(EGL_DEFAULT_DISPLAY), "default display");
     }
     if (!made) {
+        // No display at all (no EGL driver: glvnd found no vendor library, or none offers a
+        // platform leanfade can use) is a different fault from a driver without OpenGL 4.5.
+        const bool no_display = std::all_of(causes.begin(), causes.end(), [](const std::string& c) {
+            const std::string suffix = ": no display";
+            return c.size() >= suffix.size() &&
+                   c.compare(c.size() - suffix.size(), suffix.size(), suffix) == 0;
+        });
+        if (no_display) {
+            std::string tried;
+            for (const std::string& c : causes)
+                tried += (tried.empty() ? "" : ", ") + c.substr(0, c.size() - 12);
+            throw Error("EGL", "no EGL display" + (tried.empty() ? "" : " (tried: " + tried + ")") +
+                                   ": libEGL found no driver to render with; install a GPU "
+                                   "driver's EGL or Mesa's (Debian: libegl-mesa0)");
+        }
         std::string cause = "no OpenGL 4.5 core context could be made";
         for (const std::string& c : causes) cause += "; " + c;
-        if (causes.empty()) cause += " (no EGL display found)";
         throw Error("EGL", cause);
     }
 

@@ -83,12 +83,20 @@ std::string variant_name(Technique t) {
 // The program that draws `request`: for the colour output without fog, the technique's
 // "_plain" variant when there is one (LF_PLAIN_COLOR: the same image without the output and fog
 // branches, which llvmpipe executes for every pixel; docs/perf.md).
+// Fading with p = 2 takes the "_p2" variant of that (LF_FADE_EXPONENT_2: (d Fade)^2 as a product).
 std::string variant_name(const RenderRequest& request) {
+    const auto exists = [](const std::string& candidate) {
+        for (const ShaderVariant& v : shader_variants())
+            if (v.name == candidate) return true;
+        return false;
+    };
     std::string name = variant_name(request.technique);
-    if (request.output != OutputMode::Color || request.settings.fog != FogMode::None) return name;
-    const std::string plain = name + "_plain";
-    for (const ShaderVariant& v : shader_variants())
-        if (v.name == plain) return plain;
+    if (request.output == OutputMode::Color && request.settings.fog == FogMode::None &&
+        exists(name + "_plain"))
+        name += "_plain";
+    if (request.technique == Technique::Fade && request.settings.fade_exponent == 2.0f &&
+        exists(name + "_p2"))
+        name += "_p2";
     return name;
 }
 
@@ -156,8 +164,7 @@ glm::mat4 View::projection_matrix(float aspect) const {
     return glm::perspective(glm::radians(fov_y_degrees), aspect, near_plane, far_plane);
 }
 
-View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction,
-                      glm::vec3 target) {
+View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction, glm::vec3 target) {
     if (!(distance > 1.0f) || !std::isfinite(distance))
         throw Error("--distances", "camera distances are in bounding radii and must be > 1, got " +
                                        std::to_string(distance));
@@ -428,9 +435,9 @@ Image Renderer::render(const RenderRequest& request) {
 
 void Renderer::render_to(const RenderRequest& request, GLuint framebuffer, int x, int y) {
     Target& target = render_target(request);
-    glBlitNamedFramebuffer(target.framebuffer.get(), framebuffer, 0, 0, target.width,
-                           target.height, x, y, x + target.width, y + target.height,
-                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitNamedFramebuffer(target.framebuffer.get(), framebuffer, 0, 0, target.width, target.height,
+                           x, y, x + target.width, y + target.height, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
     context_.check(std::string("rendering ") + to_string(request.technique) +
                    " into a framebuffer");
 }

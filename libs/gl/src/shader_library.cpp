@@ -104,20 +104,148 @@ std::string one_line(std::string text) {
     return trim(text);
 }
 
-Shader compile_stage(GLenum stage, const std::string& name, const ResolvedSource& source) {
+const char* stage_name(GLenum stage) {
+    switch (stage) {
+        case GL_VERTEX_SHADER:
+            return "vertex";
+        case GL_FRAGMENT_SHADER:
+            return "fragment";
+        case GL_COMPUTE_SHADER:
+            return "compute";
+        default:
+            return "shader";
+    }
+}
+
+// Reads an unsigned decimal number at text[i], advancing i; false when there is none.
+bool read_number(const std::string& text, std::size_t& i, long& value) {
+    const std::size_t start = i;
+    value = 0;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9' && i - start < 9)
+        value = value * 10 + (text[i++] - '0');
+    return i > start;
+}
+
+// One line of a driver's info log, with the location taken apart when it has one.
+struct LogEntry {
+    bool located = false;
+    long string = 0;  // source string number (#line's second argument)
+    long line = 0;
+    long column = 0;  // 0: not given
+    std::string message;
+};
+
+// Understands the location formats of the common drivers:
+//   Mesa                "0:12(5): error: ..."
+//   NVIDIA              "0(12) : error C1008: ..."
+//   AMD, Intel, glslang "ERROR: 0:12: ..."
+LogEntry parse_log_line(const std::string& raw) {
+    LogEntry e;
+    const std::string line = trim(raw);
+    e.message = line;
+    std::size_t i = 0;
+    std::string severity;
+    for (const char* prefix : {"ERROR: ", "WARNING: "}) {
+        if (line.rfind(prefix, 0) == 0) {
+            severity = std::string(prefix) == "ERROR: " ? "error: " : "warning: ";
+            i = std::strlen(prefix);
+        }
+    }
+    long a = 0, b = 0, c = 0;
+    if (!read_number(line, i, a)) return e;
+    if (i < line.size() && line[i] == ':') {
+        ++i;
+        if (!read_number(line, i, b)) return e;
+        if (i < line.size() && line[i] == '(') {
+            ++i;
+            if (!read_number(line, i, c) || i >= line.size() || line[i] != ')') return e;
+            ++i;
+        }
+    } else if (i < line.size() && line[i] == '(') {
+        ++i;
+        if (!read_number(line, i, b) || i >= line.size() || line[i] != ')') return e;
+        ++i;
+    } else {
+        return e;
+    }
+    while (i < line.size() && line[i] == ' ') ++i;
+    if (i >= line.size() || line[i] != ':') return e;
+    ++i;
+    e.located = true;
+    e.string = a;
+    e.line = b;
+    e.column = c;
+    e.message = severity + trim(line.substr(i));
+    return e;
+}
+
+bool is_error(const LogEntry& e) {
+    return e.message.rfind("warning", 0) != 0 && e.message.find("error") != std::string::npos;
+}
+
+}  // namespace
+
+Error compile_error(GLenum stage, const std::string& name, const ResolvedSource& source,
+                    const ShaderSources& sources, const std::string& log) {
+    auto file_of = [&](const LogEntry& e) -> std::string {
+        if (e.string >= 0 && std::size_t(e.string) < source.files.size())
+            return sources.location(source.files[std::size_t(e.string)]);
+        return "source string " + std::to_string(e.string);
+    };
+    auto where = [](const LogEntry& e) {
+        std::string w = "line " + std::to_string(e.line);
+        if (e.column > 0) w += ", column " + std::to_string(e.column);
+        return w;
+    };
+    std::vector<LogEntry> entries;
+    std::istringstream in(log);
+    std::string raw;
+    while (std::getline(in, raw))
+        if (!trim(raw).empty()) entries.push_back(parse_log_line(raw));
+
+    // The first located error names the file; the others follow, with their own files.
+    const LogEntry* first = nullptr;
+    for (const LogEntry& e : entries)
+        if (e.located && is_error(e)) {
+            first = &e;
+            break;
+        }
+    if (first == nullptr)
+        for (const LogEntry& e : entries)
+            if (e.located) {
+                first = &e;
+                break;
+            }
+    const std::string file = first != nullptr ? file_of(*first) : sources.location(name);
+    std::string cause = first != nullptr ? where(*first) + ": " + first->message : "";
+    for (const LogEntry& e : entries) {
+        if (&e == first) continue;
+        std::string text = e.message;
+        if (e.located) {
+            const std::string f = file_of(e);
+            text = (f == file ? "" : f + " ") + where(e) + ": " + e.message;
+        }
+        cause += (cause.empty() ? "" : "; ") + text;
+    }
+    if (cause.empty()) cause = "the driver gave no log";
+    const std::string stage_text = std::string(stage_name(stage)) + " shader " + name;
+    cause += file == sources.location(name)
+                 ? " (the " + stage_text + " does not compile)"
+                 : " (included by the " + stage_text + ", which does not compile)";
+    return Error(file, one_line(cause));
+}
+
+namespace {
+
+Shader compile_stage(GLenum stage, const std::string& name, const ResolvedSource& source,
+                     const ShaderSources& sources) {
     Shader shader(glCreateShader(stage));
     const char* text = source.text.c_str();
     glShaderSource(shader.get(), 1, &text, nullptr);
     glCompileShader(shader.get());
     GLint ok = GL_FALSE;
     glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        std::string legend;
-        for (std::size_t i = 0; i < source.files.size(); ++i)
-            legend += (i == 0 ? "" : ", ") + std::to_string(i) + " = " + source.files[i];
-        throw Error(name, "does not compile (source strings: " + legend +
-                              "): " + one_line(stage_log(shader.get())));
-    }
+    if (ok != GL_TRUE) throw compile_error(stage, name, source, sources, stage_log(shader.get()));
     return shader;
 }
 
@@ -157,6 +285,11 @@ std::string ShaderSources::read(const std::string& name) const {
     return text.str();
 }
 
+std::string ShaderSources::location(const std::string& name) const {
+    if (!folder_) return name;
+    return (std::filesystem::path(*folder_) / name).string();
+}
+
 ResolvedSource ShaderSources::resolve(const std::string& name,
                                       const std::vector<std::string>& defines) const {
     Resolver r;
@@ -181,9 +314,17 @@ const std::vector<ShaderVariant>& shader_variants() {
         {"scene_bump_plain", "scene.vert", "scene.frag", {"TECHNIQUE_BUMP", "LF_PLAIN_COLOR"}},
         {"scene_lean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN", "LF_PLAIN_COLOR"}},
         {"scene_fade_plain", "scene.vert", "scene.frag", {"TECHNIQUE_FADE", "LF_PLAIN_COLOR"}},
-        {"scene_toksvig_plain", "scene.vert", "scene.frag",
+        {"scene_toksvig_plain",
+         "scene.vert",
+         "scene.frag",
          {"TECHNIQUE_TOKSVIG", "LF_PLAIN_COLOR"}},
         {"scene_clean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN", "LF_PLAIN_COLOR"}},
+        // Fading with the default power p = 2 as a product instead of a pow (lf_fade_factor).
+        {"scene_fade_p2", "scene.vert", "scene.frag", {"TECHNIQUE_FADE", "LF_FADE_EXPONENT_2"}},
+        {"scene_fade_plain_p2",
+         "scene.vert",
+         "scene.frag",
+         {"TECHNIQUE_FADE", "LF_PLAIN_COLOR", "LF_FADE_EXPONENT_2"}},
     };
     return variants;
 }
@@ -197,8 +338,8 @@ const ShaderVariant& shader_variant(const std::string& name) {
 Program build_program(const ShaderSources& sources, const ShaderVariant& variant) {
     const ResolvedSource vertex_source = sources.resolve(variant.vertex, variant.defines);
     const ResolvedSource fragment_source = sources.resolve(variant.fragment, variant.defines);
-    Shader vertex = compile_stage(GL_VERTEX_SHADER, variant.vertex, vertex_source);
-    Shader fragment = compile_stage(GL_FRAGMENT_SHADER, variant.fragment, fragment_source);
+    Shader vertex = compile_stage(GL_VERTEX_SHADER, variant.vertex, vertex_source, sources);
+    Shader fragment = compile_stage(GL_FRAGMENT_SHADER, variant.fragment, fragment_source, sources);
     Program program(glCreateProgram());
     glAttachShader(program.get(), vertex.get());
     glAttachShader(program.get(), fragment.get());
@@ -222,7 +363,7 @@ Program build_program(const ShaderSources& sources, const ShaderVariant& variant
 Program build_compute_program(const ShaderSources& sources, const std::string& file,
                               const std::vector<std::string>& defines) {
     const ResolvedSource source = sources.resolve(file, defines);
-    Shader compute = compile_stage(GL_COMPUTE_SHADER, file, source);
+    Shader compute = compile_stage(GL_COMPUTE_SHADER, file, source, sources);
     Program program(glCreateProgram());
     glAttachShader(program.get(), compute.get());
     glLinkProgram(program.get());

@@ -9,7 +9,10 @@
 //   3. Mesa's software device on the device platform.
 // A device index (ContextOptions::device, or the environment variable LEANFADE_EGL_DEVICE) uses
 // only that device. When no context can be made, the constructor throws
-// leanfade::Error("EGL", cause) naming what each attempt gave (no display, no 4.5 core context).
+// leanfade::Error("EGL", cause): "no EGL display (tried: ...)" when no platform gives a display
+// (no EGL driver installed or usable), otherwise "no OpenGL 4.5 core context could be made" and
+// what each attempt gave, e.g. "surfaceless: the driver offers OpenGL 3.3 core at most, below
+// the required 4.5 core (EGL_BAD_MATCH)".
 //
 // Rendering is offscreen (framebuffer objects); the context has no window surface.
 //

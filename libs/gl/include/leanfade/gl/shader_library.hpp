@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "leanfade/core/error.hpp"
 #include "leanfade/gl/objects.hpp"
 
 namespace leanfade::gl {
@@ -37,6 +38,10 @@ class ShaderSources {
     // "embedded" or the folder.
     const std::string& origin() const { return origin_; }
 
+    // The file `name` as messages name it: <folder>/<name> for a folder on disk, <name> for the
+    // embedded copies.
+    std::string location(const std::string& name) const;
+
   private:
     std::string read(const std::string& name) const;
     std::optional<std::string> folder_;
@@ -56,12 +61,22 @@ const std::vector<ShaderVariant>& shader_variants();
 // The variant called `name`; throws leanfade::Error("shaders", cause) when there is none.
 const ShaderVariant& shader_variant(const std::string& name);
 
-// Compiles and links a variant. Throws leanfade::Error(<file>, <compiler log>) naming the main
-// file of the failing stage and the files of its source strings.
+// Compiles and links a variant. A stage that does not compile throws
+// leanfade::Error(<file>, "line L, column C: error: <message>; ... (<stage> shader <main file>
+// does not compile)"): <file> is the file of the first error, an included file when the error
+// is there (ShaderSources::location: the path on disk for a folder), and every location of the
+// driver's log is given as a file and line (Mesa, NVIDIA and glslang-style logs are understood;
+// another log is passed on as it is). A link failure throws Error("<vertex> + <fragment>", log).
 Program build_program(const ShaderSources& sources, const ShaderVariant& variant);
 
+// The error build_program throws for a stage that does not compile, from the driver's info log
+// (`stage`: GL_VERTEX_SHADER, ...; `name`: the stage's main file; `source`: its resolution).
+Error compile_error(GLenum stage, const std::string& name, const ResolvedSource& source,
+                    const ShaderSources& sources, const std::string& log);
+
 // Compiles and links a compute program from one file (e.g. "generate_lean.comp") with `defines`
-// inserted after its #version line. Throws leanfade::Error(file, <compiler or linker log>).
+// inserted after its #version line. Throws leanfade::Error(file, <compiler or linker log>), a
+// compile error as build_program's.
 Program build_compute_program(const ShaderSources& sources, const std::string& file,
                               const std::vector<std::string>& defines);
 
