@@ -68,12 +68,19 @@ LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
 
 // LEAN lobe (LEAN eq. 1 with the authors' errata normalisation 1/(2 pi sqrt(det))), evaluated at
 // the half vector H (tangent space, unit). Units: 1/slope^2 (a density over projected slopes).
-LF_FN float lf_lean_lobe(vec3 half_vector, vec2 mean, vec3 sigma) {
+// The lobe as exp(x) / y: returns (x, y) = (-e/2, 2 pi sqrt(det)), or (0, 0) where the lobe is 0
+// (det <= 0 or H below the tangent plane).
+LF_FN vec2 lf_lean_lobe_terms(vec3 half_vector, vec2 mean, vec3 sigma) {
     float det = sigma.x * sigma.y - sigma.z * sigma.z;
-    if (det <= 0.0f || half_vector.z <= 0.0f) return 0.0f;
+    if (det <= 0.0f || half_vector.z <= 0.0f) return vec2(0.0f);
     vec2 h = vec2(half_vector.x, half_vector.y) / half_vector.z - mean;
     float e = (h.x * h.x * sigma.y + h.y * h.y * sigma.x - 2.0f * h.x * h.y * sigma.z) / det;
-    return exp(-0.5f * e) / (2.0f * LF_PI * sqrt(det));
+    return vec2(-0.5f * e, 2.0f * LF_PI * sqrt(det));
+}
+
+LF_FN float lf_lean_lobe(vec3 half_vector, vec2 mean, vec3 sigma) {
+    vec2 t = lf_lean_lobe_terms(half_vector, mean, sigma);
+    return (t.y > 0.0f) ? exp(t.x) / t.y : 0.0f;
 }
 
 // Normalised Blinn-Phong lobe of the baseline: s/(2 pi) max(0, nb.H)^s, so that at the finest
@@ -93,8 +100,12 @@ LF_FN float lf_fresnel(vec3 n, vec3 view_dir, float bias, float scale) {
 
 // Distance measure of specular fading. view_unnormalised: tangent-space vector from the shaded
 // point to the eye, in world units (SPEC §1 Vt).
+// Shaders compiled with LF_FADE_TANGENT_Z_ONLY (the renderer's variant for the default mode)
+// ignore `mode`.
 LF_FN float lf_fade_distance(vec3 view_unnormalised, int mode) {
+#if !defined(LF_FADE_TANGENT_Z_ONLY)
     if (mode == LF_FADE_DISTANCE_EYE) return length(view_unnormalised);
+#endif
     return max(0.0f, view_unnormalised.z);
 }
 
@@ -112,19 +123,26 @@ LF_FN float lf_fade_factor(float distance, float fade, float exponent, float pma
     return clamp(1.0f + power, 1.0f, max(pmax, 1.0f));
 }
 
-// Shared tail of every technique: (Ka + Kd NdotL) + Ks NdotL^sf D F, times the light colour.
+// Shared tail of every technique: (Ka + Kd NdotL) + Ks A F, times the light colour, where
+// A = NdotL^sf D is the attenuated lobe (fading paper eq. 7).
+LF_FN LfShade lf_combine_attenuated(vec3 n, vec3 light_dir, vec3 view_dir, float attenuated_lobe,
+                                   LfParams p) {
+    float n_dot_l = clamp(dot(n, light_dir), 0.0f, 1.0f);
+    float fresnel = lf_fresnel(n, view_dir, p.fresnel_bias, p.fresnel_scale);
+    LfShade result;
+    result.diffuse = (p.ambient + p.kd * n_dot_l) * p.light_color;
+    result.specular = p.ks * (attenuated_lobe * fresnel) * p.light_color;
+    return result;
+}
+
+// The same with A = NdotL^sf D from the lobe D and sf. sf == 1 (the baseline, LEAN, Fade = 0)
+// takes NdotL itself: the same value, but exact, whereas a GPU pow(x, 1) = exp2(log2(x)) is not,
+// so that Fade = 0 renders bit-identically to LEAN.
 LF_FN LfShade lf_combine(vec3 n, vec3 light_dir, vec3 view_dir, float lobe, float sf,
                         LfParams p) {
     float n_dot_l = clamp(dot(n, light_dir), 0.0f, 1.0f);
-    float fresnel = lf_fresnel(n, view_dir, p.fresnel_bias, p.fresnel_scale);
-    // NdotL^sf (fading paper eq. 7). sf == 1 (the baseline, LEAN, Fade = 0) takes NdotL itself:
-    // the same value, but exact, whereas a GPU pow(x, 1) = exp2(log2(x)) is not, so that Fade = 0
-    // renders bit-identically to LEAN.
     float attenuation = (sf == 1.0f) ? n_dot_l : pow(n_dot_l, sf);
-    LfShade result;
-    result.diffuse = (p.ambient + p.kd * n_dot_l) * p.light_color;
-    result.specular = p.ks * (attenuation * lobe * fresnel) * p.light_color;
-    return result;
+    return lf_combine_attenuated(n, light_dir, view_dir, attenuation * lobe, p);
 }
 
 // Baseline Blinn-Phong bump mapping. encoded_normal: the filtered normal map texel (0.5 n + 0.5).
@@ -144,12 +162,32 @@ LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
     vec3 sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
     vec3 v = normalize(view_unnormalised);
     vec3 h = normalize(light_dir + v);
-    float sf = 1.0f;
+    vec2 lobe = lf_lean_lobe_terms(h, m.mean, sigma);
     if (fade_enabled) {
-        sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
-                            p.fade_exponent, p.pmax);
+        float sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
+                                  p.fade_exponent, p.pmax);
+#if !defined(LF_FADE_ACTIVE)
+        // Where nothing fades (sf == 1: Fade = 0, Pmax = 1 or d = 0) the pixel is LEAN's, exactly.
+        // Shaders compiled with LF_FADE_ACTIVE (drawn only when Fade > 0 and Pmax > 1) skip this
+        // test and its second exponential.
+        if (sf == 1.0f) {
+            return lf_combine(m.normal, light_dir, v, (lobe.y > 0.0f) ? exp(lobe.x) / lobe.y : 0.0f,
+                              1.0f, p);
+        }
+#endif
+        // NdotL^sf exp(-e/2) in one exponential, exp2(sf log2(NdotL) - (e/2) log2(e)) (fading
+        // paper eq. 7 times LEAN eq. 1): one log2 and one exp2 per pixel fewer than pow then exp.
+        // NdotL = 0 gives log2 = -inf and 0, as NdotL^sf does; the clamp keeps log2 off 0 where a
+        // driver would not.
+        float n_dot_l = clamp(dot(m.normal, light_dir), 0.0f, 1.0f);
+        float faded = (lobe.y > 0.0f)
+                          ? exp2(sf * log2(max(n_dot_l, 1e-30f)) + lobe.x * 1.44269504088896f) /
+                                lobe.y
+                          : 0.0f;
+        return lf_combine_attenuated(m.normal, light_dir, v, faded, p);
     }
-    return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), sf, p);
+    return lf_combine(m.normal, light_dir, v, (lobe.y > 0.0f) ? exp(lobe.x) / lobe.y : 0.0f, 1.0f,
+                      p);
 }
 
 // Peer techniques, baked from the same two LEAN layers. Both keep LEAN's diffuse term (the

@@ -83,7 +83,7 @@ std::string variant_name(Technique t) {
 // The program that draws `request`: for the colour output without fog, the technique's
 // "_plain" variant when there is one (LF_PLAIN_COLOR: the same image without the output and fog
 // branches, which llvmpipe executes for every pixel; docs/perf.md).
-// Fading with p = 2 takes the "_p2" variant of that (LF_FADE_EXPONENT_2: (d Fade)^2 as a product).
+// Fading with its defaults while it is on takes the "_fast" variant of that (shader_variants()).
 std::string variant_name(const RenderRequest& request) {
     const auto exists = [](const std::string& candidate) {
         for (const ShaderVariant& v : shader_variants())
@@ -94,9 +94,11 @@ std::string variant_name(const RenderRequest& request) {
     if (request.output == OutputMode::Color && request.settings.fog == FogMode::None &&
         exists(name + "_plain"))
         name += "_plain";
-    if (request.technique == Technique::Fade && request.settings.fade_exponent == 2.0f &&
-        exists(name + "_p2"))
-        name += "_p2";
+    const ShadingSettings& s = request.settings;
+    if (request.technique == Technique::Fade && s.fade_exponent == 2.0f &&
+        s.fade_distance == FadeDistance::TangentZ && s.fade > 0.0f && s.pmax > 1.0f &&
+        exists(name + "_fast"))
+        name += "_fast";
     return name;
 }
 

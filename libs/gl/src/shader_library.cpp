@@ -319,12 +319,18 @@ const std::vector<ShaderVariant>& shader_variants() {
          "scene.frag",
          {"TECHNIQUE_TOKSVIG", "LF_PLAIN_COLOR"}},
         {"scene_clean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN", "LF_PLAIN_COLOR"}},
-        // Fading with the default power p = 2 as a product instead of a pow (lf_fade_factor).
-        {"scene_fade_p2", "scene.vert", "scene.frag", {"TECHNIQUE_FADE", "LF_FADE_EXPONENT_2"}},
-        {"scene_fade_plain_p2",
+        // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0, Pmax > 1):
+        // (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in one exponential
+        // without the exact sf == 1 path (lean_shading.glsl, docs/perf.md).
+        {"scene_fade_fast",
          "scene.vert",
          "scene.frag",
-         {"TECHNIQUE_FADE", "LF_PLAIN_COLOR", "LF_FADE_EXPONENT_2"}},
+         {"TECHNIQUE_FADE", "LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY", "LF_FADE_ACTIVE"}},
+        {"scene_fade_plain_fast",
+         "scene.vert",
+         "scene.frag",
+         {"TECHNIQUE_FADE", "LF_PLAIN_COLOR", "LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY",
+          "LF_FADE_ACTIVE"}},
     };
     return variants;
 }
