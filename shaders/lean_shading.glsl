@@ -78,9 +78,13 @@ LF_FN vec2 lf_lean_lobe_terms(vec3 half_vector, vec2 mean, vec3 sigma) {
     return vec2(-0.5f * e, 2.0f * LF_PI * sqrt(det));
 }
 
+// exp(x) / y of lf_lean_lobe_terms: the lobe's value.
+LF_FN float lf_lean_lobe_value(vec2 terms) {
+    return (terms.y > 0.0f) ? exp(terms.x) / terms.y : 0.0f;
+}
+
 LF_FN float lf_lean_lobe(vec3 half_vector, vec2 mean, vec3 sigma) {
-    vec2 t = lf_lean_lobe_terms(half_vector, mean, sigma);
-    return (t.y > 0.0f) ? exp(t.x) / t.y : 0.0f;
+    return lf_lean_lobe_value(lf_lean_lobe_terms(half_vector, mean, sigma));
 }
 
 // Normalised Blinn-Phong lobe of the baseline: s/(2 pi) max(0, nb.H)^s, so that at the finest
@@ -171,8 +175,7 @@ LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
         // Shaders compiled with LF_FADE_ACTIVE (drawn only when Fade > 0 and Pmax > 1) skip this
         // test and its second exponential.
         if (sf == 1.0f) {
-            return lf_combine(m.normal, light_dir, v, (lobe.y > 0.0f) ? exp(lobe.x) / lobe.y : 0.0f,
-                              1.0f, p);
+            return lf_combine(m.normal, light_dir, v, lf_lean_lobe_value(lobe), 1.0f, p);
         }
 #endif
         // NdotL^sf exp(-e/2) in one exponential, exp2(sf log2(NdotL) - (e/2) log2(e)) (fading
@@ -186,8 +189,7 @@ LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
                           : 0.0f;
         return lf_combine_attenuated(m.normal, light_dir, v, faded, p);
     }
-    return lf_combine(m.normal, light_dir, v, (lobe.y > 0.0f) ? exp(lobe.x) / lobe.y : 0.0f, 1.0f,
-                      p);
+    return lf_combine(m.normal, light_dir, v, lf_lean_lobe_value(lobe), 1.0f, p);
 }
 
 // Peer techniques, baked from the same two LEAN layers. Both keep LEAN's diffuse term (the
