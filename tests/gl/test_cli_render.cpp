@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -139,6 +140,39 @@ TEST(CliRender, MaxSizeLimitsTheBumpImage) {
     r = run_render(common + "--bumps height.png --max-size 40 -o ok.png", dir);
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "ok.png"));
+}
+
+// --from defaults to auto, as in `leanfade bake`: an RGB image is read as a normal map, a
+// grey one as a height map; --from overrides it.
+TEST(CliRender, FromDefaultsToAutoAsBake) {
+    const fs::path dir = scratch_dir("cli_render_from_auto");
+    Image normals(32, 32, 3), height(32, 32, 1);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float bx = 0.4f * std::sin(0.7f * float(x)),
+                        by = 0.3f * std::cos(0.5f * float(y));
+            const float inv = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+            normals.at(x, y, 0) = 0.5f - 0.5f * bx * inv;
+            normals.at(x, y, 1) = 0.5f - 0.5f * by * inv;
+            normals.at(x, y, 2) = 0.5f + 0.5f * inv;
+            height.at(x, y, 0) = float((x * 5 + y * 3) % 7) / 6.0f;
+        }
+    io::write_png((dir / "normals.png").string(), normals, 16);
+    io::write_png((dir / "height.png").string(), height, 16);
+    const std::string common = "--scene sphere --size 48x48 --techniques lean --distances 3 ";
+    auto render = [&](const std::string& args, const std::string& out) {
+        const Result r = run_render(common + args + " -o " + out, dir);
+        EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+        return slurp(dir / out);
+    };
+    const std::string normal_auto = render("--bumps normals.png", "n_auto.png");
+    const std::string normal_explicit = render("--bumps normals.png --from normal", "n.png");
+    const std::string normal_as_height = render("--bumps normals.png --from height", "n_h.png");
+    EXPECT_FALSE(normal_auto.empty());
+    EXPECT_EQ(normal_auto, normal_explicit);
+    EXPECT_NE(normal_auto, normal_as_height);
+    EXPECT_EQ(render("--bumps height.png", "h_auto.png"),
+              render("--bumps height.png --from height", "h.png"));
 }
 
 // Determinism: the same command twice writes byte-identical files (same driver).

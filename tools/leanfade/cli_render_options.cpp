@@ -133,7 +133,9 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
                        "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake`")
         ->capture_default_str()
         ->group(group);
-    app.add_option("--from", f.from, "Image inputs: height or normal map")
+    app.add_option("--from", f.from,
+                   "Image inputs: auto (1-2 channels height, 3-4 normal, as bake), height or "
+                   "normal map")
         ->capture_default_str()
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
@@ -157,8 +159,8 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
 
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
-    if (f.from != "height" && f.from != "normal")
-        throw Error("--from", "expected height or normal, got '" + f.from + "'");
+    if (f.from != "auto" && f.from != "height" && f.from != "normal")
+        throw Error("--from", "expected auto, height or normal, got '" + f.from + "'");
     if (f.texture_size < 4 || f.texture_size > kDefaultMaxImageDimension)
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
@@ -171,17 +173,18 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     BakeOptions options;
     options.strength = settings.bump_strength;
     options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map).
     const auto& builtins = builtin_bump_names();
-    BakeResult result;
     if (std::find(builtins.begin(), builtins.end(), f.bumps) != builtins.end()) {
-        result = bake_lean_map(make_builtin_height(f.bumps, f.texture_size, f.seed),
-                               BakeSource::Height, options, f.bumps);
-    } else {
-        const Image image = io::read_image(f.bumps, read_options);
-        result = bake_lean_map(image, f.from == "normal" ? BakeSource::Normal : BakeSource::Height,
-                               options, f.bumps);
+        return bake_packed(make_builtin_height(f.bumps, f.texture_size, f.seed), BakeSource::Height,
+                           options, storage, generator, f.bumps)
+            .packed;
     }
-    return pack_lean_map(result.map, storage, generator);
+    const Image image = io::read_image(f.bumps, read_options);
+    const BakeSource source = f.from == "height"   ? BakeSource::Height
+                              : f.from == "normal" ? BakeSource::Normal
+                                                   : BakeSource::Auto;
+    return bake_packed(image, source, options, storage, generator, f.bumps).packed;
 }
 
 void add_gl_options(CLI::App& app, GlFlags& f) {

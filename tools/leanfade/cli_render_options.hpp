@@ -32,7 +32,7 @@ ShadingSettings resolve_shading(const ShadingFlags& flags);
 
 struct LeanSourceFlags {
     std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
-    std::string from = "height";  // images: height | normal
+    std::string from = "auto";    // images: auto | height | normal (auto: by channel count)
     bool directx = false;         // normal maps in the DirectX convention
     std::string bits = "16";      // on-the-fly bakes: 8 | 16 | 16f | 32f
     std::uint32_t seed = 1;       // built-in sets
