@@ -140,8 +140,8 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     p.scene = args.scene;
     p.bumps = to_bump_source(args.source);
     // The bump flags by their names (validate() would name the preset keys).
-    if (p.bumps.from != "height" && p.bumps.from != "normal")
-        throw Error("--from", "expected height or normal, got '" + p.bumps.from + "'");
+    if (p.bumps.from != "auto" && p.bumps.from != "height" && p.bumps.from != "normal")
+        throw Error("--from", "expected auto, height or normal, got '" + p.bumps.from + "'");
     if (p.bumps.bits != "8" && p.bumps.bits != "16" && p.bumps.bits != "16f" &&
         p.bumps.bits != "32f")
         throw Error("--bits", "expected 8, 16, 16f or 32f, got '" + p.bumps.bits + "'");

@@ -284,10 +284,12 @@ void App::panel_bumps() {
     ImGui::InputText("image / .ktx2", &bumps_field_.source);
     ImGui::SameLine();
     if (ImGui::Button("load##bumps")) session_->load_bumps(bumps_field_);
-    int from = bumps_field_.from == "normal" ? 1 : 0;
-    if (ImGui::RadioButton("height map", &from, 0)) bumps_field_.from = "height";
+    int from = bumps_field_.from == "height" ? 1 : bumps_field_.from == "normal" ? 2 : 0;
+    if (ImGui::RadioButton("auto", &from, 0)) bumps_field_.from = "auto";
     ImGui::SameLine();
-    if (ImGui::RadioButton("normal map", &from, 1)) bumps_field_.from = "normal";
+    if (ImGui::RadioButton("height map", &from, 1)) bumps_field_.from = "height";
+    ImGui::SameLine();
+    if (ImGui::RadioButton("normal map", &from, 2)) bumps_field_.from = "normal";
     ImGui::SameLine();
     ImGui::Checkbox("DirectX", &bumps_field_.directx);
     static const std::vector<std::string> bits{"8", "16", "16f", "32f"};

@@ -240,8 +240,9 @@ void validate(const Preset& p, const std::string& file) {
     if (p.scene.empty()) fail(file, "scene", "must not be empty");
     const BumpSource& b = p.bumps;
     if (b.source.empty()) fail(file, "bumps.source", "must not be empty");
-    if (b.from != "height" && b.from != "normal")
-        fail(file, "bumps.from", "expected \"height\" or \"normal\", got \"" + b.from + "\"");
+    if (b.from != "auto" && b.from != "height" && b.from != "normal")
+        fail(file, "bumps.from",
+             "expected \"auto\", \"height\" or \"normal\", got \"" + b.from + "\"");
     if (b.bits != "8" && b.bits != "16" && b.bits != "16f" && b.bits != "32f")
         fail(file, "bumps.bits",
              "expected \"8\", \"16\", \"16f\" or \"32f\", got \"" + b.bits + "\"");

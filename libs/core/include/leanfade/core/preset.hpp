@@ -6,7 +6,7 @@
 //   {
 //     "leanfade_preset": 1,
 //     "scene": "teapot",
-//     "bumps": {"source": "bumps", "from": "height", "directx": false, "bits": "16",
+//     "bumps": {"source": "bumps", "from": "auto", "directx": false, "bits": "16",
 //               "seed": 1, "texture_size": 256},
 //     "shading": {"light_direction": [-1, 1, 1], "light_color": [1, 1, 1], ...,
 //                 "fade_distance": "tangent-z", "fog": "none", ..., "msaa": 1},
@@ -34,7 +34,7 @@ namespace leanfade {
 // Where the bumps come from (the "Bumps" flags of the command line).
 struct BumpSource {
     std::string source = "bumps";  // built-in set name, height/normal map image, or .ktx2 map
-    std::string from = "height";   // images: "height" | "normal"
+    std::string from = "auto";     // images: "auto" (by channel count) | "height" | "normal"
     bool directx = false;          // normal maps in the DirectX convention
     std::string bits = "16";       // storage of on-the-fly bakes: "8" | "16" | "16f" | "32f"
     std::uint32_t seed = 1;        // built-in sets
