@@ -187,6 +187,17 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     return bake_packed(image, source, options, storage, generator, f.bumps).packed;
 }
 
+gl::ContextOptions context_options(const GlFlags& flags) {
+    gl::ContextOptions options;
+    options.device = flags.egl_device;
+    return options;
+}
+
+gl::ShaderSources shader_sources(const GlFlags& flags) {
+    return flags.shader_dir.empty() ? gl::ShaderSources::embedded()
+                                    : gl::ShaderSources::directory(flags.shader_dir);
+}
+
 void add_gl_options(CLI::App& app, GlFlags& f) {
     const std::string group = "OpenGL";
     app.add_option("--shader-dir", f.shader_dir,

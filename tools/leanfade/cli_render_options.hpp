@@ -12,6 +12,8 @@
 
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
+#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/shader_library.hpp"
 
 namespace leanfade::cli {
 
@@ -52,6 +54,10 @@ struct GlFlags {
 };
 // --shader-dir --egl-device, in the "OpenGL" group.
 void add_gl_options(CLI::App& app, GlFlags& flags);
+// The context options of the flags (--egl-device; the other options at their defaults).
+gl::ContextOptions context_options(const GlFlags& flags);
+// The shaders of the flags: read from --shader-dir, else the copies compiled into the binary.
+gl::ShaderSources shader_sources(const GlFlags& flags);
 
 // "3,6,18" -> {3, 6, 18}; every value finite and > 1 (bounding radii). Throws Error(flag, ...).
 std::vector<float> parse_distances(const std::string& text, const std::string& flag);

@@ -96,8 +96,7 @@ Storage parse_bits(const std::string& bits) {
 }
 
 std::unique_ptr<gl::Context> make_context(const GlFlags& flags) {
-    gl::ContextOptions options;
-    options.device = flags.egl_device;
+    gl::ContextOptions options = context_options(flags);
     options.debug = false;  // no debug context: it slows some drivers down
     return std::make_unique<gl::Context>(options);
 }
@@ -108,9 +107,7 @@ std::vector<GenerateBenchRow> run_generate_bench(gl::Context& context, const Ben
                                                  const std::function<void(const std::string&)>& say,
                                                  gl::TimingChoice& timing) {
     timing = gl::choose_timing(gl::parse_timing_method(args.timing), context);
-    gl::LeanGenerator generator(context, args.gl.shader_dir.empty()
-                                             ? gl::ShaderSources::embedded()
-                                             : gl::ShaderSources::directory(args.gl.shader_dir));
+    gl::LeanGenerator generator(context, shader_sources(args.gl));
     gl::IntervalTimer timer(timing.method);
     std::vector<GenerateBenchRow> rows;
     for (int size : sizes) {
@@ -209,9 +206,7 @@ int run_bench(const BenchArgs& args) {
         for (std::size_t i = 0; i < meshes.size(); ++i)
             scenes.push_back({scene_names[i], &meshes[i]});
         const PackedLeanMap map = load_lean_map(args.source, settings);
-        gl::Renderer renderer(*context, args.gl.shader_dir.empty()
-                                            ? gl::ShaderSources::embedded()
-                                            : gl::ShaderSources::directory(args.gl.shader_dir));
+        gl::Renderer renderer(*context, shader_sources(args.gl));
         renderer.set_lean_map(map);
         const gl::FrameBenchResult result =
             gl::run_frame_bench(renderer, scenes, request, [&](int done, int total) {

@@ -107,12 +107,8 @@ int run_eval(const EvalArgs& args) {
     const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
     const PackedLeanMap map = load_lean_map(args.source, request.settings);
 
-    gl::ContextOptions context_options;
-    context_options.device = args.gl.egl_device;
-    gl::Context context(context_options);
-    gl::Renderer renderer(context, args.gl.shader_dir.empty()
-                                       ? gl::ShaderSources::embedded()
-                                       : gl::ShaderSources::directory(args.gl.shader_dir));
+    gl::Context context(context_options(args.gl));
+    gl::Renderer renderer(context, shader_sources(args.gl));
     renderer.set_mesh(mesh);
     renderer.set_lean_map(map);
 
