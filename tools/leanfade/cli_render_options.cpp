@@ -7,6 +7,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/procedural.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 
@@ -17,18 +18,6 @@ std::string format_vec3(const glm::vec3& v) {
     std::ostringstream out;
     out << v.x << "," << v.y << "," << v.z;
     return out.str();
-}
-
-std::vector<std::string> split(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t end = text.find(separator, start);
-        parts.push_back(text.substr(start, end == std::string::npos ? end : end - start));
-        if (end == std::string::npos) break;
-        start = end + 1;
-    }
-    return parts;
 }
 
 bool parse_float(const std::string& text, float& value) {

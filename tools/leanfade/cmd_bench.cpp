@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/frame_bench.hpp"
 #include "leanfade/gl/generate.hpp"
@@ -47,20 +48,9 @@ struct BenchArgs {
     GlFlags gl;
 };
 
-std::vector<std::string> split_list(const std::string& text) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const std::size_t comma = std::min(text.find(',', start), text.size());
-        parts.push_back(text.substr(start, comma - start));
-        start = comma + 1;
-    }
-    return parts;
-}
-
 std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low, int high) {
     std::vector<int> sizes;
-    for (const std::string& part : split_list(text)) {
+    for (const std::string& part : split(text, ',')) {
         char* end = nullptr;
         const long value = std::strtol(part.c_str(), &end, 10);
         if (part.empty() || *end != 0)
@@ -160,7 +150,7 @@ int run_bench(const BenchArgs& args) {
     request.timing = gl::parse_timing_method(args.timing, "--timing");
     request.settings = settings;
     gl::validate_frame_bench(request);
-    const std::vector<std::string> scene_names = split_list(args.scenes);
+    const std::vector<std::string> scene_names = split(args.scenes, ',');
     for (std::size_t i = 0; i < scene_names.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (scene_names[i] == scene_names[j])
@@ -169,7 +159,7 @@ int run_bench(const BenchArgs& args) {
         parse_sizes(args.bake_sizes, "--bake-sizes", 4, kDefaultMaxImageDimension);
     const std::vector<int> generate_sizes =
         parse_sizes(args.generate_sizes, "--generate-sizes", 4, kDefaultMaxImageDimension);
-    const std::vector<std::string> bake_inputs = split_list(args.bake_input);
+    const std::vector<std::string> bake_inputs = split(args.bake_input, ',');
     for (const std::string& input : bake_inputs)
         if (input != "normal" && input != "height")
             throw Error("--bake-input", "expected normal or height, got '" + input + "'");

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/eval/metrics.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
@@ -23,18 +24,6 @@ namespace leanfade::eval {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::vector<std::string> split(const std::string& text, char separator) {
-    std::vector<std::string> parts;
-    std::size_t start = 0;
-    while (true) {
-        const std::size_t end = text.find(separator, start);
-        parts.push_back(text.substr(start, end == std::string::npos ? end : end - start));
-        if (end == std::string::npos) break;
-        start = end + 1;
-    }
-    return parts;
-}
 
 bool parse_number(const std::string& text, double& value) {
     if (text.empty()) return false;
