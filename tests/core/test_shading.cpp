@@ -4,26 +4,14 @@
 #include <cmath>
 
 #include "leanfade/core/shading.hpp"
+#include "shading_test_params.hpp"
 
 using namespace leanfade::shading;
 
 namespace {
 
 LfParams default_params(float s) {
-    LfParams p;
-    p.light_color = vec3(1.0f);
-    p.ambient = vec3(0.05f);
-    p.kd = vec3(0.6f, 0.4f, 0.3f);
-    p.ks = vec3(1.0f);
-    p.shininess = s;
-    p.inv_s_shading = 1.0f / s;
-    p.fresnel_bias = 0.2f;
-    p.fresnel_scale = 0.8f;
-    p.fade = 0.0f;
-    p.pmax = 8.0f;
-    p.fade_exponent = 2.0f;
-    p.fade_distance = LF_FADE_DISTANCE_TANGENT_Z;
-    return p;
+    return leanfade::test::shading_test_params(s);
 }
 
 // Relative L1 distance between the LEAN lobe (Sigma = I/s, mean b) and normalised Blinn-Phong on
@@ -112,7 +100,7 @@ TEST(Shading, FadingOnlyLowersSpecularAndKeepsDiffuse) {
 TEST(Shading, FadeFactorObeysItsClamps) {
     EXPECT_EQ(lf_fade_factor(0.0f, 1.0f, 2.0f, 10.0f), 1.0f);
     EXPECT_EQ(lf_fade_factor(5.0f, 0.0f, 2.0f, 10.0f), 1.0f);
-    EXPECT_FLOAT_EQ(lf_fade_factor(2.0f, 0.5f, 2.0f, 10.0f), 2.0f);  // 1 + (2 * 0.5)^2
+    EXPECT_FLOAT_EQ(lf_fade_factor(2.0f, 0.5f, 2.0f, 10.0f), 2.0f);   // 1 + (2 * 0.5)^2
     EXPECT_FLOAT_EQ(lf_fade_factor(2.0f, 1.0f, 3.0f, 100.0f), 9.0f);  // 1 + 2^3
     EXPECT_EQ(lf_fade_factor(1000.0f, 1.0f, 2.0f, 6.0f), 6.0f);       // Pmax
     EXPECT_EQ(lf_fade_factor(1000.0f, 1.0f, 2.0f, 0.5f), 1.0f);       // Pmax < 1 acts as 1
@@ -152,7 +140,8 @@ TEST(Shading, FresnelIsClampedSchlick) {
 }
 
 TEST(Shading, UnpackAppliesScaleFactor) {
-    const LfMoments m = lf_unpack(vec4(0.5f, 0.5f, 1.0f, 0.75f), vec4(1.0f, 0.25f, 0.5f, 0.25f), 2.0f);
+    const LfMoments m =
+        lf_unpack(vec4(0.5f, 0.5f, 1.0f, 0.75f), vec4(1.0f, 0.25f, 0.5f, 0.25f), 2.0f);
     EXPECT_EQ(m.normal, vec3(0, 0, 1));
     EXPECT_EQ(m.mean, vec2(2.0f, -1.0f));
     EXPECT_EQ(m.second, vec3(2.0f, 1.0f, 2.0f));

@@ -5,26 +5,14 @@
 #include <cmath>
 
 #include "leanfade/core/shading.hpp"
+#include "shading_test_params.hpp"
 
 using namespace leanfade::shading;
 
 namespace {
 
 LfParams params(float s) {
-    LfParams p;
-    p.light_color = vec3(1.0f);
-    p.ambient = vec3(0.05f);
-    p.kd = vec3(0.6f, 0.4f, 0.3f);
-    p.ks = vec3(1.0f);
-    p.shininess = s;
-    p.inv_s_shading = 1.0f / s;
-    p.fresnel_bias = 0.2f;
-    p.fresnel_scale = 0.8f;
-    p.fade = 0.0f;
-    p.pmax = 8.0f;
-    p.fade_exponent = 2.0f;
-    p.fade_distance = LF_FADE_DISTANCE_TANGENT_Z;
-    return p;
+    return leanfade::test::shading_test_params(s);
 }
 
 // Toksvig 2005: ft = |Na| / (|Na| + s (1 - |Na|)).
