@@ -283,20 +283,34 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
     return output;
 }
 
+namespace {
+
+// The calibration sweeps' camera at `distance`: the object framed with a 2-pixel margin.
+Framing frame_sweep_camera(const CameraSweep& cameras, float distance) {
+    return frame_object(distance, cameras.fov_y_degrees, cameras.view_direction, cameras.width,
+                        cameras.height, 2.0f);
+}
+
+// LEAN's specular term alone (the quantity fading scales), from `framing`'s camera.
+gl::RenderRequest lean_specular_request(const Framing& framing, const ShadingSettings& settings) {
+    gl::RenderRequest r;
+    r.technique = gl::Technique::Lean;
+    r.width = framing.width;
+    r.height = framing.height;
+    r.view = framing.view;
+    r.settings = settings;
+    r.output = gl::OutputMode::Specular;
+    return r;
+}
+
+}  // namespace
+
 std::vector<FadeSamples> measure_fade_samples(gl::Renderer& renderer, const CameraSweep& cameras,
                                               const ShadingSettings& settings) {
     std::vector<FadeSamples> result;
     for (float distance : cameras.distances) {
-        const Framing framing =
-            frame_object(distance, cameras.fov_y_degrees, cameras.view_direction, cameras.width,
-                         cameras.height, 2.0f);
-        gl::RenderRequest r;
-        r.technique = gl::Technique::Lean;
-        r.width = framing.width;
-        r.height = framing.height;
-        r.view = framing.view;
-        r.settings = settings;
-        r.output = gl::OutputMode::Specular;
+        const Framing framing = frame_sweep_camera(cameras, distance);
+        gl::RenderRequest r = lean_specular_request(framing, settings);
         const Image specular = renderer.render(r);
         r.output = gl::OutputMode::FadeTerms;
         const Image terms = renderer.render(r);
@@ -321,16 +335,8 @@ std::vector<double> measure_fade_ratio(gl::Renderer& renderer, const CameraSweep
                                        const ShadingSettings& settings) {
     std::vector<double> ratios;
     for (float distance : cameras.distances) {
-        const Framing framing =
-            frame_object(distance, cameras.fov_y_degrees, cameras.view_direction, cameras.width,
-                         cameras.height, 2.0f);
-        gl::RenderRequest r;
-        r.width = framing.width;
-        r.height = framing.height;
-        r.view = framing.view;
-        r.settings = settings;
-        r.output = gl::OutputMode::Specular;
-        r.technique = gl::Technique::Lean;
+        const Framing framing = frame_sweep_camera(cameras, distance);
+        gl::RenderRequest r = lean_specular_request(framing, settings);
         const double lean = channel_sum(renderer.render(r));
         r.technique = gl::Technique::Fade;
         const double fade = channel_sum(renderer.render(r));
@@ -344,16 +350,8 @@ std::vector<double> measure_reference_ratio(gl::Renderer& renderer, const Camera
                                             int reference_samples) {
     std::vector<double> ratios;
     for (float distance : cameras.distances) {
-        const Framing framing =
-            frame_object(distance, cameras.fov_y_degrees, cameras.view_direction, cameras.width,
-                         cameras.height, 2.0f);
-        gl::RenderRequest r;
-        r.width = framing.width;
-        r.height = framing.height;
-        r.view = framing.view;
-        r.settings = settings;
-        r.output = gl::OutputMode::Specular;
-        r.technique = gl::Technique::Lean;
+        const Framing framing = frame_sweep_camera(cameras, distance);
+        gl::RenderRequest r = lean_specular_request(framing, settings);
         const double lean = channel_sum(renderer.render(r));
         const Sampling sampling =
             reference_sampling(reference_samples, true, cameras.width, cameras.height, framing);
