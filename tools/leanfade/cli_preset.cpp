@@ -87,4 +87,21 @@ glm::vec3 parse_vector(const std::string& text, const std::string& flag) {
     return v;
 }
 
+glm::vec3 parse_view_direction(const std::string& text) {
+    const glm::vec3 direction = parse_vector(text, "--view-dir");
+    if (direction == glm::vec3(0.0f)) throw Error("--view-dir", "must not be the zero vector");
+    return direction;
+}
+
+float checked_fov(float degrees) {
+    if (!(degrees > 1.0f && degrees < 170.0f)) throw Error("--fov", "must be in (1, 170) degrees");
+    return degrees;
+}
+
+int checked_reference_samples(int k) {
+    if (k < 1 || k > 16)
+        throw Error("--ref-samples", "must be in [1, 16], got " + std::to_string(k));
+    return k;
+}
+
 }  // namespace leanfade::cli

@@ -33,5 +33,11 @@ std::string vector_text(const glm::vec3& v);
 std::string join(const std::vector<std::string>& names);
 // "x,y,z" -> vector; throws Error(flag, cause).
 glm::vec3 parse_vector(const std::string& text, const std::string& flag);
+// --view-dir: "x,y,z", not the zero vector (world space, toward the eye); throws Error.
+glm::vec3 parse_view_direction(const std::string& text);
+// --fov: the vertical field of view in degrees, returned when in (1, 170); throws Error otherwise.
+float checked_fov(float degrees);
+// --ref-samples: k of the k x k supersampled reference, returned when in [1, 16]; throws Error.
+int checked_reference_samples(int k);
 
 }  // namespace leanfade::cli

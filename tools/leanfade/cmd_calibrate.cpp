@@ -72,12 +72,8 @@ int run_calibrate(const CalibrateArgs& args) {
     request.fit_pmax = args.fit_pmax;
     request.cameras.distances = eval::parse_distance_sweep(args.distances, "--distances");
     std::tie(request.cameras.width, request.cameras.height) = parse_size(args.size, "--size");
-    if (!(args.fov > 1.0f && args.fov < 170.0f))
-        throw Error("--fov", "must be in (1, 170) degrees");
-    request.cameras.fov_y_degrees = args.fov;
-    request.cameras.view_direction = parse_vector(args.view_dir, "--view-dir");
-    if (request.cameras.view_direction == glm::vec3(0.0f))
-        throw Error("--view-dir", "must not be the zero vector");
+    request.cameras.fov_y_degrees = checked_fov(args.fov);
+    request.cameras.view_direction = parse_view_direction(args.view_dir);
     // Checked before rendering: fog needs the scene's fog.
     if (target.kind != eval::FadeTarget::Kind::Reference)
         eval::target_attenuation(target, request.cameras.distances, request.settings);

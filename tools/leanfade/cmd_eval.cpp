@@ -80,12 +80,8 @@ int run_eval(const EvalArgs& args) {
     request.adaptive_reference = !args.fixed_spp;
     request.frames = args.frames;
     request.motion_pixels = args.motion;
-    if (!(args.fov > 1.0f && args.fov < 170.0f))
-        throw Error("--fov", "must be in (1, 170) degrees");
-    request.fov_y_degrees = args.fov;
-    request.view_direction = parse_vector(args.view_dir, "--view-dir");
-    if (request.view_direction == glm::vec3(0.0f))
-        throw Error("--view-dir", "must not be the zero vector");
+    request.fov_y_degrees = checked_fov(args.fov);
+    request.view_direction = parse_view_direction(args.view_dir);
     request.background = glm::vec3(0.012f, 0.013f, 0.016f);
     if (request.techniques.empty()) throw Error("--techniques", "no technique");
     for (gl::Technique t : request.techniques)

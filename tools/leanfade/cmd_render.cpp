@@ -51,16 +51,10 @@ int run_render(const RenderArgs& args) {
     std::tie(request.cell_width, request.cell_height) = parse_size(args.size, "--size");
     request.settings = settings;
     request.zoom = args.zoom;
-    request.fov_y_degrees = args.fov;
-    request.view_direction = parse_vector(args.view_dir, "--view-dir");
-    if (request.view_direction == glm::vec3(0.0f))
-        throw Error("--view-dir", "must not be the zero vector");
+    request.fov_y_degrees = checked_fov(args.fov);
+    request.view_direction = parse_view_direction(args.view_dir);
     request.target = parse_vector(args.target, "--target");
-    request.reference_samples = args.ref_samples;
-    if (args.ref_samples < 1 || args.ref_samples > 16)
-        throw Error("--ref-samples", "must be in [1, 16], got " + std::to_string(args.ref_samples));
-    if (!(args.fov > 1.0f && args.fov < 170.0f))
-        throw Error("--fov", "must be in (1, 170) degrees");
+    request.reference_samples = checked_reference_samples(args.ref_samples);
     if (args.cell_format != "pfm" && args.cell_format != "exr")
         throw Error("--cell-format", "expected pfm or exr, got '" + args.cell_format + "'");
     if (!args.source.bumps.empty() && fs::exists(args.source.bumps))

@@ -104,17 +104,11 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         throw Error("--layout", "side-by-side needs two or three techniques (--techniques A,B)");
     if (!(args.distance > 1.0f && args.distance <= kMaxCameraDistance))
         throw Error("--distance", "must be in (1, 10000] bounding radii");
-    if (!(args.fov > 1.0f && args.fov < 170.0f))
-        throw Error("--fov", "must be in (1, 170) degrees");
     p.camera.distance = args.distance;
-    p.camera.fov_y_degrees = args.fov;
-    p.camera.direction = parse_vector(args.view_dir, "--view-dir");
-    if (p.camera.direction == glm::vec3(0.0f))
-        throw Error("--view-dir", "must not be the zero vector");
+    p.camera.fov_y_degrees = checked_fov(args.fov);
+    p.camera.direction = parse_view_direction(args.view_dir);
     p.camera.target = parse_vector(args.target, "--target");
-    if (args.ref_samples < 1 || args.ref_samples > 16)
-        throw Error("--ref-samples", "must be in [1, 16], got " + std::to_string(args.ref_samples));
-    p.reference_samples = args.ref_samples;
+    p.reference_samples = checked_reference_samples(args.ref_samples);
     if (!(args.divider >= 0.0f && args.divider <= 1.0f))
         throw Error("--divider", "must be in [0, 1]");
     p.divider = args.divider;
