@@ -3,6 +3,7 @@
 // thread count; the same summary within float rounding; the same errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -328,4 +329,158 @@ TEST(BakeFastPath, RefusesWhatTheReferenceRefusesWithTheSameMessage) {
             EXPECT_EQ(fast, ref) << name << " threads " << threads;
         }
     }
+}
+
+namespace {
+
+// Integer samples (as an 8- or 16-bit file holds them) of a float image in [0, 1].
+UnormImage quantised(const Image& image, std::uint16_t max_value) {
+    UnormImage unorm(image.width, image.height, image.channels, max_value);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        unorm.samples[i] = std::uint16_t(std::lround(
+            std::clamp(image.pixels[i], 0.0f, 1.0f) * float(max_value)));
+    return unorm;
+}
+
+// bake_packed_to into caller-owned buffers; the opener records the layout it was given.
+template <class Input>
+PackedBakeResult bake_to_buffers(const Input& input, BakeSource source, const BakeOptions& options,
+                                 Storage storage, PackedLeanMap& filled,
+                                 const std::string& source_name = "in") {
+    PackedBakeResult result = bake_packed_to(
+        [&](const PackedLeanMap& layout) {
+            filled = layout;
+            std::vector<PackedLevelTarget> targets;
+            for (PackedLevel& level : filled.levels) {
+                const std::size_t bytes = std::size_t(level.width) * std::size_t(level.height) *
+                                          std::size_t(bytes_per_texel(storage));
+                level.lean1.assign(bytes, 0xAB);  // not zero: every byte must be written
+                level.lean2.assign(bytes, 0xCD);
+                targets.push_back({level.lean1.data(), level.lean2.data()});
+            }
+            return targets;
+        },
+        input, source, options, storage, "gen", source_name);
+    return result;
+}
+
+}  // namespace
+
+// Baking into memory the caller provides (a mapped KTX2 file in `leanfade bake`) gives the
+// bytes, metadata and summary of bake_packed, from floats and from integer samples alike.
+TEST(BakeFastPath, BakeIntoCallerMemoryEqualsBakePacked) {
+    for_each_kernel_set([] {
+        for (auto [w, h] : {std::pair{131, 77}, std::pair{64, 64}, std::pair{1, 9}}) {
+            for (int channels : {3, 4}) {
+                for (std::uint16_t max_value : {std::uint16_t(255), std::uint16_t(65535)}) {
+                    const UnormImage samples = quantised(normal_map(w, h, channels), max_value);
+                    const Image floats = samples.to_float();
+                    for (Storage storage : {Storage::Unorm16, Storage::Unorm8, Storage::Float32}) {
+                        for (int threads : {1, 2}) {
+                            BakeOptions options;
+                            options.threads = threads;
+                            options.convention = channels == 4 ? NormalConvention::DirectX
+                                                               : NormalConvention::OpenGL;
+                            const std::string what =
+                                std::to_string(w) + "x" + std::to_string(h) + " c" +
+                                std::to_string(channels) + " max " + std::to_string(max_value) +
+                                " " + to_string(storage) + " threads " + std::to_string(threads) +
+                                (bake_simd_active() ? " avx2" : " scalar");
+                            const PackedBakeResult ref =
+                                bake_packed(floats, BakeSource::Auto, options, storage, "gen");
+                            for (bool from_samples : {false, true}) {
+                                PackedLeanMap filled;
+                                const PackedBakeResult to =
+                                    from_samples ? bake_to_buffers(samples, BakeSource::Auto,
+                                                                   options, storage, filled)
+                                                 : bake_to_buffers(floats, BakeSource::Auto,
+                                                                   options, storage, filled);
+                                const std::string how = what + (from_samples ? " samples" : "");
+                                expect_same_packed(filled, ref.packed, how);
+                                EXPECT_TRUE(to.packed.levels.front().lean1.empty()) << how;
+                                EXPECT_EQ(to.packed.scale, ref.packed.scale) << how;
+                                EXPECT_EQ(to.source, ref.source) << how;
+                                EXPECT_EQ(to.clamped_texels, ref.clamped_texels) << how;
+                                EXPECT_EQ(to.summary.mean_slope, ref.summary.mean_slope) << how;
+                                EXPECT_EQ(to.summary.max_slope, ref.summary.max_slope) << how;
+                                EXPECT_EQ(to.summary.coarsest_covariance,
+                                          ref.summary.coarsest_covariance)
+                                    << how;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    });
+}
+
+TEST(BakeFastPath, IntegerHeightMapsBakeAsTheirFloats) {
+    const UnormImage samples = quantised(test::height_from(67, 40, [](double x, double y) {
+                                             return 0.5 + 0.4 * std::sin(x * 0.3 + y * 0.17);
+                                         }),
+                                         65535);
+    BakeOptions options;
+    options.strength = 40.0f;
+    const PackedBakeResult ref =
+        bake_packed(samples.to_float(), BakeSource::Auto, options, Storage::Unorm16, "gen");
+    PackedLeanMap filled;
+    const PackedBakeResult to =
+        bake_to_buffers(samples, BakeSource::Auto, options, Storage::Unorm16, filled);
+    EXPECT_EQ(to.source, BakeSource::Height);
+    expect_same_packed(filled, ref.packed, "height samples");
+}
+
+// Bad integer normals (z below zero, steep slopes) are refused with the float path's message,
+// before the opener is called: no output is ever opened for a refused input.
+TEST(BakeFastPath, IntegerInputIsRefusedLikeFloatsBeforeAnyOutputIsOpened) {
+    UnormImage samples = quantised(normal_map(40, 30, 3), 65535);
+    samples.samples[(std::size_t(21) * 40 + 17) * 3 + 2] = 1000;  // z = 2 * 1000/65535 - 1 < 0
+    const Image floats = samples.to_float();
+    std::string expected = "(no error)", got = "(no error)";
+    try {
+        bake_packed(floats, BakeSource::Normal, {}, Storage::Unorm16, "g", "f.png");
+    } catch (const Error& e) {
+        expected = e.what();
+    }
+    bool opened = false;
+    try {
+        bake_packed_to(
+            [&](const PackedLeanMap&) {
+                opened = true;
+                return std::vector<PackedLevelTarget>{};
+            },
+            samples, BakeSource::Normal, {}, Storage::Unorm16, "g", "f.png");
+    } catch (const Error& e) {
+        got = e.what();
+    }
+    EXPECT_NE(expected, "(no error)");
+    EXPECT_NE(expected.find("(17, 21)"), std::string::npos) << expected;
+    EXPECT_EQ(got, expected);
+    EXPECT_FALSE(opened);
+}
+
+// An opener that fails stops the bake with its error; a wrong number of targets is refused.
+TEST(BakeFastPath, FailingOpenerStopsTheBake) {
+    const Image floats = normal_map(32, 32, 3);
+    EXPECT_THROW(bake_packed_to([](const PackedLeanMap&) -> std::vector<PackedLevelTarget> {
+                     throw Error("out.ktx2", "cannot create");
+                 },
+                                floats, BakeSource::Normal, {}, Storage::Unorm16, "g"),
+                 Error);
+    EXPECT_THROW(bake_packed_to([](const PackedLeanMap&) { return std::vector<PackedLevelTarget>(2); },
+                                floats, BakeSource::Normal, {}, Storage::Unorm16, "g"),
+                 std::invalid_argument);
+}
+
+TEST(UnormImage, ToFloatDividesByTheMaximum) {
+    UnormImage samples(3, 1, 1, 65535);
+    samples.samples = {0, 32768, 65535};
+    const Image floats = samples.to_float();
+    EXPECT_EQ(floats.pixels[0], 0.0f);
+    EXPECT_EQ(floats.pixels[1], 32768.0f / 65535.0f);
+    EXPECT_EQ(floats.pixels[2], 1.0f);
+    UnormImage bytes(1, 1, 1, 255);
+    bytes.samples = {51};
+    EXPECT_EQ(bytes.to_float().pixels[0], 51.0f / 255.0f);
 }

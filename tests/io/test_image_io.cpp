@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <variant>
 
 #include "io_test_helpers.hpp"
 #include "leanfade/core/image.hpp"
@@ -231,6 +232,58 @@ TEST(Png, RoundTripsAllChannelCountsAndDepths) {
             }
         }
     }
+}
+
+// read_image_compact keeps a PNG's integer samples: to_float() is exactly read_image's image,
+// for both depths and every channel count, and an image larger than the reader's buffer streams
+// the same from the file as from memory.
+TEST(Png, CompactReadKeepsSamplesThatConvertToReadImagesValues) {
+    const std::string folder = scratch_folder();
+    for (const int bits : {8, 16}) {
+        for (int channels = 1; channels <= 4; ++channels) {
+            SCOPED_TRACE(std::to_string(bits) + "-bit, " + std::to_string(channels) + " channels");
+            // 16-bit RGBA noise of 300x300 is ~700 KB: several buffers of the streaming reader.
+            const Image image = quantised_image(300, 300, channels, bits == 8 ? 255 : 65535,
+                                                unsigned(bits + channels));
+            const std::string path = folder + "/image.png";
+            write_png(path, image, bits);
+            const auto compact = read_image_compact(path);
+            ASSERT_TRUE(std::holds_alternative<UnormImage>(compact));
+            const UnormImage& samples = std::get<UnormImage>(compact);
+            EXPECT_EQ(samples.max_value, bits == 8 ? 255 : 65535);
+            expect_same_pixels(samples.to_float(), image);
+            expect_same_pixels(read_image(path), image);
+            expect_same_pixels(read_image_from_memory(read_bytes(path), path), image);
+        }
+    }
+    // Float formats come as floats.
+    const std::string exr = folder + "/image.exr";
+    const Image floats = float_image(5, 4, 3, 9);
+    write_exr(exr, floats);
+    const auto compact = read_image_compact(exr);
+    ASSERT_TRUE(std::holds_alternative<Image>(compact));
+    expect_same_pixels(std::get<Image>(compact), floats);
+}
+
+TEST(ImageIo, DropAlphaKeepsColourChannelsOfRgbaOnly) {
+    const std::string folder = scratch_folder();
+    ReadOptions options;
+    options.drop_alpha = true;
+    const Image rgba = quantised_image(9, 7, 4, 65535, 5);
+    Image rgb(9, 7, 3);
+    for (std::size_t i = 0; i < rgba.texel_count(); ++i)
+        for (int c = 0; c < 3; ++c) rgb.pixels[3 * i + std::size_t(c)] = rgba.pixels[4 * i + std::size_t(c)];
+    write_png(folder + "/rgba.png", rgba, 16);
+    expect_same_pixels(read_image(folder + "/rgba.png", options), rgb);
+    expect_same_pixels(std::get<UnormImage>(read_image_compact(folder + "/rgba.png", options)).to_float(),
+                       rgb);
+    write_exr(folder + "/rgba.exr", rgba);
+    expect_same_pixels(read_image(folder + "/rgba.exr", options), rgb);
+    // Gray + alpha stays two channels (a height map's alpha decides nothing, but the channel
+    // count tells a height map from a normal map).
+    const Image gray_alpha = quantised_image(9, 7, 2, 255, 6);
+    write_png(folder + "/ga.png", gray_alpha, 8);
+    expect_same_pixels(read_image(folder + "/ga.png", options), gray_alpha);
 }
 
 TEST(Png, WriteClampsAndRounds) {

@@ -146,6 +146,47 @@ TEST(Ktx2, RoundTripIsBitExactForAllStorages) {
     }
 }
 
+// Ktx2Writer (what `leanfade bake` fills straight from the bake): the file appears only on
+// commit, and filling its targets gives write_ktx2's bytes.
+TEST(Ktx2, WriterInPlaceEqualsWriteKtx2AndAppearsOnlyOnCommit) {
+    const std::string folder = scratch_folder();
+    for (const StorageCase& storage : kStorages) {
+        SCOPED_TRACE(to_string(storage.storage));
+        const PackedLeanMap map = make_map(storage.storage, 37, 20, chain_length(37, 20), 11);
+        write_ktx2(folder + "/whole.ktx2", map);
+        PackedLeanMap layout = map;
+        for (PackedLevel& level : layout.levels) {
+            level.lean1.clear();
+            level.lean2.clear();
+        }
+        const std::string path = folder + "/in_place.ktx2";
+        {
+            Ktx2Writer abandoned(path, layout);
+            ASSERT_EQ(abandoned.targets().size(), map.levels.size());
+        }
+        EXPECT_FALSE(std::filesystem::exists(path));
+        EXPECT_EQ(test::folder_entries(folder), std::vector<std::string>{"whole.ktx2"});
+        Ktx2Writer writer(path, layout);
+        ASSERT_EQ(writer.targets().size(), map.levels.size());
+        for (std::size_t l = 0; l < map.levels.size(); ++l) {
+            std::copy(map.levels[l].lean1.begin(), map.levels[l].lean1.end(),
+                      writer.targets()[l].lean1);
+            std::copy(map.levels[l].lean2.begin(), map.levels[l].lean2.end(),
+                      writer.targets()[l].lean2);
+        }
+        EXPECT_FALSE(std::filesystem::exists(path));
+        writer.commit();
+        EXPECT_EQ(read_bytes(path), read_bytes(folder + "/whole.ktx2"));
+        std::filesystem::remove(path);
+    }
+    // A layout is checked as a map is (but without layer bytes).
+    PackedLeanMap bad = make_map(Storage::Unorm16, 8, 8, 2, 1);
+    bad.scale = -1.0f;
+    expect_error([&] { Ktx2Writer writer(folder + "/bad.ktx2", bad); }, folder + "/bad.ktx2",
+                 "is not finite and > 0");
+    EXPECT_FALSE(std::filesystem::exists(folder + "/bad.ktx2"));
+}
+
 TEST(Ktx2, MetadataRoundTripsExactly) {
     const std::string folder = scratch_folder();
     const std::string path = folder + "/map.ktx2";

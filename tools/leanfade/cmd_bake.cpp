@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -152,6 +154,7 @@ int run_bake(const BakeArgs& args) {
     const Storage storage = parse_storage(args.bits);
     io::ReadOptions read_options;
     read_options.max_dimension = args.max_size;
+    read_options.drop_alpha = true;  // normal maps use RGB only
     io::WriteOptions write_options;
     write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
     write_options.threads = args.threads;
@@ -165,27 +168,46 @@ int run_bake(const BakeArgs& args) {
         if (progress)
             std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count, name.c_str());
         const auto start = std::chrono::steady_clock::now();
-        const Image input = from_file ? io::read_image(name, read_options)
-                                      : make_builtin_height(args.builtin, args.size, args.seed);
+        // 8- and 16-bit files stay integer samples (half the memory of floats).
+        const std::variant<Image, UnormImage> input =
+            from_file ? io::read_image_compact(name, read_options)
+                      : std::variant<Image, UnormImage>(
+                            make_builtin_height(args.builtin, args.size, args.seed));
         // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
         // summary, without the float MIP chain (docs/perf.md).
-        const PackedBakeResult baked = bake_packed(input, from_file ? source : BakeSource::Height,
-                                                   options, storage, generator_string(), name);
-        const PackedLeanMap& packed = baked.packed;
+        const BakeSource kind = from_file ? source : BakeSource::Height;
         const std::string base = output_base(args, from_file ? name : args.builtin, from_file);
         std::string output;
+        PackedBakeResult baked;
         if (args.format == "png") {
             if (from_file) {
                 io::ensure_not_same_file(base + ".lean1.png", name);
                 io::ensure_not_same_file(base + ".lean2.png", name);
             }
-            write_png_previews(base, packed, write_options);
+            Image converted;
+            const Image* floats = std::get_if<Image>(&input);
+            if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
+            baked = bake_packed(*floats, kind, options, storage, generator_string(), name);
+            write_png_previews(base, baked.packed, write_options);
             output = base + ".lean{1,2}.png";
         } else {
             output = !args.output.empty() ? args.output : base + ".ktx2";
             if (from_file) io::ensure_not_same_file(output, name);
-            io::write_ktx2(output, packed, write_options);
+            // Baked straight into the mapped output file, which appears only when complete.
+            std::optional<io::Ktx2Writer> writer;
+            const auto open_output = [&](const PackedLeanMap& layout) {
+                writer.emplace(output, layout, write_options);
+                return writer->targets();
+            };
+            baked = std::visit(
+                [&](const auto& image) {
+                    return bake_packed_to(open_output, image, kind, options, storage,
+                                          generator_string(), name);
+                },
+                input);
+            writer->commit();
         }
+        const PackedLeanMap& packed = baked.packed;
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (progress) std::fprintf(stderr, "\r\033[K");

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -88,16 +89,24 @@ struct RowDest {
     std::uint8_t* lean2;
 };
 
-// The top level's source: an encoded normal map (3 or 4 channels) or slopes (2 channels).
+// The top level's source: an encoded normal map (3 or 4 channels) or slopes (2 channels), as
+// floats or as integer samples (UnormImage) converted to floats row by row as they are read.
 struct TopInput {
-    const float* pixels = nullptr;
+    const float* pixels = nullptr;         // float input, or
+    const std::uint16_t* unorm = nullptr;  // integer samples, value = sample / unorm_max
+    float unorm_max = 0.0f;
+    bool avx2 = false;           // conversion kernels
+    std::uint64_t bake_id = 0;   // tells this bake's converted rows from an earlier bake's
     int width = 0;
     int channels = 0;
     float green_sign = 1.0f;
     float inv_s = 0.0f;  // 1/s baked into M.xx, M.yy (LEAN eq. 6), else 0
+    std::size_t row_values() const { return std::size_t(width) * std::size_t(channels); }
     const float* row(int y) const {
-        return pixels + std::size_t(y) * std::size_t(width) * std::size_t(channels);
+        if (unorm != nullptr) return converted_row(y);
+        return pixels + std::size_t(y) * row_values();
     }
+    const float* converted_row(int y) const;  // below the conversion kernels
 };
 
 // Summary statistics of one top row, taken in pass 0: |B| of texel x accumulated in lane x % 8
@@ -613,6 +622,60 @@ LF_AVX2 bool scan_row_avx2(const TopInput& in, int y, RowScan& r) {
 
 #endif  // LEANFADE_AVX2_KERNELS
 
+// ---- Integer input: rows converted to float as they are read ---------------------------------
+
+// float(sample) / max, as UnormImage::to_float (and the PNG reader) compute it.
+void unorm_to_float_scalar(const std::uint16_t* samples, std::size_t count, float max,
+                           float* out) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = float(samples[i]) / max;
+}
+
+#if LEANFADE_AVX2_KERNELS
+LF_AVX2 void unorm_to_float_avx2(const std::uint16_t* samples, std::size_t count, float max,
+                                 float* out) {
+    const __m256 divisor = _mm256_set1_ps(max);
+    std::size_t i = 0;
+    for (; i + 8 <= count; i += 8) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(samples + i));
+        const __m256 f = _mm256_cvtepi32_ps(_mm256_cvtepu16_epi32(v));  // exact: < 2^24
+        _mm256_storeu_ps(out + i, _mm256_div_ps(f, divisor));
+    }
+    unorm_to_float_scalar(samples + i, count - i, max, out + i);
+}
+#endif
+
+// The last two rows this thread converted (pass 1 alternates between two top rows).
+struct ConvertedRows {
+    std::uint64_t bake_id = 0;
+    int y[2] = {-1, -1};
+    int next = 0;
+    std::vector<float> rows[2];
+};
+thread_local ConvertedRows t_converted;
+std::atomic<std::uint64_t> g_next_bake_id{1};
+
+const float* TopInput::converted_row(int y) const {
+    ConvertedRows& cache = t_converted;
+    if (cache.bake_id != bake_id) cache = ConvertedRows{bake_id, {-1, -1}, 0, {}};
+    for (int k = 0; k < 2; ++k)
+        if (cache.y[k] == y) return cache.rows[k].data();
+    const int k = cache.next;
+    cache.next ^= 1;
+    std::vector<float>& out = cache.rows[k];
+    out.resize(row_values());
+    const std::uint16_t* samples = unorm + std::size_t(y) * row_values();
+#if LEANFADE_AVX2_KERNELS
+    if (avx2) {
+        unorm_to_float_avx2(samples, row_values(), unorm_max, out.data());
+        cache.y[k] = y;
+        return out.data();
+    }
+#endif
+    unorm_to_float_scalar(samples, row_values(), unorm_max, out.data());
+    cache.y[k] = y;
+    return out.data();
+}
+
 // ---- Kernel selection ----------------------------------------------------------------------
 
 using TopFn = void (*)(const TopInput&, PackScale, int, int, int, Planes, const RowDest*);
@@ -712,7 +775,7 @@ struct Plan {
     TopFn top_range = nullptr;
     PackFn pack_range = nullptr;
     int texel_bytes = 0;
-    PackedLeanMap* packed = nullptr;
+    std::vector<PackedLevelTarget> targets;  // where each level's rows are packed
     std::vector<float> stored;  // the planes of every row of the store level
 
     Planes stored_row(int y) {
@@ -721,10 +784,10 @@ struct Plan {
     }
     RowDest dest(int level, int y) const {
         const LevelPlan& lp = levels[std::size_t(level)];
-        PackedLevel& out = packed->levels[std::size_t(level)];
+        const PackedLevelTarget& out = targets[std::size_t(level)];
         const std::size_t offset =
             std::size_t(y) * std::size_t(lp.width) * std::size_t(texel_bytes);
-        return {out.lean1.data() + offset, out.lean2.data() + offset};
+        return {out.lean1 + offset, out.lean2 + offset};
     }
 };
 
@@ -962,24 +1025,19 @@ void size_layer(std::vector<std::uint8_t>& layer, std::size_t bytes) {
     layer.resize(bytes);
 }
 
-// Sizes the output levels; lean1 and lean2 by different threads, sharing the first touch.
-void size_output(PackedLeanMap& packed, const std::vector<LevelPlan>& levels, int texel_bytes,
-                 int threads) {
-    const std::size_t count = levels.size();
-    packed.levels.resize(count);
+// Sizes the layers of the output levels (whose width and height are set); lean1 and lean2 by
+// different threads, sharing the first touch.
+void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
+    const std::size_t count = packed.levels.size();
     parallel_for_rows(int(2 * count), std::min(threads, 2), [&](int first, int end) {
         for (int job = first; job < end; ++job) {
             const std::size_t l = std::size_t(job) % count;
             PackedLevel& out = packed.levels[l];
-            const std::size_t bytes = std::size_t(levels[l].width) * std::size_t(levels[l].height) *
-                                      std::size_t(texel_bytes);
+            const std::size_t bytes =
+                std::size_t(out.width) * std::size_t(out.height) * std::size_t(texel_bytes);
             size_layer(std::size_t(job) < count ? out.lean1 : out.lean2, bytes);
         }
     });
-    for (std::size_t l = 0; l < count; ++l) {
-        packed.levels[l].width = levels[l].width;
-        packed.levels[l].height = levels[l].height;
-    }
 }
 
 }  // namespace
@@ -992,12 +1050,27 @@ bool bake_simd_active() {
     return cpu_has_avx2() && g_simd_enabled.load();
 }
 
-void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
-                      const BakeOptions& options, Storage storage, const std::string& generator,
-                      const std::string& source_name) {
+namespace {
+
+// Fills `packed` with the metadata and the level sizes and returns where each level goes.
+using TargetProvider =
+    std::function<std::vector<PackedLevelTarget>(PackedLeanMap& packed, int threads)>;
+
+// The input: a float image, or integer samples (exactly one of the two is set).
+struct BakeInput {
+    const Image* floats = nullptr;
+    const UnormImage* unorm = nullptr;
+    int width() const { return floats != nullptr ? floats->width : unorm->width; }
+    int height() const { return floats != nullptr ? floats->height : unorm->height; }
+    int channels() const { return floats != nullptr ? floats->channels : unorm->channels; }
+};
+
+void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
+          const BakeOptions& options, Storage storage, const std::string& generator,
+          const std::string& source_name, const TargetProvider& provide_targets) {
     result.source = source;
     if (source == BakeSource::Auto)
-        result.source = input.channels >= 3 ? BakeSource::Normal : BakeSource::Height;
+        result.source = input.channels() >= 3 ? BakeSource::Normal : BakeSource::Height;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
 
@@ -1011,23 +1084,32 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     // which also validates them; normal maps are decoded on the fly in pass 1.
     Image slopes;
     ScanTotals totals;
+    const int width = input.width(), height = input.height();
     if (result.source == BakeSource::Normal) {
-        detail::check_normal_map_shape(input, source_name);
-        plan.top.pixels = input.pixels.data();
-        plan.top.width = input.width;
-        plan.top.channels = input.channels;
-        totals = scan_input(plan.top, input.height, options.threads, avx2, source_name,
+        detail::check_normal_map_shape(width, height, input.channels(), source_name);
+        if (input.floats != nullptr) {
+            plan.top.pixels = input.floats->pixels.data();
+        } else {
+            plan.top.unorm = input.unorm->samples.data();
+            plan.top.unorm_max = float(input.unorm->max_value);
+            plan.top.avx2 = avx2;
+            plan.top.bake_id = g_next_bake_id.fetch_add(1);
+        }
+        plan.top.width = width;
+        plan.top.channels = input.channels();
+        totals = scan_input(plan.top, height, options.threads, avx2, source_name,
                             detail::kSteepNormalCause);
         result.clamped_texels = totals.clamped;
     } else {
-        slopes = slopes_from_height(input, options, source_name).slopes;
+        slopes = input.floats != nullptr
+                     ? slopes_from_height(*input.floats, options, source_name).slopes
+                     : slopes_from_height(input.unorm->to_float(), options, source_name).slopes;
         plan.top.pixels = slopes.pixels.data();
         plan.top.width = slopes.width;
         plan.top.channels = 2;
         totals = scan_input(plan.top, slopes.height, options.threads, avx2, source_name,
                             "height steps times the strength are too large");
     }
-    const int width = input.width, height = input.height;
     const float sc = detail::lean_scale(totals.max_b, totals.max_m);
     plan.scale = {sc, sc * sc};
 
@@ -1047,8 +1129,14 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     packed.baked_shininess = packed.roughness_baked ? options.bake_roughness_shininess : 0.0f;
     packed.source_convention = options.convention;
     packed.generator = generator;
-    size_output(packed, plan.levels, texel_bytes, resolve_thread_count(options.threads));
-    plan.packed = &packed;
+    packed.levels.assign(plan.levels.size(), PackedLevel{});
+    for (std::size_t l = 0; l < plan.levels.size(); ++l) {
+        packed.levels[l].width = plan.levels[l].width;
+        packed.levels[l].height = plan.levels[l].height;
+    }
+    plan.targets = provide_targets(packed, resolve_thread_count(options.threads));
+    if (plan.targets.size() != plan.levels.size())
+        throw std::invalid_argument("bake_packed_to: one output target per level expected");
 
     // Pass 1: the store level's rows (and everything above them), one at a time to whichever
     // thread is free. Which thread makes a row changes nothing in it.
@@ -1074,6 +1162,46 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     s.mean_slope = float(totals.sum_slope / (double(width) * double(height)));
     detail::summarize_coarsest(s, {coarsest[kBx][0], coarsest[kBy][0]},
                                {coarsest[kMxx][0], coarsest[kMyy][0], coarsest[kMxy][0]});
+}
+
+}  // namespace
+
+void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
+                      const BakeOptions& options, Storage storage, const std::string& generator,
+                      const std::string& source_name) {
+    // Keep the buffers of a previous result: baking a map of the same size and storage again
+    // allocates nothing.
+    std::vector<PackedLevel> previous = std::move(result.packed.levels);
+    bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
+         [&](PackedLeanMap& packed, int threads) {
+             for (std::size_t l = 0; l < std::min(previous.size(), packed.levels.size()); ++l) {
+                 packed.levels[l].lean1 = std::move(previous[l].lean1);
+                 packed.levels[l].lean2 = std::move(previous[l].lean2);
+             }
+             size_output(packed, bytes_per_texel(storage), threads);
+             std::vector<PackedLevelTarget> targets;
+             for (PackedLevel& level : packed.levels)
+                 targets.push_back({level.lean1.data(), level.lean2.data()});
+             return targets;
+         });
+}
+
+PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
+                                BakeSource source, const BakeOptions& options, Storage storage,
+                                const std::string& generator, const std::string& source_name) {
+    PackedBakeResult result;
+    bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
+         [&](PackedLeanMap& packed, int) { return open_output(packed); });
+    return result;
+}
+
+PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
+                                BakeSource source, const BakeOptions& options, Storage storage,
+                                const std::string& generator, const std::string& source_name) {
+    PackedBakeResult result;
+    bake(result, BakeInput{nullptr, &input}, source, options, storage, generator, source_name,
+         [&](PackedLeanMap& packed, int) { return open_output(packed); });
+    return result;
 }
 
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,

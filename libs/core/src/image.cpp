@@ -11,4 +11,18 @@ Image::Image(int w, int h, int c, float fill) : width(w), height(h), channels(c)
     assign_large(pixels, std::size_t(w) * std::size_t(h) * std::size_t(c), fill);
 }
 
+UnormImage::UnormImage(int w, int h, int c, std::uint16_t max)
+    : width(w), height(h), channels(c), max_value(max) {
+    if (w < 0 || h < 0 || c < 0 || c > 4 || max == 0)
+        throw std::invalid_argument("UnormImage: bad dimensions");
+    assign_large(samples, std::size_t(w) * std::size_t(h) * std::size_t(c), std::uint16_t(0));
+}
+
+Image UnormImage::to_float() const {
+    Image image(width, height, channels);
+    const float max = float(max_value);
+    for (std::size_t i = 0; i < samples.size(); ++i) image.pixels[i] = float(samples[i]) / max;
+    return image;
+}
+
 }  // namespace leanfade

@@ -34,6 +34,7 @@ void summarize_coarsest(LeanMapSummary& summary, glm::vec2 mean, glm::vec3 secon
 // Input checks and messages of slopes_from_normals (slopes.cpp), shared so that the fast path
 // refuses the same inputs with the same words, naming the same (first, row-major) texel.
 void check_normal_map_shape(const Image& normals, const std::string& source_name);
+void check_normal_map_shape(int width, int height, int channels, const std::string& source_name);
 [[noreturn]] void throw_non_finite_normal(const std::string& source_name, int x, int y);
 [[noreturn]] void throw_negative_normal_z(const std::string& source_name, int x, int y, float z);
 // A slope component steeper than kMaxSlope (or NaN) at texel (x, y); `cause` names the input.

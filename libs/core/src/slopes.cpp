@@ -23,11 +23,14 @@ std::string texel_name(int x, int y) {
     return "texel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
 }
 
+void check_size(int width, int height, int channels, const std::string& source_name) {
+    if (width <= 0 || height <= 0) throw Error(source_name, "image has zero size");
+    if (channels < 1 || channels > 4)
+        throw Error(source_name, "unsupported channel count " + std::to_string(channels));
+}
+
 void check_size(const Image& image, const std::string& source_name) {
-    if (image.width <= 0 || image.height <= 0)
-        throw Error(source_name, "image has zero size");
-    if (image.channels < 1 || image.channels > 4)
-        throw Error(source_name, "unsupported channel count " + std::to_string(image.channels));
+    check_size(image.width, image.height, image.channels, source_name);
 }
 
 // Serially, so that the error names the first texel (rows top first) for any thread count.
@@ -47,11 +50,16 @@ void check_slopes(const Image& slopes, const std::string& source_name, const cha
 
 namespace detail {
 
-void check_normal_map_shape(const Image& normals, const std::string& source_name) {
-    check_size(normals, source_name);
-    if (normals.channels < 3)
+void check_normal_map_shape(int width, int height, int channels,
+                            const std::string& source_name) {
+    check_size(width, height, channels, source_name);
+    if (channels < 3)
         throw Error(source_name, "a normal map needs 3 or 4 channels, this image has " +
-                                     std::to_string(normals.channels));
+                                     std::to_string(channels));
+}
+
+void check_normal_map_shape(const Image& normals, const std::string& source_name) {
+    check_normal_map_shape(normals.width, normals.height, normals.channels, source_name);
 }
 
 void throw_non_finite_normal(const std::string& source_name, int x, int y) {

@@ -1,5 +1,5 @@
 #pragma once
-// Internal: in-memory codecs behind image_io.hpp. Decoders take the whole file's bytes and throw
+// Internal: codecs behind image_io.hpp. Decoders take the file (PNG) or its bytes and throw
 // leanfade::Error(path, cause); encoders return the complete file's bytes (written atomically by
 // the caller). Rows are top first, values as stored (see image_io.hpp).
 #include <cstdint>
@@ -11,8 +11,11 @@
 
 namespace leanfade::io::detail {
 
-Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes,
-                 const ReadOptions& options);
+// Streams the file through a small buffer (the file is never held in memory as a whole).
+class InputFile;
+Image decode_png(const InputFile& file, const ReadOptions& options);
+// The same values as integer samples (8- or 16-bit, as stored).
+UnormImage decode_png_unorm(const InputFile& file, const ReadOptions& options);
 std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits);
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,

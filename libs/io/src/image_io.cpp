@@ -18,15 +18,56 @@ constexpr std::uint8_t kKtx2Magic[12] = {0xAB, 'K',  'T',  'X',  ' ',  '2',
 
 // True when the file starts with the magic, or is a (truncated) prefix of it.
 template <std::size_t N>
-bool starts_like(const std::vector<std::uint8_t>& bytes, const std::uint8_t (&magic)[N]) {
-    const std::size_t count = std::min(bytes.size(), N);
-    return std::memcmp(bytes.data(), magic, count) == 0;
+bool starts_like(const std::vector<std::uint8_t>& head, const std::uint8_t (&magic)[N]) {
+    const std::size_t count = std::min(head.size(), N);
+    return std::memcmp(head.data(), magic, count) == 0;
 }
 
-bool is_pfm(const std::vector<std::uint8_t>& bytes) {
-    if (bytes.size() < 2 || bytes[0] != 'P' || (bytes[1] != 'F' && bytes[1] != 'f')) return false;
-    return bytes.size() == 2 || bytes[2] == ' ' || bytes[2] == '\t' || bytes[2] == '\n' ||
-           bytes[2] == '\r';
+bool is_pfm(const std::vector<std::uint8_t>& head) {
+    if (head.size() < 2 || head[0] != 'P' || (head[1] != 'F' && head[1] != 'f')) return false;
+    return head.size() == 2 || head[2] == ' ' || head[2] == '\t' || head[2] == '\n' ||
+           head[2] == '\r';
+}
+
+// Recognises the format by its first bytes. PNG is streamed from the file; OpenEXR and PFM
+// are decoded from the whole file's bytes (`whole` when the caller has them, else read here).
+// RGBA -> RGB (ReadOptions::drop_alpha for the float formats).
+Image without_alpha(Image image) {
+    if (image.channels != 4) return image;
+    Image opaque(image.width, image.height, image.channels - 1);
+    const std::size_t texels = image.texel_count();
+    for (std::size_t i = 0; i < texels; ++i)
+        for (int c = 0; c < opaque.channels; ++c)
+            opaque.pixels[i * std::size_t(opaque.channels) + std::size_t(c)] =
+                image.pixels[i * std::size_t(image.channels) + std::size_t(c)];
+    return opaque;
+}
+
+// compact: PNG samples as a UnormImage instead of floats.
+std::variant<Image, UnormImage> decode(const detail::InputFile& file,
+                                       const std::vector<std::uint8_t>* whole,
+                                       const ReadOptions& options, bool compact) {
+    const std::string& path = file.path();
+    std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), 12)));
+    file.read_at(0, head.data(), head.size(), "file shrank while being read");
+    if (starts_like(head, kPngMagic)) {
+        if (head.size() < sizeof kPngMagic) throw Error(path, "truncated PNG data");
+        if (compact) return detail::decode_png_unorm(file, options);
+        return detail::decode_png(file, options);
+    }
+    const auto bytes = [&] { return whole != nullptr ? *whole : file.read_all(); };
+    const auto opaque = [&](Image image) {
+        return options.drop_alpha ? without_alpha(std::move(image)) : image;
+    };
+    if (starts_like(head, kExrMagic)) {
+        if (head.size() < sizeof kExrMagic) throw Error(path, "truncated OpenEXR data");
+        return opaque(detail::decode_exr(path, bytes(), options));
+    }
+    if (is_pfm(head)) return opaque(detail::decode_pfm(path, bytes(), options));
+    if (head.size() >= sizeof kKtx2Magic && starts_like(head, kKtx2Magic)) {
+        throw Error(path, "is a KTX2 texture, not an image (expected PNG, OpenEXR or PFM)");
+    }
+    throw Error(path, "unknown image format (expected PNG, OpenEXR or PFM)");
 }
 
 void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -39,25 +80,21 @@ void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
 }  // namespace
 
 Image read_image(const std::string& path, const ReadOptions& options) {
-    return read_image_from_memory(detail::InputFile(path).read_all(), path, options);
+    const detail::InputFile file(path);
+    return std::get<Image>(decode(file, nullptr, options, false));
+}
+
+std::variant<Image, UnormImage> read_image_compact(const std::string& path,
+                                                   const ReadOptions& options) {
+    const detail::InputFile file(path);
+    return decode(file, nullptr, options, true);
 }
 
 Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& path,
                              const ReadOptions& options) {
     if (bytes.empty()) throw Error(path, "empty file");
-    if (starts_like(bytes, kPngMagic)) {
-        if (bytes.size() < sizeof kPngMagic) throw Error(path, "truncated PNG data");
-        return detail::decode_png(path, bytes, options);
-    }
-    if (starts_like(bytes, kExrMagic)) {
-        if (bytes.size() < sizeof kExrMagic) throw Error(path, "truncated OpenEXR data");
-        return detail::decode_exr(path, bytes, options);
-    }
-    if (is_pfm(bytes)) return detail::decode_pfm(path, bytes, options);
-    if (bytes.size() >= sizeof kKtx2Magic && starts_like(bytes, kKtx2Magic)) {
-        throw Error(path, "is a KTX2 texture, not an image (expected PNG, OpenEXR or PFM)");
-    }
-    throw Error(path, "unknown image format (expected PNG, OpenEXR or PFM)");
+    const detail::InputFile file(path, bytes.data(), bytes.size());
+    return std::get<Image>(decode(file, &bytes, options, false));
 }
 
 void write_png(const std::string& path, const Image& image, int bits, const WriteOptions& options) {

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -75,6 +76,33 @@ std::vector<std::uint8_t> InputFile::read_all() const {
     assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
     read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
     return bytes;
+}
+
+SequentialReader::SequentialReader(const InputFile& file, std::size_t buffer_bytes)
+    : file_(file), buffer_(buffer_bytes) {}
+
+std::size_t SequentialReader::read(void* destination, std::size_t size) {
+    auto* out = static_cast<std::uint8_t*>(destination);
+    std::size_t copied = 0;
+    while (copied < size && position_ < file_.size()) {
+        if (position_ < buffer_start_ || position_ >= buffer_start_ + buffer_length_) {
+            buffer_start_ = position_;
+            buffer_length_ = std::size_t(
+                std::min<std::uint64_t>(buffer_.size(), file_.size() - position_));
+            file_.read_at(buffer_start_, buffer_.data(), buffer_length_,
+                          "file shrank while being read");
+        }
+        const std::size_t offset = std::size_t(position_ - buffer_start_);
+        const std::size_t count = std::min(size - copied, buffer_length_ - offset);
+        std::memcpy(out + copied, buffer_.data() + offset, count);
+        copied += count;
+        position_ += count;
+    }
+    return copied;
+}
+
+void SequentialReader::skip(std::uint64_t count) {
+    position_ = count > UINT64_MAX - position_ ? UINT64_MAX : position_ + count;
 }
 
 void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,

@@ -39,6 +39,29 @@ class InputFile {
     std::uint64_t size_ = 0;
 };
 
+// Sequential reads of an InputFile through a small buffer, for decoders that stream (PNG): the
+// file is never held in memory as a whole.
+class SequentialReader {
+  public:
+    explicit SequentialReader(const InputFile& file, std::size_t buffer_bytes = 256 * 1024);
+    // Copies up to `size` bytes from the current position and advances; returns how many (fewer
+    // only at the end of the file). Throws what InputFile::read_at throws on a read error.
+    std::size_t read(void* destination, std::size_t size);
+    // Moves the position by `count` bytes (it may pass the end: reads then return 0).
+    void skip(std::uint64_t count);
+    std::uint64_t position() const noexcept { return position_; }
+    std::uint64_t remaining() const noexcept {
+        return position_ < file_.size() ? file_.size() - position_ : 0;
+    }
+
+  private:
+    const InputFile& file_;
+    std::vector<std::uint8_t> buffer_;
+    std::uint64_t buffer_start_ = 0;   // file offset of buffer_[0]
+    std::size_t buffer_length_ = 0;    // valid bytes in buffer_
+    std::uint64_t position_ = 0;
+};
+
 // Throws Error(path, ...) unless 1 <= width, height <= max_dimension. Call it on header values
 // before allocating any pixel memory (decompression-bomb guard).
 void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,

@@ -264,8 +264,9 @@ void append_key_value(std::vector<std::uint8_t>& out, const std::string& key,
     while (out.size() % 4 != 0) out.push_back(0);
 }
 
+// check_layers: the layers' byte counts too (not for a layout whose layers are written later).
 void validate_for_write(const std::string& path, const PackedLeanMap& map,
-                        const FormatInfo& format) {
+                        const FormatInfo& format, bool check_layers) {
     if (map.levels.empty()) throw Error(path, "LEAN map without levels");
     const PackedLevel& top = map.levels.front();
     if (top.width < 1 || top.height < 1) {
@@ -289,7 +290,7 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map,
                                   std::to_string(width) + "x" + std::to_string(height));
         }
         const std::uint64_t expected = layer_bytes(format, width, height);
-        if (level.lean1.size() != expected || level.lean2.size() != expected) {
+        if (check_layers && (level.lean1.size() != expected || level.lean2.size() != expected)) {
             throw Error(path, "level " + std::to_string(i) + " layers hold " +
                                   std::to_string(level.lean1.size()) + " and " +
                                   std::to_string(level.lean2.size()) + " bytes, expected " +
@@ -342,20 +343,22 @@ const std::string* Ktx2Info::find(const std::string& key) const {
     return nullptr;
 }
 
-void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {
-    const FormatInfo& format = format_of(map.storage);
-    validate_for_write(path, map, format);
-    const auto level_count = std::uint32_t(map.levels.size());
-    const PackedLevel& top = map.levels.front();
+Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options,
+                       bool check_layers)
+    : file_(path, options.durability) {
+    const FormatInfo& format = format_of(layout.storage);
+    validate_for_write(path, layout, format, check_layers);
+    const auto level_count = std::uint32_t(layout.levels.size());
+    const PackedLevel& top = layout.levels.front();
 
     std::vector<std::pair<std::string, std::string>> key_values = {
         {kKeyOrientation, "rd"},
         {kKeyWriter,
-         map.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : map.generator},
-        {kKeyScale, format_float(map.scale)},
-        {kKeyRoughnessBaked, map.roughness_baked ? "1" : "0"},
-        {kKeyBakedShininess, format_float(map.baked_shininess)},
-        {kKeyNormalConvention, normal_convention_name(map.source_convention)},
+         layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator},
+        {kKeyScale, format_float(layout.scale)},
+        {kKeyRoughnessBaked, layout.roughness_baked ? "1" : "0"},
+        {kKeyBakedShininess, format_float(layout.baked_shininess)},
+        {kKeyNormalConvention, normal_convention_name(layout.source_convention)},
         {kKeyLayout, kLeanLayoutName},
     };
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
@@ -367,12 +370,15 @@ void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOp
     const std::uint64_t kvd_offset = dfd_offset + dfd_bytes.size();
 
     // Level data from the smallest level to the largest, each aligned.
-    std::vector<std::uint64_t> level_offsets(level_count);
+    std::vector<std::uint64_t> level_offsets(level_count), level_lengths(level_count);
     std::uint64_t end = kvd_offset + key_value_bytes.size();
     for (std::uint32_t level = level_count; level-- > 0;) {
         end = align_up(end, level_alignment(format));
         level_offsets[level] = end;
-        end += 2 * std::uint64_t(map.levels[level].lean1.size());
+        level_lengths[level] =
+            2 * layer_bytes(format, std::uint32_t(layout.levels[level].width),
+                            std::uint32_t(layout.levels[level].height));
+        end += level_lengths[level];
     }
     if (end > std::uint64_t(SIZE_MAX)) throw Error(path, "LEAN map too large to write");
 
@@ -394,47 +400,57 @@ void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOp
     append_u64_le(bytes, 0);  // sgdByteOffset
     append_u64_le(bytes, 0);  // sgdByteLength
     for (std::uint32_t level = 0; level < level_count; ++level) {
-        const std::uint64_t length = 2 * std::uint64_t(map.levels[level].lean1.size());
         append_u64_le(bytes, level_offsets[level]);
-        append_u64_le(bytes, length);  // byteLength
-        append_u64_le(bytes, length);  // uncompressedByteLength
+        append_u64_le(bytes, level_lengths[level]);  // byteLength
+        append_u64_le(bytes, level_lengths[level]);  // uncompressedByteLength
     }
     bytes.insert(bytes.end(), dfd_bytes.begin(), dfd_bytes.end());
     bytes.insert(bytes.end(), key_value_bytes.begin(), key_value_bytes.end());
 
-    // The level data is copied straight from the map into the mapped output file (no assembled
-    // copy of the whole file), in chunks handed to the threads; the mip padding between levels
-    // is left as the zeros a newly reserved file reads as.
-    AtomicFile file(path, options.durability);
-    std::uint8_t* output = file.map(std::size_t(end));
+    // The level data goes straight into the mapped file; the mip padding between levels is left
+    // as the zeros a newly reserved file reads as.
+    std::uint8_t* output = file_.map(std::size_t(end));
     std::memcpy(output, bytes.data(), bytes.size());
+    for (std::uint32_t level = 0; level < level_count; ++level) {
+        std::uint8_t* lean1 = output + level_offsets[level];
+        targets_.push_back({lean1, lean1 + level_lengths[level] / 2});
+    }
+}
+
+void Ktx2Writer::commit() {
+    targets_.clear();
+    file_.commit();
+}
+
+void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {
+    Ktx2Writer writer(path, map, options, true);
+    const std::vector<PackedLevelTarget>& targets = writer.targets();
+    // Copied from the map in chunks handed to the threads (no assembled copy of the whole file).
     struct Chunk {
         const std::uint8_t* source;
-        std::uint64_t offset;
+        std::uint8_t* destination;
         std::size_t size;
     };
     constexpr std::size_t kChunkBytes = std::size_t(4) << 20;
     std::vector<Chunk> chunks;
-    for (std::uint32_t level = 0; level < level_count; ++level) {
+    for (std::size_t level = 0; level < map.levels.size(); ++level) {
         const PackedLevel& packed = map.levels[level];
-        const std::size_t layer_bytes = packed.lean1.size();
         for (int layer = 0; layer < 2; ++layer) {
-            const std::uint8_t* source = layer == 0 ? packed.lean1.data() : packed.lean2.data();
-            const std::uint64_t layer_offset =
-                level_offsets[level] + std::uint64_t(layer) * layer_bytes;
-            for (std::size_t first = 0; first < layer_bytes; first += kChunkBytes) {
-                chunks.push_back({source + first, layer_offset + first,
-                                  std::min(kChunkBytes, layer_bytes - first)});
+            const std::vector<std::uint8_t>& source = layer == 0 ? packed.lean1 : packed.lean2;
+            std::uint8_t* destination = layer == 0 ? targets[level].lean1 : targets[level].lean2;
+            for (std::size_t first = 0; first < source.size(); first += kChunkBytes) {
+                chunks.push_back({source.data() + first, destination + first,
+                                  std::min(kChunkBytes, source.size() - first)});
             }
         }
     }
     parallel_for_dynamic(int(chunks.size()), options.threads, 1, [&](int, int first, int last) {
         for (int i = first; i < last; ++i) {
-            std::memcpy(output + chunks[std::size_t(i)].offset, chunks[std::size_t(i)].source,
-                        chunks[std::size_t(i)].size);
+            const Chunk& chunk = chunks[std::size_t(i)];
+            std::memcpy(chunk.destination, chunk.source, chunk.size);
         }
     });
-    file.commit();
+    writer.commit();
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 
 #include "formats.hpp"
 #include "input_file.hpp"
@@ -25,10 +26,10 @@ struct PngContext {
     std::jmp_buf jump;
     char message[256];
     bool truncated;
-    // Reading: the file in memory.
-    const std::uint8_t* input;
-    std::size_t input_size;
-    std::size_t input_position;
+    bool read_failed;           // the file could not be read: `read_error` holds the cause
+    char read_error[256];
+    // Reading: the file, streamed through a small buffer.
+    SequentialReader* input;
     // Writing: a malloc'd growing buffer, freed by the owner.
     unsigned char* output;
     std::size_t output_size;
@@ -44,14 +45,22 @@ void on_png_error(png_structp png, png_const_charp message) {
 
 void on_png_warning(png_structp, png_const_charp) {}  // never print
 
-void read_from_memory(png_structp png, png_bytep destination, png_size_t length) {
+void read_from_file(png_structp png, png_bytep destination, png_size_t length) {
     auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
-    if (length > context->input_size - context->input_position) {
+    std::size_t count = 0;
+    try {
+        count = context->input->read(destination, length);
+    } catch (const Error& error) {
+        std::snprintf(context->read_error, sizeof context->read_error, "%s",
+                      error.cause().c_str());
+        context->read_failed = true;
+    }
+    // No C++ object is alive here: png_error longjmps out through libpng.
+    if (context->read_failed) png_error(png, "read error");
+    if (count < length) {
         context->truncated = true;
         png_error(png, kTruncatedMessage);
     }
-    std::memcpy(destination, context->input + context->input_position, length);
-    context->input_position += length;
 }
 
 void write_to_memory(png_structp png, png_bytep source, png_size_t length) {
@@ -80,14 +89,18 @@ struct PngHeader {
 };
 
 // Reads the chunks before the pixels and sets up the expansions. False after a libpng error.
-bool read_png_header(png_structp png, png_infop info, PngContext& context, PngHeader& header) {
+bool read_png_header(png_structp png, png_infop info, PngContext& context, bool drop_alpha,
+                     PngHeader& header) {
     if (setjmp(context.jump) != 0) return false;
     png_read_info(png, info);
     const int color_type = png_get_color_type(png, info);
     const int bit_depth = png_get_bit_depth(png, info);
     if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
     if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-    if (png_get_valid(png, info, PNG_INFO_tRNS) != 0) png_set_tRNS_to_alpha(png);
+    if (drop_alpha && (color_type & PNG_COLOR_MASK_COLOR) != 0)
+        png_set_strip_alpha(png);
+    else if (png_get_valid(png, info, PNG_INFO_tRNS) != 0)
+        png_set_tRNS_to_alpha(png);
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
     header.width = png_get_image_width(png, info);
@@ -112,14 +125,37 @@ void convert_row(const std::uint8_t* source, float* destination, std::size_t val
     }
 }
 
-// A non-interlaced image, one row at a time straight into `image` (no buffer of all samples).
+// Samples of one decoded row to integers (16-bit big-endian as PNG stores them to native).
+void convert_row(const std::uint8_t* source, std::uint16_t* destination, std::size_t values,
+                 int bit_depth) {
+    if (bit_depth == 8) {
+        for (std::size_t i = 0; i < values; ++i) destination[i] = source[i];
+    } else {
+        for (std::size_t i = 0; i < values; ++i)
+            destination[i] = std::uint16_t((unsigned(source[2 * i]) << 8) | source[2 * i + 1]);
+    }
+}
+
+// Where decoded rows go: a float Image or a UnormImage (plain pointers: used under setjmp).
+struct RowTarget {
+    Image* floats;
+    UnormImage* unorm;
+    void put(png_uint_32 y, const std::uint8_t* row, std::size_t values, int bit_depth) const {
+        if (floats != nullptr)
+            convert_row(row, floats->row(int(y)), values, bit_depth);
+        else
+            convert_row(row, unorm->row(int(y)), values, bit_depth);
+    }
+};
+
+// A non-interlaced image, one row at a time straight into `target` (no buffer of all samples).
 bool read_png_rows_into(png_structp png, png_infop info, PngContext& context,
-                        const PngHeader& header, std::uint8_t* row, Image& image) {
+                        const PngHeader& header, std::uint8_t* row, const RowTarget& target) {
     if (setjmp(context.jump) != 0) return false;
     const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
     for (png_uint_32 y = 0; y < header.height; ++y) {
         png_read_row(png, row, nullptr);
-        convert_row(row, image.row(int(y)), values_per_row, header.bit_depth);
+        target.put(y, row, values_per_row, header.bit_depth);
     }
     png_read_end(png, info);
     return true;
@@ -197,18 +233,21 @@ class PngWriteStruct {
 
 // Sum of the IDAT chunks' data lengths (as far as the file holds them), walking the chunks after
 // the signature up to IEND or the end of the file.
-std::uint64_t compressed_pixel_bytes(const std::vector<std::uint8_t>& bytes) {
+std::uint64_t compressed_pixel_bytes(const InputFile& file) {
     std::uint64_t total = 0;
-    std::size_t position = 8;
-    while (bytes.size() - position >= 8) {
-        const std::uint64_t length =
-            (std::uint64_t(bytes[position]) << 24) | (std::uint64_t(bytes[position + 1]) << 16) |
-            (std::uint64_t(bytes[position + 2]) << 8) | std::uint64_t(bytes[position + 3]);
-        const std::uint8_t* type = bytes.data() + position + 4;
-        const std::uint64_t available = bytes.size() - position - 8;
+    SequentialReader reader(file, 64 * 1024);
+    reader.skip(8);
+    std::uint8_t chunk[8];
+    while (reader.remaining() >= 8) {
+        reader.read(chunk, 8);
+        const std::uint64_t length = (std::uint64_t(chunk[0]) << 24) |
+                                     (std::uint64_t(chunk[1]) << 16) |
+                                     (std::uint64_t(chunk[2]) << 8) | std::uint64_t(chunk[3]);
+        const std::uint8_t* type = chunk + 4;
+        const std::uint64_t available = reader.remaining();
         if (std::memcmp(type, "IDAT", 4) == 0) total += std::min(length, available);
         if (std::memcmp(type, "IEND", 4) == 0 || length + 4 >= available) break;
-        position += std::size_t(length) + 12;
+        reader.skip(length + 4);
     }
     return total;
 }
@@ -218,9 +257,8 @@ std::uint64_t compressed_pixel_bytes(const std::vector<std::uint8_t>& bytes) {
 // decompression bomb: refused before libpng allocates rows for its declared size. Applied only
 // when the rows would take more than 16 MiB; smaller files get libpng's own, more specific,
 // diagnosis after the (harmless) allocation.
-void check_compressed_size(const std::string& path, const std::vector<std::uint8_t>& bytes,
-                           std::uint64_t width, std::uint64_t height) {
-    if (bytes.size() < 26) return;  // libpng reports the truncated header
+void check_compressed_size(const std::string& path, const InputFile& file,
+                           const std::uint8_t* bytes, std::uint64_t width, std::uint64_t height) {
     int samples = 0;
     switch (bytes[25]) {  // IHDR colour type
         case 0:
@@ -245,7 +283,7 @@ void check_compressed_size(const std::string& path, const std::vector<std::uint8
     // A lower bound for any filter and interlace method: the pixels alone, without filter bytes.
     const std::uint64_t pixel_bytes = width * height * bits_per_pixel / 8;
     if (pixel_bytes <= (std::uint64_t(1) << 24)) return;
-    const std::uint64_t compressed = compressed_pixel_bytes(bytes);
+    const std::uint64_t compressed = compressed_pixel_bytes(file);
     constexpr std::uint64_t kMaxDeflateRatio = 1032;
     if (pixel_bytes > kMaxDeflateRatio * compressed + 1024) {
         throw Error(path, "PNG pixel data too short for its " + std::to_string(width) + "x" +
@@ -256,36 +294,48 @@ void check_compressed_size(const std::string& path, const std::vector<std::uint8
 }
 
 [[noreturn]] void throw_png_error(const std::string& path, const PngContext& context) {
+    if (context.read_failed) throw Error(path, context.read_error);
     if (context.truncated) throw Error(path, kTruncatedMessage);
     throw Error(path, std::string("corrupt PNG data (") + context.message + ")");
 }
 
 }  // namespace
 
-Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes,
-                 const ReadOptions& options) {
+namespace {
+
+// Decodes into an Image or a UnormImage (Decoded), the rows streamed from the file.
+template <class Decoded>
+Decoded decode_png_as(const InputFile& file, const ReadOptions& options) {
+    const std::string& path = file.path();
     // The first chunk is IHDR (8-byte signature, 4-byte length, "IHDR", width, height, both
-    // big-endian): check the declared size before libpng allocates anything for it.
-    constexpr std::size_t kIhdrEnd = 24;
-    if (bytes.size() >= kIhdrEnd && std::memcmp(bytes.data() + 12, "IHDR", 4) == 0) {
+    // big-endian, bit depth, colour type): check the declared size before libpng allocates
+    // anything for it.
+    constexpr std::size_t kIhdrEnd = 24, kColourTypeEnd = 26;
+    std::uint8_t bytes[kColourTypeEnd] = {};
+    const std::size_t prefix = std::size_t(std::min<std::uint64_t>(file.size(), kColourTypeEnd));
+    file.read_at(0, bytes, prefix, kTruncatedMessage);
+    if (prefix >= kIhdrEnd && std::memcmp(bytes + 12, "IHDR", 4) == 0) {
         const auto big_endian = [&](std::size_t offset) {
             return (std::int64_t(bytes[offset]) << 24) | (std::int64_t(bytes[offset + 1]) << 16) |
                    (std::int64_t(bytes[offset + 2]) << 8) | std::int64_t(bytes[offset + 3]);
         };
         check_dimensions(path, big_endian(16), big_endian(20), options.max_dimension);
-        check_compressed_size(path, bytes, std::uint64_t(big_endian(16)),
-                              std::uint64_t(big_endian(20)));
+        // Shorter files: libpng reports the truncated header.
+        if (prefix >= kColourTypeEnd) {
+            check_compressed_size(path, file, bytes, std::uint64_t(big_endian(16)),
+                                  std::uint64_t(big_endian(20)));
+        }
     }
 
+    SequentialReader input(file);
     PngContext context{};
-    context.input = bytes.data();
-    context.input_size = bytes.size();
+    context.input = &input;
     PngReadStruct reader(context);
     if (!reader.valid()) throw Error(path, "cannot initialise libpng");
-    png_set_read_fn(reader.png(), &context, read_from_memory);
+    png_set_read_fn(reader.png(), &context, read_from_file);
 
     PngHeader header{};
-    if (!read_png_header(reader.png(), reader.info(), context, header)) {
+    if (!read_png_header(reader.png(), reader.info(), context, options.drop_alpha, header)) {
         throw_png_error(path, context);
     }
     check_dimensions(path, header.width, header.height, options.max_dimension);
@@ -295,11 +345,24 @@ Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes
                               " channels of " + std::to_string(header.bit_depth) + " bits)");
     }
 
-    Image image(int(header.width), int(header.height), header.channels);
+    Decoded image = [&] {
+        if constexpr (std::is_same_v<Decoded, Image>) {
+            return Image(int(header.width), int(header.height), header.channels);
+        } else {
+            return UnormImage(int(header.width), int(header.height), header.channels,
+                              header.bit_depth == 8 ? 255 : 65535);
+        }
+    }();
+    RowTarget target{nullptr, nullptr};
+    if constexpr (std::is_same_v<Decoded, Image>)
+        target.floats = &image;
+    else
+        target.unorm = &image;
     const std::size_t values_per_row = std::size_t(header.width) * std::size_t(header.channels);
     if (!header.interlaced) {
         std::vector<std::uint8_t> row(header.row_bytes);
-        if (!read_png_rows_into(reader.png(), reader.info(), context, header, row.data(), image)) {
+        if (!read_png_rows_into(reader.png(), reader.info(), context, header, row.data(),
+                                target)) {
             throw_png_error(path, context);
         }
         return image;
@@ -311,10 +374,19 @@ Image decode_png(const std::string& path, const std::vector<std::uint8_t>& bytes
     if (!read_png_rows(reader.png(), reader.info(), context, rows.data())) {
         throw_png_error(path, context);
     }
-    for (png_uint_32 y = 0; y < header.height; ++y) {
-        convert_row(rows[y], image.row(int(y)), values_per_row, header.bit_depth);
-    }
+    for (png_uint_32 y = 0; y < header.height; ++y)
+        target.put(y, rows[y], values_per_row, header.bit_depth);
     return image;
+}
+
+}  // namespace
+
+Image decode_png(const InputFile& file, const ReadOptions& options) {
+    return decode_png_as<Image>(file, options);
+}
+
+UnormImage decode_png_unorm(const InputFile& file, const ReadOptions& options) {
+    return decode_png_as<UnormImage>(file, options);
 }
 
 std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits) {

@@ -29,6 +29,31 @@ struct Image {
     const float* row(int y) const { return pixels.data() + index(0, y); }
 };
 
+// Integer samples as stored in 8- and 16-bit image files (PNG), interleaved and row-major like
+// Image; a sample's value is float(sample) / float(max_value) in [0, 1], exactly the float that
+// Image holds for it after io::read_image. Half the memory of the float Image, for the bake of
+// large 8- and 16-bit maps (bake_packed_to converts rows as it reads them).
+struct UnormImage {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::uint16_t max_value = 65535;     // 255 for 8-bit samples
+    std::vector<std::uint16_t> samples;  // width * height * channels
+
+    UnormImage() = default;
+    UnormImage(int w, int h, int c, std::uint16_t max);  // samples zero
+
+    std::size_t texel_count() const { return std::size_t(width) * std::size_t(height); }
+    const std::uint16_t* row(int y) const {
+        return samples.data() + std::size_t(y) * std::size_t(width) * std::size_t(channels);
+    }
+    std::uint16_t* row(int y) {
+        return samples.data() + std::size_t(y) * std::size_t(width) * std::size_t(channels);
+    }
+    // The float image of the same values (what io::read_image returns for the file).
+    Image to_float() const;
+};
+
 // Largest accepted width or height for any image read or baked unless raised explicitly
 // (a guard against decompression bombs and absurd headers).
 inline constexpr int kDefaultMaxImageDimension = 16384;

@@ -6,6 +6,7 @@
 // of the surface. Slopes B are projected normals n.xy / n.z (dimensionless). Image rows are stored
 // top row first (as in image files); the GL upload flips them so that +v points up.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -156,6 +157,28 @@ PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOp
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
                       const BakeOptions& options, Storage storage, const std::string& generator,
                       const std::string& source_name = "");
+
+// Where bake_packed_to writes each level's packed texels: the first byte of lean1 and of lean2,
+// each width * height * bytes_per_texel(storage) bytes, rows top first, tightly packed.
+struct PackedLevelTarget {
+    std::uint8_t* lean1 = nullptr;
+    std::uint8_t* lean2 = nullptr;
+};
+// Called by bake_packed_to once sc is known (the input has been read and validated) and before
+// the first texel is packed, with the map's metadata and every level's width and height (its
+// layers empty); returns one target per level, level 0 first. It may throw (the bake then stops).
+using PackedOutputOpener = std::function<std::vector<PackedLevelTarget>(const PackedLeanMap&)>;
+// The same bake, written straight into memory the caller provides (e.g. a mapped output file:
+// `leanfade bake` writes the KTX2 file this way, with no copy of the map in between). The
+// returned result's packed map holds the metadata and the level sizes; its layers are empty.
+PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
+                                BakeSource source, const BakeOptions& options, Storage storage,
+                                const std::string& generator, const std::string& source_name = "");
+// The same from integer samples (an 8- or 16-bit file's, half the memory of the float image):
+// exactly the bytes and summary of bake_packed_to(open_output, input.to_float(), ...).
+PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
+                                BakeSource source, const BakeOptions& options, Storage storage,
+                                const std::string& generator, const std::string& source_name = "");
 
 // bake_packed uses AVX2 kernels where the CPU has them (checked at run time), else portable C++;
 // both give the same bytes. For tests and benchmarks: switch AVX2 off or on again (returns the

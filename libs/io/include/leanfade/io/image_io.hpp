@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "leanfade/core/image.hpp"
@@ -31,6 +32,9 @@ struct ReadOptions {
     // Largest accepted width or height, checked on the header before any pixel memory is
     // allocated (decompression-bomb guard).
     int max_dimension = kDefaultMaxImageDimension;
+    // RGBA -> RGB (and a colour PNG's transparency ignored), for callers that never use a colour
+    // image's alpha (the bake of normal maps: less memory). Gray + alpha stays as it is.
+    bool drop_alpha = false;
 };
 
 // Reads a PNG, OpenEXR or PFM image, recognised by its magic bytes (never by its extension).
@@ -45,6 +49,12 @@ struct ReadOptions {
 // its IDAT data is too short to hold the declared pixels (deflate expands at most 1032 times).
 // The input file is opened read-only (never waiting on a FIFO) and never modified.
 Image read_image(const std::string& path, const ReadOptions& options = {});
+
+// read_image, keeping the integer samples of 8- and 16-bit PNGs (a UnormImage: half the memory
+// of the float Image, for baking large maps; UnormImage::to_float() gives read_image's result).
+// OpenEXR and PFM files come as floats. Same checks and messages as read_image.
+std::variant<Image, UnormImage> read_image_compact(const std::string& path,
+                                                   const ReadOptions& options = {});
 
 // read_image on a file's bytes already in memory (same formats, checks and messages); `name` is
 // the file name the errors give. For callers that hold the data, and for the fuzz targets.

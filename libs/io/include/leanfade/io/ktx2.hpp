@@ -40,6 +40,27 @@ const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
 void write_ktx2(const std::string& path, const PackedLeanMap& map,
                 const WriteOptions& options = {});
 
+// A LEAN map written in place (what write_ktx2 does, without the map in memory): the
+// constructor creates the temporary output file with its final size, writes the header, level
+// index, DFD and key/value data from `layout` (the map's metadata and level sizes, checked as
+// write_ktx2 checks them; its layers may be empty unless check_layers) and maps the file; the
+// caller fills each level's layers through targets() (e.g. bake_packed_to, from several threads)
+// and calls commit(), which replaces `path` atomically (AtomicFile). Without commit() nothing
+// appears. Not copyable, not movable.
+class Ktx2Writer {
+  public:
+    Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options = {},
+               bool check_layers = false);
+    // One per level, level 0 first: where lean1 and lean2 go (width * height * texel bytes each,
+    // rows top first). Valid until commit().
+    const std::vector<PackedLevelTarget>& targets() const noexcept { return targets_; }
+    void commit();
+
+  private:
+    AtomicFile file_;
+    std::vector<PackedLevelTarget> targets_;
+};
+
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
 // height in [1, max_dimension], depth 0, layerCount 2, faceCount 1, levelCount in [1, full chain],
