@@ -8,7 +8,8 @@
 //   pass 1  the rows of a "store level" S (64 rows for 4096^2), each to whichever thread is free.
 //           A row is made by making the (2 or 3) rows of the level above that it filters,
 //           recursively up to the top level, which is computed from the input in cache-sized
-//           chunks, packed straight from registers and box-filtered into level 1. Each level keeps
+//           chunks (moments into L1-resident planes, then packed from them) and box-filtered
+//           into level 1. Each level keeps
 //           only its last 3 rows. A row is packed by the thread that makes it for its first
 //           consumer, so exactly once, whatever the number of threads;
 //   pass 2  the levels below S, serially, from the stored float rows of level S.
@@ -41,6 +42,7 @@
 #include <immintrin.h>
 #define LF_AVX2 __attribute__((target("avx2")))
 #define LF_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+#define LF_AVX2_LAMBDA __attribute__((target("avx2"), always_inline))
 #else
 #define LEANFADE_AVX2_KERNELS 0
 #endif
@@ -211,22 +213,19 @@ inline void pack_texel(const float* m, PackScale s, const RowDest& d, int x) {
     store_texel<S>(d.lean2 + std::size_t(x) * kTexelBytes<S>, l2);
 }
 
-// One top-level texel: moments into the planes (indexed from x0), packed when d is set.
-template <Storage S, int Channels>
-inline void top_texel(const TopInput& in, const float* row, PackScale s, int x, int x0, Planes out,
-                      const RowDest* d) {
+// One top-level texel: moments into the planes (indexed from x0).
+template <int Channels>
+inline void top_texel(const TopInput& in, const float* row, int x, int x0, Planes out) {
     float bx, by, m[kMoments];
     input_slope<Channels>(in, row, x, bx, by);
     texel_moments(bx, by, in.inv_s, m);
     for (int c = 0; c < kMoments; ++c) out[c][x - x0] = m[c];
-    if (d != nullptr) pack_texel<S>(m, s, *d, x);
 }
 
-template <Storage S, int Channels>
-void top_range_scalar(const TopInput& in, PackScale s, int y, int x0, int x1, Planes out,
-                      const RowDest* d) {
+template <int Channels>
+void top_range_scalar(const TopInput& in, int y, int x0, int x1, Planes out) {
     const float* row = in.row(y);
-    for (int x = x0; x < x1; ++x) top_texel<S, Channels>(in, row, s, x, x0, out, d);
+    for (int x = x0; x < x1; ++x) top_texel<Channels>(in, row, x, x0, out);
 }
 
 template <Storage S>
@@ -475,10 +474,11 @@ LF_AVX2_INLINE void pack8(const __m256* m, PackScale s, const RowDest& d, int x)
     store_layer8<S>(l2, d.lean2 + std::size_t(x) * kTexelBytes<S>);
 }
 
-// Top-level texels [x0, x1) of row y: moments into the planes (indexed from x0), packed into d.
-template <Storage S, int Channels>
-LF_AVX2 void top_range_avx2(const TopInput& in, PackScale s, int y, int x0, int x1, Planes out,
-                            const RowDest* d) {
+// Top-level texels [x0, x1) of row y: moments into the planes (indexed from x0). They are
+// packed from the planes afterwards (pack_range): two short dependency chains overlap better
+// than one long one (docs/perf.md).
+template <int Channels>
+LF_AVX2 void top_range_avx2(const TopInput& in, int y, int x0, int x1, Planes out) {
     const float* row = in.row(y);
     int x = x0;
     for (; x + 8 <= x1; x += 8) {
@@ -486,9 +486,8 @@ LF_AVX2 void top_range_avx2(const TopInput& in, PackScale s, int y, int x0, int 
         input_slope8<Channels>(in, row, x, bx, by);
         moments8(bx, by, in.inv_s, m);
         for (int c = 0; c < kMoments; ++c) _mm256_storeu_ps(out[c] + (x - x0), m[c]);
-        if (d != nullptr) pack8<S>(m, s, *d, x);
     }
-    for (; x < x1; ++x) top_texel<S, Channels>(in, row, s, x, x0, out, d);
+    for (; x < x1; ++x) top_texel<Channels>(in, row, x, x0, out);
 }
 
 template <Storage S>
@@ -510,29 +509,27 @@ LF_AVX2_INLINE __m256d high_pd(__m256 v) {
     return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
 }
 
-// (even + odd) / 4 + 0 in double, as floats (the last steps of box4).
-LF_AVX2_INLINE __m128 box_finish(__m256d even, __m256d odd) {
-    return _mm256_cvtpd_ps(_mm256_add_pd(
-        _mm256_mul_pd(_mm256_add_pd(even, odd), _mm256_set1_pd(0.25)), _mm256_setzero_pd()));
-}
-
-// box4 on 8 outputs per step. Even and odd columns are split in float (exact), then the
-// vertical sums a + c and their pairwise sums are taken in double, as box4 does.
+// box4 on 8 outputs per step: the 32 inputs converted to double as they are loaded, the
+// vertical sums a + c, then hadd pairs them: ((a0 + c0) + (a1 + c1)), box4's order. hadd works
+// within 128-bit lanes, so the outputs come out as 0 2 1 3 | 4 6 5 7 and are put in order last.
 LF_AVX2 void reduce_box_avx2(const float* a, const float* c, float* out, int x0, int x1) {
+    const __m256d quarter = _mm256_set1_pd(0.25), zero = _mm256_setzero_pd();
+    const __m256i order = _mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7);
+    const auto column_sums = [&](int i) LF_AVX2_LAMBDA {  // a + c of columns i .. i + 3
+        return _mm256_add_pd(_mm256_cvtps_pd(_mm_loadu_ps(a + i)),
+                             _mm256_cvtps_pd(_mm_loadu_ps(c + i)));
+    };
     int x = x0;
     for (; x + 8 <= x1; x += 8) {
-        const __m256 a0 = _mm256_loadu_ps(a + 2 * x), a1 = _mm256_loadu_ps(a + 2 * x + 8);
-        const __m256 c0 = _mm256_loadu_ps(c + 2 * x), c1 = _mm256_loadu_ps(c + 2 * x + 8);
-        // Columns 2i and 2i + 1 of outputs i, in the lane order 0 1 4 5 | 2 3 6 7.
-        const __m256 ae = _mm256_shuffle_ps(a0, a1, 0x88), ao = _mm256_shuffle_ps(a0, a1, 0xDD);
-        const __m256 ce = _mm256_shuffle_ps(c0, c1, 0x88), co = _mm256_shuffle_ps(c0, c1, 0xDD);
-        const __m128 lo = box_finish(_mm256_add_pd(low_pd(ae), low_pd(ce)),
-                                     _mm256_add_pd(low_pd(ao), low_pd(co)));
-        const __m128 hi = box_finish(_mm256_add_pd(high_pd(ae), high_pd(ce)),
-                                     _mm256_add_pd(high_pd(ao), high_pd(co)));
-        const __m256 sums = _mm256_insertf128_ps(_mm256_castps128_ps256(lo), hi, 1);
-        _mm256_storeu_ps(out + x,
-                         _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(sums), 0xD8)));
+        const int i = 2 * x;
+        const __m256d lo = _mm256_hadd_pd(column_sums(i), column_sums(i + 4));
+        const __m256d hi = _mm256_hadd_pd(column_sums(i + 8), column_sums(i + 12));
+        const __m128 lo_out =
+            _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(lo, quarter), zero));
+        const __m128 hi_out =
+            _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(hi, quarter), zero));
+        const __m256 sums = _mm256_insertf128_ps(_mm256_castps128_ps256(lo_out), hi_out, 1);
+        _mm256_storeu_ps(out + x, _mm256_permutevar8x32_ps(sums, order));
     }
     reduce_box_scalar(a, c, out, x, x1);
 }
@@ -678,23 +675,22 @@ const float* TopInput::converted_row(int y) const {
 
 // ---- Kernel selection ----------------------------------------------------------------------
 
-using TopFn = void (*)(const TopInput&, PackScale, int, int, int, Planes, const RowDest*);
+using TopFn = void (*)(const TopInput&, int, int, int, Planes);
 using PackFn = void (*)(Planes, int, int, const RowDest&, PackScale);
 using ScanFn = bool (*)(const TopInput&, int, RowScan&);
 
-template <Storage S>
-TopFn top_fn(int channels, bool avx2) {
+TopFn select_top(int channels, bool avx2) {
 #if LEANFADE_AVX2_KERNELS
     if (avx2) {
-        if (channels == 2) return top_range_avx2<S, 2>;
-        if (channels == 3) return top_range_avx2<S, 3>;
-        return top_range_avx2<S, 4>;
+        if (channels == 2) return top_range_avx2<2>;
+        if (channels == 3) return top_range_avx2<3>;
+        return top_range_avx2<4>;
     }
 #endif
     (void)avx2;
-    if (channels == 2) return top_range_scalar<S, 2>;
-    if (channels == 3) return top_range_scalar<S, 3>;
-    return top_range_scalar<S, 4>;
+    if (channels == 2) return top_range_scalar<2>;
+    if (channels == 3) return top_range_scalar<3>;
+    return top_range_scalar<4>;
 }
 
 template <Storage S>
@@ -704,20 +700,6 @@ PackFn pack_fn(bool avx2) {
 #endif
     (void)avx2;
     return pack_range_scalar<S>;
-}
-
-TopFn select_top(Storage storage, int channels, bool avx2) {
-    switch (storage) {
-        case Storage::Unorm8:
-            return top_fn<Storage::Unorm8>(channels, avx2);
-        case Storage::Unorm16:
-            return top_fn<Storage::Unorm16>(channels, avx2);
-        case Storage::Float16:
-            return top_fn<Storage::Float16>(channels, avx2);
-        case Storage::Float32:
-            return top_fn<Storage::Float32>(channels, avx2);
-    }
-    throw std::invalid_argument("bake_packed: unknown storage");
 }
 
 PackFn select_pack(Storage storage, bool avx2) {
@@ -877,8 +859,13 @@ class RowMaker {
 
     // Top-level texels [x0, x1) of row y into planes indexed from x0.
     void make_top(int y, int x0, int x1, Planes out, bool owned) {
-        const RowDest d = owned ? plan_.dest(0, y) : RowDest{};
-        plan_.top_range(plan_.top, plan_.scale, y, x0, x1, out, owned ? &d : nullptr);
+        plan_.top_range(plan_.top, y, x0, x1, out);
+        if (owned) {
+            const RowDest row = plan_.dest(0, y);
+            const std::size_t offset = std::size_t(x0) * std::size_t(plan_.texel_bytes);
+            plan_.pack_range(out, 0, x1 - x0, RowDest{row.lean1 + offset, row.lean2 + offset},
+                             plan_.scale);
+        }
     }
 
     // Level 1 row y from top rows 2y, 2y + 1 (even sizes), chunk by chunk so that the top
@@ -1117,7 +1104,7 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     plan.texel_bytes = texel_bytes;
     plan.levels = plan_levels(width, height);
     plan.store_level = choose_store_level(plan.levels);
-    plan.top_range = select_top(storage, plan.top.channels, avx2);
+    plan.top_range = select_top(plan.top.channels, avx2);
     plan.pack_range = select_pack(storage, avx2);
     const LevelPlan& store = plan.levels[std::size_t(plan.store_level)];
     plan.stored.resize(std::size_t(store.height) * kMoments * store.stride);
