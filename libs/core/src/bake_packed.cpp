@@ -404,25 +404,38 @@ LF_AVX2_INLINE void moments8(__m256 bx, __m256 by, float inv_s, __m256* m) {
 // when x is just below a half, and a tie k + 0.5 still reaches k + 1 because k + 1 - 2^-25
 // rounds to k + 1. Below zero the result is <= 0 and saturates to 0, as unit_clamp's 0; a NaN
 // passes min(1, NaN) as NaN, converts to INT_MIN and saturates to 0, as unit_clamp's 0.
+// AtMostOne: v <= 1 is known (see kAtMostOne), so min(1, v) is v and is skipped.
+template <bool AtMostOne = false>
 LF_AVX2_INLINE __m256i quantise8(__m256 v, float scale) {
-    const __m256 x = _mm256_mul_ps(_mm256_min_ps(_mm256_set1_ps(1.0f), v), _mm256_set1_ps(scale));
+    const __m256 clamped = AtMostOne ? v : _mm256_min_ps(_mm256_set1_ps(1.0f), v);
+    const __m256 x = _mm256_mul_ps(clamped, _mm256_set1_ps(scale));
     return _mm256_cvttps_epi32(_mm256_add_ps(x, _mm256_set1_ps(kBelowHalf)));
 }
+
+// Channels that cannot exceed 1, per layer (bit c = channel c), so quantise8 needs no min:
+// lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2), because sc >= max |B| and
+// fl(sc * sc) >= max M (lean_scale), every level's B and M are averages of the top level's
+// (never beyond its extremes), and division by a positive float is monotonic; lean1.b =
+// 0.5 n.z + 0.5, because the top level's n.z = 1 / sqrt(|B|^2 + 1) <= 1 and the levels below
+// average it. lean1's n.x, n.y (B * n.z may round past 1) and Mxy / sc^2 keep the min.
+constexpr unsigned kAtMostOneLean1 = 0b0100, kAtMostOneLean2 = 0b1111;
 
 LF_AVX2_INLINE void store32(std::uint8_t* d, __m256i v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(d), v);
 }
 
 // One layer (4 channel vectors) of 8 texels, little-endian RGBA.
-template <Storage S>
+template <Storage S, unsigned AtMostOne>
 LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
+    constexpr bool r = (AtMostOne & 1) != 0, g = (AtMostOne & 2) != 0, b = (AtMostOne & 4) != 0,
+                   a = (AtMostOne & 8) != 0;
     if constexpr (S == Storage::Unorm16) {
         // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16,
         // then interleaved to R G B A per texel.
         const __m256i rb =
-            _mm256_packus_epi32(quantise8(l[0], 65535.0f), quantise8(l[2], 65535.0f));
+            _mm256_packus_epi32(quantise8<r>(l[0], 65535.0f), quantise8<b>(l[2], 65535.0f));
         const __m256i ga =
-            _mm256_packus_epi32(quantise8(l[1], 65535.0f), quantise8(l[3], 65535.0f));
+            _mm256_packus_epi32(quantise8<g>(l[1], 65535.0f), quantise8<a>(l[3], 65535.0f));
         const __m256i rg = _mm256_unpacklo_epi16(rb, ga), ba = _mm256_unpackhi_epi16(rb, ga);
         const __m256i lo = _mm256_unpacklo_epi32(rg, ba), hi = _mm256_unpackhi_epi32(rg, ba);
         store32(d, _mm256_permute2x128_si256(lo, hi, 0x20));
@@ -430,8 +443,10 @@ LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
     } else if constexpr (S == Storage::Unorm8) {
         // Saturating packs to [R0-3 B0-3 G0-3 A0-3 | R4-7 B4-7 G4-7 A4-7] bytes, then a byte
         // shuffle to R G B A per texel within each half.
-        const __m256i rb = _mm256_packus_epi32(quantise8(l[0], 255.0f), quantise8(l[2], 255.0f));
-        const __m256i ga = _mm256_packus_epi32(quantise8(l[1], 255.0f), quantise8(l[3], 255.0f));
+        const __m256i rb =
+            _mm256_packus_epi32(quantise8<r>(l[0], 255.0f), quantise8<b>(l[2], 255.0f));
+        const __m256i ga =
+            _mm256_packus_epi32(quantise8<g>(l[1], 255.0f), quantise8<a>(l[3], 255.0f));
         const __m256i bytes = _mm256_packus_epi16(rb, ga);
         const __m256i order =
             _mm256_setr_epi8(0, 8, 4, 12, 1, 9, 5, 13, 2, 10, 6, 14, 3, 11, 7, 15, 0, 8, 4, 12, 1,
@@ -470,8 +485,8 @@ LF_AVX2_INLINE void pack8(const __m256* m, PackScale s, const RowDest& d, int x)
     l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
     l2[2] = _mm256_div_ps(m[kMxx], sc2);
     l2[3] = _mm256_div_ps(m[kMyy], sc2);
-    store_layer8<S>(l1, d.lean1 + std::size_t(x) * kTexelBytes<S>);
-    store_layer8<S>(l2, d.lean2 + std::size_t(x) * kTexelBytes<S>);
+    store_layer8<S, kAtMostOneLean1>(l1, d.lean1 + std::size_t(x) * kTexelBytes<S>);
+    store_layer8<S, kAtMostOneLean2>(l2, d.lean2 + std::size_t(x) * kTexelBytes<S>);
 }
 
 // Top-level texels [x0, x1) of row y: moments into the planes (indexed from x0). They are
