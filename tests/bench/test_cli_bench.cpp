@@ -1,15 +1,13 @@
 // `leanfade bench` as a user runs it, with tiny sizes: the tables, the JSON and its documented
 // keys (ratios per scene), --bake, --generate, and one-line errors for bad flags.
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
 
 namespace leanfade::test {
@@ -17,29 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-Result run_bench(const std::string& args, const fs::path& dir) {
-    const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-    const std::string command = "cd '" + dir.string() + "' && '" + std::string(LEANFADE_EXE) +
-                                "' bench " + args + " >'" + out.string() + "' 2>'" + err.string() +
-                                "' </dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+RunResult run_bench(const std::string& args, const fs::path& dir) {
+    return run_leanfade_in("bench " + args, dir, dir);
 }
 
 std::size_t lines(const std::string& text) {
@@ -54,17 +31,17 @@ bool positive_number(const nlohmann::json& j) {
 
 TEST(CliBench, PrintsTheTablesAndWritesTheDocumentedJson) {
     const fs::path dir = scratch_dir("cli_bench");
-    const Result r = run_bench(
+    const RunResult r = run_bench(
         "--size 48x32 --frames 2 --warmup 1 --scenes sphere,torus --distances 3,24 "
         "--texture-size 64 --timing cpu --json frames.json",
         dir);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(r.err.empty()) << "no progress line when stderr is not a terminal: " << r.err;
     for (const char* text : {"GL: ", "Timing: glFinish", "LEAN Fig. 12 layout", "Overhead ratios",
                              "lean/bump", "fade/lean", "lean/floor", "sphere", "torus", "d24"})
         EXPECT_NE(r.out.find(text), std::string::npos) << text << " missing from:\n" << r.out;
 
-    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "frames.json"));
+    const nlohmann::json j = nlohmann::json::parse(read_text(dir / "frames.json"));
     EXPECT_EQ(j.at("tool"), "leanfade bench");
     const nlohmann::json& system = j.at("system");
     for (const char* key : {"date", "cpu", "gl_renderer", "gl_version", "timing",
@@ -103,13 +80,13 @@ TEST(CliBench, PrintsTheTablesAndWritesTheDocumentedJson) {
 // output says that the figures under-report.
 TEST(CliBench, ForcedGpuTimingRunsAndSaysSo) {
     const fs::path dir = scratch_dir("cli_bench_gpu");
-    const Result r = run_bench(
+    const RunResult r = run_bench(
         "--timing gpu --size 32x32 --frames 2 --warmup 0 --scenes sphere --distances none "
         "--texture-size 16 --json gpu.json",
         dir);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("Timing: GL_TIME_ELAPSED"), std::string::npos) << r.out;
-    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "gpu.json"));
+    const nlohmann::json j = nlohmann::json::parse(read_text(dir / "gpu.json"));
     EXPECT_EQ(j.at("system").at("timing"), "gpu");
     const std::string renderer = j.at("system").at("gl_renderer");
     if (renderer.find("llvmpipe") != std::string::npos) {
@@ -123,16 +100,16 @@ TEST(CliBench, ForcedGpuTimingRunsAndSaysSo) {
 
 TEST(CliBench, BakeAndGenerateModes) {
     const fs::path dir = scratch_dir("cli_bench_modes");
-    const Result r = run_bench(
+    const RunResult r = run_bench(
         "--bake --bake-sizes 32,64 --bake-runs 1 --generate --generate-sizes 16,32 --frames 2 "
         "--warmup 0 --json modes.json",
         dir);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("Bake throughput"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("copy bandwidth"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("Per-frame LEAN map generation"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("LEAN Fig. 12"), std::string::npos) << "frames not measured here";
-    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "modes.json"));
+    const nlohmann::json j = nlohmann::json::parse(read_text(dir / "modes.json"));
     EXPECT_FALSE(j.contains("frames"));
     const nlohmann::json& bake = j.at("bake");
     EXPECT_TRUE(positive_number(bake.at("copy_bytes_per_second")));
@@ -179,14 +156,14 @@ TEST(CliBench, BadFlagsAreOneLineErrors) {
         std::string all = args;
         for (const std::string flag : {"--size 32x32", "--frames 1", "--warmup 0"})
             if (args.find(flag.substr(0, flag.find(' '))) == std::string::npos) all += " " + flag;
-        const Result r = run_bench(all, dir);
-        EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+        const RunResult r = run_bench(all, dir);
+        EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
         EXPECT_EQ(lines(r.err), 1u) << args << ": " << r.err;
         EXPECT_NE(r.err.find("leanfade bench: "), std::string::npos) << args << ": " << r.err;
     }
     // CLI11 rejects a non-number itself, also in one line.
-    const Result r = run_bench("--frames many", dir);
-    EXPECT_NE(r.status, 0);
+    const RunResult r = run_bench("--frames many", dir);
+    EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
 }
 

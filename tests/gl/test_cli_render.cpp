@@ -1,13 +1,12 @@
 // `leanfade render` as a user runs it: outputs, cells, and one-line errors.
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
+#include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
 #include "leanfade/io/image_io.hpp"
 
@@ -16,31 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 // Runs `leanfade render <args>` in `dir`; `env` ("NAME=value ...") is added to its environment.
-Result run_render(const std::string& args, const fs::path& dir, const std::string& env = "") {
-    const std::string exe = std::string(LEANFADE_BINARY_DIR) + "/tools/leanfade/leanfade";
-    const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-    const std::string command = "cd '" + dir.string() + "' && env " + env + " '" + exe +
-                                "' render " + args + " >'" + out.string() + "' 2>'" + err.string() +
-                                "' </dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+RunResult run_render(const std::string& args, const fs::path& dir, const std::string& env = "") {
+    return run_leanfade_in("render " + args, dir, dir, env.empty() ? "" : "env " + env);
 }
 
 std::size_t lines(const std::string& text) {
@@ -51,13 +28,13 @@ std::size_t lines(const std::string& text) {
 
 TEST(CliRender, WritesTheGridAndTheCells) {
     const fs::path dir = scratch_dir("cli_render");
-    const Result r = run_render(
+    const RunResult r = run_render(
         "--scene sphere --techniques bump,reference --distances 2.5,12 --size 40x32 "
         "--ref-samples 2 --texture-size 64 --bits 8 --shininess 200 --fade-distance eye "
         "--fog linear --fog-start 2 --fog-end 30 --light-dir=-1,1,0.5 --kd 0.4 "
         "--cells cells --cell-format pfm -o grid.png",
         dir);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(lines(r.out), 1u) << r.out;
     EXPECT_TRUE(r.err.empty()) << "no progress line when stderr is not a terminal: " << r.err;
     const Image grid = io::read_image((dir / "grid.png").string());
@@ -103,14 +80,14 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
         std::string all = args + " -o never.png";
         if (args.find("--scene") == std::string::npos) all += " --scene sphere";
         if (args.find("--size") == std::string::npos) all += " --size 32x32";
-        const Result r = run_render(all, dir);
-        EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+        const RunResult r = run_render(all, dir);
+        EXPECT_EQ(r.exit_code, 1) << args << ": " << r.err;
         EXPECT_EQ(lines(r.err), 1u) << args << ": " << r.err;
         EXPECT_FALSE(fs::exists(dir / "never.png")) << args;
     }
     // CLI11 rejects a non-number itself, also in one line.
-    const Result r = run_render("--shininess shiny -o never.png", dir);
-    EXPECT_NE(r.status, 0);
+    const RunResult r = run_render("--shininess shiny -o never.png", dir);
+    EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 }
@@ -125,8 +102,8 @@ TEST(CliRender, MaxSizeLimitsTheBumpImage) {
     io::write_png((dir / "height.png").string(), height, 16);
     const std::string common = "--scene sphere --size 32x32 --techniques lean --distances 3 ";
 
-    Result r = run_render(common + "--bumps height.png --max-size 32 -o never.png", dir);
-    EXPECT_EQ(r.status, 1) << r.err;
+    RunResult r = run_render(common + "--bumps height.png --max-size 32 -o never.png", dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("height.png: image size 40x24 exceeds the limit of 32 texels per side"),
               std::string::npos)
@@ -134,11 +111,11 @@ TEST(CliRender, MaxSizeLimitsTheBumpImage) {
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 
     r = run_render(common + "--bumps height.png --max-size 0 -o never.png", dir);
-    EXPECT_NE(r.status, 0) << r.err;
+    EXPECT_NE(r.exit_code, 0) << r.err;
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 
     r = run_render(common + "--bumps height.png --max-size 40 -o ok.png", dir);
-    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "ok.png"));
 }
 
@@ -161,9 +138,9 @@ TEST(CliRender, FromDefaultsToAutoAsBake) {
     io::write_png((dir / "height.png").string(), height, 16);
     const std::string common = "--scene sphere --size 48x48 --techniques lean --distances 3 ";
     auto render = [&](const std::string& args, const std::string& out) {
-        const Result r = run_render(common + args + " -o " + out, dir);
-        EXPECT_EQ(r.status, 0) << args << ": " << r.err;
-        return slurp(dir / out);
+        const RunResult r = run_render(common + args + " -o " + out, dir);
+        EXPECT_EQ(r.exit_code, 0) << args << ": " << r.err;
+        return read_text(dir / out);
     };
     const std::string normal_auto = render("--bumps normals.png", "n_auto.png");
     const std::string normal_explicit = render("--bumps normals.png --from normal", "n.png");
@@ -183,15 +160,15 @@ TEST(CliRender, SameCommandTwiceWritesIdenticalFiles) {
         "--ref-samples 2 --texture-size 64 --msaa 4 --fog linear --fog-start 2 --fog-end 30 "
         "--cell-format pfm";
     for (const char* run : {"a", "b"}) {
-        const Result r =
+        const RunResult r =
             run_render(args + " --cells cells_" + run + " -o grid_" + run + ".png", dir);
-        ASSERT_EQ(r.status, 0) << r.err;
+        ASSERT_EQ(r.exit_code, 0) << r.err;
     }
-    EXPECT_EQ(slurp(dir / "grid_a.png"), slurp(dir / "grid_b.png"));
+    EXPECT_EQ(read_text(dir / "grid_a.png"), read_text(dir / "grid_b.png"));
     std::size_t cells = 0;
     for (const auto& entry : fs::directory_iterator(dir / "cells_a")) {
         SCOPED_TRACE(entry.path().filename().string());
-        EXPECT_EQ(slurp(entry.path()), slurp(dir / "cells_b" / entry.path().filename()));
+        EXPECT_EQ(read_text(entry.path()), read_text(dir / "cells_b" / entry.path().filename()));
         ++cells;
     }
     EXPECT_EQ(cells, 4u * 2u * 2u);  // 4 techniques x 2 distances, PNG and PFM
@@ -214,10 +191,10 @@ std::string mesa_egl_vendor_file() {
 TEST(CliRenderGlFaults, NoEglDisplay) {
     const fs::path dir = scratch_dir("cli_render_no_display");
     // glvnd's libEGL with no vendor library: every platform gives EGL_NO_DISPLAY.
-    const Result r = run_render("--scene sphere --size 32x32 -o never.png", dir,
+    const RunResult r = run_render("--scene sphere --size 32x32 -o never.png", dir,
                                 "-u LEANFADE_EGL_DEVICE "
                                 "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/no-vendor.json");
-    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_EQ(r.err.rfind("leanfade render: EGL: no EGL display", 0), 0u) << r.err;
     EXPECT_NE(r.err.find("no driver"), std::string::npos) << r.err;
@@ -229,10 +206,10 @@ TEST(CliRenderGlFaults, ContextBelowOpenGl45) {
     const std::string mesa = mesa_egl_vendor_file();
     ASSERT_FALSE(mesa.empty()) << "Mesa's EGL vendor file was not found (Debian: libegl-mesa0)";
     // Mesa only (llvmpipe), told to offer OpenGL 3.3 at most: a driver too old for leanfade.
-    const Result r = run_render("--scene sphere --size 32x32 -o never.png", dir,
+    const RunResult r = run_render("--scene sphere --size 32x32 -o never.png", dir,
                                 "-u LEANFADE_EGL_DEVICE __EGL_VENDOR_LIBRARY_FILENAMES='" + mesa +
                                     "' LIBGL_ALWAYS_SOFTWARE=1 MESA_GL_VERSION_OVERRIDE=3.3");
-    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_EQ(r.err.rfind("leanfade render: EGL: no OpenGL 4.5 core context could be made", 0), 0u)
         << r.err;
@@ -249,16 +226,16 @@ TEST(CliRenderGlFaults, ShaderThatDoesNotCompileFromShaderDir) {
     for (const auto& entry : fs::directory_iterator(fs::path(LEANFADE_SOURCE_DIR) / "shaders"))
         fs::copy_file(entry.path(), shaders / entry.path().filename());
     // An error on a known line of the shared header (included by scene.frag).
-    std::string text = slurp(shaders / "lean_shading.glsl");
+    std::string text = read_text(shaders / "lean_shading.glsl");
     if (!text.empty() && text.back() != '\n') text += '\n';
     const int line = 1 + int(std::count(text.begin(), text.end(), '\n'));
     text += "this is not GLSL;\n";
     std::ofstream(shaders / "lean_shading.glsl", std::ios::binary | std::ios::trunc) << text;
 
-    const Result r = run_render("--scene sphere --size 32x32 --techniques lean --shader-dir '" +
+    const RunResult r = run_render("--scene sphere --size 32x32 --techniques lean --shader-dir '" +
                                     shaders.string() + "' -o never.png",
                                 dir);
-    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     const std::string where = "leanfade render: " + (shaders / "lean_shading.glsl").string() +
                               ": line " + std::to_string(line) + ", column 1: error:";

@@ -34,12 +34,19 @@ inline std::string read_text(const std::filesystem::path& p) {
     return ss.str();
 }
 
-// args are passed verbatim after the executable (already quoted where needed).
-inline RunResult run_leanfade(const std::string& args, const std::filesystem::path& scratch) {
+// Runs `leanfade ARGS` from the shell, stdout and stderr into `scratch`, no stdin. `prefix` comes
+// before the executable (e.g. "env NAME=value", "env -u DISPLAY" or an xvfb-run command line) and
+// `working_dir`, when given, is the folder it runs in. args are passed verbatim after the
+// executable (already quoted where needed).
+inline RunResult run_leanfade_in(const std::string& args, const std::filesystem::path& scratch,
+                                 const std::filesystem::path& working_dir = {},
+                                 const std::string& prefix = "") {
     const auto out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-    const std::string cmd = shell_quote(LEANFADE_EXE) + " " + args + " >" +
-                            shell_quote(out.string()) + " 2>" + shell_quote(err.string()) +
-                            " </dev/null";
+    std::string cmd;
+    if (!working_dir.empty()) cmd = "cd " + shell_quote(working_dir.string()) + " && ";
+    if (!prefix.empty()) cmd += prefix + " ";
+    cmd += shell_quote(LEANFADE_EXE) + " " + args + " >" + shell_quote(out.string()) + " 2>" +
+           shell_quote(err.string()) + " </dev/null";
     const int status = std::system(cmd.c_str());
     RunResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -48,6 +55,10 @@ inline RunResult run_leanfade(const std::string& args, const std::filesystem::pa
     std::filesystem::remove(out);
     std::filesystem::remove(err);
     return r;
+}
+
+inline RunResult run_leanfade(const std::string& args, const std::filesystem::path& scratch) {
+    return run_leanfade_in(args, scratch);
 }
 
 // run_leanfade with bounds, for hostile inputs: the run is killed after `seconds` (exit code 124,
@@ -80,14 +91,6 @@ inline RunResult run_leanfade_bounded(const std::string& args, const std::filesy
     std::filesystem::remove(out);
     std::filesystem::remove(err);
     return r;
-}
-
-// A fresh, empty scratch folder under the build's test-tmp, named after the test.
-inline std::filesystem::path scratch_dir(const std::string& name) {
-    const auto dir = std::filesystem::path(LEANFADE_TEST_TMP) / name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
 }
 
 }  // namespace leanfade::test

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <vector>
 
-#include "cli_runner.hpp"
+#include "tools_test_helpers.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_runner.hpp"
+#include "tools_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/procedural.hpp"

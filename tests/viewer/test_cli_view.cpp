@@ -2,16 +2,15 @@
 // and `leanfade render --preset`.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <utility>
 
+#include "cli_runner.hpp"
 #include "leanfade/core/preset.hpp"
 #include "leanfade/io/image_io.hpp"
 
@@ -19,18 +18,7 @@ namespace leanfade {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test::RunResult;
 
 fs::path scratch(const std::string& name) {
     const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "viewer_cli" / name;
@@ -40,21 +28,11 @@ fs::path scratch(const std::string& name) {
 }
 
 // Runs `leanfade ARGS` in `dir`; under xvfb-run with a 1600x1000 screen when `x_server`.
-Result run(const std::string& args, const fs::path& dir, bool x_server) {
-    const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-    std::string command = "cd '" + dir.string() + "' && ";
-    if (x_server)
-        command += std::string("'") + LEANFADE_XVFB_RUN + "' -a -s '-screen 0 1600x1000x24' ";
-    else
-        command += "env -u DISPLAY -u WAYLAND_DISPLAY ";
-    command += std::string("'") + LEANFADE_EXE + "' " + args + " >'" + out.string() + "' 2>'" +
-               err.string() + "' </dev/null";
-    const int status = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+RunResult run(const std::string& args, const fs::path& dir, bool x_server) {
+    const std::string prefix =
+        x_server ? test::shell_quote(LEANFADE_XVFB_RUN) + " -a -s '-screen 0 1600x1000x24'"
+                 : "env -u DISPLAY -u WAYLAND_DISPLAY";
+    return test::run_leanfade_in(args, dir, dir, prefix);
 }
 
 std::size_t lines(const std::string& text) {
@@ -91,9 +69,9 @@ double standard_deviation(const Image& image) {
 
 TEST(CliView, ScreenshotIsTheWindowWithThePanelAndTheObject) {
     const fs::path dir = scratch("screenshot");
-    const Result r =
+    const RunResult r =
         run("view --scene teapot --frames 5 --screenshot shot.png --size 900x560", dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(lines(r.out), 1u) << r.out;
     EXPECT_NE(r.out.find("5 frames, window 900x560"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("lean "), std::string::npos) << r.out;
@@ -120,18 +98,18 @@ TEST(CliView, ScreenshotIsTheWindowWithThePanelAndTheObject) {
 
 TEST(CliView, TwoAndThreeTechniquesSideBySideAndSplit) {
     const fs::path dir = scratch("panes");
-    Result r =
+    RunResult r =
         run("view --scene sphere --techniques bump,lean,fade --frames 3 --size 640x400 "
             "--texture-size 64",
             dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     for (const char* pane : {"bump ", "lean ", "fade "})
         EXPECT_NE(r.out.find(pane), std::string::npos) << r.out;
     r =
         run("view --scene sphere --techniques lean,fade --layout split --divider 0.3 --frames 2 "
             "--size 640x400 --texture-size 64 --fly-away --scale 0.25 --timing gpu",
             dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("GPU time"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("fade 80x100"), std::string::npos) << r.out;  // (640 - 320) / 4
 }
@@ -176,16 +154,16 @@ void expect_same_cells(const fs::path& a, const fs::path& b, const char* const n
 TEST(CliRenderPreset, EqualsTheFlagsItStores) {
     const fs::path dir = scratch("render_preset");
     std::ofstream(dir / "p.json") << kPreset;
-    Result r = run("render --preset p.json --size 48x40 --cells a -o a.png", dir, false);
-    ASSERT_EQ(r.status, 0) << r.err;
+    RunResult r = run("render --preset p.json --size 48x40 --cells a -o a.png", dir, false);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     r = run(std::string("render ") + kPresetFlags + " --size 48x40 --cells b -o b.png", dir, false);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     const char* const cells[] = {"bump_d4.5.pfm", "fade_d4.5.pfm"};
     expect_same_cells(dir / "a", dir / "b", cells, 2);
     // Not the defaults: the same flags without the preset differ.
     r = run("render --techniques bump,fade --distances 4.5 --size 48x40 --cells c -o c.png", dir,
             false);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(io::read_image((dir / "a" / cells[0]).string()).pixels,
               io::read_image((dir / "c" / cells[0]).string()).pixels);
 }
@@ -193,11 +171,11 @@ TEST(CliRenderPreset, EqualsTheFlagsItStores) {
 TEST(CliRenderPreset, ExplicitFlagsOverrideThePreset) {
     const fs::path dir = scratch("render_preset_override");
     std::ofstream(dir / "p.json") << kPreset;
-    Result r =
+    RunResult r =
         run("render --preset p.json --shininess 50 --fog none --techniques lean "
             "--size 40x40 --cells a -o a.png",
             dir, false);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     std::string flags = kPresetFlags;
     for (const auto& [from, to] :
          {std::pair<std::string, std::string>{"--shininess 300", "--shininess 50"},
@@ -208,7 +186,7 @@ TEST(CliRenderPreset, ExplicitFlagsOverrideThePreset) {
         flags.replace(at, from.size(), to);
     }
     r = run("render " + flags + " --size 40x40 --cells b -o b.png", dir, false);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     const char* const cells[] = {"lean_d4.5.pfm"};
     expect_same_cells(dir / "a", dir / "b", cells, 1);
 }
@@ -216,13 +194,13 @@ TEST(CliRenderPreset, ExplicitFlagsOverrideThePreset) {
 TEST(CliView, SavedPresetsOpenInTheViewer) {
     const fs::path dir = scratch("view_preset");
     std::ofstream(dir / "p.json") << kPreset;
-    Result r = run("view --preset p.json --frames 2 --size 640x400", dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    RunResult r = run("view --preset p.json --frames 2 --size 640x400", dir, true);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("bump "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("fade "), std::string::npos) << r.out;
     // An explicit --technique replaces the preset's panes.
     r = run("view --preset p.json --technique reference --frames 1 --size 640x400", dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("reference "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("bump "), std::string::npos) << r.out;
 }
@@ -251,8 +229,8 @@ TEST(CliView, BadInputsAreOneLineErrorsNotCrashes) {
     };
     for (const auto& c : cases) {
         SCOPED_TRACE(c.args);
-        const Result r = run(c.args, dir, false);
-        EXPECT_EQ(r.status, c.status) << r.err;
+        const RunResult r = run(c.args, dir, false);
+        EXPECT_EQ(r.exit_code, c.status) << r.err;
         EXPECT_EQ(lines(r.err), 1u) << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
         EXPECT_TRUE(r.out.empty()) << r.out;
@@ -265,11 +243,11 @@ TEST(CliView, AShaderErrorIsShownNotFatal) {
     for (const auto& entry : fs::directory_iterator(fs::path(LEANFADE_SOURCE_DIR) / "shaders"))
         fs::copy_file(entry.path(), dir / "shaders" / entry.path().filename());
     std::ofstream(dir / "shaders" / "scene.frag", std::ios::app) << "\nthis is not GLSL;\n";
-    const Result r =
+    const RunResult r =
         run("view --shader-dir shaders --scene sphere --texture-size 64 --frames 3 "
             "--screenshot shot.png --size 640x400",
             dir, true);
-    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.err.find("scene.frag"), std::string::npos) << r.err;  // shown, and logged
     const Image shot = io::read_image((dir / "shot.png").string());
     EXPECT_EQ(shot.width, 640);
