@@ -187,6 +187,26 @@ gl::ShaderSources shader_sources(const GlFlags& flags) {
                                     : gl::ShaderSources::directory(flags.shader_dir);
 }
 
+void add_camera_options(CLI::App& app, float& fov, std::string& view_dir, const char* view_from,
+                        std::string* target) {
+    app.add_option("--fov", fov, "Vertical field of view in degrees")->capture_default_str();
+    app.add_option("--view-dir", view_dir,
+                   std::string("Direction from ") + view_from +
+                       " toward the eye, world space (y up)")
+        ->capture_default_str();
+    if (target != nullptr) {
+        app.add_option("--target", *target,
+                       "Point the camera looks at, world units (bounding radii; 0 = the centre)")
+            ->capture_default_str();
+    }
+}
+
+void add_reference_samples_option(CLI::App& app, int& ref_samples) {
+    app.add_option("--ref-samples", ref_samples,
+                   "Reference: k x k samples per pixel at LOD 0 (SPEC §7)")
+        ->capture_default_str();
+}
+
 void add_gl_options(CLI::App& app, GlFlags& f) {
     const std::string group = "OpenGL";
     app.add_option("--shader-dir", f.shader_dir,

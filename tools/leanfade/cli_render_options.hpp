@@ -48,6 +48,14 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
 // image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.
 PackedLeanMap load_lean_map(const LeanSourceFlags& flags, const ShadingSettings& settings);
 
+// The camera flags of render, view, eval and calibrate: --fov (vertical, degrees) and
+// --view-dir (world space, from `view_from` toward the eye), and --target (world units) when
+// `target` is given. Checked where they are used (cli_preset.hpp).
+void add_camera_options(CLI::App& app, float& fov, std::string& view_dir, const char* view_from,
+                        std::string* target = nullptr);
+// --ref-samples: k x k supersamples per pixel of the reference.
+void add_reference_samples_option(CLI::App& app, int& ref_samples);
+
 struct GlFlags {
     std::string shader_dir;  // empty = the shaders compiled into the binary
     int egl_device = -1;     // -1 = LEANFADE_EGL_DEVICE or automatic

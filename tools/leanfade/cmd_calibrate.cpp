@@ -167,11 +167,7 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--size", args->size, "Frame WIDTHxHEIGHT pixels of the renders")
             ->capture_default_str();
-        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
-            ->capture_default_str();
-        app.add_option("--view-dir", args->view_dir,
-                       "Direction from the object's centre toward the eye, world space (y up)")
-            ->capture_default_str();
+        add_camera_options(app, args->fov, args->view_dir, "the object's centre");
         app.add_option("--plot", args->plot,
                        "PNG of target versus achieved (gnuplot; empty: none); its .tsv data and "
                        ".gp script are written beside it")

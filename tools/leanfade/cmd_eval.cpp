@@ -209,11 +209,7 @@ const CommandRegistration registration{
         app.add_option("--size", args->size,
                        "Frame WIDTHxHEIGHT pixels (only the object's square is rendered)")
             ->capture_default_str();
-        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
-            ->capture_default_str();
-        app.add_option("--view-dir", args->view_dir,
-                       "Direction from the object's centre toward the eye, world space (y up)")
-            ->capture_default_str();
+        add_camera_options(app, args->fov, args->view_dir, "the object's centre");
         app.add_option("--out", args->out,
                        "Output folder: results.csv, results.json, plots, images/, index.html")
             ->capture_default_str();

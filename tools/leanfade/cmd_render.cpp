@@ -148,17 +148,8 @@ const CommandRegistration registration{
                        "linear radiance .pfm/.exr");
         app.add_option("--cell-format", args->cell_format, "Float format of --cells: pfm or exr")
             ->capture_default_str();
-        app.add_option("--ref-samples", args->ref_samples,
-                       "Reference: k x k samples per pixel at LOD 0 (SPEC §7)")
-            ->capture_default_str();
-        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
-            ->capture_default_str();
-        app.add_option("--view-dir", args->view_dir,
-                       "Direction from the target toward the eye, world space (y up)")
-            ->capture_default_str();
-        app.add_option("--target", args->target,
-                       "Point the camera looks at, world units (bounding radii; 0 = the centre)")
-            ->capture_default_str();
+        add_reference_samples_option(app, args->ref_samples);
+        add_camera_options(app, args->fov, args->view_dir, "the target", &args->target);
         app.add_option("--preset", args->preset,
                        "Start from a preset saved by `leanfade view` (JSON): its scene, bumps, "
                        "shading, camera (one row) and techniques; flags given here override it");

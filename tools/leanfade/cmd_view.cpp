@@ -180,17 +180,8 @@ const CommandRegistration registration{
         app.add_option("--distance", args->distance,
                        "Camera distance from the target in bounding radii (> 1)")
             ->capture_default_str();
-        app.add_option("--fov", args->fov, "Vertical field of view in degrees")
-            ->capture_default_str();
-        app.add_option("--view-dir", args->view_dir,
-                       "Direction from the target toward the eye, world space (y up)")
-            ->capture_default_str();
-        app.add_option("--target", args->target,
-                       "Point the camera looks at, world units (bounding radii; 0 = the centre)")
-            ->capture_default_str();
-        app.add_option("--ref-samples", args->ref_samples,
-                       "Reference: k x k samples per pixel at LOD 0 (SPEC §7)")
-            ->capture_default_str();
+        add_camera_options(app, args->fov, args->view_dir, "the target", &args->target);
+        add_reference_samples_option(app, args->ref_samples);
         app.add_option("--size", args->size, "Window size, WIDTHxHEIGHT pixels")
             ->capture_default_str();
         app.add_option("--scale", args->scale,
