@@ -1,10 +1,14 @@
 // Fuzz target: image decoding (PNG, OpenEXR, PFM; io::read_image_from_memory) and the whole bake
 // of what decodes, differentially: the reference path (bake_lean_map, pack_lean_map) and the fast
 // path `leanfade bake` runs (bake_packed, AVX2 or portable) must throw the same message or give
-// the same bytes (lean_map.hpp promises both); then unpack and summarize.
+// the same bytes (lean_map.hpp promises both); then unpack and summarize. A PNG also goes the
+// way `leanfade bake` reads and bakes it: kept as integer samples (read_image_compact, equal to
+// the floats) and baked into caller memory (bake_packed_to), which must give the same bytes.
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "fuzz_common.hpp"
 #include "leanfade/core/error.hpp"
@@ -64,6 +68,35 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (fast.packed.levels[i].lean1 != reference.levels[i].lean1 ||
             fast.packed.levels[i].lean2 != reference.levels[i].lean2) {
             __builtin_trap();
+        }
+    }
+    const auto compact =
+        io::read_image_compact_from_memory(fuzz::to_bytes(data, size), "fuzz-input", read_options);
+    if (const UnormImage* samples = std::get_if<UnormImage>(&compact)) {
+        if (samples->to_float().pixels != image.pixels) __builtin_trap();
+        std::vector<std::vector<std::uint8_t>> layers;
+        const PackedBakeResult to = bake_packed_to(
+            [&](const PackedLeanMap& layout) {
+                std::vector<PackedLevelTarget> targets;
+                layers.resize(2 * layout.levels.size());
+                for (std::size_t l = 0; l < layout.levels.size(); ++l) {
+                    const std::size_t bytes = std::size_t(layout.levels[l].width) *
+                                              std::size_t(layout.levels[l].height) *
+                                              std::size_t(bytes_per_texel(storage));
+                    layers[2 * l].assign(bytes, 0xAB);
+                    layers[2 * l + 1].assign(bytes, 0xCD);
+                    targets.push_back({layers[2 * l].data(), layers[2 * l + 1].data()});
+                }
+                return targets;
+            },
+            *samples, source, options, storage, "fuzz", "fuzz-input");
+        if (to.packed.scale != reference.scale || layers.size() != 2 * reference.levels.size())
+            __builtin_trap();
+        for (std::size_t i = 0; i < reference.levels.size(); ++i) {
+            if (layers[2 * i] != reference.levels[i].lean1 ||
+                layers[2 * i + 1] != reference.levels[i].lean2) {
+                __builtin_trap();
+            }
         }
     }
     const LeanMapSummary summary = summarize(unpack_lean_map(reference));

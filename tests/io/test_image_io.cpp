@@ -254,6 +254,10 @@ TEST(Png, CompactReadKeepsSamplesThatConvertToReadImagesValues) {
             expect_same_pixels(samples.to_float(), image);
             expect_same_pixels(read_image(path), image);
             expect_same_pixels(read_image_from_memory(read_bytes(path), path), image);
+            expect_same_pixels(
+                std::get<UnormImage>(read_image_compact_from_memory(read_bytes(path), path))
+                    .to_float(),
+                image);
         }
     }
     // Float formats come as floats.

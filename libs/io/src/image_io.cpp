@@ -90,6 +90,13 @@ std::variant<Image, UnormImage> read_image_compact(const std::string& path,
     return decode(file, nullptr, options, true);
 }
 
+std::variant<Image, UnormImage> read_image_compact_from_memory(
+    const std::vector<std::uint8_t>& bytes, const std::string& path, const ReadOptions& options) {
+    if (bytes.empty()) throw Error(path, "empty file");
+    const detail::InputFile file(path, bytes.data(), bytes.size());
+    return decode(file, &bytes, options, true);
+}
+
 Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& path,
                              const ReadOptions& options) {
     if (bytes.empty()) throw Error(path, "empty file");

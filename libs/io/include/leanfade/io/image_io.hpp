@@ -56,6 +56,11 @@ Image read_image(const std::string& path, const ReadOptions& options = {});
 std::variant<Image, UnormImage> read_image_compact(const std::string& path,
                                                    const ReadOptions& options = {});
 
+// read_image_compact on a file's bytes already in memory (for the fuzz targets).
+std::variant<Image, UnormImage> read_image_compact_from_memory(const std::vector<std::uint8_t>& bytes,
+                                                               const std::string& name,
+                                                               const ReadOptions& options = {});
+
 // read_image on a file's bytes already in memory (same formats, checks and messages); `name` is
 // the file name the errors give. For callers that hold the data, and for the fuzz targets.
 Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
