@@ -149,6 +149,50 @@ TEST(HostileIo, ExrPizBitmapPastTheEndOfTheFileIsRefusedWithoutReadingPastTheBuf
                  "truncated or corrupt OpenEXR data");
 }
 
+// Found by fuzz_image_bake (a differential check: the same OpenEXR file decoded to different
+// values from one call to the next): tinyexr 1.0.1 places each scan-line chunk at the line the
+// chunk names and does not check that the chunks cover the image, so a chunk naming the wrong
+// line left rows of uninitialised memory in a "successfully" decoded image. Now refused.
+TEST(HostileIo, ExrChunksThatLeaveRowsUncoveredAreRefused) {
+    std::vector<float> plane(16 * 16);
+    for (std::size_t i = 0; i < plane.size(); ++i) plane[i] = float((i * 7919) % 251) / 251.0f;
+    EXRChannelInfo channel{};
+    std::strncpy(channel.name, "Y", sizeof channel.name - 1);
+    int input_type = TINYEXR_PIXELTYPE_FLOAT, stored_type = TINYEXR_PIXELTYPE_FLOAT;
+    EXRHeader header;
+    InitEXRHeader(&header);
+    header.num_channels = 1;
+    header.channels = &channel;
+    header.pixel_types = &input_type;
+    header.requested_pixel_types = &stored_type;
+    header.compression_type = TINYEXR_COMPRESSIONTYPE_ZIP;  // 16 lines per chunk: one chunk
+    unsigned char* planes[1] = {reinterpret_cast<unsigned char*>(plane.data())};
+    EXRImage image;
+    InitEXRImage(&image);
+    image.images = planes;
+    image.width = 16;
+    image.height = 16;
+    image.num_channels = 1;
+    unsigned char* memory = nullptr;
+    const char* message = nullptr;
+    const std::size_t size = SaveEXRImageToMemory(&image, &header, &memory, &message);
+    ASSERT_GT(size, 0u) << (message != nullptr ? message : "");
+    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
+    Bytes exr(memory, memory + size);
+    // The file as written decodes to the plane.
+    const Image decoded = read_image_from_memory(exr, "good.exr");
+    ASSERT_EQ(decoded.pixels, plane);
+
+    const std::size_t chunk = only_chunk(exr);  // int32 y, int32 data size, data
+    ASSERT_GT(chunk, 0u);
+    store_u32_le(exr, chunk, 12);  // the chunk claims lines 12-27: lines 0-11 are in no chunk
+    const std::string path = scratch_folder() + "/uncovered.exr";
+    write_bytes(path, exr);
+    expect_error([&] { read_image(path); }, path, "corrupt OpenEXR data (line 0 is in no chunk)");
+    expect_error([&] { read_image_from_memory(exr, "uncovered.exr"); }, "uncovered.exr",
+                 "line 0 is in no chunk");
+}
+
 // Found by the hostile-file matrix (test_cli_hostile.cpp): a FIFO without a writer made the
 // blocking open() wait forever. With a writer present (held here, so that the test cannot
 // block either way) it used to be read as an "empty file".

@@ -4,7 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
+#include <string>
+#include <vector>
 #include <memory>
 #include <numeric>
 
@@ -113,6 +116,48 @@ float sample_value(const unsigned char* plane, int pixel_type, std::size_t index
 // refused as corrupt. The size passed to tinyexr remains the file's.
 constexpr std::size_t kTinyexrReadPadding = 64 * 1024;
 
+// tinyexr 1.0.1 places each scan-line chunk by the line number the chunk itself gives, and does
+// not check that the chunks cover the data window: a corrupt file whose chunks name the wrong
+// lines decodes "successfully" with rows of uninitialised memory (found by fuzz_image_bake: the
+// same file decoded to different values from one call to the next). Before decoding, walk the
+// line offset table as tinyexr does (same block count, same lines per chunk) and require every
+// row to be in some chunk. Tables tinyexr would have to reconstruct (an offset of 0) are refused.
+void check_scanline_coverage(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                             const EXRHeader& header) {
+    const std::int64_t min_y = header.data_window.min_y;
+    const std::int64_t height = std::int64_t(header.data_window.max_y) - min_y + 1;
+    const std::int64_t lines_per_chunk =
+        header.compression_type == TINYEXR_COMPRESSIONTYPE_PIZ   ? 32
+        : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZIP ? 16
+        : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZFP ? 16
+                                                                 : 1;
+    const std::int64_t chunks = header.chunk_count > 0
+                                    ? std::int64_t(header.chunk_count)
+                                    : (height + lines_per_chunk - 1) / lines_per_chunk;
+    const std::uint64_t table = std::uint64_t(header.header_len) + 8;  // after magic + version
+    if (chunks <= 0 || table + 8 * std::uint64_t(chunks) > bytes.size())
+        throw Error(path, "truncated OpenEXR data (line offset table)");
+    std::vector<bool> covered(std::size_t(height), false);
+    for (std::int64_t k = 0; k < chunks; ++k) {
+        const std::uint64_t offset = load_u64_le(bytes.data() + table + 8 * std::uint64_t(k));
+        if (offset == 0 || offset > bytes.size() - 8) {
+            throw Error(path, "corrupt OpenEXR data (line offset " + std::to_string(k) +
+                                  " points outside the file)");
+        }
+        const auto line = std::int32_t(load_u32_le(bytes.data() + offset));
+        const std::int64_t first = std::int64_t(line) - min_y;
+        for (std::int64_t row = std::max<std::int64_t>(first, 0);
+             row < std::min(first + lines_per_chunk, height); ++row)
+            covered[std::size_t(row)] = true;
+    }
+    const auto missing = std::find(covered.begin(), covered.end(), false);
+    if (missing != covered.end()) {
+        throw Error(path, "corrupt OpenEXR data (line " +
+                              std::to_string(min_y + (missing - covered.begin())) +
+                              " is in no chunk)");
+    }
+}
+
 }  // namespace
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -145,6 +190,8 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
             header.header.requested_pixel_types[i] = TINYEXR_PIXELTYPE_FLOAT;
         }
     }
+
+    if (header.header.tiled == 0) check_scanline_coverage(path, bytes, header.header);
 
     std::vector<std::uint8_t> padded(bytes.size() + kTinyexrReadPadding, 0);
     std::copy(bytes.begin(), bytes.end(), padded.begin());
