@@ -374,6 +374,14 @@ TEST(Png, ReadsLowBitGrayPaletteTransparencyAndInterlacing) {
             ASSERT_EQ(adam7.at(x, y, 2), float(1000 * y + 100 * x + 2) / 65535.0f);
         }
     }
+
+    // The compact read (what `leanfade bake` uses) expands these the same way.
+    for (const char* name : {"gray1.png", "palette.png", "palette_alpha.png", "interlaced.png"}) {
+        SCOPED_TRACE(name);
+        const std::string path = folder + "/" + name;
+        expect_same_pixels(std::get<UnormImage>(read_image_compact(path)).to_float(),
+                           read_image(path));
+    }
 }
 
 TEST(Png, HostileFilesThrowNamingFileAndCause) {
