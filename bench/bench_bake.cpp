@@ -145,6 +145,40 @@ void BM_BakeCore(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
+// The ratio itself, drift cancelled: each iteration times one copy of 512 MiB (the
+// bandwidth, as BM_MemoryCopy) and then one bake (as BM_BakeCore), and the counters give the
+// floor of that iteration's bandwidth and the mean of the per-iteration ratios core / floor.
+void BM_CoreOverFloor(benchmark::State& state) {
+    const Image& input = decoded_input();
+    BakeOptions options;
+    options.threads = int(state.range(0));
+    PackedBakeResult result;
+    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+    const double floor_bytes =
+        double(input.pixels.size() * sizeof(float) + packed_bytes(result.packed));
+    std::vector<char> a(kBandwidthBytes, 1), b(kBandwidthBytes, 0);
+    double ratio_sum = 0.0, floor_sum = 0.0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::memcpy(b.data(), a.data(), kBandwidthBytes);
+        benchmark::ClobberMemory();
+        const auto t1 = std::chrono::steady_clock::now();
+        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+        benchmark::DoNotOptimize(result.packed.levels.data());
+        const auto t2 = std::chrono::steady_clock::now();
+        const double copy_s = std::chrono::duration<double>(t1 - t0).count();
+        const double core_s = std::chrono::duration<double>(t2 - t1).count();
+        const double floor_s = floor_bytes / (2.0 * double(kBandwidthBytes) / copy_s);
+        state.SetIterationTime(core_s);
+        ratio_sum += core_s / floor_s;
+        floor_sum += floor_s;
+    }
+    const double n = double(state.iterations());
+    state.counters["floor_ms"] = 1e3 * floor_sum / n;
+    state.counters["core_over_floor"] = ratio_sum / n;
+}
+BENCHMARK(BM_CoreOverFloor)->Arg(2)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(20);
+
 void BM_BakeCoreFresh(benchmark::State& state) {
     const Image& input = decoded_input();
     BakeOptions options;
