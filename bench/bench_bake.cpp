@@ -23,9 +23,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
@@ -122,8 +120,21 @@ void BM_MemoryWrite(benchmark::State& state) {
 }
 BENCHMARK(BM_MemoryWrite)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
+// The core's bytes-moved floor in bytes: the decoded input read once, `packed` bytes written once.
+std::size_t floor_bytes(const Image& input, std::size_t packed) {
+    return input.pixels.size() * sizeof(float) + packed;
+}
+
+// One bake of the core benchmarks: `input` into `result`, 16-bit, reusing its buffers.
+void bake_core(PackedBakeResult& result, const Image& input, int threads) {
+    BakeOptions options;
+    options.threads = threads;
+    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
+    benchmark::DoNotOptimize(result.packed.levels.data());
+}
+
 void set_core_counters(benchmark::State& state, const Image& input, std::size_t packed) {
-    const std::size_t moved = input.pixels.size() * sizeof(float) + packed;
+    const std::size_t moved = floor_bytes(input, packed);
     state.SetBytesProcessed(std::int64_t(state.iterations()) * std::int64_t(moved));
     state.counters["texels_per_s"] = benchmark::Counter(
         double(input.texel_count()) * double(state.iterations()), benchmark::Counter::kIsRate);
@@ -132,15 +143,10 @@ void set_core_counters(benchmark::State& state, const Image& input, std::size_t 
 
 void BM_BakeCore(benchmark::State& state) {
     const Image& input = decoded_input();
-    BakeOptions options;
-    options.threads = int(state.range(0));
     PackedBakeResult result;
     // Untimed first bake: allocates (and faults in) the output, as BM_MemoryCopy's buffers are.
-    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-    for (auto _ : state) {
-        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-        benchmark::DoNotOptimize(result.packed.levels.data());
-    }
+    bake_core(result, input, int(state.range(0)));
+    for (auto _ : state) bake_core(result, input, int(state.range(0)));
     set_core_counters(state, input, packed_bytes(result.packed));
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
@@ -150,12 +156,9 @@ BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTi
 // floor of that iteration's bandwidth and the mean of the per-iteration ratios core / floor.
 void BM_CoreOverFloor(benchmark::State& state) {
     const Image& input = decoded_input();
-    BakeOptions options;
-    options.threads = int(state.range(0));
     PackedBakeResult result;
-    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-    const double floor_bytes =
-        double(input.pixels.size() * sizeof(float) + packed_bytes(result.packed));
+    bake_core(result, input, int(state.range(0)));
+    const double floor = double(floor_bytes(input, packed_bytes(result.packed)));
     std::vector<char> a(kBandwidthBytes, 1), b(kBandwidthBytes, 0);
     double ratio_sum = 0.0, floor_sum = 0.0;
     for (auto _ : state) {
@@ -163,12 +166,11 @@ void BM_CoreOverFloor(benchmark::State& state) {
         std::memcpy(b.data(), a.data(), kBandwidthBytes);
         benchmark::ClobberMemory();
         const auto t1 = std::chrono::steady_clock::now();
-        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-        benchmark::DoNotOptimize(result.packed.levels.data());
+        bake_core(result, input, int(state.range(0)));
         const auto t2 = std::chrono::steady_clock::now();
         const double copy_s = std::chrono::duration<double>(t1 - t0).count();
         const double core_s = std::chrono::duration<double>(t2 - t1).count();
-        const double floor_s = floor_bytes / (2.0 * double(kBandwidthBytes) / copy_s);
+        const double floor_s = floor / (2.0 * double(kBandwidthBytes) / copy_s);
         state.SetIterationTime(core_s);
         ratio_sum += core_s / floor_s;
         floor_sum += floor_s;
@@ -202,15 +204,10 @@ BENCHMARK(BM_BakeCoreFresh)
 // The portable kernels (what a CPU without AVX2 runs); same bytes.
 void BM_BakeCoreScalar(benchmark::State& state) {
     const Image& input = decoded_input();
-    BakeOptions options;
-    options.threads = int(state.range(0));
     PackedBakeResult result;
     const bool previous = set_bake_simd(false);
-    bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-    for (auto _ : state) {
-        bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
-        benchmark::DoNotOptimize(result.packed.levels.data());
-    }
+    bake_core(result, input, int(state.range(0)));
+    for (auto _ : state) bake_core(result, input, int(state.range(0)));
     set_core_counters(state, input, packed_bytes(result.packed));
     set_bake_simd(previous);
 }
@@ -268,19 +265,9 @@ void BM_BakeEndToEnd(benchmark::State& state) {
     io::WriteOptions write_options;
     write_options.threads = options.threads;
     for (auto _ : state) {
-        const auto input = io::read_image_compact(input_png(), read_options);
-        std::optional<io::Ktx2Writer> writer;
-        const auto open_output = [&](const PackedLeanMap& layout) {
-            writer.emplace(out, layout, write_options);
-            return writer->targets();
-        };
-        std::visit(
-            [&](const auto& image) {
-                bake_packed_to(open_output, image, BakeSource::Normal, options, Storage::Unorm16,
-                               "bench");
-            },
-            input);
-        writer->commit();
+        io::bake_to_ktx2(out, io::read_image_compact(input_png(), read_options),
+                         BakeSource::Normal, options, Storage::Unorm16, "bench", input_png(),
+                         write_options);
     }
     state.counters["texels_per_s"] =
         benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),

@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <optional>
 #include <variant>
 
 #include <nlohmann/json.hpp>
@@ -194,18 +193,8 @@ int run_bake(const BakeArgs& args) {
             output = !args.output.empty() ? args.output : base + ".ktx2";
             if (from_file) io::ensure_not_same_file(output, name);
             // Baked straight into the mapped output file, which appears only when complete.
-            std::optional<io::Ktx2Writer> writer;
-            const auto open_output = [&](const PackedLeanMap& layout) {
-                writer.emplace(output, layout, write_options);
-                return writer->targets();
-            };
-            baked = std::visit(
-                [&](const auto& image) {
-                    return bake_packed_to(open_output, image, kind, options, storage,
-                                          generator_string(), name);
-                },
-                input);
-            writer->commit();
+            baked = io::bake_to_ktx2(output, input, kind, options, storage, generator_string(),
+                                     name, write_options);
         }
         const PackedLeanMap& packed = baked.packed;
         const double seconds =

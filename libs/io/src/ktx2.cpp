@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "input_file.hpp"
@@ -420,6 +421,26 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
 void Ktx2Writer::commit() {
     targets_.clear();
     file_.commit();
+}
+
+PackedBakeResult bake_to_ktx2(const std::string& path,
+                              const std::variant<Image, UnormImage>& input, BakeSource source,
+                              const BakeOptions& options, Storage storage,
+                              const std::string& generator, const std::string& source_name,
+                              const WriteOptions& write_options) {
+    std::optional<Ktx2Writer> writer;
+    const auto open_output = [&](const PackedLeanMap& layout) {
+        writer.emplace(path, layout, write_options);
+        return writer->targets();
+    };
+    PackedBakeResult baked = std::visit(
+        [&](const auto& image) {
+            return bake_packed_to(open_output, image, source, options, storage, generator,
+                                  source_name);
+        },
+        input);
+    writer->commit();
+    return baked;
 }
 
 void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {
