@@ -229,25 +229,6 @@ TEST(BakeFastPath, KernelSetsGiveTheSameSummary) {
     }
 }
 
-TEST(BakeFastPath, RoundingShortcutEqualsStdRound) {
-    // The AVX2 packers quantise with trunc(x + (0.5 - 2^-25)) instead of std::round(x) for x in
-    // [0, 65535] (checked for every float there once, docs/perf.md); here every float in
-    // [0.25, 2) and the 32 floats around every half-integer up to 65535.5.
-    const float below_half = 0.5f - std::ldexp(1.0f, -25);
-    auto check = [&](float x) { ASSERT_EQ(int(x + below_half), int(std::round(x))) << x; };
-    for (float x = 0.25f; x < 2.0f; x = std::nextafter(x, 1e9f)) check(x);
-    for (int k = 0; k <= 65535; ++k) {
-        const float tie = float(k) + 0.5f;
-        float down = tie, up = tie;
-        for (int i = 0; i < 16; ++i) {
-            check(down);
-            check(up);
-            down = std::nextafter(down, 0.0f);
-            up = std::nextafter(up, 1e9f);
-        }
-    }
-}
-
 TEST(BakeFastPath, ReusedResultEqualsAFreshOne) {
     PackedBakeResult reused;
     for (auto [w, h, storage] :

@@ -94,3 +94,90 @@ TEST(Packing, PackingIsAffineSoFilteringCommutesWithIt) {
         for (int c = 0; c < 4; ++c) EXPECT_NEAR(avg[c], coarse[c], 1e-6f);
     }
 }
+
+TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
+    // UNORM packing is one multiply-add per channel (detail::unorm_texel); whatever the float
+    // rounding, each code must be the SPEC §3 value times Q rounded to the nearest integer
+    // (computed here in double), ties to even, clamped to [0, Q], NaN to 0.
+    for (const float sc : {0.37f, 1.0f, 3.9f}) {
+        LeanMap map;
+        map.scale = sc;
+        MomentLevel level;
+        const int count = 4001;
+        level.width = count;
+        level.height = 1;
+        for (int i = 0; i < count; ++i) {
+            const float t = float(i) / float(count - 1);  // [0, 1]
+            const float b = sc * (2.0f * t - 1.0f);     // [-sc, sc]
+            const float angle = 6.2831853f * t;
+            level.normal.push_back({0.6f * std::cos(angle), 0.6f * std::sin(angle), 0.8f});
+            level.mean.push_back({b, -0.5f * b});
+            level.second.push_back({sc * sc * t, sc * sc * (1.0f - t), b * sc * 0.9f});
+        }
+        map.levels.push_back(level);
+        for (const Storage storage : {Storage::Unorm8, Storage::Unorm16}) {
+            const double q = storage == Storage::Unorm8 ? 255.0 : 65535.0;
+            const PackedLeanMap packed = pack_lean_map(map, storage, "test");
+            const double s = sc, s2 = double(sc) * double(sc);
+            // The float multiply-adds (and sc^2 and the factors rounded to float) move a value
+            // by a few float ulps of Q: at most 4e-7 Q.
+            const double slack = 4e-7 * q;
+            int exact_checks = 0;
+            for (int i = 0; i < count; ++i) {
+                const glm::vec3 n = level.normal[std::size_t(i)];
+                const glm::vec2 b = level.mean[std::size_t(i)];
+                const glm::vec3 m = level.second[std::size_t(i)];
+                const double spec[2][4] = {
+                    {0.5 * n.x + 0.5, 0.5 * n.y + 0.5, 0.5 * n.z + 0.5, 0.5 * m.z / s2 + 0.5},
+                    {0.5 * b.x / s + 0.5, 0.5 * b.y / s + 0.5, m.x / s2, m.y / s2}};
+                for (int layer = 0; layer < 2; ++layer) {
+                    const glm::vec4 got = fetch_packed_texel(packed, 0, layer, i, 0);
+                    for (int c = 0; c < 4; ++c) {
+                        const double code = std::round(double(got[c]) * q);
+                        const double want = spec[layer][c] * q;
+                        ASSERT_LE(std::abs(code - want), 0.5 + slack)
+                            << to_string(storage) << " sc " << sc << " texel " << i;
+                        if (std::abs(want - std::floor(want) - 0.5) > slack) {
+                            ASSERT_EQ(code, std::round(want)) << to_string(storage) << " " << i;
+                            ++exact_checks;
+                        }
+                    }
+                }
+            }
+            EXPECT_GT(exact_checks, 8 * count * 3 / 4);
+        }
+    }
+
+    // Ties go to even (B = 0 and Mxy = 0 are exactly Q/2), out-of-range values clamp, NaN is 0.
+    LeanMap map;
+    map.scale = 2.0f;
+    MomentLevel level;
+    level.width = 3;
+    level.height = 1;
+    level.normal = {{0.0f, 0.0f, 1.0f}, {2.0f, -2.0f, 1.0f}, {NAN, 0.0f, 1.0f}};
+    level.mean = {{0.0f, 0.0f}, {9.0f, -9.0f}, {0.0f, NAN}};
+    level.second = {{0.0f, 0.0f, 0.0f}, {-1.0f, 100.0f, 100.0f}, {NAN, 1.0f, 0.0f}};
+    map.levels.push_back(level);
+    const PackedLeanMap p16 = pack_lean_map(map, Storage::Unorm16, "test");
+    const PackedLeanMap p8 = pack_lean_map(map, Storage::Unorm8, "test");
+    auto code16 = [&](int layer, int x, int c) {
+        return std::lround(fetch_packed_texel(p16, 0, layer, x, 0)[c] * 65535.0f);
+    };
+    auto code8 = [&](int layer, int x, int c) {
+        return std::lround(fetch_packed_texel(p8, 0, layer, x, 0)[c] * 255.0f);
+    };
+    EXPECT_EQ(code16(0, 0, 0), 32768);  // n.x = 0: 32767.5
+    EXPECT_EQ(code16(0, 0, 3), 32768);  // Mxy = 0
+    EXPECT_EQ(code16(1, 0, 0), 32768);  // B.x = 0
+    EXPECT_EQ(code8(1, 0, 0), 128);     // 127.5
+    EXPECT_EQ(code16(0, 0, 2), 65535);  // n.z = 1
+    EXPECT_EQ(code16(0, 1, 0), 65535);  // n.x = 2 clamps
+    EXPECT_EQ(code16(0, 1, 1), 0);      // n.y = -2 clamps
+    EXPECT_EQ(code16(1, 1, 0), 65535);  // B.x = 4.5 sc
+    EXPECT_EQ(code8(1, 1, 1), 0);       // B.y = -4.5 sc
+    EXPECT_EQ(code16(1, 1, 2), 0);      // Mxx < 0
+    EXPECT_EQ(code8(1, 1, 3), 255);     // Myy = 25 sc^2
+    EXPECT_EQ(code16(0, 2, 0), 0);      // NaN
+    EXPECT_EQ(code16(1, 2, 1), 0);
+    EXPECT_EQ(code8(1, 2, 2), 0);
+}

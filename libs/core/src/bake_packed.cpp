@@ -59,8 +59,6 @@ constexpr int kChunk = 256;        // top-level texels per chunk of the fused pa
 constexpr int kMaxStoreLevel = 6;  // pass 1 ends at most here (64 rows of a 4096^2 map)
 constexpr int kMinStoreRows = 16;  // ... and at a level with at least this many rows
 constexpr int kScanGrain = 16;     // top rows per chunk of pass 0
-// 0.5 - 2^-25, the largest float below 0.5 (see quantise8).
-constexpr float kBelowHalf = 0.49999997f;
 
 std::atomic<bool> g_simd_enabled{true};
 
@@ -80,9 +78,11 @@ struct Planes {
     float* operator[](int c) const { return p + std::size_t(c) * stride; }
 };
 
+// sc, sc^2 (float storages) and the factors of the UNORM packing (detail::unorm_packing).
 struct PackScale {
-    float sc;
-    float sc2;
+    float sc = 1.0f;
+    float sc2 = 1.0f;
+    detail::UnormPacking unorm;
 };
 
 // Where one row of one level is packed.
@@ -164,7 +164,7 @@ inline void texel_moments(float bx, float by, float inv_s, float* m) {
 
 // lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5), lean2 = (0.5 B / sc + 0.5, Mxx / sc^2,
 // Myy / sc^2) (SPEC §3), as pack_lean_map.
-inline void lean_texel(const float* m, PackScale s, float* l1, float* l2) {
+inline void lean_texel(const float* m, const PackScale& s, float* l1, float* l2) {
     l1[0] = 0.5f * m[kNx] + 0.5f;
     l1[1] = 0.5f * m[kNy] + 0.5f;
     l1[2] = 0.5f * m[kNz] + 0.5f;
@@ -175,27 +175,18 @@ inline void lean_texel(const float* m, PackScale s, float* l1, float* l2) {
     l2[3] = m[kMyy] / s.sc2;
 }
 
-// [0, 1] with NaN -> 0, as pack_lean_map.
-inline float unit_clamp(float value) {
-    return value > 0.0f ? std::min(value, 1.0f) : 0.0f;
-}
-
 template <Storage S>
 constexpr int kTexelBytes = S == Storage::Unorm8    ? 4
                             : S == Storage::Float32 ? 16
                                                     : 8;
 
-// One RGBA texel of one layer, little-endian, as pack_lean_map's store_channel.
+// One RGBA texel of one layer of float storage, little-endian, as pack_lean_map's
+// store_float_channel.
 template <Storage S>
 inline void store_texel(std::uint8_t* t, const float* v) {
+    static_assert(S == Storage::Float16 || S == Storage::Float32);
     for (int c = 0; c < 4; ++c) {
-        if constexpr (S == Storage::Unorm8) {
-            t[c] = std::uint8_t(std::round(unit_clamp(v[c]) * 255.0f));
-        } else if constexpr (S == Storage::Unorm16) {
-            const auto q = std::uint16_t(std::round(unit_clamp(v[c]) * 65535.0f));
-            t[2 * c] = std::uint8_t(q & 0xFF);
-            t[2 * c + 1] = std::uint8_t(q >> 8);
-        } else if constexpr (S == Storage::Float16) {
+        if constexpr (S == Storage::Float16) {
             const std::uint16_t q = glm::packHalf1x16(v[c]);
             t[2 * c] = std::uint8_t(q & 0xFF);
             t[2 * c + 1] = std::uint8_t(q >> 8);
@@ -206,11 +197,30 @@ inline void store_texel(std::uint8_t* t, const float* v) {
 }
 
 template <Storage S>
-inline void pack_texel(const float* m, PackScale s, const RowDest& d, int x) {
-    float l1[4], l2[4];
-    lean_texel(m, s, l1, l2);
-    store_texel<S>(d.lean1 + std::size_t(x) * kTexelBytes<S>, l1);
-    store_texel<S>(d.lean2 + std::size_t(x) * kTexelBytes<S>, l2);
+inline void pack_texel(const float* m, const PackScale& s, const RowDest& d, int x) {
+    if constexpr (S == Storage::Unorm8 || S == Storage::Unorm16) {
+        std::uint16_t q1[4], q2[4];
+        detail::unorm_texel(s.unorm, {m[kNx], m[kNy], m[kNz]}, {m[kBx], m[kBy]},
+                            {m[kMxx], m[kMyy], m[kMxy]}, q1, q2);
+        std::uint8_t* t1 = d.lean1 + std::size_t(x) * kTexelBytes<S>;
+        std::uint8_t* t2 = d.lean2 + std::size_t(x) * kTexelBytes<S>;
+        for (int c = 0; c < 4; ++c) {
+            if constexpr (S == Storage::Unorm8) {
+                t1[c] = std::uint8_t(q1[c]);
+                t2[c] = std::uint8_t(q2[c]);
+            } else {
+                t1[2 * c] = std::uint8_t(q1[c] & 0xFF);
+                t1[2 * c + 1] = std::uint8_t(q1[c] >> 8);
+                t2[2 * c] = std::uint8_t(q2[c] & 0xFF);
+                t2[2 * c + 1] = std::uint8_t(q2[c] >> 8);
+            }
+        }
+    } else {
+        float l1[4], l2[4];
+        lean_texel(m, s, l1, l2);
+        store_texel<S>(d.lean1 + std::size_t(x) * kTexelBytes<S>, l1);
+        store_texel<S>(d.lean2 + std::size_t(x) * kTexelBytes<S>, l2);
+    }
 }
 
 // One top-level texel: moments into the planes (indexed from x0).
@@ -229,7 +239,7 @@ void top_range_scalar(const TopInput& in, int y, int x0, int x1, Planes out) {
 }
 
 template <Storage S>
-void pack_range_scalar(Planes p, int x0, int x1, const RowDest& d, PackScale s) {
+void pack_range_scalar(Planes p, int x0, int x1, const RowDest& d, const PackScale& s) {
     for (int x = x0; x < x1; ++x) {
         float m[kMoments];
         for (int c = 0; c < kMoments; ++c) m[c] = p[c][x];
@@ -237,13 +247,8 @@ void pack_range_scalar(Planes p, int x0, int x1, const RowDest& d, PackScale s) 
     }
 }
 
-// The 2x2 box of even sizes. The reference's vertical then horizontal passes in double,
-// ((0 + a/2) + c/2) and ((0 + r0/2) + r1/2), equal ((a + c) + (b + d)) / 4 exactly: halving
-// commutes with rounding (no double can underflow here), and the final + 0.0 turns the one
-// possible -0 into the reference's +0.
-inline float box4(float a0, float a1, float c0, float c1) {
-    return float(((double(a0) + double(c0)) + (double(a1) + double(c1))) * 0.25 + 0.0);
-}
+// The 2x2 box of even sizes: detail::box4, in float.
+using detail::box4;
 
 void reduce_box_scalar(const float* a, const float* c, float* out, int x0, int x1) {
     for (int x = x0; x < x1; ++x) out[x] = box4(a[2 * x], a[2 * x + 1], c[2 * x], c[2 * x + 1]);
@@ -397,62 +402,48 @@ LF_AVX2_INLINE void moments8(__m256 bx, __m256 by, float inv_s, __m256* m) {
     m[kMxy] = _mm256_mul_ps(bx, by);
 }
 
-// round(unit_clamp(v) * scale) as int32 before saturation to [0, scale] (packus in
-// store_layer8): x = min(1, v) * scale, then trunc(x + (0.5 - 2^-25)), which equals
-// std::round(x) (half away from zero) for every float x in [0, 65536] (checked exhaustively,
-// docs/perf.md): the constant just below 0.5 keeps x + c from rounding up to the next integer
-// when x is just below a half, and a tie k + 0.5 still reaches k + 1 because k + 1 - 2^-25
-// rounds to k + 1. Below zero the result is <= 0 and saturates to 0, as unit_clamp's 0; a NaN
-// passes min(1, NaN) as NaN, converts to INT_MIN and saturates to 0, as unit_clamp's 0.
-// AtMostOne: v <= 1 is known (see kAtMostOne), so min(1, v) is v and is skipped.
-template <bool AtMostOne = false>
-LF_AVX2_INLINE __m256i quantise8(__m256 v, float scale) {
-    const __m256 clamped = AtMostOne ? v : _mm256_min_ps(_mm256_set1_ps(1.0f), v);
-    const __m256 x = _mm256_mul_ps(clamped, _mm256_set1_ps(scale));
-    return _mm256_cvttps_epi32(_mm256_add_ps(x, _mm256_set1_ps(kBelowHalf)));
+// detail::unorm_code before its clamp: v * factor (+ offset) rounded to the nearest int32, ties
+// to even (the default rounding mode, as std::nearbyint). The saturating packs of store_codes8
+// then clamp to [0, Q]; a NaN converts to INT_MIN and saturates to 0, as unorm_code's 0. The
+// values are far inside the int32 range (detail::UnormPacking), so nothing else is needed.
+LF_AVX2_INLINE __m256i code8(__m256 v, __m256 factor, __m256 offset) {
+    return _mm256_cvtps_epi32(_mm256_add_ps(_mm256_mul_ps(v, factor), offset));
 }
-
-// Channels that cannot exceed 1, per layer (bit c = channel c), so quantise8 needs no min:
-// lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2), because sc >= max |B| and
-// fl(sc * sc) >= max M (lean_scale), every level's B and M are averages of the top level's
-// (never beyond its extremes), and division by a positive float is monotonic; lean1.b =
-// 0.5 n.z + 0.5, because the top level's n.z = 1 / sqrt(|B|^2 + 1) <= 1 and the levels below
-// average it. lean1's n.x, n.y (B * n.z may round past 1) and Mxy / sc^2 keep the min.
-constexpr unsigned kAtMostOneLean1 = 0b0100, kAtMostOneLean2 = 0b1111;
+LF_AVX2_INLINE __m256i code8(__m256 v, __m256 factor) {
+    return _mm256_cvtps_epi32(_mm256_mul_ps(v, factor));
+}
 
 LF_AVX2_INLINE void store32(std::uint8_t* d, __m256i v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(d), v);
 }
 
-// One layer (4 channel vectors) of 8 texels, little-endian RGBA.
-template <Storage S, unsigned AtMostOne>
-LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
-    constexpr bool r = (AtMostOne & 1) != 0, g = (AtMostOne & 2) != 0, b = (AtMostOne & 4) != 0,
-                   a = (AtMostOne & 8) != 0;
+// One UNORM layer (the int32 codes of channels r, g, b, a) of 8 texels, little-endian RGBA.
+template <Storage S>
+LF_AVX2_INLINE void store_codes8(__m256i r, __m256i g, __m256i b, __m256i a, std::uint8_t* d) {
+    // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16.
+    const __m256i rb = _mm256_packus_epi32(r, b), ga = _mm256_packus_epi32(g, a);
     if constexpr (S == Storage::Unorm16) {
-        // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16,
-        // then interleaved to R G B A per texel.
-        const __m256i rb =
-            _mm256_packus_epi32(quantise8<r>(l[0], 65535.0f), quantise8<b>(l[2], 65535.0f));
-        const __m256i ga =
-            _mm256_packus_epi32(quantise8<g>(l[1], 65535.0f), quantise8<a>(l[3], 65535.0f));
+        // Interleaved to R G B A per texel.
         const __m256i rg = _mm256_unpacklo_epi16(rb, ga), ba = _mm256_unpackhi_epi16(rb, ga);
         const __m256i lo = _mm256_unpacklo_epi32(rg, ba), hi = _mm256_unpackhi_epi32(rg, ba);
         store32(d, _mm256_permute2x128_si256(lo, hi, 0x20));
         store32(d + 32, _mm256_permute2x128_si256(lo, hi, 0x31));
-    } else if constexpr (S == Storage::Unorm8) {
-        // Saturating packs to [R0-3 B0-3 G0-3 A0-3 | R4-7 B4-7 G4-7 A4-7] bytes, then a byte
+    } else {
+        static_assert(S == Storage::Unorm8);
+        // Saturating pack to [R0-3 B0-3 G0-3 A0-3 | R4-7 B4-7 G4-7 A4-7] bytes, then a byte
         // shuffle to R G B A per texel within each half.
-        const __m256i rb =
-            _mm256_packus_epi32(quantise8<r>(l[0], 255.0f), quantise8<b>(l[2], 255.0f));
-        const __m256i ga =
-            _mm256_packus_epi32(quantise8<g>(l[1], 255.0f), quantise8<a>(l[3], 255.0f));
         const __m256i bytes = _mm256_packus_epi16(rb, ga);
         const __m256i order =
             _mm256_setr_epi8(0, 8, 4, 12, 1, 9, 5, 13, 2, 10, 6, 14, 3, 11, 7, 15, 0, 8, 4, 12, 1,
                              9, 5, 13, 2, 10, 6, 14, 3, 11, 7, 15);
         store32(d, _mm256_shuffle_epi8(bytes, order));
-    } else if constexpr (S == Storage::Float32) {
+    }
+}
+
+// One float layer (4 channel vectors) of 8 texels, little-endian RGBA.
+template <Storage S>
+LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
+    if constexpr (S == Storage::Float32) {
         const __m256 t0 = _mm256_unpacklo_ps(l[0], l[1]), t1 = _mm256_unpackhi_ps(l[0], l[1]);
         const __m256 t2 = _mm256_unpacklo_ps(l[2], l[3]), t3 = _mm256_unpackhi_ps(l[2], l[3]);
         const __m256 u0 = _mm256_shuffle_ps(t0, t2, 0x44), u1 = _mm256_shuffle_ps(t0, t2, 0xEE);
@@ -462,6 +453,7 @@ LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
         store32(d + 64, _mm256_castps_si256(_mm256_permute2f128_ps(u0, u1, 0x31)));
         store32(d + 96, _mm256_castps_si256(_mm256_permute2f128_ps(u2, u3, 0x31)));
     } else {  // Float16: glm's conversion, value by value
+        static_assert(S == Storage::Float16);
         alignas(32) float v[4][8];
         for (int c = 0; c < 4; ++c) _mm256_store_ps(v[c], l[c]);
         for (int i = 0; i < 8; ++i) {
@@ -471,22 +463,36 @@ LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
     }
 }
 
-// lean1, lean2 of 8 texels (SPEC §3), the operations of lean_texel.
+// lean1, lean2 of 8 texels (SPEC §3): UNORM storages as detail::unorm_texel, float storages as
+// lean_texel.
 template <Storage S>
-LF_AVX2_INLINE void pack8(const __m256* m, PackScale s, const RowDest& d, int x) {
-    const __m256 half = _mm256_set1_ps(0.5f);
-    const __m256 sc = _mm256_set1_ps(s.sc), sc2 = _mm256_set1_ps(s.sc2);
-    __m256 l1[4], l2[4];
-    l1[0] = _mm256_add_ps(_mm256_mul_ps(half, m[kNx]), half);
-    l1[1] = _mm256_add_ps(_mm256_mul_ps(half, m[kNy]), half);
-    l1[2] = _mm256_add_ps(_mm256_mul_ps(half, m[kNz]), half);
-    l1[3] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kMxy]), sc2), half);
-    l2[0] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBx]), sc), half);
-    l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
-    l2[2] = _mm256_div_ps(m[kMxx], sc2);
-    l2[3] = _mm256_div_ps(m[kMyy], sc2);
-    store_layer8<S, kAtMostOneLean1>(l1, d.lean1 + std::size_t(x) * kTexelBytes<S>);
-    store_layer8<S, kAtMostOneLean2>(l2, d.lean2 + std::size_t(x) * kTexelBytes<S>);
+LF_AVX2_INLINE void pack8(const __m256* m, const PackScale& s, const RowDest& d, int x) {
+    std::uint8_t* lean1 = d.lean1 + std::size_t(x) * kTexelBytes<S>;
+    std::uint8_t* lean2 = d.lean2 + std::size_t(x) * kTexelBytes<S>;
+    if constexpr (S == Storage::Unorm8 || S == Storage::Unorm16) {
+        const __m256 half = _mm256_set1_ps(s.unorm.half);
+        const __m256 b_factor = _mm256_set1_ps(s.unorm.b_factor);
+        const __m256 mxy_factor = _mm256_set1_ps(s.unorm.mxy_factor);
+        const __m256 m_factor = _mm256_set1_ps(s.unorm.m_factor);
+        store_codes8<S>(code8(m[kNx], half, half), code8(m[kNy], half, half),
+                        code8(m[kNz], half, half), code8(m[kMxy], mxy_factor, half), lean1);
+        store_codes8<S>(code8(m[kBx], b_factor, half), code8(m[kBy], b_factor, half),
+                        code8(m[kMxx], m_factor), code8(m[kMyy], m_factor), lean2);
+    } else {
+        const __m256 half = _mm256_set1_ps(0.5f);
+        const __m256 sc = _mm256_set1_ps(s.sc), sc2 = _mm256_set1_ps(s.sc2);
+        __m256 l1[4], l2[4];
+        l1[0] = _mm256_add_ps(_mm256_mul_ps(half, m[kNx]), half);
+        l1[1] = _mm256_add_ps(_mm256_mul_ps(half, m[kNy]), half);
+        l1[2] = _mm256_add_ps(_mm256_mul_ps(half, m[kNz]), half);
+        l1[3] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kMxy]), sc2), half);
+        l2[0] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBx]), sc), half);
+        l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
+        l2[2] = _mm256_div_ps(m[kMxx], sc2);
+        l2[3] = _mm256_div_ps(m[kMyy], sc2);
+        store_layer8<S>(l1, lean1);
+        store_layer8<S>(l2, lean2);
+    }
 }
 
 // Top-level texels [x0, x1) of row y: moments into the planes (indexed from x0). They are
@@ -506,7 +512,7 @@ LF_AVX2 void top_range_avx2(const TopInput& in, int y, int x0, int x1, Planes ou
 }
 
 template <Storage S>
-LF_AVX2 void pack_range_avx2(Planes p, int x0, int x1, const RowDest& d, PackScale s) {
+LF_AVX2 void pack_range_avx2(Planes p, int x0, int x1, const RowDest& d, const PackScale& s) {
     int x = x0;
     for (; x + 8 <= x1; x += 8) {
         __m256 m[kMoments];
@@ -524,27 +530,19 @@ LF_AVX2_INLINE __m256d high_pd(__m256 v) {
     return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
 }
 
-// box4 on 8 outputs per step: the 32 inputs converted to double as they are loaded, the
-// vertical sums a + c, then hadd pairs them: ((a0 + c0) + (a1 + c1)), box4's order. hadd works
-// within 128-bit lanes, so the outputs come out as 0 2 1 3 | 4 6 5 7 and are put in order last.
+// box4 on 8 outputs per step: the vertical sums a + c of 16 columns, then hadd pairs them:
+// ((a0 + c0) + (a1 + c1)), box4's order. hadd works within 128-bit lanes, so the outputs come
+// out as 0 1 4 5 | 2 3 6 7 and are put in order by one 64-bit permute.
 LF_AVX2 void reduce_box_avx2(const float* a, const float* c, float* out, int x0, int x1) {
-    const __m256d quarter = _mm256_set1_pd(0.25), zero = _mm256_setzero_pd();
-    const __m256i order = _mm256_setr_epi32(0, 2, 1, 3, 4, 6, 5, 7);
-    const auto column_sums = [&](int i) LF_AVX2_LAMBDA {  // a + c of columns i .. i + 3
-        return _mm256_add_pd(_mm256_cvtps_pd(_mm_loadu_ps(a + i)),
-                             _mm256_cvtps_pd(_mm_loadu_ps(c + i)));
-    };
+    const __m256 quarter = _mm256_set1_ps(0.25f), zero = _mm256_setzero_ps();
     int x = x0;
     for (; x + 8 <= x1; x += 8) {
         const int i = 2 * x;
-        const __m256d lo = _mm256_hadd_pd(column_sums(i), column_sums(i + 4));
-        const __m256d hi = _mm256_hadd_pd(column_sums(i + 8), column_sums(i + 12));
-        const __m128 lo_out =
-            _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(lo, quarter), zero));
-        const __m128 hi_out =
-            _mm256_cvtpd_ps(_mm256_add_pd(_mm256_mul_pd(hi, quarter), zero));
-        const __m256 sums = _mm256_insertf128_ps(_mm256_castps128_ps256(lo_out), hi_out, 1);
-        _mm256_storeu_ps(out + x, _mm256_permutevar8x32_ps(sums, order));
+        const __m256 s0 = _mm256_add_ps(_mm256_loadu_ps(a + i), _mm256_loadu_ps(c + i));
+        const __m256 s1 = _mm256_add_ps(_mm256_loadu_ps(a + i + 8), _mm256_loadu_ps(c + i + 8));
+        const __m256d pairs = _mm256_castps_pd(_mm256_hadd_ps(s0, s1));
+        const __m256 sums = _mm256_castpd_ps(_mm256_permute4x64_pd(pairs, 0xD8));
+        _mm256_storeu_ps(out + x, _mm256_add_ps(_mm256_mul_ps(sums, quarter), zero));
     }
     reduce_box_scalar(a, c, out, x, x1);
 }
@@ -691,7 +689,7 @@ const float* TopInput::converted_row(int y) const {
 // ---- Kernel selection ----------------------------------------------------------------------
 
 using TopFn = void (*)(const TopInput&, int, int, int, Planes);
-using PackFn = void (*)(Planes, int, int, const RowDest&, PackScale);
+using PackFn = void (*)(Planes, int, int, const RowDest&, const PackScale&);
 using ScanFn = bool (*)(const TopInput&, int, RowScan&);
 
 TopFn select_top(int channels, bool avx2) {
@@ -767,7 +765,7 @@ struct Plan {
     TopInput top;
     std::vector<LevelPlan> levels;
     int store_level = 0;
-    PackScale scale{1.0f, 1.0f};
+    PackScale scale;
     bool avx2 = false;
     TopFn top_range = nullptr;
     PackFn pack_range = nullptr;
@@ -1113,7 +1111,10 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                             "height steps times the strength are too large");
     }
     const float sc = detail::lean_scale(totals.max_b, totals.max_m);
-    plan.scale = {sc, sc * sc};
+    plan.scale.sc = sc;
+    plan.scale.sc2 = sc * sc;
+    plan.scale.unorm = detail::unorm_packing(storage == Storage::Unorm8 ? 255.0f : 65535.0f,
+                                             plan.scale.sc, plan.scale.sc2);
 
     const int texel_bytes = bytes_per_texel(storage);
     plan.texel_bytes = texel_bytes;

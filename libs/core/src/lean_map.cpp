@@ -79,6 +79,20 @@ std::vector<Moments> reduce(const std::vector<Moments>& src, int sw, int sh, int
     const auto xtaps = reduction_taps(sw, dw);
     const auto ytaps = reduction_taps(sh, dh);
     std::vector<Moments> dst(std::size_t(dw) * std::size_t(dh));
+    if (sw == 2 * dw && sh == 2 * dh) {  // the 2x2 box, in float (box4)
+        parallel_for_rows(dh, threads, [&](int first, int end) {
+            for (int y = first; y < end; ++y) {
+                const Moments* a = &src[std::size_t(2 * y) * std::size_t(sw)];
+                const Moments* c = a + sw;
+                for (int x = 0; x < dw; ++x)
+                    for (int m = 0; m < 8; ++m)
+                        dst[std::size_t(y) * std::size_t(dw) + std::size_t(x)][m] =
+                            detail::box4(a[2 * x][m], a[2 * x + 1][m], c[2 * x][m], c[2 * x + 1][m]);
+            }
+        });
+        return dst;
+    }
+    // Other sizes (odd ones have 3 taps): separable, in double.
     parallel_for_rows(dh, threads, [&](int first, int end) {
         std::vector<std::array<double, 8>> row(static_cast<std::size_t>(sw));
         for (int y = first; y < end; ++y) {
@@ -176,22 +190,21 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
 
 namespace {
 
-// Clamp to [0, 1] with NaN -> 0: converting a NaN to an integer is undefined behaviour.
-float unit_clamp(float value) { return value > 0.0f ? std::min(value, 1.0f) : 0.0f; }
+// One little-endian UNORM code.
+void store_unorm_channel(std::uint8_t* texel, int channel, std::uint16_t code, Storage storage) {
+    if (storage == Storage::Unorm8) {
+        texel[channel] = std::uint8_t(code);
+    } else {
+        texel[2 * channel] = std::uint8_t(code & 0xFF);
+        texel[2 * channel + 1] = std::uint8_t(code >> 8);
+    }
+}
 
-void store_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
+// One channel of a float-storage texel (UNORM storages are packed by detail::unorm_texel).
+void store_float_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
     switch (storage) {
-        case Storage::Unorm8: {
-            const float q = std::round(unit_clamp(value) * 255.0f);
-            texel[channel] = std::uint8_t(q);
-            break;
-        }
-        case Storage::Unorm16: {
-            const auto q = std::uint16_t(std::round(unit_clamp(value) * 65535.0f));
-            texel[2 * channel] = std::uint8_t(q & 0xFF);
-            texel[2 * channel + 1] = std::uint8_t(q >> 8);
-            break;
-        }
+        case Storage::Unorm8:
+        case Storage::Unorm16: break;
         case Storage::Float16: {
             const std::uint16_t q = glm::packHalf1x16(value);
             texel[2 * channel] = std::uint8_t(q & 0xFF);
@@ -232,6 +245,9 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
     packed.generator = generator;
     const int bpt = bytes_per_texel(storage);
     const float sc = map.scale, sc2 = map.scale * map.scale;
+    const bool unorm = storage == Storage::Unorm8 || storage == Storage::Unorm16;
+    const detail::UnormPacking unorm_factors =
+        detail::unorm_packing(storage == Storage::Unorm8 ? 255.0f : 65535.0f, sc, sc2);
     for (const MomentLevel& level : map.levels) {
         PackedLevel out;
         out.width = level.width;
@@ -245,17 +261,26 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
                 const glm::vec3 n = level.normal[i];
                 const glm::vec2 b = level.mean[i];
                 const glm::vec3 m = level.second[i];
+                std::uint8_t* t1 = &out.lean1[i * std::size_t(bpt)];
+                std::uint8_t* t2 = &out.lean2[i * std::size_t(bpt)];
+                if (unorm) {  // SPEC §3 as one multiply-add per channel (detail::unorm_texel)
+                    std::uint16_t q1[4], q2[4];
+                    detail::unorm_texel(unorm_factors, n, b, m, q1, q2);
+                    for (int c = 0; c < 4; ++c) {
+                        store_unorm_channel(t1, c, q1[c], storage);
+                        store_unorm_channel(t2, c, q2[c], storage);
+                    }
+                    continue;
+                }
                 // SPEC §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
                 //          lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
                 const float l1[4] = {0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f,
                                      0.5f * m.z / sc2 + 0.5f};
                 const float l2[4] = {0.5f * b.x / sc + 0.5f, 0.5f * b.y / sc + 0.5f, m.x / sc2,
                                      m.y / sc2};
-                std::uint8_t* t1 = &out.lean1[i * std::size_t(bpt)];
-                std::uint8_t* t2 = &out.lean2[i * std::size_t(bpt)];
                 for (int c = 0; c < 4; ++c) {
-                    store_channel(t1, c, l1[c], storage);
-                    store_channel(t2, c, l2[c], storage);
+                    store_float_channel(t1, c, l1[c], storage);
+                    store_float_channel(t2, c, l2[c], storage);
                 }
             }
         });

@@ -2,6 +2,9 @@
 // Pieces shared by the reference bake (lean_map.cpp, slopes.cpp) and the fused fast path
 // (bake_packed.cpp), so that both follow one definition of the filter taps, of sc and of the
 // input checks (SPEC §2-3).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +26,51 @@ struct Tap {
     double weight;
 };
 std::vector<std::vector<Tap>> reduction_taps(int src, int dst);
+
+// One texel of a level made by the 2x2 box (both sizes halved, every weight 0.5): the mean of
+// a0, a1 (row 2y) and c0, c1 (row 2y + 1), in float (SPEC §3: "MIP chain built in float"), summed
+// in this order by the reference and by the fast path's kernels alike. The final + 0 turns the
+// one possible -0 (four -0 inputs, e.g. Mxy = 0 * -By) into +0, so a printed zero has no sign.
+inline float box4(float a0, float a1, float c0, float c1) {
+    return ((a0 + c0) + (a1 + c1)) * 0.25f + 0.0f;
+}
+
+// SPEC §3 packing for UNORM storage (Q = 255 or 65535), each channel one multiply (and add) of
+// the level's float values, then rounded to the nearest integer (ties to even) and clamped to
+// [0, Q]:
+//   lean1 = (n * Q/2 + Q/2 [rgb], Mxy * (Q/2)/sc^2 + Q/2 [a])   = Q (0.5 n + 0.5, 0.5 Mxy/sc^2 + 0.5)
+//   lean2 = (B * (Q/2)/sc + Q/2 [rg], Mxx * Q/sc^2, Myy * Q/sc^2) = Q (0.5 B/sc + 0.5, M/sc^2)
+// sc2 is the float product sc * sc; the factors are rounded to float once per map. Every value
+// is within [-Q, 2Q] (|n| <= 1, |B| <= sc, M <= sc^2 up to rounding, see lean_scale), far inside
+// the int32 range, so SIMD conversions need no clamp before their saturating packs.
+struct UnormPacking {
+    float half = 0.0f;      // Q / 2 (exact)
+    float b_factor = 0.0f;  // (Q / 2) / sc
+    float mxy_factor = 0.0f;  // (Q / 2) / sc^2
+    float m_factor = 0.0f;    // Q / sc^2
+    float max = 0.0f;         // Q
+};
+inline UnormPacking unorm_packing(float max_code, float sc, float sc2) {
+    const float half = 0.5f * max_code;
+    return {half, half / sc, half / sc2, max_code / sc2, max_code};
+}
+// Rounded and clamped code of one packed value (NaN -> 0).
+inline std::uint16_t unorm_code(float value, float max_code) {
+    if (!(value > 0.0f)) return 0;
+    return std::uint16_t(std::min(std::nearbyint(value), max_code));
+}
+// The eight codes of one texel: lean1 rgba into l1, lean2 rgba into l2.
+inline void unorm_texel(const UnormPacking& k, glm::vec3 n, glm::vec2 b, glm::vec3 m,
+                        std::uint16_t* l1, std::uint16_t* l2) {
+    l1[0] = unorm_code(n.x * k.half + k.half, k.max);
+    l1[1] = unorm_code(n.y * k.half + k.half, k.max);
+    l1[2] = unorm_code(n.z * k.half + k.half, k.max);
+    l1[3] = unorm_code(m.z * k.mxy_factor + k.half, k.max);
+    l2[0] = unorm_code(b.x * k.b_factor + k.half, k.max);
+    l2[1] = unorm_code(b.y * k.b_factor + k.half, k.max);
+    l2[2] = unorm_code(m.x * k.m_factor, k.max);
+    l2[3] = unorm_code(m.y * k.m_factor, k.max);
+}
 
 // sc (SPEC §3, LEAN §5) from the top level's max |Bx|, |By| and max Mxx, Myy: the smallest float
 // with |B| <= sc and M.xx, M.yy <= sc^2, with a floor that avoids a zero scale for a flat map.

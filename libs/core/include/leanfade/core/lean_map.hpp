@@ -100,8 +100,9 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
                                 const std::string& source_name = "");
 
 // Top level moments from slopes, then the full MIP chain (area-weighted linear filter, exact for
-// odd sizes: every level's mean equals the top level's mean), then sc. Throws when a slope is not
-// finite or steeper than kMaxSlope.
+// odd sizes: every level's mean equals the top level's mean up to float rounding; the 2x2 box of
+// even sizes sums in float, the 3-tap filters of odd sizes in double), then sc. Throws when a
+// slope is not finite or steeper than kMaxSlope.
 LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 
 // Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
@@ -118,7 +119,9 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
 // MIP chain sizes: floor halving down to 1x1, as OpenGL does.
 int mip_level_count(int width, int height);
 
-// Pack (SPEC §3) each level separately from the floats, quantising to the storage.
+// Pack (SPEC §3) each level separately from the floats, quantising to the storage: UNORM codes
+// are round-to-nearest (ties to even) of one multiply-add per channel, clamped to [0, 2^bits - 1]
+// (lean_map_internal.hpp, unorm_texel); float storages keep 0.5 B / sc + 0.5 etc. as written.
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator);
 // Inverse of pack_lean_map within the storage's quantisation.
 LeanMap unpack_lean_map(const PackedLeanMap& packed);
