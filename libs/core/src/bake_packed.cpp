@@ -202,19 +202,8 @@ inline void pack_texel(const float* m, const PackScale& s, const RowDest& d, int
         std::uint16_t q1[4], q2[4];
         detail::unorm_texel(s.unorm, {m[kNx], m[kNy], m[kNz]}, {m[kBx], m[kBy]},
                             {m[kMxx], m[kMyy], m[kMxy]}, q1, q2);
-        std::uint8_t* t1 = d.lean1 + std::size_t(x) * kTexelBytes<S>;
-        std::uint8_t* t2 = d.lean2 + std::size_t(x) * kTexelBytes<S>;
-        for (int c = 0; c < 4; ++c) {
-            if constexpr (S == Storage::Unorm8) {
-                t1[c] = std::uint8_t(q1[c]);
-                t2[c] = std::uint8_t(q2[c]);
-            } else {
-                t1[2 * c] = std::uint8_t(q1[c] & 0xFF);
-                t1[2 * c + 1] = std::uint8_t(q1[c] >> 8);
-                t2[2 * c] = std::uint8_t(q2[c] & 0xFF);
-                t2[2 * c + 1] = std::uint8_t(q2[c] >> 8);
-            }
-        }
+        detail::store_unorm_texel(d.lean1 + std::size_t(x) * kTexelBytes<S>, q1, S);
+        detail::store_unorm_texel(d.lean2 + std::size_t(x) * kTexelBytes<S>, q2, S);
     } else {
         float l1[4], l2[4];
         lean_texel(m, s, l1, l2);
@@ -1113,8 +1102,7 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     const float sc = detail::lean_scale(totals.max_b, totals.max_m);
     plan.scale.sc = sc;
     plan.scale.sc2 = sc * sc;
-    plan.scale.unorm = detail::unorm_packing(storage == Storage::Unorm8 ? 255.0f : 65535.0f,
-                                             plan.scale.sc, plan.scale.sc2);
+    plan.scale.unorm = detail::unorm_packing(storage, plan.scale.sc, plan.scale.sc2);
 
     const int texel_bytes = bytes_per_texel(storage);
     plan.texel_bytes = texel_bytes;

@@ -190,16 +190,6 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
 
 namespace {
 
-// One little-endian UNORM code.
-void store_unorm_channel(std::uint8_t* texel, int channel, std::uint16_t code, Storage storage) {
-    if (storage == Storage::Unorm8) {
-        texel[channel] = std::uint8_t(code);
-    } else {
-        texel[2 * channel] = std::uint8_t(code & 0xFF);
-        texel[2 * channel + 1] = std::uint8_t(code >> 8);
-    }
-}
-
 // One channel of a float-storage texel (UNORM storages are packed by detail::unorm_texel).
 void store_float_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
     switch (storage) {
@@ -246,8 +236,7 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
     const int bpt = bytes_per_texel(storage);
     const float sc = map.scale, sc2 = map.scale * map.scale;
     const bool unorm = storage == Storage::Unorm8 || storage == Storage::Unorm16;
-    const detail::UnormPacking unorm_factors =
-        detail::unorm_packing(storage == Storage::Unorm8 ? 255.0f : 65535.0f, sc, sc2);
+    const detail::UnormPacking unorm_factors = detail::unorm_packing(storage, sc, sc2);
     for (const MomentLevel& level : map.levels) {
         PackedLevel out;
         out.width = level.width;
@@ -266,10 +255,8 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
                 if (unorm) {  // SPEC §3 as one multiply-add per channel (detail::unorm_texel)
                     std::uint16_t q1[4], q2[4];
                     detail::unorm_texel(unorm_factors, n, b, m, q1, q2);
-                    for (int c = 0; c < 4; ++c) {
-                        store_unorm_channel(t1, c, q1[c], storage);
-                        store_unorm_channel(t2, c, q2[c], storage);
-                    }
+                    detail::store_unorm_texel(t1, q1, storage);
+                    detail::store_unorm_texel(t2, q2, storage);
                     continue;
                 }
                 // SPEC §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

@@ -50,7 +50,9 @@ struct UnormPacking {
     float m_factor = 0.0f;    // Q / sc^2
     float max = 0.0f;         // Q
 };
-inline UnormPacking unorm_packing(float max_code, float sc, float sc2) {
+// For Storage::Unorm8 or Unorm16 (Q = 255 or 65535).
+inline UnormPacking unorm_packing(Storage storage, float sc, float sc2) {
+    const float max_code = storage == Storage::Unorm8 ? 255.0f : 65535.0f;
     const float half = 0.5f * max_code;
     return {half, half / sc, half / sc2, max_code / sc2, max_code};
 }
@@ -70,6 +72,18 @@ inline void unorm_texel(const UnormPacking& k, glm::vec3 n, glm::vec2 b, glm::ve
     l2[1] = unorm_code(b.y * k.b_factor + k.half, k.max);
     l2[2] = unorm_code(m.x * k.m_factor, k.max);
     l2[3] = unorm_code(m.y * k.m_factor, k.max);
+}
+
+// One texel's four codes, little-endian, at `texel` (4 bytes for Unorm8, 8 for Unorm16).
+inline void store_unorm_texel(std::uint8_t* texel, const std::uint16_t* codes, Storage storage) {
+    for (int c = 0; c < 4; ++c) {
+        if (storage == Storage::Unorm8) {
+            texel[c] = std::uint8_t(codes[c]);
+        } else {
+            texel[2 * c] = std::uint8_t(codes[c] & 0xFF);
+            texel[2 * c + 1] = std::uint8_t(codes[c] >> 8);
+        }
+    }
 }
 
 // sc (SPEC §3, LEAN §5) from the top level's max |Bx|, |By| and max Mxx, Myy: the smallest float
