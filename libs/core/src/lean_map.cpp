@@ -76,23 +76,24 @@ MomentLevel from_moments(int width, int height, const std::vector<Moments>& in) 
 
 std::vector<Moments> reduce(const std::vector<Moments>& src, int sw, int sh, int dw, int dh,
                             int threads) {
-    const auto xtaps = reduction_taps(sw, dw);
-    const auto ytaps = reduction_taps(sh, dh);
     std::vector<Moments> dst(std::size_t(dw) * std::size_t(dh));
     if (sw == 2 * dw && sh == 2 * dh) {  // the 2x2 box, in float (box4)
         parallel_for_rows(dh, threads, [&](int first, int end) {
             for (int y = first; y < end; ++y) {
                 const Moments* a = &src[std::size_t(2 * y) * std::size_t(sw)];
                 const Moments* c = a + sw;
+                Moments* out = &dst[std::size_t(y) * std::size_t(dw)];
                 for (int x = 0; x < dw; ++x)
                     for (int m = 0; m < 8; ++m)
-                        dst[std::size_t(y) * std::size_t(dw) + std::size_t(x)][m] =
-                            detail::box4(a[2 * x][m], a[2 * x + 1][m], c[2 * x][m], c[2 * x + 1][m]);
+                        out[x][m] = detail::box4(a[2 * x][m], a[2 * x + 1][m], c[2 * x][m],
+                                                 c[2 * x + 1][m]);
             }
         });
         return dst;
     }
     // Other sizes (odd ones have 3 taps): separable, in double.
+    const auto xtaps = reduction_taps(sw, dw);
+    const auto ytaps = reduction_taps(sh, dh);
     parallel_for_rows(dh, threads, [&](int first, int end) {
         std::vector<std::array<double, 8>> row(static_cast<std::size_t>(sw));
         for (int y = first; y < end; ++y) {

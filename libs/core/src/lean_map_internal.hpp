@@ -38,14 +38,16 @@ inline float box4(float a0, float a1, float c0, float c1) {
 // SPEC §3 packing for UNORM storage (Q = 255 or 65535), each channel one multiply (and add) of
 // the level's float values, then rounded to the nearest integer (ties to even) and clamped to
 // [0, Q]:
-//   lean1 = (n * Q/2 + Q/2 [rgb], Mxy * (Q/2)/sc^2 + Q/2 [a])   = Q (0.5 n + 0.5, 0.5 Mxy/sc^2 + 0.5)
-//   lean2 = (B * (Q/2)/sc + Q/2 [rg], Mxx * Q/sc^2, Myy * Q/sc^2) = Q (0.5 B/sc + 0.5, M/sc^2)
+//   lean1 = (n * Q/2 + Q/2 [rgb], Mxy * (Q/2)/sc^2 + Q/2 [a])
+//         = Q (0.5 n + 0.5, 0.5 Mxy/sc^2 + 0.5)
+//   lean2 = (B * (Q/2)/sc + Q/2 [rg], Mxx * Q/sc^2, Myy * Q/sc^2)
+//         = Q (0.5 B/sc + 0.5, M/sc^2)
 // sc2 is the float product sc * sc; the factors are rounded to float once per map. Every value
 // is within [-Q, 2Q] (|n| <= 1, |B| <= sc, M <= sc^2 up to rounding, see lean_scale), far inside
 // the int32 range, so SIMD conversions need no clamp before their saturating packs.
 struct UnormPacking {
-    float half = 0.0f;      // Q / 2 (exact)
-    float b_factor = 0.0f;  // (Q / 2) / sc
+    float half = 0.0f;        // Q / 2 (exact)
+    float b_factor = 0.0f;    // (Q / 2) / sc
     float mxy_factor = 0.0f;  // (Q / 2) / sc^2
     float m_factor = 0.0f;    // Q / sc^2
     float max = 0.0f;         // Q
