@@ -148,7 +148,8 @@ TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
         }
     }
 
-    // Ties go to even (B = 0 and Mxy = 0 are exactly Q/2), out-of-range values clamp, NaN is 0.
+    // B = 0 and Mxy = 0 land exactly on Q/2 = k + 0.5 with k odd (where both tie rules round
+    // up); out-of-range values clamp, NaN is 0.
     LeanMap map;
     map.scale = 2.0f;
     MomentLevel level;
@@ -180,4 +181,23 @@ TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
     EXPECT_EQ(code16(0, 2, 0), 0);      // NaN
     EXPECT_EQ(code16(1, 2, 1), 0);
     EXPECT_EQ(code8(1, 2, 2), 0);
+
+    // Ties with an even k go down, which tells ties-to-even from half-away-from-zero: with
+    // sc = Q/2 the B factor is exactly 1, so B = 1 gives Q/2 + 1 = k + 0.5, k = (Q + 1)/2 even.
+    for (const Storage storage : {Storage::Unorm8, Storage::Unorm16}) {
+        const float q = storage == Storage::Unorm8 ? 255.0f : 65535.0f;
+        LeanMap ties;
+        ties.scale = 0.5f * q;
+        MomentLevel one;
+        one.width = 1;
+        one.height = 1;
+        one.normal = {{0.0f, 0.0f, 1.0f}};
+        one.mean = {{1.0f, -1.0f}};
+        one.second = {{0.0f, 0.0f, 0.0f}};
+        ties.levels.push_back(one);
+        const glm::vec4 lean2 =
+            fetch_packed_texel(pack_lean_map(ties, storage, "test"), 0, 1, 0, 0);
+        EXPECT_EQ(std::lround(lean2.x * q), std::lround(0.5f * (q + 1.0f))) << to_string(storage);
+        EXPECT_EQ(std::lround(lean2.y * q), std::lround(0.5f * (q - 3.0f))) << to_string(storage);
+    }
 }
