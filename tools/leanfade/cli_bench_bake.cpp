@@ -15,6 +15,9 @@
 namespace leanfade::cli {
 namespace {
 
+// Worker threads of a bake: the bound of `leanfade bake --threads`.
+constexpr int kMaxBakeThreads = 256;
+
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
@@ -133,6 +136,11 @@ BakeBenchResult run_bake_bench(const std::vector<std::string>& inputs,
                                             std::to_string(kDefaultMaxImageDimension) + "], got " +
                                             std::to_string(size));
     if (runs < 0 || runs > 1000) throw Error("--bake-runs", "must be in [0, 1000]");
+    // The bound of `leanfade bake --threads`: more threads than that only measure thread starts.
+    if (threads < 0 || threads > kMaxBakeThreads)
+        throw Error("--threads", "must be in [0, " + std::to_string(kMaxBakeThreads) +
+                                     "] (0 = all hardware threads), got " +
+                                     std::to_string(threads));
     const std::function<void(const std::string&)> say = [&](const std::string& text) {
         if (progress) progress(text);
     };

@@ -4,15 +4,53 @@
 #include <atomic>
 #include <cstdint>
 #include <exception>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "leanfade/core/error.hpp"
+
 namespace leanfade {
+namespace {
+
+// Starts run(w) on a thread for w = 1, 2, ... count - 1, as many as the system allows: when a
+// thread cannot be started (a process or memory limit), the ones started are kept and the
+// number started is returned; the caller does the rest of the work itself. Never throws.
+template <class Run>
+int start_workers(std::vector<std::thread>& pool, int count, const Run& run) {
+    try {
+        pool.reserve(std::size_t(count - 1));
+    } catch (...) {
+        return 1;
+    }
+    for (int w = 1; w < count; ++w) {
+        try {
+            pool.emplace_back(run, w);
+        } catch (...) {  // std::system_error (EAGAIN) or std::bad_alloc
+            return w;
+        }
+    }
+    return count;
+}
+
+void join_all(std::vector<std::thread>& pool) {
+    for (auto& t : pool) t.join();
+}
+
+void rethrow_first(const std::vector<std::exception_ptr>& errors) {
+    for (const auto& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+}  // namespace
 
 int resolve_thread_count(int requested) {
+    if (requested > kMaxThreads)
+        throw Error("threads", "at most " + std::to_string(kMaxThreads) +
+                                   " worker threads, got " + std::to_string(requested));
     if (requested > 0) return requested;
     const unsigned hw = std::thread::hardware_concurrency();
-    return hw == 0 ? 1 : int(hw);
+    return hw == 0 ? 1 : int(std::min(hw, unsigned(kMaxThreads)));
 }
 
 void parallel_for_rows(int row_count, int threads, const std::function<void(int, int)>& body) {
@@ -23,9 +61,7 @@ void parallel_for_rows(int row_count, int threads, const std::function<void(int,
         body(0, row_count);
         return;
     }
-    std::vector<std::thread> pool;
     std::vector<std::exception_ptr> errors(static_cast<std::size_t>(workers));
-    pool.reserve(std::size_t(workers - 1));
     auto run = [&](int w) {
         const int first = int(std::int64_t(row_count) * w / workers);
         const int end = int(std::int64_t(row_count) * (w + 1) / workers);
@@ -35,11 +71,14 @@ void parallel_for_rows(int row_count, int threads, const std::function<void(int,
             errors[std::size_t(w)] = std::current_exception();
         }
     };
-    for (int w = 1; w < workers; ++w) pool.emplace_back(run, w);
+    std::vector<std::thread> pool;
+    const int started = start_workers(pool, workers, run);
+    // The ranges of the workers that could not be started, then the first: the same split, so
+    // the same result, on fewer threads.
+    for (int w = started; w < workers; ++w) run(w);
     run(0);
-    for (auto& t : pool) t.join();
-    for (auto& e : errors)
-        if (e) std::rethrow_exception(e);
+    join_all(pool);
+    rethrow_first(errors);
 }
 
 void parallel_for_dynamic(int row_count, int threads, int grain,
@@ -69,12 +108,10 @@ void parallel_for_dynamic(int row_count, int threads, int grain,
         }
     };
     std::vector<std::thread> pool;
-    pool.reserve(std::size_t(workers - 1));
-    for (int w = 1; w < workers; ++w) pool.emplace_back(run, w);
+    start_workers(pool, workers, run);  // the chunks are shared: fewer threads take them all
     run(0);
-    for (auto& t : pool) t.join();
-    for (auto& e : errors)
-        if (e) std::rethrow_exception(e);
+    join_all(pool);
+    rethrow_first(errors);
 }
 
 }  // namespace leanfade

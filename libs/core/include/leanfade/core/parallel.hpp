@@ -1,11 +1,20 @@
 #pragma once
 // Row-parallel loops. Work is split into contiguous row ranges; as long as the body writes only
 // its own rows, results are identical for any thread count.
+//
+// Failures: an exception thrown by the body in any thread is carried to the caller (the first
+// worker's, by worker index) once every thread has finished. A thread that cannot be started (a
+// process or address-space limit) is not an error: the loop runs on the threads it could start,
+// the calling thread taking the work of the others, with the same result.
 #include <functional>
 
 namespace leanfade {
 
-// requested <= 0 means "all hardware threads"; the result is at least 1.
+// The most worker threads a loop takes (a request beyond it is refused, not clamped).
+inline constexpr int kMaxThreads = 1024;
+
+// requested <= 0 means "all hardware threads" (at most kMaxThreads); the result is at least 1.
+// Throws leanfade::Error("threads", cause) for requested > kMaxThreads.
 int resolve_thread_count(int requested);
 
 // Calls body(first_row, end_row) over [0, row_count) split across `threads` threads (blocking).
