@@ -1,4 +1,4 @@
-// leanfade shading math, SPEC §4 — written once, compiled both as GLSL 4.50 (included by the
+// leanfade shading math, docs/math.md §4 — written once, compiled both as GLSL 4.50 (included by the
 // shaders) and as C++ with glm (libs/core/include/leanfade/core/shading.hpp, for the CPU reference
 // and the tests). Keep to the common subset: float literals with an f suffix, no in/out
 // parameters, structs built field by field, LF_FN before every function.
@@ -22,20 +22,44 @@ const int LF_FOG_LINEAR = 1;
 const int LF_FOG_EXP = 2;
 const int LF_FOG_EXP2 = 3;
 
-// Shading parameters (SPEC §4). Colours are linear RGB.
+// Shading techniques: the lobe stage of lf_shade. The C++ technique table
+// (libs/core/include/leanfade/core/technique.hpp) names each one and checks these values; the
+// supersampled reference shades with LF_TECHNIQUE_BUMP at the finest MIP level.
+const int LF_TECHNIQUE_BUMP = 0;     // Blinn-Phong around the renormalised filtered normal
+const int LF_TECHNIQUE_LEAN = 1;     // LEAN's Gaussian over slopes (LEAN eq. 1)
+const int LF_TECHNIQUE_FADE = 2;     // LEAN with specular fading (fading paper eq. 6-7)
+const int LF_TECHNIQUE_TOKSVIG = 3;  // Blinn-Phong with Toksvig's exponent
+const int LF_TECHNIQUE_CLEAN = 4;    // LEAN's lobe with CLEAN's isotropic covariance
+
+// Shading parameters (docs/math.md §4). Colours are linear RGB. Each vec3 is followed by a scalar
+// so that the std140 layout of the renderer's uniform block (LfShadingUniforms below) equals the
+// C++ layout of the same struct with glm (checked in libs/gl/include/leanfade/gl/shading_block.hpp).
 struct LfParams {
     vec3 light_color;     // radiance scale of the light
-    vec3 ambient;         // Ka
-    vec3 kd;              // diffuse albedo Kd
-    vec3 ks;              // specular colour Ks
     float shininess;      // Blinn-Phong exponent s (> 0)
+    vec3 ambient;         // Ka
     float inv_s_shading;  // 1/s added to the covariance at shading time; 0 when baked (eq. 6)
+    vec3 kd;              // diffuse albedo Kd
     float fresnel_bias;   // Fb
+    vec3 ks;              // specular colour Ks
     float fresnel_scale;  // Fs
     float fade;           // Fade >= 0 (fading paper eq. 6)
     float pmax;           // Pmax >= 1
     float fade_exponent;  // p
     int fade_distance;    // LF_FADE_DISTANCE_*
+};
+
+// Everything the fragment stage of the renderer reads per draw, as one std140 uniform block
+// (binding LF_BINDING_SHADING_BLOCK, shaders/bindings.glsl).
+struct LfShadingUniforms {
+    LfParams params;
+    float scale;        // sc of the LEAN map (docs/math.md §3)
+    int output_mode;    // OUTPUT_* of scene.frag
+    int fog_mode;       // LF_FOG_*
+    float fog_start;    // world units
+    vec3 fog_color;     // linear RGB
+    float fog_end;      // world units
+    float fog_density;  // per world unit
 };
 
 // Moments unpacked from the two LEAN textures (SPEC §3-4).
@@ -149,23 +173,43 @@ LF_FN LfShade lf_combine(vec3 n, vec3 light_dir, vec3 view_dir, float lobe, floa
     return lf_combine_attenuated(n, light_dir, view_dir, attenuation * lobe, p);
 }
 
-// Baseline Blinn-Phong bump mapping. encoded_normal: the filtered normal map texel (0.5 n + 0.5).
-// light_dir: unit tangent-space direction to the light; view_unnormalised: Vt.
-LF_FN LfShade lf_shade_blinn_phong(vec3 encoded_normal, vec3 light_dir, vec3 view_unnormalised,
-                                   LfParams p) {
-    vec3 nb = normalize(2.0f * encoded_normal - vec3(1.0f));
-    vec3 v = normalize(view_unnormalised);
-    vec3 h = normalize(light_dir + v);
-    return lf_combine(nb, light_dir, v, lf_blinn_phong_lobe(nb, h, p.shininess), 1.0f, p);
+// Peer techniques, baked from the same two LEAN layers. Both keep LEAN's diffuse term (the
+// filtered, unnormalised normal for NdotL and Fresnel) so that they differ from LEAN only in the
+// specular lobe.
+
+// Toksvig factor (Toksvig 2005, "Mipmapping normal maps", JGT 10(3)): a filtered normal of length
+// |Na| < 1 is read as a Gaussian spread of normals with variance sigma^2 = (1 - |Na|) / |Na|, and
+// the Blinn-Phong exponent s becomes ft s with ft = 1 / (1 + s sigma^2) = |Na| / (|Na| + s (1 -
+// |Na|)). The length is clamped to (0, 1]: quantisation can make a level-0 normal slightly long.
+LF_FN float lf_toksvig_factor(float normal_length, float s) {
+    float a = clamp(normal_length, 1e-6f, 1.0f);
+    return a / (a + s * (1.0f - a));
 }
 
-// LEAN (fade_enabled = false) and LEAN with specular fading (true). lean1/lean2: filtered texels.
-LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
-                            vec3 view_unnormalised, LfParams p, bool fade_enabled) {
-    LfMoments m = lf_unpack(lean1, lean2, sc);
+// Toksvig's lobe around the renormalised filtered normal Na / |Na| with the effective exponent
+// s' = ft s and Toksvig's energy factor (1 + ft s) / (1 + s) (same paper), on the baseline's
+// normalisation s / (2 pi) (SPEC §4), so that ft = 1 is exactly lf_blinn_phong_lobe.
+LF_FN float lf_toksvig_lobe(vec3 filtered_normal, vec3 half_vector, float s) {
+    float len = length(filtered_normal);
+    if (len <= 0.0f) return 0.0f;
+    float ft = lf_toksvig_factor(len, s);
+    float c = max(0.0f, dot(filtered_normal / len, half_vector));
+    return s / (2.0f * LF_PI) * ((1.0f + ft * s) / (1.0f + s)) * pow(c, ft * s);
+}
+
+// CLEAN covariance (Baker 2011, "CLEAN mapping", the isotropic reduction of LEAN eq. 5): only the
+// mean B and the scalar second moment m = E[Bx^2 + By^2] = Mxx + Myy are kept, and the covariance
+// is isotropic with LEAN's trace: Sigma = ((m - |B|^2) / 2 + 1/s) I, as (Sxx, Syy, Sxy).
+LF_FN vec3 lf_clean_covariance(vec2 mean, float second_isotropic, float inv_s) {
+    float variance = 0.5f * (second_isotropic - dot(mean, mean)) + inv_s;
+    return vec3(variance, variance, 0.0f);
+}
+
+// LEAN's lobe stage with specular fading: A = NdotL^sf D (fading paper eq. 7 times LEAN eq. 1),
+// then the shared tail. fade_enabled = false is plain LEAN.
+LF_FN LfShade lf_shade_lean_lobe(LfMoments m, vec3 light_dir, vec3 view_unnormalised, vec3 v,
+                                 vec3 h, LfParams p, bool fade_enabled) {
     vec3 sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
-    vec3 v = normalize(view_unnormalised);
-    vec3 h = normalize(light_dir + v);
     vec2 lobe = lf_lean_lobe_terms(h, m.mean, sigma);
     if (fade_enabled) {
         float sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
@@ -192,54 +236,35 @@ LF_FN LfShade lf_shade_lean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
     return lf_combine(m.normal, light_dir, v, lf_lean_lobe_value(lobe), 1.0f, p);
 }
 
-// Peer techniques, baked from the same two LEAN layers. Both keep LEAN's diffuse term (the
-// filtered, unnormalised normal for NdotL and Fresnel) so that they differ from LEAN only in the
-// specular lobe.
-
-// Toksvig factor (Toksvig 2005, "Mipmapping normal maps", JGT 10(3)): a filtered normal of length
-// |Na| < 1 is read as a Gaussian spread of normals with variance sigma^2 = (1 - |Na|) / |Na|, and
-// the Blinn-Phong exponent s becomes ft s with ft = 1 / (1 + s sigma^2) = |Na| / (|Na| + s (1 -
-// |Na|)). The length is clamped to (0, 1]: quantisation can make a level-0 normal slightly long.
-LF_FN float lf_toksvig_factor(float normal_length, float s) {
-    float a = clamp(normal_length, 1e-6f, 1.0f);
-    return a / (a + s * (1.0f - a));
-}
-
-// Toksvig's lobe around the renormalised filtered normal Na / |Na| with the effective exponent
-// s' = ft s and Toksvig's energy factor (1 + ft s) / (1 + s) (same paper), on the baseline's
-// normalisation s / (2 pi) (SPEC §4), so that ft = 1 is exactly lf_blinn_phong_lobe.
-LF_FN float lf_toksvig_lobe(vec3 filtered_normal, vec3 half_vector, float s) {
-    float len = length(filtered_normal);
-    if (len <= 0.0f) return 0.0f;
-    float ft = lf_toksvig_factor(len, s);
-    float c = max(0.0f, dot(filtered_normal / len, half_vector));
-    return s / (2.0f * LF_PI) * ((1.0f + ft * s) / (1.0f + s)) * pow(c, ft * s);
-}
-
-// Toksvig mapping: lean1.rgb is the averaged, not renormalised normal map (SPEC §3).
-LF_FN LfShade lf_shade_toksvig(vec4 lean1, vec3 light_dir, vec3 view_unnormalised, LfParams p) {
-    vec3 n = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
+// The shading pipeline of every technique, one entry for the shaders and the CPU reference:
+//   1. fetch each map's texels (the caller: filtered texture reads on the GPU, texel fetches on
+//      the CPU) and unpack them to moments (lf_unpack: filtered normal, B, M);
+//   2. combine the moments of the material's sources (today one LEAN map, so the caller passes
+//      its moments on unchanged);
+//   3. the technique's lobe D at the half vector (Blinn-Phong, Toksvig, LEAN's Gaussian, CLEAN);
+//   4. the shared tail: NdotL^sf, Fresnel and the light (lf_combine).
+// technique: LF_TECHNIQUE_*. light_dir: unit tangent-space direction to the light;
+// view_unnormalised: Vt, from the shaded point to the eye in world units. Linear radiance.
+LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unnormalised,
+                       LfParams p) {
     vec3 v = normalize(view_unnormalised);
     vec3 h = normalize(light_dir + v);
-    return lf_combine(n, light_dir, v, lf_toksvig_lobe(n, h, p.shininess), 1.0f, p);
-}
-
-// CLEAN covariance (Baker 2011, "CLEAN mapping", the isotropic reduction of LEAN eq. 5): only the
-// mean B and the scalar second moment m = E[Bx^2 + By^2] = Mxx + Myy are kept, and the covariance
-// is isotropic with LEAN's trace: Sigma = ((m - |B|^2) / 2 + 1/s) I, as (Sxx, Syy, Sxy).
-LF_FN vec3 lf_clean_covariance(vec2 mean, float second_isotropic, float inv_s) {
-    float variance = 0.5f * (second_isotropic - dot(mean, mean)) + inv_s;
-    return vec3(variance, variance, 0.0f);
-}
-
-// CLEAN mapping: LEAN's lobe (eq. 1, errata normalisation) with the isotropic covariance.
-LF_FN LfShade lf_shade_clean(vec4 lean1, vec4 lean2, float sc, vec3 light_dir,
-                             vec3 view_unnormalised, LfParams p) {
-    LfMoments m = lf_unpack(lean1, lean2, sc);
-    vec3 sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
-    vec3 v = normalize(view_unnormalised);
-    vec3 h = normalize(light_dir + v);
-    return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), 1.0f, p);
+    if (technique == LF_TECHNIQUE_BUMP) {
+        // Baseline Blinn-Phong bump mapping: the filtered normal renormalised is the bump normal
+        // for the lobe and for the tail.
+        vec3 nb = normalize(m.normal);
+        return lf_combine(nb, light_dir, v, lf_blinn_phong_lobe(nb, h, p.shininess), 1.0f, p);
+    }
+    if (technique == LF_TECHNIQUE_TOKSVIG) {
+        return lf_combine(m.normal, light_dir, v, lf_toksvig_lobe(m.normal, h, p.shininess), 1.0f,
+                          p);
+    }
+    if (technique == LF_TECHNIQUE_CLEAN) {
+        vec3 sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
+        return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), 1.0f, p);
+    }
+    return lf_shade_lean_lobe(m, light_dir, view_unnormalised, v, h, p,
+                              technique == LF_TECHNIQUE_FADE);
 }
 
 // Inputs of specular fading at a LEAN texel, for calibration: (NdotL, d) with NdotL as

@@ -1,23 +1,17 @@
 #version 450 core
-// Fragment stage of every technique; exactly one of these is defined by the renderer:
-//   TECHNIQUE_BUMP       Blinn-Phong bump mapping with the trilinear-filtered normal map (baseline)
-//   TECHNIQUE_LEAN       LEAN mapping (Olano & Baker 2010)
-//   TECHNIQUE_FADE       LEAN mapping with specular fading (fading paper eq. 6-7)
-//   TECHNIQUE_TOKSVIG    Toksvig mapping: exponent from the filtered normal's length (Toksvig 2005)
-//   TECHNIQUE_CLEAN      CLEAN mapping: LEAN with one isotropic second moment (Baker 2011)
-//   TECHNIQUE_REFERENCE  the baseline at LOD 0, one sample of the supersampled ground truth
-//                        (SPEC §7; the renderer draws it at k x k the resolution and box-filters)
+// Fragment stage of every technique. The renderer defines (from the technique table,
+// libs/core/include/leanfade/core/technique.hpp):
+//   LF_TECHNIQUE          the lobe stage of lf_shade, one of LF_TECHNIQUE_* (lean_shading.glsl)
+//   LF_READS_MOMENTS      when the technique reads the lean2 layer (B and M), not only lean1
+//   LF_FINEST_LEVEL_ONLY  for the supersampled reference: shade at LOD 0; the renderer draws it
+//                         at k x k the resolution and box-filters (docs/math.md §7)
 // LF_PLAIN_COLOR (optional) fixes the output to OUTPUT_COLOR without fog at compile time.
-// All shading math comes from the shared header (SPEC §4). Output: linear radiance.
+// All shading math comes from the shared header (docs/math.md §4). Output: linear radiance.
 #include "lean_shading.glsl"
+#include "bindings.glsl"
 
-#if defined(TECHNIQUE_BUMP) || defined(TECHNIQUE_REFERENCE)
-#define LF_USES_LEAN 0
-#elif defined(TECHNIQUE_LEAN) || defined(TECHNIQUE_FADE) || defined(TECHNIQUE_TOKSVIG) || \
-    defined(TECHNIQUE_CLEAN)
-#define LF_USES_LEAN 1
-#else
-#error "define one of TECHNIQUE_BUMP, _LEAN, _FADE, _TOKSVIG, _CLEAN or _REFERENCE"
+#if !defined(LF_TECHNIQUE)
+#error "the renderer defines LF_TECHNIQUE (one of LF_TECHNIQUE_*)"
 #endif
 
 const int OUTPUT_COLOR = 0;       // (Ka + Kd NdotL + specular) light, then fog
@@ -32,46 +26,35 @@ in VertexData {
     float eye_depth;
 } v_in;
 
-// Layer 0: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5); layer 1: lean2 = (0.5 B / sc + 0.5,
-// Mxx / sc^2, Myy / sc^2) (SPEC §3). The baseline's normal map is lean1.rgb.
-layout(binding = 0) uniform sampler2DArray u_lean;
-uniform float u_scale;  // sc
-uniform LfParams u_params;
-uniform int u_output;  // OUTPUT_*
-uniform int u_fog_mode;  // LF_FOG_*
-uniform vec3 u_fog_color;
-uniform float u_fog_start;
-uniform float u_fog_end;
-uniform float u_fog_density;
+// Slice 0: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5); slice 1: lean2 = (0.5 B / sc + 0.5,
+// Mxx / sc^2, Myy / sc^2) (docs/math.md §3). The baseline's normal map is lean1.rgb.
+layout(binding = LF_BINDING_LEAN_MAP) uniform sampler2DArray u_lean;
+
+layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
+    LfShadingUniforms u_shading;
+};
 
 layout(location = 0) out vec4 o_color;
 
-vec4 lean_texel(float layer) {
-#if defined(TECHNIQUE_REFERENCE)
-    return textureLod(u_lean, vec3(v_in.uv, layer), 0.0);  // finest level only (SPEC §7)
+vec4 lean_texel(float slice) {
+#if defined(LF_FINEST_LEVEL_ONLY)
+    return textureLod(u_lean, vec3(v_in.uv, slice), 0.0);  // finest level only (docs/math.md §7)
 #else
-    return texture(u_lean, vec3(v_in.uv, layer));  // trilinear / anisotropic
+    return texture(u_lean, vec3(v_in.uv, slice));  // trilinear / anisotropic
 #endif
 }
 
 void main() {
     vec3 light_dir = normalize(v_in.light_t);
-#if defined(TECHNIQUE_TOKSVIG)
-    LfShade shade = lf_shade_toksvig(lean_texel(0.0), light_dir, v_in.view_t, u_params);
-#elif defined(TECHNIQUE_CLEAN)
-    LfShade shade = lf_shade_clean(lean_texel(0.0), lean_texel(1.0), u_scale, light_dir,
-                                   v_in.view_t, u_params);
-#elif LF_USES_LEAN
-#if defined(TECHNIQUE_FADE)
-    const bool fade_enabled = true;
+    vec4 lean1 = lean_texel(LF_SLICE_LEAN1);
+#if defined(LF_READS_MOMENTS)
+    vec4 lean2 = lean_texel(LF_SLICE_LEAN2);
 #else
-    const bool fade_enabled = false;
+    vec4 lean2 = vec4(0.5, 0.5, 0.0, 0.0);  // B = 0, M = 0: unused by the technique's lobe
 #endif
-    LfShade shade = lf_shade_lean(lean_texel(0.0), lean_texel(1.0), u_scale, light_dir,
-                                  v_in.view_t, u_params, fade_enabled);
-#else
-    LfShade shade = lf_shade_blinn_phong(lean_texel(0.0).rgb, light_dir, v_in.view_t, u_params);
-#endif
+    LfParams params = u_shading.params;
+    LfShade shade = lf_shade(LF_TECHNIQUE, lf_unpack(lean1, lean2, u_shading.scale), light_dir,
+                             v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)
     // The renderer's ordinary frames (OUTPUT_COLOR, no fog): the colour of the general path below,
     // bit for bit, without its uniform branches, which a SIMD rasteriser such as llvmpipe executes
@@ -79,16 +62,16 @@ void main() {
     vec3 color = shade.diffuse + shade.specular;
 #else
     vec3 color;
-    if (u_output == OUTPUT_DIFFUSE) {
+    if (u_shading.output_mode == OUTPUT_DIFFUSE) {
         color = shade.diffuse;
-    } else if (u_output == OUTPUT_SPECULAR) {
+    } else if (u_shading.output_mode == OUTPUT_SPECULAR) {
         color = shade.specular;
-    } else if (u_output == OUTPUT_FADE_TERMS) {
-        color = vec3(lf_fade_terms(lean_texel(0.0), light_dir, v_in.view_t,
-                                   u_params.fade_distance), 0.0);
+    } else if (u_shading.output_mode == OUTPUT_FADE_TERMS) {
+        color = vec3(lf_fade_terms(lean1, light_dir, v_in.view_t, params.fade_distance), 0.0);
     } else {
-        float f = lf_fog_factor(v_in.eye_depth, u_fog_mode, u_fog_start, u_fog_end, u_fog_density);
-        color = lf_apply_fog(shade.diffuse + shade.specular, u_fog_color, f);
+        float f = lf_fog_factor(v_in.eye_depth, u_shading.fog_mode, u_shading.fog_start,
+                                u_shading.fog_end, u_shading.fog_density);
+        color = lf_apply_fog(shade.diffuse + shade.specular, u_shading.fog_color, f);
     }
 #endif
     o_color = vec4(color, 1.0);

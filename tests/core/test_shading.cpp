@@ -72,8 +72,8 @@ TEST(Shading, FadeZeroIsExactlyLean) {
     const vec3 l = normalize(vec3(0.3f, 0.4f, 0.8f));
     for (float d : {0.5f, 3.0f, 50.0f, 400.0f}) {
         const vec3 v = d * normalize(vec3(-0.2f, 0.1f, 0.9f));
-        const LfShade lean = lf_shade_lean(lean1, lean2, 0.7f, l, v, p, false);
-        const LfShade fade = lf_shade_lean(lean1, lean2, 0.7f, l, v, p, true);
+        const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.7f), l, v, p);
+        const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.7f), l, v, p);
         EXPECT_EQ(lean.specular, fade.specular);
         EXPECT_EQ(lean.diffuse, fade.diffuse);
     }
@@ -87,8 +87,8 @@ TEST(Shading, FadingOnlyLowersSpecularAndKeepsDiffuse) {
     float previous = 1e30f;
     for (float d : {1.0f, 10.0f, 30.0f, 100.0f}) {
         const vec3 v = d * normalize(vec3(-0.1f, 0.0f, 1.0f));
-        const LfShade lean = lf_shade_lean(lean1, lean2, 0.5f, l, v, p, false);
-        const LfShade fade = lf_shade_lean(lean1, lean2, 0.5f, l, v, p, true);
+        const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.5f), l, v, p);
+        const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f), l, v, p);
         EXPECT_EQ(lean.diffuse, fade.diffuse);
         EXPECT_LE(fade.specular.x, lean.specular.x);
         const float ratio = fade.specular.x / lean.specular.x;

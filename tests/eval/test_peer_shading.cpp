@@ -77,8 +77,10 @@ TEST(Clean, IsotropicMomentsGiveLean) {
                      m.y / (sc * sc));
     const vec3 light = normalize(vec3(-0.3f, 0.4f, 1.0f));
     const vec3 view(0.4f, -0.2f, 3.0f);
-    const LfShade lean = lf_shade_lean(lean1, lean2, sc, light, view, params(300.0f), false);
-    const LfShade clean = lf_shade_clean(lean1, lean2, sc, light, view, params(300.0f));
+    const LfShade lean =
+        lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, sc), light, view, params(300.0f));
+    const LfShade clean =
+        lf_shade(LF_TECHNIQUE_CLEAN, lf_unpack(lean1, lean2, sc), light, view, params(300.0f));
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(clean.specular[c], lean.specular[c], 1e-4f * lean.specular[c]);
         EXPECT_EQ(clean.diffuse[c], lean.diffuse[c]);
@@ -96,7 +98,7 @@ TEST(Clean, KeepsTheTraceAndDropsTheAnisotropy) {
     EXPECT_EQ(clean.z, 0.0f);
 }
 
-// lf_fade_terms gives what lf_shade_lean uses: faded specular = LEAN's x NdotL^(sf - 1).
+// lf_fade_terms gives what lf_shade uses: faded specular = LEAN's x NdotL^(sf - 1).
 TEST(FadeTerms, ExplainTheFadedSpecular) {
     const vec4 lean1(0.55f, 0.48f, 0.98f, 0.52f), lean2(0.6f, 0.45f, 0.05f, 0.04f);
     const vec3 light = normalize(vec3(-0.2f, 0.3f, 1.0f));
@@ -104,8 +106,8 @@ TEST(FadeTerms, ExplainTheFadedSpecular) {
     LfParams p = params(200.0f);
     p.fade = 0.2f;
     p.pmax = 16.0f;
-    const LfShade lean = lf_shade_lean(lean1, lean2, 0.4f, light, view, p, false);
-    const LfShade fade = lf_shade_lean(lean1, lean2, 0.4f, light, view, p, true);
+    const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.4f), light, view, p);
+    const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.4f), light, view, p);
     const vec2 terms = lf_fade_terms(lean1, light, view, p.fade_distance);
     EXPECT_NEAR(terms.y, 6.0f, 1e-6f);
     const float sf = lf_fade_factor(terms.y, p.fade, p.fade_exponent, p.pmax);

@@ -96,16 +96,9 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             if (!inside) continue;
             // Tangent frame = world axes (T = +x, Bt = +y, N = +z).
             const glm::vec3 view_t = request.view.eye - p;
-            shading::LfShade shade;
-            if (c.technique == gl::Technique::Bump)
-                shade = shading::lf_shade_blinn_phong(glm::vec3(lean1), light, view_t, params);
-            else if (c.technique == gl::Technique::Toksvig)
-                shade = shading::lf_shade_toksvig(lean1, light, view_t, params);
-            else if (c.technique == gl::Technique::Clean)
-                shade = shading::lf_shade_clean(lean1, lean2, map.scale, light, view_t, params);
-            else
-                shade = shading::lf_shade_lean(lean1, lean2, map.scale, light, view_t, params,
-                                               c.technique == gl::Technique::Fade);
+            const shading::LfShade shade = shading::lf_shade(
+                info(c.technique).shader_technique, shading::lf_unpack(lean1, lean2, map.scale),
+                light, view_t, params);
             glm::vec3 expected = shade.diffuse + shade.specular;
             const float depth = -(view * glm::vec4(p, 1.0f)).z;
             const float f = shading::lf_fog_factor(depth, to_shader_constant(s.fog), s.fog_start,

@@ -7,6 +7,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/shader_library.hpp"
+#include "leanfade/gl/shading_block.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -57,12 +58,13 @@ TEST(ShaderSources, EveryVariantPassesGlslangValidator) {
 
 TEST(ShaderSources, FragmentStageIncludesTheSharedHeaderOnce) {
     const gl::ShaderSources sources = gl::ShaderSources::embedded();
-    const gl::ResolvedSource r = sources.resolve("scene.frag", {"TECHNIQUE_LEAN"});
-    ASSERT_EQ(r.files.size(), 2u);
+    const gl::ResolvedSource r = sources.resolve("scene.frag", {"LF_TECHNIQUE 1"});
+    ASSERT_EQ(r.files.size(), 3u);
     EXPECT_EQ(r.files[0], "scene.frag");
     EXPECT_EQ(r.files[1], "lean_shading.glsl");
-    EXPECT_EQ(r.text.rfind("#version 450 core\n#define TECHNIQUE_LEAN\n", 0), 0u) << r.text;
-    EXPECT_EQ(count(r.text, "LF_FN LfShade lf_shade_lean("), 1u);
+    EXPECT_EQ(r.files[2], "bindings.glsl");
+    EXPECT_EQ(r.text.rfind("#version 450 core\n#define LF_TECHNIQUE 1\n", 0), 0u) << r.text;
+    EXPECT_EQ(count(r.text, "LF_FN LfShade lf_shade("), 1u);
     EXPECT_EQ(count(r.text, "#include"), 0u);
 }
 
@@ -172,6 +174,49 @@ TEST_F(GlShaders, EveryVariantCompilesAndLinks) {
         gl::Program program = gl::build_program(sources, variant);
         EXPECT_TRUE(glIsProgram(program.get())) << variant.name;
     }
+}
+
+// The fragment stage's uniform block as the driver lays it out equals its C++ mirror
+// (leanfade/gl/shading_block.hpp): every member at the C++ offset, the block within the buffer
+// the renderer allocates, and the binding points of shaders/bindings.glsl.
+TEST_F(GlShaders, ShadingBlockOffsetsMatchTheCppMirror) {
+    const gl::ShaderSources sources = gl::ShaderSources::embedded();
+    int checked_programs = 0;
+    for (const gl::ShaderVariant& variant : gl::shader_variants()) {
+        if (variant.fragment != "scene.frag") continue;
+        gl::Program program = gl::build_program(sources, variant);
+        const GLuint p = program.get();
+        const GLuint block = glGetProgramResourceIndex(p, GL_UNIFORM_BLOCK, "LfShadingBlock");
+        ASSERT_NE(block, GL_INVALID_INDEX) << variant.name;
+        const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING};
+        GLint block_values[2] = {0, -1};
+        glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, block, 2, block_props, 2, nullptr,
+                               block_values);
+        EXPECT_LE(std::size_t(block_values[0]), gl::kShadingBlockStd140Size) << variant.name;
+        EXPECT_GE(std::size_t(block_values[0]), sizeof(gl::LfShadingUniforms)) << variant.name;
+        EXPECT_EQ(block_values[1], gl::bindings::LF_BINDING_SHADING_BLOCK) << variant.name;
+        int active = 0;
+        for (const gl::BlockMember& member : gl::kShadingBlockMembers) {
+            const GLuint index = glGetProgramResourceIndex(p, GL_UNIFORM, member.name);
+            // A plain variant may leave the fog and output members unused (inactive).
+            if (index == GL_INVALID_INDEX) continue;
+            const GLenum props[] = {GL_OFFSET, GL_BLOCK_INDEX};
+            GLint values[2] = {-1, -1};
+            glGetProgramResourceiv(p, GL_UNIFORM, index, 2, props, 2, nullptr, values);
+            EXPECT_EQ(values[0], GLint(member.offset)) << variant.name << ": " << member.name;
+            EXPECT_EQ(values[1], GLint(block)) << variant.name << ": " << member.name;
+            ++active;
+        }
+        // std140 blocks keep every member active (the layout is fixed), so all must be found.
+        EXPECT_EQ(active, int(std::size(gl::kShadingBlockMembers))) << variant.name;
+        const GLint sampler = glGetUniformLocation(p, "u_lean");
+        ASSERT_GE(sampler, 0) << variant.name;
+        GLint unit = -1;
+        glGetUniformiv(p, sampler, &unit);
+        EXPECT_EQ(unit, gl::bindings::LF_BINDING_LEAN_MAP) << variant.name;
+        ++checked_programs;
+    }
+    EXPECT_GE(checked_programs, int(all_techniques().size()));
 }
 
 // A copy of shaders/ in `dir`.

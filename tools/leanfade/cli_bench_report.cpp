@@ -89,8 +89,8 @@ std::vector<std::pair<std::string, double>> view_ratios(const gl::ViewResult& vi
         if (view.find(a) != nullptr && view.find(b) != nullptr)
             ratios.emplace_back(a + "/" + b, view.ratio(a, b));
     };
-    add("lean", "bump");
-    add("fade", "lean");
+    for (const TechniqueInfo& row : kTechniques)
+        if (row.overhead_of != row.id) add(std::string(row.name), to_string(row.overhead_of));
     for (const gl::TechniqueTiming& t : view.timings)
         if (t.name != gl::kFloorName) add(t.name, gl::kFloorName);
     return ratios;

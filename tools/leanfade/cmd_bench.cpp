@@ -63,18 +63,9 @@ std::vector<int> parse_sizes(const std::string& text, const std::string& flag, i
     return sizes;
 }
 
-// Every real-time technique this build knows (the reference is offline), in the papers' order.
+// Every real-time technique (the reference is offline), in the table's order.
 std::string default_techniques() {
-    std::string list;
-    for (const char* name : {"bump", "toksvig", "clean", "lean", "fade"}) {
-        try {
-            gl::parse_technique(name);
-        } catch (const Error&) {
-            continue;  // not in this build
-        }
-        list += (list.empty() ? "" : ",") + std::string(name);
-    }
-    return list;
+    return join_technique_names(approximating_techniques());
 }
 
 Storage parse_bits(const std::string& bits) {

@@ -22,7 +22,7 @@ namespace {
 
 struct EvalArgs {
     std::string scene = "teapot";
-    std::string techniques = "bump,toksvig,clean,lean,fade";
+    std::string techniques = join_technique_names(approximating_techniques());
     std::string distances = "2:64:6";
     std::string shininess = "128,1024,13777";
     int spp = 64;
@@ -85,10 +85,11 @@ int run_eval(const EvalArgs& args) {
     request.background = glm::vec3(0.012f, 0.013f, 0.016f);
     if (request.techniques.empty()) throw Error("--techniques", "no technique");
     for (gl::Technique t : request.techniques)
-        if (t == gl::Technique::Reference)
-            throw Error("--techniques",
-                        "the reference is what every technique is measured against; list only "
-                        "bump, toksvig, clean, lean, fade");
+        if (info(t).supersampled)
+            throw Error("--techniques", std::string("the ") + to_string(t) +
+                                            " is what every technique is measured against; "
+                                            "list only " +
+                                            technique_names(approximating_techniques(), "and"));
     if (args.frames < 2 || args.frames > 1000)
         throw Error("--frames",
                     "flicker needs 2 to 1000 frames, got " + std::to_string(args.frames));
@@ -189,7 +190,8 @@ const CommandRegistration registration{
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
-                       "Techniques to measure, comma-separated: bump, toksvig, clean, lean, fade")
+                       "Techniques to measure, comma-separated: " +
+                           technique_names(approximating_techniques(), "and"))
             ->capture_default_str();
         app.add_option("--distances", args->distances,
                        "Camera distances in bounding radii: A:B:N (N log-spaced from A to B) or "

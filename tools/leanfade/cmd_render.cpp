@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 
 struct RenderArgs {
     std::string scene = "teapot";
-    std::string techniques = "bump,lean,fade";
+    // The papers' comparison: the baseline, LEAN and LEAN with fading.
+    std::string techniques =
+        join_technique_names(std::vector{Technique::Bump, Technique::Lean, Technique::Fade});
     std::string distances = "3,24";
     std::string size = "400x400";
     std::string output = "teaser.png";
@@ -131,7 +133,7 @@ const CommandRegistration registration{
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
-                       "Columns, comma-separated: bump, toksvig, clean, lean, fade, reference")
+                       "Columns, comma-separated: " + technique_names(all_techniques(), "and"))
             ->capture_default_str();
         app.add_option("--distances", args->distances,
                        "Rows: camera distances from the target (default the object's centre) in "

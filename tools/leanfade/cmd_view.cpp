@@ -24,7 +24,7 @@ namespace {
 
 struct ViewArgs {
     std::string scene = "teapot";
-    std::string technique = "lean";
+    std::string technique = to_string(Technique::Lean);
     std::string techniques;  // panes, comma-separated; overrides --technique
     std::string layout;      // "" = single for one technique, side-by-side for more
     float distance = 3.0f;

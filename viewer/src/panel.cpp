@@ -113,7 +113,7 @@ void App::panel_view() {
         for (int i = 1; i < pane_count(); ++i)
             for (int j = 0; j < i; ++j)
                 if (chosen_[std::size_t(i)] == chosen_[std::size_t(j)]) {
-                    for (gl::Technique t : known_techniques())
+                    for (gl::Technique t : gl::all_techniques())
                         if (std::find(chosen_.begin(), chosen_.begin() + i, t) ==
                             chosen_.begin() + i) {
                             chosen_[std::size_t(i)] = t;
@@ -123,13 +123,13 @@ void App::panel_view() {
         apply_layout();
     }
     std::vector<std::string> names;
-    const std::vector<gl::Technique> all = known_techniques();
-    for (gl::Technique t : all) names.push_back(gl::to_string(t));
+    const std::vector<gl::Technique>& all = gl::all_techniques();
+    for (gl::Technique t : all) names.push_back(std::string(info(t).label));
     static const char* const two[] = {"left technique", "right technique"};
     static const char* const three[] = {"left technique", "middle technique", "right technique"};
     for (int i = 0; i < pane_count(); ++i) {
         const char* label = pane_count() == 1 ? "technique" : pane_count() == 2 ? two[i] : three[i];
-        int index = index_of(names, gl::to_string(chosen_[std::size_t(i)]));
+        int index = index_of(names, std::string(info(chosen_[std::size_t(i)]).label));
         if (combo(label, index, names)) {
             const gl::Technique picked = all[std::size_t(index)];
             // Picking one shown in another pane swaps the two.

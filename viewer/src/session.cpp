@@ -46,17 +46,6 @@ bool is_ktx2(const std::string& path) {
 
 }  // namespace
 
-std::vector<gl::Technique> known_techniques() {
-    // The enum is contiguous from 0 and to_string() answers "?" past its end.
-    std::vector<gl::Technique> result;
-    for (int i = 0; i < 64; ++i) {
-        const gl::Technique t = static_cast<gl::Technique>(i);
-        if (std::string(gl::to_string(t)) == "?") break;
-        result.push_back(t);
-    }
-    return result;
-}
-
 Session::Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loader, Preset preset,
                  const scene::Mesh& mesh, const PackedLeanMap& map)
     : context_(context),

@@ -55,21 +55,6 @@ gl::ShaderSources choose_shaders(const std::string& requested) {
     return gl::ShaderSources::embedded();
 }
 
-const char* technique_label(gl::Technique t) {
-    switch (t) {
-        case gl::Technique::Bump:
-            return "Blinn-Phong bump mapping";
-        case gl::Technique::Lean:
-            return "LEAN mapping";
-        case gl::Technique::Fade:
-            return "LEAN + specular fading";
-        case gl::Technique::Reference:
-            return "Reference (supersampled)";
-        default:
-            return gl::to_string(t);
-    }
-}
-
 }  // namespace
 
 App::App(ViewerOptions options) : options_(std::move(options)) {
@@ -192,8 +177,7 @@ void App::sync_from_preset() {
                                     : Layout::SideBySide2;
     // The panes shown first, then the other techniques for panes shown later.
     std::vector<gl::Technique> order = techniques;
-    for (gl::Technique t :
-         {gl::Technique::Bump, gl::Technique::Lean, gl::Technique::Fade, gl::Technique::Reference})
+    for (gl::Technique t : gl::all_techniques())
         if (std::find(order.begin(), order.end(), t) == order.end()) order.push_back(t);
     for (std::size_t i = 0; i < chosen_.size(); ++i) chosen_[i] = order[i];
     scene_field_ = p.scene;
@@ -358,7 +342,7 @@ void App::handle_input() {
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) panel_visible_ = !panel_visible_;
         if (ImGui::IsKeyPressed(GLFW_KEY_T, false)) {
             // Cycles the first pane's technique.
-            const std::vector<gl::Technique> all = known_techniques();
+            const std::vector<gl::Technique>& all = gl::all_techniques();
             auto it = std::find(all.begin(), all.end(), chosen_[0]);
             gl::Technique next = it == all.end() || it + 1 == all.end() ? all.front() : *(it + 1);
             for (int i = 1; i < pane_count(); ++i)
@@ -474,8 +458,8 @@ void App::draw_labels() {
     for (int i = 0; i < pane_count(); ++i) {
         const Pane& pane = panes_[std::size_t(i)];
         const gl::Technique technique = chosen_[std::size_t(i)];
-        std::string label = technique_label(technique);
-        if (technique == gl::Technique::Reference) {
+        std::string label(info(technique).label);
+        if (info(technique).supersampled) {
             const int k = session_->preset().reference_samples;
             char samples[32];
             std::snprintf(samples, sizeof samples, " %dx%d", k, k);

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/eval/metrics.hpp"
 #include "leanfade/io/atomic_file.hpp"
@@ -84,11 +85,9 @@ std::string html_escape(const std::string& text) {
 
 // Fixed colours per technique, the same in every plot.
 std::string technique_color(const std::string& name) {
-    static const std::map<std::string, std::string> colors = {
-        {"bump", "#d62728"}, {"toksvig", "#9467bd"}, {"clean", "#8c564b"},
-        {"lean", "#1f77b4"}, {"fade", "#2ca02c"},    {"reference", "#000000"}};
-    const auto it = colors.find(name);
-    return it == colors.end() ? "#7f7f7f" : it->second;
+    for (const TechniqueInfo& row : kTechniques)
+        if (name == row.name) return std::string(row.plot_color);
+    return "#7f7f7f";
 }
 
 std::vector<std::string> technique_order(const std::vector<CaseResult>& cases) {
@@ -233,8 +232,8 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
     };
     if (!info.preset_json.empty()) sweep["preset"] = nlohmann::json::parse(info.preset_json);
     const nlohmann::json definitions = {
-        {"reference",
-         "SPEC 7: k x k samples per pixel at LOD 0 shaded with Blinn-Phong bump "
+        {to_string(Technique::Reference),
+         "docs/math.md §7: k x k samples per pixel at LOD 0 shaded with Blinn-Phong bump "
          "mapping, box-filtered; same camera. With adaptive_reference, more "
          "samples per pixel where the object covers fewer pixels than the frame "
          "(k up to 16, then averaged renders shifted by sub-sample offsets), "
@@ -462,7 +461,8 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
     write_text_file((fs::path(folder) / "results.json").string(), results_json(info, cases));
     for (const CaseImages& ci : images) {
         io::write_png(
-            (fs::path(folder) / "images" / image_name(ci.shininess, ci.distance, "reference"))
+            (fs::path(folder) / "images" / image_name(ci.shininess, ci.distance,
+                                                                to_string(Technique::Reference)))
                 .string(),
             encode_srgb(ci.reference), 8);
         for (const auto& [name, image] : ci.techniques)
@@ -562,7 +562,7 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
         h << "</tr>\n";
         for (float d : info.distances) {
             h << "<tr><th>" << short_number(d) << "</th>";
-            std::vector<std::string> columns{"reference"};
+            std::vector<std::string> columns{to_string(Technique::Reference)};
             columns.insert(columns.end(), techniques.begin(), techniques.end());
             for (const std::string& name : columns) {
                 const std::string file = image_name(s, d, name);

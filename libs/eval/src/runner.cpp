@@ -25,10 +25,10 @@ int crop_side(int frame, int half) {
 void validate(const SweepRequest& r) {
     if (r.techniques.empty()) throw Error("--techniques", "no technique to measure");
     for (gl::Technique t : r.techniques)
-        if (t == gl::Technique::Reference)
-            throw Error("--techniques",
-                        "the reference is what every technique is measured "
-                        "against; it cannot be one of them");
+        if (info(t).supersampled)
+            throw Error("--techniques", std::string("the ") + to_string(t) +
+                                            " is what every technique is measured against; it "
+                                            "cannot be one of them");
     if (r.distances.empty()) throw Error("--distances", "no distance");
     for (float d : r.distances)
         if (!(d > 1.0f) || !std::isfinite(d))

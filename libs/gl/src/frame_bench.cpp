@@ -95,7 +95,8 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
         Technique technique;
     };
     std::vector<Entry> entries;
-    if (r.floor) entries.push_back({kFloorName, "scene_constant", Technique::Lean});
+    if (r.floor)
+        entries.push_back({kFloorName, std::string(kConstantColorVariant), Technique::Lean});
     for (Technique t : r.techniques) entries.push_back({to_string(t), "", t});
     const int count = int(entries.size());
     result.timings.resize(entries.size());
@@ -104,7 +105,7 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
     // Coverage of the full-size framebuffer, with the floor's program.
     target.clear();
     renderer.draw(frame_request(r, Technique::Lean, view, r.width, r.height),
-                  target.framebuffer.get(), "scene_constant");
+                  target.framebuffer.get(), std::string(kConstantColorVariant));
     result.coverage = target.covered_fraction();
 
     const int rounds = r.warmup + r.frames;
@@ -167,10 +168,12 @@ void validate_frame_bench(const FrameBenchRequest& r) {
                                   "x" + std::to_string(r.height));
     if (r.techniques.empty() && !r.floor) throw Error("--techniques", "nothing to measure");
     for (Technique t : r.techniques)
-        if (t == Technique::Reference)
+        if (info(t).supersampled)
             throw Error("--techniques",
-                        "the reference is an offline supersampled image, not a real-time "
-                        "technique; choose among bump, lean and fade");
+                        std::string("the ") + to_string(t) +
+                            " is an offline supersampled image, not a real-time technique; "
+                            "choose among " +
+                            technique_names(approximating_techniques()));
     if (r.frames < 1 || r.frames > 100000)
         throw Error("--frames", "must be in [1, 100000], got " + std::to_string(r.frames));
     if (r.warmup < 0 || r.warmup > 100000)
@@ -181,17 +184,6 @@ void validate_frame_bench(const FrameBenchRequest& r) {
             throw Error("--distances", "distances are in bounding radii and must be > 1, got " +
                                            std::to_string(d));
     leanfade::validate(r.settings);
-}
-
-double view_coverage(Renderer& renderer, const View& view, int width, int height) {
-    BenchTarget target(width, height);
-    target.clear();
-    RenderRequest request;
-    request.width = width;
-    request.height = height;
-    request.view = view;
-    renderer.draw(request, target.framebuffer.get(), "scene_constant");
-    return target.covered_fraction();
 }
 
 View fill_view(Renderer& renderer, float aspect, glm::vec3 direction, double* coverage) {
@@ -207,7 +199,7 @@ View fill_view(Renderer& renderer, float aspect, glm::vec3 direction, double* co
         request.width = probe_width;
         request.height = probe_height;
         request.view = view;
-        renderer.draw(request, probe.framebuffer.get(), "scene_constant");
+        renderer.draw(request, probe.framebuffer.get(), std::string(kConstantColorVariant));
         const double covered = probe.covered_fraction();
         if (covered > best_coverage) {
             best = view;

@@ -1,4 +1,4 @@
-// Offscreen rendering of the four techniques into float render targets.
+// Offscreen rendering of every technique into float render targets.
 #include "leanfade/gl/renderer.hpp"
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/gl/shading_block.hpp"
 
 namespace leanfade::gl {
 namespace {
@@ -76,30 +77,21 @@ std::vector<std::uint8_t> flipped(const std::vector<std::uint8_t>& bytes, std::s
     return out;
 }
 
-std::string variant_name(Technique t) {
-    return std::string("scene_") + to_string(t);
-}
-
-// The program that draws `request`: for the colour output without fog, the technique's
-// "_plain" variant when there is one (LF_PLAIN_COLOR: the same image without the output and fog
-// branches, which llvmpipe executes for every pixel; docs/perf.md).
-// Fading with its defaults while it is on takes the "_fast" variant of that (shader_variants()).
+// The program that draws `request`: for the colour output without fog, the technique's plain
+// variant when there is one (the same image without the output and fog branches, which llvmpipe
+// executes for every pixel; docs/perf.md). Fading with its defaults while it is on takes the fast
+// variant (shader_library.hpp).
 std::string variant_name(const RenderRequest& request) {
-    const auto exists = [](const std::string& candidate) {
-        for (const ShaderVariant& v : shader_variants())
-            if (v.name == candidate) return true;
-        return false;
-    };
-    std::string name = variant_name(request.technique);
-    if (request.output == OutputMode::Color && request.settings.fog == FogMode::None &&
-        exists(name + "_plain"))
-        name += "_plain";
     const ShadingSettings& s = request.settings;
-    if (request.technique == Technique::Fade && s.fade_exponent == 2.0f &&
+    SceneVariantFlags flags = 0;
+    if (request.output == OutputMode::Color && s.fog == FogMode::None &&
+        has_scene_variant(request.technique, kPlainColor))
+        flags |= kPlainColor;
+    if (info(request.technique).fades && s.fade_exponent == 2.0f &&
         s.fade_distance == FadeDistance::TangentZ && s.fade > 0.0f && s.pmax > 1.0f &&
-        exists(name + "_fast"))
-        name += "_fast";
-    return name;
+        has_scene_variant(request.technique, flags | kFadeFast))
+        flags |= kFadeFast;
+    return scene_variant_name(request.technique, flags);
 }
 
 int output_constant(OutputMode mode) {
@@ -117,46 +109,6 @@ int output_constant(OutputMode mode) {
 }
 
 }  // namespace
-
-const char* to_string(Technique technique) {
-    switch (technique) {
-        case Technique::Bump:
-            return "bump";
-        case Technique::Lean:
-            return "lean";
-        case Technique::Fade:
-            return "fade";
-        case Technique::Reference:
-            return "reference";
-        case Technique::Toksvig:
-            return "toksvig";
-        case Technique::Clean:
-            return "clean";
-    }
-    return "?";
-}
-
-Technique parse_technique(const std::string& name, const std::string& flag) {
-    for (Technique t : {Technique::Bump, Technique::Toksvig, Technique::Clean, Technique::Lean,
-                        Technique::Fade, Technique::Reference})
-        if (name == to_string(t)) return t;
-    throw Error(flag, "unknown technique '" + name +
-                          "' (expected bump, toksvig, clean, lean, fade or reference)");
-}
-
-std::vector<Technique> parse_techniques(const std::string& list, const std::string& flag) {
-    std::vector<Technique> result;
-    std::size_t start = 0;
-    while (start <= list.size()) {
-        const std::size_t comma = std::min(list.find(',', start), list.size());
-        const Technique t = parse_technique(list.substr(start, comma - start), flag);
-        if (std::find(result.begin(), result.end(), t) != result.end())
-            throw Error(flag, std::string("technique '") + to_string(t) + "' given twice");
-        result.push_back(t);
-        start = comma + 1;
-    }
-    return result;
-}
 
 glm::mat4 View::view_matrix() const {
     return glm::lookAt(eye, target, up);
@@ -269,13 +221,12 @@ struct Renderer::Target {
 Renderer::Renderer(Context& context, ShaderSources sources)
     : context_(context), sources_(std::move(sources)) {
     empty_vertex_array_ = create_vertex_array();
+    shading_block_ = create_buffer();
+    glNamedBufferStorage(shading_block_.get(), GLsizeiptr(kShadingBlockStd140Size), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
 }
 
 Renderer::~Renderer() = default;
-
-void Renderer::reload_shaders() {
-    programs_.clear();
-}
 
 void Renderer::rebuild_shaders() {
     std::map<std::string, Program> rebuilt;
@@ -399,30 +350,22 @@ void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat
     set(p, "u_eye_world", request.view.eye);
     set(p, "u_light_world", glm::normalize(s.light_direction));
     set(p, "u_tiling", s.tiling);
-    set(p, "u_scale", lean_info_.scale);
 
-    const shading::LfParams params = to_lf_params(s, lean_info_.roughness_baked);
-    set(p, "u_params.light_color", params.light_color);
-    set(p, "u_params.ambient", params.ambient);
-    set(p, "u_params.kd", params.kd);
-    set(p, "u_params.ks", params.ks);
-    set(p, "u_params.shininess", params.shininess);
-    set(p, "u_params.inv_s_shading", params.inv_s_shading);
-    set(p, "u_params.fresnel_bias", params.fresnel_bias);
-    set(p, "u_params.fresnel_scale", params.fresnel_scale);
-    set(p, "u_params.fade", params.fade);
-    set(p, "u_params.pmax", params.pmax);
-    set(p, "u_params.fade_exponent", params.fade_exponent);
-    set(p, "u_params.fade_distance", params.fade_distance);
-    set(p, "u_output", output_constant(request.output));
-    set(p, "u_fog_mode", to_shader_constant(s.fog));
-    set(p, "u_fog_color", s.fog_color);
-    set(p, "u_fog_start", s.fog_start);
-    set(p, "u_fog_end", s.fog_end);
-    set(p, "u_fog_density", s.fog_density);
+    LfShadingUniforms block{};
+    block.params = to_lf_params(s, lean_info_.roughness_baked);
+    block.scale = lean_info_.scale;
+    block.output_mode = output_constant(request.output);
+    block.fog_mode = to_shader_constant(s.fog);
+    block.fog_start = s.fog_start;
+    block.fog_color = s.fog_color;
+    block.fog_end = s.fog_end;
+    block.fog_density = s.fog_density;
+    glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
+    glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
+                     shading_block_.get());
 
     glUseProgram(p);
-    glBindTextureUnit(0, lean_.get());
+    glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), lean_.get());
     glBindVertexArray(vertex_array_.get());
     glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
@@ -542,7 +485,7 @@ void Renderer::render_reference(const RenderRequest& request, Target& output) {
     const int k = request.reference_samples;
     const int tile = std::max(1, kMaxReferenceTileSamples / k);  // output pixels per tile side
     Target samples(std::min(tile, request.width) * k, std::min(tile, request.height) * k, 1);
-    const GLuint scene_program = program(variant_name(Technique::Reference));
+    const GLuint scene_program = program(scene_variant_name(Technique::Reference));
     const GLuint filter_program = program("box_filter");
     const float aspect = float(request.width) / float(request.height);
     const glm::mat4 projection = request.view.projection_matrix(aspect);

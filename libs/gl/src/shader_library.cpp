@@ -299,39 +299,50 @@ ResolvedSource ShaderSources::resolve(const std::string& name,
     return std::move(r.out);
 }
 
+std::string scene_variant_name(Technique technique, SceneVariantFlags flags) {
+    std::string name = "scene_" + std::string(info(technique).name);
+    if (flags & kPlainColor) name += "_plain";
+    if (flags & kFadeFast) name += "_fast";
+    return name;
+}
+
+bool has_scene_variant(Technique technique, SceneVariantFlags flags) {
+    const TechniqueInfo& row = info(technique);
+    // The supersampled reference is drawn through the general path only; the fast fading path
+    // exists for the techniques that fade.
+    if ((flags & kPlainColor) && row.supersampled) return false;
+    if ((flags & kFadeFast) && !row.fades) return false;
+    return true;
+}
+
 const std::vector<ShaderVariant>& shader_variants() {
-    static const std::vector<ShaderVariant> variants = {
-        {"scene_bump", "scene.vert", "scene.frag", {"TECHNIQUE_BUMP"}},
-        {"scene_lean", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN"}},
-        {"scene_fade", "scene.vert", "scene.frag", {"TECHNIQUE_FADE"}},
-        {"scene_reference", "scene.vert", "scene.frag", {"TECHNIQUE_REFERENCE"}},
-        {"scene_toksvig", "scene.vert", "scene.frag", {"TECHNIQUE_TOKSVIG"}},
-        {"scene_clean", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN"}},
-        {"box_filter", "fullscreen.vert", "box_filter.frag", {}},
-        {"scene_constant", "scene.vert", "constant.frag", {}},
-        // The renderer's ordinary frames (colour output, no fog) use these: the same images
-        // without the output and fog branches (LF_PLAIN_COLOR, docs/perf.md).
-        {"scene_bump_plain", "scene.vert", "scene.frag", {"TECHNIQUE_BUMP", "LF_PLAIN_COLOR"}},
-        {"scene_lean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_LEAN", "LF_PLAIN_COLOR"}},
-        {"scene_fade_plain", "scene.vert", "scene.frag", {"TECHNIQUE_FADE", "LF_PLAIN_COLOR"}},
-        {"scene_toksvig_plain",
-         "scene.vert",
-         "scene.frag",
-         {"TECHNIQUE_TOKSVIG", "LF_PLAIN_COLOR"}},
-        {"scene_clean_plain", "scene.vert", "scene.frag", {"TECHNIQUE_CLEAN", "LF_PLAIN_COLOR"}},
-        // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0, Pmax > 1):
-        // (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in one exponential
-        // without the exact sf == 1 path (lean_shading.glsl, docs/perf.md).
-        {"scene_fade_fast",
-         "scene.vert",
-         "scene.frag",
-         {"TECHNIQUE_FADE", "LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY", "LF_FADE_ACTIVE"}},
-        {"scene_fade_plain_fast",
-         "scene.vert",
-         "scene.frag",
-         {"TECHNIQUE_FADE", "LF_PLAIN_COLOR", "LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY",
-          "LF_FADE_ACTIVE"}},
-    };
+    static const std::vector<ShaderVariant> variants = [] {
+        std::vector<ShaderVariant> result;
+        for (const TechniqueInfo& row : kTechniques) {
+            for (const SceneVariantFlags flags :
+                 {SceneVariantFlags(0), kPlainColor, kFadeFast, kPlainColor | kFadeFast}) {
+                if (!has_scene_variant(row.id, flags)) continue;
+                std::vector<std::string> defines{"LF_TECHNIQUE " +
+                                                 std::to_string(row.shader_technique)};
+                if (row.reads_moments) defines.push_back("LF_READS_MOMENTS");
+                if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
+                // The renderer's ordinary frames (colour output, no fog): the same images
+                // without the output and fog branches (docs/perf.md).
+                if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");
+                // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0,
+                // Pmax > 1): (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in
+                // one exponential without the exact sf == 1 path (lean_shading.glsl).
+                if (flags & kFadeFast)
+                    defines.insert(defines.end(), {"LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY",
+                                                   "LF_FADE_ACTIVE"});
+                result.push_back({scene_variant_name(row.id, flags), "scene.vert", "scene.frag",
+                                  std::move(defines)});
+            }
+        }
+        result.push_back({"box_filter", "fullscreen.vert", "box_filter.frag", {}});
+        result.push_back({std::string(kConstantColorVariant), "scene.vert", "constant.frag", {}});
+        return result;
+    }();
     return variants;
 }
 

@@ -25,9 +25,6 @@ namespace leanfade::viewer {
 using BumpLoader =
     std::function<PackedLeanMap(const BumpSource& source, const ShadingSettings& settings)>;
 
-// Every technique the renderer knows, in its enum order ("bump", "lean", "fade", ...).
-std::vector<gl::Technique> known_techniques();
-
 class Session {
   public:
     // `preset` must be valid (validate(Preset)); `mesh` and `map` are its scene and bumps, loaded

@@ -38,9 +38,7 @@ Framing frame_object(float distance, float fov_y_degrees, glm::vec3 direction, i
 gl::View panned(const gl::View& view, int image_height, float pixels_x, float pixels_y = 0.0f);
 
 struct SweepRequest {
-    std::vector<gl::Technique> techniques{gl::Technique::Bump, gl::Technique::Toksvig,
-                                          gl::Technique::Clean, gl::Technique::Lean,
-                                          gl::Technique::Fade};
+    std::vector<gl::Technique> techniques = approximating_techniques();
     std::vector<float> distances{2.0f, 4.0f, 8.0f, 16.0f, 32.0f, 64.0f};  // bounding radii, > 1
     std::vector<float> shininesses{128.0f, 1024.0f, 13777.0f};
     int width = 256;  // the full frame, pixels

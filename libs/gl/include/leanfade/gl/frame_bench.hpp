@@ -99,8 +99,4 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
 // to 1.5 degrees. Returns the view; `coverage` gets the probe's covered fraction.
 View fill_view(Renderer& renderer, float aspect, glm::vec3 direction, double* coverage = nullptr);
 
-// Fraction of the pixels of a width x height framebuffer that `view` covers with the renderer's
-// mesh (one constant-colour frame, read back).
-double view_coverage(Renderer& renderer, const View& view, int width, int height);
-
 }  // namespace leanfade::gl

@@ -1,11 +1,6 @@
 #pragma once
-// Offscreen renderer of one bump-mapped object with the four techniques of the project:
-//   bump       Blinn-Phong bump mapping with the trilinear-filtered normal map (lean1.rgb)
-//   lean       LEAN mapping (Olano & Baker 2010)
-//   fade       LEAN mapping with specular fading (the fading paper, eq. 6-7)
-//   toksvig    Toksvig mapping (Toksvig 2005): exponent from the filtered normal's length
-//   clean      CLEAN mapping (Baker 2011): LEAN with one isotropic second moment
-//   reference  SPEC §7: k x k supersampling at LOD 0 with the baseline, box-filtered
+// Offscreen renderer of one bump-mapped object with any technique of the technique table
+// (leanfade/core/technique.hpp).
 //
 // Spaces and units:
 // - World space is the mesh's object space moved so that its bounding-box centre is at the origin
@@ -22,6 +17,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/objects.hpp"
 #include "leanfade/gl/shader_library.hpp"
@@ -29,15 +25,11 @@
 
 namespace leanfade::gl {
 
-enum class Technique { Bump, Lean, Fade, Reference, Toksvig, Clean };
-
-// "bump", "lean", "fade", "reference", "toksvig", "clean".
-const char* to_string(Technique technique);
-// Throws leanfade::Error(flag, cause) for an unknown name.
-Technique parse_technique(const std::string& name, const std::string& flag = "--techniques");
-// Parses a comma-separated list ("bump,lean,fade"); duplicates and empty lists are errors.
-std::vector<Technique> parse_techniques(const std::string& list,
-                                        const std::string& flag = "--techniques");
+using leanfade::all_techniques;
+using leanfade::parse_technique;
+using leanfade::parse_techniques;
+using leanfade::Technique;
+using leanfade::to_string;
 
 // What the fragment stage writes (debug output modes for measurements).
 enum class OutputMode {
@@ -138,8 +130,6 @@ class Renderer {
     // settings and for the reference (a multi-pass technique: render() only).
     void draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant = {});
 
-    // Drops the compiled programs; the next render rebuilds them from the sources (hot reload).
-    void reload_shaders();
     // Rebuilds every program built so far from the sources, all or nothing: on a compile or link
     // error it throws leanfade::Error (naming the file) and keeps the previous programs, so that
     // an interactive viewer goes on drawing with the last good shaders.
@@ -169,6 +159,7 @@ class Renderer {
     glm::mat4 model_{1.0f};
     Texture lean_;
     LeanTextureInfo lean_info_;
+    Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
     VertexArray empty_vertex_array_;
     std::unique_ptr<Target> target_;
 };

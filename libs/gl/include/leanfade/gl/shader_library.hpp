@@ -11,9 +11,11 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/gl/objects.hpp"
 
 namespace leanfade::gl {
@@ -48,15 +50,30 @@ class ShaderSources {
     std::string origin_;
 };
 
-// One program of the renderer: its stages and its defines (e.g. {"TECHNIQUE_LEAN"}).
+// One program of the renderer: its stages and its defines (e.g. {"LF_TECHNIQUE 1"}).
 struct ShaderVariant {
-    std::string name;  // "scene_lean", "box_filter", ...
+    std::string name;  // scene_variant_name(...), "box_filter", ...
     std::string vertex;
     std::string fragment;
     std::vector<std::string> defines;
 };
 
-// Every variant the renderer builds (for validation).
+// Variants of the scene program of a technique, as bits (shaders/scene.frag).
+using SceneVariantFlags = unsigned;
+inline constexpr SceneVariantFlags kPlainColor = 1u;  // colour output without fog, no branches
+inline constexpr SceneVariantFlags kFadeFast = 2u;    // fading on with p = 2 and d = Vt.z
+
+// "scene_<technique>[_plain][_fast]".
+std::string scene_variant_name(Technique technique, SceneVariantFlags flags = 0);
+// Whether that variant is built: no plain variant for the supersampled reference, no fast one
+// for the techniques that do not fade.
+bool has_scene_variant(Technique technique, SceneVariantFlags flags);
+// The constant-colour fill-rate floor of `leanfade bench`: the scene's vertex stage and one
+// colour.
+inline constexpr std::string_view kConstantColorVariant = "scene_constant";
+
+// Every variant the renderer builds (for validation): the scene variants of every technique,
+// the box filter of the reference and the constant colour.
 const std::vector<ShaderVariant>& shader_variants();
 // The variant called `name`; throws leanfade::Error("shaders", cause) when there is none.
 const ShaderVariant& shader_variant(const std::string& name);

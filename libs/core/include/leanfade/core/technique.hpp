@@ -1,0 +1,89 @@
+#pragma once
+// The shading techniques of leanfade, described once. Everything that lists, parses, names,
+// colours or compiles a technique (the CLI and its --help, presets, the viewer's lists, eval's
+// tables and plots, the benchmark's columns and ratios, the renderer's shader variants, the CPU
+// reference) reads this table; nothing else spells a technique's name.
+//
+// Adding a technique: its lobe in shaders/lean_shading.glsl (a new LF_TECHNIQUE_* constant and a
+// branch of lf_shade), a row here, and its test (docs/architecture.md).
+#include <array>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade {
+
+// Values are positions in kTechniques.
+enum class Technique { Bump, Toksvig, Clean, Lean, Fade, Reference };
+
+struct TechniqueInfo {
+    Technique id;
+    std::string_view name;         // in command lines, presets, JSON keys and file names
+    std::string_view label;        // for people: figure headers, the viewer, reports
+    std::string_view description;  // one line for --help and the docs
+    int shader_technique;          // the lobe stage of lf_shade (LF_TECHNIQUE_*)
+    bool reads_moments;  // samples lean2 (B and M); false: the filtered normal of lean1 only
+    bool fades;          // applies specular fading (Fade, Pmax, p and the distance measure)
+    bool supersampled;   // the ground truth: k x k samples per pixel at the finest MIP level,
+                         // box-filtered (docs/math.md §7); drawn in several passes
+    std::string_view plot_color;  // eval's plots and report, "#rrggbb"
+    // The technique this one's frame time is compared with in `leanfade bench` ("lean/bump"),
+    // or itself when it has none.
+    Technique overhead_of;
+};
+
+inline constexpr std::array<TechniqueInfo, 6> kTechniques{{
+    {Technique::Bump, "bump", "Blinn-Phong bump mapping",
+     "Blinn-Phong around the trilinear-filtered normal map (the baseline)",
+     shading::LF_TECHNIQUE_BUMP, false, false, false, "#d62728", Technique::Bump},
+    {Technique::Toksvig, "toksvig", "Toksvig mapping",
+     "Blinn-Phong with the exponent lowered by the filtered normal's length (Toksvig 2005)",
+     shading::LF_TECHNIQUE_TOKSVIG, false, false, false, "#9467bd", Technique::Toksvig},
+    {Technique::Clean, "clean", "CLEAN mapping",
+     "LEAN with one isotropic second moment (Baker 2011)", shading::LF_TECHNIQUE_CLEAN, true, false,
+     false, "#8c564b", Technique::Clean},
+    {Technique::Lean, "lean", "LEAN mapping",
+     "a Gaussian over bump slopes from filtered first and second moments (Olano and Baker 2010)",
+     shading::LF_TECHNIQUE_LEAN, true, false, false, "#1f77b4", Technique::Bump},
+    {Technique::Fade, "fade", "LEAN + specular fading",
+     "LEAN with the specular exponent raised with distance: NdotL^sf", shading::LF_TECHNIQUE_FADE,
+     true, true, false, "#2ca02c", Technique::Lean},
+    {Technique::Reference, "reference", "Reference (supersampled)",
+     "the baseline at the finest MIP level, k x k samples per pixel, box-filtered (ground truth)",
+     shading::LF_TECHNIQUE_BUMP, false, false, true, "#000000", Technique::Reference},
+}};
+
+// Every row sits at the position of its enum value.
+constexpr bool technique_table_is_ordered() {
+    for (std::size_t i = 0; i < kTechniques.size(); ++i)
+        if (std::size_t(kTechniques[i].id) != i) return false;
+    return true;
+}
+static_assert(technique_table_is_ordered());
+
+constexpr const TechniqueInfo& info(Technique technique) {
+    return kTechniques[std::size_t(technique)];
+}
+
+// The technique's name ("bump", "lean", ...).
+const char* to_string(Technique technique);
+
+// Every technique, in table order.
+const std::vector<Technique>& all_techniques();
+// The techniques measured against the ground truth (every one but the supersampled reference).
+std::vector<Technique> approximating_techniques();
+
+// Throws leanfade::Error(setting, cause) for an unknown name; the cause lists the known ones.
+Technique parse_technique(std::string_view name, const std::string& setting = "techniques");
+// A comma-separated list ("bump,lean,fade"); duplicates and empty lists are errors.
+std::vector<Technique> parse_techniques(std::string_view list,
+                                        const std::string& setting = "techniques");
+// "bump, toksvig, clean, lean, fade or reference": for help texts and messages.
+std::string technique_names(std::span<const Technique> techniques, std::string_view last = "or");
+// Comma-separated names, the inverse of parse_techniques.
+std::string join_technique_names(std::span<const Technique> techniques);
+
+}  // namespace leanfade

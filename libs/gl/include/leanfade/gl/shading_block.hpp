@@ -1,0 +1,85 @@
+#pragma once
+// The C++ side of the fragment stage's uniform block and texture bindings (shaders/bindings.glsl,
+// the structs LfParams and LfShadingUniforms of shaders/lean_shading.glsl). Both sides compile
+// the same struct definitions; the std140 offsets the GLSL block gets are written out below and
+// checked against the C++ layout here, and against the GL driver's reported offsets in
+// tests/gl/test_shaders.cpp (UniformBlock.*).
+#include <cstddef>
+
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade::gl {
+
+namespace bindings {
+#include "bindings.glsl"
+}  // namespace bindings
+
+using shading::LfParams;
+using shading::LfShadingUniforms;
+
+// std140 offsets of LfParams: a vec3 takes 16-byte alignment and 12 bytes, so the scalar after
+// it fills its fourth component.
+static_assert(offsetof(LfParams, light_color) == 0);
+static_assert(offsetof(LfParams, shininess) == 12);
+static_assert(offsetof(LfParams, ambient) == 16);
+static_assert(offsetof(LfParams, inv_s_shading) == 28);
+static_assert(offsetof(LfParams, kd) == 32);
+static_assert(offsetof(LfParams, fresnel_bias) == 44);
+static_assert(offsetof(LfParams, ks) == 48);
+static_assert(offsetof(LfParams, fresnel_scale) == 60);
+static_assert(offsetof(LfParams, fade) == 64);
+static_assert(offsetof(LfParams, pmax) == 68);
+static_assert(offsetof(LfParams, fade_exponent) == 72);
+static_assert(offsetof(LfParams, fade_distance) == 76);
+static_assert(sizeof(LfParams) == 80, "a std140 struct is a multiple of 16 bytes");
+
+static_assert(offsetof(LfShadingUniforms, params) == 0);
+static_assert(offsetof(LfShadingUniforms, scale) == 80);
+static_assert(offsetof(LfShadingUniforms, output_mode) == 84);
+static_assert(offsetof(LfShadingUniforms, fog_mode) == 88);
+static_assert(offsetof(LfShadingUniforms, fog_start) == 92);
+static_assert(offsetof(LfShadingUniforms, fog_color) == 96);
+static_assert(offsetof(LfShadingUniforms, fog_end) == 108);
+static_assert(offsetof(LfShadingUniforms, fog_density) == 112);
+// std140 rounds the struct up to 128 bytes; the last 12 are padding, not uploaded.
+static_assert(sizeof(LfShadingUniforms) == 116);
+inline constexpr std::size_t kShadingBlockStd140Size = 128;
+
+// Each member's name in the GL program (as glGetProgramResourceIndex knows it) and its C++
+// offset: what the driver reports must be the same.
+struct BlockMember {
+    const char* name;
+    std::size_t offset;
+};
+#define LF_PARAM(member)                                                     \
+    {                                                                        \
+        "u_shading.params." #member,                                         \
+            offsetof(LfShadingUniforms, params) + offsetof(LfParams, member) \
+    }
+#define LF_UNIFORM(member) \
+    { "u_shading." #member, offsetof(LfShadingUniforms, member) }
+inline constexpr BlockMember kShadingBlockMembers[] = {
+    LF_PARAM(light_color),
+    LF_PARAM(shininess),
+    LF_PARAM(ambient),
+    LF_PARAM(inv_s_shading),
+    LF_PARAM(kd),
+    LF_PARAM(fresnel_bias),
+    LF_PARAM(ks),
+    LF_PARAM(fresnel_scale),
+    LF_PARAM(fade),
+    LF_PARAM(pmax),
+    LF_PARAM(fade_exponent),
+    LF_PARAM(fade_distance),
+    LF_UNIFORM(scale),
+    LF_UNIFORM(output_mode),
+    LF_UNIFORM(fog_mode),
+    LF_UNIFORM(fog_start),
+    LF_UNIFORM(fog_color),
+    LF_UNIFORM(fog_end),
+    LF_UNIFORM(fog_density),
+};
+#undef LF_PARAM
+#undef LF_UNIFORM
+
+}  // namespace leanfade::gl
