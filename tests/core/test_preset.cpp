@@ -1,5 +1,9 @@
 // Presets (core/preset.hpp): exact JSON round trip, defaults for missing keys, and strict errors
 // that name the file and the key.
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,6 +11,7 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/preset.hpp"
 
 namespace leanfade {
@@ -186,6 +191,77 @@ TEST(Preset, BrokenJsonNamesTheFile) {
         EXPECT_EQ(e.file(), "broken.json");
         EXPECT_NE(std::string(e.what()).find("not valid JSON"), std::string::npos) << e.what();
     }
+}
+
+// Expects read_preset(path) to throw an Error for `path` whose cause is exactly `cause`.
+void expect_read_error(const std::string& path, const std::string& cause) {
+    try {
+        read_preset(path);
+        ADD_FAILURE() << path << ": accepted";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), path);
+        EXPECT_EQ(e.cause(), cause);
+    }
+}
+
+// Found by an outside probe: `--preset` on a FIFO blocked forever, on /dev/zero it grew until
+// bad_alloc, and a directory was "not valid JSON". Presets are now read by the one reader of
+// regular text files with a size limit.
+TEST(PresetFiles, DirectoryFifoDeviceAndHugeFilesAreRefusedWithoutReading) {
+    const auto dir = std::filesystem::path(LEANFADE_TEST_TMP) / "preset_hostile";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "folder.json");
+    expect_read_error((dir / "folder.json").string(), "is a directory, not a preset file");
+    expect_read_error("/dev/zero", "is not a regular file");
+
+    const std::string fifo = (dir / "pipe.json").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+    const int holder = ::open(fifo.c_str(), O_RDWR | O_NONBLOCK);  // the test cannot block
+    ASSERT_GE(holder, 0);
+    expect_read_error(fifo, "is not a regular file");
+    ::close(holder);
+
+    const std::string huge = (dir / "huge.json").string();
+    std::ofstream(huge) << "{\"scene\": \"teapot\"" << std::string(std::size_t(1) << 20, ' ')
+                        << "}";
+    expect_read_error(huge, "file of 1048595 bytes exceeds the limit of 1048576 bytes for a "
+                            "preset file");
+    expect_read_error((dir / "missing.json").string(), "file not found");
+}
+
+// Found by an outside probe: text of the preset reached messages raw (newlines, terminal escape
+// sequences). It is escaped, and names with control characters are refused.
+TEST(PresetFiles, FileTextInMessagesIsEscaped) {
+    const std::pair<std::string, std::string> cases[] = {
+        {"{\"sh\\u001b[31mading\": 1}", "key 'sh\\x1B[31mading': unknown key"},
+        {"{\"scene\": \"a\\nb.obj\"}", "key 'scene': contains control characters ('a\\x0Ab.obj')"},
+        {"{\"view\": {\"techniques\": [\"le\\u001b]0;x\\u0007an\"]}}",
+         "key 'view.techniques': contains control characters ('le\\x1B]0;x\\x07an')"},
+        {"{\"scene\": \x1b[2J}", "not valid JSON: "},
+    };
+    for (const auto& [text, expected] : cases) {
+        SCOPED_TRACE(text);
+        try {
+            preset_from_json(text, "p.json");
+            ADD_FAILURE() << "accepted";
+        } catch (const Error& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find(expected), std::string::npos) << message;
+            for (const char c : message)
+                EXPECT_TRUE(static_cast<unsigned char>(c) >= 0x20 && c != 0x7F) << message;
+        }
+    }
+}
+
+TEST(InputText, EscapesControlCharactersInvalidUtf8AndLongText) {
+    EXPECT_EQ(escape_text("plain text, 1.5"), "plain text, 1.5");
+    EXPECT_EQ(escape_text("a\nb\x1b[31mc\\"), "a\\x0Ab\\x1B[31mc\\x5C");
+    EXPECT_EQ(escape_text("caf\xC3\xA9 \xE2\x9C\x93"), "caf\xC3\xA9 \xE2\x9C\x93");  // UTF-8 kept
+    EXPECT_EQ(escape_text("\xC3(\xFF\xC2\x9B"), "\\xC3(\\xFF\\xC2\\x9B");  // invalid, C1 CSI
+    // A right-to-left override.
+    EXPECT_EQ(escape_text("\xE2\x80\xAE" "evil"), "\\xE2\\x80\\xAEevil");
+    EXPECT_EQ(escape_text(std::string(300, 'x'), 10), std::string(10, 'x') + "...");
+    EXPECT_EQ(escape_text(std::string("a\0b", 3)), "a\\x00b");
 }
 
 }  // namespace

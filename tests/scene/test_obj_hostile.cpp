@@ -3,7 +3,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -98,6 +100,99 @@ TEST(ObjHostile, LoadFromMemoryMatchesLoadFromFile) {
     for (std::size_t i = 0; i < from_file.vertices.size(); ++i) {
         EXPECT_EQ(from_memory.vertices[i].position, from_file.vertices[i].position);
         EXPECT_EQ(from_memory.vertices[i].uv, from_file.vertices[i].uv);
+    }
+}
+
+// A convex polygon of `count` vertices on the unit circle (z = 0), as one face; `dented`: its
+// middle vertex pulled in to radius 0.5 (a non-convex polygon).
+std::string disc(std::size_t count, bool dented = false) {
+    std::string text;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double angle = 6.283185307179586 * double(i) / double(count);
+        const double radius = dented && i == count / 2 ? 0.5 : 1.0;
+        char line[64];
+        std::snprintf(line, sizeof line, "v %.9g %.9g 0\n", radius * std::cos(angle),
+                      radius * std::sin(angle));
+        text += line;
+    }
+    text += "f";
+    for (std::size_t i = 1; i <= count; ++i) text += " " + std::to_string(i);
+    return text + "\n";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A star polygon of `points` tips (2 * points vertices, non-convex), as one face.
+std::string star(std::size_t points) {
+    std::string text;
+    for (std::size_t i = 0; i < 2 * points; ++i) {
+        const double angle = 3.141592653589793 * double(i) / double(points);
+        const double radius = i % 2 == 0 ? 1.0 : 0.5;
+        text += "v " + std::to_string(radius * std::cos(angle)) + " " +
+                std::to_string(radius * std::sin(angle)) + " 0\n";
+    }
+    text += "f";
+    for (std::size_t i = 1; i <= 2 * points; ++i) text += " " + std::to_string(i);
+    return text + "\n";
+}
+
+// Sum of the triangles' signed areas in the z = 0 plane (counter-clockwise positive).
+double signed_area(const Mesh& mesh) {
+    double area = 0.0;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        const glm::vec3 a = mesh.vertices[mesh.indices[t]].position;
+        const glm::vec3 b = mesh.vertices[mesh.indices[t + 1]].position;
+        const glm::vec3 c = mesh.vertices[mesh.indices[t + 2]].position;
+        area += 0.5 * (double(b.x - a.x) * double(c.y - a.y) -
+                       double(b.y - a.y) * double(c.x - a.x));
+    }
+    return area;
+}
+
+// Found by an outside probe: tinyobjloader triangulates a polygon in time quadratic in its
+// vertex count, so one face of 100 000 vertices (2 MB of text) took more than 30 s. Faces are
+// triangulated by the loader now: up to 64 vertices by ear clipping (right for non-convex faces),
+// larger ones as fans (linear time).
+TEST(ObjHostile, FaceWithHundredThousandVerticesLoadsInLinearTime) {
+    for (const bool dented : {false, true}) {
+        const auto start = std::chrono::steady_clock::now();
+        const Mesh mesh = load_obj_from_memory(disc(100000, dented), "big_face.obj");
+        EXPECT_LT(seconds_since(start), 3.0);
+        EXPECT_EQ(mesh.triangle_count(), 99998u);
+        if (!dented) EXPECT_NEAR(signed_area(mesh), 3.141592653589793, 1e-3);  // all CCW
+    }
+
+    // A non-convex star of 64 vertices: ear-clipped into 62 triangles covering exactly the star
+    // (a fan from vertex 0 would cover some of it twice and leave the area wrong).
+    const Mesh clipped = load_obj_from_memory(star(32), "star.obj");
+    EXPECT_EQ(clipped.triangle_count(), 62u);
+    const double star_area = 32 * 2 * 0.5 * 1.0 * 0.5 * std::sin(3.141592653589793 / 32);
+    EXPECT_NEAR(signed_area(clipped), star_area, 1e-5);
+}
+
+// Found by an outside probe: text of the file reached messages raw. A malformed token with a
+// terminal escape sequence and a newline is escaped in the one-line message.
+TEST(ObjHostile, FileTextInMessagesIsEscaped) {
+    expect_error("escape.obj", "v 0 0 \x1b[31mred\n",
+                 "line 1: '\\x1B[31mred' is not a number");
+}
+
+// Found by an outside probe (for `--preset`; OBJ files went through the same kind of reader):
+// a directory, a FIFO and a device are refused by the one reader of text files, without reading.
+TEST(ObjHostile, DeviceAndDirectoryAreRefusedWithoutReading) {
+    try {
+        (void)load_obj("/dev/zero");
+        ADD_FAILURE() << "no error thrown";
+    } catch (const leanfade::Error& e) {
+        EXPECT_EQ(e.cause(), "is not a regular file");
+    }
+    try {
+        (void)load_obj(scratch().string());
+        ADD_FAILURE() << "no error thrown";
+    } catch (const leanfade::Error& e) {
+        EXPECT_EQ(e.cause(), "is a directory, not an OBJ file");
     }
 }
 

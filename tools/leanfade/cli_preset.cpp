@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/gl/renderer.hpp"
 
 namespace leanfade::cli {
@@ -49,8 +50,13 @@ void reapply_explicit_options(CLI::App& app) {
 }
 
 void check_preset_techniques(const Preset& preset, const std::string& file) {
-    for (const std::string& name : preset.techniques)
-        gl::parse_technique(name, file + ": key 'view.techniques'");
+    for (const std::string& name : preset.techniques) {
+        try {
+            gl::parse_technique(name, file + ": key 'view.techniques'");
+        } catch (const Error& error) {  // the name is text of the file: escaped
+            throw Error(error.file(), escape_text(error.cause(), 2000));
+        }
+    }
 }
 
 std::string number_text(float value) {

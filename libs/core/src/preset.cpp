@@ -6,16 +6,15 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <limits>
-#include <sstream>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade {
 namespace {
@@ -52,9 +51,10 @@ constexpr ShadingKey kShadingKeys[] = {
     {"msaa", "--msaa"},
 };
 
-// Throws Error(file, "key 'path': cause").
+// Throws Error(file, "key 'path': cause"); the key and the cause may hold text of the file
+// (keys, names, the JSON parser's "last read" bytes): escaped.
 [[noreturn]] void fail(const std::string& file, const std::string& key, const std::string& cause) {
-    throw Error(file, "key '" + key + "': " + cause);
+    throw Error(file, "key '" + escape_text(key) + "': " + escape_text(cause, 2000));
 }
 
 std::string join(const std::string& parent, const std::string& key) {
@@ -211,7 +211,7 @@ json parse_strict(const std::string& text, const std::string& file) {
         for (const std::string& k : path)
             if (!k.empty()) where = join(where, k);
         if (!where.empty()) fail(file, where, "not valid JSON: " + cause);
-        throw Error(file, "not valid JSON: " + cause);
+        throw Error(file, "not valid JSON: " + escape_text(cause, 2000));
     }
     if (!repeated.empty()) fail(file, repeated, "given more than once");
     return value;
@@ -221,6 +221,17 @@ const char* layout_requirement(const std::string& layout) {
     if (layout == "single") return "exactly 1 technique";
     if (layout == "split") return "exactly 2 techniques";
     return "2 or 3 techniques";
+}
+
+// File names and technique names of a preset reach messages and the file system: no control
+// characters (a newline, a terminal escape sequence).
+void check_no_control_characters(const std::string& file, const std::string& key,
+                                 const std::string& text) {
+    for (const char character : text) {
+        const auto byte = static_cast<unsigned char>(character);
+        if (byte < 0x20 || byte == 0x7F)
+            fail(file, key, "contains control characters ('" + text + "')");  // escaped there
+    }
 }
 
 bool layout_accepts(const std::string& layout, std::size_t count) {
@@ -238,8 +249,12 @@ const std::vector<std::string>& preset_layouts() {
 
 void validate(const Preset& p, const std::string& file) {
     if (p.scene.empty()) fail(file, "scene", "must not be empty");
+    check_no_control_characters(file, "scene", p.scene);
     const BumpSource& b = p.bumps;
     if (b.source.empty()) fail(file, "bumps.source", "must not be empty");
+    check_no_control_characters(file, "bumps.source", b.source);
+    for (const std::string& name : p.techniques)
+        check_no_control_characters(file, "view.techniques", name);
     if (b.from != "auto" && b.from != "height" && b.from != "normal")
         fail(file, "bumps.from",
              "expected \"auto\", \"height\" or \"normal\", got \"" + b.from + "\"");
@@ -435,12 +450,7 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
 }
 
 Preset read_preset(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot open the preset file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw Error(path, "cannot read the preset file");
-    return preset_from_json(text.str(), path);
+    return preset_from_json(read_regular_file(path, kMaxPresetFileBytes, "a preset file"), path);
 }
 
 std::string preset_to_json(const Preset& p) {

@@ -8,9 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -19,35 +17,12 @@
 #include <tiny_obj_loader.h>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/scene/obj_loader.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {
 namespace {
-
-std::string read_file(const std::string& path) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status)) {
-        throw Error(path, "file not found");
-    }
-    if (std::filesystem::is_directory(status)) {
-        throw Error(path, "is a directory, not an OBJ file");
-    }
-    if (!std::filesystem::is_regular_file(status)) {  // a FIFO would block the read forever
-        throw Error(path, "is not a regular file");
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw Error(path, "cannot open for reading");
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) {
-        throw Error(path, "read error");
-    }
-    return text.str();
-}
 
 std::vector<std::string_view> split_whitespace(std::string_view line) {
     std::vector<std::string_view> tokens;
@@ -67,18 +42,29 @@ std::vector<std::string_view> split_whitespace(std::string_view line) {
     return tokens;
 }
 
-// A token quoted for an error message, without letting binary junk through.
+// A token quoted for an error message, escaped (text of the file).
 std::string quoted(std::string_view token) {
     std::string out(1, '\'');
-    for (char c : token.substr(0, 32)) {
-        out.push_back(std::isprint(static_cast<unsigned char>(c)) ? c : '?');
-    }
-    out.append(token.size() > 32 ? "...'" : "'");
+    out += escape_text(token, 32);
+    out += '\'';
     return out;
 }
 
+// Faces of up to this many vertices are ear-clipped (time up to cubic in the vertex count), larger
+// ones are fans (linear time): see triangulate_polygon.
+constexpr std::size_t kMaxEarClippedFaceVertices = 64;
+
+// A face corner: 0-based position, texture coordinate and normal indices (-1: absent).
+struct FaceCorner {
+    long long v, t, n;
+};
+// A face: `count` corners from `first` in the corner list, and the line it is on.
+struct Face {
+    std::size_t first, count, line;
+};
+
 // Checks every number on v / vt / vn lines and every index on f lines (Error(path, ...) with the
-// line number) and returns the text tinyobjloader parses: only the v, vt, vn and f lines (every
+// line number) and returns the text tinyobjloader parses: only the v, vt and vn lines (every
 // other line becomes empty, so line numbers stay), without comments ('#' to the end of a line,
 // which tinyobjloader only understands at the start of a line), each number rewritten as the
 // value checked here ("%.9g": 9 significant digits, enough for a float). tinyobjloader's own
@@ -86,7 +72,11 @@ std::string quoted(std::string_view token) {
 // "0e2147483649" overflows an int) and its parsers of lines leanfade ignores (vw, l, p, s, ...)
 // have undefined behaviour on hostile values (found by fuzz_obj, docs/robustness.md): they
 // never see the file's own text.
-std::string precheck(const std::string& path, const std::string& text) {
+// Also returns every face (`faces`, `corners`), its indices checked and resolved, in file order.
+// The faces do not reach tinyobjloader: it stores a face's vertex count in 8 bits when it does not
+// triangulate, and triangulates in quadratic time when it does (triangulate_polygon).
+std::string precheck(const std::string& path, const std::string& text,
+                     std::vector<FaceCorner>& corners, std::vector<Face>& faces) {
     std::string clean;
     clean.reserve(text.size());
     long long counts[3] = {0, 0, 0};  // positions, texture coordinates, normals
@@ -139,8 +129,10 @@ std::string precheck(const std::string& path, const std::string& text) {
             if (tokens.size() < 4) {
                 fail("a face needs at least 3 vertices");
             }
+            faces.push_back({corners.size(), tokens.size() - 1, line_number});
             for (std::size_t k = 1; k < tokens.size(); ++k) {
                 std::string_view rest = tokens[k];
+                long long resolved[3] = {-1, -1, -1};
                 for (int kind = 0; kind < 3 && !rest.empty(); ++kind) {
                     const std::size_t slash = rest.find('/');
                     const std::string_view part = rest.substr(0, slash);
@@ -159,16 +151,14 @@ std::string precheck(const std::string& path, const std::string& text) {
                         fail("face index " + std::to_string(index) + " out of range (" +
                              std::to_string(counts[kind]) + " " + kinds[kind] + " defined)");
                     }
+                    resolved[kind] = index > 0 ? index - 1 : counts[kind] + index;
                 }
                 if (!rest.empty()) {
                     fail("malformed face vertex " + quoted(tokens[k]));  // "1/2/3/4"
                 }
+                corners.push_back({resolved[0], resolved[1], resolved[2]});
             }
-            for (const std::string_view token : tokens) {
-                clean.append(token);
-                clean.push_back(' ');
-            }
-            clean.back() = '\n';
+            clean.push_back('\n');
         } else {
             clean.push_back('\n');
         }
@@ -218,6 +208,92 @@ glm::vec2 box_uv(const glm::dvec3& p, int axis, const glm::dvec3& lo, const glm:
     return glm::vec2(uv / extent);
 }
 
+// Triangles of a polygon (indices of its corners, three per triangle, in the polygon's winding),
+// in time linear in the vertex count of the face for large faces. tinyobjloader's own
+// triangulation takes time quadratic in the vertex count (a face of 100 000 vertices took more
+// than 30 s), so it is off and faces are split here: a triangle as it is; a quad along its
+// shorter diagonal (tinyobjloader's rule, so quads split as before); a polygon of up to
+// kMaxEarClippedFaceVertices by ear clipping in its plane (right for non-convex polygons too); a
+// larger one as a fan from its first vertex (right for convex polygons, which the large faces of
+// real models are: discs, caps, sections).
+void triangulate_polygon(const std::vector<glm::dvec3>& p, std::vector<std::uint32_t>& out) {
+    out.clear();
+    const std::size_t n = p.size();
+    if (n == 3) {
+        out = {0, 1, 2};
+        return;
+    }
+    if (n == 4) {
+        const glm::dvec3 d02 = p[2] - p[0], d13 = p[3] - p[1];
+        if (glm::dot(d02, d02) < glm::dot(d13, d13)) {
+            out = {0, 1, 2, 0, 2, 3};
+        } else {
+            out = {0, 1, 3, 1, 2, 3};
+        }
+        return;
+    }
+    glm::dvec3 normal(0.0);  // Newell's
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3& a = p[i];
+        const glm::dvec3& b = p[(i + 1) % n];
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x),
+                             (a.x - b.x) * (a.y + b.y));
+    }
+    if (n > kMaxEarClippedFaceVertices) {
+        for (std::uint32_t k = 1; k + 1 < n; ++k) out.insert(out.end(), {0u, k, k + 1});
+        return;
+    }
+
+    // Ear clipping in the plane of the largest normal component, counter-clockwise there.
+    const glm::dvec3 a = glm::abs(normal);
+    const int drop = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    const double sign = normal[drop] < 0.0 ? -1.0 : 1.0;
+    std::vector<glm::dvec2> q(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        q[i] = glm::dvec2(sign * p[i][(drop + 1) % 3], p[i][(drop + 2) % 3]);
+    }
+    const auto turn = [&](std::size_t i, std::size_t j, std::size_t k) {
+        const glm::dvec2 u = q[j] - q[i], v = q[k] - q[j];
+        return u.x * v.y - u.y * v.x;
+    };
+    std::vector<std::uint32_t> previous(n), next(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        previous[i] = std::uint32_t((i + n - 1) % n);
+        next[i] = std::uint32_t((i + 1) % n);
+    }
+    const auto is_ear = [&](std::uint32_t i) {
+        const std::uint32_t before = previous[i], after = next[i];
+        if (!(turn(before, i, after) > 0.0)) return false;
+        for (std::uint32_t j = next[after]; j != before; j = next[j]) {
+            if (q[j] == q[before] || q[j] == q[i] || q[j] == q[after]) continue;
+            if (turn(before, i, j) >= 0.0 && turn(i, after, j) >= 0.0 &&
+                turn(after, before, j) >= 0.0) {
+                return false;  // j inside or on the candidate triangle
+            }
+        }
+        return true;
+    };
+    std::uint32_t i = 0;
+    std::size_t remaining = n, misses = 0;
+    while (remaining > 3) {
+        if (is_ear(i)) {
+            out.insert(out.end(), {previous[i], i, next[i]});
+            next[previous[i]] = next[i];
+            previous[next[i]] = previous[i];
+            i = next[i];
+            --remaining;
+            misses = 0;
+        } else if (++misses > remaining) {
+            break;  // no ear left (a self-intersecting or degenerate polygon): fan the rest
+        } else {
+            i = next[i];
+        }
+    }
+    for (std::uint32_t j = next[i]; next[j] != i; j = next[j]) {
+        out.insert(out.end(), {i, j, next[j]});
+    }
+}
+
 struct KeyHash {
     std::size_t operator()(const std::array<long long, 3>& k) const {
         std::size_t h = std::hash<long long>{}(k[0]);
@@ -230,14 +306,16 @@ struct KeyHash {
 }  // namespace
 
 Mesh load_obj(const std::string& path) {
-    return load_obj_from_memory(read_file(path), path);
+    return load_obj_from_memory(read_regular_file(path, kMaxObjFileBytes, "an OBJ file"), path);
 }
 
 Mesh load_obj_from_memory(const std::string& file_text, const std::string& path) {
-    const std::string text = precheck(path, file_text);
+    std::vector<FaceCorner> face_corners;
+    std::vector<Face> faces;
+    const std::string text = precheck(path, file_text, face_corners, faces);
 
     tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
+    config.triangulate = false;  // no faces reach it (precheck)
     config.vertex_color = false;
     tinyobj::ObjReader reader;
     // From the string: materials are ignored, so no .mtl lookup (and no warnings about one).
@@ -261,33 +339,32 @@ Mesh load_obj_from_memory(const std::string& file_text, const std::string& path)
         long long v, n, t;
     };
     std::vector<Corner> corners;
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-        std::size_t offset = 0;
-        for (const unsigned int face_size : shape.mesh.num_face_vertices) {
-            if (offset + face_size > shape.mesh.indices.size()) {
-                throw Error(path, "parse failure: face list inconsistent");
+    std::vector<glm::dvec3> polygon;
+    std::vector<std::uint32_t> triangles;
+    for (const Face& face : faces) {
+        polygon.clear();
+        for (std::size_t c = 0; c < face.count; ++c) {
+            const FaceCorner& corner = face_corners[face.first + c];
+            if (corner.v < 0 || corner.v >= position_count || corner.t >= uv_count ||
+                corner.n >= normal_count) {
+                throw Error(path,
+                            "line " + std::to_string(face.line) + ": face index out of range");
             }
-            // Triangulation is on; any remaining polygon is split as a fan.
-            for (unsigned int k = 1; k + 1 < face_size; ++k) {
-                for (unsigned int c : {0u, k, k + 1}) {
-                    const tinyobj::index_t& idx = shape.mesh.indices[offset + c];
-                    if (idx.vertex_index < 0 || idx.vertex_index >= position_count ||
-                        idx.normal_index >= normal_count || idx.texcoord_index >= uv_count) {
-                        throw Error(path, "face index out of range");
-                    }
-                    long long n = idx.normal_index;
-                    if (n >= 0) {
-                        const glm::dvec3 vn(attrib.normals[std::size_t(3 * n)],
-                                            attrib.normals[std::size_t(3 * n + 1)],
-                                            attrib.normals[std::size_t(3 * n + 2)]);
-                        if (!(glm::length(vn) > 1e-20)) {
-                            n = -1;  // a zero normal is as good as none
-                        }
-                    }
-                    corners.push_back({idx.vertex_index, n, std::max(idx.texcoord_index, -1)});
+            polygon.push_back(position(corner.v));
+        }
+        triangulate_polygon(polygon, triangles);
+        for (const std::uint32_t c : triangles) {
+            const FaceCorner& corner = face_corners[face.first + c];
+            long long n = corner.n;
+            if (n >= 0) {
+                const glm::dvec3 vn(attrib.normals[std::size_t(3 * n)],
+                                    attrib.normals[std::size_t(3 * n + 1)],
+                                    attrib.normals[std::size_t(3 * n + 2)]);
+                if (!(glm::length(vn) > 1e-20)) {
+                    n = -1;  // a zero normal is as good as none
                 }
             }
-            offset += face_size;
+            corners.push_back({corner.v, n, corner.t});
         }
     }
     if (corners.empty()) {

@@ -77,8 +77,10 @@ const std::vector<std::string>& preset_layouts();
 
 // Parses a preset from JSON text; `name` (the file) is named in errors. Throws leanfade::Error.
 Preset preset_from_json(const std::string& text, const std::string& name);
-// Reads a preset file. Throws leanfade::Error(path, cause) for a missing or unreadable file and
-// for everything preset_from_json refuses.
+// Reads a preset file: a regular file of at most kMaxPresetFileBytes (input_text.hpp; a directory,
+// FIFO or device is refused without a blocking read). Throws leanfade::Error(path, cause) for a
+// missing, unreadable, irregular or too large file and for everything preset_from_json refuses
+// (text of the file in messages is escaped).
 Preset read_preset(const std::string& path);
 // The preset as pretty-printed JSON with every key; numbers in their shortest exact form, so that
 // preset_from_json(preset_to_json(p)) == p.

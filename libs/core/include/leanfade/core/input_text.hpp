@@ -1,0 +1,33 @@
+#pragma once
+// Text read from input files: the one reader of whole text files (presets, OBJ meshes, result
+// tables), and the escaping of file text before it reaches a message or printed output.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace leanfade {
+
+// Largest text inputs read whole into memory.
+inline constexpr std::uint64_t kMaxPresetFileBytes = std::uint64_t(1) << 20;        // 1 MiB
+inline constexpr std::uint64_t kMaxResultsFileBytes = std::uint64_t(256) << 20;     // 256 MiB
+inline constexpr std::uint64_t kMaxObjFileBytes = std::uint64_t(1) << 30;           // 1 GiB
+
+// Reads the whole of a regular file of at most `max_bytes` bytes. `kind` names what the file
+// should be, with its article ("a preset file"), in the messages. Throws leanfade::Error(path,
+// cause): "file not found", "cannot open (<reason>)", "is a directory, not <kind>", "is not a
+// regular file" (a FIFO, device or socket, never read: a FIFO without a writer cannot hang it,
+// /dev/zero cannot make it grow), "file of N bytes exceeds the limit of M bytes for <kind>",
+// "read error (<reason>)". The size is checked before anything is allocated, and a file that
+// grows while it is read is cut at the size it had when opened.
+std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                              const std::string& kind);
+
+// `text` made safe for a one-line message or a terminal: printable ASCII and valid UTF-8
+// sequences of printable characters stay as they are; control characters (newlines and escape
+// sequences included), C1 controls, bidirectional overrides, invalid UTF-8 and backslashes are
+// written as \xNN, one per byte. Longer results are cut after `max_bytes` of output and end
+// with "...".
+std::string escape_text(std::string_view text, std::size_t max_bytes = 200);
+
+}  // namespace leanfade
