@@ -371,10 +371,30 @@ void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat
     glBindVertexArray(0);
 }
 
+// A render's linear float image must be finite: NaN or infinity from the shading math would be
+// written as black or white pixels and averaged into NaN metrics. Throws leanfade::Error naming
+// the technique and the first pixel (row 0 at the top).
+static void require_finite_pixels(const Image& image, Technique technique) {
+    for (int y = 0; y < image.height; ++y) {
+        const float* row = image.row(y);
+        for (int i = 0; i < image.width * image.channels; ++i)
+            if (!std::isfinite(row[i]))
+                throw Error(std::string("rendering ") + to_string(technique),
+                            std::string("the shading gave ") +
+                                (std::isnan(row[i]) ? "NaN" : "infinity") + " at pixel (" +
+                                std::to_string(i / image.channels) + ", " + std::to_string(y) +
+                                ") of the " + std::to_string(image.width) + "x" +
+                                std::to_string(image.height) +
+                                " image: the settings or the LEAN map are outside the range "
+                                "where the shading is finite");
+    }
+}
+
 Image Renderer::render(const RenderRequest& request) {
     Target& target = render_target(request);
     Image image = target.read();
     context_.check(std::string("rendering ") + to_string(request.technique));
+    require_finite_pixels(image, request.technique);
     return image;
 }
 
