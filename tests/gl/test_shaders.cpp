@@ -188,10 +188,13 @@ TEST_F(GlShaders, ShadingBlockOffsetsMatchTheCppMirror) {
         const GLuint p = program.get();
         const GLuint block = glGetProgramResourceIndex(p, GL_UNIFORM_BLOCK, "LfShadingBlock");
         ASSERT_NE(block, GL_INVALID_INDEX) << variant.name;
-        const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING};
-        GLint block_values[2] = {0, -1};
-        glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, block, 2, block_props, 2, nullptr,
+        const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING,
+                                      GL_NUM_ACTIVE_VARIABLES};
+        GLint block_values[3] = {0, -1, -1};
+        glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, block, 3, block_props, 3, nullptr,
                                block_values);
+        // Every member of the GLSL block is listed in the C++ mirror, and no other.
+        EXPECT_EQ(block_values[2], GLint(std::size(gl::kShadingBlockMembers))) << variant.name;
         EXPECT_LE(std::size_t(block_values[0]), gl::kShadingBlockStd140Size) << variant.name;
         EXPECT_GE(std::size_t(block_values[0]), sizeof(gl::LfShadingUniforms)) << variant.name;
         EXPECT_EQ(block_values[1], gl::bindings::LF_BINDING_SHADING_BLOCK) << variant.name;
