@@ -30,7 +30,13 @@ std::vector<Technique> approximating_techniques() {
 std::string technique_names(std::span<const Technique> techniques, std::string_view last) {
     std::string text;
     for (std::size_t i = 0; i < techniques.size(); ++i) {
-        if (i > 0) text += i + 1 == techniques.size() ? " " + std::string(last) + " " : ", ";
+        if (i + 1 == techniques.size() && i > 0) {
+            text += ' ';
+            text += last;
+            text += ' ';
+        } else if (i > 0) {
+            text += ", ";
+        }
         text += info(techniques[i]).name;
     }
     return text;
