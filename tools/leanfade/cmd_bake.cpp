@@ -16,6 +16,7 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/output_plan.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -67,27 +68,19 @@ std::string output_base(const BakeArgs& args, const std::string& input_name, boo
     return (folder / stem).string();
 }
 
-void write_png_previews(const std::string& base, const PackedLeanMap& packed,
+// The top level of both layers as 16-bit RGBA, as the fading paper's Figs. 2-3 show them, to
+// `paths` (lean1, lean2).
+void write_png_previews(const std::string (&paths)[2], const PackedLeanMap& packed,
                         const io::WriteOptions& write_options) {
-    // The top level of both layers as 16-bit RGBA, as the fading paper's Figs. 2-3 show them.
     const PackedLevel& top = packed.levels.front();
-    std::vector<std::string> written;
-    try {
-        for (int layer = 0; layer < 2; ++layer) {
-            Image img(top.width, top.height, 4);
-            for (int y = 0; y < top.height; ++y)
-                for (int x = 0; x < top.width; ++x) {
-                    const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
-                    for (int c = 0; c < 4; ++c) img.at(x, y, c) = t[c];
-                }
-            const std::string path = base + (layer == 0 ? ".lean1.png" : ".lean2.png");
-            io::write_png(path, img, 16, write_options);
-            written.push_back(path);
-        }
-    } catch (...) {
-        // Never leave half a pair behind.
-        for (const std::string& path : written) fs::remove(path);
-        throw;
+    for (int layer = 0; layer < 2; ++layer) {
+        Image img(top.width, top.height, 4);
+        for (int y = 0; y < top.height; ++y)
+            for (int x = 0; x < top.width; ++x) {
+                const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
+                for (int c = 0; c < 4; ++c) img.at(x, y, c) = t[c];
+            }
+        io::write_png(paths[layer], img, 16, write_options);
     }
 }
 
@@ -158,11 +151,45 @@ int run_bake(const BakeArgs& args) {
     write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
     write_options.threads = args.threads;
 
+    // Every output of the run, checked before anything is read: a regular file (or a new one) in
+    // a writable folder, not an input, not the output of another input (docs/robustness.md).
+    struct Job {
+        std::string name;
+        bool from_file = false;
+        std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png and .lean2.png
+    };
+    std::vector<Job> jobs;
+    if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}});
+    for (const std::string& input : args.inputs) jobs.push_back({input, true, {}});
+    io::OutputPlan plan;
+    for (const std::string& input : args.inputs) plan.add_input(input);
+    for (Job& j : jobs) {
+        const std::string base =
+            output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
+        if (args.format == "png")
+            j.outputs = {base + ".lean1.png", base + ".lean2.png"};
+        else
+            j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
+        for (const std::string& output : j.outputs)
+            plan.add_output(output, "the output of " + j.name);
+    }
+    if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan.check();
+
+    // One input: its outputs and --json are published together. A batch publishes each input's
+    // outputs when they are done, and --json at the end.
+    const bool one_group = job_count == 1;
+    io::OutputTransaction run_outputs(write_options.durability);
+
     nlohmann::json summaries = nlohmann::json::array();
     int failures = 0;
     const bool progress = stderr_is_terminal();
     std::size_t job = 0;
-    auto bake_one = [&](const std::string& name, bool from_file) {
+    auto bake_one = [&](const Job& j) {
+        const std::string& name = j.name;
+        const bool from_file = j.from_file;
+        io::OutputTransaction job_outputs(write_options.durability);
+        io::OutputTransaction& outputs = one_group ? run_outputs : job_outputs;
         ++job;
         if (progress)
             std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count, name.c_str());
@@ -175,27 +202,24 @@ int run_bake(const BakeArgs& args) {
         // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
         // summary, without the float MIP chain (docs/perf.md).
         const BakeSource kind = from_file ? source : BakeSource::Height;
-        const std::string base = output_base(args, from_file ? name : args.builtin, from_file);
         std::string output;
         PackedBakeResult baked;
         if (args.format == "png") {
-            if (from_file) {
-                io::ensure_not_same_file(base + ".lean1.png", name);
-                io::ensure_not_same_file(base + ".lean2.png", name);
-            }
             Image converted;
             const Image* floats = std::get_if<Image>(&input);
             if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
             baked = bake_packed(*floats, kind, options, storage, generator_string(), name);
-            write_png_previews(base, baked.packed, write_options);
-            output = base + ".lean{1,2}.png";
+            const std::string staged[2] = {outputs.stage(j.outputs[0]),
+                                           outputs.stage(j.outputs[1])};
+            write_png_previews(staged, baked.packed, write_options);
+            output = j.outputs[0].substr(0, j.outputs[0].size() - 10) + ".lean{1,2}.png";
         } else {
-            output = !args.output.empty() ? args.output : base + ".ktx2";
-            if (from_file) io::ensure_not_same_file(output, name);
+            output = j.outputs[0];
             // Baked straight into the mapped output file, which appears only when complete.
-            baked = io::bake_to_ktx2(output, input, kind, options, storage, generator_string(),
-                                     name, write_options);
+            baked = io::bake_to_ktx2(outputs.stage(output), input, kind, options, storage,
+                                     generator_string(), name, write_options);
         }
+        if (!one_group) outputs.publish();
         const PackedLeanMap& packed = baked.packed;
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -211,9 +235,9 @@ int run_bake(const BakeArgs& args) {
         summaries.push_back(summary_json(name, output, s, result, seconds));
     };
 
-    auto guarded = [&](const std::string& name, bool from_file) {
+    auto guarded = [&](const Job& j) {
         try {
-            bake_one(name, from_file);
+            bake_one(j);
         } catch (const Error& e) {
             if (progress) std::fprintf(stderr, "\r\033[K");
             if (job_count == 1) throw;
@@ -221,15 +245,15 @@ int run_bake(const BakeArgs& args) {
             ++failures;
         }
     };
-    if (!args.builtin.empty()) guarded("builtin:" + args.builtin, false);
-    for (const std::string& input : args.inputs) guarded(input, true);
+    for (const Job& j : jobs) guarded(j);
 
     if (!args.json.empty()) {
         const std::string text = summaries.dump(2) + "\n";
-        io::AtomicFile file(args.json, write_options.durability);
+        io::AtomicFile file(run_outputs.stage(args.json), write_options.durability);
         file.write(text.data(), text.size());
         file.commit();
     }
+    run_outputs.publish();
     if (failures > 0) {
         std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures, job_count);
         return 1;

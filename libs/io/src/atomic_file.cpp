@@ -40,11 +40,17 @@ void sync_folder(const std::string& folder) {
 
 }  // namespace
 
+std::string temporary_path_for(const std::string& path) {
+    return path + ".tmp-" + std::to_string(::getpid()) + "-" +
+           std::to_string(temporary_counter.fetch_add(1));
+}
+
 AtomicFile::AtomicFile(std::string path, Durability durability)
     : path_(std::move(path)), durability_(durability) {
     if (path_.empty()) throw Error(path_, "empty output path");
-    temporary_path_ = path_ + ".tmp-" + std::to_string(::getpid()) + "-" +
-                      std::to_string(temporary_counter.fetch_add(1));
+    temporary_path_ = temporary_path_for(path_);
+    // Registered before it exists: a signal between the two finds nothing to remove.
+    registration_ = TemporaryRegistration(temporary_path_);
     descriptor_ = ::open(temporary_path_.c_str(),
                          O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC /* mmap needs read */, 0666);
     if (descriptor_ < 0) {
@@ -57,6 +63,7 @@ AtomicFile::~AtomicFile() {
     if (mapping_ != nullptr) ::munmap(mapping_, mapping_size_);
     if (descriptor_ >= 0) ::close(descriptor_);
     if (!committed_) ::unlink(temporary_path_.c_str());
+    registration_.release();
 }
 
 void AtomicFile::write(const void* data, std::size_t size) {
@@ -114,6 +121,7 @@ void AtomicFile::commit() {
         throw Error(path_, "cannot replace the file (" + errno_text(errno) + ")");
     }
     committed_ = true;
+    registration_.release();
     if (durability_ == Durability::Flush) sync_folder(folder_of(path_));
 }
 

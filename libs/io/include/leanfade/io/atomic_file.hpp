@@ -17,10 +17,50 @@ enum class Durability {
     Flush,
 };
 
+// `<path>.tmp-<pid>-<counter>`: a new temporary name beside `path`, unique in this process. Every
+// temporary of leanfade is named so (AtomicFile, OutputTransaction), which is what
+// remove_stale_temporaries recognises.
+std::string temporary_path_for(const std::string& path);
+
+// Live temporaries, removed if the process is killed by SIGINT, SIGTERM or SIGHUP (see
+// remove_temporaries_on_signals). A registration holds the path in memory allocated beforehand,
+// so that the signal handler only calls unlink (or, for a folder, removes its files). AtomicFile
+// and OutputTransaction register their temporaries themselves. Move-only.
+class TemporaryRegistration {
+  public:
+    TemporaryRegistration() = default;
+    explicit TemporaryRegistration(const std::string& path, bool folder = false);
+    ~TemporaryRegistration() { release(); }
+    TemporaryRegistration(TemporaryRegistration&& other) noexcept : slot_(other.slot_) {
+        other.slot_ = nullptr;
+    }
+    TemporaryRegistration& operator=(TemporaryRegistration&& other) noexcept;
+    TemporaryRegistration(const TemporaryRegistration&) = delete;
+    TemporaryRegistration& operator=(const TemporaryRegistration&) = delete;
+    // The path is no longer removed on a signal (it was renamed or removed).
+    void release() noexcept;
+
+  private:
+    void* slot_ = nullptr;
+};
+
+// Installs handlers for SIGINT, SIGTERM and SIGHUP (those not ignored) that remove every
+// registered temporary, then restore the default action and raise the signal again, so that the
+// process ends as it would have without the handler. Async-signal-safe: unlink, openat, getdents64,
+// unlinkat, close, sigaction and raise on preallocated paths. Call once, early in main().
+void remove_temporaries_on_signals();
+
+// Removes the temporaries `<name>.tmp-<pid>-<n>...` of `path` (name: its file name) left in its
+// folder by runs that were killed (SIGKILL, a power cut): those owned by this user whose process
+// <pid> is no longer running. Files of running processes, of other users and other names are
+// kept. Returns how many were removed; never throws.
+std::size_t remove_stale_temporaries(const std::string& path) noexcept;
+
 // Writes to a temporary file `<path>.tmp-<pid>-<counter>` in the target's folder; commit() closes
 // it (after an fsync with Durability::Flush) and renames it over `path`, which atomically replaces
 // any existing file. If commit() is never reached (an exception, an early return) the destructor
-// removes the temporary. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
+// removes the temporary, and so does a SIGINT, SIGTERM or SIGHUP once remove_temporaries_on_signals
+// is installed. Failures throw leanfade::Error(path, cause). Not copyable, not movable.
 class AtomicFile {
   public:
     // Creates the temporary file (mode 0666 minus the umask). Throws if it cannot be created, for
@@ -61,6 +101,7 @@ class AtomicFile {
     bool written_ = false;
     std::uint8_t* mapping_ = nullptr;
     std::size_t mapping_size_ = 0;
+    TemporaryRegistration registration_;
 };
 
 // Throws leanfade::Error(output, "is the same file as the input <input>") when both paths exist and

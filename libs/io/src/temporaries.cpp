@@ -1,0 +1,231 @@
+// The registry of live temporaries, its signal handler, and the removal of stale temporaries.
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <new>
+#include <string>
+#include <system_error>
+
+#include "leanfade/io/atomic_file.hpp"
+
+namespace leanfade::io {
+namespace {
+
+// One registered path. state: 0 free, 1 being filled (skipped by the handler), 2 live.
+struct Slot {
+    std::atomic<int> state{0};
+    char* path = nullptr;  // owned; kept for reuse when the slot is freed
+    std::size_t capacity = 0;
+    bool folder = false;
+};
+
+// Slots come in chunks that are never freed, so that the handler can walk them at any time.
+struct Chunk {
+    static constexpr std::size_t kSlots = 256;
+    Slot slots[kSlots];
+    std::atomic<Chunk*> next{nullptr};
+};
+
+Chunk first_chunk;
+
+Slot* claim_slot() {
+    for (Chunk* chunk = &first_chunk;;) {
+        for (Slot& slot : chunk->slots) {
+            int expected = 0;
+            if (slot.state.load(std::memory_order_relaxed) == 0 &&
+                slot.state.compare_exchange_strong(expected, 1, std::memory_order_acquire))
+                return &slot;
+        }
+        Chunk* next = chunk->next.load(std::memory_order_acquire);
+        if (next == nullptr) {
+            auto* fresh = new Chunk;
+            if (chunk->next.compare_exchange_strong(next, fresh, std::memory_order_acq_rel)) {
+                next = fresh;
+            } else {
+                delete fresh;  // another thread added one: use it
+            }
+        }
+        chunk = next;
+    }
+}
+
+// getdents64 records (the kernel's layout).
+struct DirectoryEntry64 {
+    std::uint64_t inode;
+    std::int64_t offset;
+    unsigned short length;
+    unsigned char type;
+    char name[1];
+};
+
+bool is_dot_or_dot_dot(const char* name) {
+    return name[0] == '.' && (name[1] == '\0' || (name[1] == '.' && name[2] == '\0'));
+}
+
+// Removes `name` in `folder_fd` and, when it is a folder, what it holds (at most `depth` levels
+// down). Async-signal-safe: no allocation, only system calls.
+void remove_tree_at(int folder_fd, const char* name, int depth) {
+    if (::unlinkat(folder_fd, name, 0) == 0) return;
+    if (depth <= 0) return;
+    const int fd = ::openat(folder_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return;
+    alignas(8) char buffer[4096];
+    // Entries removed while listing may hide others: list again until a pass removes nothing.
+    for (int pass = 0; pass < 64; ++pass) {
+        bool removed_any = false;
+        ::lseek(fd, 0, SEEK_SET);
+        for (;;) {
+            const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
+            if (n <= 0) break;
+            for (long at = 0; at < n;) {
+                const auto* entry = reinterpret_cast<const DirectoryEntry64*>(buffer + at);
+                at += entry->length;
+                if (is_dot_or_dot_dot(entry->name)) continue;
+                remove_tree_at(fd, entry->name, depth - 1);
+                removed_any = true;
+            }
+        }
+        if (!removed_any) break;
+    }
+    ::close(fd);
+    ::unlinkat(folder_fd, name, AT_REMOVEDIR);
+}
+
+constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+
+extern "C" void remove_temporaries_and_reraise(int signal_number) {
+    const int saved_errno = errno;
+    for (Chunk* chunk = &first_chunk; chunk != nullptr;
+         chunk = chunk->next.load(std::memory_order_acquire)) {
+        for (Slot& slot : chunk->slots) {
+            if (slot.state.load(std::memory_order_acquire) != 2) continue;
+            if (slot.folder)
+                remove_tree_at(AT_FDCWD, slot.path, 8);
+            else
+                ::unlink(slot.path);
+        }
+    }
+    struct sigaction default_action {};
+    default_action.sa_handler = SIG_DFL;
+    sigemptyset(&default_action.sa_mask);
+    ::sigaction(signal_number, &default_action, nullptr);
+    errno = saved_errno;
+    // Delivered with the default action (the process ends) as soon as the handler returns and
+    // the signal is unblocked.
+    ::raise(signal_number);
+}
+
+// "<pid>-<n>" optionally followed by more ".tmp-<pid>-<n>": the pid, or 0 when `rest` is not that.
+long temporary_pid(const std::string& rest) {
+    std::size_t at = 0;
+    long pid = 0;
+    for (bool first = true;; first = false) {
+        const std::size_t pid_start = at;
+        long value = 0;
+        while (at < rest.size() && rest[at] >= '0' && rest[at] <= '9' && at - pid_start < 10)
+            value = value * 10 + (rest[at++] - '0');
+        if (at == pid_start || at >= rest.size() || rest[at] != '-') return 0;
+        ++at;
+        const std::size_t counter_start = at;
+        while (at < rest.size() && rest[at] >= '0' && rest[at] <= '9') ++at;
+        if (at == counter_start) return 0;
+        if (first) pid = value;
+        if (at == rest.size()) return pid;
+        if (rest.compare(at, 5, ".tmp-") != 0) return 0;
+        at += 5;
+    }
+}
+
+bool process_is_running(long pid) {
+    if (pid == long(::getpid())) return true;
+    return ::kill(pid_t(pid), 0) == 0 || errno != ESRCH;
+}
+
+}  // namespace
+
+TemporaryRegistration::TemporaryRegistration(const std::string& path, bool folder) {
+    Slot* slot = claim_slot();
+    if (slot->capacity < path.size() + 1) {
+        delete[] slot->path;
+        slot->path = nullptr;
+        slot->capacity = 0;
+        try {
+            slot->path = new char[path.size() + 1];
+        } catch (...) {
+            slot->state.store(0, std::memory_order_release);
+            throw;
+        }
+        slot->capacity = path.size() + 1;
+    }
+    std::memcpy(slot->path, path.c_str(), path.size() + 1);
+    slot->folder = folder;
+    slot->state.store(2, std::memory_order_release);
+    slot_ = slot;
+}
+
+TemporaryRegistration& TemporaryRegistration::operator=(TemporaryRegistration&& other) noexcept {
+    if (this != &other) {
+        release();
+        slot_ = other.slot_;
+        other.slot_ = nullptr;
+    }
+    return *this;
+}
+
+void TemporaryRegistration::release() noexcept {
+    if (slot_ == nullptr) return;
+    static_cast<Slot*>(slot_)->state.store(0, std::memory_order_release);
+    slot_ = nullptr;
+}
+
+void remove_temporaries_on_signals() {
+    for (int signal_number : kSignals) {
+        struct sigaction current {};
+        if (::sigaction(signal_number, nullptr, &current) != 0) continue;
+        if (current.sa_handler == SIG_IGN) continue;  // e.g. nohup: keep ignoring it
+        struct sigaction action {};
+        action.sa_handler = remove_temporaries_and_reraise;
+        sigemptyset(&action.sa_mask);
+        for (int other : kSignals) sigaddset(&action.sa_mask, other);
+        ::sigaction(signal_number, &action, nullptr);
+    }
+}
+
+std::size_t remove_stale_temporaries(const std::string& path) noexcept {
+    namespace fs = std::filesystem;
+    std::size_t removed = 0;
+    try {
+        const fs::path target(path);
+        const std::string prefix = target.filename().string() + ".tmp-";
+        if (prefix.size() == 5) return 0;
+        const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+        std::error_code error;
+        for (fs::directory_iterator it(folder, error), end; !error && it != end;
+             it.increment(error)) {
+            const std::string name = it->path().filename().string();
+            if (name.compare(0, prefix.size(), prefix) != 0) continue;
+            const long pid = temporary_pid(name.substr(prefix.size()));
+            if (pid <= 0) continue;
+            struct stat info {};
+            if (::lstat(it->path().c_str(), &info) != 0) continue;
+            if (info.st_uid != ::geteuid()) continue;
+            if (!S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode)) continue;
+            if (process_is_running(pid)) continue;
+            std::error_code remove_error;
+            if (fs::remove_all(it->path(), remove_error) > 0 && !remove_error) ++removed;
+        }
+    } catch (...) {
+        // Best effort: a folder that cannot be listed keeps its files.
+    }
+    return removed;
+}
+
+}  // namespace leanfade::io
