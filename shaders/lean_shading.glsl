@@ -84,6 +84,64 @@ LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc) {
     return m;
 }
 
+// Bump layers (LEAN §3.5, docs/math.md §6): the moments of several layers mixed with weights t_i
+// (sum 1) before the lobe: B = sum t_i B_i, M = sum t_i^2 M_i + sum_{i<j} t_i t_j C_ij, where C_ij
+// comes from the pair's four slope products. Start from lf_mix_start(), add each layer and each
+// pair, end with lf_mix_end().
+
+// The four products of two layers' slopes (Bi.x Bj.x, Bi.y Bj.y, Bi.x Bj.y, Bj.x Bi.y): a texel
+// of the pair's cross-term texture at the finest level ("mixing textures"), or the same products
+// of filtered B's at shading time ("mixing approximation", exact at the finest level only).
+LF_FN vec4 lf_cross_products(vec2 bi, vec2 bj) {
+    return vec4(bi.x * bj.x, bi.y * bj.y, bi.x * bj.y, bj.x * bi.y);
+}
+
+// A layer's moments at strength k: B k and M k^2 (k < 0 flips the layer's slopes).
+LF_FN LfMoments lf_layer_strength(LfMoments m, float k) {
+    LfMoments r;
+    r.normal = m.normal;
+    r.mean = m.mean * k;
+    r.second = m.second * (k * k);
+    return r;
+}
+
+LF_FN LfMoments lf_mix_start() {
+    LfMoments r;
+    r.normal = vec3(0.0f);
+    r.mean = vec2(0.0f);
+    r.second = vec3(0.0f);
+    return r;
+}
+
+// Adds layer i with weight t: t B_i to B and t^2 M_i to M.
+LF_FN LfMoments lf_mix_layer(LfMoments mixed, LfMoments layer, float t) {
+    LfMoments r;
+    r.normal = mixed.normal;
+    r.mean = mixed.mean + t * layer.mean;
+    r.second = mixed.second + (t * t) * layer.second;
+    return r;
+}
+
+// Adds the pair (i, j) with weights t_i t_j: C_ij = (2 Pxx, 2 Pyy, Pxy + Pyx) of its products P
+// (at the strengths of the two layers: P scaled by k_i k_j).
+LF_FN LfMoments lf_mix_pair(LfMoments mixed, vec4 products, float ti_tj) {
+    LfMoments r;
+    r.normal = mixed.normal;
+    r.mean = mixed.mean;
+    r.second = mixed.second +
+               ti_tj * vec3(2.0f * products.x, 2.0f * products.y, products.z + products.w);
+    return r;
+}
+
+// The mixed surface's normal for the tail (NdotL, Fresnel): the normal of its mean slope B.
+LF_FN LfMoments lf_mix_end(LfMoments mixed) {
+    LfMoments r;
+    r.normal = normalize(vec3(mixed.mean.x, mixed.mean.y, 1.0f));
+    r.mean = mixed.mean;
+    r.second = mixed.second;
+    return r;
+}
+
 // Covariance (LEAN eq. 5 plus the base roughness 1/s of SPEC §2): (Sxx, Syy, Sxy).
 LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
     return vec3(second.x - mean.x * mean.x + inv_s, second.y - mean.y * mean.y + inv_s,

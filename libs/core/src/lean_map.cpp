@@ -74,17 +74,22 @@ MomentLevel from_moments(int width, int height, const std::vector<Moments>& in) 
     return level;
 }
 
-std::vector<Moments> reduce(const std::vector<Moments>& src, int sw, int sh, int dw, int dh,
-                            int threads) {
-    std::vector<Moments> dst(std::size_t(dw) * std::size_t(dh));
+// One MIP step of texels of N float channels: the 2x2 box in float (box4) for even sizes, the
+// separable area filter in double for others. The moments and every other linear quantity
+// (cross-term textures) share it, so that their levels stay consistent.
+template <std::size_t N>
+std::vector<std::array<float, N>> reduce(const std::vector<std::array<float, N>>& src, int sw,
+                                         int sh, int dw, int dh, int threads) {
+    using Texel = std::array<float, N>;
+    std::vector<Texel> dst(std::size_t(dw) * std::size_t(dh));
     if (sw == 2 * dw && sh == 2 * dh) {  // the 2x2 box, in float (box4)
         parallel_for_rows(dh, threads, [&](int first, int end) {
             for (int y = first; y < end; ++y) {
-                const Moments* a = &src[std::size_t(2 * y) * std::size_t(sw)];
-                const Moments* c = a + sw;
-                Moments* out = &dst[std::size_t(y) * std::size_t(dw)];
+                const Texel* a = &src[std::size_t(2 * y) * std::size_t(sw)];
+                const Texel* c = a + sw;
+                Texel* out = &dst[std::size_t(y) * std::size_t(dw)];
                 for (int x = 0; x < dw; ++x)
-                    for (int m = 0; m < 8; ++m)
+                    for (std::size_t m = 0; m < N; ++m)
                         out[x][m] = detail::box4(a[2 * x][m], a[2 * x + 1][m], c[2 * x][m],
                                                  c[2 * x + 1][m]);
             }
@@ -95,21 +100,23 @@ std::vector<Moments> reduce(const std::vector<Moments>& src, int sw, int sh, int
     const auto xtaps = reduction_taps(sw, dw);
     const auto ytaps = reduction_taps(sh, dh);
     parallel_for_rows(dh, threads, [&](int first, int end) {
-        std::vector<std::array<double, 8>> row(static_cast<std::size_t>(sw));
+        std::vector<std::array<double, N>> row(static_cast<std::size_t>(sw));
         for (int y = first; y < end; ++y) {
             // Vertical pass into a double row, then horizontal pass.
-            std::fill(row.begin(), row.end(), std::array<double, 8>{});
+            std::fill(row.begin(), row.end(), std::array<double, N>{});
             for (const Tap& ty : ytaps[std::size_t(y)]) {
-                const Moments* s = &src[std::size_t(ty.index) * std::size_t(sw)];
+                const Texel* s = &src[std::size_t(ty.index) * std::size_t(sw)];
                 for (int x = 0; x < sw; ++x)
-                    for (int c = 0; c < 8; ++c) row[std::size_t(x)][c] += ty.weight * s[x][c];
+                    for (std::size_t c = 0; c < N; ++c)
+                        row[std::size_t(x)][c] += ty.weight * s[x][c];
             }
             for (int x = 0; x < dw; ++x) {
-                std::array<double, 8> acc{};
+                std::array<double, N> acc{};
                 for (const Tap& tx : xtaps[std::size_t(x)])
-                    for (int c = 0; c < 8; ++c) acc[c] += tx.weight * row[std::size_t(tx.index)][c];
-                Moments& d = dst[std::size_t(y) * std::size_t(dw) + std::size_t(x)];
-                for (int c = 0; c < 8; ++c) d[c] = float(acc[c]);
+                    for (std::size_t c = 0; c < N; ++c)
+                        acc[c] += tx.weight * row[std::size_t(tx.index)][c];
+                Texel& d = dst[std::size_t(y) * std::size_t(dw) + std::size_t(x)];
+                for (std::size_t c = 0; c < N; ++c) d[c] = float(acc[c]);
             }
         }
     });
@@ -173,6 +180,31 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
         map.levels.push_back(from_moments(lw, lh, current));
     }
     return map;
+}
+
+std::vector<Image> build_mip_chain(const Image& top, int threads) {
+    if (top.empty() || top.channels != 4)
+        throw Error("", "build_mip_chain needs a non-empty 4-channel image");
+    using Texel = std::array<float, 4>;
+    std::vector<Texel> current(top.texel_count());
+    for (std::size_t i = 0; i < current.size(); ++i)
+        for (std::size_t c = 0; c < 4; ++c) current[i][c] = top.pixels[i * 4 + c];
+    std::vector<Image> chain;
+    int lw = top.width, lh = top.height;
+    const int levels = mip_level_count(lw, lh);
+    for (int level = 0; level < levels; ++level) {
+        if (level > 0) {
+            const int nw = std::max(1, lw / 2), nh = std::max(1, lh / 2);
+            current = reduce(current, lw, lh, nw, nh, threads);
+            lw = nw;
+            lh = nh;
+        }
+        Image image(lw, lh, 4);
+        for (std::size_t i = 0; i < current.size(); ++i)
+            for (std::size_t c = 0; c < 4; ++c) image.pixels[i * 4 + c] = current[i][c];
+        chain.push_back(std::move(image));
+    }
+    return chain;
 }
 
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,

@@ -72,6 +72,15 @@ Image make_ridges(int size) {
     return img;
 }
 
+Image make_sine(int size) {
+    const RidgeParameters r = sine_parameters(size);
+    Image img(size, size, 1);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            img.at(x, y) = float(r.amplitude * std::sin(kTwoPi * x / r.wavelength));
+    return img;
+}
+
 Image make_checker(int size) {
     // Raised checker grid: smooth square waves in x and y multiplied; 8 cells per side.
     const double cell = size / 8.0;
@@ -168,13 +177,21 @@ Image make_waves(int size, Rng& rng) {
 }  // namespace
 
 const std::vector<std::string>& builtin_bump_names() {
-    static const std::vector<std::string> names = {"bumps", "ridges", "checker", "noise", "waves"};
+    static const std::vector<std::string> names = {"bumps", "ridges", "checker", "noise",
+                                                   "waves", "sine",   "flat"};
     return names;
 }
 
 RidgeParameters ridge_parameters(int size) {
     const float wavelength = float(size) / std::max(1, std::min(16, size / 8));
     // Maximum slope A * 2 pi / lambda = 0.5.
+    return {0.5f * wavelength / float(kTwoPi), wavelength};
+}
+
+RidgeParameters sine_parameters(int size) {
+    // 8-texel waves (4 at the smallest size): fine enough that the MIP levels from the third on
+    // average a whole period, so that their variance is all the sine has.
+    const float wavelength = size >= 16 ? 8.0f : 4.0f;
     return {0.5f * wavelength / float(kTwoPi), wavelength};
 }
 
@@ -189,6 +206,8 @@ Image make_builtin_height(const std::string& name, int size, std::uint32_t seed)
     if (name == "checker") return make_checker(size);
     if (name == "noise") return make_noise(size, rng);
     if (name == "waves") return make_waves(size, rng);
+    if (name == "sine") return make_sine(size);
+    if (name == "flat") return Image(size, size, 1);
     std::string valid;
     for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
     throw Error("--builtin " + name, "unknown bump set (valid: " + valid + ")");

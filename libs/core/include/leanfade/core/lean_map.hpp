@@ -105,6 +105,12 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
 // slope is not finite or steeper than kMaxSlope.
 LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 
+// The MIP chain of any linear 4-channel quantity (level 0 = `top`), filtered exactly as
+// build_lean_map filters the moments, so that sums of such chains and of moments commute with
+// filtering (the cross-term textures of bump layers, leanfade/core/layers.hpp). `threads` as
+// BakeOptions::threads.
+std::vector<Image> build_mip_chain(const Image& top, int threads = 0);
+
 // Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
 // Auto: 1-2 channels are a height map (first channel), 3-4 channels a normal map.
 enum class BakeSource { Auto, Height, Normal };

@@ -12,7 +12,8 @@ namespace leanfade {
 
 // "bumps" (random round bumps, as the papers' figures), "ridges" (anisotropic sine ridges along
 // v, LEAN Fig. 2d), "checker" (raised checker grid, LEAN Fig. 14), "noise" (fBm), "waves" (a sum
-// of directional waves).
+// of directional waves), "sine" (h = A sin(2 pi x / lambda) along u with 8-texel waves: the
+// coherent layer of LEAN §3.5, mixed with its negation it must give "flat"), "flat" (h = 0).
 const std::vector<std::string>& builtin_bump_names();
 
 // size x size, 1 channel. Throws Error for an unknown name or a size outside [4, 16384].
@@ -24,5 +25,7 @@ struct RidgeParameters {
     float wavelength;  // lambda, texels (size / cycles)
 };
 RidgeParameters ridge_parameters(int size);
+// The same for "sine" (maximum slope 0.5).
+RidgeParameters sine_parameters(int size);
 
 }  // namespace leanfade
