@@ -76,7 +76,7 @@ void add_shading_options(CLI::App& app, ShadingFlags& f) {
     vec("--ambient", f.ambient, s.ambient, "Ambient Ka (R,G,B or one value)");
     vec("--kd", f.kd, s.kd, "Diffuse Kd (R,G,B or one value)");
     vec("--ks", f.ks, s.ks, "Specular Ks (R,G,B or one value)");
-    num("--shininess", s.shininess, "Blinn-Phong exponent s (> 0)");
+    num("--shininess", s.shininess, "Blinn-Phong exponent s (0.001 to 1e7)");
     num("--fresnel-bias", s.fresnel_bias, "Fresnel bias Fb");
     num("--fresnel-scale", s.fresnel_scale, "Fresnel scale Fs");
     num("--fade", s.fade, "Fading rate Fade >= 0, per bounding radius (fading paper eq. 6)");

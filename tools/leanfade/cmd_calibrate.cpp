@@ -42,25 +42,22 @@ struct CalibrateArgs {
     GlFlags gl;
 };
 
-std::string plot_script(const eval::FadeCalibration& c, const std::string& target,
-                        const std::string& plot_file, const std::string& data_file) {
-    double top = 1.05;  // ratios above 1 (the truth brighter than LEAN) stay in view
-    for (std::size_t i = 0; i < c.target.size(); ++i)
-        top = std::max({top, 1.05 * c.target[i], 1.05 * c.achieved[i]});
-    std::ostringstream gp;
-    gp << "# gnuplot script written by leanfade calibrate\n"
-       << "set terminal pngcairo size 640,420 font 'sans,10'\n"
-       << "set output '" << plot_file << "'\n"
-       << "set logscale x 2\nset grid\nset key top right\n"
-       << "set xlabel 'camera distance (bounding radii)'\n"
-       << "set ylabel 'specular energy, fade / lean'\n"
-       << "set yrange [0:" << top << "]\n"
-       << "set title 'target " << target << ": Fade = " << c.fit.fade << ", Pmax = " << c.fit.pmax
-       << "'\n"
-       << "plot '" << data_file << "' using 1:2 with lines lw 2 lc rgb '#000000' title 'target', "
-       << "'' using 1:4 with linespoints lw 2 pt 7 lc rgb '#2ca02c' title 'achieved (rendered)', "
-       << "'' using 1:3 with points pt 6 ps 2 lc rgb '#1f77b4' title 'model of the fit'\n";
-    return gp.str();
+// The plot's three files: the PNG, its data (.tsv) and script (.gp) beside it. Checked before
+// the renders: names gnuplot can be given, and three distinct files.
+struct PlotFiles {
+    std::filesystem::path plot, data, script;
+};
+
+PlotFiles plot_files(const std::string& name) {
+    PlotFiles f;
+    f.plot = fs::absolute(name);
+    f.data = fs::path(f.plot).replace_extension(".tsv");
+    f.script = fs::path(f.plot).replace_extension(".gp");
+    if (f.plot == f.data || f.plot == f.script)
+        throw Error("--plot", "the plot's data and script are written beside it as .tsv and .gp; "
+                              "name the plot otherwise (e.g. .png), got '" + name + "'");
+    eval::gnuplot_file(f.plot.filename().string());  // throws for a control character
+    return f;
 }
 
 int run_calibrate(const CalibrateArgs& args) {
@@ -84,6 +81,7 @@ int run_calibrate(const CalibrateArgs& args) {
                     "got " +
                         std::to_string(args.spp));
     request.reference_samples = k;
+    const PlotFiles files = args.plot.empty() ? PlotFiles{} : plot_files(args.plot);
 
     const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
     const PackedLeanMap map = load_lean_map(args.source, request.settings);
@@ -107,9 +105,9 @@ int run_calibrate(const CalibrateArgs& args) {
                     c.achieved[i]);
 
     if (!args.plot.empty()) {
-        const fs::path plot = fs::absolute(args.plot);
-        const fs::path data = fs::path(plot).replace_extension(".tsv");
-        const fs::path script = fs::path(plot).replace_extension(".gp");
+        const fs::path& plot = files.plot;
+        const fs::path& data = files.data;
+        const fs::path& script = files.script;
         std::ostringstream tsv;
         tsv << "# distance target model achieved\n";
         for (std::size_t i = 0; i < c.distances.size(); ++i)
@@ -117,8 +115,9 @@ int run_calibrate(const CalibrateArgs& args) {
                 << c.achieved[i] << "\n";
         eval::write_text_file(data.string(), tsv.str());
         eval::write_text_file(script.string(),
-                              plot_script(c, eval::to_string(target), plot.filename().string(),
-                                          data.filename().string()));
+                              eval::calibration_plot_script(
+                                  eval::to_string(target), c.fit.fade, c.fit.pmax, c.target,
+                                  c.achieved, plot.filename().string(), data.filename().string()));
         std::string note;
         if (eval::run_gnuplot(script.string(), note))
             std::printf("plot: %s\n", plot.string().c_str());

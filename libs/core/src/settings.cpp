@@ -23,6 +23,9 @@ void require_colour(const glm::vec3& c, const char* flag) {
     for (int i = 0; i < 3; ++i) {
         require_finite(c[i], flag);
         if (c[i] < 0.0f) throw Error(flag, "colour components must be >= 0, got " + text(c[i]));
+        if (c[i] > kMaxColourComponent)
+            throw Error(flag, "colour components must be <= " + text(kMaxColourComponent) +
+                                  ", got " + text(c[i]));
     }
 }
 
@@ -35,6 +38,15 @@ void require(bool ok, const char* flag, const std::string& cause) {
 void validate(const ShadingSettings& s) {
     for (int i = 0; i < 3; ++i) require_finite(s.light_direction[i], "--light-dir");
     require(s.light_direction != glm::vec3(0.0f), "--light-dir", "must not be the zero vector");
+    // It is normalised in float: its squared length must neither underflow nor overflow.
+    const double length = std::sqrt(double(s.light_direction.x) * s.light_direction.x +
+                                    double(s.light_direction.y) * s.light_direction.y +
+                                    double(s.light_direction.z) * s.light_direction.z);
+    require(length >= kMinLightDirectionLength && length <= kMaxLightDirectionLength,
+            "--light-dir",
+            "its length must be in [" + text(kMinLightDirectionLength) + ", " +
+                text(kMaxLightDirectionLength) + "] (it is normalised), got " +
+                text(float(length)));
     require_colour(s.light_color, "--light-color");
     require_colour(s.ambient, "--ambient");
     require_colour(s.kd, "--kd");
@@ -56,7 +68,9 @@ void validate(const ShadingSettings& s) {
                    {s.tiling, "--tiling"},
                    {s.mip_bias, "--mip-bias"}};
     for (const auto& v : scalars) require_finite(v.value, v.flag);
-    require(s.shininess > 0.0f, "--shininess", "must be > 0, got " + text(s.shininess));
+    require(s.shininess >= kMinShininess && s.shininess <= kMaxShininess, "--shininess",
+            "must be in [" + text(kMinShininess) + ", " + text(kMaxShininess) + "], got " +
+                text(s.shininess));
     require(s.fresnel_bias >= 0.0f, "--fresnel-bias", "must be >= 0, got " + text(s.fresnel_bias));
     require(s.fresnel_scale >= 0.0f, "--fresnel-scale",
             "must be >= 0, got " + text(s.fresnel_scale));
@@ -67,7 +81,8 @@ void validate(const ShadingSettings& s) {
             "must be greater than --fog-start for linear fog");
     require(s.fog_density >= 0.0f, "--fog-density", "must be >= 0, got " + text(s.fog_density));
     require(s.bump_strength > 0.0f, "--strength", "must be > 0, got " + text(s.bump_strength));
-    require(s.tiling > 0.0f, "--tiling", "must be > 0, got " + text(s.tiling));
+    require(s.tiling > 0.0f && s.tiling <= kMaxTiling, "--tiling",
+            "must be in (0, " + text(kMaxTiling) + "], got " + text(s.tiling));
     require(s.anisotropy >= 1 && s.anisotropy <= 16, "--aniso",
             "must be in [1, 16], got " + std::to_string(s.anisotropy));
     const int m = s.msaa;

@@ -9,6 +9,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/shading.hpp"
+#include "leanfade/eval/results.hpp"
 
 namespace leanfade::eval {
 namespace {
@@ -211,6 +212,33 @@ FadeFit fit_fade(const std::vector<FadeSamples>& samples, const std::vector<doub
     }
     fit.residual = std::sqrt(sum / double(samples.size()));
     return fit;
+}
+
+std::string calibration_plot_script(const std::string& target_name, double fade, double pmax,
+                                    const std::vector<double>& target,
+                                    const std::vector<double>& achieved,
+                                    const std::string& plot_file, const std::string& data_file) {
+    double top = 1.05;  // ratios above 1 (the truth brighter than LEAN) stay in view
+    for (const std::vector<double>* values : {&target, &achieved})
+        for (double v : *values)
+            if (std::isfinite(v)) top = std::max(top, 1.05 * v);
+    std::ostringstream title;
+    title << "target " << target_name << ": Fade = " << fade << ", Pmax = " << pmax;
+    const std::string data = gnuplot_file(data_file);
+    std::ostringstream gp;
+    gp << "# gnuplot script written by leanfade calibrate\n"
+       << "set terminal pngcairo size 640,420 font 'sans,10'\n"
+       << "set output " << gnuplot_file(plot_file) << "\n"
+       << "set logscale x 2\nset grid\nset key top right\n"
+       << "set xlabel " << gnuplot_string("camera distance (bounding radii)") << "\n"
+       << "set ylabel " << gnuplot_string("specular energy, fade / lean") << "\n"
+       << "set yrange [0:" << top << "]\n"
+       << "set title " << gnuplot_string(title.str()) << "\n"
+       << "plot " << data << " using 1:2 with lines lw 2 lc rgb '#000000' title 'target', "
+       << data << " using 1:4 with linespoints lw 2 pt 7 lc rgb '#2ca02c' "
+       << "title 'achieved (rendered)', " << data
+       << " using 1:3 with points pt 6 ps 2 lc rgb '#1f77b4' title 'model of the fit'\n";
+    return gp.str();
 }
 
 }  // namespace leanfade::eval

@@ -1,11 +1,16 @@
 // Results files of `leanfade eval`: parsing of the sweep lists, CSV, JSON, plots and the report.
 #include "leanfade/eval/results.hpp"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -33,13 +38,18 @@ bool parse_number(const std::string& text, double& value) {
     return end != nullptr && *end == 0 && std::isfinite(value);
 }
 
-// Rounds to 3 significant digits, so that log-spaced distances print as 3.17 rather than
+// Rounds to `digits` significant digits, so that log-spaced distances print as 3.17 rather than
 // 3.1748.
-float round_significant(double v) {
+float round_significant(double v, int digits = 3) {
     if (v == 0.0) return 0.0f;
-    const double scale = std::pow(10.0, 2.0 - std::floor(std::log10(std::abs(v))));
+    const double scale =
+        std::pow(10.0, double(digits - 1) - std::floor(std::log10(std::abs(v))));
     return float(std::round(v * scale) / scale);
 }
+
+// The largest camera distance of a sweep, bounding radii: beyond it the object covers far less
+// than a pixel of any frame.
+constexpr double kMaxSweepDistance = 1e4;
 
 std::string number(double v) {
     if (std::isnan(v)) return "nan";
@@ -144,13 +154,69 @@ bool executable_on_path(const std::string& name) {
     return false;
 }
 
-std::string quoted(const std::string& path) {
-    std::string out = "'";
-    for (char c : path) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
+bool is_control(char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+}
+
+// A name read from a file, for a one-line message: control characters as '?', at most 40
+// characters.
+std::string printable(const std::string& text) {
+    std::string out;
+    for (char c : text.substr(0, 40)) out += is_control(c) ? '?' : c;
+    return text.size() > 40 ? out + "..." : out;
+}
+
+// After parsing: every technique one the renderer knows, every distance and shininess finite
+// and positive (they reach the plots' script and the report).
+void validate_results(const std::string& path, const SweepInfo& info,
+                      const std::vector<CaseResult>& cases) {
+    auto check_technique = [&](const std::string& name) {
+        if (!is_measured_technique(name))
+            throw Error(path, "unknown technique '" + printable(name) + "' (expected " +
+                                  technique_names(approximating_techniques()) + ")");
+    };
+    auto check_positive = [&](double value, const char* what) {
+        if (!(std::isfinite(value) && value > 0.0))
+            throw Error(path, std::string(what) + " must be a finite number > 0, got " +
+                                  number(value));
+    };
+    for (const std::string& t : info.techniques) check_technique(t);
+    for (float d : info.distances) check_positive(d, "a distance");
+    for (float s : info.shininesses) check_positive(s, "a shininess");
+    for (const CaseResult& c : cases) {
+        check_technique(c.technique);
+        check_positive(c.distance, "a case's distance");
+        check_positive(c.shininess, "a case's shininess");
+    }
 }
 
 }  // namespace
+
+bool is_measured_technique(std::string_view name) {
+    for (Technique t : approximating_techniques())
+        if (name == to_string(t)) return true;
+    return false;
+}
+
+std::string gnuplot_string(std::string_view text) {
+    std::string out = "'";
+    for (char c : text) {
+        if (c == '\'')
+            out += "''";
+        else
+            out += is_control(c) ? '?' : c;
+    }
+    return out + "'";
+}
+
+std::string gnuplot_file(const std::string& name) {
+    if (name.empty()) throw Error("gnuplot", "empty file name");
+    for (char c : name)
+        if (is_control(c))
+            throw Error(printable(name),
+                        "a file name with a control character cannot be given to gnuplot");
+    return gnuplot_string(name.front() == '/' ? name : "./" + name);
+}
 
 std::vector<float> parse_distance_sweep(const std::string& text, const std::string& flag) {
     const std::vector<std::string> range = split(text, ':');
@@ -160,16 +226,27 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
         if (!parse_number(range[0], a) || !parse_number(range[1], b) ||
             !parse_number(range[2], n) || n != std::floor(n))
             throw Error(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
-        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0)
+        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxSweepDistance)
             throw Error(flag,
-                        "A:B:N needs 1 < A < B and 1 <= N <= 1000 (distances in bounding "
+                        "A:B:N needs 1 < A < B <= 1e4 and 1 <= N <= 1000 (distances in bounding "
                         "radii), got '" +
                             text + "'");
         const int count = int(n);
-        for (int i = 0; i < count; ++i) {
-            const double t = count == 1 ? 0.0 : double(i) / double(count - 1);
-            result.push_back(round_significant(a * std::pow(b / a, t)));
+        // 3 significant digits, more when the steps are finer than that (2:1000:1000 steps by
+        // 0.6 %): N distinct distances.
+        for (int digits = 3; digits <= 9; ++digits) {
+            result.clear();
+            for (int i = 0; i < count; ++i) {
+                const double t = count == 1 ? 0.0 : double(i) / double(count - 1);
+                result.push_back(round_significant(a * std::pow(b / a, t), digits));
+            }
+            if (std::adjacent_find(result.begin(), result.end()) == result.end()) break;
         }
+        if (std::adjacent_find(result.begin(), result.end()) != result.end())
+            throw Error(flag, "A:B:N: " + range[2] + " distances from " + range[0] + " to " +
+                                  range[1] +
+                                  " are closer than float numbers tell apart; give fewer or a "
+                                  "wider range");
     } else if (range.size() == 1) {
         for (const std::string& part : split(text, ',')) {
             double d = 0.0;
@@ -180,6 +257,10 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
                             "distances are in bounding radii from the object's centre and "
                             "must be > 1, got " +
                                 part);
+            if (d > kMaxSweepDistance)
+                throw Error(flag, "distances must be at most 1e4 bounding radii (the object "
+                                  "covers far less than a pixel beyond), got " +
+                                      part);
             result.push_back(float(d));
         }
     } else {
@@ -340,6 +421,7 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
     } catch (const nlohmann::json::exception& e) {
         throw Error(path, std::string("malformed results: ") + e.what());
     }
+    validate_results(path, info, cases);
 }
 
 void write_text_file(const std::string& path, const std::string& text) {
@@ -356,21 +438,49 @@ bool run_gnuplot(const std::string& script_path, std::string& note) {
             script_path + " are written";
         return false;
     }
+    // gnuplot itself, no shell: the script is a file argument ("./" keeps a name starting with
+    // '-' from being an option), run in the script's folder, its output read from a pipe.
     const fs::path script(script_path);
-    const std::string command = "cd " + quoted(script.parent_path().string()) + " && gnuplot " +
-                                quoted(script.filename().string()) + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) {
-        note = "could not start gnuplot";
+    const std::string folder = script.parent_path().empty() ? "." : script.parent_path().string();
+    const std::string argument = "./" + script.filename().string();
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) {
+        note = "could not start gnuplot (no pipe)";
+        return false;
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], 1);
+    posix_spawn_file_actions_adddup2(&actions, fds[1], 2);
+    posix_spawn_file_actions_addchdir_np(&actions, folder.c_str());
+    char* const argv[] = {const_cast<char*>("gnuplot"), const_cast<char*>(argument.c_str()),
+                          nullptr};
+    pid_t pid = 0;
+    const int spawned = ::posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[1]);
+    if (spawned != 0) {
+        ::close(fds[0]);
+        note = "could not start gnuplot: " + std::string(std::strerror(spawned));
         return false;
     }
     std::string output;
     char buffer[512];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
-    const int status = ::pclose(pipe);
-    if (status != 0) {
-        std::replace(output.begin(), output.end(), '\n', ' ');
+    for (;;) {
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n > 0) {
+            if (output.size() < 4096) output.append(buffer, std::size_t(n));
+        } else if (n == 0 || errno != EINTR) {
+            break;
+        }
+    }
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        std::replace_if(output.begin(), output.end(), is_control, ' ');
         note = "gnuplot failed on " + script_path + ": " + output.substr(0, 300);
         return false;
     }
@@ -387,7 +497,9 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
             "technique)\n";
     for (float s : shininesses)
         for (const std::string& t : techniques) {
-            data << "# shininess " << short_number(s) << " technique " << t << "\n";
+            std::string name = t;  // a comment line: a newline would start a data row
+            std::replace_if(name.begin(), name.end(), is_control, '?');
+            data << "# shininess " << short_number(s) << " technique " << name << "\n";
             std::vector<const CaseResult*> rows;
             for (const CaseResult& c : cases)
                 if (c.shininess == s && c.technique == t) rows.push_back(&c);
@@ -403,51 +515,62 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
             data << "\n\n";
         }
     write_text_file((fs::path(folder) / "plot_data.tsv").string(), data.str());
+    const std::string script = (fs::path(folder) / "plots.gp").string();
+    write_text_file(script, plots_script(cases, shininesses));
+    return run_gnuplot(script, note);
+}
 
+std::string plots_script(const std::vector<CaseResult>& cases,
+                         const std::vector<float>& shininesses) {
+    const std::vector<std::string> techniques = technique_order(cases);
+    const std::string data = gnuplot_file("plot_data.tsv");
     std::ostringstream gp;
     const int panels = int(shininesses.size());
     float lo = 0.0f, hi = 0.0f;
     for (const CaseResult& c : cases) {
+        if (!(std::isfinite(c.distance) && c.distance > 0.0f)) continue;
         lo = lo == 0.0f ? c.distance : std::min(lo, c.distance);
         hi = std::max(hi, c.distance);
     }
+    if (lo == 0.0f) lo = hi = 1.0f;
     gp << "# gnuplot script written by leanfade eval; run `gnuplot plots.gp` in this folder.\n"
        << "set datafile missing '?'\nset datafile separator '\\t'\n"
        << "set logscale x 2\nset grid\nset format y '%g'\n"
-       << "set xlabel 'camera distance (bounding radii)'\n"
+       << "set xlabel " << gnuplot_string("camera distance (bounding radii)") << "\n"
        << "set xrange [" << lo / 1.15f << ":" << hi * 1.15f << "]\n";
     for (std::size_t m = 0; m < metrics().size(); ++m) {
         const Metric& metric = metrics()[m];
         gp << "\nset terminal pngcairo size " << 360 * panels + 40 << ",360 font 'sans,10'\n"
-           << "set output '" << metric.key << ".png'\n"
-           << "set multiplot layout 1," << panels << " title '" << metric.title << "'\n"
+           << "set output " << gnuplot_file(std::string(metric.key) + ".png") << "\n"
+           << "set multiplot layout 1," << panels << " title " << gnuplot_string(metric.title)
+           << "\n"
            << (metric.log_y ? "set logscale y\n" : "unset logscale y\n") << "set yrange "
            << metric.y_range << "\n"
-           << "set ylabel '" << metric.y_label << "'\n";
+           << "set ylabel " << gnuplot_string(metric.y_label) << "\n";
         for (int si = 0; si < panels; ++si) {
             // One key, in the first panel.
             gp << (si == 0 ? "set key top left opaque box font ',8' samplen 2 spacing 0.9\n"
                            : "unset key\n")
-               << "set title 's = " << short_number(shininesses[std::size_t(si)]) << "'\n"
+               << "set title "
+               << gnuplot_string("s = " + short_number(shininesses[std::size_t(si)])) << "\n"
                << "plot ";
             if (std::isfinite(metric.truth))
                 gp << metric.truth << " with lines dt 2 lc rgb '#808080' title 'reference', ";
             if (metric.field == &CaseResult::rmse)  // the floor the reference's noise sets
-                gp << "'plot_data.tsv' index " << std::size_t(si) * techniques.size()
+                gp << data << " index " << std::size_t(si) * techniques.size()
                    << " using 1:6 with lines dt 2 lw 2 lc rgb '#808080' title 'reference noise', ";
             for (std::size_t ti = 0; ti < techniques.size(); ++ti) {
                 const std::size_t block = std::size_t(si) * techniques.size() + ti;
-                gp << (ti == 0 ? "" : ", ") << "'plot_data.tsv' index " << block
-                   << " using 1:" << m + 2 << " with linespoints lw 2 pt 7 ps 0.6 lc rgb '"
-                   << technique_color(techniques[ti]) << "' title '" << techniques[ti] << "'";
+                gp << (ti == 0 ? "" : ", ") << data << " index " << block << " using 1:" << m + 2
+                   << " with linespoints lw 2 pt 7 ps 0.6 lc rgb "
+                   << gnuplot_string(technique_color(techniques[ti])) << " title "
+                   << gnuplot_string(techniques[ti]);
             }
             gp << "\n";
         }
         gp << "unset multiplot\n";
     }
-    const std::string script = (fs::path(folder) / "plots.gp").string();
-    write_text_file(script, gp.str());
-    return run_gnuplot(script, note);
+    return gp.str();
 }
 
 std::vector<std::string> write_report(const std::string& folder, const SweepInfo& info,

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -31,8 +32,8 @@ void validate(const SweepRequest& r) {
                                             "cannot be one of them");
     if (r.distances.empty()) throw Error("--distances", "no distance");
     for (float d : r.distances)
-        if (!(d > 1.0f) || !std::isfinite(d))
-            throw Error("--distances", "distances must be > 1 bounding radius");
+        if (!(d > 1.0f) || !(d <= 1e4f))
+            throw Error("--distances", "distances must be in (1, 1e4] bounding radii");
     if (r.shininesses.empty()) throw Error("--shininess", "no shininess");
     for (float s : r.shininesses)
         if (!(s > 0.0f) || !std::isfinite(s)) throw Error("--shininess", "must be > 0");
@@ -44,6 +45,39 @@ void validate(const SweepRequest& r) {
         throw Error("--motion", "the pan per frame must be in (0, 4] pixels");
     if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
         throw Error("--size", "each side must be in [16, 8192] pixels");
+}
+
+std::string number_text(double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%g", v);
+    return buffer;
+}
+
+// Every measurement of a case is a finite number: a NaN or infinity is an error, never a value
+// in the tables. Only the ratios whose denominator is 0 stay undefined (NaN, null in
+// results.json): energy when the reference has no specular energy, flicker when the reference
+// does not change.
+void require_finite_case(const CaseResult& c) {
+    const struct {
+        double value;
+        const char* name;
+        bool may_be_undefined;
+    } values[] = {{c.specular_mean, "specular energy", false},
+                  {c.reference_specular_mean, "reference specular energy", false},
+                  {c.reference_mean, "reference mean", false},
+                  {c.rmse, "relative RMSE", false},
+                  {c.ssim, "SSIM", false},
+                  {c.change, "frame-to-frame change", false},
+                  {c.reference_change, "reference frame-to-frame change", false},
+                  {c.reference_noise, "reference noise", false},
+                  {c.energy, "energy ratio", c.reference_specular_mean == 0.0},
+                  {c.flicker, "flicker ratio", c.reference_change == 0.0}};
+    for (const auto& v : values)
+        if (!std::isfinite(v.value) && !v.may_be_undefined)
+            throw Error("eval", c.technique + " at distance " + number_text(c.distance) +
+                                    ", shininess " + number_text(c.shininess) + ": the " +
+                                    v.name + " is " + number_text(v.value) +
+                                    " (not a finite number)");
 }
 
 // Sum of the three colour channels over every pixel.
@@ -202,6 +236,14 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                 }
                 const Mask covered = covered_pixels(colors[0]);
                 const Mask mask = erode(covered);
+                if (frame == 0 && mask.count() == 0)
+                    throw Error("--distances",
+                                "at distance " + number_text(distance) +
+                                    " the object covers no whole pixel of the " +
+                                    std::to_string(request.width) + "x" +
+                                    std::to_string(request.height) +
+                                    " frame: nothing to measure (use smaller distances or a "
+                                    "larger --size)");
                 std::vector<Image> srgb(nt);
                 for (std::size_t t = 0; t < nt; ++t) {
                     colors[t] = fill_outside(colors[t], covered, bg.r, bg.g, bg.b);
@@ -275,6 +317,7 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                 c.change = change[t] / steps;
                 c.reference_change = reference_change / steps;
                 c.flicker = c.reference_change > 0.0 ? c.change / c.reference_change : std::nan("");
+                require_finite_case(c);
                 output.cases.push_back(c);
             }
             if (request.keep_images) output.images.push_back(std::move(kept));
@@ -364,8 +407,8 @@ std::vector<double> measure_reference_ratio(gl::Renderer& renderer, const Camera
 FadeCalibration calibrate_fade(gl::Renderer& renderer, const FadeCalibrationRequest& request) {
     if (request.cameras.distances.empty()) throw Error("--distances", "no distance");
     for (float d : request.cameras.distances)
-        if (!(d > 1.0f) || !std::isfinite(d))
-            throw Error("--distances", "distances must be > 1 bounding radius");
+        if (!(d > 1.0f) || !(d <= 1e4f))
+            throw Error("--distances", "distances must be in (1, 1e4] bounding radii");
     leanfade::validate(request.settings);
     FadeCalibration result;
     result.distances = request.cameras.distances;

@@ -1,5 +1,7 @@
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
+#include <string>
 #include <limits>
 #include <vector>
 
@@ -8,13 +10,24 @@
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {
+namespace {
 
+// The bounding radii a mesh may have: the renderer scales the object to radius 1 in float, and
+// the inverse of that scale's 3x3 matrix (the normal matrix; its determinant is radius^-3) must
+// stay in float range. Beyond, renders came out NaN.
+constexpr double kMinBoundingRadius = 1e-12;
+constexpr double kMaxBoundingRadius = 1e12;
+
+}  // namespace
+
+// In double: the float sum, difference and squares of coordinates near the float maximum
+// overflow (compute_bounds refuses boxes whose radius is outside [1e-12, 1e12]).
 glm::vec3 Bounds::center() const {
-    return 0.5f * (min + max);
+    return glm::vec3(0.5 * (glm::dvec3(min) + glm::dvec3(max)));
 }
 
 float Bounds::radius() const {
-    return 0.5f * glm::length(max - min);
+    return float(0.5 * glm::length(glm::dvec3(max) - glm::dvec3(min)));
 }
 
 std::size_t Mesh::triangle_count() const {
@@ -103,6 +116,16 @@ void compute_bounds(Mesh& mesh) {
     for (const Vertex& v : mesh.vertices) {
         lo = glm::min(lo, v.position);
         hi = glm::max(hi, v.position);
+    }
+    // A zero radius (one point) is left to the renderer, which names it.
+    const double radius = 0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo));
+    if (radius != 0.0 && !(radius >= kMinBoundingRadius && radius <= kMaxBoundingRadius)) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.3g", radius);
+        throw Error(mesh.name, std::string("the vertex positions span a bounding radius of ") +
+                                   text +
+                                   " units; the renderer scales objects to radius 1 in float, "
+                                   "which needs a radius in [1e-12, 1e12]");
     }
     mesh.bounds = Bounds{lo, hi};
 }

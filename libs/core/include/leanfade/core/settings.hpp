@@ -64,10 +64,23 @@ struct ShadingSettings {
     int msaa = 1;                // samples per pixel of the colour buffer (1 = off)
 };
 
-// Throws leanfade::Error(<flag name>, cause) naming the first out-of-range value: shininess > 0,
-// Fade >= 0, Pmax >= 1, p > 0, colours and Fresnel terms >= 0, finite values, fog_end > fog_start
-// for linear fog, density >= 0, bump strength > 0, tiling > 0, anisotropy in [1, 16], msaa in
-// {1, 2, 4, 8, 16}, a non-zero light direction. Flag names are those of `leanfade render`.
+// Ranges that keep the shading math finite in float (a non-finite pixel is an error, not black):
+// the light direction is normalised (its squared length must not underflow or overflow), 1/s
+// enters the covariance (LEAN eq. 6) and s/(2 pi) the Blinn-Phong lobe, and colours multiply
+// that lobe.
+inline constexpr float kMinLightDirectionLength = 1e-6f;
+inline constexpr float kMaxLightDirectionLength = 1e6f;
+inline constexpr float kMinShininess = 1e-3f;
+inline constexpr float kMaxShininess = 1e7f;
+inline constexpr float kMaxColourComponent = 1e6f;
+inline constexpr float kMaxTiling = 1e6f;
+
+// Throws leanfade::Error(<flag name>, cause) naming the first out-of-range value: shininess in
+// [kMinShininess, kMaxShininess], Fade >= 0, Pmax >= 1, p > 0, colours in [0,
+// kMaxColourComponent], Fresnel terms >= 0, finite values, fog_end > fog_start for linear fog,
+// density >= 0, bump strength > 0, tiling in (0, kMaxTiling], anisotropy in [1, 16], msaa in
+// {1, 2, 4, 8, 16}, a light direction of length in [kMinLightDirectionLength,
+// kMaxLightDirectionLength]. Flag names are those of `leanfade render`.
 void validate(const ShadingSettings& settings);
 
 // The shared header's parameters (SPEC §4). inv_s_shading = roughness_baked ? 0 : 1/s: a LEAN map

@@ -74,4 +74,15 @@ struct FadeFit {
 FadeFit fit_fade(const std::vector<FadeSamples>& samples, const std::vector<double>& target,
                  const FadeFitOptions& options);
 
+// The gnuplot script of `leanfade calibrate`'s plot: target (column 2), model (3) and achieved
+// (4) against distance from `data_file`, drawn into `plot_file` (both names relative to the
+// script's folder, where run_gnuplot runs it). `target_name` is the title's (to_string(target));
+// `target` and `achieved` set the y range. Names and titles are gnuplot_string / gnuplot_file
+// literals (results.hpp); throws leanfade::Error(name, cause) for a file name gnuplot cannot be
+// given (a control character).
+std::string calibration_plot_script(const std::string& target_name, double fade, double pmax,
+                                    const std::vector<double>& target,
+                                    const std::vector<double>& achieved,
+                                    const std::string& plot_file, const std::string& data_file);
+
 }  // namespace leanfade::eval

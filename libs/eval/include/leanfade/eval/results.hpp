@@ -4,6 +4,7 @@
 // GL-free.
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "leanfade/core/image.hpp"
@@ -66,8 +67,9 @@ struct CaseImages {
     std::vector<std::pair<std::string, Image>> techniques;
 };
 
-// "A:B:N" (N >= 2 log-spaced distances from A to B, 1 < A < B; N = 1 gives A) or a comma list of
-// distances > 1 (bounding radii). Throws leanfade::Error(flag, cause).
+// "A:B:N" (N >= 2 log-spaced distances from A to B, 1 < A < B <= 1e4, rounded to 3 significant
+// digits or more where N needs them to differ; N = 1 gives A) or a comma list of distances in
+// (1, 1e4] (bounding radii). Throws leanfade::Error(flag, cause).
 std::vector<float> parse_distance_sweep(const std::string& text, const std::string& flag);
 // Comma list of Blinn-Phong exponents > 0. Throws leanfade::Error(flag, cause).
 std::vector<float> parse_shininess_list(const std::string& text, const std::string& flag);
@@ -95,11 +97,33 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
                  const std::vector<float>& shininesses, std::string& note);
 
 // Reads a results.json written by results_json (the fields of SweepInfo and CaseResult it
-// holds). Throws leanfade::Error(path, cause) for a missing or malformed file.
+// holds). Throws leanfade::Error(path, cause) for a missing or malformed file, a technique that
+// is not one of kMeasuredTechniques, or a distance or shininess that is not a finite number > 0.
 void read_results_json(const std::string& path, SweepInfo& info, std::vector<CaseResult>& cases);
 
-// Runs gnuplot on a script file; false with `note` set when gnuplot is missing or fails.
+// Runs gnuplot on a script file, in the script's folder; false with `note` set when gnuplot is
+// missing or fails. gnuplot is started directly (posix_spawnp), never through a shell, with the
+// script as its one argument.
 bool run_gnuplot(const std::string& script_path, std::string& note);
+
+// Whether `name` is a technique a sweep measures: one of the technique table's
+// (core/technique.hpp) but the supersampled reference. results.json names no other.
+bool is_measured_technique(std::string_view name);
+
+// Text as a gnuplot single-quoted string literal, safe for any text: ' is doubled (the only
+// escape inside single quotes, where neither backquotes nor @macros are expanded) and control
+// characters, which would end the command (newline) or cut the line (NUL), become '?'.
+std::string gnuplot_string(std::string_view text);
+// A file name as a gnuplot string literal, for a script run in the file's folder. A relative
+// name gets "./" in front, so that a name starting with '<' or '|' (gnuplot's pipes to and from
+// a shell command) or '-' (inline data) is read as a file. A name cannot be changed as a title
+// can: one with a control character throws leanfade::Error(name, cause).
+std::string gnuplot_file(const std::string& name);
+
+// The script of write_plots (it reads plot_data.tsv and writes the four PNGs in its folder).
+// Every name and title in it is a gnuplot_string or gnuplot_file.
+std::string plots_script(const std::vector<CaseResult>& cases,
+                         const std::vector<float>& shininesses);
 
 // Writes text to a file atomically (throws leanfade::Error(path, cause)).
 void write_text_file(const std::string& path, const std::string& text);

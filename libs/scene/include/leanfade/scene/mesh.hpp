@@ -64,7 +64,8 @@ struct Mesh {
 void generate_tangents(Mesh& mesh);
 
 // Sets mesh.bounds to the axis-aligned box of all vertex positions (object space, world units);
-// an empty mesh gets a zero box at the origin.
+// an empty mesh gets a zero box at the origin. Throws leanfade::Error(mesh.name, cause) when the
+// box's bounding radius is not 0 and outside [1e-12, 1e12] (the renderer's float scaling).
 void compute_bounds(Mesh& mesh);
 
 }  // namespace leanfade::scene
