@@ -4,12 +4,14 @@
 #include <png.h>
 #include <tinyexr.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -108,7 +110,7 @@ void write_png_raw(const fs::path& path, const RawPng& layout) {
 
 // OpenEXR variants io::write_exr does not produce: half channels, other compressions, tiles.
 void write_exr_raw(const fs::path& path, const Image& image, int compression, bool half,
-                   bool tiled) {
+                   bool tiled, int tile_width = 4, int tile_height = 4) {
     static const char* kNames[4] = {"A", "B", "G", "R"};  // sorted, as OpenEXR lists them
     const int channels = image.channels;
     std::vector<std::vector<float>> planes(std::size_t(channels),
@@ -138,8 +140,8 @@ void write_exr_raw(const fs::path& path, const Image& image, int compression, bo
     header.compression_type = compression;
     if (tiled) {
         header.tiled = 1;
-        header.tile_size_x = 4;
-        header.tile_size_y = 4;
+        header.tile_size_x = tile_width;
+        header.tile_size_y = tile_height;
         header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
         header.tile_rounding_mode = TINYEXR_TILE_ROUND_DOWN;
     }
@@ -149,6 +151,44 @@ void write_exr_raw(const fs::path& path, const Image& image, int compression, bo
     exr.width = image.width;
     exr.height = image.height;
     exr.num_channels = channels;
+    // tinyexr writes a tiled file only from tiles (each a whole tile of each channel, rows of
+    // tile_width values), counted on the header's data window.
+    std::vector<std::vector<float>> tile_planes;
+    std::vector<unsigned char*> tile_pointers;
+    std::vector<EXRTile> tiles;
+    if (tiled) {
+        header.data_window.max_x = image.width - 1;
+        header.data_window.max_y = image.height - 1;
+        header.display_window = header.data_window;
+        const int columns = (image.width + tile_width - 1) / tile_width;
+        const int rows = (image.height + tile_height - 1) / tile_height;
+        for (int ty = 0; ty < rows; ++ty) {
+            for (int tx = 0; tx < columns; ++tx) {
+                for (int c = 0; c < channels; ++c) {
+                    std::vector<float> plane(std::size_t(tile_width * tile_height), 0.0f);
+                    for (int y = 0; y < tile_height && ty * tile_height + y < image.height; ++y)
+                        for (int x = 0; x < tile_width && tx * tile_width + x < image.width; ++x)
+                            plane[std::size_t(y * tile_width + x)] =
+                                planes[std::size_t(c)][std::size_t(
+                                    (ty * tile_height + y) * image.width + tx * tile_width + x)];
+                    tile_planes.push_back(std::move(plane));
+                }
+                EXRTile tile{};
+                tile.offset_x = tx;
+                tile.offset_y = ty;
+                tile.width = std::min(tile_width, image.width - tx * tile_width);
+                tile.height = std::min(tile_height, image.height - ty * tile_height);
+                tiles.push_back(tile);
+            }
+        }
+        for (auto& plane : tile_planes)
+            tile_pointers.push_back(reinterpret_cast<unsigned char*>(plane.data()));
+        for (std::size_t i = 0; i < tiles.size(); ++i)
+            tiles[i].images = &tile_pointers[i * std::size_t(channels)];
+        exr.images = nullptr;
+        exr.tiles = tiles.data();
+        exr.num_tiles = int(tiles.size());
+    }
     unsigned char* memory = nullptr;
     const char* message = nullptr;
     const std::size_t size = SaveEXRImageToMemory(&exr, &header, &memory, &message);
@@ -184,6 +224,23 @@ void image_seeds(const fs::path& dir) {
                   true, false);
     write_exr_raw(dir / "height_tiled.exr", sample_image(6, 6, 1), TINYEXR_COMPRESSIONTYPE_NONE,
                   false, true);
+    // Odd tile sizes: 1 x 1, 3 x 5 (partial tiles at the edges).
+    write_exr_raw(dir / "height_tiles_1x1.exr", sample_image(3, 2, 1),
+                  TINYEXR_COMPRESSIONTYPE_NONE, false, true, 1, 1);
+    write_exr_raw(dir / "normal_tiles_3x5_zip.exr", sample_image(7, 6, 3),
+                  TINYEXR_COMPRESSIONTYPE_ZIP, true, true, 3, 5);
+    // Refused (a tile size of 0, on which tinyexr 1.0.1 asserts): the fuzzer starts next to it.
+    {
+        write_exr_raw(dir / "refused_tile_size_0.exr", sample_image(6, 6, 1),
+                      TINYEXR_COMPRESSIONTYPE_NONE, false, true);
+        std::ifstream in(dir / "refused_tile_size_0.exr", std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        const std::string attribute("tiles\0tiledesc\0", 15);
+        const std::size_t at = bytes.find(attribute);
+        if (at == std::string::npos) throw Error("seed", "no tile description");
+        bytes.replace(at + attribute.size() + 4, 4, std::string(4, '\0'));  // tile width 0
+        write_file(dir / "refused_tile_size_0.exr", bytes);
+    }
 
     io::write_pfm((dir / "height.pfm").string(), sample_image(6, 4, 1));
     io::write_pfm((dir / "normal.pfm").string(), sample_image(4, 3, 3));
@@ -219,6 +276,33 @@ void ktx2_seeds(const fs::path& dir) {
         io::write_ktx2((dir / m.name).string(),
                        pack_lean_map(result.map, m.storage, "leanfade fuzz seed"));
     }
+    // Refused maps next to the checks of read_ktx2 and inspect_ktx2: overlapping levels, a level
+    // inside the header, a key given twice, a partial MIP chain (from unorm16_5x3.ktx2: 3 levels,
+    // level index at 80, 24 bytes per level).
+    std::ifstream in(dir / "unorm16_5x3.ktx2", std::ios::binary);
+    const std::string valid((std::istreambuf_iterator<char>(in)), {});
+    const auto store_u64 = [](std::string& bytes, std::size_t at, std::uint64_t value) {
+        for (int i = 0; i < 8; ++i) bytes[at + std::size_t(i)] = char(value >> (8 * i));
+    };
+    const auto load_u64 = [](const std::string& bytes, std::size_t at) {
+        std::uint64_t value = 0;
+        for (int i = 7; i >= 0; --i)
+            value = (value << 8) | std::uint8_t(bytes[at + std::size_t(i)]);
+        return value;
+    };
+    std::string overlap = valid;
+    store_u64(overlap, 80 + 24, load_u64(valid, 80));
+    write_file(dir / "refused_overlapping_levels.ktx2", overlap);
+    std::string in_header = valid;
+    store_u64(in_header, 80 + 2 * 24, 16);
+    write_file(dir / "refused_level_in_header.ktx2", in_header);
+    std::string duplicate = valid;
+    const std::string from("LEANFADEroughnessBaked", 22), to("LEANFADEbakedShininess", 22);
+    duplicate.replace(duplicate.find(from), from.size(), to);
+    write_file(dir / "refused_duplicate_key.ktx2", duplicate);
+    std::string partial = valid;
+    partial[40] = 2;  // levelCount 2 of 3
+    write_file(dir / "refused_partial_chain.ktx2", partial);
 }
 
 void obj_seeds(const fs::path& dir) {
@@ -240,6 +324,25 @@ void obj_seeds(const fs::path& dir) {
                "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n");
     write_file(dir / "scientific_crlf.obj",
                "v 1e-3 2.5E+1 -0.0\r\nv 3.25 -1e2 7\r\nv 0.5 0.5 1e1\r\nf 1 2 3\r\n");
+    // A convex face of 80 vertices (above the ear-clipping limit of 64: a fan) and a non-convex
+    // star of 24 (ear-clipped).
+    std::string disc, star;
+    for (int i = 0; i < 80; ++i) {
+        const double angle = 6.283185307179586 * i / 80;
+        disc += "v " + std::to_string(std::cos(angle)) + " " + std::to_string(std::sin(angle)) +
+                " 0\n";
+    }
+    disc += "f";
+    for (int i = 1; i <= 80; ++i) disc += " " + std::to_string(i);
+    write_file(dir / "large_face.obj", disc + "\n");
+    for (int i = 0; i < 24; ++i) {
+        const double angle = 6.283185307179586 * i / 24, radius = i % 2 == 0 ? 1.0 : 0.4;
+        star += "v " + std::to_string(radius * std::cos(angle)) + " " +
+                std::to_string(radius * std::sin(angle)) + " 0\n";
+    }
+    star += "f";
+    for (int i = -24; i <= -1; ++i) star += " " + std::to_string(i);
+    write_file(dir / "star_face.obj", star + "\n");
 }
 
 void cli_seeds(const fs::path& dir) {
@@ -300,9 +403,19 @@ int main(int argc, char** argv) {
             fs::create_directories(dir);
             set.make(dir);
             // Every image, KTX2 and OBJ seed must load (a seed that the reader refuses would
-            // only teach the fuzzer the first few bytes).
+            // only teach the fuzzer the first few bytes), but for the few named "refused_",
+            // which sit next to a check and must be refused by it.
             for (const auto& entry : fs::directory_iterator(dir)) {
                 const std::string path = entry.path().string();
+                if (entry.path().filename().string().starts_with("refused_")) {
+                    try {
+                        if (set.make == image_seeds) io::read_image(path);
+                        if (set.make == ktx2_seeds) io::read_ktx2(path);
+                    } catch (const Error&) {
+                        continue;
+                    }
+                    throw Error(path, "seed named refused_ was accepted");
+                }
                 if (set.make == image_seeds) io::read_image(path);
                 if (set.make == ktx2_seeds) io::read_ktx2(path);
                 if (set.make == obj_seeds) scene::load_obj(path);

@@ -259,5 +259,301 @@ TEST(HostileIo, InMemoryReadersMatchTheFileReaders) {
                  "exceeds the limit of 8 texels per side");
 }
 
+// --- Memory bounded by the decoded size ----------------------------------------------------
+
+// A PNG of `color_type` / `bit_depth` declaring width x height whose rows are all zeros (each row
+// a filter byte and its zero samples), compressed as one IDAT; with a PLTE (and tRNS) chunk for
+// palette images.
+Bytes zero_png(std::uint32_t width, std::uint32_t height, int bit_depth, int color_type,
+               bool transparency) {
+    const int samples = color_type == 2 ? 3 : color_type == 4 ? 2 : color_type == 6 ? 4 : 1;
+    const std::size_t row_bytes = (std::size_t(width) * std::size_t(samples * bit_depth) + 7) / 8;
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    Bytes ihdr(13, 0);
+    store_be32(ihdr, 0, width);
+    store_be32(ihdr, 4, height);
+    ihdr[8] = std::uint8_t(bit_depth);
+    ihdr[9] = std::uint8_t(color_type);
+    append_chunk(png, "IHDR", ihdr);
+    if (color_type == 3) {
+        append_chunk(png, "PLTE", {0, 0, 0, 255, 255, 255});
+        if (transparency) append_chunk(png, "tRNS", {0});
+    }
+    append_chunk(png, "IDAT", zlib_compress(Bytes((1 + row_bytes) * height, 0)));
+    append_chunk(png, "IEND", {});
+    return png;
+}
+
+// Found by an outside probe: the deflate guard counted the compressed bytes against the pixels
+// as stored, not as decoded. An 87-byte 1-bit palette PNG of 11585² (16.8 MB of rows, under the
+// guard's 16 MiB) decoded to 1.6 GB of RGB floats (794 MB in `bake`); a 33 KB 16384² 1-bit
+// palette + tRNS file (33.5 MB of rows, within 1032 x its IDAT) to 4.2 GB of RGBA floats. The
+// decoded size (after the palette and low-bit expansions) is now bounded by the compressed data,
+// for the float and the compact reads alike, before any row is allocated.
+TEST(HostileIo, PaletteBombsAreRefusedByTheirDecodedSize) {
+    const std::string folder = scratch_folder();
+    Bytes tiny = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    Bytes ihdr(13, 0);
+    store_be32(ihdr, 0, 11585);
+    store_be32(ihdr, 4, 11585);
+    ihdr[8] = 1;  // bit depth
+    ihdr[9] = 3;  // palette
+    append_chunk(tiny, "IHDR", ihdr);
+    append_chunk(tiny, "PLTE", {0, 0, 0});
+    append_chunk(tiny, "IDAT", zlib_compress(Bytes(4, 0)));  // a stream that ends too soon
+    append_chunk(tiny, "IEND", {});
+    EXPECT_LT(tiny.size(), 100u);
+    const std::string tiny_path = folder + "/tiny_palette.png";
+    write_bytes(tiny_path, tiny);
+
+    const Bytes large = zero_png(16384, 16384, 1, 3, true);
+    EXPECT_LT(large.size(), 40000u);
+    const std::string large_path = folder + "/palette_trns.png";
+    write_bytes(large_path, large);
+
+    for (const std::string& path : {tiny_path, large_path}) {
+        SCOPED_TRACE(path);
+        test::reset_largest_allocation();
+        expect_error([&] { read_image(path); }, path, "truncated or a decompression bomb");
+        expect_error([&] { read_image_compact(path); }, path, "truncated or a decompression bomb");
+        EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+    }
+    expect_error([&] { read_image(large_path); }, large_path,
+                 "PNG of 16384x16384 (4 channels once expanded) would decode to 4294967296 bytes "
+                 "from ");
+}
+
+// The bound does not refuse images of real content, however large: a 4096 x 1024 1-bit palette
+// image of random bits (50 MB of RGB floats from 0.5 MB of pixel data) is read.
+TEST(HostileIo, LargePaletteImageOfRealContentIsRead) {
+    const std::string path = scratch_folder() + "/random_palette.png";
+    std::uint32_t state = 12345;
+    const std::size_t row_bytes = 4096 / 8;
+    Bytes rows((1 + row_bytes) * 1024, 0);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        state = state * 1664525u + 1013904223u;
+        if (i % (1 + row_bytes) != 0) rows[i] = std::uint8_t(state >> 24);  // not filter bytes
+    }
+    Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    Bytes ihdr(13, 0);
+    store_be32(ihdr, 0, 4096);
+    store_be32(ihdr, 4, 1024);
+    ihdr[8] = 1;
+    ihdr[9] = 3;
+    append_chunk(png, "IHDR", ihdr);
+    append_chunk(png, "PLTE", {0, 0, 0, 255, 255, 255});
+    append_chunk(png, "IDAT", zlib_compress(rows));
+    append_chunk(png, "IEND", {});
+    write_bytes(path, png);
+    const Image image = read_image(path);
+    ASSERT_EQ(image.width, 4096);
+    ASSERT_EQ(image.height, 1024);
+    ASSERT_EQ(image.channels, 3);
+    const int first_bit = rows[1] >> 7;  // texel (0, 0)
+    EXPECT_EQ(image.at(0, 0, 0), float(first_bit));
+}
+
+// A tiled 8 x 8 one-channel float OpenEXR (tiles of 4 x 4, no compression), written by tinyexr
+// (which writes a tiled file only from tiles: texel (x, y) holds (8 y + x) / 64).
+Bytes tiled_exr() {
+    constexpr int kSide = 8, kTile = 4;
+    std::vector<std::vector<float>> planes;
+    std::vector<unsigned char*> plane_pointers;
+    std::vector<EXRTile> tiles;
+    for (int ty = 0; ty < kSide / kTile; ++ty) {
+        for (int tx = 0; tx < kSide / kTile; ++tx) {
+            std::vector<float> plane;
+            for (int y = 0; y < kTile; ++y)
+                for (int x = 0; x < kTile; ++x)
+                    plane.push_back(float(kSide * (ty * kTile + y) + tx * kTile + x) / 64.0f);
+            planes.push_back(std::move(plane));
+            EXRTile tile{};
+            tile.offset_x = tx;
+            tile.offset_y = ty;
+            tile.width = kTile;
+            tile.height = kTile;
+            tiles.push_back(tile);
+        }
+    }
+    for (auto& plane : planes)
+        plane_pointers.push_back(reinterpret_cast<unsigned char*>(plane.data()));
+    for (std::size_t i = 0; i < tiles.size(); ++i) tiles[i].images = &plane_pointers[i];
+    EXRChannelInfo channel{};
+    std::strncpy(channel.name, "Y", sizeof channel.name - 1);
+    int pixel_type = TINYEXR_PIXELTYPE_FLOAT;
+    EXRHeader header;
+    InitEXRHeader(&header);
+    header.num_channels = 1;
+    header.channels = &channel;
+    header.pixel_types = &pixel_type;
+    header.requested_pixel_types = &pixel_type;
+    header.compression_type = TINYEXR_COMPRESSIONTYPE_NONE;
+    header.tiled = 1;
+    header.tile_size_x = kTile;
+    header.tile_size_y = kTile;
+    header.tile_level_mode = TINYEXR_TILE_ONE_LEVEL;
+    header.tile_rounding_mode = TINYEXR_TILE_ROUND_DOWN;
+    header.data_window.max_x = header.data_window.max_y = kSide - 1;  // tiles are counted on it
+    header.display_window = header.data_window;
+    EXRImage image;
+    InitEXRImage(&image);
+    image.tiles = tiles.data();
+    image.num_tiles = int(tiles.size());
+    image.width = kSide;
+    image.height = kSide;
+    image.num_channels = 1;
+    unsigned char* memory = nullptr;
+    const char* message = nullptr;
+    const std::size_t size = SaveEXRImageToMemory(&image, &header, &memory, &message);
+    EXPECT_GT(size, 0u) << (message != nullptr ? message : "");
+    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
+    return Bytes(memory, memory + size);
+}
+
+// Offset of the data of the OpenEXR header attribute `name` of `type`.
+std::size_t exr_attribute(const Bytes& exr, const std::string& name, const std::string& type) {
+    const std::string needle = name + std::string(1, '\0') + type + std::string(1, '\0');
+    const auto at = std::search(exr.begin(), exr.end(), needle.begin(), needle.end());
+    if (at == exr.end()) {
+        ADD_FAILURE() << "no attribute " << name;
+        return 0;
+    }
+    return std::size_t(at - exr.begin()) + needle.size() + 4;  // after the size field
+}
+
+// Found by an outside probe: a tiled OpenEXR whose tile size is 0 made tinyexr fail an assertion
+// (SIGABRT: the whole batch died). The tile description is checked before tinyexr parses the
+// header: sizes of 0, level modes tinyexr asserts on, descriptions of the wrong size.
+TEST(HostileIo, ExrTileDescriptionsTinyexrAssertsOnAreRefused) {
+    const Bytes good = tiled_exr();
+    ASSERT_FALSE(good.empty());
+    EXPECT_EQ(read_image_from_memory(good, "good.exr").at(3, 2), 19.0f / 64.0f);
+    const std::size_t tiles = exr_attribute(good, "tiles", "tiledesc");
+    ASSERT_GT(tiles, 0u);
+
+    const std::string folder = scratch_folder();
+    Bytes zero_width = good;
+    store_u32_le(zero_width, tiles, 0);
+    write_bytes(folder + "/tile0.exr", zero_width);
+    expect_error([&] { read_image(folder + "/tile0.exr"); }, folder + "/tile0.exr",
+                 "corrupt OpenEXR header (tile size 0x4, expected 1 to 65536 per side)");
+    Bytes zero_height = good;
+    store_u32_le(zero_height, tiles + 4, 0);
+    expect_error([&] { read_image_from_memory(zero_height, "tile_h0.exr"); }, "tile_h0.exr",
+                 "tile size 4x0");
+    Bytes level_mode = good;
+    level_mode[tiles + 8] = 3;  // tinyexr asserts on level mode 3
+    expect_error([&] { read_image_from_memory(level_mode, "mode.exr"); }, "mode.exr",
+                 "corrupt OpenEXR header (tile level mode 3, rounding mode 0)");
+    Bytes long_description = good;
+    store_u32_le(long_description, tiles - 4, 10);  // tinyexr asserts the size is 9
+    long_description.insert(long_description.begin() + std::ptrdiff_t(tiles + 9), 0);
+    expect_error([&] { read_image_from_memory(long_description, "desc.exr"); }, "desc.exr",
+                 "corrupt OpenEXR header (tile description of 10 bytes, expected 9)");
+}
+
+// Found by an outside probe: a 625-byte tiled OpenEXR made tinyexr allocate 2.17 GB before
+// reporting its error (an offset for each of the 1x1 tiles its data window implied). The chunk
+// table must fit in the file and the decoded tiles must be backed by its data, before tinyexr
+// decodes; a single huge tile is refused as well.
+TEST(HostileIo, ExrChunkTablesAndTilesLargerThanTheFileAreRefusedBeforeAllocating) {
+    const Bytes good = tiled_exr();
+    const std::size_t tiles = exr_attribute(good, "tiles", "tiledesc");
+    const std::size_t window = exr_attribute(good, "dataWindow", "box2i");
+    ASSERT_GT(tiles, 0u);
+    ASSERT_GT(window, 0u);
+    Bytes many = good;
+    store_u32_le(many, window + 8, 16383);   // xMax
+    store_u32_le(many, window + 12, 16383);  // yMax
+    store_u32_le(many, tiles, 1);
+    store_u32_le(many, tiles + 4, 1);
+    EXPECT_LT(many.size(), 1000u);
+    test::reset_largest_allocation();
+    expect_error([&] { read_image_from_memory(many, "many.exr"); }, "many.exr",
+                 "truncated OpenEXR data (OpenEXR of 16384x16384 in 268435456 tiles of 1x1, 1 "
+                 "channels needs 268435456 chunks");
+    EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+
+    Bytes huge_tile = many;
+    store_u32_le(huge_tile, tiles, 16384);
+    store_u32_le(huge_tile, tiles + 4, 16384);
+    test::reset_largest_allocation();
+    expect_error([&] { read_image_from_memory(huge_tile, "huge_tile.exr"); }, "huge_tile.exr",
+                 "OpenEXR of 16384x16384 in 1 tiles of 16384x16384, 1 channels would decode to "
+                 "1073741824 bytes");
+    EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+
+    // Scan lines: a 16 x 16 ZIP file declaring 16384 x 16384 (1024 chunks of 16 lines).
+    std::vector<float> plane = test_plane();
+    Bytes lines = single_channel_exr(plane, TINYEXR_COMPRESSIONTYPE_ZIP, TINYEXR_PIXELTYPE_FLOAT);
+    const std::size_t line_window = exr_attribute(lines, "dataWindow", "box2i");
+    store_u32_le(lines, line_window + 8, 16383);
+    store_u32_le(lines, line_window + 12, 16383);
+    expect_error([&] { read_image_from_memory(lines, "lines.exr"); }, "lines.exr",
+                 "needs 1024 chunks, more than the");
+}
+
+// --- KTX2: one validation for `leanfade info` and `--bumps` ----------------------------------
+
+// Found by an outside probe: maps that `info` described (or `--bumps` rendered) although they are
+// broken. Each is refused by read_ktx2 (what `--bumps` and `info` read); the structural ones by
+// inspect_ktx2 too.
+TEST(HostileIo, Ktx2OverlapsDuplicateKeysPartialChainsAndNonFiniteValuesAreRefused) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/map.ktx2";
+    const Bytes good = lean_map_file(path);  // 16 x 16, 5 levels, Float16
+    ASSERT_NO_THROW(read_ktx2(path));
+    const auto expect_refused = [&](const std::string& name, Bytes bytes,
+                                    const std::string& cause, bool structural) {
+        SCOPED_TRACE(name);
+        const std::string file = folder + "/" + name;
+        write_bytes(file, bytes);
+        expect_error([&] { read_ktx2(file); }, file, cause);
+        if (structural) expect_error([&] { inspect_ktx2(file); }, file, cause);
+    };
+    const std::size_t level_index = 80;
+    Bytes overlap = good;  // level 1 starts where level 0 does
+    test::store_u64_le(overlap, level_index + 24, u64_le(good, level_index));
+    expect_refused("overlap.ktx2", overlap, "level 1 data (offset ", true);
+    expect_refused("overlap.ktx2", overlap, "overlaps level 0 data (offset ", true);
+    Bytes in_header = good;  // level 4 (1 x 1) inside the header
+    test::store_u64_le(in_header, level_index + 4 * 24, 8);
+    expect_refused("in_header.ktx2", in_header,
+                   "level 4 data (offset 8, length 16) overlaps the header and level index "
+                   "(offset 0, length 200)",
+                   true);
+    Bytes duplicate = good;  // LEANFADEroughnessBaked renamed LEANFADEbakedShininess
+    const std::string from = std::string("LEANFADEroughnessBaked") + '\0';
+    const std::string to = std::string("LEANFADEbakedShininess") + '\0';
+    const auto key = std::search(duplicate.begin(), duplicate.end(), from.begin(), from.end());
+    ASSERT_NE(key, duplicate.end());
+    std::copy(to.begin(), to.end(), key);
+    expect_refused("duplicate.ktx2", duplicate,
+                   "key/value data holds the key 'LEANFADEbakedShininess' more than once", true);
+    Bytes partial = good;
+    store_u32_le(partial, 40, 3);  // levelCount 3 of 5
+    expect_refused("partial.ktx2", partial,
+                   "levelCount 3 is a partial MIP chain (a LEAN map of 16x16 has all 5 levels)",
+                   false);
+    Bytes nan_texel = good;  // level 2 (4 x 4): lean2, texel (1, 3), its third value
+    const std::uint64_t level2 = u64_le(good, level_index + 2 * 24);
+    const std::size_t at = std::size_t(level2 + 4 * 4 * 8 + (3 * 4 + 1) * 8 + 2 * 2);
+    nan_texel[at] = 0x00;
+    nan_texel[at + 1] = 0x7E;
+    expect_refused("nan.ktx2", nan_texel, "NaN in level 2 of lean2 at texel (1, 3)", false);
+    Bytes nan_scale = good;  // LEANFADEscale "nan(xx...)": a number, but not finite
+    const std::string scale_key = std::string("LEANFADEscale") + '\0';
+    const auto scale =
+        std::search(nan_scale.begin(), nan_scale.end(), scale_key.begin(), scale_key.end());
+    ASSERT_NE(scale, nan_scale.end());
+    const auto value = scale + std::ptrdiff_t(scale_key.size());
+    const auto value_end = std::find(value, nan_scale.end(), std::uint8_t(0));
+    ASSERT_GE(value_end - value, 5);
+    std::fill(value, value_end, std::uint8_t('x'));
+    std::copy_n("nan(", 4, value);
+    *(value_end - 1) = ')';
+    expect_refused("nan_scale.ktx2", nan_scale, "bad LEANFADEscale value 'nan(x", false);
+}
+
 }  // namespace
 }  // namespace leanfade::io

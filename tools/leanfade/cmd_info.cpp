@@ -10,10 +10,12 @@
 namespace leanfade::cli {
 namespace {
 
+// Every check first (inspect_ktx2's structure, then read_ktx2's: the checks of `--bumps`), then
+// the output: a refused file prints its one-line error and nothing else.
 int run_info(const std::string& path) {
     const io::Ktx2Info info = io::inspect_ktx2(path);
-    std::printf("%s", io::describe(info).c_str());
     const LeanMapSummary s = summarize(unpack_lean_map(io::read_ktx2(path)));
+    std::printf("%s", io::describe(info).c_str());
     std::printf("moments: slope |B| mean %.4f, max %.4f; coarsest covariance (xx %.5f, yy %.5f, "
                 "xy %.5f), anisotropy %.3g\n",
                 s.mean_slope, s.max_slope, s.coarsest_covariance.x, s.coarsest_covariance.y,

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/technique.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/eval/metrics.hpp"
@@ -367,15 +368,12 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
 }
 
 void read_results_json(const std::string& path, SweepInfo& info, std::vector<CaseResult>& cases) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot read the file");
-    std::stringstream text;
-    text << in.rdbuf();
+    const std::string text = read_regular_file(path, kMaxResultsFileBytes, "a results file");
     auto number_or_nan = [](const nlohmann::json& v) {
         return v.is_null() ? std::nan("") : v.get<double>();
     };
     try {
-        const nlohmann::json root = nlohmann::json::parse(text.str());
+        const nlohmann::json root = nlohmann::json::parse(text);
         if (root.value("leanfade_eval", 0) != 1)
             throw Error(path, "not a results.json of leanfade eval (version 1)");
         const nlohmann::json& s = root.at("sweep");
@@ -419,7 +417,7 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
             cases.push_back(r);
         }
     } catch (const nlohmann::json::exception& e) {
-        throw Error(path, std::string("malformed results: ") + e.what());
+        throw Error(path, "malformed results: " + escape_text(e.what(), 2000));
     }
     validate_results(path, info, cases);
 }

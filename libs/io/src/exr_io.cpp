@@ -14,6 +14,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::io::detail {
 namespace {
@@ -116,6 +117,9 @@ float sample_value(const unsigned char* plane, int pixel_type, std::size_t index
 // refused as corrupt. The size passed to tinyexr remains the file's.
 constexpr std::size_t kTinyexrReadPadding = 64 * 1024;
 
+// Largest tile side accepted (tinyexr's own limit, TINYEXR_DIMENSION_THRESHOLD, is 8 M).
+constexpr std::uint32_t kMaxTileSide = 1 << 16;
+
 // tinyexr 1.0.1 places each scan-line chunk by the line number the chunk itself gives, and does
 // not check that the chunks cover the data window: a corrupt file whose chunks name the wrong
 // lines decodes "successfully" with rows of uninitialised memory (found by fuzz_image_bake: the
@@ -158,6 +162,150 @@ void check_scanline_coverage(const std::string& path, const std::vector<std::uin
     }
 }
 
+// tinyexr 1.0.1 (Debian 12) asserts (SIGABRT, killing a whole batch) on some header values
+// while parsing and decoding: a "tiles" attribute that is not 9 bytes, a tile size of 0 (its tile
+// count overflows), a tile level mode of 3, a "type" attribute that contradicts the tiled bit or
+// is unknown. The attributes are walked here first, as tinyexr reads them, and such headers are
+// refused before tinyexr parses them. A malformed attribute list is left for tinyexr to report.
+void check_header_attributes(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                             bool tiled_bit) {
+    std::size_t position = 8;  // after the magic number and the version field
+    bool tiles = false;
+    std::string type;
+    while (position < bytes.size() && bytes[position] != 0) {
+        const auto* text = reinterpret_cast<const char*>(bytes.data());
+        const std::size_t name_length = strnlen(text + position, bytes.size() - position);
+        if (position + name_length >= bytes.size()) return;
+        const std::string name(text + position, name_length);
+        position += name_length + 1;
+        const std::size_t type_length = strnlen(text + position, bytes.size() - position);
+        if (position + type_length >= bytes.size()) return;
+        position += type_length + 1;
+        if (bytes.size() - position < 4) return;
+        const std::uint32_t size = load_u32_le(bytes.data() + position);
+        position += 4;
+        if (size > bytes.size() - position) return;
+        const std::uint8_t* data = bytes.data() + position;
+        position += size;
+        if (name == "tiles" && tiled_bit) {
+            if (size != 9) {
+                throw Error(path, "corrupt OpenEXR header (tile description of " +
+                                      std::to_string(size) + " bytes, expected 9)");
+            }
+            const std::uint32_t tile_width = load_u32_le(data), tile_height = load_u32_le(data + 4);
+            const unsigned level_mode = data[8] & 0x0Fu, rounding_mode = data[8] >> 4;
+            if (tile_width == 0 || tile_height == 0 || tile_width > kMaxTileSide ||
+                tile_height > kMaxTileSide) {
+                throw Error(path, "corrupt OpenEXR header (tile size " +
+                                      std::to_string(tile_width) + "x" +
+                                      std::to_string(tile_height) + ", expected 1 to " +
+                                      std::to_string(kMaxTileSide) + " per side)");
+            }
+            if (level_mode > 2 || rounding_mode > 1) {
+                throw Error(path, "corrupt OpenEXR header (tile level mode " +
+                                      std::to_string(level_mode) + ", rounding mode " +
+                                      std::to_string(rounding_mode) + ")");
+            }
+            tiles = true;
+        } else if (name == "type" && size > 0 && data[0] != 0) {
+            const auto* value = reinterpret_cast<const char*>(data);
+            type.assign(value, strnlen(value, size));
+        }
+    }
+    if (type.empty()) return;
+    const bool tiled = tiled_bit && tiles;
+    if (type == "deepscanline" || type == "deeptile") {
+        throw Error(path, "multi-part and deep OpenEXR files are not supported");
+    }
+    if ((type == "scanlineimage" && tiled) || (type == "tiledimage" && !tiled)) {
+        throw Error(path, "corrupt OpenEXR header (type '" + type + "' in a " +
+                              (tiled ? "tiled" : "scan-line") + " file)");
+    }
+    if (type != "scanlineimage" && type != "tiledimage") {
+        throw Error(path, "corrupt OpenEXR header (unknown type '" + escape_text(type) + "')");
+    }
+}
+
+// tinyexr's number of levels along one side (LevelSize, RoundLog2 of tinyexr 1.0.1).
+std::int64_t tiled_level_size(std::int64_t top, int level, bool round_up) {
+    std::int64_t size = top >> level;
+    if (round_up && (size << level) < top) ++size;
+    return std::max<std::int64_t>(size, 1);
+}
+
+int tiled_level_count(std::int64_t size, bool round_up) {
+    int levels = 0;
+    while ((std::int64_t(1) << levels) < size) ++levels;  // ceil(log2(size))
+    if (!round_up && (std::int64_t(1) << levels) != size) --levels;  // floor(log2(size))
+    return levels + 1;
+}
+
+// The memory bound (check_decoded_size) and the chunk table of an OpenEXR, on the parsed header,
+// before tinyexr decodes: tinyexr allocates an offset for every chunk (tile or scan-line block)
+// the header implies and decodes every tile of every level, each to a whole tile of floats, so a
+// 625-byte tiled file declaring 1x1 tiles over a large window made it allocate 2 GB before it
+// found the data missing. The offset table and the chunk headers must fit in the file, and the
+// decoded floats (tinyexr's tiles or planes, or the returned image when larger) must be backed by
+// the file's data.
+void check_chunks_and_decoded_size(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                                   const EXRHeader& header, std::size_t returned_channels) {
+    const std::int64_t width =
+        std::int64_t(header.data_window.max_x) - header.data_window.min_x + 1;
+    const std::int64_t height =
+        std::int64_t(header.data_window.max_y) - header.data_window.min_y + 1;
+    const auto channels = std::uint64_t(header.num_channels);
+    std::uint64_t chunks = 0, decoded = 0, chunk_header_bytes = 8;
+    std::string what = "OpenEXR of " + std::to_string(width) + "x" + std::to_string(height);
+    if (header.tiled != 0) {
+        const std::int64_t tile_width = header.tile_size_x, tile_height = header.tile_size_y;
+        const bool round_up = header.tile_rounding_mode == TINYEXR_TILE_ROUND_UP;
+        int x_levels = 1, y_levels = 1;
+        if (header.tile_level_mode == TINYEXR_TILE_MIPMAP_LEVELS) {
+            x_levels = y_levels = tiled_level_count(std::max(width, height), round_up);
+        } else if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
+            x_levels = tiled_level_count(width, round_up);
+            y_levels = tiled_level_count(height, round_up);
+        }
+        const auto tiles_at = [&](int x_level, int y_level) {
+            const std::int64_t w = tiled_level_size(width, x_level, round_up);
+            const std::int64_t h = tiled_level_size(height, y_level, round_up);
+            return std::uint64_t((w + tile_width - 1) / tile_width) *
+                   std::uint64_t((h + tile_height - 1) / tile_height);
+        };
+        if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
+            for (int y = 0; y < y_levels; ++y)
+                for (int x = 0; x < x_levels; ++x) chunks += tiles_at(x, y);
+        } else {
+            for (int level = 0; level < x_levels; ++level) chunks += tiles_at(level, level);
+        }
+        decoded = chunks * std::uint64_t(tile_width) * std::uint64_t(tile_height) * channels * 4;
+        chunk_header_bytes = 20;  // tile x, y, level x, y, data size
+        what += " in " + std::to_string(chunks) + " tiles of " + std::to_string(tile_width) + "x" +
+                std::to_string(tile_height);
+    } else {
+        const std::int64_t lines_per_chunk =
+            header.compression_type == TINYEXR_COMPRESSIONTYPE_PIZ   ? 32
+            : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZIP ? 16
+            : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZFP ? 16
+                                                                     : 1;
+        chunks = header.chunk_count > 0 ? std::uint64_t(header.chunk_count)
+                                        : std::uint64_t((height + lines_per_chunk - 1) /
+                                                        lines_per_chunk);
+        decoded = std::uint64_t(width) * std::uint64_t(height) * channels * 4;
+    }
+    what += ", " + std::to_string(channels) + " channels";
+    decoded = std::max(decoded, std::uint64_t(width) * std::uint64_t(height) *
+                                    std::uint64_t(returned_channels) * sizeof(float));
+    const std::uint64_t table = std::uint64_t(header.header_len) + 8;  // after magic + version
+    const std::uint64_t data_bytes = bytes.size() > table ? bytes.size() - table : 0;
+    if (chunks > data_bytes / (8 + chunk_header_bytes)) {
+        throw Error(path, "truncated OpenEXR data (" + what + " needs " + std::to_string(chunks) +
+                              " chunks, more than the " + std::to_string(bytes.size()) +
+                              "-byte file can hold)");
+    }
+    check_decoded_size(path, what, decoded, data_bytes);
+}
+
 }  // namespace
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -169,6 +317,7 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
     if (version.multipart != 0 || version.non_image != 0) {
         throw Error(path, "multi-part and deep OpenEXR files are not supported");
     }
+    check_header_attributes(path, bytes, version.tiled != 0);
     ExrHeaderGuard header;
     const char* message = nullptr;
     if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(), &message) !=
@@ -191,6 +340,7 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
         }
     }
 
+    check_chunks_and_decoded_size(path, bytes, header.header, selected.size());
     if (header.header.tiled == 0) check_scanline_coverage(path, bytes, header.header);
 
     std::vector<std::uint8_t> padded(bytes.size() + kTinyexrReadPadding, 0);

@@ -119,6 +119,20 @@ void check_dimensions(const std::string& path, std::int64_t width, std::int64_t 
     }
 }
 
+void check_decoded_size(const std::string& path, const std::string& what,
+                        std::uint64_t decoded_bytes, std::uint64_t pixel_data_bytes) {
+    if (decoded_bytes <= kDecodedBytesWithoutEvidence) return;
+    const std::uint64_t budget =
+        pixel_data_bytes > UINT64_MAX / kMaxDecodedBytesPerFileByte
+            ? UINT64_MAX
+            : pixel_data_bytes * kMaxDecodedBytesPerFileByte;
+    if (decoded_bytes <= budget) return;
+    throw Error(path, what + " would decode to " + std::to_string(decoded_bytes) + " bytes from " +
+                          std::to_string(pixel_data_bytes) + " bytes of pixel data (at most " +
+                          std::to_string(kMaxDecodedBytesPerFileByte) +
+                          " per byte above 32 MiB): truncated or a decompression bomb");
+}
+
 void check_finite(const std::string& path, const Image& image) {
     for (int y = 0; y < image.height; ++y) {
         const float* row = image.row(y);

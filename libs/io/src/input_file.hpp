@@ -67,6 +67,22 @@ class SequentialReader {
 void check_dimensions(const std::string& path, std::int64_t width, std::int64_t height,
                       int max_dimension);
 
+// The memory bound of decoding (docs/robustness.md). The size check above bounds the texels, not
+// the bytes a small file can make a decoder allocate: a 1-bit palette PNG of 87 bytes declares
+// 11585² texels, which decode to 1.6 GB of RGBA floats. A decoded image (the float image a reader
+// returns, or a decoder's own buffers when larger) of more than kDecodedBytesWithoutEvidence must
+// come from enough file data: at most kMaxDecodedBytesPerFileByte decoded bytes per byte of
+// (compressed) pixel data. 4128 = 1032 (deflate's largest expansion) x 4 (an 8-bit sample
+// decoded to a 4-byte float): an image of real content at any size passes, data that would
+// expand further (a near-empty palette image decoded to RGBA floats) is a decompression bomb.
+inline constexpr std::uint64_t kDecodedBytesWithoutEvidence = std::uint64_t(32) << 20;
+inline constexpr std::uint64_t kMaxDecodedBytesPerFileByte = 4128;
+
+// Throws Error(path, "<what> would decode to N bytes from M bytes of pixel data (at most 4128 per
+// byte above 32 MiB): truncated or a decompression bomb") when the rule above refuses it.
+void check_decoded_size(const std::string& path, const std::string& what,
+                        std::uint64_t decoded_bytes, std::uint64_t pixel_data_bytes);
+
 // Throws Error(path, "NaN at texel (x, y)") or "infinity at texel (x, y)" on the first
 // non-finite value (rows top first).
 void check_finite(const std::string& path, const Image& image);

@@ -16,6 +16,7 @@
 
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/io/atomic_file.hpp"
 
@@ -231,7 +232,14 @@ std::vector<std::pair<std::string, std::string>> decode_key_values(
         const std::size_t key_length = std::size_t(static_cast<const char*>(terminator) - entry);
         std::string value(entry + key_length + 1, length - key_length - 1);
         if (!value.empty() && value.back() == '\0') value.pop_back();
-        key_values.emplace_back(std::string(entry, key_length), std::move(value));
+        std::string key(entry, key_length);
+        for (const auto& [seen, unused] : key_values) {
+            if (seen == key) {
+                throw Error(path, "key/value data holds the key '" + escape_text(key) +
+                                      "' more than once");
+            }
+        }
+        key_values.emplace_back(std::move(key), std::move(value));
         position = std::size_t(align_up(position + length, 4));
         if (position > bytes.size()) break;  // final padding not counted in kvdByteLength
     }
@@ -249,7 +257,7 @@ float parse_float(const std::string& path, const std::string& key, const std::st
     const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
     if (result.ec != std::errc() || result.ptr != text.data() + text.size() ||
         !std::isfinite(value)) {
-        throw Error(path, "bad " + key + " value '" + text + "'");
+        throw Error(path, "bad " + key + " value '" + escape_text(text) + "'");
     }
     return value;
 }
@@ -276,10 +284,11 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map,
     }
     const std::uint32_t chain =
         full_chain_length(std::uint32_t(top.width), std::uint32_t(top.height));
-    if (map.levels.size() > chain) {
+    if (map.levels.size() != chain) {  // read_ktx2 refuses a partial chain
         throw Error(path, std::to_string(map.levels.size()) + " levels for a " +
                               std::to_string(top.width) + "x" + std::to_string(top.height) +
-                              " map (at most " + std::to_string(chain) + ")");
+                              " map (a LEAN map has all " + std::to_string(chain) +
+                              " levels of its MIP chain)");
     }
     for (std::size_t i = 0; i < map.levels.size(); ++i) {
         const PackedLevel& level = map.levels[i];
@@ -305,21 +314,6 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map,
         throw Error(path, "baked shininess " + format_float(map.baked_shininess) +
                               " is not finite and >= 0");
     }
-}
-
-std::string escape(const std::string& text) {
-    std::string escaped;
-    for (const char character : text) {
-        const auto byte = static_cast<unsigned char>(character);
-        if (byte >= 0x20 && byte < 0x7F && byte != '\\') {
-            escaped.push_back(character);
-        } else {
-            char buffer[8];
-            std::snprintf(buffer, sizeof buffer, "\\x%02X", byte);
-            escaped += buffer;
-        }
-    }
-    return escaped;
 }
 
 const char* normal_convention_name(NormalConvention convention) {
@@ -514,6 +508,77 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
                               std::to_string(info.pixel_width) + "x" +
                               std::to_string(info.pixel_height) + " MIP chain");
     }
+    if (info.level_count < chain) {
+        throw Error(path, "levelCount " + std::to_string(info.level_count) +
+                              " is a partial MIP chain (a LEAN map of " +
+                              std::to_string(info.pixel_width) + "x" +
+                              std::to_string(info.pixel_height) + " has all " +
+                              std::to_string(chain) + " levels)");
+    }
+}
+
+// Float storages can hold NaN and infinity, which no bake writes and no renderer can use: the
+// first one is refused, naming its level, layer and texel.
+void check_finite_texels(const std::string& path, const FormatInfo& format,
+                         const PackedLevel& level, std::uint32_t level_number) {
+    if (!format.is_float) return;
+    const std::vector<std::uint8_t>* layers[2] = {&level.lean1, &level.lean2};
+    for (int layer = 0; layer < 2; ++layer) {
+        const std::vector<std::uint8_t>& bytes = *layers[layer];
+        const std::size_t values = bytes.size() / format.type_size;
+        for (std::size_t i = 0; i < values; ++i) {
+            bool finite = true, nan = false;
+            if (format.type_size == 2) {
+                const std::uint16_t bits = detail::load_u16_le(bytes.data() + 2 * i);
+                finite = (bits & 0x7C00u) != 0x7C00u;
+                nan = !finite && (bits & 0x03FFu) != 0;
+            } else {
+                const std::uint32_t bits = load_u32_le(bytes.data() + 4 * i);
+                finite = (bits & 0x7F800000u) != 0x7F800000u;
+                nan = !finite && (bits & 0x007FFFFFu) != 0;
+            }
+            if (finite) continue;
+            const std::size_t texel = i / 4;
+            throw Error(path, std::string(nan ? "NaN" : "infinity") + " in level " +
+                                  std::to_string(level_number) + " of lean" +
+                                  std::to_string(layer + 1) + " at texel (" +
+                                  std::to_string(texel % std::size_t(level.width)) + ", " +
+                                  std::to_string(texel / std::size_t(level.width)) + ")");
+        }
+    }
+}
+
+// Every part of the file (the header with the level index, the data format descriptor, the
+// key/value data, the supercompression global data and each level) must lie apart from every
+// other: a level inside the header or two levels sharing bytes are refused.
+void check_no_overlaps(const std::string& path, const Ktx2Info& info) {
+    struct Part {
+        std::uint64_t offset, length;
+        std::string name;
+    };
+    std::vector<Part> parts = {
+        {0, kHeaderSize + kLevelIndexEntrySize * std::uint64_t(info.levels.size()),
+         "the header and level index"},
+        {info.dfd_byte_offset, info.dfd_byte_length, "the data format descriptor"},
+        {info.kvd_byte_offset, info.kvd_byte_length, "the key/value data"},
+        {info.sgd_byte_offset, info.sgd_byte_length, "the supercompression global data"}};
+    for (std::size_t level = 0; level < info.levels.size(); ++level) {
+        parts.push_back({info.levels[level].byte_offset, info.levels[level].byte_length,
+                         "level " + std::to_string(level) + " data"});
+    }
+    std::erase_if(parts, [](const Part& part) { return part.length == 0; });
+    std::stable_sort(parts.begin(), parts.end(),
+                     [](const Part& a, const Part& b) { return a.offset < b.offset; });
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        const Part& before = parts[i - 1];
+        const Part& part = parts[i];
+        if (part.offset < before.offset + before.length) {  // both inside the file: no overflow
+            throw Error(path, part.name + " (offset " + std::to_string(part.offset) +
+                                  ", length " + std::to_string(part.length) + ") overlaps " +
+                                  before.name + " (offset " + std::to_string(before.offset) +
+                                  ", length " + std::to_string(before.length) + ")");
+        }
+    }
 }
 
 // `strict`: also run validate_lean_header (read_ktx2).
@@ -598,6 +663,7 @@ Ktx2Info inspect_open_file(const detail::InputFile& file, const ReadOptions* str
     if (!inside(info.sgd_byte_offset, info.sgd_byte_length, info.file_size)) {
         throw Error(path, "supercompression global data runs past the end of the file");
     }
+    check_no_overlaps(path, info);
 
     std::vector<std::uint8_t> dfd(info.dfd_byte_length);
     file.read_at(info.dfd_byte_offset, dfd.data(), dfd.size(), "truncated data format descriptor");
@@ -666,14 +732,15 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     map.storage = format->storage;
     const std::string& layout = required_key(path, info, kKeyLayout);
     if (layout != kLeanLayoutName) {
-        throw Error(path, "unsupported " + std::string(kKeyLayout) + " '" + escape(layout) +
+        throw Error(path, "unsupported " + std::string(kKeyLayout) + " '" + escape_text(layout) +
                               "' (expected '" + kLeanLayoutName + "')");
     }
     map.scale = parse_float(path, kKeyScale, required_key(path, info, kKeyScale));
     if (!(map.scale > 0.0f)) throw Error(path, std::string(kKeyScale) + " must be > 0");
     const std::string& baked = required_key(path, info, kKeyRoughnessBaked);
     if (baked != "0" && baked != "1") {
-        throw Error(path, "bad " + std::string(kKeyRoughnessBaked) + " value '" + escape(baked) +
+        throw Error(path, "bad " + std::string(kKeyRoughnessBaked) + " value '" +
+                              escape_text(baked) +
                               "' (expected 0 or 1)");
     }
     map.roughness_baked = baked == "1";
@@ -689,11 +756,11 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
         map.source_convention = NormalConvention::DirectX;
     } else {
         throw Error(path, "bad " + std::string(kKeyNormalConvention) + " value '" +
-                              escape(convention) + "' (expected opengl or directx)");
+                              escape_text(convention) + "' (expected opengl or directx)");
     }
     if (const std::string* orientation = info.find(kKeyOrientation);
         orientation != nullptr && *orientation != "rd") {
-        throw Error(path, "unsupported KTXorientation '" + escape(*orientation) +
+        throw Error(path, "unsupported KTXorientation '" + escape_text(*orientation) +
                               "' (rows must be stored top first: rd)");
     }
     if (const std::string* writer = info.find(kKeyWriter); writer != nullptr) {
@@ -714,6 +781,7 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
                      "truncated level data");
         file.read_at(entry.byte_offset + layer_size, packed.lean2.data(), packed.lean2.size(),
                      "truncated level data");
+        check_finite_texels(path, *format, packed, level);
         map.levels.push_back(std::move(packed));
     }
     return map;
@@ -786,7 +854,7 @@ std::string describe(const Ktx2Info& info) {
     }
     out << "key/values (" << info.key_values.size() << "):\n";
     for (const auto& [key, value] : info.key_values) {
-        out << "  " << escape(key) << " = " << escape(value) << "\n";
+        out << "  " << escape_text(key, SIZE_MAX) << " = " << escape_text(value, SIZE_MAX) << "\n";
     }
     return out.str();
 }

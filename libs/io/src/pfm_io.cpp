@@ -9,6 +9,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::io::detail {
 namespace {
@@ -41,7 +42,7 @@ class HeaderParser {
         std::int64_t value = 0;
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
         if (error != std::errc() || end != text.data() + text.size()) {
-            throw Error(path_, std::string("bad PFM ") + what + " '" + std::string(text) + "'");
+            throw Error(path_, std::string("bad PFM ") + what + " '" + escape_text(text) + "'");
         }
         return value;
     }
@@ -51,7 +52,7 @@ class HeaderParser {
         double value = 0.0;
         const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
         if (error != std::errc() || end != text.data() + text.size()) {
-            throw Error(path_, std::string("bad PFM ") + what + " '" + std::string(text) + "'");
+            throw Error(path_, std::string("bad PFM ") + what + " '" + escape_text(text) + "'");
         }
         return value;
     }

@@ -347,6 +347,18 @@ Decoded decode_png_as(const InputFile& file, const ReadOptions& options) {
         throw Error(path, "unsupported PNG layout (" + std::to_string(header.channels) +
                               " channels of " + std::to_string(header.bit_depth) + " bits)");
     }
+    // The decoded size, after the expansions (palette to RGB or RGBA, 1/2/4-bit gray to 8 bits),
+    // counted as the float image read_image returns (read_image_compact applies the same rule,
+    // so both reads of a file agree): bounded by the compressed data (check_decoded_size).
+    const std::uint64_t decoded_bytes = std::uint64_t(header.width) * header.height *
+                                        std::uint64_t(header.channels) * sizeof(float);
+    if (decoded_bytes > kDecodedBytesWithoutEvidence) {
+        check_decoded_size(path,
+                           "PNG of " + std::to_string(header.width) + "x" +
+                               std::to_string(header.height) + " (" +
+                               std::to_string(header.channels) + " channels once expanded)",
+                           decoded_bytes, compressed_pixel_bytes(file));
+    }
 
     Decoded image = [&] {
         if constexpr (std::is_same_v<Decoded, Image>) {

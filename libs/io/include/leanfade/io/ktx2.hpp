@@ -34,7 +34,7 @@ inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
 std::uint32_t vk_format_of(Storage storage);
 const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
 
-// Writes `map` (1 to the full chain of levels, sizes halving with floor down to 1x1; both layers
+// Writes `map` (the full chain of levels, sizes halving with floor down to 1x1; both layers
 // of every level width * height * bytes_per_texel(storage) bytes, rows top first). Throws on an
 // inconsistent map (sizes, chain, byte counts, scale not finite and > 0, shininess not finite and
 // >= 0). The generator string becomes KTXwriter ("leanfade <version>" when empty).
@@ -74,10 +74,13 @@ PackedBakeResult bake_to_ktx2(const std::string& path,
 
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
-// height in [1, max_dimension], depth 0, layerCount 2, faceCount 1, levelCount in [1, full chain],
-// no supercompression), that every offset + length lies inside the file (overflow-safe) and that
-// level data is aligned and exactly sized, the data format descriptor, and the LEANFADE keys.
-// Sizes are checked before any level memory is allocated.
+// height in [1, max_dimension], depth 0, layerCount 2, faceCount 1, levelCount the full MIP
+// chain, no supercompression), that every offset + length lies inside the file (overflow-safe),
+// that no two parts of the file (header and level index, DFD, key/value data, each level)
+// overlap, that level data is aligned and exactly sized, the data format descriptor, the key/value
+// data (no key twice) and the LEANFADE keys (LEANFADEscale finite and > 0), and that every texel
+// of a float map is finite. Sizes are checked before any level memory is allocated. inspect_ktx2
+// runs the structural part of these checks; `leanfade info` runs both before printing anything.
 PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {});
 
 // read_ktx2 on a file's bytes already in memory (same checks and messages); `name` is the file
@@ -147,14 +150,15 @@ struct Ktx2Info {
 };
 
 // Reads and structurally checks any KTX 2.0 file (identifier, header sizes, level index, DFD and
-// key/value data inside the file) without reading texel data and without the leanfade-specific
+// key/value data inside the file and apart from each other, no key twice) without reading texel data and without the leanfade-specific
 // checks of read_ktx2, so that `leanfade info` can describe files from other writers.
 Ktx2Info inspect_ktx2(const std::string& path);
 // inspect_ktx2 on a file's bytes already in memory; Ktx2Info::path is `name`.
 Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name);
 
 // Multi-line human-readable description: header fields, data format, each level's size, offset
-// and length, and all key/values (non-printable bytes escaped as \xHH). Ends with a newline.
+// and length, and all key/values (escaped by escape_text: control characters, invalid UTF-8 and
+// backslashes as \xHH). Ends with a newline.
 std::string describe(const Ktx2Info& info);
 
 }  // namespace leanfade::io
