@@ -242,32 +242,45 @@ GLuint Renderer::program(const std::string& name) {
     return it->second.get();
 }
 
-void Renderer::set_mesh(const scene::Mesh& mesh) {
+namespace {
+
+// Object -> world for a box: centre to the origin, bounding radius to 1.
+glm::mat4 unit_sphere_matrix(const scene::Bounds& bounds, const std::string& name) {
+    const float radius = bounds.radius();
+    if (!(radius > 0.0f) || !std::isfinite(radius))
+        throw Error(name, "the mesh's bounding radius is zero");
+    return glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / radius)) *
+           glm::translate(glm::mat4(1.0f), -bounds.center());
+}
+
+void check_triangles(const scene::Mesh& mesh) {
     if (mesh.vertices.empty() || mesh.indices.empty() || mesh.indices.size() % 3 != 0)
         throw Error(mesh.name, "the mesh has no triangles");
     for (std::uint32_t i : mesh.indices)
         if (i >= mesh.vertices.size()) throw Error(mesh.name, "a triangle index is out of range");
-    const float radius = mesh.bounds.radius();
-    if (!(radius > 0.0f) || !std::isfinite(radius))
-        throw Error(mesh.name, "the mesh's bounding radius is zero");
-    // Object -> world: centre to the origin, bounding radius to 1.
-    model_ = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / radius)) *
-             glm::translate(glm::mat4(1.0f), -mesh.bounds.center());
+}
 
-    vertex_buffer_ = create_buffer();
-    glNamedBufferStorage(vertex_buffer_.get(),
+}  // namespace
+
+Renderer::GpuObject Renderer::upload_object(const scene::Mesh& mesh, int material,
+                                            const glm::mat4& transform) {
+    GpuObject object;
+    object.material = material;
+    object.transform = transform;
+    object.vertices = create_buffer();
+    glNamedBufferStorage(object.vertices.get(),
                          GLsizeiptr(mesh.vertices.size() * sizeof(scene::Vertex)),
                          mesh.vertices.data(), 0);
-    index_buffer_ = create_buffer();
-    glNamedBufferStorage(index_buffer_.get(),
+    object.indices = create_buffer();
+    glNamedBufferStorage(object.indices.get(),
                          GLsizeiptr(mesh.indices.size() * sizeof(std::uint32_t)),
                          mesh.indices.data(), 0);
-    index_count_ = GLsizei(mesh.indices.size());
+    object.index_count = GLsizei(mesh.indices.size());
 
-    vertex_array_ = create_vertex_array();
-    const GLuint vao = vertex_array_.get();
-    glVertexArrayVertexBuffer(vao, 0, vertex_buffer_.get(), 0, sizeof(scene::Vertex));
-    glVertexArrayElementBuffer(vao, index_buffer_.get());
+    object.vertex_array = create_vertex_array();
+    const GLuint vao = object.vertex_array.get();
+    glVertexArrayVertexBuffer(vao, 0, object.vertices.get(), 0, sizeof(scene::Vertex));
+    glVertexArrayElementBuffer(vao, object.indices.get());
     const struct {
         GLuint location;
         GLint size;
@@ -282,9 +295,37 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
         glVertexArrayAttribBinding(vao, a.location, 0);
     }
     context_.check("uploading mesh " + mesh.name);
+    return object;
 }
 
-void Renderer::set_lean_map(const PackedLeanMap& map) {
+void Renderer::set_mesh(const scene::Mesh& mesh) {
+    check_triangles(mesh);
+    const glm::mat4 model = unit_sphere_matrix(mesh.bounds, mesh.name);
+    std::vector<GpuObject> objects;
+    objects.push_back(upload_object(mesh, 0, glm::mat4(1.0f)));
+    context_.check("uploading mesh " + mesh.name);
+    model_ = model;
+    objects_ = std::move(objects);
+    materials_ = {scene::Material{"default", 0, {}, {}, {}}};
+}
+
+void Renderer::set_scene(const scene::Scene& scene) {
+    scene::validate(scene);
+    for (const scene::Object& o : scene.objects) check_triangles(o.mesh);
+    const glm::mat4 model = unit_sphere_matrix(scene::scene_bounds(scene), "scene");
+    std::vector<GpuMap> maps;
+    for (const PackedLeanMap& map : scene.lean_maps) maps.push_back(upload_map(map));
+    std::vector<GpuObject> objects;
+    for (const scene::Object& o : scene.objects)
+        objects.push_back(upload_object(o.mesh, o.material, o.transform));
+    context_.check("uploading the scene");
+    model_ = model;
+    objects_ = std::move(objects);
+    maps_ = std::move(maps);
+    materials_ = scene.materials;
+}
+
+Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
     if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
     const int width = map.levels[0].width, height = map.levels[0].height;
     if (width < 1 || height < 1) throw Error("LEAN map", "the top level is empty");
@@ -331,64 +372,87 @@ void Renderer::set_lean_map(const PackedLeanMap& map) {
     glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
     context_.check("uploading the LEAN map");
 
-    lean_ = std::move(texture);
-    lean_info_.width = width;
-    lean_info_.height = height;
-    lean_info_.levels = levels;
-    lean_info_.storage = map.storage;
-    lean_info_.scale = map.scale;
-    lean_info_.roughness_baked = map.roughness_baked;
+    GpuMap result;
+    result.texture = std::move(texture);
+    result.info.width = width;
+    result.info.height = height;
+    result.info.levels = levels;
+    result.info.storage = map.storage;
+    result.info.scale = map.scale;
+    result.info.roughness_baked = map.roughness_baked;
+    return result;
+}
+
+void Renderer::set_lean_map(const PackedLeanMap& map) {
+    GpuMap uploaded = upload_map(map);
+    maps_.clear();
+    maps_.push_back(std::move(uploaded));
+    for (scene::Material& m : materials_) m.lean_map = 0;
+}
+
+const LeanTextureInfo& Renderer::lean_texture() const {
+    static const LeanTextureInfo none;
+    return maps_.empty() ? none : maps_.front().info;
 }
 
 void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat4& clip) {
-    const ShadingSettings& s = request.settings;
+    const ShadingSettings& frame = request.settings;
     const glm::mat4 view = request.view.view_matrix();
-    set(p, "u_model", model_);
-    set(p, "u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model_))));
     set(p, "u_view", view);
     set(p, "u_clip", clip);
     set(p, "u_eye_world", request.view.eye);
-    set(p, "u_light_world", glm::normalize(s.light_direction));
-    set(p, "u_tiling", s.tiling);
-
-    LfShadingUniforms block{};
-    block.params = to_lf_params(s, lean_info_.roughness_baked);
-    block.scale = lean_info_.scale;
-    block.output_mode = output_constant(request.output);
-    block.fog_mode = to_shader_constant(s.fog);
-    block.fog_start = s.fog_start;
-    block.fog_color = s.fog_color;
-    block.fog_end = s.fog_end;
-    block.fog_density = s.fog_density;
-    glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
-    glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
-                     shading_block_.get());
-
+    set(p, "u_light_world", glm::normalize(frame.light_direction));
+    set(p, "u_tiling", frame.tiling);
     glUseProgram(p);
-    glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), lean_.get());
-    glBindVertexArray(vertex_array_.get());
-    glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+    for (const GpuObject& object : objects_) {
+        const scene::Material& material = materials_[std::size_t(object.material)];
+        const GpuMap& map = maps_[std::size_t(material.lean_map)];
+        const glm::mat4 model = model_ * object.transform;
+        set(p, "u_model", model);
+        set(p, "u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+
+        ShadingSettings s = frame;
+        if (material.diffuse) s.kd = *material.diffuse;
+        if (material.specular) s.ks = *material.specular;
+        if (material.shininess) s.shininess = *material.shininess;
+        LfShadingUniforms block{};
+        block.params = to_lf_params(s, map.info.roughness_baked);
+        block.scale = map.info.scale;
+        block.output_mode = output_constant(request.output);
+        block.fog_mode = to_shader_constant(s.fog);
+        block.fog_start = s.fog_start;
+        block.fog_color = s.fog_color;
+        block.fog_end = s.fog_end;
+        block.fog_density = s.fog_density;
+        glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
+        glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
+                         shading_block_.get());
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map.texture.get());
+        glBindVertexArray(object.vertex_array.get());
+        glDrawElements(GL_TRIANGLES, object.index_count, GL_UNSIGNED_INT, nullptr);
+    }
     glBindVertexArray(0);
 }
 
-// A render's linear float image must be finite: NaN or infinity from the shading math would be
-// written as black or white pixels and averaged into NaN metrics. Throws leanfade::Error naming
-// the technique and the first pixel (row 0 at the top).
-static void require_finite_pixels(const Image& image, Technique technique) {
-    for (int y = 0; y < image.height; ++y) {
-        const float* row = image.row(y);
-        for (int i = 0; i < image.width * image.channels; ++i)
-            if (!std::isfinite(row[i]))
-                throw Error(std::string("rendering ") + to_string(technique),
-                            std::string("the shading gave ") +
-                                (std::isnan(row[i]) ? "NaN" : "infinity") + " at pixel (" +
-                                std::to_string(i / image.channels) + ", " + std::to_string(y) +
-                                ") of the " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height) +
-                                " image: the settings or the LEAN map are outside the range "
-                                "where the shading is finite");
-    }
+namespace {
+
+// A render is linear radiance: a NaN or an infinity (from parameters that leave the float range)
+// is an error naming the technique and the first such pixel, never a black or white pixel.
+void require_finite_pixels(const Image& image, Technique technique) {
+    const std::size_t channels = std::size_t(std::max(1, image.channels));
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        if (!std::isfinite(image.pixels[i])) {
+            const std::size_t texel = i / channels;
+            throw Error("render", std::string(to_string(technique)) + " gave " +
+                                      (std::isnan(image.pixels[i]) ? "NaN" : "an infinity") +
+                                      " at pixel (" +
+                                      std::to_string(texel % std::size_t(image.width)) + ", " +
+                                      std::to_string(texel / std::size_t(image.width)) +
+                                      "): the shading parameters leave the float range");
+        }
 }
+
+}  // namespace
 
 Image Renderer::render(const RenderRequest& request) {
     Target& target = render_target(request);
@@ -408,8 +472,8 @@ void Renderer::render_to(const RenderRequest& request, GLuint framebuffer, int x
 }
 
 Renderer::Target& Renderer::render_target(const RenderRequest& request) {
-    if (!vertex_array_) throw Error("render", "no mesh was set");
-    if (!lean_) throw Error("render", "no LEAN map was set");
+    if (objects_.empty()) throw Error("render", "no mesh was set");
+    if (maps_.empty()) throw Error("render", "no LEAN map was set");
     validate(request.settings);
     const int max_size =
         std::min(gl_integer(GL_MAX_TEXTURE_SIZE), gl_integer(GL_MAX_RENDERBUFFER_SIZE));
@@ -463,22 +527,23 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
 }
 
 void Renderer::apply_sampler_state(const ShadingSettings& s) {
-    glTextureParameterf(lean_.get(), GL_TEXTURE_LOD_BIAS, s.mip_bias);
-    if (s.anisotropy > 1) {
-        const float max_aniso = context_.max_anisotropy();
-        if (max_aniso <= 1.0f)
-            throw Error("--aniso",
-                        "anisotropic filtering is not supported by " + context_.renderer());
-        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY,
-                            std::min(float(s.anisotropy), max_aniso));
-    } else if (context_.max_anisotropy() > 1.0f) {
-        glTextureParameterf(lean_.get(), GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
+    const float max_aniso = context_.max_anisotropy();
+    if (s.anisotropy > 1 && max_aniso <= 1.0f)
+        throw Error("--aniso", "anisotropic filtering is not supported by " + context_.renderer());
+    for (const GpuMap& map : maps_) {
+        const GLuint texture = map.texture.get();
+        glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
+        if (s.anisotropy > 1)
+            glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY,
+                                std::min(float(s.anisotropy), max_aniso));
+        else if (max_aniso > 1.0f)
+            glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY, 1.0f);
     }
 }
 
 void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant) {
-    if (!vertex_array_) throw Error("render", "no mesh was set");
-    if (!lean_) throw Error("render", "no LEAN map was set");
+    if (objects_.empty()) throw Error("render", "no mesh was set");
+    if (maps_.empty()) throw Error("render", "no LEAN map was set");
     if (variant.empty() && request.technique == Technique::Reference)
         throw Error("render", "the reference is supersampled in several passes: use render()");
     if (request.width < 1 || request.height < 1)

@@ -21,6 +21,7 @@
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/objects.hpp"
 #include "leanfade/gl/shader_library.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::gl {
@@ -103,12 +104,18 @@ class Renderer {
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Uploads the mesh; its model matrix maps it to the unit bounding sphere (see above). Throws
+    // Draws one mesh with one material (the frame's settings, the LEAN map of set_lean_map); its
+    // model matrix maps it to the unit bounding sphere (see above). Throws
     // leanfade::Error(mesh.name, cause) for an empty mesh or one with a zero radius.
     void set_mesh(const scene::Mesh& mesh);
-    // Uploads the two layers with all levels. Throws leanfade::Error("LEAN map", cause) for a map
-    // without levels, inconsistent level sizes or byte counts, or one larger than the GL limit.
+    // Uploads the two slices with all levels, as the one LEAN map of every material. Throws
+    // leanfade::Error("LEAN map", cause) for a map without levels, inconsistent level sizes or
+    // byte counts, or one larger than the GL limit.
     void set_lean_map(const PackedLeanMap& map);
+    // Draws a scene of several objects and materials instead (scene::validate's errors, and
+    // set_lean_map's for each map); the model matrix maps the whole scene to the unit bounding
+    // sphere. All or nothing: on an error the previous scene stays.
+    void set_scene(const scene::Scene& scene);
 
     // Renders one image (linear RGB, top row first). Requires a mesh and a LEAN map. Throws
     // leanfade::Error for invalid settings or sizes and for GL errors.
@@ -136,7 +143,8 @@ class Renderer {
     void rebuild_shaders();
 
     const glm::mat4& model_matrix() const { return model_; }
-    const LeanTextureInfo& lean_texture() const { return lean_info_; }
+    // The first LEAN map's texture (an empty description before any map).
+    const LeanTextureInfo& lean_texture() const;
     Context& context() { return context_; }
 
   private:
@@ -152,15 +160,27 @@ class Renderer {
     Context& context_;
     ShaderSources sources_;
     std::map<std::string, Program> programs_;
-    VertexArray vertex_array_;
-    Buffer vertex_buffer_;
-    Buffer index_buffer_;
-    GLsizei index_count_ = 0;
-    glm::mat4 model_{1.0f};
-    Texture lean_;
-    LeanTextureInfo lean_info_;
-    Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
+    struct GpuObject {
+        VertexArray vertex_array;
+        Buffer vertices;
+        Buffer indices;
+        GLsizei index_count = 0;
+        int material = 0;
+        glm::mat4 transform{1.0f};
+    };
+    struct GpuMap {
+        Texture texture;  // GL_TEXTURE_2D_ARRAY: slice 0 lean1, slice 1 lean2, every level
+        LeanTextureInfo info;
+    };
+    GpuObject upload_object(const scene::Mesh& mesh, int material, const glm::mat4& transform);
+    GpuMap upload_map(const PackedLeanMap& map);
+
+    std::vector<GpuObject> objects_;
+    std::vector<scene::Material> materials_;
+    std::vector<GpuMap> maps_;
+    glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;
+    Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
     std::unique_ptr<Target> target_;
 };
 
