@@ -1,22 +1,22 @@
 #version 450 core
 // Per-frame LEAN map generation (LEAN paper §5, "per-frame generation"; SPEC §2-3): one invocation
 // per texel of the top level reads a height map (Sobel / 8, SPEC §2) or a normal map (B = n.xy /
-// n.z), and writes both packed layers of the LEAN texture with a given sc:
-//   layer 0, lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5),  n = normalize(B, 1)
-//   layer 1, lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2),  M = (Bx^2, By^2, Bx By) + 1/s
+// n.z), and writes both packed slices of the LEAN texture with a given sc:
+//   slice 0, lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5),  n = normalize(B, 1)
+//   slice 1, lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2),  M = (Bx^2, By^2, Bx By) + 1/s
 // exactly as the CPU baker does for its top level (libs/core lean_map.cpp). The other MIP levels
 // come from glGenerateMipmap, which averages the packed values: correct, because the packing is
 // affine per channel (SPEC §3).
 //
 // Defines (exactly one of each pair, set by leanfade::gl::LeanGenerator):
 //   SOURCE_HEIGHT | SOURCE_NORMAL     what u_source holds (height in .r; normal as 0.5 n + 0.5)
-//   LAYER_FORMAT <qualifier>          rgba8 | rgba16 | rgba16f | rgba32f, the texture's storage
+//   SLICE_FORMAT <qualifier>          rgba8 | rgba16 | rgba16f | rgba32f, the texture's storage
 //
 // Texel coordinates are GL's: row 0 is v = 0 (the bottom row of the image file), so +v is +y here.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0) uniform sampler2D u_source;  // same size as the top level; texelFetch only
-layout(binding = 0, LAYER_FORMAT) uniform writeonly image2DArray u_lean;
+layout(binding = 0, SLICE_FORMAT) uniform writeonly image2DArray u_lean;
 
 uniform float u_strength;     // height per texel spacing (SPEC §2)
 uniform float u_scale;        // sc

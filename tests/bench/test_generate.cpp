@@ -125,17 +125,17 @@ TEST_F(Generate, TopLevelMatchesTheCpuBakerWithinQuantisation) {
         const float tolerance = top_level_tolerance(c.storage);
         float worst = 0.0f;
         int off = 0;
-        for (int layer = 0; layer < 2; ++layer)
+        for (int slice = 0; slice < 2; ++slice)
             for (int y = 0; y < c.height; ++y)
                 for (int x = 0; x < c.width; ++x) {
-                    const glm::vec4 a = fetch_packed_texel(cpu, 0, layer, x, y);
-                    const glm::vec4 b = fetch_packed_texel(gpu, 0, layer, x, y);
+                    const glm::vec4 a = fetch_packed_texel(cpu, 0, slice, x, y);
+                    const glm::vec4 b = fetch_packed_texel(gpu, 0, slice, x, y);
                     for (int ch = 0; ch < 4; ++ch) {
                         const float d = std::abs(a[ch] - b[ch]);
                         worst = std::max(worst, d);
                         if (d > tolerance && off++ < 5)
                             ADD_FAILURE()
-                                << "layer " << layer << " texel (" << x << ", " << y << ") channel "
+                                << "slice " << slice << " texel (" << x << ", " << y << ") channel "
                                 << ch << ": cpu " << a[ch] << ", gpu " << b[ch];
                     }
                 }
@@ -212,7 +212,7 @@ TEST(GenerateShader, EveryVariantPassesGlslangValidator) {
     for (const char* input : {"SOURCE_HEIGHT", "SOURCE_NORMAL"})
         for (const char* format : {"rgba8", "rgba16", "rgba16f", "rgba32f"}) {
             const gl::ResolvedSource resolved = sources.resolve(
-                "generate_lean.comp", {input, std::string("LAYER_FORMAT ") + format});
+                "generate_lean.comp", {input, std::string("SLICE_FORMAT ") + format});
             const fs::path file = dir / (std::string(input) + "_" + format + ".comp");
             std::ofstream(file) << resolved.text;
             const std::string command = "'" + validator + "' '" + file.string() + "' 2>&1";

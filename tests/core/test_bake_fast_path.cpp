@@ -78,13 +78,13 @@ void expect_same_packed(const PackedLeanMap& fast, const PackedLeanMap& ref,
         EXPECT_EQ(a.width, b.width) << what << " level " << l;
         EXPECT_EQ(a.height, b.height) << what << " level " << l;
         // Byte-identical: report the first differing byte rather than two huge vectors.
-        for (int layer = 0; layer < 2; ++layer) {
-            const auto& x = layer == 0 ? a.lean1 : a.lean2;
-            const auto& y = layer == 0 ? b.lean1 : b.lean2;
+        for (int slice = 0; slice < 2; ++slice) {
+            const auto& x = slice == 0 ? a.lean1 : a.lean2;
+            const auto& y = slice == 0 ? b.lean1 : b.lean2;
             ASSERT_EQ(x.size(), y.size()) << what << " level " << l;
             for (std::size_t i = 0; i < x.size(); ++i)
                 if (x[i] != y[i]) {
-                    ADD_FAILURE() << what << ": level " << l << " lean" << layer + 1
+                    ADD_FAILURE() << what << ": level " << l << " lean" << slice + 1
                                   << " differs first at byte " << i << " (" << int(x[i]) << " vs "
                                   << int(y[i]) << ")";
                     break;

@@ -98,8 +98,8 @@ TEST(HostileValues, PackingStoresNaNAsZeroInUnormStorages) {
     map.levels.push_back(level);
     for (const Storage storage : {Storage::Unorm8, Storage::Unorm16}) {
         const PackedLeanMap packed = pack_lean_map(map, storage, "test");
-        for (int layer = 0; layer < 2; ++layer) {
-            EXPECT_EQ(fetch_packed_texel(packed, 0, layer, 0, 0), glm::vec4(0.0f));
+        for (int slice = 0; slice < 2; ++slice) {
+            EXPECT_EQ(fetch_packed_texel(packed, 0, slice, 0, 0), glm::vec4(0.0f));
         }
     }
 }

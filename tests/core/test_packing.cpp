@@ -70,8 +70,8 @@ TEST(Packing, PackedValuesNeverLeaveTheUnitRange) {
         for (std::size_t l = 0; l < packed.levels.size(); ++l)
             for (int y = 0; y < packed.levels[l].height; ++y)
                 for (int x = 0; x < packed.levels[l].width; ++x)
-                    for (int layer = 0; layer < 2; ++layer) {
-                        const glm::vec4 t = fetch_packed_texel(packed, int(l), layer, x, y);
+                    for (int slice = 0; slice < 2; ++slice) {
+                        const glm::vec4 t = fetch_packed_texel(packed, int(l), slice, x, y);
                         for (int c = 0; c < 4; ++c) {
                             EXPECT_GE(t[c], 0.0f) << name;
                             EXPECT_LE(t[c], 1.0f) << name;
@@ -85,12 +85,12 @@ TEST(Packing, PackingIsAffineSoFilteringCommutesWithIt) {
     // filtering stand in for filtering the moments, SPEC §3).
     const LeanMap map = bumps_map(8);
     const PackedLeanMap packed = pack_lean_map(map, Storage::Float32, "test");
-    for (int layer = 0; layer < 2; ++layer) {
-        const glm::vec4 avg = 0.25f * (fetch_packed_texel(packed, 0, layer, 0, 0) +
-                                      fetch_packed_texel(packed, 0, layer, 1, 0) +
-                                      fetch_packed_texel(packed, 0, layer, 0, 1) +
-                                      fetch_packed_texel(packed, 0, layer, 1, 1));
-        const glm::vec4 coarse = fetch_packed_texel(packed, 1, layer, 0, 0);
+    for (int slice = 0; slice < 2; ++slice) {
+        const glm::vec4 avg = 0.25f * (fetch_packed_texel(packed, 0, slice, 0, 0) +
+                                      fetch_packed_texel(packed, 0, slice, 1, 0) +
+                                      fetch_packed_texel(packed, 0, slice, 0, 1) +
+                                      fetch_packed_texel(packed, 0, slice, 1, 1));
+        const glm::vec4 coarse = fetch_packed_texel(packed, 1, slice, 0, 0);
         for (int c = 0; c < 4; ++c) EXPECT_NEAR(avg[c], coarse[c], 1e-6f);
     }
 }
@@ -130,11 +130,11 @@ TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
                 const double spec[2][4] = {
                     {0.5 * n.x + 0.5, 0.5 * n.y + 0.5, 0.5 * n.z + 0.5, 0.5 * m.z / s2 + 0.5},
                     {0.5 * b.x / s + 0.5, 0.5 * b.y / s + 0.5, m.x / s2, m.y / s2}};
-                for (int layer = 0; layer < 2; ++layer) {
-                    const glm::vec4 got = fetch_packed_texel(packed, 0, layer, i, 0);
+                for (int slice = 0; slice < 2; ++slice) {
+                    const glm::vec4 got = fetch_packed_texel(packed, 0, slice, i, 0);
                     for (int c = 0; c < 4; ++c) {
                         const double code = std::round(double(got[c]) * q);
-                        const double want = spec[layer][c] * q;
+                        const double want = spec[slice][c] * q;
                         ASSERT_LE(std::abs(code - want), 0.5 + slack)
                             << to_string(storage) << " sc " << sc << " texel " << i;
                         if (std::abs(want - std::floor(want) - 0.5) > slack) {
@@ -161,11 +161,11 @@ TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
     map.levels.push_back(level);
     const PackedLeanMap p16 = pack_lean_map(map, Storage::Unorm16, "test");
     const PackedLeanMap p8 = pack_lean_map(map, Storage::Unorm8, "test");
-    auto code16 = [&](int layer, int x, int c) {
-        return std::lround(fetch_packed_texel(p16, 0, layer, x, 0)[c] * 65535.0f);
+    auto code16 = [&](int slice, int x, int c) {
+        return std::lround(fetch_packed_texel(p16, 0, slice, x, 0)[c] * 65535.0f);
     };
-    auto code8 = [&](int layer, int x, int c) {
-        return std::lround(fetch_packed_texel(p8, 0, layer, x, 0)[c] * 255.0f);
+    auto code8 = [&](int slice, int x, int c) {
+        return std::lround(fetch_packed_texel(p8, 0, slice, x, 0)[c] * 255.0f);
     };
     EXPECT_EQ(code16(0, 0, 0), 32768);  // n.x = 0: 32767.5
     EXPECT_EQ(code16(0, 0, 3), 32768);  // Mxy = 0

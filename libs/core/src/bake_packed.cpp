@@ -180,7 +180,7 @@ constexpr int kTexelBytes = S == Storage::Unorm8    ? 4
                             : S == Storage::Float32 ? 16
                                                     : 8;
 
-// One RGBA texel of one layer of float storage, little-endian, as pack_lean_map's
+// One RGBA texel of one slice of float storage, little-endian, as pack_lean_map's
 // store_float_channel.
 template <Storage S>
 inline void store_texel(std::uint8_t* t, const float* v) {
@@ -406,7 +406,7 @@ LF_AVX2_INLINE void store32(std::uint8_t* d, __m256i v) {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(d), v);
 }
 
-// One UNORM layer (the int32 codes of channels r, g, b, a) of 8 texels, little-endian RGBA.
+// One UNORM slice (the int32 codes of channels r, g, b, a) of 8 texels, little-endian RGBA.
 template <Storage S>
 LF_AVX2_INLINE void store_codes8(__m256i r, __m256i g, __m256i b, __m256i a, std::uint8_t* d) {
     // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16.
@@ -429,9 +429,9 @@ LF_AVX2_INLINE void store_codes8(__m256i r, __m256i g, __m256i b, __m256i a, std
     }
 }
 
-// One float layer (4 channel vectors) of 8 texels, little-endian RGBA.
+// One float slice (4 channel vectors) of 8 texels, little-endian RGBA.
 template <Storage S>
-LF_AVX2_INLINE void store_layer8(const __m256* l, std::uint8_t* d) {
+LF_AVX2_INLINE void store_slice8(const __m256* l, std::uint8_t* d) {
     if constexpr (S == Storage::Float32) {
         const __m256 t0 = _mm256_unpacklo_ps(l[0], l[1]), t1 = _mm256_unpackhi_ps(l[0], l[1]);
         const __m256 t2 = _mm256_unpacklo_ps(l[2], l[3]), t3 = _mm256_unpackhi_ps(l[2], l[3]);
@@ -479,8 +479,8 @@ LF_AVX2_INLINE void pack8(const __m256* m, const PackScale& s, const RowDest& d,
         l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
         l2[2] = _mm256_div_ps(m[kMxx], sc2);
         l2[3] = _mm256_div_ps(m[kMyy], sc2);
-        store_layer8<S>(l1, lean1);
-        store_layer8<S>(l2, lean2);
+        store_slice8<S>(l1, lean1);
+        store_slice8<S>(l2, lean2);
     }
 }
 
@@ -1003,18 +1003,18 @@ ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
     return totals;
 }
 
-// Resizes one output layer. A new vector's bytes are zero-filled by resize, which faults every
+// Resizes one output slice. A new vector's bytes are zero-filled by resize, which faults every
 // page in: a new buffer is advised to use huge pages first (assign_large, docs/perf.md). Reused
 // buffers are left as they are.
-void size_layer(std::vector<std::uint8_t>& layer, std::size_t bytes) {
-    if (layer.capacity() < bytes) {
-        assign_large(layer, bytes, std::uint8_t(0));
+void size_slice(std::vector<std::uint8_t>& slice, std::size_t bytes) {
+    if (slice.capacity() < bytes) {
+        assign_large(slice, bytes, std::uint8_t(0));
         return;
     }
-    layer.resize(bytes);
+    slice.resize(bytes);
 }
 
-// Sizes the layers of the output levels (whose width and height are set); lean1 and lean2 by
+// Sizes the slices of the output levels (whose width and height are set); lean1 and lean2 by
 // different threads, sharing the first touch.
 void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
     const std::size_t count = packed.levels.size();
@@ -1024,7 +1024,7 @@ void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
             PackedLevel& out = packed.levels[l];
             const std::size_t bytes =
                 std::size_t(out.width) * std::size_t(out.height) * std::size_t(texel_bytes);
-            size_layer(std::size_t(job) < count ? out.lean1 : out.lean2, bytes);
+            size_slice(std::size_t(job) < count ? out.lean1 : out.lean2, bytes);
         }
     });
 }

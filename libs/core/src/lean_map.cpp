@@ -309,9 +309,9 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
     return packed;
 }
 
-glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int layer, int x, int y) {
+glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int slice, int x, int y) {
     const PackedLevel& l = map.levels.at(std::size_t(level));
-    const auto& bytes = layer == 0 ? l.lean1 : l.lean2;
+    const auto& bytes = slice == 0 ? l.lean1 : l.lean2;
     const int bpt = bytes_per_texel(map.storage);
     const std::uint8_t* t =
         &bytes.at((std::size_t(y) * std::size_t(l.width) + std::size_t(x)) * std::size_t(bpt));

@@ -12,13 +12,13 @@ namespace {
 
 constexpr int kGroupSize = 8;  // local_size_x and _y of generate_lean.comp
 
-struct LayerFormat {
+struct SliceFormat {
     GLenum internal_format;
     GLenum type;
     const char* qualifier;
 };
 
-LayerFormat layer_format(Storage storage) {
+SliceFormat slice_format(Storage storage) {
     switch (storage) {
         case Storage::Unorm8:
             return {GL_RGBA8, GL_UNSIGNED_BYTE, "rgba8"};
@@ -48,7 +48,7 @@ GLuint LeanGenerator::program(Storage storage) {
             input_ == GenerateInput::Height ? "SOURCE_HEIGHT" : "SOURCE_NORMAL";
         p = build_compute_program(
             sources_, "generate_lean.comp",
-            {source, std::string("LAYER_FORMAT ") + layer_format(storage).qualifier});
+            {source, std::string("SLICE_FORMAT ") + slice_format(storage).qualifier});
     }
     return p.get();
 }
@@ -97,7 +97,7 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
     if (!std::isfinite(options.strength) || !std::isfinite(options.bake_roughness_shininess) ||
         options.bake_roughness_shininess < 0.0f)
         throw Error("generate", "strength and the baked shininess must be finite (shininess >= 0)");
-    const LayerFormat format = layer_format(options.storage);
+    const SliceFormat format = slice_format(options.storage);
     if (!texture_ || options.storage != storage_) {
         levels_ = mip_level_count(width_, height_);
         Texture texture = create_texture(GL_TEXTURE_2D_ARRAY);
@@ -154,26 +154,26 @@ PackedLeanMap LeanGenerator::read_back() const {
     map.baked_shininess = baked_shininess_;
     map.source_convention = convention_;
     map.generator = "leanfade GPU";
-    const LayerFormat format = layer_format(storage_);
+    const SliceFormat format = slice_format(storage_);
     const std::size_t texel_bytes = std::size_t(bytes_per_texel(storage_));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     int w = width_, h = height_;
     for (int level = 0; level < levels_; ++level) {
         const std::size_t row_bytes = std::size_t(w) * texel_bytes;
-        const std::size_t layer_bytes = row_bytes * std::size_t(h);
-        std::vector<std::uint8_t> bytes(2 * layer_bytes);
+        const std::size_t slice_bytes = row_bytes * std::size_t(h);
+        std::vector<std::uint8_t> bytes(2 * slice_bytes);
         glGetTextureImage(texture_.get(), level, GL_RGBA, format.type, GLsizei(bytes.size()),
                           bytes.data());
         PackedLevel out;
         out.width = w;
         out.height = h;
-        out.lean1.resize(layer_bytes);
-        out.lean2.resize(layer_bytes);
+        out.lean1.resize(slice_bytes);
+        out.lean2.resize(slice_bytes);
         for (int y = 0; y < h; ++y) {
             const std::size_t src = std::size_t(h - 1 - y) * row_bytes;
             const std::size_t dst = std::size_t(y) * row_bytes;
             std::memcpy(&out.lean1[dst], &bytes[src], row_bytes);
-            std::memcpy(&out.lean2[dst], &bytes[layer_bytes + src], row_bytes);
+            std::memcpy(&out.lean2[dst], &bytes[slice_bytes + src], row_bytes);
         }
         map.levels.push_back(std::move(out));
         w = std::max(1, w / 2);

@@ -354,10 +354,10 @@ Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
     for (GLsizei i = 0; i < levels; ++i) {
         const PackedLevel& level = map.levels[std::size_t(i)];
         const std::size_t row_bytes = std::size_t(level.width) * texel_bytes;
-        const std::vector<std::uint8_t>* layers[2] = {&level.lean1, &level.lean2};
-        for (int layer = 0; layer < 2; ++layer) {
-            const std::vector<std::uint8_t> rows = flipped(*layers[layer], row_bytes, level.height);
-            glTextureSubImage3D(texture.get(), i, 0, 0, layer, level.width, level.height, 1,
+        const std::vector<std::uint8_t>* slices[2] = {&level.lean1, &level.lean2};
+        for (int slice = 0; slice < 2; ++slice) {
+            const std::vector<std::uint8_t> rows = flipped(*slices[slice], row_bytes, level.height);
+            glTextureSubImage3D(texture.get(), i, 0, 0, slice, level.width, level.height, 1,
                                 GL_RGBA, format.type, rows.data());
         }
     }

@@ -25,7 +25,7 @@ enum class Storage { Unorm8, Unorm16, Float16, Float32 };
 const char* to_string(Wrap);
 const char* to_string(NormalConvention);
 const char* to_string(Storage);
-int bytes_per_texel(Storage);  // one RGBA texel of one layer
+int bytes_per_texel(Storage);  // one RGBA texel of one slice (lean1 or lean2)
 
 // One MIP level of float moments. Index i = y * width + x, rows top first.
 struct MomentLevel {
@@ -44,8 +44,8 @@ struct LeanMap {
     NormalConvention source_convention = NormalConvention::OpenGL;
 };
 
-// One packed MIP level: two layers of RGBA texels in the storage format, rows top first,
-// tightly packed (width * bytes_per_texel(storage) bytes per row). Float16/Float32 are IEEE
+// One packed MIP level: two slices (lean1, lean2) of RGBA texels in the storage format, rows top
+// first, tightly packed (width * bytes_per_texel(storage) bytes per row). Float16/Float32 are IEEE
 // little-endian; Unorm16 is little-endian.
 struct PackedLevel {
     int width = 0;
@@ -132,8 +132,9 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
 // Inverse of pack_lean_map within the storage's quantisation.
 LeanMap unpack_lean_map(const PackedLeanMap& packed);
 
-// Decoded RGBA floats of one packed texel of one layer (for tests and the CPU reference).
-glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int layer, int x, int y);
+// Decoded RGBA floats of one packed texel of one slice, 0 = lean1, 1 = lean2 (for tests and the
+// CPU reference).
+glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int slice, int x, int y);
 
 // Statistics for the bake summary. Slopes are dimensionless; covariance in slope^2.
 struct LeanMapSummary {
@@ -175,11 +176,11 @@ struct PackedLevelTarget {
 };
 // Called by bake_packed_to once sc is known (the input has been read and validated) and before
 // the first texel is packed, with the map's metadata and every level's width and height (its
-// layers empty); returns one target per level, level 0 first. It may throw (the bake then stops).
+// slices empty); returns one target per level, level 0 first. It may throw (the bake then stops).
 using PackedOutputOpener = std::function<std::vector<PackedLevelTarget>(const PackedLeanMap&)>;
 // The same bake, written straight into memory the caller provides (e.g. a mapped output file:
 // `leanfade bake` writes the KTX2 file this way, with no copy of the map in between). The
-// returned result's packed map holds the metadata and the level sizes; its layers are empty.
+// returned result's packed map holds the metadata and the level sizes; its slices are empty.
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name = "");

@@ -1,12 +1,12 @@
 #pragma once
 // LEAN maps generated on the GPU (the LEAN paper's "per-frame generation", §5): a compute pass
-// (shaders/generate_lean.comp) writes the top level of both layers from a height or normal
+// (shaders/generate_lean.comp) writes the top level of both slices from a height or normal
 // texture, exactly as the CPU baker computes its top level (SPEC §2-3), then glGenerateMipmap
 // builds the other levels by averaging the packed values (correct because the packing is affine
 // per channel, SPEC §3; for power-of-two sizes the 2 x 2 box equals the CPU's area filter, up to
 // the re-quantisation of each level).
 //
-// The texture has the layout Renderer::set_lean_map uploads: a GL_TEXTURE_2D_ARRAY of two layers
+// The texture has the layout Renderer::set_lean_map uploads: a GL_TEXTURE_2D_ARRAY of two slices
 // (lean1, lean2) with every MIP level, texel row 0 at v = 0 (the bottom row of an image file).
 #include <string>
 
@@ -28,9 +28,9 @@ struct GenerateOptions {
     float strength = 1.0f;     // height per texel spacing (height maps)
     Wrap wrap = Wrap::Repeat;  // Sobel taps past the edge (height maps)
     NormalConvention convention = NormalConvention::OpenGL;  // normal maps
-    float scale = 1.0f;                     // sc the layers are packed with (SPEC §3), > 0
+    float scale = 1.0f;                     // sc the slices are packed with (SPEC §3), > 0
     float bake_roughness_shininess = 0.0f;  // s > 0: 1/s added to Mxx, Myy (LEAN eq. 6)
-    Storage storage = Storage::Unorm16;     // texel format of both layers
+    Storage storage = Storage::Unorm16;     // texel format of both slices
 };
 
 class LeanGenerator {
@@ -46,7 +46,7 @@ class LeanGenerator {
     // GL_MAX_TEXTURE_SIZE.
     void set_source(const Image& image, GenerateInput input);
 
-    // The compute pass: level 0 of both layers. (Re)allocates the texture, with every MIP level,
+    // The compute pass: level 0 of both slices. (Re)allocates the texture, with every MIP level,
     // when the source size or the storage changed. Throws leanfade::Error("generate", cause)
     // without a source, for sc <= 0 or a non-finite option.
     void write_top_level(const GenerateOptions& options);

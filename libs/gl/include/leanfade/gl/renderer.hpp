@@ -85,7 +85,7 @@ struct RenderRequest {
     glm::vec3 background{0.0f};  // linear RGB of pixels the object does not cover
 };
 
-// The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 layers (lean1, lean2) with every MIP
+// The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 slices (lean1, lean2) with every MIP
 // level of the map, rows flipped so that +v is up.
 struct LeanTextureInfo {
     int width = 0;
