@@ -157,10 +157,11 @@ int run_bake(const BakeArgs& args) {
         std::string name;
         bool from_file = false;
         std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png and .lean2.png
+        std::string output_is_input;       // an output that is this job's own input
     };
     std::vector<Job> jobs;
-    if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}});
-    for (const std::string& input : args.inputs) jobs.push_back({input, true, {}});
+    if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}, {}});
+    for (const std::string& input : args.inputs) jobs.push_back({input, true, {}, {}});
     io::OutputPlan plan;
     for (const std::string& input : args.inputs) plan.add_input(input);
     for (Job& j : jobs) {
@@ -170,8 +171,16 @@ int run_bake(const BakeArgs& args) {
             j.outputs = {base + ".lean1.png", base + ".lean2.png"};
         else
             j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
-        for (const std::string& output : j.outputs)
+        for (const std::string& output : j.outputs) {
+            // An output that is its own input (`bake map.ktx2`) fails that input alone, once it is
+            // read, so that a file that is not an image is named as such; nothing is written.
+            std::error_code error;
+            if (j.from_file && fs::equivalent(output, j.name, error) && !error) {
+                j.output_is_input = output;
+                continue;
+            }
             plan.add_output(output, "the output of " + j.name);
+        }
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan.check();
@@ -202,6 +211,9 @@ int run_bake(const BakeArgs& args) {
         // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
         // summary, without the float MIP chain (docs/perf.md).
         const BakeSource kind = from_file ? source : BakeSource::Height;
+        if (!j.output_is_input.empty())
+            throw Error(name, "is the same file as its output " + j.output_is_input +
+                                  "; an output may not replace an input");
         std::string output;
         PackedBakeResult baked;
         if (args.format == "png") {

@@ -18,6 +18,7 @@
 #include "leanfade/gl/generate.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -159,9 +160,12 @@ int run_bench(const BenchArgs& args) {
     if (args.bake_runs < 0 || args.bake_runs > 1000)
         throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");
     if (!args.json.empty()) {
-        const fs::path parent = fs::path(args.json).parent_path();
-        if (!parent.empty() && !fs::is_directory(parent))
-            throw Error(args.json, "its folder does not exist");
+        // Checked before anything is measured (docs/robustness.md).
+        io::OutputPlan plan;
+        if (!args.source.bumps.empty() && fs::exists(args.source.bumps))
+            plan.add_input(args.source.bumps);
+        plan.add_output(args.json, "--json");
+        plan.check();
     }
 
     const bool tty = stderr_is_terminal();

@@ -19,6 +19,7 @@
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/renderer.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -82,6 +83,17 @@ int run_calibrate(const CalibrateArgs& args) {
                         std::to_string(args.spp));
     request.reference_samples = k;
     const PlotFiles files = args.plot.empty() ? PlotFiles{} : plot_files(args.plot);
+    // Every output is checked before anything is read or rendered (docs/robustness.md).
+    io::OutputPlan plan;
+    for (const std::string& input : {args.source.bumps, args.scene})
+        if (!input.empty() && fs::exists(input)) plan.add_input(input);
+    if (!args.plot.empty()) {
+        plan.add_output(files.plot.string(), "--plot");
+        plan.add_output(files.data.string(), "the plot's data");
+        plan.add_output(files.script.string(), "the plot's script");
+    }
+    if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan.check();
 
     const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
     const PackedLeanMap map = load_lean_map(args.source, request.settings);
@@ -104,6 +116,8 @@ int run_calibrate(const CalibrateArgs& args) {
         std::printf("%9g %9.4f %9.4f %9.4f\n", c.distances[i], c.target[i], c.fit.model[i],
                     c.achieved[i]);
 
+    // The plot's data and script and --json are published together; gnuplot then draws the plot.
+    io::OutputTransaction outputs;
     if (!args.plot.empty()) {
         const fs::path& plot = files.plot;
         const fs::path& data = files.data;
@@ -113,16 +127,11 @@ int run_calibrate(const CalibrateArgs& args) {
         for (std::size_t i = 0; i < c.distances.size(); ++i)
             tsv << c.distances[i] << "\t" << c.target[i] << "\t" << c.fit.model[i] << "\t"
                 << c.achieved[i] << "\n";
-        eval::write_text_file(data.string(), tsv.str());
-        eval::write_text_file(script.string(),
+        eval::write_text_file(outputs.stage(data.string()), tsv.str());
+        eval::write_text_file(outputs.stage(script.string()),
                               eval::calibration_plot_script(
                                   eval::to_string(target), c.fit.fade, c.fit.pmax, c.target,
                                   c.achieved, plot.filename().string(), data.filename().string()));
-        std::string note;
-        if (eval::run_gnuplot(script.string(), note))
-            std::printf("plot: %s\n", plot.string().c_str());
-        else
-            std::fprintf(stderr, "leanfade calibrate: %s\n", note.c_str());
     }
     if (!args.json.empty()) {
         std::ostringstream j;
@@ -137,7 +146,15 @@ int run_calibrate(const CalibrateArgs& args) {
               << ", \"target\": " << c.target[i] << ", \"model\": " << c.fit.model[i]
               << ", \"achieved\": " << c.achieved[i] << "}";
         j << "\n  ]\n}\n";
-        eval::write_text_file(args.json, j.str());
+        eval::write_text_file(outputs.stage(args.json), j.str());
+    }
+    outputs.publish();
+    if (!args.plot.empty()) {
+        std::string note;
+        if (eval::run_gnuplot(files.script.string(), note))
+            std::printf("plot: %s\n", files.plot.string().c_str());
+        else
+            std::fprintf(stderr, "leanfade calibrate: %s\n", note.c_str());
     }
     return 0;
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "cli_preset.hpp"
@@ -15,6 +16,7 @@
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/renderer.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -50,12 +52,50 @@ std::string duration_text(double seconds) {
 }
 
 // --replot: the plots, results.csv and index.html again from a folder's results.json.
+// The files of a report in `folder` (results.hpp: write_report), as outputs of `plan`.
+void add_report_outputs(io::OutputPlan& plan, const std::string& folder, bool with_json) {
+    if (with_json)
+        plan.add_output((std::filesystem::path(folder) / "results.json").string(), "the report");
+    for (const char* name : {"results.csv", "plot_data.tsv", "plots.gp",
+                             "index.html", "energy.png", "rmse.png", "ssim.png", "flicker.png"})
+        plan.add_output((std::filesystem::path(folder) / name).string(), "the report");
+}
+
+// `text` with every `from` replaced by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    for (std::size_t at = 0; !from.empty() && (at = text.find(from, at)) != std::string::npos;
+         at += to.size())
+        text.replace(at, from.size(), to);
+    return text;
+}
+
 int run_replot(const std::string& folder) {
+    // Its results.json is read, the other files of the report replaced.
+    io::OutputPlan plan;
+    plan.add_input(folder + "/results.json");
+    plan.add_output_folder(folder);
+    add_report_outputs(plan, folder, false);
+    plan.check();
     eval::SweepInfo info;
     std::vector<eval::CaseResult> cases;
     eval::read_results_json(folder + "/results.json", info, cases);
-    for (const std::string& note : eval::write_report(folder, info, cases, {}))
-        std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
+    // Written into a temporary folder and published into `folder` together. The report shows the
+    // folder's images (seen through a link that is not published); results.json, the input, is
+    // left as it is.
+    namespace fs = std::filesystem;
+    io::OutputTransaction outputs;
+    const std::string staged = outputs.stage_folder(folder);
+    const fs::path images = fs::path(folder) / "images";
+    std::error_code error;
+    if (fs::is_directory(images))
+        fs::create_directory_symlink(fs::absolute(images), fs::path(staged) / "images", error);
+    std::vector<std::string> notes = eval::write_report(staged, info, cases, {});
+    if (!error && fs::is_symlink(fs::path(staged) / "images"))
+        fs::remove(fs::path(staged) / "images");
+    fs::remove(fs::path(staged) / "results.json");
+    outputs.publish();
+    for (const std::string& note : notes)
+        std::fprintf(stderr, "leanfade eval: %s\n", replaced(note, staged, folder).c_str());
     std::printf("%s: redrew the plots and the report of %zu cases\n", folder.c_str(), cases.size());
     return 0;
 }
@@ -95,6 +135,14 @@ int run_eval(const EvalArgs& args) {
                     "flicker needs 2 to 1000 frames, got " + std::to_string(args.frames));
     if (!(args.motion > 0.0f && args.motion <= 4.0f))
         throw Error("--motion", "the pan per frame must be in (0, 4] pixels");
+
+    // The report folder is checked before anything is read or rendered (docs/robustness.md).
+    io::OutputPlan plan;
+    for (const std::string& input : {args.source.bumps, args.scene})
+        if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
+    plan.add_output_folder(args.out);
+    add_report_outputs(plan, args.out, true);
+    plan.check();
 
     const bool tty = stderr_is_terminal();
     auto status = [&](const std::string& text) {
@@ -151,8 +199,12 @@ int run_eval(const EvalArgs& args) {
     info.preset_json = preset_to_json(preset);
     info.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    const std::vector<std::string> notes =
-        eval::write_report(args.out, info, output.cases, output.images);
+    // The report is written into a temporary folder, then published into --out as a whole.
+    io::OutputTransaction outputs;
+    const std::string staged = outputs.stage_folder(args.out);
+    std::vector<std::string> notes = eval::write_report(staged, info, output.cases, output.images);
+    for (std::string& note : notes) note = replaced(note, staged, args.out);
+    outputs.publish();
 
     std::printf("%-9s %8s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
                 "energy", "rmse", "ssim", "flicker", "refspp");

@@ -15,6 +15,7 @@
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -59,8 +60,25 @@ int run_render(const RenderArgs& args) {
     request.reference_samples = checked_reference_samples(args.ref_samples);
     if (args.cell_format != "pfm" && args.cell_format != "exr")
         throw Error("--cell-format", "expected pfm or exr, got '" + args.cell_format + "'");
-    if (!args.source.bumps.empty() && fs::exists(args.source.bumps))
-        io::ensure_not_same_file(args.output, args.source.bumps);
+    // Every output is checked before anything is read or rendered: a regular file (or a new one)
+    // in a writable folder, not an input, not another output (docs/robustness.md).
+    auto cell_name = [](gl::Technique technique, float distance) {
+        return std::string(gl::to_string(technique)) + "_d" + gl::distance_text(distance);
+    };
+    io::OutputPlan plan;
+    for (const std::string& input : {args.source.bumps, args.scene, args.preset})
+        if (!input.empty() && fs::exists(input)) plan.add_input(input);
+    plan.add_output(args.output, "-o");
+    if (!args.cells.empty()) {
+        plan.add_output_folder(args.cells);
+        for (gl::Technique technique : request.techniques)
+            for (float distance : request.distances) {
+                const fs::path base = fs::path(args.cells) / cell_name(technique, distance);
+                plan.add_output(base.string() + ".png", "--cells");
+                plan.add_output(base.string() + "." + args.cell_format, "--cells");
+            }
+    }
+    plan.check();
 
     const bool tty = stderr_is_terminal();
     auto status = [&](const std::string& text) {
@@ -81,16 +99,13 @@ int run_render(const RenderArgs& args) {
     });
     if (tty) std::fprintf(stderr, "\r\033[K");
 
-    io::write_png(args.output, figure.picture, 8);
+    // The picture and the cells are published together, or not at all.
+    io::OutputTransaction outputs;
+    io::write_png(outputs.stage(args.output), figure.picture, 8);
     if (!args.cells.empty()) {
-        std::error_code ec;
-        fs::create_directories(args.cells, ec);
-        if (!fs::is_directory(args.cells)) throw Error(args.cells, "cannot create the folder");
+        const fs::path folder = outputs.stage_folder(args.cells);
         for (const gl::FigureCell& cell : figure.cells) {
-            const std::string base =
-                (fs::path(args.cells) / (std::string(gl::to_string(cell.technique)) + "_d" +
-                                         gl::distance_text(cell.distance)))
-                    .string();
+            const std::string base = (folder / cell_name(cell.technique, cell.distance)).string();
             io::write_png(base + ".png", gl::encode_srgb(cell.radiance), 8);
             if (args.cell_format == "exr")
                 io::write_exr(base + ".exr", cell.radiance);
@@ -98,6 +113,7 @@ int run_render(const RenderArgs& args) {
                 io::write_pfm(base + ".pfm", cell.radiance);
         }
     }
+    outputs.publish();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("%s: %zu x %zu cells of %dx%d (%s), %.2f s on %s\n", args.output.c_str(),

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <tuple>
 
@@ -16,6 +17,7 @@
 #include "leanfade/core/preset.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_library.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
 #include "leanfade/viewer/viewer.hpp"
 
@@ -121,6 +123,14 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     if (args.frames < 0) throw Error("--frames", "must be >= 0");
     if (!args.screenshot.empty() && args.frames == 0)
         throw Error("--screenshot", "needs --frames N (the screenshot is taken after N frames)");
+    if (!args.screenshot.empty()) {
+        // The screenshot is an output: checked before the window opens (docs/robustness.md).
+        io::OutputPlan plan;
+        for (const std::string& input : {args.source.bumps, args.scene, args.preset})
+            if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
+        plan.add_output(args.screenshot, "--screenshot");
+        plan.check();
+    }
     options.frames = args.frames;
     options.screenshot = args.screenshot;
     options.fly_away = args.fly_away;

@@ -78,8 +78,8 @@ void check_writable_folder(const std::string& output, const fs::path& folder, bo
             return;
         }
         throw Error(output, "its folder " + folder.string() +
-                                (errno == ENOENT ? " does not exist" : " cannot be used (" +
-                                                                           errno_text(errno) + ")"));
+                                (errno == ENOENT ? " does not exist"
+                                                 : " cannot be used (" + errno_text(errno) + ")"));
     }
     if (!S_ISDIR(info.st_mode)) throw Error(output, folder.string() + " is not a folder");
     if (::access(folder.c_str(), W_OK | X_OK) != 0) {
@@ -121,7 +121,8 @@ void OutputPlan::check() const {
         std::optional<FileId> id;
     };
     std::vector<Input> inputs;
-    for (const std::string& path : inputs_) inputs.push_back({path, resolved(path), file_id(path, true)});
+    for (const std::string& path : inputs_)
+        inputs.push_back({path, resolved(path), file_id(path, true)});
 
     std::vector<std::string> folder_keys;
     for (const Output& output : outputs_) {
@@ -173,11 +174,11 @@ void OutputPlan::check() const {
         if (!in_output_folder) check_writable_folder(path, folder_of(path), false);
         for (const Input& input : inputs) {
             if (input.key == key || (id && input.id && *id == *input.id)) {
-                throw Error(path, (input.path == path
-                                       ? std::string("is the same file as an input of this run")
-                                       : "is the same file as the input " + input.path +
-                                             " of this run") +
-                                      "; an output may not replace an input");
+                throw Error(path,
+                            (input.path == path
+                                 ? std::string("is the same file as an input of this run")
+                                 : "is the same file as the input " + input.path + " of this run") +
+                                "; an output may not replace an input");
             }
         }
         for (const auto& [other_key, other] : keys) {
@@ -292,7 +293,8 @@ void OutputTransaction::publish() {
                 add_move(it->path().string(), to, false);
             }
         }
-        if (error) throw Error(staged->temporary, "cannot list the folder (" + error.message() + ")");
+        if (error)
+            throw Error(staged->temporary, "cannot list the folder (" + error.message() + ")");
     }
     // Check every output before the first rename.
     for (const std::string& folder : folders_to_create) {
