@@ -89,14 +89,18 @@ pid_t dead_pid() {
     return child;
 }
 
+// A Unix socket at `p`, bound from its folder (socket paths are limited to about 100 bytes).
 fs::path make_socket(const fs::path& p) {
+    const fs::path previous = fs::current_path();
+    fs::current_path(p.parent_path());
     const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
     sockaddr_un address{};
     address.sun_family = AF_UNIX;
-    std::strncpy(address.sun_path, p.c_str(), sizeof address.sun_path - 1);
+    std::strncpy(address.sun_path, p.filename().c_str(), sizeof address.sun_path - 1);
     EXPECT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0)
         << std::strerror(errno);
     ::close(fd);
+    fs::current_path(previous);
     return p;
 }
 
