@@ -68,6 +68,7 @@ void validate(const ShadingSettings& s) {
                    {s.tiling, "--tiling"},
                    {s.mip_bias, "--mip-bias"}};
     for (const auto& v : scalars) require_finite(v.value, v.flag);
+    require(s.shininess > 0.0f, "--shininess", "must be > 0, got " + text(s.shininess));
     require(s.shininess >= kMinShininess && s.shininess <= kMaxShininess, "--shininess",
             "must be in [" + text(kMinShininess) + ", " + text(kMaxShininess) + "], got " +
                 text(s.shininess));
