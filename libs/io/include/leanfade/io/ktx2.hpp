@@ -150,8 +150,9 @@ struct Ktx2Info {
 };
 
 // Reads and structurally checks any KTX 2.0 file (identifier, header sizes, level index, DFD and
-// key/value data inside the file and apart from each other, no key twice) without reading texel data and without the leanfade-specific
-// checks of read_ktx2, so that `leanfade info` can describe files from other writers.
+// key/value data inside the file and apart from each other, no key twice) without reading texel
+// data and without the leanfade-specific checks of read_ktx2 (so that describe() can show what a
+// file from another writer holds). `leanfade info` runs read_ktx2's checks too, before printing.
 Ktx2Info inspect_ktx2(const std::string& path);
 // inspect_ktx2 on a file's bytes already in memory; Ktx2Info::path is `name`.
 Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name);
