@@ -1,0 +1,54 @@
+#pragma once
+// Roughness MIPs for microfacet engines (docs/math.md §9): at every MIP level of a LEAN map, the
+// Beckmann roughness that folds the covariance of the bump slopes under each texel into the
+// material's base roughness, the normal of the mean slope, and the anisotropic split of
+// KHR_materials_anisotropy. GL-free; units: slopes and α are dimensionless, directions are in
+// tangent space (x = +u, y = +v).
+//
+//   Σ = M − B Bᵀ (the slopes' covariance over the texel's footprint, LEAN eq. 5)
+//   α² = α0² + Σxx + Σyy                isotropic, Beckmann-matched (engines use it for GGX)
+//   α_t² = α0² + 2 λmax, α_b² = α0² + 2 λmin, direction = eigenvector of λmax   anisotropic
+//   r = √α (glTF perceptual roughness), normal = normalize(B.x, B.y, 1)
+// With a roughness map, α0² is MIP-filtered linearly with the moments' own filter.
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+
+namespace leanfade {
+
+struct RoughnessOptions {
+    // Base perceptual roughness r0 in [0, 1] (α0 = r0²), used where no map is given.
+    float base_roughness = 0.0f;
+    // Optional per-texel base roughness: a 1-channel image of perceptual r in [0, 1] of the
+    // LEAN map's top-level size (a glTF metallic-roughness texture's G channel, for example).
+    const Image* roughness_map = nullptr;
+    int threads = 0;  // as BakeOptions::threads
+};
+
+struct RoughnessLevel {
+    int width = 0;
+    int height = 0;
+    std::vector<float> alpha;          // isotropic Beckmann α, per texel, rows top first
+    std::vector<glm::vec3> normal;     // unit normal of the mean slope B
+    std::vector<glm::vec2> direction;  // unit tangent-space direction of the larger slope variance
+    std::vector<float> alpha_t;        // α along `direction`
+    std::vector<float> alpha_b;        // α across it
+};
+
+// One RoughnessLevel per level of `map`. Throws leanfade::Error(setting, cause) for a map with
+// baked roughness (its M holds 1/s already: bake it without), a base roughness or map value
+// outside [0, 1] or not finite, or a roughness map of another size.
+std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOptions& options);
+
+// glTF perceptual roughness of a Beckmann α: √α.
+float perceptual_roughness(float alpha);
+
+// KHR_materials_anisotropy strength s for α_t along the direction and α_b across it, from the
+// extension's α_t = mix(α_b, 1, s²): s = √((α_t − α_b) / (1 − α_b)), clamped to [0, 1].
+float anisotropy_strength(float alpha_t, float alpha_b);
+
+}  // namespace leanfade

@@ -1,0 +1,109 @@
+// Roughness MIPs from LEAN moments (leanfade/core/roughness.hpp).
+#include "leanfade/core/roughness.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/shading.hpp"
+
+namespace leanfade {
+namespace {
+
+bool unit_interval(float v) {
+    return v >= 0.0f && v <= 1.0f;  // false for NaN
+}
+
+// α0² of every level: constant, or the map's r⁴ filtered as the moments are.
+std::vector<Image> base_alpha_squared(const LeanMap& map, const RoughnessOptions& options) {
+    std::vector<Image> levels;
+    const MomentLevel& top = map.levels.front();
+    if (options.roughness_map == nullptr) {
+        const float a2 = std::pow(options.base_roughness, 4.0f);
+        for (const MomentLevel& l : map.levels) {
+            Image image(l.width, l.height, 4);
+            for (std::size_t t = 0; t < image.texel_count(); ++t) image.pixels[4 * t] = a2;
+            levels.push_back(std::move(image));
+        }
+        return levels;
+    }
+    const Image& r = *options.roughness_map;
+    if (r.width != top.width || r.height != top.height || r.channels < 1)
+        throw Error("roughness map", "must be " + std::to_string(top.width) + "x" +
+                                         std::to_string(top.height) +
+                                         " texels like the LEAN map, got " +
+                                         std::to_string(r.width) + "x" + std::to_string(r.height));
+    Image a2(r.width, r.height, 4);
+    for (std::size_t t = 0; t < r.texel_count(); ++t) {
+        const float v = r.pixels[t * std::size_t(r.channels)];
+        if (!unit_interval(v))
+            throw Error("roughness map", "roughness " + std::to_string(v) + " at texel (" +
+                                             std::to_string(t % std::size_t(r.width)) + ", " +
+                                             std::to_string(t / std::size_t(r.width)) +
+                                             ") is outside [0, 1]");
+        a2.pixels[4 * t] = v * v * v * v;  // α0² = (r²)²
+    }
+    return build_mip_chain(a2, options.threads);
+}
+
+}  // namespace
+
+float perceptual_roughness(float alpha) {
+    return std::sqrt(std::max(alpha, 0.0f));
+}
+
+float anisotropy_strength(float alpha_t, float alpha_b) {
+    if (!(alpha_b < 1.0f)) return 0.0f;
+    const float s2 = (alpha_t - alpha_b) / (1.0f - alpha_b);
+    return std::sqrt(std::clamp(s2, 0.0f, 1.0f));
+}
+
+std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOptions& options) {
+    if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
+    if (map.roughness_baked)
+        throw Error("LEAN map",
+                    "its second moments hold a baked roughness (1/s); bake it "
+                    "without one for roughness MIPs, the base roughness is added here");
+    if (!unit_interval(options.base_roughness))
+        throw Error("roughness",
+                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+    const std::vector<Image> base = base_alpha_squared(map, options);
+
+    std::vector<RoughnessLevel> out;
+    for (std::size_t l = 0; l < map.levels.size(); ++l) {
+        const MomentLevel& m = map.levels[l];
+        RoughnessLevel level;
+        level.width = m.width;
+        level.height = m.height;
+        const std::size_t count = m.mean.size();
+        level.alpha.resize(count);
+        level.normal.resize(count);
+        level.direction.resize(count);
+        level.alpha_t.resize(count);
+        level.alpha_b.resize(count);
+        for (std::size_t t = 0; t < count; ++t) {
+            // Σ = M − B Bᵀ (LEAN eq. 5); float rounding can leave a tiny negative variance.
+            const glm::vec3 sigma = shading::lf_covariance(m.mean[t], m.second[t], 0.0f);
+            const double sxx = std::max(0.0, double(sigma.x)), syy = std::max(0.0, double(sigma.y));
+            const double sxy = double(sigma.z);
+            const double a0 = double(base[l].pixels[4 * t]);
+            level.alpha[t] = float(std::sqrt(a0 + sxx + syy));
+            // Eigen-decomposition of the symmetric 2x2 Σ.
+            const double half_trace = 0.5 * (sxx + syy);
+            const double root = std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+            const double lmax = half_trace + root, lmin = std::max(0.0, half_trace - root);
+            const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+            level.direction[t] = glm::vec2(float(std::cos(angle)), float(std::sin(angle)));
+            level.alpha_t[t] = float(std::sqrt(a0 + 2.0 * lmax));
+            level.alpha_b[t] = float(std::sqrt(a0 + 2.0 * lmin));
+            level.normal[t] = glm::normalize(glm::vec3(m.mean[t], 1.0f));
+        }
+        out.push_back(std::move(level));
+    }
+    return out;
+}
+
+}  // namespace leanfade

@@ -1,0 +1,151 @@
+// Roughness MIPs (leanfade/core/roughness.hpp): the Beckmann α of every level folds the slopes'
+// covariance over the texel's footprint into the base roughness, computed here independently
+// from the top-level slopes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/roughness.hpp"
+
+namespace leanfade::test {
+namespace {
+
+Image slopes_of(const std::string& set, int size) {
+    return slopes_from_height(make_builtin_height(set, size, 5), BakeOptions{}).slopes;
+}
+
+// Covariance (xx, yy, xy) of all slopes, in double.
+glm::dvec3 slope_covariance(const Image& slopes) {
+    double mx = 0, my = 0, mxx = 0, myy = 0, mxy = 0;
+    const double n = double(slopes.texel_count());
+    for (std::size_t t = 0; t < slopes.texel_count(); ++t) {
+        const double x = slopes.pixels[2 * t], y = slopes.pixels[2 * t + 1];
+        mx += x / n;
+        my += y / n;
+        mxx += x * x / n;
+        myy += y * y / n;
+        mxy += x * y / n;
+    }
+    return {mxx - mx * mx, myy - my * my, mxy - mx * my};
+}
+
+TEST(Roughness, FlatMapGivesTheBaseRoughnessAtEveryLevel) {
+    const LeanMap map = build_lean_map(slopes_of("flat", 32), BakeOptions{});
+    RoughnessOptions options;
+    options.base_roughness = 0.5f;
+    const std::vector<RoughnessLevel> levels = roughness_mips(map, options);
+    ASSERT_EQ(levels.size(), map.levels.size());
+    for (const RoughnessLevel& l : levels)
+        for (std::size_t t = 0; t < l.alpha.size(); ++t) {
+            EXPECT_FLOAT_EQ(l.alpha[t], 0.25f);
+            EXPECT_FLOAT_EQ(l.alpha_t[t], 0.25f);
+            EXPECT_FLOAT_EQ(l.alpha_b[t], 0.25f);
+            EXPECT_EQ(l.normal[t], glm::vec3(0.0f, 0.0f, 1.0f));
+        }
+    EXPECT_FLOAT_EQ(perceptual_roughness(levels.back().alpha[0]), 0.5f);
+}
+
+TEST(Roughness, CoarsestLevelFoldsTheSlopeVariance) {
+    const Image slopes = slopes_of("bumps", 64);
+    const LeanMap map = build_lean_map(slopes, BakeOptions{});
+    RoughnessOptions options;
+    options.base_roughness = 0.3f;
+    const std::vector<RoughnessLevel> levels = roughness_mips(map, options);
+    const glm::dvec3 cov = slope_covariance(slopes);
+    const double a0 = std::pow(0.3, 4.0);
+    const RoughnessLevel& last = levels.back();
+    ASSERT_EQ(last.alpha.size(), 1u);
+    EXPECT_NEAR(double(last.alpha[0]) * last.alpha[0], a0 + cov.x + cov.y,
+                1e-4 * (a0 + cov.x + cov.y));
+    // The anisotropic split keeps the trace: α_t² + α_b² = 2 α0² + 2 (λmax + λmin).
+    EXPECT_NEAR(
+        double(last.alpha_t[0]) * last.alpha_t[0] + double(last.alpha_b[0]) * last.alpha_b[0],
+        2.0 * a0 + 2.0 * (cov.x + cov.y), 1e-4 * (a0 + cov.x + cov.y));
+    // Roughness grows from the finest level (one texel's slopes: no covariance) to the coarsest.
+    for (std::size_t t = 0; t < levels[0].alpha.size(); ++t)
+        EXPECT_NEAR(levels[0].alpha[t], 0.09f, 1e-6f);
+    EXPECT_GT(last.alpha[0], 2.0f * levels[0].alpha[0]);
+    // The normal is that of the mean slope.
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        for (std::size_t t = 0; t < levels[l].normal.size(); ++t) {
+            const glm::vec2 b = map.levels[l].mean[t];
+            const glm::vec3 n = levels[l].normal[t];
+            EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
+            EXPECT_NEAR(n.x / n.z, b.x, 1e-5f);
+            EXPECT_NEAR(n.y / n.z, b.y, 1e-5f);
+        }
+}
+
+TEST(Roughness, RidgesAreAnisotropicAcrossTheRidges) {
+    // Ridges run along v: their slopes vary along u (x) only.
+    const Image slopes = slopes_of("ridges", 64);
+    const LeanMap map = build_lean_map(slopes, BakeOptions{});
+    RoughnessOptions options;
+    options.base_roughness = 0.2f;
+    const RoughnessLevel last = roughness_mips(map, options).back();
+    const glm::dvec3 cov = slope_covariance(slopes);
+    const double a0 = std::pow(0.2, 4.0);
+    EXPECT_GT(cov.x, 0.05);
+    EXPECT_LT(std::abs(cov.y), 1e-9);
+    EXPECT_NEAR(std::abs(last.direction[0].x), 1.0f, 1e-4f);
+    EXPECT_NEAR(double(last.alpha_t[0]) * last.alpha_t[0], a0 + 2.0 * cov.x, 1e-4);
+    EXPECT_NEAR(last.alpha_b[0], 0.04f, 1e-4f);
+    EXPECT_GT(anisotropy_strength(last.alpha_t[0], last.alpha_b[0]), 0.5f);
+    EXPECT_EQ(anisotropy_strength(0.3f, 0.3f), 0.0f);
+    EXPECT_EQ(anisotropy_strength(1.0f, 0.0f), 1.0f);
+}
+
+TEST(Roughness, RoughnessMapIsFilteredLinearlyInAlphaSquared) {
+    const LeanMap map = build_lean_map(slopes_of("flat", 16), BakeOptions{});
+    Image r(16, 16, 1);
+    double mean_a2 = 0.0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const float v = ((x / 4 + y / 4) % 2) ? 0.8f : 0.2f;
+            r.at(x, y) = v;
+            mean_a2 += std::pow(double(v), 4.0) / 256.0;
+        }
+    RoughnessOptions options;
+    options.roughness_map = &r;
+    const std::vector<RoughnessLevel> levels = roughness_mips(map, options);
+    EXPECT_NEAR(levels[0].alpha[0], 0.04f, 1e-6f);
+    EXPECT_NEAR(double(levels.back().alpha[0]) * levels.back().alpha[0], mean_a2, 1e-6);
+    // Level 2 (4x4 texels of 4x4): each texel is one checker cell.
+    EXPECT_NEAR(levels[2].alpha[0], 0.04f, 1e-6f);
+    EXPECT_NEAR(levels[2].alpha[1], 0.64f, 1e-6f);
+}
+
+TEST(Roughness, BadInputsAreErrors) {
+    const Image slopes = slopes_of("bumps", 16);
+    const LeanMap map = build_lean_map(slopes, BakeOptions{});
+    RoughnessOptions options;
+    options.base_roughness = 1.5f;
+    EXPECT_THROW(roughness_mips(map, options), Error);
+    options.base_roughness = std::nanf("");
+    EXPECT_THROW(roughness_mips(map, options), Error);
+    options.base_roughness = 0.5f;
+    Image wrong(8, 8, 1);
+    options.roughness_map = &wrong;
+    EXPECT_THROW(roughness_mips(map, options), Error);
+    Image bad(16, 16, 1);
+    bad.at(3, 4) = -0.1f;
+    options.roughness_map = &bad;
+    try {
+        roughness_mips(map, options);
+        FAIL() << "a negative roughness must be refused";
+    } catch (const Error& e) {
+        EXPECT_NE(e.cause().find("(3, 4)"), std::string::npos) << e.what();
+    }
+    options.roughness_map = nullptr;
+    BakeOptions baked;
+    baked.bake_roughness_shininess = 64.0f;
+    EXPECT_THROW(roughness_mips(build_lean_map(slopes, baked), options), Error);
+    EXPECT_THROW(roughness_mips(LeanMap{}, options), Error);
+}
+
+}  // namespace
+}  // namespace leanfade::test
