@@ -361,6 +361,20 @@ TEST(CliOutputs, EvalPublishesIntoAnExistingFolderAndKeepsOtherFiles) {
     EXPECT_TRUE(temporaries_in(dir).empty());
 }
 
+TEST(CliOutputs, EvalReportNamesItsFolderNotTheTemporaryOne) {
+    // Without gnuplot the report's note names the plot script: in --out, where it is published.
+    const fs::path dir = test::scratch_dir("outputs_eval_note");
+    const RunResult r = run_leanfade_in(kSmallEval + q(dir / "report"), dir, dir,
+                                        "env PATH=/nonexistent");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("report/plots.gp"));
+    EXPECT_THAT(r.err, ::testing::Not(HasSubstr(".tmp-")));
+    const std::string index = read_text(dir / "report" / "index.html");
+    EXPECT_THAT(index, HasSubstr("report/plots.gp"));
+    EXPECT_THAT(index, ::testing::Not(HasSubstr(".tmp-")));
+    EXPECT_TRUE(temporaries_in(dir).empty());
+}
+
 // ---- 4. Interrupted runs ----
 
 // Starts a large bake in `dir`, waits for its temporary, sends `signal_number`, and checks that

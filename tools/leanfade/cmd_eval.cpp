@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 
 #include "cli_preset.hpp"
@@ -69,6 +71,26 @@ std::string replaced(std::string text, const std::string& from, const std::strin
     return text;
 }
 
+// The whole text of a file written by this run.
+std::string read_whole(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The report's notes name the temporary folder it was written in: they name `folder` instead,
+// in index.html too.
+void rename_folder_in_notes(std::vector<std::string>& notes, const std::string& staged,
+                            const std::string& folder) {
+    bool named = false;
+    for (std::string& note : notes) {
+        named = named || note.find(staged) != std::string::npos;
+        note = replaced(note, staged, folder);
+    }
+    const std::string index = (std::filesystem::path(staged) / "index.html").string();
+    if (named && std::filesystem::is_regular_file(index))
+        eval::write_text_file(index, replaced(read_whole(index), staged, folder));
+}
+
 int run_replot(const std::string& folder) {
     // Its results.json is read, the other files of the report replaced.
     io::OutputPlan plan;
@@ -90,12 +112,13 @@ int run_replot(const std::string& folder) {
     if (fs::is_directory(images))
         fs::create_directory_symlink(fs::absolute(images), fs::path(staged) / "images", error);
     std::vector<std::string> notes = eval::write_report(staged, info, cases, {});
+    rename_folder_in_notes(notes, staged, folder);
     if (!error && fs::is_symlink(fs::path(staged) / "images"))
         fs::remove(fs::path(staged) / "images");
     fs::remove(fs::path(staged) / "results.json");
     outputs.publish();
     for (const std::string& note : notes)
-        std::fprintf(stderr, "leanfade eval: %s\n", replaced(note, staged, folder).c_str());
+        std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
     std::printf("%s: redrew the plots and the report of %zu cases\n", folder.c_str(), cases.size());
     return 0;
 }
@@ -203,7 +226,7 @@ int run_eval(const EvalArgs& args) {
     io::OutputTransaction outputs;
     const std::string staged = outputs.stage_folder(args.out);
     std::vector<std::string> notes = eval::write_report(staged, info, output.cases, output.images);
-    for (std::string& note : notes) note = replaced(note, staged, args.out);
+    rename_folder_in_notes(notes, staged, args.out);
     outputs.publish();
 
     std::printf("%-9s %8s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
