@@ -493,6 +493,31 @@ TEST(HostileIo, ExrChunkTablesAndTilesLargerThanTheFileAreRefusedBeforeAllocatin
                  "needs 1024 chunks, more than the");
 }
 
+// Found by fuzz_image_bake once it had tiled seeds (ASan SEGV in tinyexr 1.0.1's
+// ReconstructTileOffsets): a tile offset of 0 makes tinyexr rebuild the table by walking the chunks
+// and trusting each one's data size, so a corrupt size sent it far past the end of its input. Such
+// tables are refused before tinyexr decodes.
+TEST(HostileIo, ExrTileOffsetTablesTinyexrWouldRebuildAreRefused) {
+    Bytes exr = tiled_exr();  // 4 tiles: the table is 4 offsets, the first pointing right after it
+    std::size_t table = 0;
+    for (std::size_t at = 8; at + 32 <= exr.size(); ++at) {
+        if (u64_le(exr, at) == at + 32) {
+            table = at;
+            break;
+        }
+    }
+    ASSERT_GT(table, 0u);
+    const std::size_t first_chunk = table + 32;
+    test::store_u64_le(exr, table + 8, 0);                     // tile 1: rebuild the table
+    store_u32_le(exr, first_chunk + 16, 0x7FFFFFF0u);          // tile 0's data size: 2 GB
+    expect_error([&] { read_image_from_memory(exr, "rebuild.exr"); }, "rebuild.exr",
+                 "corrupt OpenEXR data (tile offset 1 is 0, outside the tile data of the ");
+    Bytes past_end = tiled_exr();
+    test::store_u64_le(past_end, table + 16, past_end.size() - 4);  // tile 2's header cut off
+    expect_error([&] { read_image_from_memory(past_end, "past_end.exr"); }, "past_end.exr",
+                 "tile offset 2 is ");
+}
+
 // --- KTX2: one validation for `leanfade info` and `--bumps` ----------------------------------
 
 // Found by an outside probe: maps that `info` described (or `--bumps` rendered) although they are

@@ -304,6 +304,19 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
                               "-byte file can hold)");
     }
     check_decoded_size(path, what, decoded, data_bytes);
+    if (header.tiled == 0) return;  // scan lines: check_scanline_coverage
+    // tinyexr 1.0.1 rebuilds a tile offset table that holds a 0 by walking the chunks from the
+    // end of the table, trusting each chunk's data size: a corrupt one sends it far past the end
+    // of its input (found by fuzz_image_bake: ASan SEGV in ReconstructTileOffsets). Such tables,
+    // and offsets whose tile header would not fit in the file, are refused here.
+    for (std::uint64_t k = 0; k < chunks; ++k) {
+        const std::uint64_t offset = load_u64_le(bytes.data() + table + 8 * k);
+        if (offset == 0 || offset < table + 8 * chunks || offset > bytes.size() - 20) {
+            throw Error(path, "corrupt OpenEXR data (tile offset " + std::to_string(k) + " is " +
+                                  std::to_string(offset) + ", outside the tile data of the " +
+                                  std::to_string(bytes.size()) + "-byte file)");
+        }
+    }
 }
 
 }  // namespace
