@@ -311,10 +311,15 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
     // and offsets whose tile header would not fit in the file, are refused here.
     for (std::uint64_t k = 0; k < chunks; ++k) {
         const std::uint64_t offset = load_u64_le(bytes.data() + table + 8 * k);
-        if (offset == 0 || offset < table + 8 * chunks || offset > bytes.size() - 20) {
+        if (offset < table + 8 * chunks) {  // 0 included
             throw Error(path, "corrupt OpenEXR data (tile offset " + std::to_string(k) + " is " +
-                                  std::to_string(offset) + ", outside the tile data of the " +
-                                  std::to_string(bytes.size()) + "-byte file)");
+                                  std::to_string(offset) + ", inside the header or offset table)");
+        }
+        if (offset > bytes.size() - 20) {
+            throw Error(path, "truncated or corrupt OpenEXR data (tile offset " +
+                                  std::to_string(k) + " is " + std::to_string(offset) +
+                                  ", past the end of the " + std::to_string(bytes.size()) +
+                                  "-byte file)");
         }
     }
 }
