@@ -518,6 +518,30 @@ TEST(HostileIo, ExrTileOffsetTablesTinyexrWouldRebuildAreRefused) {
                  "truncated or corrupt OpenEXR data (tile offset 2 is ");
 }
 
+// Found by fuzz_image_bake once it had tiled seeds (UBSan: a negative index into the image):
+// tinyexr places each decoded tile where its chunk says, unchecked. Tiles outside the image's
+// grid, and tiles no chunk decodes (two chunks naming the same tile), are refused.
+TEST(HostileIo, ExrTilesOutsideTheImageOrInNoChunkAreRefused) {
+    const Bytes good = tiled_exr();
+    std::size_t table = 0;
+    for (std::size_t at = 8; at + 32 <= good.size(); ++at) {
+        if (u64_le(good, at) == at + 32) {
+            table = at;
+            break;
+        }
+    }
+    ASSERT_GT(table, 0u);
+    const std::size_t second_chunk = std::size_t(u64_le(good, table + 8));  // tile (1, 0)
+    Bytes negative = good;
+    store_u32_le(negative, second_chunk, 0xFFFFFFFFu);  // tile x -1
+    expect_error([&] { read_image_from_memory(negative, "negative.exr"); }, "negative.exr",
+                 "corrupt OpenEXR data (tile (-1, 0) outside the 2x2 tiles of the image)");
+    Bytes twice = good;
+    store_u32_le(twice, second_chunk, 0);  // tile (0, 0) twice, (1, 0) in no chunk
+    expect_error([&] { read_image_from_memory(twice, "twice.exr"); }, "twice.exr",
+                 "corrupt OpenEXR data (tile (1, 0) is in no chunk)");
+}
+
 // --- KTX2: one validation for `leanfade info` and `--bumps` ----------------------------------
 
 // Found by an outside probe: maps that `info` described (or `--bumps` rendered) although they are

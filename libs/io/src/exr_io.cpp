@@ -324,6 +324,34 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
     }
 }
 
+// tinyexr 1.0.1 places each decoded tile at the coordinates its chunk names, without checking
+// them: a corrupt chunk gave a negative tile position (found by fuzz_image_bake: UBSan, a
+// negative index into the image), and chunks naming the same tile leave others undecoded. The
+// tiles of level 0 must be exactly the grid over the data window, each once.
+void check_tile_coverage(const std::string& path, const EXRHeader& header, const EXRImage& image,
+                         std::int64_t width, std::int64_t height) {
+    const std::int64_t columns = (width + header.tile_size_x - 1) / header.tile_size_x;
+    const std::int64_t rows = (height + header.tile_size_y - 1) / header.tile_size_y;
+    std::vector<bool> decoded(std::size_t(columns * rows), false);
+    for (int t = 0; t < image.num_tiles; ++t) {
+        const EXRTile& tile = image.tiles[t];
+        if (tile.offset_x < 0 || tile.offset_x >= columns || tile.offset_y < 0 ||
+            tile.offset_y >= rows) {
+            throw Error(path, "corrupt OpenEXR data (tile (" + std::to_string(tile.offset_x) +
+                                  ", " + std::to_string(tile.offset_y) + ") outside the " +
+                                  std::to_string(columns) + "x" + std::to_string(rows) +
+                                  " tiles of the image)");
+        }
+        decoded[std::size_t(tile.offset_y * columns + tile.offset_x)] = true;
+    }
+    const auto missing = std::find(decoded.begin(), decoded.end(), false);
+    if (missing != decoded.end()) {
+        const auto index = std::int64_t(missing - decoded.begin());
+        throw Error(path, "corrupt OpenEXR data (tile (" + std::to_string(index % columns) + ", " +
+                              std::to_string(index / columns) + ") is in no chunk)");
+    }
+}
+
 }  // namespace
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -374,6 +402,10 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
         throw Error(path, "corrupt OpenEXR data (decoded size differs from the data window)");
     }
 
+    if (header.header.tiled != 0) {
+        check_tile_coverage(path, header.header, loaded.image, width, height);
+    }
+
     Image image(int(width), int(height), int(selected.size()));
     for (std::size_t out = 0; out < selected.size(); ++out) {
         const int channel = selected[out];
@@ -392,10 +424,15 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
             const unsigned char* plane = tile.images[channel];
             for (int y = 0; y < tile.height; ++y) {
                 for (int x = 0; x < tile.width; ++x) {
-                    const int image_x = tile.offset_x * tile_width + x;
-                    const int image_y = tile.offset_y * tile_height + y;
-                    if (image_x >= image.width || image_y >= image.height) continue;
-                    image.at(image_x, image_y, int(out)) =
+                    // Tile coordinates come from the chunks: negative or huge in a corrupt file
+                    // (found by fuzz_image_bake: UBSan, a negative index into the image).
+                    const std::int64_t image_x = std::int64_t(tile.offset_x) * tile_width + x;
+                    const std::int64_t image_y = std::int64_t(tile.offset_y) * tile_height + y;
+                    if (image_x < 0 || image_y < 0 || image_x >= image.width ||
+                        image_y >= image.height) {
+                        continue;
+                    }
+                    image.at(int(image_x), int(image_y), int(out)) =
                         sample_value(plane, pixel_type,
                                      std::size_t(y) * std::size_t(tile_width) + std::size_t(x));
                 }
