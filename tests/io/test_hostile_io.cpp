@@ -518,9 +518,10 @@ TEST(HostileIo, ExrTileOffsetTablesTinyexrWouldRebuildAreRefused) {
                  "truncated or corrupt OpenEXR data (tile offset 2 is ");
 }
 
-// Found by fuzz_image_bake once it had tiled seeds (UBSan: a negative index into the image):
-// tinyexr places each decoded tile where its chunk says, unchecked. Tiles outside the image's
-// grid, and tiles no chunk decodes (two chunks naming the same tile), are refused.
+// Found by fuzz_image_bake once it had tiled seeds (UBSan: a negative index into the image, then a
+// signed overflow in tinyexr): tinyexr decodes each tile where its chunk says, unchecked. Chunks
+// naming tiles outside their level's grid, and tiles no chunk decodes (two chunks naming the same
+// tile), are refused.
 TEST(HostileIo, ExrTilesOutsideTheImageOrInNoChunkAreRefused) {
     const Bytes good = tiled_exr();
     std::size_t table = 0;
@@ -535,7 +536,16 @@ TEST(HostileIo, ExrTilesOutsideTheImageOrInNoChunkAreRefused) {
     Bytes negative = good;
     store_u32_le(negative, second_chunk, 0xFFFFFFFFu);  // tile x -1
     expect_error([&] { read_image_from_memory(negative, "negative.exr"); }, "negative.exr",
-                 "corrupt OpenEXR data (tile (-1, 0) outside the 2x2 tiles of the image)");
+                 "corrupt OpenEXR data (chunk 1 names tile (-1, 0) of level (0, 0), outside the "
+                 "image)");
+    Bytes far = good;  // tinyexr computed 4 * 2^29 in int (UBSan: signed overflow)
+    store_u32_le(far, second_chunk, 1u << 29);
+    expect_error([&] { read_image_from_memory(far, "far.exr"); }, "far.exr",
+                 "chunk 1 names tile (536870912, 0) of level (0, 0), outside the image");
+    Bytes level = good;
+    store_u32_le(level, second_chunk + 8, 1);  // level x 1 of a one-level file
+    expect_error([&] { read_image_from_memory(level, "level.exr"); }, "level.exr",
+                 "chunk 1 names tile (1, 0) of level (1, 0), outside the image");
     Bytes twice = good;
     store_u32_le(twice, second_chunk, 0);  // tile (0, 0) twice, (1, 0) in no chunk
     expect_error([&] { read_image_from_memory(twice, "twice.exr"); }, "twice.exr",

@@ -256,22 +256,27 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
     const auto channels = std::uint64_t(header.num_channels);
     std::uint64_t chunks = 0, decoded = 0, chunk_header_bytes = 8;
     std::string what = "OpenEXR of " + std::to_string(width) + "x" + std::to_string(height);
+    // Tiled files: the levels and the tile grid of each (tinyexr's rounding).
+    const std::int64_t tile_width = std::max(header.tile_size_x, 1);
+    const std::int64_t tile_height = std::max(header.tile_size_y, 1);
+    const bool round_up = header.tile_rounding_mode == TINYEXR_TILE_ROUND_UP;
+    int x_levels = 1, y_levels = 1;
+    if (header.tile_level_mode == TINYEXR_TILE_MIPMAP_LEVELS) {
+        x_levels = y_levels = tiled_level_count(std::max(width, height), round_up);
+    } else if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
+        x_levels = tiled_level_count(width, round_up);
+        y_levels = tiled_level_count(height, round_up);
+    }
+    const auto columns_at = [&](int x_level) {
+        return (tiled_level_size(width, x_level, round_up) + tile_width - 1) / tile_width;
+    };
+    const auto rows_at = [&](int y_level) {
+        return (tiled_level_size(height, y_level, round_up) + tile_height - 1) / tile_height;
+    };
+    const auto tiles_at = [&](int x_level, int y_level) {
+        return std::uint64_t(columns_at(x_level)) * std::uint64_t(rows_at(y_level));
+    };
     if (header.tiled != 0) {
-        const std::int64_t tile_width = header.tile_size_x, tile_height = header.tile_size_y;
-        const bool round_up = header.tile_rounding_mode == TINYEXR_TILE_ROUND_UP;
-        int x_levels = 1, y_levels = 1;
-        if (header.tile_level_mode == TINYEXR_TILE_MIPMAP_LEVELS) {
-            x_levels = y_levels = tiled_level_count(std::max(width, height), round_up);
-        } else if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
-            x_levels = tiled_level_count(width, round_up);
-            y_levels = tiled_level_count(height, round_up);
-        }
-        const auto tiles_at = [&](int x_level, int y_level) {
-            const std::int64_t w = tiled_level_size(width, x_level, round_up);
-            const std::int64_t h = tiled_level_size(height, y_level, round_up);
-            return std::uint64_t((w + tile_width - 1) / tile_width) *
-                   std::uint64_t((h + tile_height - 1) / tile_height);
-        };
         if (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS) {
             for (int y = 0; y < y_levels; ++y)
                 for (int x = 0; x < x_levels; ++x) chunks += tiles_at(x, y);
@@ -320,6 +325,24 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
                                   std::to_string(k) + " is " + std::to_string(offset) +
                                   ", past the end of the " + std::to_string(bytes.size()) +
                                   "-byte file)");
+        }
+        // The tile the chunk names: tinyexr multiplies its coordinates by the tile size in int
+        // arithmetic, unchecked (found by fuzz_image_bake: UBSan, signed overflow in
+        // DecodeTiledPixelData). They must lie in the grid of their level.
+        const auto coordinate = [&](int i) {
+            return std::int64_t(std::int32_t(load_u32_le(bytes.data() + offset + 4 * i)));
+        };
+        const std::int64_t tile_x = coordinate(0), tile_y = coordinate(1);
+        const std::int64_t level_x = coordinate(2), level_y = coordinate(3);
+        const bool level_known =
+            level_x >= 0 && level_x < x_levels && level_y >= 0 && level_y < y_levels &&
+            (header.tile_level_mode == TINYEXR_TILE_RIPMAP_LEVELS || level_x == level_y);
+        if (!level_known || tile_x < 0 || tile_x >= columns_at(int(level_x)) || tile_y < 0 ||
+            tile_y >= rows_at(int(level_y))) {
+            throw Error(path, "corrupt OpenEXR data (chunk " + std::to_string(k) + " names tile (" +
+                                  std::to_string(tile_x) + ", " + std::to_string(tile_y) +
+                                  ") of level (" + std::to_string(level_x) + ", " +
+                                  std::to_string(level_y) + "), outside the image)");
         }
     }
 }
