@@ -291,7 +291,7 @@ TEST_F(GlShaders, ComputeCompileErrorsNameTheFileAndLine) {
     const int line = append_line(dir / "generate_lean.comp", "float broken = ;");
     try {
         gl::build_compute_program(gl::ShaderSources::directory(dir.string()), "generate_lean.comp",
-                                  {"SOURCE_HEIGHT", "LAYER_FORMAT rgba16f"});
+                                  {"SOURCE_HEIGHT", "SLICE_FORMAT rgba16f"});
         FAIL() << "a broken compute shader must not compile";
     } catch (const Error& e) {
         EXPECT_EQ(e.file(), (dir / "generate_lean.comp").string()) << e.what();

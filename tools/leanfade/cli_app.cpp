@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 
@@ -60,7 +61,9 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
         try {
             return run();
         } catch (const leanfade::Error& e) {
-            std::fprintf(stderr, "leanfade %s: %s\n", sub->get_name().c_str(), e.what());
+            // Libraries name settings; the command line names their flags.
+            std::fprintf(stderr, "leanfade %s: %s\n", sub->get_name().c_str(),
+                         with_flag_name(e).what());
             return 1;
         } catch (const std::exception& e) {
             std::fprintf(stderr, "leanfade %s: internal error: %s\n", sub->get_name().c_str(),

@@ -13,15 +13,8 @@ namespace leanfade::cli {
 
 void set_shading_flags(const ShadingSettings& settings, ShadingFlags& flags) {
     flags.settings = settings;
-    // Empty vector flags keep flags.settings' values (see resolve_shading).
-    flags.light_dir.clear();
-    flags.light_color.clear();
-    flags.ambient.clear();
-    flags.kd.clear();
-    flags.ks.clear();
-    flags.fog_color.clear();
-    flags.fade_distance = to_string(settings.fade_distance);
-    flags.fog = to_string(settings.fog);
+    // Empty text flags keep flags.settings' values (see resolve_shading).
+    for (auto& [key, text] : flags.text) text.clear();
 }
 
 void set_source_flags(const BumpSource& source, LeanSourceFlags& flags) {

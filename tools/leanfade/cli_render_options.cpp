@@ -5,7 +5,9 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "cli_flags.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/parameters.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
@@ -14,29 +16,11 @@
 namespace leanfade::cli {
 namespace {
 
-std::string format_vec3(const glm::vec3& v) {
-    std::ostringstream out;
-    out << v.x << "," << v.y << "," << v.z;
-    return out.str();
-}
-
 bool parse_float(const std::string& text, float& value) {
     if (text.empty()) return false;
     char* end = nullptr;
     value = std::strtof(text.c_str(), &end);
     return end != nullptr && *end == 0 && std::isfinite(value);
-}
-
-// "x,y,z", or a single value repeated when `allow_grey`.
-glm::vec3 parse_vec3(const std::string& text, const std::string& flag, bool allow_grey) {
-    const std::vector<std::string> parts = split(text, ',');
-    glm::vec3 v(0.0f);
-    if (parts.size() == 1 && allow_grey && parse_float(parts[0], v.x)) return glm::vec3(v.x);
-    if (parts.size() == 3 && parse_float(parts[0], v.x) && parse_float(parts[1], v.y) &&
-        parse_float(parts[2], v.z))
-        return v;
-    throw Error(flag, std::string("expected ") + (allow_grey ? "R,G,B or one value" : "X,Y,Z") +
-                          ", got '" + text + "'");
 }
 
 Storage parse_storage(const std::string& bits) {
@@ -57,58 +41,69 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
+namespace {
+
+// "<help> (<unit>; <range>; <equation>)" from a schema row.
+std::string parameter_help(const ParameterInfo& row) {
+    std::string notes(row.unit);
+    auto add = [&](const std::string& note) {
+        if (!note.empty()) notes += (notes.empty() ? "" : "; ") + note;
+    };
+    const auto number = [](float v) {
+        std::ostringstream out;
+        out << v;
+        return out.str();
+    };
+    if (row.kind == ParameterKind::Scalar || row.kind == ParameterKind::Integer) {
+        const bool lower = std::isfinite(row.min), upper = std::isfinite(row.max);
+        if (lower && upper)
+            add(std::string(row.min_exclusive ? "(" : "[") + number(row.min) + ", " +
+                number(row.max) + "]");
+        else if (lower)
+            add(std::string(row.min_exclusive ? "> " : ">= ") + number(row.min));
+    }
+    if (row.kind == ParameterKind::Choice) {
+        std::string names;
+        for (std::string_view c : row.choices) names += (names.empty() ? "" : " | ") + std::string(c);
+        add(names);
+    }
+    add(std::string(row.equation));
+    return std::string(row.help) + (notes.empty() ? "" : " (" + notes + ")");
+}
+
+}  // namespace
+
 void add_shading_options(CLI::App& app, ShadingFlags& f) {
-    ShadingSettings& s = f.settings;
-    const std::string group = "Shading (SPEC §4; colours linear RGB)";
-    auto vec = [&](const char* name, std::string& target, const glm::vec3& def, const char* help) {
-        const bool colour = std::string(name) != "--light-dir";
-        app.add_option(name, target, help)
-            ->default_str(format_vec3(def))
-            ->type_name(colour ? "R,G,B" : "X,Y,Z")
-            ->group(group);
-    };
-    auto num = [&](const char* name, auto& target, const char* help) {
-        return app.add_option(name, target, help)->capture_default_str()->group(group);
-    };
-    vec("--light-dir", f.light_dir, s.light_direction,
-        "Direction toward the light, world space (y up, camera on +z)");
-    vec("--light-color", f.light_color, s.light_color, "Light colour (R,G,B or one value)");
-    vec("--ambient", f.ambient, s.ambient, "Ambient Ka (R,G,B or one value)");
-    vec("--kd", f.kd, s.kd, "Diffuse Kd (R,G,B or one value)");
-    vec("--ks", f.ks, s.ks, "Specular Ks (R,G,B or one value)");
-    num("--shininess", s.shininess, "Blinn-Phong exponent s (0.001 to 1e7)");
-    num("--fresnel-bias", s.fresnel_bias, "Fresnel bias Fb");
-    num("--fresnel-scale", s.fresnel_scale, "Fresnel scale Fs");
-    num("--fade", s.fade, "Fading rate Fade >= 0, per bounding radius (fading paper eq. 6)");
-    num("--pmax", s.pmax, "Largest fading exponent Pmax >= 1");
-    num("--fade-exponent", s.fade_exponent, "Power p of (d Fade)^p");
-    app.add_option("--fade-distance", f.fade_distance, "Fading distance d: tangent-z | eye")
-        ->capture_default_str()
-        ->group(group);
-    app.add_option("--fog", f.fog, "Fog: none | linear | exp | exp2")
-        ->capture_default_str()
-        ->group(group);
-    vec("--fog-color", f.fog_color, s.fog_color, "Fog colour (R,G,B or one value)");
-    num("--fog-start", s.fog_start, "Linear fog start, bounding radii from the eye");
-    num("--fog-end", s.fog_end, "Linear fog end, bounding radii from the eye");
-    num("--fog-density", s.fog_density, "Exp / exp2 fog density per bounding radius");
-    num("--strength", s.bump_strength, "Bump height per texel spacing (on-the-fly height bakes)");
-    num("--tiling", s.tiling, "Texture repeats per unit of the mesh's uv");
-    num("--mip-bias", s.mip_bias, "Texture LOD bias (negative = sharper)");
-    num("--aniso", s.anisotropy, "Anisotropic filtering ratio (1 = trilinear)");
-    num("--msaa", s.msaa, "Multisample anti-aliasing samples (1 = off)");
+    const std::string group = "Shading (docs/math.md §4; colours linear RGB)";
+    const ShadingSettings defaults = f.settings;
+    for (const ParameterInfo& row : shading_parameters()) {
+        const std::string flag = flag_for_setting(row.key);
+        const std::string help = parameter_help(row);
+        CLI::Option* option = nullptr;
+        switch (row.kind) {
+            case ParameterKind::Scalar:
+                option = app.add_option(flag, f.settings.*row.scalar, help)->capture_default_str();
+                break;
+            case ParameterKind::Integer:
+                option = app.add_option(flag, f.settings.*row.integer, help)->capture_default_str();
+                break;
+            case ParameterKind::Colour:
+            case ParameterKind::Direction:
+            case ParameterKind::Choice:
+                option = app.add_option(flag, f.text[std::string(row.key)], help)
+                             ->default_str(format_parameter(row, defaults));
+                if (row.kind == ParameterKind::Colour) option->type_name("R,G,B");
+                if (row.kind == ParameterKind::Direction) option->type_name("X,Y,Z");
+                break;
+        }
+        option->group(group);
+    }
 }
 
 ShadingSettings resolve_shading(const ShadingFlags& f) {
     ShadingSettings s = f.settings;
-    if (!f.light_dir.empty()) s.light_direction = parse_vec3(f.light_dir, "--light-dir", false);
-    if (!f.light_color.empty()) s.light_color = parse_vec3(f.light_color, "--light-color", true);
-    if (!f.ambient.empty()) s.ambient = parse_vec3(f.ambient, "--ambient", true);
-    if (!f.kd.empty()) s.kd = parse_vec3(f.kd, "--kd", true);
-    if (!f.ks.empty()) s.ks = parse_vec3(f.ks, "--ks", true);
-    if (!f.fog_color.empty()) s.fog_color = parse_vec3(f.fog_color, "--fog-color", true);
-    s.fade_distance = parse_fade_distance(f.fade_distance, "--fade-distance");
-    s.fog = parse_fog_mode(f.fog, "--fog");
+    for (const auto& [key, text] : f.text)
+        if (!text.empty()) parse_parameter(*find_shading_parameter(key), text, s);
     validate(s);
     return s;
 }

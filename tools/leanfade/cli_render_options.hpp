@@ -1,11 +1,15 @@
 #pragma once
-// Command-line binding of the shading settings (SPEC §4), of the LEAN map source and of the GL
-// context, shared by the subcommands that render (`render`, and later `view` and `eval`).
+// Command-line binding of the shading settings, of the LEAN map source and of the GL context,
+// shared by the subcommands that render (`render`, `view`, `eval`, `calibrate`, `bench`).
 //
-// Flags are parsed by CLI11 into the structs below; resolve_*() then converts the text values
-// (vectors, enum names) and validates ranges, throwing leanfade::Error(flag, cause), which the
-// subcommand reports as one line.
+// The shading flags are derived from the parameter schema (leanfade/core/parameters.hpp): one
+// flag per row, named by flag_for_setting (cli_flags.hpp). Flags are parsed by CLI11 into the
+// structs below; resolve_*() then converts the text values (vectors, names) and validates ranges,
+// throwing leanfade::Error(setting, cause), which the subcommand reports as one line with the
+// setting's flag.
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -18,16 +22,13 @@
 namespace leanfade::cli {
 
 struct ShadingFlags {
-    ShadingSettings settings;  // scalar flags are bound to its fields directly
-    // "x,y,z" (colours also accept one value for grey); empty = the settings' default.
-    std::string light_dir, light_color, ambient, kd, ks, fog_color;
-    std::string fade_distance = to_string(FadeDistance::TangentZ);
-    std::string fog = to_string(FogMode::None);
+    ShadingSettings settings;  // scalar and integer flags are bound to its fields directly
+    // Text of the vector and choice flags by parameter key ("x,y,z", "eye"; colours also accept
+    // one value for grey); empty = the settings' value.
+    std::map<std::string, std::string, std::less<>> text;
 };
 
-// --light-dir --light-color --ambient --kd --ks --shininess --fresnel-bias --fresnel-scale --fade
-// --pmax --fade-exponent --fade-distance --fog --fog-color --fog-start --fog-end --fog-density
-// --strength --tiling --mip-bias --aniso --msaa, all in the "Shading" group.
+// One flag per row of the parameter schema, in the "Shading" group.
 void add_shading_options(CLI::App& app, ShadingFlags& flags);
 // The settings with the text flags applied; validated (leanfade::validate).
 ShadingSettings resolve_shading(const ShadingFlags& flags);

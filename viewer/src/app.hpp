@@ -4,8 +4,10 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "display.hpp"
+#include "leanfade/core/parameters.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/viewer/session.hpp"
 #include "leanfade/viewer/viewer.hpp"
@@ -69,6 +71,8 @@ class App {
     void panel_view();
     void panel_camera();
     void panel_shading();
+    bool parameter_widget(const ParameterInfo& row, ShadingSettings& settings);
+    void parameter_group(std::string_view group, ShadingSettings& settings);
     void panel_bumps();
     void panel_files();
     void panel_messages();

@@ -8,6 +8,7 @@
 #include "app.hpp"
 #include "imgui_stdlib.h"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/parameters.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/scene/scene.hpp"
@@ -193,30 +194,73 @@ void App::panel_camera() {
     f.far_distance = std::max(f.far_distance, f.near_distance * 1.01f);
 }
 
+// The widget of one row of the parameter schema (leanfade/core/parameters.hpp): a slider over
+// its widget range (logarithmic where it spans decades), a colour editor, a direction or a list.
+// Returns true when the value changed.
+bool App::parameter_widget(const ParameterInfo& row, ShadingSettings& s) {
+    const std::string label(row.label);
+    const ImGuiSliderFlags flags = row.logarithmic ? kLog : kClamp;
+    bool changed = false;
+    switch (row.kind) {
+        case ParameterKind::Scalar:
+            changed = ImGui::SliderFloat(label.c_str(), &(s.*row.scalar), row.ui_min, row.ui_max,
+                                         row.logarithmic ? "%.4g" : "%.3f", flags);
+            break;
+        case ParameterKind::Integer:
+            if (row.key == "msaa") {  // powers of two the driver allows
+                std::vector<std::string> names;
+                for (int m = 1; m <= int(row.ui_max); m *= 2)
+                    if (m == 1 || m <= max_samples_) names.push_back(std::to_string(m));
+                int index = index_of(names, std::to_string(s.*row.integer));
+                changed = combo(label.c_str(), index, names);
+                if (changed) s.*row.integer = std::stoi(names[std::size_t(index)]);
+            } else {
+                const int limit = row.key == "anisotropy"
+                                      ? std::max(1, std::min(int(row.ui_max), int(max_anisotropy_)))
+                                      : int(row.ui_max);
+                ImGui::BeginDisabled(limit <= int(row.ui_min));
+                changed = ImGui::SliderInt(label.c_str(), &(s.*row.integer), int(row.ui_min), limit,
+                                           "%d", kClamp);
+                ImGui::EndDisabled();
+            }
+            break;
+        case ParameterKind::Colour:
+            changed = ImGui::ColorEdit3(label.c_str(), &(s.*row.vector).x, kColour);
+            break;
+        case ParameterKind::Direction: {
+            glm::vec3 v = s.*row.vector;
+            if (ImGui::SliderFloat3(label.c_str(), &v.x, row.ui_min, row.ui_max, "%.2f", kClamp) &&
+                v != glm::vec3(0.0f)) {
+                s.*row.vector = v;
+                changed = true;
+            }
+            break;
+        }
+        case ParameterKind::Choice: {
+            std::vector<std::string> names(row.choices.begin(), row.choices.end());
+            int index = row.get_choice(s);
+            changed = combo(label.c_str(), index, names);
+            if (changed) row.set_choice(s, index);
+            break;
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(row.help).c_str());
+    return changed;
+}
+
+void App::parameter_group(std::string_view group, ShadingSettings& s) {
+    for (const ParameterInfo& row : shading_parameters())
+        if (row.group == group) parameter_widget(row, s);
+}
+
 void App::panel_shading() {
     ShadingSettings& s = session_->preset().shading;
     if (ImGui::CollapsingHeader("Light and material", ImGuiTreeNodeFlags_DefaultOpen)) {
-        glm::vec3 light = s.light_direction;
-        if (ImGui::SliderFloat3("light direction", &light.x, -1.0f, 1.0f, "%.2f", kClamp) &&
-            light != glm::vec3(0.0f))
-            s.light_direction = light;
-        ImGui::ColorEdit3("light colour", &s.light_color.x, kColour);
-        ImGui::ColorEdit3("ambient Ka", &s.ambient.x, kColour);
-        ImGui::ColorEdit3("diffuse Kd", &s.kd.x, kColour);
-        ImGui::ColorEdit3("specular Ks", &s.ks.x, kColour);
-        ImGui::SliderFloat("shininess s", &s.shininess, 1.0f, 20000.0f, "%.0f", kLog);
-        ImGui::SliderFloat("Fresnel bias", &s.fresnel_bias, 0.0f, 1.0f, "%.3f", kClamp);
-        ImGui::SliderFloat("Fresnel scale", &s.fresnel_scale, 0.0f, 1.0f, "%.3f", kClamp);
+        for (std::string_view group : {"Light", "Material", "Fresnel"}) parameter_group(group, s);
         note("Colours are linear RGB.");
     }
     if (ImGui::CollapsingHeader("Specular fading", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::SliderFloat("Fade", &s.fade, 0.0f, 4.0f, "%.4f", kLog);
-        ImGui::SliderFloat("Pmax", &s.pmax, 1.0f, 256.0f, "%.2f", kLog);
-        ImGui::SliderFloat("exponent p", &s.fade_exponent, 0.25f, 8.0f, "%.2f", kClamp);
-        static const std::vector<std::string> modes{"tangent-z", "eye"};
-        int mode = s.fade_distance == FadeDistance::Eye ? 1 : 0;
-        if (combo("distance d", mode, modes))
-            s.fade_distance = mode == 1 ? FadeDistance::Eye : FadeDistance::TangentZ;
+        parameter_group("Fading", s);
         note("sf = clamp(1 + (d Fade)^p, 1, Pmax); Fade = 0 is plain LEAN.");
         // `leanfade calibrate` for this view: Fade such that fade's specular energy relative to
         // LEAN follows exp(-sigma d) (or the fog) over 2 to 64 radii along this direction.
@@ -246,15 +290,7 @@ void App::panel_shading() {
             }
         }
     }
-    if (ImGui::CollapsingHeader("Fog")) {
-        static const std::vector<std::string> modes{"none", "linear", "exp", "exp2"};
-        int mode = index_of(modes, to_string(s.fog));
-        if (combo("fog", mode, modes)) s.fog = parse_fog_mode(modes[std::size_t(mode)]);
-        ImGui::ColorEdit3("fog colour", &s.fog_color.x, kColour);
-        ImGui::SliderFloat("fog start", &s.fog_start, 0.0f, 500.0f, "%.2f", kLog);
-        ImGui::SliderFloat("fog end", &s.fog_end, 0.01f, 1000.0f, "%.2f", kLog);
-        ImGui::SliderFloat("fog density", &s.fog_density, 0.0f, 2.0f, "%.4f", kLog);
-    }
+    if (ImGui::CollapsingHeader("Fog")) parameter_group("Fog", s);
 }
 
 void App::panel_bumps() {
@@ -303,21 +339,13 @@ void App::panel_bumps() {
         bumps_field_.texture_size = std::stoi(sizes[std::size_t(size)]);
     if (ImGui::Button("bake / load with these settings")) session_->load_bumps(bumps_field_);
 
-    ImGui::SliderFloat("bump strength", &s.bump_strength, 0.05f, 20.0f, "%.3f", kLog);
-    if (ImGui::IsItemDeactivatedAfterEdit()) session_->rebake_bumps();
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Height per texel spacing; re-bakes height maps on release");
-    ImGui::SliderFloat("tiling", &s.tiling, 0.05f, 64.0f, "%.3f", kLog);
-    ImGui::SliderFloat("MIP bias", &s.mip_bias, -4.0f, 4.0f, "%.2f", kClamp);
-    ImGui::BeginDisabled(max_anisotropy_ <= 1.0f);
-    ImGui::SliderInt("anisotropy", &s.anisotropy, 1,
-                     std::max(1, std::min(16, int(max_anisotropy_))), "%d", kClamp);
-    ImGui::EndDisabled();
-    std::vector<std::string> msaa_names;
-    for (int m : {1, 2, 4, 8, 16})
-        if (m == 1 || m <= max_samples_) msaa_names.push_back(std::to_string(m));
-    int msaa = index_of(msaa_names, std::to_string(s.msaa));
-    if (combo("MSAA samples", msaa, msaa_names)) s.msaa = std::stoi(msaa_names[std::size_t(msaa)]);
+    for (const ParameterInfo& row : shading_parameters()) {
+        if (row.group != "Texturing") continue;
+        parameter_widget(row, s);
+        // A new strength re-bakes the height map, once the slider is released.
+        if (row.scalar == &ShadingSettings::bump_strength && ImGui::IsItemDeactivatedAfterEdit())
+            session_->rebake_bumps();
+    }
 }
 
 void App::panel_files() {

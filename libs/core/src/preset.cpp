@@ -15,41 +15,12 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/parameters.hpp"
 
 namespace leanfade {
 namespace {
 
 using json = nlohmann::ordered_json;
-
-// Key of "shading" <-> the `leanfade render` flag that validate(ShadingSettings) names.
-struct ShadingKey {
-    const char* key;
-    const char* flag;
-};
-constexpr ShadingKey kShadingKeys[] = {
-    {"light_direction", "--light-dir"},
-    {"light_color", "--light-color"},
-    {"ambient", "--ambient"},
-    {"kd", "--kd"},
-    {"ks", "--ks"},
-    {"shininess", "--shininess"},
-    {"fresnel_bias", "--fresnel-bias"},
-    {"fresnel_scale", "--fresnel-scale"},
-    {"fade", "--fade"},
-    {"pmax", "--pmax"},
-    {"fade_exponent", "--fade-exponent"},
-    {"fade_distance", "--fade-distance"},
-    {"fog", "--fog"},
-    {"fog_color", "--fog-color"},
-    {"fog_start", "--fog-start"},
-    {"fog_end", "--fog-end"},
-    {"fog_density", "--fog-density"},
-    {"bump_strength", "--strength"},
-    {"tiling", "--tiling"},
-    {"mip_bias", "--mip-bias"},
-    {"anisotropy", "--aniso"},
-    {"msaa", "--msaa"},
-};
 
 // Throws Error(file, "key 'path': cause"); the key and the cause may hold text of the file
 // (keys, names, the JSON parser's "last read" bytes): escaped.
@@ -268,8 +239,8 @@ void validate(const Preset& p, const std::string& file) {
     try {
         validate(p.shading);
     } catch (const Error& e) {
-        for (const ShadingKey& k : kShadingKeys)
-            if (e.file() == k.flag) fail(file, std::string("shading.") + k.key, e.cause());
+        if (find_shading_parameter(e.file()) != nullptr)
+            fail(file, "shading." + e.file(), e.cause());
         fail(file, "shading", e.what());
     }
 
@@ -356,46 +327,37 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
               }},
              {"texture_size", integer(b.texture_size, 4, kDefaultMaxImageDimension)}});
     };
+    // Every row of the parameter schema is a key of "shading", read by its kind.
     const Reader::Field shading = [&](const json& v, const std::string& key) {
-        r.object(v, key,
-                 {{"light_direction", vec(s.light_direction)},
-                  {"light_color", vec(s.light_color)},
-                  {"ambient", vec(s.ambient)},
-                  {"kd", vec(s.kd)},
-                  {"ks", vec(s.ks)},
-                  {"shininess", num(s.shininess)},
-                  {"fresnel_bias", num(s.fresnel_bias)},
-                  {"fresnel_scale", num(s.fresnel_scale)},
-                  {"fade", num(s.fade)},
-                  {"pmax", num(s.pmax)},
-                  {"fade_exponent", num(s.fade_exponent)},
-                  {"fade_distance",
-                   [&](const json& x, const std::string& k) {
-                       const std::string name = r.string(x, k);
-                       try {
-                           s.fade_distance = parse_fade_distance(name, k);
-                       } catch (const Error& e) {
-                           fail(file, k, e.cause());
-                       }
-                   }},
-                  {"fog",
-                   [&](const json& x, const std::string& k) {
-                       const std::string name = r.string(x, k);
-                       try {
-                           s.fog = parse_fog_mode(name, k);
-                       } catch (const Error& e) {
-                           fail(file, k, e.cause());
-                       }
-                   }},
-                  {"fog_color", vec(s.fog_color)},
-                  {"fog_start", num(s.fog_start)},
-                  {"fog_end", num(s.fog_end)},
-                  {"fog_density", num(s.fog_density)},
-                  {"bump_strength", num(s.bump_strength)},
-                  {"tiling", num(s.tiling)},
-                  {"mip_bias", num(s.mip_bias)},
-                  {"anisotropy", integer(s.anisotropy, 1, 16)},
-                  {"msaa", integer(s.msaa, 1, 16)}});
+        std::vector<std::pair<std::string, Reader::Field>> fields;
+        for (const ParameterInfo& row : shading_parameters()) {
+            const ParameterInfo* p_row = &row;
+            fields.emplace_back(std::string(row.key), [&r, &s, &file, p_row](const json& x,
+                                                                          const std::string& k) {
+                const ParameterInfo& rw = *p_row;
+                switch (rw.kind) {
+                    case ParameterKind::Scalar:
+                        s.*rw.scalar = r.number(x, k);
+                        break;
+                    case ParameterKind::Integer:
+                        s.*rw.integer =
+                            int(r.integer(x, k, std::int64_t(rw.min), std::int64_t(rw.max)));
+                        break;
+                    case ParameterKind::Colour:
+                    case ParameterKind::Direction:
+                        s.*rw.vector = r.vec3(x, k);
+                        break;
+                    case ParameterKind::Choice:
+                        try {
+                            parse_parameter(rw, r.string(x, k), s);
+                        } catch (const Error& e) {
+                            fail(file, k, e.cause());
+                        }
+                        break;
+                }
+            });
+        }
+        r.object(v, key, fields);
     };
     const Reader::Field camera = [&](const json& v, const std::string& key) {
         CameraSettings& c = p.camera;
@@ -461,28 +423,26 @@ std::string preset_to_json(const Preset& p) {
     root["bumps"] = {{"source", p.bumps.source},   {"from", p.bumps.from},
                      {"directx", p.bumps.directx}, {"bits", p.bumps.bits},
                      {"seed", p.bumps.seed},       {"texture_size", p.bumps.texture_size}};
-    root["shading"] = {{"light_direction", exact(s.light_direction)},
-                       {"light_color", exact(s.light_color)},
-                       {"ambient", exact(s.ambient)},
-                       {"kd", exact(s.kd)},
-                       {"ks", exact(s.ks)},
-                       {"shininess", exact(s.shininess)},
-                       {"fresnel_bias", exact(s.fresnel_bias)},
-                       {"fresnel_scale", exact(s.fresnel_scale)},
-                       {"fade", exact(s.fade)},
-                       {"pmax", exact(s.pmax)},
-                       {"fade_exponent", exact(s.fade_exponent)},
-                       {"fade_distance", to_string(s.fade_distance)},
-                       {"fog", to_string(s.fog)},
-                       {"fog_color", exact(s.fog_color)},
-                       {"fog_start", exact(s.fog_start)},
-                       {"fog_end", exact(s.fog_end)},
-                       {"fog_density", exact(s.fog_density)},
-                       {"bump_strength", exact(s.bump_strength)},
-                       {"tiling", exact(s.tiling)},
-                       {"mip_bias", exact(s.mip_bias)},
-                       {"anisotropy", s.anisotropy},
-                       {"msaa", s.msaa}};
+    json shading = json::object();
+    for (const ParameterInfo& row : shading_parameters()) {
+        const std::string key(row.key);
+        switch (row.kind) {
+            case ParameterKind::Scalar:
+                shading[key] = exact(s.*row.scalar);
+                break;
+            case ParameterKind::Integer:
+                shading[key] = s.*row.integer;
+                break;
+            case ParameterKind::Colour:
+            case ParameterKind::Direction:
+                shading[key] = exact(s.*row.vector);
+                break;
+            case ParameterKind::Choice:
+                shading[key] = format_parameter(row, s);
+                break;
+        }
+    }
+    root["shading"] = std::move(shading);
     root["camera"] = {{"target", exact(p.camera.target)},
                       {"direction", exact(p.camera.direction)},
                       {"distance", exact(p.camera.distance)},

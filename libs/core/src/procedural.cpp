@@ -197,7 +197,7 @@ RidgeParameters sine_parameters(int size) {
 
 Image make_builtin_height(const std::string& name, int size, std::uint32_t seed) {
     if (size < 4 || size > kDefaultMaxImageDimension)
-        throw Error("--builtin " + name, "size " + std::to_string(size) +
+        throw Error("builtin", "'" + name + "': size " + std::to_string(size) +
                                              " outside [4, " +
                                              std::to_string(kDefaultMaxImageDimension) + "]");
     Rng rng(seed);
@@ -210,7 +210,7 @@ Image make_builtin_height(const std::string& name, int size, std::uint32_t seed)
     if (name == "flat") return Image(size, size, 1);
     std::string valid;
     for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
-    throw Error("--builtin " + name, "unknown bump set (valid: " + valid + ")");
+    throw Error("builtin", "unknown bump set '" + name + "' (valid: " + valid + ")");
 }
 
 }  // namespace leanfade

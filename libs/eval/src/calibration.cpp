@@ -150,11 +150,11 @@ std::vector<double> target_attenuation(const FadeTarget& target,
                                        const std::vector<float>& distances,
                                        const ShadingSettings& settings) {
     if (target.kind == FadeTarget::Kind::Reference)
-        throw Error("--target",
+        throw Error("target",
                     "reference: the truth's energy is measured by rendering "
                     "(measure_reference_ratio)");
     if (target.kind == FadeTarget::Kind::Fog && settings.fog == FogMode::None)
-        throw Error("--target",
+        throw Error("target",
                     "fog: the scene has no fog (add --fog linear|exp|exp2 and its parameters)");
     std::vector<double> values;
     for (float d : distances) {

@@ -120,14 +120,14 @@ glm::mat4 View::projection_matrix(float aspect) const {
 
 View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction, glm::vec3 target) {
     if (!(distance > 1.0f) || !std::isfinite(distance))
-        throw Error("--distances", "camera distances are in bounding radii and must be > 1, got " +
+        throw Error("distances", "camera distances are in bounding radii and must be > 1, got " +
                                        std::to_string(distance));
     if (!(fov_y_degrees > 1.0f && fov_y_degrees < 170.0f))
-        throw Error("--fov", "must be in (1, 170) degrees, got " + std::to_string(fov_y_degrees));
+        throw Error("fov", "must be in (1, 170) degrees, got " + std::to_string(fov_y_degrees));
     if (!(glm::length(direction) > 0.0f) || !std::isfinite(glm::length(direction)))
-        throw Error("--view-dir", "must be a finite, non-zero vector");
+        throw Error("view_dir", "must be a finite, non-zero vector");
     if (!std::isfinite(target.x) || !std::isfinite(target.y) || !std::isfinite(target.z))
-        throw Error("--target", "must be finite");
+        throw Error("target", "must be finite");
     View v;
     const glm::vec3 unit = glm::normalize(direction);
     v.eye = target + unit * distance;
@@ -479,17 +479,17 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
         std::min(gl_integer(GL_MAX_TEXTURE_SIZE), gl_integer(GL_MAX_RENDERBUFFER_SIZE));
     if (request.width < 1 || request.height < 1 || request.width > max_size ||
         request.height > max_size)
-        throw Error("--size", "image size must be 1.." + std::to_string(max_size) +
+        throw Error("size", "image size must be 1.." + std::to_string(max_size) +
                                   " pixels, got " + std::to_string(request.width) + "x" +
                                   std::to_string(request.height));
     if (request.technique == Technique::Reference &&
         (request.reference_samples < 1 || request.reference_samples > kMaxReferenceSamples))
-        throw Error("--ref-samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
+        throw Error("ref_samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
                                          "], got " + std::to_string(request.reference_samples));
     const ShadingSettings& s = request.settings;
     int samples = request.technique == Technique::Reference ? 1 : s.msaa;
     if (samples > gl_integer(GL_MAX_SAMPLES))
-        throw Error("--msaa", std::to_string(samples) +
+        throw Error("msaa", std::to_string(samples) +
                                   " samples requested, the GL driver allows " +
                                   std::to_string(gl_integer(GL_MAX_SAMPLES)));
 
@@ -529,7 +529,7 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
 void Renderer::apply_sampler_state(const ShadingSettings& s) {
     const float max_aniso = context_.max_anisotropy();
     if (s.anisotropy > 1 && max_aniso <= 1.0f)
-        throw Error("--aniso", "anisotropic filtering is not supported by " + context_.renderer());
+        throw Error("aniso", "anisotropic filtering is not supported by " + context_.renderer());
     for (const GpuMap& map : maps_) {
         const GLuint texture = map.texture.get();
         glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
@@ -547,7 +547,7 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     if (variant.empty() && request.technique == Technique::Reference)
         throw Error("render", "the reference is supersampled in several passes: use render()");
     if (request.width < 1 || request.height < 1)
-        throw Error("--size", "the viewport must be at least 1x1 pixels");
+        throw Error("size", "the viewport must be at least 1x1 pixels");
     validate(request.settings);
     const GLuint p = program(variant.empty() ? variant_name(request) : variant);
     apply_sampler_state(request.settings);

@@ -1,6 +1,6 @@
 #pragma once
 // The one error type of leanfade: every recoverable failure carries the file it concerns (or a
-// short subject such as "--bits" or "GL") and the cause. Libraries throw it and never exit; each
+// short subject such as the name of a setting ("shininess") or "GL") and the cause. Libraries throw it and never exit; each
 // subcommand prints what() as one line and returns a non-zero exit code.
 #include <stdexcept>
 #include <string>

@@ -75,12 +75,9 @@ inline constexpr float kMaxShininess = 1e7f;
 inline constexpr float kMaxColourComponent = 1e6f;
 inline constexpr float kMaxTiling = 1e6f;
 
-// Throws leanfade::Error(<flag name>, cause) naming the first out-of-range value: shininess in
-// [kMinShininess, kMaxShininess], Fade >= 0, Pmax >= 1, p > 0, colours in [0,
-// kMaxColourComponent], Fresnel terms >= 0, finite values, fog_end > fog_start for linear fog,
-// density >= 0, bump strength > 0, tiling in (0, kMaxTiling], anisotropy in [1, 16], msaa in
-// {1, 2, 4, 8, 16}, a light direction of length in [kMinLightDirectionLength,
-// kMaxLightDirectionLength]. Flag names are those of `leanfade render`.
+// Throws leanfade::Error(<setting>, cause) naming the first value outside its range in the
+// parameter schema (leanfade/core/parameters.hpp: the setting is the row's key, e.g.
+// "shininess"), then fog_end > fog_start for linear fog and msaa in {1, 2, 4, 8, 16}.
 void validate(const ShadingSettings& settings);
 
 // The shared header's parameters (SPEC §4). inv_s_shading = roughness_baked ? 0 : 1/s: a LEAN map
@@ -91,12 +88,10 @@ shading::LfParams to_lf_params(const ShadingSettings& settings, bool roughness_b
 int to_shader_constant(FadeDistance mode);
 int to_shader_constant(FogMode mode);
 
-// Names as used on the command line: "tangent-z" | "eye"; "none" | "linear" | "exp" | "exp2".
+// Names in presets and on the command line: "tangent-z" | "eye"; "none" | "linear" | "exp" |
+// "exp2" (the choices of the parameter schema, leanfade/core/parameters.hpp, which also parses
+// them).
 const char* to_string(FadeDistance mode);
 const char* to_string(FogMode mode);
-// Throw leanfade::Error(flag, cause) for an unknown name.
-FadeDistance parse_fade_distance(const std::string& text,
-                                 const std::string& flag = "--fade-distance");
-FogMode parse_fog_mode(const std::string& text, const std::string& flag = "--fog");
 
 }  // namespace leanfade

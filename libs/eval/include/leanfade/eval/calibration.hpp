@@ -42,11 +42,11 @@ struct FadeTarget {
 };
 
 // "exp:SIGMA" (SIGMA >= 0, finite), "fog" or "reference". Throws leanfade::Error(flag, cause).
-FadeTarget parse_fade_target(const std::string& text, const std::string& flag = "--target");
+FadeTarget parse_fade_target(const std::string& text, const std::string& flag = "target");
 std::string to_string(const FadeTarget& target);  // "exp:0.05", "fog", "reference"
 
 // The target's values at the camera distances. Fog uses settings.fog (lf_fog_factor, SPEC §4,
-// with the eye depth = the distance); throws leanfade::Error("--target", ...) when the settings
+// with the eye depth = the distance); throws leanfade::Error("target", ...) when the settings
 // have no fog, and for Reference, which needs renders (measure_reference_ratio).
 std::vector<double> target_attenuation(const FadeTarget& target,
                                        const std::vector<float>& distances,

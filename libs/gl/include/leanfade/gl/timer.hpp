@@ -31,7 +31,7 @@ enum class TimingMethod {
 // "auto", "gpu", "cpu", "cputime".
 const char* to_string(TimingMethod method);
 // Throws leanfade::Error(flag, cause) for an unknown name.
-TimingMethod parse_timing_method(const std::string& text, const std::string& flag = "--timing");
+TimingMethod parse_timing_method(const std::string& text, const std::string& flag = "timing");
 
 // True for renderers that rasterise on the CPU (GL_RENDERER containing llvmpipe, softpipe,
 // swrast or SwiftShader, any case).
@@ -51,7 +51,7 @@ struct TimingChoice {
 // counter bits (on a software renderer the description says that the figures under-report); a
 // driver without them throws leanfade::Error(flag, cause).
 TimingChoice choose_timing(TimingMethod requested, const Context& context,
-                           const std::string& flag = "--timing");
+                           const std::string& flag = "timing");
 
 // Times a sequence of intervals of GL work, in milliseconds. begin() and end() bracket each
 // interval (they must alternate, starting with begin()); collect() returns the durations of the

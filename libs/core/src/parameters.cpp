@@ -1,0 +1,282 @@
+// The shading parameter schema (leanfade/core/parameters.hpp).
+#include "leanfade/core/parameters.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/settings.hpp"
+#include "leanfade/core/text.hpp"
+
+namespace leanfade {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+constexpr std::string_view kFadeDistances[] = {"tangent-z", "eye"};
+constexpr std::string_view kFogModes[] = {"none", "linear", "exp", "exp2"};
+
+int get_fade_distance(const ShadingSettings& s) {
+    return s.fade_distance == FadeDistance::Eye ? 1 : 0;
+}
+void set_fade_distance(ShadingSettings& s, int i) {
+    s.fade_distance = i == 1 ? FadeDistance::Eye : FadeDistance::TangentZ;
+}
+int get_fog(const ShadingSettings& s) {
+    return int(s.fog);
+}
+void set_fog(ShadingSettings& s, int i) {
+    s.fog = FogMode(i);
+}
+
+using K = ParameterKind;
+using S = ShadingSettings;
+
+// clang-format off
+const std::array<ParameterInfo, 22> kParameters{{
+    {.key = "light_direction", .kind = K::Direction, .group = "Light", .label = "light direction",
+     .unit = "world space", .help = "Direction toward the light (y up, the camera on +z)",
+     .equation = "L of docs/math.md §4", .min = kMinLightDirectionLength,
+     .max = kMaxLightDirectionLength, .ui_min = -1.0f, .ui_max = 1.0f, .vector = &S::light_direction},
+    {.key = "light_color", .kind = K::Colour, .group = "Light", .label = "light colour",
+     .help = "Light colour, linear RGB", .min = 0.0f, .max = kMaxColourComponent,
+     .vector = &S::light_color},
+    {.key = "ambient", .kind = K::Colour, .group = "Material", .label = "ambient Ka",
+     .help = "Ambient Ka, linear RGB", .min = 0.0f, .max = kMaxColourComponent,
+     .vector = &S::ambient},
+    {.key = "kd", .kind = K::Colour, .group = "Material", .label = "diffuse Kd",
+     .help = "Diffuse Kd, linear RGB", .min = 0.0f, .max = kMaxColourComponent, .vector = &S::kd},
+    {.key = "ks", .kind = K::Colour, .group = "Material", .label = "specular Ks",
+     .help = "Specular Ks, linear RGB", .min = 0.0f, .max = kMaxColourComponent, .vector = &S::ks},
+    {.key = "shininess", .kind = K::Scalar, .group = "Material", .label = "shininess s",
+     .help = "Blinn-Phong exponent s; LEAN adds 1/s to the covariance",
+     .equation = "LEAN eq. 6", .min = kMinShininess, .max = kMaxShininess, .logarithmic = true, .ui_min = 1.0f, .ui_max = 20000.0f,
+     .scalar = &S::shininess},
+    {.key = "fresnel_bias", .kind = K::Scalar, .group = "Fresnel", .label = "Fresnel bias Fb",
+     .help = "Fresnel bias Fb of clamp(Fb + Fs (1 - n.V)^5, 0, 1)",
+     .equation = "fading paper, listing 1", .min = 0.0f, .max = kInfinity, .ui_min = 0.0f, .ui_max = 1.0f,
+     .scalar = &S::fresnel_bias},
+    {.key = "fresnel_scale", .kind = K::Scalar, .group = "Fresnel", .label = "Fresnel scale Fs",
+     .help = "Fresnel scale Fs", .equation = "fading paper, listing 1", .min = 0.0f,
+     .max = kInfinity, .ui_min = 0.0f, .ui_max = 1.0f, .scalar = &S::fresnel_scale},
+    {.key = "fade", .kind = K::Scalar, .group = "Fading", .label = "Fade",
+     .unit = "per bounding radius", .help = "Fading rate Fade of sf = clamp(1 + (d Fade)^p, 1, Pmax)",
+     .equation = "fading paper eq. 6", .min = 0.0f, .max = kInfinity, .logarithmic = true, .ui_min = 0.0f, .ui_max = 4.0f, .scalar = &S::fade},
+    {.key = "pmax", .kind = K::Scalar, .group = "Fading", .label = "Pmax",
+     .help = "Largest fading exponent Pmax", .equation = "fading paper eq. 6", .min = 1.0f,
+     .max = kInfinity, .logarithmic = true, .ui_min = 1.0f, .ui_max = 256.0f, .scalar = &S::pmax},
+    {.key = "fade_exponent", .kind = K::Scalar, .group = "Fading", .label = "power p",
+     .help = "Power p of (d Fade)^p", .equation = "fading paper eq. 6", .min = 0.0f,
+     .max = kInfinity, .min_exclusive = true, .ui_min = 0.25f, .ui_max = 8.0f, .scalar = &S::fade_exponent},
+    {.key = "fade_distance", .kind = K::Choice, .group = "Fading", .label = "distance mode",
+     .help = "Fading distance d: the eye's height over the tangent plane, or the eye distance",
+     .equation = "fading paper eq. 6", .choices = kFadeDistances,
+     .get_choice = get_fade_distance, .set_choice = set_fade_distance},
+    {.key = "fog", .kind = K::Choice, .group = "Fog", .label = "fog mode", .help = "Distance fog",
+     .equation = "C' = f C + (1 - f) C_fog", .choices = kFogModes, .get_choice = get_fog,
+     .set_choice = set_fog},
+    {.key = "fog_color", .kind = K::Colour, .group = "Fog", .label = "fog colour",
+     .help = "Fog colour, linear RGB", .min = 0.0f, .max = kMaxColourComponent,
+     .vector = &S::fog_color},
+    {.key = "fog_start", .kind = K::Scalar, .group = "Fog", .label = "fog start",
+     .unit = "bounding radii from the eye", .help = "Linear fog start", .min = -kInfinity,
+     .max = kInfinity, .logarithmic = true, .ui_min = 0.0f, .ui_max = 500.0f, .scalar = &S::fog_start},
+    {.key = "fog_end", .kind = K::Scalar, .group = "Fog", .label = "fog end",
+     .unit = "bounding radii from the eye", .help = "Linear fog end", .min = -kInfinity,
+     .max = kInfinity, .logarithmic = true, .ui_min = 0.01f, .ui_max = 1000.0f, .scalar = &S::fog_end},
+    {.key = "fog_density", .kind = K::Scalar, .group = "Fog", .label = "fog density",
+     .unit = "per bounding radius", .help = "Exp / exp2 fog density", .min = 0.0f,
+     .max = kInfinity, .logarithmic = true, .ui_min = 0.0f, .ui_max = 2.0f, .scalar = &S::fog_density},
+    {.key = "bump_strength", .kind = K::Scalar, .group = "Texturing", .label = "bump strength",
+     .unit = "height per texel spacing",
+     .help = "Bump height scale of height maps baked on the fly", .equation = "docs/math.md §2",
+     .min = 0.0f, .max = kInfinity, .min_exclusive = true, .logarithmic = true, .ui_min = 0.05f, .ui_max = 20.0f, .scalar = &S::bump_strength},
+    {.key = "tiling", .kind = K::Scalar, .group = "Texturing", .label = "tiling",
+     .unit = "repeats per uv unit", .help = "Texture repeats per unit of the mesh's uv",
+     .min = 0.0f, .max = kMaxTiling, .min_exclusive = true, .logarithmic = true, .ui_min = 0.05f, .ui_max = 64.0f,
+     .scalar = &S::tiling},
+    {.key = "mip_bias", .kind = K::Scalar, .group = "Texturing", .label = "MIP bias",
+     .unit = "levels", .help = "Texture LOD bias (negative = sharper)", .min = -kInfinity,
+     .max = kInfinity, .ui_min = -4.0f, .ui_max = 4.0f, .scalar = &S::mip_bias},
+    {.key = "anisotropy", .kind = K::Integer, .group = "Texturing", .label = "anisotropy",
+     .help = "Anisotropic filtering ratio (1 = trilinear)", .min = 1.0f, .max = 16.0f, .ui_min = 1.0f, .ui_max = 16.0f,
+     .integer = &S::anisotropy},
+    {.key = "msaa", .kind = K::Integer, .group = "Texturing", .label = "MSAA samples",
+     .help = "Multisample anti-aliasing samples (1 = off): 1, 2, 4, 8 or 16", .min = 1.0f,
+     .max = 16.0f, .ui_min = 1.0f, .ui_max = 16.0f, .integer = &S::msaa},
+}};
+// clang-format on
+
+std::string text(float value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+// Shortest decimal that reads back as the same float ("0.15").
+std::string exact(float value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+bool parse_float(const std::string& text, float& value) {
+    if (text.empty()) return false;
+    char* end = nullptr;
+    value = std::strtof(text.c_str(), &end);
+    return end != nullptr && *end == 0 && std::isfinite(value);
+}
+
+void require_finite(const ParameterInfo& row, float value) {
+    if (!std::isfinite(value))
+        throw Error(std::string(row.key), "must be a finite number, got " + text(value));
+}
+
+void check_range(const ParameterInfo& row, float v) {
+    const std::string key(row.key);
+    const bool below = row.min_exclusive ? !(v > row.min) : !(v >= row.min);
+    const bool above = !(v <= row.max);
+    if (!below && !above) return;
+    // A positive lower bound that is only a float-safety limit: say first that it must be > 0.
+    if (row.min > 0.0f && !(v > 0.0f)) throw Error(key, "must be > 0, got " + text(v));
+    if (std::isinf(row.max))
+        throw Error(key, std::string("must be ") + (row.min_exclusive ? "> " : ">= ") +
+                             text(row.min) + ", got " + text(v));
+    throw Error(key, "must be in " + std::string(row.min_exclusive ? "(" : "[") + text(row.min) +
+                         ", " + text(row.max) + "], got " + text(v));
+}
+
+}  // namespace
+
+std::span<const ParameterInfo> shading_parameters() {
+    return kParameters;
+}
+
+const ParameterInfo* find_shading_parameter(std::string_view key) {
+    for (const ParameterInfo& row : kParameters)
+        if (row.key == key) return &row;
+    return nullptr;
+}
+
+std::string format_parameter(const ParameterInfo& row, const ShadingSettings& s) {
+    switch (row.kind) {
+        case ParameterKind::Scalar:
+            return exact(s.*row.scalar);
+        case ParameterKind::Integer:
+            return std::to_string(s.*row.integer);
+        case ParameterKind::Colour:
+        case ParameterKind::Direction: {
+            const glm::vec3 v = s.*row.vector;
+            return exact(v.x) + "," + exact(v.y) + "," + exact(v.z);
+        }
+        case ParameterKind::Choice:
+            return std::string(row.choices[std::size_t(row.get_choice(s))]);
+    }
+    return {};
+}
+
+void parse_parameter(const ParameterInfo& row, const std::string& value, ShadingSettings& s) {
+    const std::string key(row.key);
+    switch (row.kind) {
+        case ParameterKind::Scalar: {
+            float v = 0.0f;
+            if (!parse_float(value, v)) throw Error(key, "expected a number, got '" + value + "'");
+            s.*row.scalar = v;
+            return;
+        }
+        case ParameterKind::Integer: {
+            char* end = nullptr;
+            const long v = std::strtol(value.c_str(), &end, 10);
+            if (value.empty() || *end != 0 || v < -1000000 || v > 1000000)
+                throw Error(key, "expected an integer, got '" + value + "'");
+            s.*row.integer = int(v);
+            return;
+        }
+        case ParameterKind::Colour:
+        case ParameterKind::Direction: {
+            const bool colour = row.kind == ParameterKind::Colour;
+            const std::vector<std::string> parts = split(value, ',');
+            glm::vec3 v(0.0f);
+            if (parts.size() == 1 && colour && parse_float(parts[0], v.x)) {
+                s.*row.vector = glm::vec3(v.x);
+                return;
+            }
+            if (parts.size() == 3 && parse_float(parts[0], v.x) && parse_float(parts[1], v.y) &&
+                parse_float(parts[2], v.z)) {
+                s.*row.vector = v;
+                return;
+            }
+            throw Error(key, std::string("expected ") + (colour ? "R,G,B or one value" : "X,Y,Z") +
+                                 ", got '" + value + "'");
+        }
+        case ParameterKind::Choice: {
+            std::string names;
+            for (std::size_t i = 0; i < row.choices.size(); ++i) {
+                if (value == row.choices[i]) {
+                    row.set_choice(s, int(i));
+                    return;
+                }
+                names += (i == 0 ? "" : i + 1 == row.choices.size() ? " or " : ", ");
+                names += row.choices[i];
+            }
+            throw Error(key, "unknown " + std::string(row.label) + " '" + value + "' (expected " +
+                                 names + ")");
+        }
+    }
+}
+
+void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
+    const std::string key(row.key);
+    switch (row.kind) {
+        case ParameterKind::Scalar: {
+            const float v = s.*row.scalar;
+            require_finite(row, v);
+            check_range(row, v);
+            return;
+        }
+        case ParameterKind::Integer: {
+            const int v = s.*row.integer;
+            if (v < int(row.min) || v > int(row.max))
+                throw Error(key, "must be in [" + std::to_string(int(row.min)) + ", " +
+                                     std::to_string(int(row.max)) + "], got " + std::to_string(v));
+            return;
+        }
+        case ParameterKind::Colour: {
+            const glm::vec3 c = s.*row.vector;
+            for (int i = 0; i < 3; ++i) {
+                require_finite(row, c[i]);
+                if (c[i] < row.min)
+                    throw Error(key, "colour components must be >= " + text(row.min) + ", got " +
+                                         text(c[i]));
+                if (c[i] > row.max)
+                    throw Error(key, "colour components must be <= " + text(row.max) + ", got " +
+                                         text(c[i]));
+            }
+            return;
+        }
+        case ParameterKind::Direction: {
+            const glm::vec3 d = s.*row.vector;
+            for (int i = 0; i < 3; ++i) require_finite(row, d[i]);
+            if (d == glm::vec3(0.0f)) throw Error(key, "must not be the zero vector");
+            // It is normalised in float: its squared length must neither underflow nor overflow.
+            const double length =
+                std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+            if (!(length >= row.min && length <= row.max))
+                throw Error(key, "its length must be in [" + text(row.min) + ", " + text(row.max) +
+                                     "] (it is normalised), got " + text(float(length)));
+            return;
+        }
+        case ParameterKind::Choice: {
+            const int i = row.get_choice(s);
+            if (i < 0 || i >= int(row.choices.size()))
+                throw Error(key, "not one of the choices");
+            return;
+        }
+    }
+}
+
+}  // namespace leanfade

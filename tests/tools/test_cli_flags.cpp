@@ -1,0 +1,54 @@
+// The command line derives its shading flags from the parameter schema and prints the settings
+// the libraries name in errors as those flags (tools/leanfade/cli_flags.hpp).
+#include <gtest/gtest.h>
+
+#include "cli_flags.hpp"
+#include "cli_runner.hpp"
+#include "leanfade/core/parameters.hpp"
+#include "tools_test_helpers.hpp"
+
+namespace leanfade::test {
+namespace {
+
+TEST(CliFlags, SettingsMapToTheirFlags) {
+    EXPECT_EQ(cli::flag_for_setting("fade_exponent"), "--fade-exponent");
+    EXPECT_EQ(cli::flag_for_setting("light_direction"), "--light-dir");
+    EXPECT_EQ(cli::flag_for_setting("bump_strength"), "--strength");
+    EXPECT_EQ(cli::flag_for_setting("anisotropy"), "--aniso");
+    EXPECT_EQ(cli::flag_for_setting("ref_samples"), "--ref-samples");
+    EXPECT_EQ(cli::flag_for_setting("distances"), "--distances");
+    // Anything else (a file name, "GL") is kept as it is.
+    EXPECT_EQ(cli::flag_for_setting("a.png"), "");
+    EXPECT_EQ(cli::flag_for_setting("GL"), "");
+    EXPECT_EQ(cli::with_flag_name(Error("shininess", "must be > 0")).what(),
+              std::string("--shininess: must be > 0"));
+    EXPECT_EQ(cli::with_flag_name(Error("a.png", "empty file")).what(),
+              std::string("a.png: empty file"));
+}
+
+// Every row of the schema is a flag of the commands that render, with its help text.
+TEST(CliFlags, EveryParameterIsAFlagOfTheRenderingCommands) {
+    for (const char* command : {"render", "view", "eval", "calibrate", "bench"}) {
+        const RunResult r =
+            run_leanfade(std::string(command) + " --help", scratch_dir("cli_flags_help"));
+        ASSERT_EQ(r.exit_code, 0) << command << ": " << r.err;
+        for (const ParameterInfo& row : shading_parameters()) {
+            const std::string flag = cli::flag_for_setting(row.key);
+            EXPECT_NE(r.out.find(flag + " "), std::string::npos) << command << " " << flag;
+            // eval sweeps a list of shininesses under the same flag, with its own help.
+            if (std::string(command) == "eval" && row.key == "shininess") continue;
+            EXPECT_NE(r.out.find(std::string(row.help)), std::string::npos)
+                << command << " " << flag;
+        }
+    }
+}
+
+TEST(CliFlags, ARangeErrorNamesTheFlag) {
+    const RunResult r =
+        run_leanfade("render --fade-exponent 0 -o never.png", scratch_dir("cli_flags_range"));
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.err, "leanfade render: --fade-exponent: must be > 0, got 0\n");
+}
+
+}  // namespace
+}  // namespace leanfade::test
