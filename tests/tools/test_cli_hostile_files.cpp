@@ -269,6 +269,9 @@ TEST(HostileInputFiles, DecompressionBombsAreBoundedByTheirDecodedSize) {
                    "bytes");  // `bake` drops the alpha of a colour image
     expect_refused("bake " + q(dir / "tiles.exr"), dir, "tiles.exr",
                    "needs 268435456 chunks, more than the");
+    // `render --bumps` reads images as floats (the tiny PNG reached 1.58 GB there).
+    expect_refused("render --bumps " + q(dir / "tiny_palette.png") + " -o " + q(dir / "out.png"),
+                   dir, "tiny_palette.png", "truncated or a decompression bomb");
 }
 
 // Found by an outside probe: `--preset` on a FIFO blocked forever, on /dev/zero it grew until
