@@ -112,7 +112,7 @@ TEST(NonFiniteMetrics, ACaseWithoutObjectPixelsIsAnError) {
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(r.err,
               "leanfade eval: --distances: at distance 5000 the object covers no whole pixel of "
-              "the 16x16 frame: nothing to measure (use smaller distances or a larger --size)\n");
+              "the 16x16 frame: nothing to measure (use smaller distances or a larger image size)\n");
     EXPECT_FALSE(fs::exists(dir / "out" / "results.json"));
 }
 

@@ -12,8 +12,8 @@ namespace {
 // Settings outside the shading schema that the libraries name: camera, sweep and benchmark
 // settings and the built-in bump sets.
 constexpr std::string_view kOtherSettings[] = {
-    "techniques", "distances", "spp", "frames",   "motion", "size",        "timing",
-    "warmup",     "scenes",    "fov", "view_dir", "target", "ref_samples", "builtin",
+    "techniques", "distances", "spp",      "frames", "motion",      "size",    "timing", "warmup",
+    "scenes",     "fov",       "view_dir", "target", "ref_samples", "builtin", "bits",   "from",
 };
 
 // Flags whose names are shorter than their settings'.

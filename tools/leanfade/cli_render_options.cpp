@@ -23,14 +23,6 @@ bool parse_float(const std::string& text, float& value) {
     return end != nullptr && *end == 0 && std::isfinite(value);
 }
 
-Storage parse_storage(const std::string& bits) {
-    if (bits == "8") return Storage::Unorm8;
-    if (bits == "16") return Storage::Unorm16;
-    if (bits == "16f") return Storage::Float16;
-    if (bits == "32f") return Storage::Float32;
-    throw Error("--bits", "expected 8, 16, 16f or 32f, got '" + bits + "'");
-}
-
 bool ends_with(const std::string& s, const std::string& suffix) {
     if (s.size() < suffix.size()) return false;
     for (std::size_t i = 0; i < suffix.size(); ++i)
@@ -143,8 +135,7 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
 
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
-    if (f.from != "auto" && f.from != "height" && f.from != "normal")
-        throw Error("--from", "expected auto, height or normal, got '" + f.from + "'");
+    const BakeSource source = parse_bake_source(f.from);
     if (f.texture_size < 4 || f.texture_size > kDefaultMaxImageDimension)
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
@@ -165,9 +156,6 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
             .packed;
     }
     const Image image = io::read_image(f.bumps, read_options);
-    const BakeSource source = f.from == "height"   ? BakeSource::Height
-                              : f.from == "normal" ? BakeSource::Normal
-                                                   : BakeSource::Auto;
     return bake_packed(image, source, options, storage, generator, f.bumps).packed;
 }
 

@@ -43,13 +43,6 @@ struct BakeArgs {
     std::string json;
 };
 
-Storage parse_storage(const std::string& bits) {
-    if (bits == "8") return Storage::Unorm8;
-    if (bits == "16") return Storage::Unorm16;
-    if (bits == "16f") return Storage::Float16;
-    return Storage::Float32;
-}
-
 std::string generator_string() {
     return std::string("leanfade ") + LEANFADE_VERSION;
 }
@@ -88,7 +81,7 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
                             const LeanMapSummary& s, const BakeResult& result, double seconds) {
     return {{"input", input},
             {"output", output},
-            {"source", result.source == BakeSource::Normal ? "normal" : "height"},
+            {"source", to_string(result.source)},
             {"width", s.width},
             {"height", s.height},
             {"levels", s.levels},
@@ -109,7 +102,7 @@ void print_summary(const std::string& input, const std::string& output, const Le
                    const BakeResult& result, double seconds) {
     std::printf("%s -> %s\n", input.c_str(), output.c_str());
     std::printf("  %dx%d, %d levels, %s map, sc = %.6g\n", s.width, s.height, s.levels,
-                result.source == BakeSource::Normal ? "normal" : "height", s.scale);
+                to_string(result.source), s.scale);
     std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
     std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
                 s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
@@ -140,9 +133,7 @@ int run_bake(const BakeArgs& args) {
     options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.bake_roughness_shininess = args.bake_roughness;
     options.threads = args.threads;
-    const BakeSource source = args.from == "height"   ? BakeSource::Height
-                              : args.from == "normal" ? BakeSource::Normal
-                                                      : BakeSource::Auto;
+    const BakeSource source = parse_bake_source(args.from);
     const Storage storage = parse_storage(args.bits);
     io::ReadOptions read_options;
     read_options.max_dimension = args.max_size;
@@ -284,13 +275,13 @@ const CommandRegistration registration{
         app.add_option("--out-dir", args->out_dir, "Folder for the outputs of a batch");
         app.add_option("--from", args->from,
                        "Input kind: auto (1-2 channels = height, 3-4 = normal), height, normal")
-            ->check(CLI::IsMember({"auto", "height", "normal"}));
+            ->check(CLI::IsMember(bake_source_names()));
         app.add_option("--strength", args->strength,
                        "Height maps: height per texel spacing of one unit of value")
             ->capture_default_str();
         app.add_flag("--directx", args->directx, "Normal maps use the DirectX convention (-Y)");
         app.add_option("--bits", args->bits, "Storage: 8, 16 (UNORM), 16f, 32f (float)")
-            ->check(CLI::IsMember({"8", "16", "16f", "32f"}))
+            ->check(CLI::IsMember(storage_names()))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,
                        "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")

@@ -69,14 +69,6 @@ std::string default_techniques() {
     return join_technique_names(approximating_techniques());
 }
 
-Storage parse_bits(const std::string& bits) {
-    if (bits == "8") return Storage::Unorm8;
-    if (bits == "16") return Storage::Unorm16;
-    if (bits == "16f") return Storage::Float16;
-    if (bits == "32f") return Storage::Float32;
-    throw Error("--bits", "expected 8, 16, 16f or 32f, got '" + bits + "'");
-}
-
 std::unique_ptr<gl::Context> make_context(const GlFlags& flags) {
     gl::ContextOptions options = context_options(flags);
     options.debug = false;  // no debug context: it slows some drivers down
@@ -155,7 +147,7 @@ int run_bench(const BenchArgs& args) {
     for (const std::string& input : bake_inputs)
         if (input != "normal" && input != "height")
             throw Error("--bake-input", "expected normal or height, got '" + input + "'");
-    const Storage storage = parse_bits(args.source.bits);
+    const Storage storage = parse_storage(args.source.bits);
     if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
     if (args.bake_runs < 0 || args.bake_runs > 1000)
         throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");

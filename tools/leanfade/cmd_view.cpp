@@ -144,11 +144,8 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     p.scene = args.scene;
     p.bumps = to_bump_source(args.source);
     // The bump flags by their names (validate() would name the preset keys).
-    if (p.bumps.from != "auto" && p.bumps.from != "height" && p.bumps.from != "normal")
-        throw Error("--from", "expected auto, height or normal, got '" + p.bumps.from + "'");
-    if (p.bumps.bits != "8" && p.bumps.bits != "16" && p.bumps.bits != "16f" &&
-        p.bumps.bits != "32f")
-        throw Error("--bits", "expected 8, 16, 16f or 32f, got '" + p.bumps.bits + "'");
+    parse_bake_source(p.bumps.from);
+    parse_storage(p.bumps.bits);
     if (p.bumps.texture_size < 4 || p.bumps.texture_size > kDefaultMaxImageDimension)
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +

@@ -328,7 +328,7 @@ void App::panel_bumps() {
     if (ImGui::RadioButton("normal map", &from, 2)) bumps_field_.from = "normal";
     ImGui::SameLine();
     ImGui::Checkbox("DirectX", &bumps_field_.directx);
-    static const std::vector<std::string> bits{"8", "16", "16f", "32f"};
+    const std::vector<std::string>& bits = storage_names();
     int bit = index_of(bits, bumps_field_.bits);
     if (combo("storage bits", bit, bits)) bumps_field_.bits = bits[std::size_t(bit)];
     int seed = int(bumps_field_.seed);

@@ -30,6 +30,61 @@ const char* to_string(Storage s) {
     }
     return "?";
 }
+namespace {
+
+// "a, b, c or d"
+std::string name_list(const std::vector<std::string>& names) {
+    std::string text;
+    for (std::size_t i = 0; i < names.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return text;
+}
+
+}  // namespace
+
+const std::vector<std::string>& storage_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> all;
+        for (Storage s : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32})
+            all.push_back(to_string(s));
+        return all;
+    }();
+    return names;
+}
+
+Storage parse_storage(std::string_view name, const std::string& setting) {
+    for (Storage s : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32})
+        if (name == to_string(s)) return s;
+    throw Error(setting,
+                "expected " + name_list(storage_names()) + ", got '" + std::string(name) + "'");
+}
+
+const char* to_string(BakeSource source) {
+    switch (source) {
+        case BakeSource::Auto:
+            return "auto";
+        case BakeSource::Height:
+            return "height";
+        case BakeSource::Normal:
+            return "normal";
+    }
+    return "?";
+}
+
+const std::vector<std::string>& bake_source_names() {
+    static const std::vector<std::string> names{to_string(BakeSource::Auto),
+                                                to_string(BakeSource::Height),
+                                                to_string(BakeSource::Normal)};
+    return names;
+}
+
+BakeSource parse_bake_source(std::string_view name, const std::string& setting) {
+    for (BakeSource s : {BakeSource::Auto, BakeSource::Height, BakeSource::Normal})
+        if (name == to_string(s)) return s;
+    throw Error(setting,
+                "expected " + name_list(bake_source_names()) + ", got '" + std::string(name) + "'");
+}
+
 int bytes_per_texel(Storage s) {
     switch (s) {
         case Storage::Unorm8: return 4;

@@ -15,6 +15,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/parameters.hpp"
 
 namespace leanfade {
@@ -226,12 +227,12 @@ void validate(const Preset& p, const std::string& file) {
     check_no_control_characters(file, "bumps.source", b.source);
     for (const std::string& name : p.techniques)
         check_no_control_characters(file, "view.techniques", name);
-    if (b.from != "auto" && b.from != "height" && b.from != "normal")
-        fail(file, "bumps.from",
-             "expected \"auto\", \"height\" or \"normal\", got \"" + b.from + "\"");
-    if (b.bits != "8" && b.bits != "16" && b.bits != "16f" && b.bits != "32f")
-        fail(file, "bumps.bits",
-             "expected \"8\", \"16\", \"16f\" or \"32f\", got \"" + b.bits + "\"");
+    try {
+        parse_bake_source(b.from);
+        parse_storage(b.bits);
+    } catch (const Error& e) {
+        fail(file, "bumps." + e.file(), e.cause());
+    }
     if (b.texture_size < 4 || b.texture_size > kDefaultMaxImageDimension)
         fail(file, "bumps.texture_size",
              "must be in [4, " + std::to_string(kDefaultMaxImageDimension) + "], got " +

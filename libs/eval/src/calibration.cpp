@@ -9,6 +9,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/shading.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/eval/results.hpp"
 
 namespace leanfade::eval {
@@ -118,7 +119,9 @@ double fade_energy_ratio(const FadeSamples& samples, float fade, float pmax, flo
 
 FadeTarget parse_fade_target(const std::string& text, const std::string& flag) {
     FadeTarget target;
-    if (text == "fog" || text == "reference") {
+    // The supersampled ground truth is named as the technique table names it.
+    const std::string truth = to_string(Technique::Reference);
+    if (text == "fog" || text == truth) {
         target.kind = text == "fog" ? FadeTarget::Kind::Fog : FadeTarget::Kind::Reference;
         return target;
     }
@@ -140,7 +143,7 @@ FadeTarget parse_fade_target(const std::string& text, const std::string& flag) {
 
 std::string to_string(const FadeTarget& target) {
     if (target.kind == FadeTarget::Kind::Fog) return "fog";
-    if (target.kind == FadeTarget::Kind::Reference) return "reference";
+    if (target.kind == FadeTarget::Kind::Reference) return to_string(Technique::Reference);
     std::ostringstream out;
     out << "exp:" << target.sigma;
     return out.str();
@@ -155,7 +158,7 @@ std::vector<double> target_attenuation(const FadeTarget& target,
                     "(measure_reference_ratio)");
     if (target.kind == FadeTarget::Kind::Fog && settings.fog == FogMode::None)
         throw Error("target",
-                    "fog: the scene has no fog (add --fog linear|exp|exp2 and its parameters)");
+                    "fog: the scene has no fog (set the fog mode to linear, exp or exp2, and its parameters)");
     std::vector<double> values;
     for (float d : distances) {
         if (target.kind == FadeTarget::Kind::Exponential) {

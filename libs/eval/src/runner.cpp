@@ -243,7 +243,7 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                                     std::to_string(request.width) + "x" +
                                     std::to_string(request.height) +
                                     " frame: nothing to measure (use smaller distances or a "
-                                    "larger --size)");
+                                    "larger image size)");
                 std::vector<Image> srgb(nt);
                 for (std::size_t t = 0; t < nt; ++t) {
                     colors[t] = fill_outside(colors[t], covered, bg.r, bg.g, bg.b);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -24,7 +25,11 @@ enum class Storage { Unorm8, Unorm16, Float16, Float32 };
 
 const char* to_string(Wrap);
 const char* to_string(NormalConvention);
-const char* to_string(Storage);
+const char* to_string(Storage);  // "8", "16", "16f", "32f": the bits of a channel
+// Every storage's name, in enum order.
+const std::vector<std::string>& storage_names();
+// Throws leanfade::Error(setting, cause) for a name that is not a storage's.
+Storage parse_storage(std::string_view name, const std::string& setting = "bits");
 int bytes_per_texel(Storage);  // one RGBA texel of one slice (lean1 or lean2)
 
 // One MIP level of float moments. Index i = y * width + x, rows top first.
@@ -114,6 +119,11 @@ std::vector<Image> build_mip_chain(const Image& top, int threads = 0);
 // Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
 // Auto: 1-2 channels are a height map (first channel), 3-4 channels a normal map.
 enum class BakeSource { Auto, Height, Normal };
+const char* to_string(BakeSource source);  // "auto", "height", "normal"
+// Every source's name, in enum order.
+const std::vector<std::string>& bake_source_names();
+// Throws leanfade::Error(setting, cause) for a name that is not a source's.
+BakeSource parse_bake_source(std::string_view name, const std::string& setting = "from");
 struct BakeResult {
     LeanMap map;
     BakeSource source = BakeSource::Height;  // what the input was taken as

@@ -13,7 +13,7 @@ namespace leanfade::eval {
 
 // One measured case. The CSV holds the first seven fields; results.json all of them.
 struct CaseResult {
-    std::string technique;  // "bump", "toksvig", "clean", "lean", "fade"
+    std::string technique;  // a name of the technique table (leanfade/core/technique.hpp)
     float distance = 0.0f;  // camera distance, bounding radii
     float shininess = 0.0f;
     double energy = 0.0;   // specular_mean / reference_specular_mean
@@ -98,7 +98,7 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
 
 // Reads a results.json written by results_json (the fields of SweepInfo and CaseResult it
 // holds). Throws leanfade::Error(path, cause) for a missing or malformed file, a technique that
-// is not one of kMeasuredTechniques, or a distance or shininess that is not a finite number > 0.
+// is not a measured technique of the table (is_measured_technique), or a distance or shininess that is not a finite number > 0.
 void read_results_json(const std::string& path, SweepInfo& info, std::vector<CaseResult>& cases);
 
 // Runs gnuplot on a script file, in the script's folder; false with `note` set when gnuplot is
