@@ -1,6 +1,7 @@
 #version 450 core
-// Box pixel filter of the reference (SPEC §7, LEAN Fig. 14): each output pixel is the mean of the
-// k x k samples of the supersampled tile that cover it. Linear radiance in, linear radiance out.
+// Box pixel filter of the reference (docs/math.md §7, LEAN Fig. 14): each output pixel is the mean
+// of the k x k samples of the supersampled tile that cover it. Linear radiance in, linear radiance
+// out.
 layout(binding = 0) uniform sampler2D u_samples;  // the supersampled tile, k times the size
 uniform int u_factor;                             // k
 uniform ivec2 u_tile_origin;                      // the tile's first output pixel (window coords)

@@ -1,12 +1,12 @@
 #version 450 core
-// Per-frame LEAN map generation (LEAN paper §5, "per-frame generation"; SPEC §2-3): one invocation
-// per texel of the top level reads a height map (Sobel / 8, SPEC §2) or a normal map (B = n.xy /
-// n.z), and writes both packed slices of the LEAN texture with a given sc:
+// Per-frame LEAN map generation (LEAN paper §5, "per-frame generation"; docs/math.md §2-3): one
+// invocation per texel of the top level reads a height map (Sobel / 8, docs/math.md §2) or a normal
+// map (B = n.xy / n.z), and writes both packed slices of the LEAN texture with a given sc:
 //   slice 0, lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5),  n = normalize(B, 1)
 //   slice 1, lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2),  M = (Bx^2, By^2, Bx By) + 1/s
 // exactly as the CPU baker does for its top level (libs/core lean_map.cpp). The other MIP levels
 // come from glGenerateMipmap, which averages the packed values: correct, because the packing is
-// affine per channel (SPEC §3).
+// affine per channel (docs/math.md §3).
 //
 // Defines (exactly one of each pair, set by leanfade::gl::LeanGenerator):
 //   SOURCE_HEIGHT | SOURCE_NORMAL     what u_source holds (height in .r; normal as 0.5 n + 0.5)
@@ -18,7 +18,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler2D u_source;  // same size as the top level; texelFetch only
 layout(binding = 0, SLICE_FORMAT) uniform writeonly image2DArray u_lean;
 
-uniform float u_strength;     // height per texel spacing (SPEC §2)
+uniform float u_strength;     // height per texel spacing (docs/math.md §2)
 uniform float u_scale;        // sc
 uniform float u_inv_s;        // 1/s baked into Mxx, Myy (LEAN eq. 6), or 0
 uniform float u_green_sign;   // -1 for DirectX-convention normal maps, else 1
@@ -36,7 +36,7 @@ float height_at(ivec2 p, ivec2 size) {
 }
 #endif
 
-// Projected slope B of texel p (SPEC §2).
+// Projected slope B of texel p (docs/math.md §2).
 vec2 slope(ivec2 p, ivec2 size) {
 #if defined(SOURCE_HEIGHT)
     float l_down = height_at(p + ivec2(-1, -1), size);

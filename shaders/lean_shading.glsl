@@ -1,6 +1,6 @@
-// leanfade shading math, docs/math.md §4 — written once, compiled both as GLSL 4.50 (included by the
-// shaders) and as C++ with glm (libs/core/include/leanfade/core/shading.hpp, for the CPU reference
-// and the tests). Keep to the common subset: float literals with an f suffix, no in/out
+// leanfade shading math, docs/math.md §4 — written once, compiled both as GLSL 4.50 (included by
+// the shaders) and as C++ with glm (libs/core/include/leanfade/core/shading.hpp, for the CPU
+// reference and the tests). Keep to the common subset: float literals with an f suffix, no in/out
 // parameters, structs built field by field, LF_FN before every function.
 //
 // All vectors are in tangent space (x = +u, y = +v, z = surface normal) unless named otherwise.
@@ -33,7 +33,8 @@ const int LF_TECHNIQUE_CLEAN = 4;    // LEAN's lobe with CLEAN's isotropic covar
 
 // Shading parameters (docs/math.md §4). Colours are linear RGB. Each vec3 is followed by a scalar
 // so that the std140 layout of the renderer's uniform block (LfShadingUniforms below) equals the
-// C++ layout of the same struct with glm (checked in libs/gl/include/leanfade/gl/shading_block.hpp).
+// C++ layout of the same struct with glm (checked in
+// libs/gl/include/leanfade/gl/shading_block.hpp).
 struct LfParams {
     vec3 light_color;     // radiance scale of the light
     float shininess;      // Blinn-Phong exponent s (> 0)
@@ -62,7 +63,7 @@ struct LfShadingUniforms {
     float fog_density;  // per world unit
 };
 
-// Moments unpacked from the two LEAN textures (SPEC §3-4).
+// Moments unpacked from the two LEAN textures (docs/math.md §3-4).
 struct LfMoments {
     vec3 normal;  // filtered normal, not renormalised
     vec2 mean;    // B
@@ -75,7 +76,8 @@ struct LfShade {
     vec3 specular;  // Ks * NdotL^sf * D * F * light
 };
 
-// SPEC §4 unpack: B = (2 lean2.rg - 1) sc, M = (lean2.b sc^2, lean2.a sc^2, (2 lean1.a - 1) sc^2).
+// Unpacking, docs/math.md §4: B = (2 lean2.rg - 1) sc, M = (lean2.b sc^2, lean2.a sc^2, (2 lean1.a
+// - 1) sc^2).
 LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc) {
     LfMoments m;
     m.normal = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
@@ -142,7 +144,7 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     return r;
 }
 
-// Covariance (LEAN eq. 5 plus the base roughness 1/s of SPEC §2): (Sxx, Syy, Sxy).
+// Covariance (LEAN eq. 5 plus the base roughness 1/s of docs/math.md §2): (Sxx, Syy, Sxy).
 LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
     return vec3(second.x - mean.x * mean.x + inv_s, second.y - mean.y * mean.y + inv_s,
                 second.z - mean.x * mean.y);
@@ -185,7 +187,7 @@ LF_FN float lf_fresnel(vec3 n, vec3 view_dir, float bias, float scale) {
 }
 
 // Distance measure of specular fading. view_unnormalised: tangent-space vector from the shaded
-// point to the eye, in world units (SPEC §1 Vt).
+// point to the eye, in world units (docs/math.md §1 Vt).
 // Shaders compiled with LF_FADE_TANGENT_Z_ONLY (the renderer's variant for the default mode)
 // ignore `mode`.
 LF_FN float lf_fade_distance(vec3 view_unnormalised, int mode) {
@@ -246,7 +248,7 @@ LF_FN float lf_toksvig_factor(float normal_length, float s) {
 
 // Toksvig's lobe around the renormalised filtered normal Na / |Na| with the effective exponent
 // s' = ft s and Toksvig's energy factor (1 + ft s) / (1 + s) (same paper), on the baseline's
-// normalisation s / (2 pi) (SPEC §4), so that ft = 1 is exactly lf_blinn_phong_lobe.
+// normalisation s / (2 pi) (docs/math.md §4), so that ft = 1 is exactly lf_blinn_phong_lobe.
 LF_FN float lf_toksvig_lobe(vec3 filtered_normal, vec3 half_vector, float s) {
     float len = length(filtered_normal);
     if (len <= 0.0f) return 0.0f;
@@ -333,7 +335,7 @@ LF_FN vec2 lf_fade_terms(vec4 lean1, vec3 light_dir, vec3 view_unnormalised, int
     return vec2(clamp(dot(n, light_dir), 0.0f, 1.0f), lf_fade_distance(view_unnormalised, mode));
 }
 
-// Fog blend factor f (lecture 004): 1 = no fog. eye_depth in world units.
+// Fog blend factor f (docs/math.md §4, fog): 1 = no fog. eye_depth in world units.
 LF_FN float lf_fog_factor(float eye_depth, int mode, float start, float end, float density) {
     // One exp for both exponential modes: a SIMD rasteriser (llvmpipe) evaluates every branch.
     float x = density * eye_depth;

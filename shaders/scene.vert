@@ -1,8 +1,8 @@
 #version 450 core
 // Vertex stage of every technique (bump, lean, fade, reference). Builds the tangent frame per
-// vertex (SPEC §1: T along +u, Bt = w cross(N, T) along +v, N), and passes to the fragment stage
-// the tangent-space light direction, the unnormalised tangent-space view vector Vt (its length is
-// the distance to the eye in world units) and the eye depth used by fog.
+// vertex (docs/math.md §1: T along +u, Bt = w cross(N, T) along +v, N), and passes to the fragment
+// stage the tangent-space light direction, the unnormalised tangent-space view vector Vt (its
+// length is the distance to the eye in world units) and the eye depth used by fog.
 //
 // World units: the renderer's model matrix scales the object to a bounding radius of 1.
 
@@ -30,7 +30,7 @@ void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
     vec3 n = normalize(u_normal_matrix * a_normal);
     vec3 t = mat3(u_model) * a_tangent.xyz;
-    t = normalize(t - n * dot(n, t));  // Gram-Schmidt (SPEC §1)
+    t = normalize(t - n * dot(n, t));  // Gram-Schmidt (docs/math.md §1)
     vec3 b = a_tangent.w * cross(n, t);
     vec3 to_eye = u_eye_world - world.xyz;
     v_out.uv = a_uv * u_tiling;

@@ -145,8 +145,8 @@ TEST_F(Generate, TopLevelMatchesTheCpuBakerWithinQuantisation) {
     }
 }
 
-// glGenerateMipmap averages the packed values (affine packing, SPEC §3): the 1x1 level's moments
-// are the mean of the top level's, as the CPU's float chain has them.
+// glGenerateMipmap averages the packed values (affine packing, docs/math.md §3): the 1x1 level's
+// moments are the mean of the top level's, as the CPU's float chain has them.
 TEST_F(Generate, CoarsestLevelMomentsMatchTheCpuMean) {
     for (Storage storage : {Storage::Unorm16, Storage::Float16}) {
         SCOPED_TRACE(to_string(storage));

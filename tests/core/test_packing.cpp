@@ -82,7 +82,7 @@ TEST(Packing, PackedValuesNeverLeaveTheUnitRange) {
 
 TEST(Packing, PackingIsAffineSoFilteringCommutesWithIt) {
     // Averaging packed texels equals packing the averaged moments (what lets hardware trilinear
-    // filtering stand in for filtering the moments, SPEC §3).
+    // filtering stand in for filtering the moments, docs/math.md §3).
     const LeanMap map = bumps_map(8);
     const PackedLeanMap packed = pack_lean_map(map, Storage::Float32, "test");
     for (int slice = 0; slice < 2; ++slice) {
@@ -97,7 +97,7 @@ TEST(Packing, PackingIsAffineSoFilteringCommutesWithIt) {
 
 TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
     // UNORM packing is one multiply-add per channel (detail::unorm_texel); whatever the float
-    // rounding, each code must be the SPEC §3 value times Q rounded to the nearest integer
+    // rounding, each code must be the docs/math.md §3 value times Q rounded to the nearest integer
     // (computed here in double), ties to even, clamped to [0, Q], NaN to 0.
     for (const float sc : {0.37f, 1.0f, 3.9f}) {
         LeanMap map;

@@ -69,7 +69,7 @@ TEST(Clean, IsotropicMomentsGiveLean) {
     const float sc = 0.5f;
     const vec2 b(0.1f, -0.05f);
     const float variance = 0.02f;
-    // Pack M = B B^T + variance I (SPEC §3).
+    // Pack M = B B^T + variance I (docs/math.md §3).
     const vec3 m(b.x * b.x + variance, b.y * b.y + variance, b.x * b.y);
     const vec4 lean1(0.5f * normalize(vec3(b, 1.0f)) * 0.98f + vec3(0.5f),
                      0.5f * m.z / (sc * sc) + 0.5f);

@@ -61,7 +61,7 @@ PackedLeanMap make_constant_lean_map(glm::vec2 mean, glm::vec3 covariance, float
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);
     }
-    // sc: |B| <= sc and M <= sc^2 (SPEC §3).
+    // sc: |B| <= sc and M <= sc^2 (docs/math.md §3).
     map.scale = std::max({1e-4f, std::abs(mean.x), std::abs(mean.y), std::sqrt(second.x),
                           std::sqrt(second.y), std::sqrt(std::abs(second.z))});
     return pack_lean_map(map, storage, "leanfade tests");

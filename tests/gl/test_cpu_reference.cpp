@@ -133,8 +133,8 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 // Core images are stored top row first; the upload flips them so that the top row lies at v = 1
-// (+v up, SPEC §1). A 2 x 2 map whose top row tilts toward +x and bottom row toward -x, on the
-// camera-facing quad (v up the screen) lit from +x: the upper half must be the brighter one.
+// (+v up, docs/math.md §1). A 2 x 2 map whose top row tilts toward +x and bottom row toward -x, on
+// the camera-facing quad (v up the screen) lit from +x: the upper half must be the brighter one.
 class TextureOrientation : public GlTest {};
 
 TEST_F(TextureOrientation, TopImageRowIsPlusV) {

@@ -36,12 +36,12 @@ class Techniques : public GlTest {
     std::unique_ptr<gl::Renderer> renderer_;
 };
 
-// SPEC §4: with Sigma = I/s the LEAN lobe matches the normalised Blinn-Phong lobe; at LOD 0 (no
-// filtering of distinct bumps) LEAN and the baseline must agree. They are not identical: LEAN is
-// a Gaussian over projected slopes, Blinn-Phong a cosine power over angles. On a flat surface that
-// alone gives 2.7 % at s = 64 and 0.4 % at s = 512 (measured); around a normal tilted by a slope
-// B the slope-space lobe is narrower by about 1 / (1 + B^2) along the tilt (11 % less energy at
-// B = 0.3), so the bumps are baked at strength 0.35 (slopes up to ~0.25) for this comparison.
+// docs/math.md §4: with Sigma = I/s the LEAN lobe matches the normalised Blinn-Phong lobe; at LOD 0
+// (no filtering of distinct bumps) LEAN and the baseline must agree. They are not identical: LEAN
+// is a Gaussian over projected slopes, Blinn-Phong a cosine power over angles. On a flat surface
+// that alone gives 2.7 % at s = 64 and 0.4 % at s = 512 (measured); around a normal tilted by a
+// slope B the slope-space lobe is narrower by about 1 / (1 + B^2) along the tilt (11 % less energy
+// at B = 0.3), so the bumps are baked at strength 0.35 (slopes up to ~0.25) for this comparison.
 // Measured on llvmpipe: 3.4 % at s = 64, 1.7 % at s = 256, 1.3 % at s = 1024.
 TEST_F(Techniques, LeanMatchesBaselineAtTheFinestLevel) {
     renderer_->set_lean_map(make_bumps_map(512, 0.35f));

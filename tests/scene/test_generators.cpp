@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Papers' counts (SPEC §8).
+// Papers' counts (docs/math.md §8).
 constexpr double kPaperSphere = 1984.0;
 constexpr double kPaperTorus = 5824.0;
 constexpr double kPaperTerrain = 122564.0;

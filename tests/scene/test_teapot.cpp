@@ -15,7 +15,7 @@
 namespace leanfade::scene {
 namespace {
 
-constexpr double kPaperTeapot = 79664.0;  // SPEC §8
+constexpr double kPaperTeapot = 79664.0;  // docs/math.md §8
 
 const Mesh& teapot() {
     static const Mesh m = make_teapot();

@@ -56,7 +56,8 @@ std::string parameter_help(const ParameterInfo& row) {
     }
     if (row.kind == ParameterKind::Choice) {
         std::string names;
-        for (std::string_view c : row.choices) names += (names.empty() ? "" : " | ") + std::string(c);
+        for (std::string_view c : row.choices)
+            names += (names.empty() ? "" : " | ") + std::string(c);
         add(names);
     }
     add(std::string(row.equation));
@@ -186,7 +187,7 @@ void add_camera_options(CLI::App& app, float& fov, std::string& view_dir, const 
 
 void add_reference_samples_option(CLI::App& app, int& ref_samples) {
     app.add_option("--ref-samples", ref_samples,
-                   "Reference: k x k samples per pixel at LOD 0 (SPEC §7)")
+                   "Reference: k x k samples per pixel at LOD 0 (docs/math.md §7)")
         ->capture_default_str();
 }
 

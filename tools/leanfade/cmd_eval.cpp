@@ -1,6 +1,6 @@
-// leanfade eval: every technique against the supersampled ground truth (SPEC §7) over a sweep of
-// distances and shininesses: specular energy, error (relative RMSE, SSIM) and flicker, written
-// as results.csv, results.json, gnuplot plots and an index.html report.
+// leanfade eval: every technique against the supersampled ground truth (docs/math.md §7) over a
+// sweep of distances and shininesses: specular energy, error (relative RMSE, SSIM) and flicker,
+// written as results.csv, results.json, gnuplot plots and an index.html report.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -273,7 +273,7 @@ const CommandRegistration registration{
                        "a comma list")
             ->capture_default_str();
         app.add_option("--spp", args->spp,
-                       "Reference samples per pixel (a square: k x k at LOD 0, SPEC §7)")
+                       "Reference samples per pixel (a square: k x k at LOD 0, docs/math.md §7)")
             ->capture_default_str();
         app.add_flag("--fixed-spp", args->fixed_spp,
                      "Keep --spp at every distance (by default far, small objects get more "

@@ -1,10 +1,10 @@
-// Fast bake (SPEC §2-3): slopes -> top-level moments -> packing -> MIP chain, fused row by row,
-// without the float MIP chain in memory. Every value is computed with the same float / double
+// Fast bake (docs/math.md §2-3): slopes -> top-level moments -> packing -> MIP chain, fused row by
+// row, without the float MIP chain in memory. Every value is computed with the same float / double
 // operations, in the same order, as the reference path (slopes.cpp, build_lean_map, pack_lean_map),
 // so the packed bytes are identical; docs/perf.md has the design and the measurements.
 //
-//   pass 0  validate the input, find max |B| and max M (sc, SPEC §3, must be known before the
-//           first texel can be packed) and take the summary's statistics of |B|;
+//   pass 0  validate the input, find max |B| and max M (sc, docs/math.md §3, must be known
+//           before the first texel can be packed) and take the summary's statistics of |B|;
 //   pass 1  the rows of a "store level" S (64 rows for 4096^2), each to whichever thread is free.
 //           A row is made by making the (2 or 3) rows of the level above that it filters,
 //           recursively up to the top level, which is computed from the input in cache-sized
@@ -128,7 +128,7 @@ struct RowStats {
 
 // ---- Scalar kernels: the reference arithmetic, one texel at a time -------------------------
 
-// B = n.xy / n.z of an encoded normal 0.5 n + 0.5 (SPEC §2), as slopes_from_normals.
+// B = n.xy / n.z of an encoded normal 0.5 n + 0.5 (docs/math.md §2), as slopes_from_normals.
 inline void normal_slope(const float* t, float green_sign, float& bx, float& by) {
     const float nx = 2.0f * t[0] - 1.0f;
     const float ny = green_sign * (2.0f * t[1] - 1.0f);
@@ -148,8 +148,8 @@ inline void input_slope(const TopInput& in, const float* row, int x, float& bx, 
     }
 }
 
-// Top-level moments (SPEC §2), as build_lean_map: n = normalize(B, 1), B, M = (Bx^2, By^2, Bx By)
-// plus 1/s on the diagonal.
+// Top-level moments (docs/math.md §2), as build_lean_map: n = normalize(B, 1), B,
+// M = (Bx^2, By^2, Bx By) plus 1/s on the diagonal.
 inline void texel_moments(float bx, float by, float inv_s, float* m) {
     const float inv_len = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
     m[kNx] = bx * inv_len;
@@ -163,7 +163,7 @@ inline void texel_moments(float bx, float by, float inv_s, float* m) {
 }
 
 // lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5), lean2 = (0.5 B / sc + 0.5, Mxx / sc^2,
-// Myy / sc^2) (SPEC §3), as pack_lean_map.
+// Myy / sc^2) (docs/math.md §3), as pack_lean_map.
 inline void lean_texel(const float* m, const PackScale& s, float* l1, float* l2) {
     l1[0] = 0.5f * m[kNx] + 0.5f;
     l1[1] = 0.5f * m[kNy] + 0.5f;
@@ -452,8 +452,8 @@ LF_AVX2_INLINE void store_slice8(const __m256* l, std::uint8_t* d) {
     }
 }
 
-// lean1, lean2 of 8 texels (SPEC §3): UNORM storages as detail::unorm_texel, float storages as
-// lean_texel.
+// lean1, lean2 of 8 texels (docs/math.md §3): UNORM storages as detail::unorm_texel, float storages
+// as lean_texel.
 template <Storage S>
 LF_AVX2_INLINE void pack8(const __m256* m, const PackScale& s, const RowDest& d, int x) {
     std::uint8_t* lean1 = d.lean1 + std::size_t(x) * kTexelBytes<S>;
@@ -1068,8 +1068,7 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     plan.top.green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
     plan.top.inv_s =
         options.bake_roughness_shininess > 0.0f ? 1.0f / options.bake_roughness_shininess : 0.0f;
-
-    // Pass 0. Height maps go through the reference slope filter (Sobel in double, SPEC §2),
+//  Pass 0. Height maps go through the reference slope filter (Sobel in double, docs/math.md §2),
     // which also validates them; normal maps are decoded on the fly in pass 1.
     Image slopes;
     ScanTotals totals;

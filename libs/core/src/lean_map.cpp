@@ -1,4 +1,4 @@
-// LEAN moments, MIP chain and packing (SPEC §2-3; LEAN §3, §5).
+// LEAN moments, MIP chain and packing (docs/math.md §2-3; LEAN §3, §5).
 #include "leanfade/core/lean_map.hpp"
 
 #include <algorithm>
@@ -340,14 +340,14 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
                 const glm::vec3 m = level.second[i];
                 std::uint8_t* t1 = &out.lean1[i * std::size_t(bpt)];
                 std::uint8_t* t2 = &out.lean2[i * std::size_t(bpt)];
-                if (unorm) {  // SPEC §3 as one multiply-add per channel (detail::unorm_texel)
+                if (unorm) {  // docs/math.md §3, one multiply-add per channel (unorm_texel)
                     std::uint16_t q1[4], q2[4];
                     detail::unorm_texel(unorm_factors, n, b, m, q1, q2);
                     detail::store_unorm_texel(t1, q1, storage);
                     detail::store_unorm_texel(t2, q2, storage);
                     continue;
                 }
-                // SPEC §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
+                // docs/math.md §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
                 //          lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
                 const float l1[4] = {0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f,
                                      0.5f * m.z / sc2 + 0.5f};

@@ -1,7 +1,7 @@
 #pragma once
 // Pieces shared by the reference bake (lean_map.cpp, slopes.cpp) and the fused fast path
 // (bake_packed.cpp), so that both follow one definition of the filter taps, of sc and of the
-// input checks (SPEC §2-3).
+// input checks (docs/math.md §2-3).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -26,17 +26,16 @@ struct Tap {
     double weight;
 };
 std::vector<std::vector<Tap>> reduction_taps(int src, int dst);
-
-// One texel of a level made by the 2x2 box (both sizes halved, every weight 0.5): the mean of
-// a0, a1 (row 2y) and c0, c1 (row 2y + 1), in float (SPEC §3: "MIP chain built in float"), summed
-// in this order by the reference and by the fast path's kernels alike. The final + 0 turns the
-// one possible -0 (four -0 inputs, e.g. Mxy = 0 * -By) into +0, so a printed zero has no sign.
+// One texel of a level made by the 2x2 box (both sizes halved, every weight 0.5): the mean of a0,
+// a1 (row 2y) and c0, c1 (row 2y + 1), in float (docs/math.md §3: the MIP chain is built in float),
+// summed in this order by the reference and by the fast path's kernels alike. The final + 0 turns
+// the one possible -0 (four -0 inputs, e.g. Mxy = 0 * -By) into +0, so a printed zero has no sign.
 inline float box4(float a0, float a1, float c0, float c1) {
     return ((a0 + c0) + (a1 + c1)) * 0.25f + 0.0f;
 }
 
-// SPEC §3 packing for UNORM storage (Q = 255 or 65535), each channel one multiply (and add) of
-// the level's float values, then rounded to the nearest integer (ties to even) and clamped to
+// docs/math.md §3 packing for UNORM storage (Q = 255 or 65535), each channel one multiply (and add)
+// of the level's float values, then rounded to the nearest integer (ties to even) and clamped to
 // [0, Q]:
 //   lean1 = (n * Q/2 + Q/2 [rgb], Mxy * (Q/2)/sc^2 + Q/2 [a])
 //         = Q (0.5 n + 0.5, 0.5 Mxy/sc^2 + 0.5)
@@ -88,8 +87,9 @@ inline void store_unorm_texel(std::uint8_t* texel, const std::uint16_t* codes, S
     }
 }
 
-// sc (SPEC §3, LEAN §5) from the top level's max |Bx|, |By| and max Mxx, Myy: the smallest float
-// with |B| <= sc and M.xx, M.yy <= sc^2, with a floor that avoids a zero scale for a flat map.
+// sc (docs/math.md §3, LEAN §5) from the top level's max |Bx|, |By| and max Mxx, Myy: the smallest
+// float with |B| <= sc and M.xx, M.yy <= sc^2, with a floor that avoids a zero scale for a flat
+// map.
 float lean_scale(double max_b, double max_m);
 
 // The summary fields taken from the 1x1 level: covariance M - B B^T and its anisotropy.

@@ -1,4 +1,4 @@
-// Shading settings: validation and conversion to the shared header's parameters (SPEC §4).
+// Shading settings: validation and conversion to the shared header's parameters (docs/math.md §4).
 #include "leanfade/core/settings.hpp"
 
 #include <cmath>
@@ -24,7 +24,7 @@ shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
     p.kd = s.kd;
     p.ks = s.ks;
     p.shininess = s.shininess;
-    p.inv_s_shading = roughness_baked ? 0.0f : 1.0f / s.shininess;  // SPEC §2, LEAN eq. 6
+    p.inv_s_shading = roughness_baked ? 0.0f : 1.0f / s.shininess;  // docs/math.md §2, LEAN eq. 6
     p.fresnel_bias = s.fresnel_bias;
     p.fresnel_scale = s.fresnel_scale;
     p.fade = s.fade;

@@ -1,4 +1,4 @@
-// From bumps to projected slopes (SPEC §2).
+// From bumps to projected slopes (docs/math.md §2).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -94,7 +94,7 @@ SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
 
     SlopeResult result{Image(w, h, 2), 0};
     // Sobel / 8 gives the derivative per texel spacing. Rows run top to bottom, so +v (up) is
-    // towards row y - 1. b~ = (-strength df/du, -strength df/dv) (SPEC §2).
+    // towards row y - 1. b~ = (-strength df/du, -strength df/dv) (docs/math.md §2).
     parallel_for_rows(h, options.threads, [&](int first, int end) {
         for (int y = first; y < end; ++y) {
             const int up = wrap_index(y - 1, h, options.wrap);
@@ -143,7 +143,7 @@ SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options
                 const float nx = 2.0f * normals.at(x, y, 0) - 1.0f;
                 const float ny = green_sign * (2.0f * normals.at(x, y, 1) - 1.0f);
                 const float nz = std::max(2.0f * normals.at(x, y, 2) - 1.0f, kMinNormalZ);
-                result.slopes.at(x, y, 0) = nx / nz;  // B = n.xy / n.z (SPEC §2)
+                result.slopes.at(x, y, 0) = nx / nz;  // B = n.xy / n.z (docs/math.md §2)
                 result.slopes.at(x, y, 1) = ny / nz;
             }
         }

@@ -611,7 +611,7 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
       << "</h1>\n";
     for (const std::string& n : notes) h << "<p class=\"note\">" << html_escape(n) << "</p>\n";
     h << "<h2>What was measured</h2>\n<ul>\n"
-      << "<li>Each technique against the <b>reference</b> (SPEC §7): "
+      << "<li>Each technique against the <b>reference</b> (docs/math.md §7): "
       << (info.adaptive_reference ? "at least " : "")
       << info.reference_samples * info.reference_samples
       << " samples per pixel at LOD 0, shaded with Blinn-Phong bump mapping and box-filtered, "

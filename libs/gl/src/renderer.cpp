@@ -563,7 +563,7 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-// SPEC §7: k x k samples per pixel at LOD 0, shaded with the baseline, box-filtered. The
+// docs/math.md §7: k x k samples per pixel at LOD 0, shaded with the baseline, box-filtered. The
 // supersampled image is drawn in tiles of at most kMaxReferenceTileSamples squared samples, each
 // with the projection narrowed to its pixels, then reduced into the output.
 void Renderer::render_reference(const RenderRequest& request, Target& output) {

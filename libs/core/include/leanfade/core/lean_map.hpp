@@ -1,5 +1,5 @@
 #pragma once
-// LEAN maps (Olano & Baker 2010; ../shared/SPEC.md §2-3): the float moments of a bump map with their
+// LEAN maps (Olano & Baker 2010; docs/math.md §2-3): the float moments of a bump map with their
 // MIP chain, and their packing into the two RGBA textures lean1 / lean2.
 //
 // All vectors are in tangent space: x along +u, y along +v (OpenGL normal-map convention), z out
@@ -43,7 +43,7 @@ struct MomentLevel {
 
 struct LeanMap {
     std::vector<MomentLevel> levels;  // 0 = finest, last = 1x1
-    float scale = 1.0f;               // sc of SPEC §3: |Bx|,|By| <= sc and Mxx,Myy <= sc^2
+    float scale = 1.0f;               // sc of docs/math.md §3: |Bx|,|By| <= sc and Mxx,Myy <= sc^2
     bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
     float baked_shininess = 0.0f;     // s when roughness_baked
     NormalConvention source_convention = NormalConvention::OpenGL;
@@ -95,12 +95,12 @@ struct SlopeResult {
 };
 
 // Height map (first channel used; values in height units where one unit = one texel spacing at
-// strength 1) -> projected slopes with the 3x3 Sobel filter / 8 (SPEC §2). Throws on NaN/Inf
-// and on a slope steeper than kMaxSlope.
+// strength 1) -> projected slopes with the 3x3 Sobel filter / 8 (docs/math.md §2). Throws on
+// NaN/Inf and on a slope steeper than kMaxSlope.
 SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                const std::string& source_name = "");
-// Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (SPEC §2). Throws
-// on NaN/Inf, z <= -kNormalZRejectEpsilon and a slope steeper than kMaxSlope.
+// Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (docs/math.md §2).
+// Throws on NaN/Inf, z <= -kNormalZRejectEpsilon and a slope steeper than kMaxSlope.
 SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
                                 const std::string& source_name = "");
 
@@ -135,9 +135,9 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
 // MIP chain sizes: floor halving down to 1x1, as OpenGL does.
 int mip_level_count(int width, int height);
 
-// Pack (SPEC §3) each level separately from the floats, quantising to the storage: UNORM codes
-// are round-to-nearest (ties to even) of one multiply-add per channel, clamped to [0, 2^bits - 1]
-// (lean_map_internal.hpp, unorm_texel); float storages keep 0.5 B / sc + 0.5 etc. as written.
+// Pack (docs/math.md §3) each level separately from the floats, quantising to the storage: UNORM
+// codes are round-to-nearest (ties to even) of one multiply-add per channel, clamped to [0, 2^bits
+// - 1] (lean_map_internal.hpp, unorm_texel); float storages keep 0.5 B / sc + 0.5 etc. as written.
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator);
 // Inverse of pack_lean_map within the storage's quantisation.
 LeanMap unpack_lean_map(const PackedLeanMap& packed);

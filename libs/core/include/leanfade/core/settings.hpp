@@ -1,6 +1,6 @@
 #pragma once
-// The one set of shading parameters of leanfade (SPEC §4), shared by the CLI (`render`, `view`,
-// `eval`), the presets and the viewer. GL-free.
+// The one set of shading parameters of leanfade (docs/math.md §4), shared by the CLI (`render`,
+// `view`, `eval`), the presets and the viewer. GL-free.
 //
 // Units and spaces:
 // - Colours are linear RGB (not sRGB); radiance = (Ka + Kd NdotL + Specular) * light_color.
@@ -17,13 +17,13 @@
 
 namespace leanfade {
 
-// Distance measure d of specular fading (SPEC §4).
+// Distance measure d of specular fading (docs/math.md §4).
 enum class FadeDistance {
     TangentZ,  // d = Vt.z, the eye's height above the tangent plane (the paper's listing)
     Eye,       // d = length(Vt), the distance to the eye
 };
 
-// Distance fog (lecture 004): C' = f C + (1 - f) C_fog.
+// Distance fog (the OpenGL fog factors, docs/math.md §4): C' = f C + (1 - f) C_fog.
 enum class FogMode { None, Linear, Exp, Exp2 };
 
 struct ShadingSettings {
@@ -56,7 +56,7 @@ struct ShadingSettings {
     float fog_density = 0.05f;  // per world unit (exp, exp2)
 
     // Bumps and texturing.
-    float bump_strength = 1.0f;  // height per texel spacing when baking a height map (SPEC §2)
+    float bump_strength = 1.0f;  // height per texel spacing of height maps (docs/math.md §2)
     float tiling = 1.0f;         // texture repeats per unit of the mesh's uv (built-in meshes
                                  // already repeat the texture about every 0.4 of their units)
     float mip_bias = 0.0f;       // added to the texture LOD (negative = sharper)
@@ -80,8 +80,8 @@ inline constexpr float kMaxTiling = 1e6f;
 // "shininess"), then fog_end > fog_start for linear fog and msaa in {1, 2, 4, 8, 16}.
 void validate(const ShadingSettings& settings);
 
-// The shared header's parameters (SPEC §4). inv_s_shading = roughness_baked ? 0 : 1/s: a LEAN map
-// whose 1/s was baked into M (LEAN eq. 6) must not get it again at shading time.
+// The shared header's parameters (docs/math.md §4). inv_s_shading = roughness_baked ? 0 : 1/s: a
+// LEAN map whose 1/s was baked into M (LEAN eq. 6) must not get it again at shading time.
 shading::LfParams to_lf_params(const ShadingSettings& settings, bool roughness_baked);
 
 // The shader constants LF_FADE_DISTANCE_* / LF_FOG_*.

@@ -1,6 +1,6 @@
 #pragma once
-// C++ view of the shared shading header shaders/lean_shading.glsl (SPEC §4). The very same source
-// is included by the GLSL shaders, so the CPU reference and the GPU agree by construction.
+// C++ view of the shared shading header shaders/lean_shading.glsl (docs/math.md §4). The very same
+// source is included by the GLSL shaders, so the CPU reference and the GPU agree by construction.
 #include <cmath>
 
 #include <glm/glm.hpp>

@@ -45,8 +45,8 @@ struct FadeTarget {
 FadeTarget parse_fade_target(const std::string& text, const std::string& flag = "target");
 std::string to_string(const FadeTarget& target);  // "exp:0.05", "fog", "reference"
 
-// The target's values at the camera distances. Fog uses settings.fog (lf_fog_factor, SPEC §4,
-// with the eye depth = the distance); throws leanfade::Error("target", ...) when the settings
+// The target's values at the camera distances. Fog uses settings.fog (lf_fog_factor, docs/math.md
+// §4, with the eye depth = the distance); throws leanfade::Error("target", ...) when the settings
 // have no fog, and for Reference, which needs renders (measure_reference_ratio).
 std::vector<double> target_attenuation(const FadeTarget& target,
                                        const std::vector<float>& distances,

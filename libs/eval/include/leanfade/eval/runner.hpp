@@ -1,7 +1,8 @@
 #pragma once
 // The OpenGL half of `leanfade eval` and `leanfade calibrate` (target leanfade_eval_gl): renders
-// every technique and the supersampled reference (SPEC §7) from the same cameras and measures
-// them with metrics.hpp, and fits specular fading to a physical attenuation (calibration.hpp).
+// every technique and the supersampled reference (docs/math.md §7) from the same cameras and
+// measures them with metrics.hpp, and fits specular fading to a physical attenuation
+// (calibration.hpp).
 //
 // Cameras look at the object's centre from `distance` bounding radii along a fixed direction with
 // a fixed field of view, so far objects are small, as in the papers. Only the square of the frame

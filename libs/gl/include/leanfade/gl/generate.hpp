@@ -1,10 +1,10 @@
 #pragma once
 // LEAN maps generated on the GPU (the LEAN paper's "per-frame generation", §5): a compute pass
 // (shaders/generate_lean.comp) writes the top level of both slices from a height or normal
-// texture, exactly as the CPU baker computes its top level (SPEC §2-3), then glGenerateMipmap
-// builds the other levels by averaging the packed values (correct because the packing is affine
-// per channel, SPEC §3; for power-of-two sizes the 2 x 2 box equals the CPU's area filter, up to
-// the re-quantisation of each level).
+// texture, exactly as the CPU baker computes its top level (docs/math.md §2-3), then
+// glGenerateMipmap builds the other levels by averaging the packed values (correct because the
+// packing is affine per channel, docs/math.md §3; for power-of-two sizes the 2 x 2 box equals the
+// CPU's area filter, up to the re-quantisation of each level).
 //
 // The texture has the layout Renderer::set_lean_map uploads: a GL_TEXTURE_2D_ARRAY of two slices
 // (lean1, lean2) with every MIP level, texel row 0 at v = 0 (the bottom row of an image file).
@@ -20,7 +20,7 @@
 namespace leanfade::gl {
 
 enum class GenerateInput {
-    Height,  // first channel: heights in texel units (SPEC §2, Sobel / 8)
+    Height,  // first channel: heights in texel units (docs/math.md §2, Sobel / 8)
     Normal,  // channels 0-2: a tangent-space normal map encoded 0.5 n + 0.5
 };
 
@@ -28,7 +28,7 @@ struct GenerateOptions {
     float strength = 1.0f;     // height per texel spacing (height maps)
     Wrap wrap = Wrap::Repeat;  // Sobel taps past the edge (height maps)
     NormalConvention convention = NormalConvention::OpenGL;  // normal maps
-    float scale = 1.0f;                     // sc the slices are packed with (SPEC §3), > 0
+    float scale = 1.0f;                     // sc the slices are packed with (docs/math.md §3), > 0
     float bake_roughness_shininess = 0.0f;  // s > 0: 1/s added to Mxx, Myy (LEAN eq. 6)
     Storage storage = Storage::Unorm16;     // texel format of both slices
 };

@@ -1,6 +1,6 @@
 #pragma once
 // The LEAN map container: a Khronos KTX 2.0 file holding a 2D array texture of two layers
-// (layer 0 = lean1, layer 1 = lean2, SPEC §3) with its MIP chain. See docs/ktx2.md.
+// (layer 0 = lean1, layer 1 = lean2, docs/math.md §3) with its MIP chain. See docs/ktx2.md.
 //
 // - vkFormat from the storage: Unorm8 -> VK_FORMAT_R8G8B8A8_UNORM (37), Unorm16 ->
 //   R16G16B16A16_UNORM (91), Float16 -> R16G16B16A16_SFLOAT (97), Float32 -> R32G32B32A32_SFLOAT

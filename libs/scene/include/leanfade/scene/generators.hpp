@@ -4,7 +4,7 @@
 // generate_tangents() (T along +u, bitangent along +v, right-handed: T.w = +1 on every built-in
 // object). Texture coordinates repeat the bump texture in whole tiles with seams duplicated, so
 // u and v are continuous across each seam and one tile spans about kTileLength world units.
-// Triangle counts at the defaults approximate the specular-fading paper's (SPEC §8).
+// Triangle counts at the defaults approximate the specular-fading paper's (docs/math.md §8).
 // Invalid arguments throw leanfade::Error(object name, cause).
 #include <cstdint>
 

@@ -5,9 +5,9 @@
 // are arbitrary "world units", and each built-in object is centred on the origin (its bounding box
 // centre is (0, 0, 0), up to rounding).
 //
-// Tangent space (SPEC §1): T points along +u, the bitangent Bt along +v, N is the outward surface
-// normal; T is orthonormalised against N by Gram-Schmidt and the handedness is stored in T.w so
-// that Bt = T.w * cross(N, T.xyz). Texture coordinates follow the OpenGL convention (v up).
+// Tangent space (docs/math.md §1): T points along +u, the bitangent Bt along +v, N is the outward
+// surface normal; T is orthonormalised against N by Gram-Schmidt and the handedness is stored in
+// T.w so that Bt = T.w * cross(N, T.xyz). Texture coordinates follow the OpenGL convention (v up).
 #include <cstddef>
 #include <cstdint>
 #include <string>
