@@ -144,10 +144,13 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     return r;
 }
 
-// Covariance (LEAN eq. 5 plus the base roughness 1/s of docs/math.md §2): (Sxx, Syy, Sxy).
+// Covariance (LEAN eq. 5 plus the base roughness 1/s of docs/math.md §2): (Sxx, Syy, Sxy). The
+// variances M - B^2 are 0 or more in exact arithmetic; quantised textures (8-bit above all) can
+// round them below 0, and a negative definite Sigma would turn the lobe's exponent positive and
+// overflow, so they are clamped at 0 before 1/s is added.
 LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
-    return vec3(second.x - mean.x * mean.x + inv_s, second.y - mean.y * mean.y + inv_s,
-                second.z - mean.x * mean.y);
+    return vec3(max(second.x - mean.x * mean.x, 0.0f) + inv_s,
+                max(second.y - mean.y * mean.y, 0.0f) + inv_s, second.z - mean.x * mean.y);
 }
 
 // LEAN lobe (LEAN eq. 1 with the authors' errata normalisation 1/(2 pi sqrt(det))), evaluated at
@@ -156,7 +159,7 @@ LF_FN vec3 lf_covariance(vec2 mean, vec3 second, float inv_s) {
 // (det <= 0 or H below the tangent plane).
 LF_FN vec2 lf_lean_lobe_terms(vec3 half_vector, vec2 mean, vec3 sigma) {
     float det = sigma.x * sigma.y - sigma.z * sigma.z;
-    if (det <= 0.0f || half_vector.z <= 0.0f) return vec2(0.0f);
+    if (det <= 0.0f || sigma.x <= 0.0f || half_vector.z <= 0.0f) return vec2(0.0f);
     vec2 h = vec2(half_vector.x, half_vector.y) / half_vector.z - mean;
     float e = (h.x * h.x * sigma.y + h.y * h.y * sigma.x - 2.0f * h.x * h.y * sigma.z) / det;
     return vec2(-0.5f * e, 2.0f * LF_PI * sqrt(det));
@@ -261,7 +264,7 @@ LF_FN float lf_toksvig_lobe(vec3 filtered_normal, vec3 half_vector, float s) {
 // mean B and the scalar second moment m = E[Bx^2 + By^2] = Mxx + Myy are kept, and the covariance
 // is isotropic with LEAN's trace: Sigma = ((m - |B|^2) / 2 + 1/s) I, as (Sxx, Syy, Sxy).
 LF_FN vec3 lf_clean_covariance(vec2 mean, float second_isotropic, float inv_s) {
-    float variance = 0.5f * (second_isotropic - dot(mean, mean)) + inv_s;
+    float variance = max(0.5f * (second_isotropic - dot(mean, mean)), 0.0f) + inv_s;
     return vec3(variance, variance, 0.0f);
 }
 
