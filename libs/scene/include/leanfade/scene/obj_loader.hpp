@@ -8,8 +8,9 @@ namespace leanfade::scene {
 
 // Loads every face of every object in an OBJ file into one mesh named after the file's stem.
 // Positions are kept as stored (object space, the file's units; no re-centring or axis change).
-// Polygons are triangulated as fans; vertices are shared where position, normal and UV indices
-// all agree. Missing (or zero-length) normals are computed as the area-weighted average of the
+// Polygons are triangulated in linear time: quads on their shorter diagonal, faces of up to 64
+// vertices by ear clipping (concave faces come out right), larger ones as fans; vertices are
+// shared where position, normal and UV indices all agree. Missing (or zero-length) normals are computed as the area-weighted average of the
 // normals of the triangles around each position index (smooth shading). Missing UVs use a box
 // projection: each triangle picks the axis its geometric normal is most aligned with (with sign)
 // and projects onto the other two, oriented so that (+u, +v, axis) is right-handed, in units of
