@@ -6,18 +6,24 @@
 //
 // World units: the renderer's model matrix scales the object to a bounding radius of 1.
 
+#include "bindings.glsl"
+
 layout(location = 0) in vec3 a_position;  // object space
 layout(location = 1) in vec3 a_normal;    // object space, unit
 layout(location = 2) in vec2 a_uv;        // mesh texture coordinates
 layout(location = 3) in vec4 a_tangent;   // object space xyz (unit, along +u), w = handedness
 
-uniform mat4 u_model;            // object -> world
-uniform mat3 u_normal_matrix;    // transpose(inverse(mat3(u_model)))
-uniform mat4 u_view;             // world -> eye (no scale: eye depths are in world units)
-uniform mat4 u_clip;             // world -> clip (projection * view, reference tiles included)
-uniform vec3 u_eye_world;        // eye position, world space
-uniform vec3 u_light_world;      // unit direction toward the light, world space
-uniform float u_tiling;          // texture repeats per unit of uv
+// Everything the vertex stage reads per draw, as one std140 block (mirrored in C++ by
+// LfObjectUniforms, libs/gl/include/leanfade/gl/shading_block.hpp).
+layout(std140, binding = LF_BINDING_OBJECT_BLOCK) uniform LfObjectBlock {
+    mat4 u_model;          // object -> world
+    mat4 u_view;           // world -> eye (no scale: eye depths are in world units)
+    mat4 u_clip;           // world -> clip (projection * view, reference tiles included)
+    mat3 u_normal_matrix;  // transpose(inverse(mat3(u_model)))
+    vec3 u_eye_world;      // eye position, world space
+    float u_tiling;        // texture repeats per unit of uv
+    vec3 u_light_world;    // unit direction toward the light, world space
+};
 
 out VertexData {
     vec2 uv;          // tiled texture coordinates

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <sstream>
 
 #include "gl_test_helpers.hpp"
@@ -179,39 +180,49 @@ TEST_F(GlShaders, EveryVariantCompilesAndLinks) {
 // The fragment stage's uniform block as the driver lays it out equals its C++ mirror
 // (leanfade/gl/shading_block.hpp): every member at the C++ offset, the block within the buffer
 // the renderer allocates, and the binding points of shaders/bindings.glsl.
-TEST_F(GlShaders, ShadingBlockOffsetsMatchTheCppMirror) {
+// One std140 block of a program: the driver's offsets equal the C++ mirror's, every member of the
+// block is in the mirror, the binding point is the one of shaders/bindings.glsl and the block fits
+// the buffer the renderer allocates.
+void check_block(GLuint p, const std::string& variant, const char* block_name,
+                 std::span<const gl::BlockMember> members, int binding, std::size_t cpp_size,
+                 std::size_t buffer_size) {
+    const GLuint block = glGetProgramResourceIndex(p, GL_UNIFORM_BLOCK, block_name);
+    ASSERT_NE(block, GL_INVALID_INDEX) << variant << " " << block_name;
+    const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING, GL_NUM_ACTIVE_VARIABLES};
+    GLint block_values[3] = {0, -1, -1};
+    glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, block, 3, block_props, 3, nullptr, block_values);
+    EXPECT_LE(std::size_t(block_values[0]), buffer_size) << variant << " " << block_name;
+    EXPECT_GE(std::size_t(block_values[0]), cpp_size) << variant << " " << block_name;
+    EXPECT_EQ(block_values[1], binding) << variant << " " << block_name;
+    EXPECT_EQ(block_values[2], GLint(members.size())) << variant << " " << block_name;
+    for (const gl::BlockMember& member : members) {
+        const GLuint index = glGetProgramResourceIndex(p, GL_UNIFORM, member.name);
+        // std140 blocks keep every member active (the layout is fixed), so all must be found.
+        ASSERT_NE(index, GL_INVALID_INDEX) << variant << ": " << member.name;
+        const GLenum props[] = {GL_OFFSET, GL_BLOCK_INDEX};
+        GLint values[2] = {-1, -1};
+        glGetProgramResourceiv(p, GL_UNIFORM, index, 2, props, 2, nullptr, values);
+        EXPECT_EQ(values[0], GLint(member.offset)) << variant << ": " << member.name;
+        EXPECT_EQ(values[1], GLint(block)) << variant << ": " << member.name;
+    }
+}
+
+// The uniform blocks as the driver lays them out equal their C++ mirrors
+// (leanfade/gl/shading_block.hpp), and the LEAN map's sampler is on its named unit.
+TEST_F(GlShaders, UniformBlocksMatchTheirCppMirrors) {
     const gl::ShaderSources sources = gl::ShaderSources::embedded();
     int checked_programs = 0;
     for (const gl::ShaderVariant& variant : gl::shader_variants()) {
-        if (variant.fragment != "scene.frag") continue;
+        if (variant.vertex != "scene.vert") continue;
         gl::Program program = gl::build_program(sources, variant);
         const GLuint p = program.get();
-        const GLuint block = glGetProgramResourceIndex(p, GL_UNIFORM_BLOCK, "LfShadingBlock");
-        ASSERT_NE(block, GL_INVALID_INDEX) << variant.name;
-        const GLenum block_props[] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING,
-                                      GL_NUM_ACTIVE_VARIABLES};
-        GLint block_values[3] = {0, -1, -1};
-        glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, block, 3, block_props, 3, nullptr,
-                               block_values);
-        // Every member of the GLSL block is listed in the C++ mirror, and no other.
-        EXPECT_EQ(block_values[2], GLint(std::size(gl::kShadingBlockMembers))) << variant.name;
-        EXPECT_LE(std::size_t(block_values[0]), gl::kShadingBlockStd140Size) << variant.name;
-        EXPECT_GE(std::size_t(block_values[0]), sizeof(gl::LfShadingUniforms)) << variant.name;
-        EXPECT_EQ(block_values[1], gl::bindings::LF_BINDING_SHADING_BLOCK) << variant.name;
-        int active = 0;
-        for (const gl::BlockMember& member : gl::kShadingBlockMembers) {
-            const GLuint index = glGetProgramResourceIndex(p, GL_UNIFORM, member.name);
-            // A plain variant may leave the fog and output members unused (inactive).
-            if (index == GL_INVALID_INDEX) continue;
-            const GLenum props[] = {GL_OFFSET, GL_BLOCK_INDEX};
-            GLint values[2] = {-1, -1};
-            glGetProgramResourceiv(p, GL_UNIFORM, index, 2, props, 2, nullptr, values);
-            EXPECT_EQ(values[0], GLint(member.offset)) << variant.name << ": " << member.name;
-            EXPECT_EQ(values[1], GLint(block)) << variant.name << ": " << member.name;
-            ++active;
-        }
-        // std140 blocks keep every member active (the layout is fixed), so all must be found.
-        EXPECT_EQ(active, int(std::size(gl::kShadingBlockMembers))) << variant.name;
+        check_block(p, variant.name, "LfObjectBlock", gl::kObjectBlockMembers,
+                    gl::bindings::LF_BINDING_OBJECT_BLOCK, sizeof(gl::LfObjectUniforms),
+                    sizeof(gl::LfObjectUniforms));
+        if (variant.fragment != "scene.frag") continue;  // the constant colour reads no more
+        check_block(p, variant.name, "LfShadingBlock", gl::kShadingBlockMembers,
+                    gl::bindings::LF_BINDING_SHADING_BLOCK, sizeof(gl::LfShadingUniforms),
+                    gl::kShadingBlockStd140Size);
         const GLint sampler = glGetUniformLocation(p, "u_lean");
         ASSERT_GE(sampler, 0) << variant.name;
         GLint unit = -1;

@@ -23,23 +23,11 @@ GLint location(GLuint program, const char* name) {
     return glGetUniformLocation(program, name);
 }
 
-void set(GLuint p, const char* name, float v) {
-    glProgramUniform1f(p, location(p, name), v);
-}
 void set(GLuint p, const char* name, int v) {
     glProgramUniform1i(p, location(p, name), v);
 }
-void set(GLuint p, const char* name, const glm::vec3& v) {
-    glProgramUniform3fv(p, location(p, name), 1, glm::value_ptr(v));
-}
 void set(GLuint p, const char* name, const glm::ivec2& v) {
     glProgramUniform2iv(p, location(p, name), 1, glm::value_ptr(v));
-}
-void set(GLuint p, const char* name, const glm::mat3& m) {
-    glProgramUniformMatrix3fv(p, location(p, name), 1, GL_FALSE, glm::value_ptr(m));
-}
-void set(GLuint p, const char* name, const glm::mat4& m) {
-    glProgramUniformMatrix4fv(p, location(p, name), 1, GL_FALSE, glm::value_ptr(m));
 }
 
 GLint gl_integer(GLenum name) {
@@ -224,6 +212,9 @@ Renderer::Renderer(Context& context, ShaderSources sources)
     shading_block_ = create_buffer();
     glNamedBufferStorage(shading_block_.get(), GLsizeiptr(kShadingBlockStd140Size), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
+    object_block_ = create_buffer();
+    glNamedBufferStorage(object_block_.get(), GLsizeiptr(sizeof(LfObjectUniforms)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
 }
 
 Renderer::~Renderer() = default;
@@ -398,18 +389,23 @@ const LeanTextureInfo& Renderer::lean_texture() const {
 void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat4& clip) {
     const ShadingSettings& frame = request.settings;
     const glm::mat4 view = request.view.view_matrix();
-    set(p, "u_view", view);
-    set(p, "u_clip", clip);
-    set(p, "u_eye_world", request.view.eye);
-    set(p, "u_light_world", glm::normalize(frame.light_direction));
-    set(p, "u_tiling", frame.tiling);
+    LfObjectUniforms object_block{};
+    object_block.view = view;
+    object_block.clip = clip;
+    object_block.eye_world = request.view.eye;
+    object_block.light_world = glm::normalize(frame.light_direction);
+    object_block.tiling = frame.tiling;
     glUseProgram(p);
     for (const GpuObject& object : objects_) {
         const scene::Material& material = materials_[std::size_t(object.material)];
         const GpuMap& map = maps_[std::size_t(material.lean_map)];
-        const glm::mat4 model = model_ * object.transform;
-        set(p, "u_model", model);
-        set(p, "u_normal_matrix", glm::mat3(glm::transpose(glm::inverse(model))));
+        object_block.model = model_ * object.transform;
+        const glm::mat3 normal_matrix(glm::transpose(glm::inverse(object_block.model)));
+        for (int c = 0; c < 3; ++c)
+            object_block.normal_matrix[c] = glm::vec4(normal_matrix[c], 0.0f);
+        glNamedBufferSubData(object_block_.get(), 0, sizeof(object_block), &object_block);
+        glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_OBJECT_BLOCK),
+                         object_block_.get());
 
         ShadingSettings s = frame;
         if (material.diffuse) s.kd = *material.diffuse;

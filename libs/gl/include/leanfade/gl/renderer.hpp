@@ -181,6 +181,7 @@ class Renderer {
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;
     Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
+    Buffer object_block_;   // LfObjectUniforms, std140
     std::unique_ptr<Target> target_;
 };
 

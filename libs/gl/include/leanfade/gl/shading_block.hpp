@@ -6,6 +6,8 @@
 // tests/gl/test_shaders.cpp (UniformBlock.*).
 #include <cstddef>
 
+#include <glm/mat4x4.hpp>
+
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade::gl {
@@ -81,5 +83,36 @@ inline constexpr BlockMember kShadingBlockMembers[] = {
 };
 #undef LF_PARAM
 #undef LF_UNIFORM
+
+// The vertex stage's block LfObjectBlock (shaders/scene.vert): the object's and the camera's
+// transforms, the eye, the light and the tiling. std140 pads each mat3 column to a vec4.
+struct LfObjectUniforms {
+    glm::mat4 model;             // object -> world
+    glm::mat4 view;              // world -> eye
+    glm::mat4 clip;              // world -> clip
+    glm::vec4 normal_matrix[3];  // columns of transpose(inverse(mat3(model))), w unused
+    glm::vec3 eye_world;
+    float tiling;
+    glm::vec3 light_world;
+    float padding;
+};
+static_assert(offsetof(LfObjectUniforms, model) == 0);
+static_assert(offsetof(LfObjectUniforms, view) == 64);
+static_assert(offsetof(LfObjectUniforms, clip) == 128);
+static_assert(offsetof(LfObjectUniforms, normal_matrix) == 192);
+static_assert(offsetof(LfObjectUniforms, eye_world) == 240);
+static_assert(offsetof(LfObjectUniforms, tiling) == 252);
+static_assert(offsetof(LfObjectUniforms, light_world) == 256);
+static_assert(sizeof(LfObjectUniforms) == 272);
+
+inline constexpr BlockMember kObjectBlockMembers[] = {
+    {"u_model", offsetof(LfObjectUniforms, model)},
+    {"u_view", offsetof(LfObjectUniforms, view)},
+    {"u_clip", offsetof(LfObjectUniforms, clip)},
+    {"u_normal_matrix", offsetof(LfObjectUniforms, normal_matrix)},
+    {"u_eye_world", offsetof(LfObjectUniforms, eye_world)},
+    {"u_tiling", offsetof(LfObjectUniforms, tiling)},
+    {"u_light_world", offsetof(LfObjectUniforms, light_world)},
+};
 
 }  // namespace leanfade::gl
