@@ -181,7 +181,7 @@ bool write_png_rows(png_structp png, png_infop info, PngContext& context,
     png_set_write_fn(png, &context, write_to_memory, flush_nothing);
     png_set_IHDR(png, info, layout.width, layout.height, layout.bit_depth, layout.color_type,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    // zlib's fastest level: a 4096² 16-bit RGBA layer (`leanfade bake --format png`) encodes
+    // zlib's fastest level: a 4096² 16-bit RGBA slice (the PNG pair of a bake) encodes
     // 2.5x faster than at the default level 6, for files 4 % larger (docs/perf.md).
     png_set_compression_level(png, 1);
     png_write_info(png, info);

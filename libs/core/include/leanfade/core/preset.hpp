@@ -1,6 +1,6 @@
 #pragma once
 // Presets: every parameter of a view (scene, bumps, shading, camera, panes) as a JSON file, saved
-// and loaded by `leanfade view` and read by `leanfade render --preset`. GL-free.
+// and loaded by the viewer and read by `leanfade render` as its starting settings. GL-free.
 //
 // Format (every key optional; a missing key keeps the default below; see docs/viewer.md):
 //   {

@@ -1,6 +1,6 @@
 #pragma once
 // The shading techniques of leanfade, described once. Everything that lists, parses, names,
-// colours or compiles a technique (the CLI and its --help, presets, the viewer's lists, eval's
+// colours or compiles a technique (the command line and its help, presets, the viewer's lists, eval's
 // tables and plots, the benchmark's columns and ratios, the renderer's shader variants, the CPU
 // reference) reads this table; nothing else spells a technique's name.
 //
@@ -23,7 +23,7 @@ struct TechniqueInfo {
     Technique id;
     std::string_view name;         // in command lines, presets, JSON keys and file names
     std::string_view label;        // for people: figure headers, the viewer, reports
-    std::string_view description;  // one line for --help and the docs
+    std::string_view description;  // one line for help texts and the docs
     int shader_technique;          // the lobe stage of lf_shade (LF_TECHNIQUE_*)
     bool reads_moments;  // samples lean2 (B and M); false: the filtered normal of lean1 only
     bool fades;          // applies specular fading (Fade, Pmax, p and the distance measure)
