@@ -133,8 +133,11 @@ TEST(Parameters, EveryRowIsAPresetKey) {
     s.anisotropy = 4;
     s.msaa = 8;
     const std::string text = preset_to_json(p);
-    for (const ParameterInfo& row : shading_parameters())
-        EXPECT_NE(text.find("\"" + std::string(row.key) + "\""), std::string::npos) << row.key;
+    for (const ParameterInfo& row : shading_parameters()) {
+        std::string quoted(1, '"');
+        quoted.append(row.key).push_back('"');
+        EXPECT_NE(text.find(quoted), std::string::npos) << row.key;
+    }
     const Preset back = preset_from_json(text, "p.json");
     for (const ParameterInfo& row : shading_parameters())
         EXPECT_EQ(format_parameter(row, back.shading), format_parameter(row, s)) << row.key;

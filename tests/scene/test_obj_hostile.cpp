@@ -116,7 +116,7 @@ std::string disc(std::size_t count, bool dented = false) {
         text += line;
     }
     text += "f";
-    for (std::size_t i = 1; i <= count; ++i) text += " " + std::to_string(i);
+    for (std::size_t i = 1; i <= count; ++i) text.append(1, ' ').append(std::to_string(i));
     return text + "\n";
 }
 
@@ -130,11 +130,11 @@ std::string star(std::size_t points) {
     for (std::size_t i = 0; i < 2 * points; ++i) {
         const double angle = 3.141592653589793 * double(i) / double(points);
         const double radius = i % 2 == 0 ? 1.0 : 0.5;
-        text += "v " + std::to_string(radius * std::cos(angle)) + " " +
-                std::to_string(radius * std::sin(angle)) + " 0\n";
+        text.append("v ").append(std::to_string(radius * std::cos(angle))).append(" ");
+        text.append(std::to_string(radius * std::sin(angle))).append(" 0\n");
     }
     text += "f";
-    for (std::size_t i = 1; i <= 2 * points; ++i) text += " " + std::to_string(i);
+    for (std::size_t i = 1; i <= 2 * points; ++i) text.append(1, ' ').append(std::to_string(i));
     return text + "\n";
 }
 
@@ -154,14 +154,18 @@ double signed_area(const Mesh& mesh) {
 // Found by an outside probe: tinyobjloader triangulates a polygon in time quadratic in its
 // vertex count, so one face of 100 000 vertices (2 MB of text) took more than 30 s. Faces are
 // triangulated by the loader now: up to 64 vertices by ear clipping (right for non-convex faces),
-// larger ones as fans (linear time).
+// larger ones as fans (linear time). The bound below is a hang guard, not a speed measurement:
+// 300 000 vertices load in about 2 s here, while quadratic triangulation takes minutes (at
+// 100 000 vertices it already took more than 30 s).
 TEST(ObjHostile, FaceWithHundredThousandVerticesLoadsInLinearTime) {
     for (const bool dented : {false, true}) {
         const auto start = std::chrono::steady_clock::now();
-        const Mesh mesh = load_obj_from_memory(disc(100000, dented), "big_face.obj");
-        EXPECT_LT(seconds_since(start), 3.0);
-        EXPECT_EQ(mesh.triangle_count(), 99998u);
-        if (!dented) EXPECT_NEAR(signed_area(mesh), 3.141592653589793, 1e-3);  // all CCW
+        const Mesh mesh = load_obj_from_memory(disc(300000, dented), "big_face.obj");
+        EXPECT_LT(seconds_since(start), 60.0);
+        EXPECT_EQ(mesh.triangle_count(), 299998u);
+        if (!dented) {
+            EXPECT_NEAR(signed_area(mesh), 3.141592653589793, 1e-3);  // all CCW
+        }
     }
 
     // A non-convex star of 64 vertices: ear-clipped into 62 triangles covering exactly the star
