@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "hostile_bytes.hpp"
 #include "tools_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -41,73 +42,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
-
-// A hostile file of a few KiB must not make leanfade hold more than this (the PNG bomb of
-// HostileFiles/png_bomb made it hold 2 GiB before the guard); generous for sanitizer builds.
-constexpr long kMaxRssKib = 512 * 1024;
-
-void write_bytes(const fs::path& path, const Bytes& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw Error(path.string(), "test cannot write the file");
-}
+using test::Bytes;
+using test::kMaxRssKib;
+using test::load_be32;
+using test::load_le32;
+using test::q;
+using test::read_bytes;
+using test::store_be32;
+using test::store_le32;
+using test::store_le64;
+using test::write_bytes;
+using test::zlib_compress;
+using test::append_chunk;
 
 void write_text(const fs::path& path, const std::string& text) {
     write_bytes(path, Bytes(text.begin(), text.end()));
 }
 
-Bytes read_bytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return Bytes(std::istreambuf_iterator<char>(in), {});
-}
-
-std::string q(const fs::path& path) {
-    return shell_quote(path.string());
-}
-
 // --- PNG -----------------------------------------------------------------------------------------
-
-std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
-    std::uint32_t crc = 0xFFFFFFFFu;
-    for (std::size_t i = 0; i < size; ++i) {
-        crc ^= data[i];
-        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
-
-std::uint32_t load_be32(const Bytes& bytes, std::size_t offset) {
-    return (std::uint32_t(bytes.at(offset)) << 24) | (std::uint32_t(bytes.at(offset + 1)) << 16) |
-           (std::uint32_t(bytes.at(offset + 2)) << 8) | std::uint32_t(bytes.at(offset + 3));
-}
-
-void store_be32(Bytes& bytes, std::size_t offset, std::uint32_t value) {
-    for (int i = 0; i < 4; ++i) {
-        bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (24 - 8 * i));
-    }
-}
-
-void append_chunk(Bytes& png, const char* type, const Bytes& data) {
-    const std::size_t start = png.size();
-    png.resize(start + 4);
-    store_be32(png, start, std::uint32_t(data.size()));
-    png.insert(png.end(), type, type + 4);
-    png.insert(png.end(), data.begin(), data.end());
-    const std::uint32_t crc = crc32(png.data() + start + 4, data.size() + 4);
-    png.resize(png.size() + 4);
-    store_be32(png, png.size() - 4, crc);
-}
-
-Bytes zlib_compress(const Bytes& data) {
-    uLongf size = compressBound(uLong(data.size()));
-    Bytes out(size);
-    if (compress(out.data(), &size, data.data(), uLong(data.size())) != Z_OK) {
-        throw Error("zlib", "test cannot compress");
-    }
-    out.resize(size);
-    return out;
-}
 
 // Offset of the first chunk of `type` (its length field); throws when there is none.
 std::size_t find_chunk(const Bytes& png, const char* type) {
@@ -193,29 +145,8 @@ constexpr std::size_t kVkFormat = 12, kPixelWidth = 20, kPixelHeight = 24, kLaye
                       kLevelCount = 40, kSupercompression = 44, kDfdOffset = 48, kKvdOffset = 56,
                       kLevelIndex = 80;
 
-std::uint32_t load_le32(const Bytes& bytes, std::size_t offset) {
-    std::uint32_t value = 0;
-    for (int i = 3; i >= 0; --i) value = (value << 8) | bytes.at(offset + std::size_t(i));
-    return value;
-}
-void store_le32(Bytes& bytes, std::size_t offset, std::uint32_t value) {
-    for (int i = 0; i < 4; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
-}
-void store_le64(Bytes& bytes, std::size_t offset, std::uint64_t value) {
-    for (int i = 0; i < 8; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
-}
-
-// The bytes of a valid 16x16 LEAN map (5 levels, 16-bit UNORM), baked in-process.
 Bytes lean_map_bytes(const fs::path& dir) {
-    BakeOptions options;
-    options.threads = 1;
-    const BakeResult baked =
-        bake_lean_map(make_builtin_height("bumps", 16, 5), BakeSource::Height, options);
-    const fs::path path = dir / "valid.tmp.ktx2";
-    io::write_ktx2(path.string(), pack_lean_map(baked.map, Storage::Unorm16, "test"));
-    Bytes bytes = read_bytes(path);
-    fs::remove(path);
-    return bytes;
+    return test::lean_map_bytes(dir, Storage::Unorm16);
 }
 
 // A valid LEAN map edited by `edit`, written to dir/name; returns the `info` arguments.

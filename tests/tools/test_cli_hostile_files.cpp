@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "hostile_bytes.hpp"
 #include "tools_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -37,61 +38,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
-
-// The bound of test_cli_hostile.cpp: a small hostile file must not make leanfade hold more.
-constexpr long kMaxRssKib = 512 * 1024;
-
-void write_bytes(const fs::path& path, const Bytes& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw Error(path.string(), "test cannot write the file");
-}
-
-Bytes read_bytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return Bytes(std::istreambuf_iterator<char>(in), {});
-}
-
-std::string q(const fs::path& path) {
-    return shell_quote(path.string());
-}
-
-void store_be32(Bytes& bytes, std::size_t offset, std::uint32_t value) {
-    for (int i = 0; i < 4; ++i)
-        bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (24 - 8 * i));
-}
-void store_le32(Bytes& bytes, std::size_t offset, std::uint32_t value) {
-    for (int i = 0; i < 4; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
-}
-void store_le64(Bytes& bytes, std::size_t offset, std::uint64_t value) {
-    for (int i = 0; i < 8; ++i) bytes.at(offset + std::size_t(i)) = std::uint8_t(value >> (8 * i));
-}
-std::uint64_t load_le64(const Bytes& bytes, std::size_t offset) {
-    std::uint64_t value = 0;
-    for (int i = 7; i >= 0; --i) value = (value << 8) | bytes.at(offset + std::size_t(i));
-    return value;
-}
-
-void append_chunk(Bytes& png, const char* type, const Bytes& data) {
-    const std::size_t start = png.size();
-    png.resize(start + 4);
-    store_be32(png, start, std::uint32_t(data.size()));
-    png.insert(png.end(), type, type + 4);
-    png.insert(png.end(), data.begin(), data.end());
-    const auto crc = std::uint32_t(::crc32(0, png.data() + start + 4, uInt(data.size() + 4)));
-    png.resize(png.size() + 4);
-    store_be32(png, png.size() - 4, crc);
-}
-
-Bytes zlib_compress(const Bytes& data) {
-    uLongf size = compressBound(uLong(data.size()));
-    Bytes out(size);
-    if (compress(out.data(), &size, data.data(), uLong(data.size())) != Z_OK)
-        throw Error("zlib", "test cannot compress");
-    out.resize(size);
-    return out;
-}
+using test::append_chunk;
+using test::Bytes;
+using test::kMaxRssKib;
+using test::load_le64;
+using test::q;
+using test::read_bytes;
+using test::store_be32;
+using test::store_le32;
+using test::store_le64;
+using test::write_bytes;
+using test::zlib_compress;
 
 // A 1-bit palette PNG of side x side whose pixel data is `rows` bytes of zeros, compressed.
 Bytes palette_png(std::uint32_t side, std::size_t rows, bool transparency) {
@@ -176,17 +133,8 @@ TiledExr tiled_exr() {
     return exr;
 }
 
-// The bytes of a valid 16 x 16 LEAN map (5 levels, 16-bit float), baked in-process.
 Bytes lean_map_bytes(const fs::path& dir) {
-    BakeOptions options;
-    options.threads = 1;
-    const BakeResult baked =
-        bake_lean_map(make_builtin_height("bumps", 16, 5), BakeSource::Height, options);
-    const fs::path path = dir / "valid.tmp.ktx2";
-    io::write_ktx2(path.string(), pack_lean_map(baked.map, Storage::Float16, "test"));
-    Bytes bytes = read_bytes(path);
-    fs::remove(path);
-    return bytes;
+    return test::lean_map_bytes(dir, Storage::Float16);
 }
 
 // Replaces the first `from` in `bytes` by `to` (same length).

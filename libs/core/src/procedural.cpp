@@ -63,17 +63,8 @@ Image make_bumps(int size, Rng& rng) {
     return img;
 }
 
-Image make_ridges(int size) {
-    const RidgeParameters r = ridge_parameters(size);
-    Image img(size, size, 1);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x)
-            img.at(x, y) = float(r.amplitude * std::sin(kTwoPi * x / r.wavelength));
-    return img;
-}
-
-Image make_sine(int size) {
-    const RidgeParameters r = sine_parameters(size);
+// h = A sin(2 pi x / lambda): waves along u, constant along v.
+Image make_waves_along_u(int size, const RidgeParameters& r) {
     Image img(size, size, 1);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x)
@@ -202,11 +193,11 @@ Image make_builtin_height(const std::string& name, int size, std::uint32_t seed)
                                              std::to_string(kDefaultMaxImageDimension) + "]");
     Rng rng(seed);
     if (name == "bumps") return make_bumps(size, rng);
-    if (name == "ridges") return make_ridges(size);
+    if (name == "ridges") return make_waves_along_u(size, ridge_parameters(size));
     if (name == "checker") return make_checker(size);
     if (name == "noise") return make_noise(size, rng);
     if (name == "waves") return make_waves(size, rng);
-    if (name == "sine") return make_sine(size);
+    if (name == "sine") return make_waves_along_u(size, sine_parameters(size));
     if (name == "flat") return Image(size, size, 1);
     std::string valid;
     for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
