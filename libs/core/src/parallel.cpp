@@ -13,6 +13,8 @@
 namespace leanfade {
 namespace {
 
+std::atomic<int> thread_start_limit{-1};  // set_thread_start_limit_for_testing
+
 // Starts run(w) on a thread for w = 1, 2, ... count - 1, as many as the system allows: when a
 // thread cannot be started (a process or memory limit), the ones started are kept and the
 // number started is returned; the caller does the rest of the work itself. Never throws.
@@ -23,7 +25,9 @@ int start_workers(std::vector<std::thread>& pool, int count, const Run& run) {
     } catch (...) {
         return 1;
     }
+    const int limit = thread_start_limit.load();
     for (int w = 1; w < count; ++w) {
+        if (limit >= 0 && w > limit) return w;  // as if the system refused this thread
         try {
             pool.emplace_back(run, w);
         } catch (...) {  // std::system_error (EAGAIN) or std::bad_alloc
@@ -43,6 +47,10 @@ void rethrow_first(const std::vector<std::exception_ptr>& errors) {
 }
 
 }  // namespace
+
+int set_thread_start_limit_for_testing(int limit) {
+    return thread_start_limit.exchange(limit);
+}
 
 int resolve_thread_count(int requested) {
     if (requested > kMaxThreads)

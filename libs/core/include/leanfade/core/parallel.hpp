@@ -10,6 +10,12 @@
 
 namespace leanfade {
 
+// For tests: from now on, every loop of this process can start at most `limit` threads besides
+// the calling one, as if the system refused the next (-1: no limit, the default). It exercises
+// the same path as a real refusal where one cannot be produced (under AddressSanitizer, whose
+// allocator aborts when the address space runs out). Returns the previous limit.
+int set_thread_start_limit_for_testing(int limit);
+
 // The most worker threads a loop takes (a request beyond it is refused, not clamped).
 inline constexpr int kMaxThreads = 1024;
 
