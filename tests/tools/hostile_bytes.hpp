@@ -2,12 +2,15 @@
 // Byte-level helpers of the hostile-file tests of the command line (test_cli_hostile.cpp,
 // test_cli_hostile_files.cpp): files as bytes, big- and little-endian fields, PNG chunks with
 // their CRC, zlib streams, and a valid LEAN map to break.
+#include <tinyexr.h>
 #include <zlib.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,6 +87,19 @@ inline Bytes zlib_compress(const Bytes& data) {
         throw Error("zlib", "test cannot compress");
     out.resize(size);
     return out;
+}
+
+// An OpenEXR file of `image` with `header`, as tinyexr writes it.
+inline Bytes exr_bytes(const EXRImage& image, const EXRHeader& header) {
+    unsigned char* memory = nullptr;
+    const char* message = nullptr;
+    const std::size_t size = SaveEXRImageToMemory(&image, &header, &memory, &message);
+    if (size == 0) {
+        FreeEXRErrorMessage(message);
+        throw Error("exr", "tinyexr cannot write the test image");
+    }
+    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
+    return Bytes(memory, memory + size);
 }
 
 // The bytes of a valid 16 x 16 LEAN map (5 levels) in `storage`, baked in-process.

@@ -54,6 +54,7 @@ using test::store_le64;
 using test::write_bytes;
 using test::zlib_compress;
 using test::append_chunk;
+using test::exr_bytes;
 
 void write_text(const fs::path& path, const std::string& text) {
     write_bytes(path, Bytes(text.begin(), text.end()));
@@ -118,15 +119,7 @@ Bytes exr_with_values(int width, int height, const std::vector<float>& values) {
     image.width = width;
     image.height = height;
     image.num_channels = 1;
-    unsigned char* memory = nullptr;
-    const char* message = nullptr;
-    const std::size_t size = SaveEXRImageToMemory(&image, &header, &memory, &message);
-    if (size == 0) {
-        FreeEXRErrorMessage(message);
-        throw Error("exr", "tinyexr cannot write the test image");
-    }
-    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
-    return Bytes(memory, memory + size);
+    return exr_bytes(image, header);
 }
 
 // --- PFM -----------------------------------------------------------------------------------------

@@ -39,6 +39,7 @@ namespace fs = std::filesystem;
 namespace {
 
 using test::append_chunk;
+using test::exr_bytes;
 using test::Bytes;
 using test::kMaxRssKib;
 using test::load_le64;
@@ -118,16 +119,8 @@ TiledExr tiled_exr() {
     image.width = kSide;
     image.height = kSide;
     image.num_channels = 1;
-    unsigned char* memory = nullptr;
-    const char* message = nullptr;
-    const std::size_t size = SaveEXRImageToMemory(&image, &header, &memory, &message);
-    if (size == 0) {
-        FreeEXRErrorMessage(message);
-        throw Error("exr", "tinyexr cannot write the test image");
-    }
-    const std::unique_ptr<unsigned char, decltype(&std::free)> owned(memory, &std::free);
     TiledExr exr;
-    exr.bytes.assign(memory, memory + size);
+    exr.bytes = exr_bytes(image, header);
     exr.tiles = attribute(exr.bytes, "tiles", "tiledesc");
     exr.window = attribute(exr.bytes, "dataWindow", "box2i");
     return exr;

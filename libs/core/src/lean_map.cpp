@@ -12,6 +12,7 @@
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/core/shading.hpp"
 
@@ -30,17 +31,6 @@ const char* to_string(Storage s) {
     }
     return "?";
 }
-namespace {
-
-// "a, b, c or d"
-std::string name_list(const std::vector<std::string>& names) {
-    std::string text;
-    for (std::size_t i = 0; i < names.size(); ++i)
-        text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
-    return text;
-}
-
-}  // namespace
 
 const std::vector<std::string>& storage_names() {
     static const std::vector<std::string> names = [] {

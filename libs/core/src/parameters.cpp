@@ -214,17 +214,14 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
                                  ", got '" + value + "'");
         }
         case ParameterKind::Choice: {
-            std::string names;
             for (std::size_t i = 0; i < row.choices.size(); ++i) {
                 if (value == row.choices[i]) {
                     row.set_choice(s, int(i));
                     return;
                 }
-                names += (i == 0 ? "" : i + 1 == row.choices.size() ? " or " : ", ");
-                names += row.choices[i];
             }
             throw Error(key, "unknown " + std::string(row.label) + " '" + value + "' (expected " +
-                                 names + ")");
+                                 name_list(row.choices) + ")");
         }
     }
 }

@@ -53,19 +53,14 @@ int to_shader_constant(FogMode mode) {
     return shading::LF_FOG_NONE;
 }
 
-// Names from the parameter schema's choices (leanfade/core/parameters.hpp).
+// Names from the parameter schema's choices (leanfade/core/parameters.hpp), listed in enum
+// order.
 const char* to_string(FadeDistance mode) {
-    ShadingSettings s;
-    s.fade_distance = mode;
-    const ParameterInfo& row = *find_shading_parameter("fade_distance");
-    return row.choices[std::size_t(row.get_choice(s))].data();
+    return find_shading_parameter("fade_distance")->choices[std::size_t(mode)].data();
 }
 
 const char* to_string(FogMode mode) {
-    ShadingSettings s;
-    s.fog = mode;
-    const ParameterInfo& row = *find_shading_parameter("fog");
-    return row.choices[std::size_t(row.get_choice(s))].data();
+    return find_shading_parameter("fog")->choices[std::size_t(mode)].data();
 }
 
 }  // namespace leanfade

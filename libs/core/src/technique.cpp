@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/text.hpp"
 
 namespace leanfade {
 
@@ -28,18 +29,9 @@ std::vector<Technique> approximating_techniques() {
 }
 
 std::string technique_names(std::span<const Technique> techniques, std::string_view last) {
-    std::string text;
-    for (std::size_t i = 0; i < techniques.size(); ++i) {
-        if (i + 1 == techniques.size() && i > 0) {
-            text += ' ';
-            text += last;
-            text += ' ';
-        } else if (i > 0) {
-            text += ", ";
-        }
-        text += info(techniques[i]).name;
-    }
-    return text;
+    std::vector<std::string_view> names;
+    for (const Technique t : techniques) names.push_back(info(t).name);
+    return name_list(names, last);
 }
 
 std::string join_technique_names(std::span<const Technique> techniques) {

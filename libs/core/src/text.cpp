@@ -14,4 +14,24 @@ std::vector<std::string> split(const std::string& text, char separator) {
     return parts;
 }
 
+std::string name_list(std::span<const std::string_view> names, std::string_view last) {
+    std::string text;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (i > 0 && i + 1 == names.size()) {
+            text += ' ';
+            text += last;
+            text += ' ';
+        } else if (i > 0) {
+            text += ", ";
+        }
+        text += names[i];
+    }
+    return text;
+}
+
+std::string name_list(std::span<const std::string> names, std::string_view last) {
+    const std::vector<std::string_view> views(names.begin(), names.end());
+    return name_list(views, last);
+}
+
 }  // namespace leanfade
