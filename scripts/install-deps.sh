@@ -9,6 +9,7 @@ packages=(
   libtinyobjloader-dev libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libglfw3-dev libimgui-dev glslang-tools xvfb xauth libglx-mesa0 gnuplot-nox
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev
 )
 # shellcheck disable=SC2206
 packages+=(${LEANFADE_EXTRA_PACKAGES:-})
