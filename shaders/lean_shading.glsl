@@ -144,6 +144,30 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     return r;
 }
 
+// Flow-map weights of moving layers (LEAN §3.5, Fig. 11: "layers are weighted in proportion to
+// their movement direction"): layer i's agreement with the local flow f is
+// max(0, dot(normalize(v_i), normalize(f))), and its weight t_i is its agreement over the sum of
+// all (so the weights sum to 1). Velocities and flow share one frame (texture u, v; any units);
+// a layer with zero velocity agrees nowhere. Where no layer agrees (f = 0, or f opposes every
+// layer) the `count` layers share equally. Layers at and beyond `count` (1..4) get 0.
+LF_FN float lf_flow_agreement(vec2 velocity, vec2 flow) {
+    float speed = length(velocity);
+    float strength = length(flow);
+    if (speed <= 0.0f || strength <= 0.0f) return 0.0f;
+    return max(0.0f, dot(velocity / speed, flow / strength));
+}
+
+LF_FN vec4 lf_flow_weights(vec2 flow, vec2 v0, vec2 v1, vec2 v2, vec2 v3, int count) {
+    vec4 used = vec4(count > 0 ? 1.0f : 0.0f, count > 1 ? 1.0f : 0.0f, count > 2 ? 1.0f : 0.0f,
+                     count > 3 ? 1.0f : 0.0f);
+    vec4 agreement = vec4(lf_flow_agreement(v0, flow), lf_flow_agreement(v1, flow),
+                          lf_flow_agreement(v2, flow), lf_flow_agreement(v3, flow)) *
+                     used;
+    float total = agreement.x + agreement.y + agreement.z + agreement.w;
+    if (total > 1e-6f) return agreement / total;
+    return used / max(used.x + used.y + used.z + used.w, 1.0f);
+}
+
 // Covariance (LEAN eq. 5 plus the base roughness 1/s of docs/math.md §2): (Sxx, Syy, Sxy). The
 // variances M - B^2 are 0 or more in exact arithmetic; quantised textures (8-bit above all) can
 // round them below 0, and a negative definite Sigma would turn the lobe's exponent positive and

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/gabor_noise.hpp"
 
 namespace leanfade {
 namespace {
@@ -169,7 +170,7 @@ Image make_waves(int size, Rng& rng) {
 
 const std::vector<std::string>& builtin_bump_names() {
     static const std::vector<std::string> names = {"bumps", "ridges", "checker", "noise",
-                                                   "waves", "sine",   "flat"};
+                                                   "waves", "sine",   "flat",    "gabor"};
     return names;
 }
 
@@ -186,6 +187,19 @@ RidgeParameters sine_parameters(int size) {
     return {0.5f * wavelength / float(kTwoPi), wavelength};
 }
 
+GaborNoiseSettings builtin_gabor_settings(int size, std::uint32_t seed) {
+    // 12 x 3 cycles per tile (fewer on small tiles, at least 8 texels per wavelength), kernels of
+    // 2 wavelengths (1/2 wavelength at the smallest), RMS slope 0.12.
+    GaborNoiseSettings s;
+    s.size = size;
+    const int cycles = std::max(1, std::min(12, size / 8));
+    s.cycles_u = cycles;
+    s.cycles_v = cycles / 4;
+    s.kernel_wavelengths = std::clamp(0.5f * float(cycles), 0.5f, 2.0f);
+    s.seed = seed;
+    return s;
+}
+
 Image make_builtin_height(const std::string& name, int size, std::uint32_t seed) {
     if (size < 4 || size > kDefaultMaxImageDimension)
         throw Error("builtin", "'" + name + "': size " + std::to_string(size) +
@@ -199,6 +213,7 @@ Image make_builtin_height(const std::string& name, int size, std::uint32_t seed)
     if (name == "waves") return make_waves(size, rng);
     if (name == "sine") return make_waves_along_u(size, sine_parameters(size));
     if (name == "flat") return Image(size, size, 1);
+    if (name == "gabor") return make_gabor_noise(builtin_gabor_settings(size, seed));
     std::string valid;
     for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
     throw Error("builtin", "unknown bump set '" + name + "' (valid: " + valid + ")");
