@@ -391,7 +391,7 @@ const HostileCase kCases[] = {
          write_text(d / "mesh.png", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
          return bake(d / "mesh.png");
      },
-     "unknown image format (expected PNG, OpenEXR or PFM)", "mesh.png"},
+     "unknown image format (expected PNG, OpenEXR, PFM, JPEG, TGA, DDS, TIFF, PSD", "mesh.png"},
     {"ktx2_as_image",
      [](const fs::path& d) {
          write_bytes(d / "map.ktx2", lean_map_bytes(d));

@@ -63,40 +63,11 @@ std::string take_message(const char* message) {
     return line.empty() ? "no details" : line;
 }
 
-std::string channel_base_name(const char* name) {
-    const char* dot = std::strrchr(name, '.');
-    return dot != nullptr ? std::string(dot + 1) : std::string(name);
-}
-
-// R, G, B then A (Y counts as the first colour channel): the order of the returned image.
-int channel_rank(const std::string& base_name) {
-    if (base_name == "R" || base_name == "r" || base_name == "Y" || base_name == "y") return 0;
-    if (base_name == "G" || base_name == "g") return 1;
-    if (base_name == "B" || base_name == "b") return 2;
-    if (base_name == "A" || base_name == "a") return 3;
-    return 4;
-}
-
 // Indices (into the header's channels) of the channels to return, in output order.
 std::vector<int> select_channels(const std::string& path, const EXRHeader& header) {
-    std::vector<int> order(std::size_t(header.num_channels));
-    std::iota(order.begin(), order.end(), 0);
-    std::vector<int> ranks;
-    for (int i = 0; i < header.num_channels; ++i) {
-        ranks.push_back(channel_rank(channel_base_name(header.channels[i].name)));
-    }
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return ranks[std::size_t(a)] < ranks[std::size_t(b)]; });
-    if (order.size() > 4) {
-        order.erase(std::remove_if(order.begin(), order.end(),
-                                   [&](int i) { return ranks[std::size_t(i)] >= 4; }),
-                    order.end());
-        if (order.empty() || order.size() > 4) {
-            throw Error(path, "OpenEXR with " + std::to_string(header.num_channels) +
-                                  " channels and no R, G, B, A subset (at most 4 supported)");
-        }
-    }
-    return order;
+    std::vector<std::string> names;
+    for (int i = 0; i < header.num_channels; ++i) names.emplace_back(header.channels[i].name);
+    return order_channels(path, names, "OpenEXR");
 }
 
 float sample_value(const unsigned char* plane, int pixel_type, std::size_t index) {
@@ -120,6 +91,26 @@ constexpr std::size_t kTinyexrReadPadding = 64 * 1024;
 // Largest tile side accepted (tinyexr's own limit, TINYEXR_DIMENSION_THRESHOLD, is 8 M).
 constexpr std::uint32_t kMaxTileSide = 1 << 16;
 
+// Scan lines per chunk of an OpenEXR compression (the file's code; tinyexr uses the same codes for
+// the compressions it knows, and 128 for ZFP).
+std::int64_t lines_per_chunk(int compression) {
+    switch (compression) {
+        case 3:    // ZIP
+        case 5:    // PXR24
+        case 128:  // ZFP (tinyexr)
+            return 16;
+        case 4:  // PIZ
+        case 6:  // B44
+        case 7:  // B44A
+        case 8:  // DWAA
+            return 32;
+        case 9:  // DWAB
+            return 256;
+        default:  // NONE, RLE, ZIPS
+            return 1;
+    }
+}
+
 // tinyexr 1.0.1 places each scan-line chunk by the line number the chunk itself gives, and does
 // not check that the chunks cover the data window: a corrupt file whose chunks name the wrong
 // lines decodes "successfully" with rows of uninitialised memory (found by fuzz_image_bake: the
@@ -130,14 +121,9 @@ void check_scanline_coverage(const std::string& path, const std::vector<std::uin
                              const EXRHeader& header) {
     const std::int64_t min_y = header.data_window.min_y;
     const std::int64_t height = std::int64_t(header.data_window.max_y) - min_y + 1;
-    const std::int64_t lines_per_chunk =
-        header.compression_type == TINYEXR_COMPRESSIONTYPE_PIZ   ? 32
-        : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZIP ? 16
-        : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZFP ? 16
-                                                                 : 1;
-    const std::int64_t chunks = header.chunk_count > 0
-                                    ? std::int64_t(header.chunk_count)
-                                    : (height + lines_per_chunk - 1) / lines_per_chunk;
+    const std::int64_t lines = lines_per_chunk(header.compression_type);
+    const std::int64_t chunks = header.chunk_count > 0 ? std::int64_t(header.chunk_count)
+                                                       : (height + lines - 1) / lines;
     const std::uint64_t table = std::uint64_t(header.header_len) + 8;  // after magic + version
     if (chunks <= 0 || table + 8 * std::uint64_t(chunks) > bytes.size())
         throw Error(path, "truncated OpenEXR data (line offset table)");
@@ -151,7 +137,7 @@ void check_scanline_coverage(const std::string& path, const std::vector<std::uin
         const auto line = std::int32_t(load_u32_le(bytes.data() + offset));
         const std::int64_t first = std::int64_t(line) - min_y;
         for (std::int64_t row = std::max<std::int64_t>(first, 0);
-             row < std::min(first + lines_per_chunk, height); ++row)
+             row < std::min(first + lines, height); ++row)
             covered[std::size_t(row)] = true;
     }
     const auto missing = std::find(covered.begin(), covered.end(), false);
@@ -167,26 +153,68 @@ void check_scanline_coverage(const std::string& path, const std::vector<std::uin
 // count overflows), a tile level mode of 3, a "type" attribute that contradicts the tiled bit or
 // is unknown. The attributes are walked here first, as tinyexr reads them, and such headers are
 // refused before tinyexr parses them. A malformed attribute list is left for tinyexr to report.
-void check_header_attributes(const std::string& path, const std::vector<std::uint8_t>& bytes,
-                             bool tiled_bit) {
+// Returns what the OpenImageIO path needs of the header (ExrAttributes).
+struct ExrAttributes {
+    bool complete = false;       // the list ended with its null byte, inside the file
+    std::size_t header_len = 0;  // bytes after the version field, up to the null byte included
+    int compression = -1;        // OpenEXR's code; -1 when absent
+    bool has_window = false;
+    std::int32_t window[4] = {};  // data window: min x, min y, max x, max y
+    int channels = 0;
+    bool subsampled = false;
+    bool tiles = false;
+    std::uint32_t tile_width = 0, tile_height = 0;
+    unsigned level_mode = 0, rounding_mode = 0;
+    int chunk_count = 0;
+};
+
+// The channel list: name, pixel type, pLinear and 3 reserved bytes, x and y sampling; a null
+// byte ends it.
+void read_channel_list(const std::uint8_t* data, std::uint32_t size, ExrAttributes& attributes) {
+    std::size_t position = 0;
+    while (position < size && data[position] != 0) {
+        const std::size_t name_length =
+            strnlen(reinterpret_cast<const char*>(data + position), size - position);
+        position += name_length + 1;
+        if (position + 16 > size) return;
+        const auto x_sampling = std::int32_t(load_u32_le(data + position + 8));
+        const auto y_sampling = std::int32_t(load_u32_le(data + position + 12));
+        if (x_sampling != 1 || y_sampling != 1) attributes.subsampled = true;
+        position += 16;
+        ++attributes.channels;
+    }
+}
+
+ExrAttributes check_header_attributes(const std::string& path,
+                                      const std::vector<std::uint8_t>& bytes, bool tiled_bit) {
+    ExrAttributes attributes;
     std::size_t position = 8;  // after the magic number and the version field
     bool tiles = false;
     std::string type;
     while (position < bytes.size() && bytes[position] != 0) {
         const auto* text = reinterpret_cast<const char*>(bytes.data());
         const std::size_t name_length = strnlen(text + position, bytes.size() - position);
-        if (position + name_length >= bytes.size()) return;
+        if (position + name_length >= bytes.size()) return attributes;
         const std::string name(text + position, name_length);
         position += name_length + 1;
         const std::size_t type_length = strnlen(text + position, bytes.size() - position);
-        if (position + type_length >= bytes.size()) return;
+        if (position + type_length >= bytes.size()) return attributes;
         position += type_length + 1;
-        if (bytes.size() - position < 4) return;
+        if (bytes.size() - position < 4) return attributes;
         const std::uint32_t size = load_u32_le(bytes.data() + position);
         position += 4;
-        if (size > bytes.size() - position) return;
+        if (size > bytes.size() - position) return attributes;
         const std::uint8_t* data = bytes.data() + position;
         position += size;
+        if (name == "compression" && size == 1) attributes.compression = data[0];
+        if (name == "dataWindow" && size == 16) {
+            attributes.has_window = true;
+            for (int i = 0; i < 4; ++i)
+                attributes.window[i] = std::int32_t(load_u32_le(data + 4 * i));
+        }
+        if (name == "channels") read_channel_list(data, size, attributes);
+        if (name == "chunkCount" && size == 4)
+            attributes.chunk_count = std::int32_t(load_u32_le(data));
         if (name == "tiles" && tiled_bit) {
             if (size != 9) {
                 throw Error(path, "corrupt OpenEXR header (tile description of " +
@@ -207,12 +235,19 @@ void check_header_attributes(const std::string& path, const std::vector<std::uin
                                       std::to_string(rounding_mode) + ")");
             }
             tiles = true;
+            attributes.tile_width = tile_width;
+            attributes.tile_height = tile_height;
+            attributes.level_mode = level_mode;
+            attributes.rounding_mode = rounding_mode;
         } else if (name == "type" && size > 0 && data[0] != 0) {
             const auto* value = reinterpret_cast<const char*>(data);
             type.assign(value, strnlen(value, size));
         }
     }
-    if (type.empty()) return;
+    attributes.complete = position < bytes.size();
+    attributes.header_len = position + 1 - 8;
+    attributes.tiles = tiled_bit && tiles;
+    if (type.empty()) return attributes;
     const bool tiled = tiled_bit && tiles;
     if (type == "deepscanline" || type == "deeptile") {
         throw Error(path, "multi-part and deep OpenEXR files are not supported");
@@ -224,6 +259,7 @@ void check_header_attributes(const std::string& path, const std::vector<std::uin
     if (type != "scanlineimage" && type != "tiledimage") {
         throw Error(path, "corrupt OpenEXR header (unknown type '" + escape_text(type) + "')");
     }
+    return attributes;
 }
 
 // tinyexr's number of levels along one side (LevelSize, RoundLog2 of tinyexr 1.0.1).
@@ -288,14 +324,9 @@ void check_chunks_and_decoded_size(const std::string& path, const std::vector<st
         what += " in " + std::to_string(chunks) + " tiles of " + std::to_string(tile_width) + "x" +
                 std::to_string(tile_height);
     } else {
-        const std::int64_t lines_per_chunk =
-            header.compression_type == TINYEXR_COMPRESSIONTYPE_PIZ   ? 32
-            : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZIP ? 16
-            : header.compression_type == TINYEXR_COMPRESSIONTYPE_ZFP ? 16
-                                                                     : 1;
+        const std::int64_t lines = lines_per_chunk(header.compression_type);
         chunks = header.chunk_count > 0 ? std::uint64_t(header.chunk_count)
-                                        : std::uint64_t((height + lines_per_chunk - 1) /
-                                                        lines_per_chunk);
+                                        : std::uint64_t((height + lines - 1) / lines);
         decoded = std::uint64_t(width) * std::uint64_t(height) * channels * 4;
     }
     what += ", " + std::to_string(channels) + " channels";
@@ -375,7 +406,97 @@ void check_tile_coverage(const std::string& path, const EXRHeader& header, const
     }
 }
 
+// Compressions tinyexr 1.0.1 does not decode ("Unknown compression type"): PXR24, B44, B44A,
+// DWAA, DWAB.
+bool decoded_by_openexr(int compression) { return compression >= 5 && compression <= 9; }
+
+// The header checks of the tinyexr path (size, chunk table, decoded size, scan-line coverage), on
+// the attributes read by check_header_attributes, then OpenImageIO's OpenEXR reader.
+Image decode_with_openexr(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                          const ExrAttributes& attributes, const ReadOptions& options) {
+    if (!attributes.complete || !attributes.has_window || attributes.channels < 1) {
+        throw Error(path, std::string("truncated or corrupt OpenEXR header (") +
+                              (!attributes.complete     ? "attribute list not terminated"
+                               : !attributes.has_window ? "no data window"
+                                                        : "no channels") +
+                              ")");
+    }
+    EXRHeader header;  // filled here, nothing allocated: never given to FreeEXRHeader
+    InitEXRHeader(&header);
+    header.data_window.min_x = attributes.window[0];
+    header.data_window.min_y = attributes.window[1];
+    header.data_window.max_x = attributes.window[2];
+    header.data_window.max_y = attributes.window[3];
+    const std::int64_t width = std::int64_t(attributes.window[2]) - attributes.window[0] + 1;
+    const std::int64_t height = std::int64_t(attributes.window[3]) - attributes.window[1] + 1;
+    check_dimensions(path, width, height, options.max_dimension);
+    if (attributes.subsampled)
+        throw Error(path, "subsampled OpenEXR channels are not supported");
+    header.num_channels = attributes.channels;
+    header.compression_type = attributes.compression;
+    header.chunk_count = attributes.chunk_count;
+    header.header_len = unsigned(attributes.header_len);
+    header.tiled = attributes.tiles ? 1 : 0;
+    header.tile_size_x = int(attributes.tile_width);
+    header.tile_size_y = int(attributes.tile_height);
+    header.tile_level_mode = int(attributes.level_mode);
+    header.tile_rounding_mode = int(attributes.rounding_mode);
+    check_chunks_and_decoded_size(path, bytes, header,
+                                  std::size_t(std::min(attributes.channels, 4)));
+    if (header.tiled == 0) check_scanline_coverage(path, bytes, header);
+    return decode_exr_with_openimageio(path, bytes, options);
+}
+
 }  // namespace
+
+std::vector<int> order_channels(const std::string& path, const std::vector<std::string>& names,
+                                const std::string& format_name) {
+    std::vector<std::string> bases;
+    for (const std::string& name : names) {
+        const std::size_t dot = name.rfind('.');
+        bases.push_back(dot == std::string::npos ? name : name.substr(dot + 1));
+    }
+    const auto has = [&](const char* upper, const char* lower) {
+        return std::any_of(bases.begin(), bases.end(),
+                           [&](const std::string& b) { return b == upper || b == lower; });
+    };
+    // A normal's components: X and Z present (Y is then y, not luminance).
+    const bool xyz = has("X", "x") && has("Z", "z");
+    const auto rank = [&](const std::string& b) {
+        const auto is = [&](const char* upper, const char* lower) {
+            return b == upper || b == lower;
+        };
+        if (xyz) {
+            if (is("X", "x")) return 0;
+            if (is("Y", "y")) return 1;
+            if (is("Z", "z")) return 2;
+        } else {
+            if (is("R", "r") || is("Y", "y")) return 0;
+            if (is("G", "g")) return 1;
+            if (is("B", "b")) return 2;
+        }
+        if (is("A", "a")) return 3;
+        return 4;
+    };
+    std::vector<int> ranks;
+    for (const std::string& b : bases) ranks.push_back(rank(b));
+    std::vector<int> order(names.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return ranks[std::size_t(a)] < ranks[std::size_t(b)]; });
+    if (order.size() > 4) {
+        order.erase(std::remove_if(order.begin(), order.end(),
+                                   [&](int i) { return ranks[std::size_t(i)] >= 4; }),
+                    order.end());
+        if (order.empty() || order.size() > 4) {
+            throw Error(path, format_name + " with " + std::to_string(names.size()) +
+                                  " channels and no R, G, B, A or X, Y, Z subset (at most 4 "
+                                  "supported)");
+        }
+    }
+    if (order.empty()) throw Error(path, format_name + " without channels");
+    return order;
+}
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options) {
@@ -386,7 +507,9 @@ Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes
     if (version.multipart != 0 || version.non_image != 0) {
         throw Error(path, "multi-part and deep OpenEXR files are not supported");
     }
-    check_header_attributes(path, bytes, version.tiled != 0);
+    const ExrAttributes attributes = check_header_attributes(path, bytes, version.tiled != 0);
+    if (decoded_by_openexr(attributes.compression))
+        return decode_with_openexr(path, bytes, attributes, options);
     ExrHeaderGuard header;
     const char* message = nullptr;
     if (ParseEXRHeaderFromMemory(&header.header, &version, bytes.data(), bytes.size(), &message) !=

@@ -4,6 +4,7 @@
 // the caller). Rows are top first, values as stored (see image_io.hpp).
 #include <cstdint>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "leanfade/core/image.hpp"
@@ -21,6 +22,40 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);
 std::vector<std::uint8_t> encode_exr(const std::string& path, const Image& image);
+
+// The channels of a file to return, in order (indices into `names`), from their names (the part
+// after the last '.', so that "N.X" is "X"): R (or Y), G, B, A; or X, Y, Z, A when the names
+// include X and Z or "X", "Y", "Z" (a normal's components: Y is then y, not luminance). Other
+// names follow in file order; past 4 channels only the named ones are kept, and a file with no
+// such subset of 1-4 channels is refused.
+std::vector<int> order_channels(const std::string& path, const std::vector<std::string>& names,
+                                const std::string& format_name);
+
+// OpenEXR files whose compression tinyexr cannot decode (PXR24, B44, B44A, DWAA, DWAB) are
+// decoded by OpenImageIO (the OpenEXR library), from the whole file's bytes, after decode_exr
+// checked their header (size, chunk table, decoded size). Channels as decode_exr orders them.
+Image decode_exr_with_openimageio(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                                  const ReadOptions& options);
+
+// The formats read through OpenImageIO (oiio_image.cpp), each by the one reader of its format:
+// a file is never offered to OpenImageIO's other readers.
+struct OiioFormat {
+    const char* plugin;  // OpenImageIO's reader ("jpeg", "targa", "dds", ...)
+    const char* name;    // for messages ("JPEG", "TGA", ...)
+};
+// Every format of recognise_oiio_format, for messages.
+const std::vector<std::string>& oiio_format_names();
+// The format of a file whose first bytes are `head` (up to 32), recognised by its content; or
+// nullptr. Throws "truncated <format> data" for a file too short to hold its signature.
+const OiioFormat* recognise_oiio_format(const InputFile& file,
+                                        const std::vector<std::uint8_t>& head);
+// Decodes a file of that format. Checks the header (size against options.max_dimension, the
+// decoded bytes against the file's size) before any pixel memory is allocated. DDS normal maps
+// stored as two channels (BC5, DXT5 "nm" with x in alpha, RXGB) come back as RGB with the third
+// component reconstructed, z = sqrt(1 - x^2 - y^2). compact: 8- and 16-bit samples as a
+// UnormImage; options.drop_alpha: RGBA -> RGB.
+std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFormat& format,
+                                            const ReadOptions& options, bool compact);
 
 Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);

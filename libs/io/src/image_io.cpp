@@ -6,6 +6,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/io/atomic_file.hpp"
 
 namespace leanfade::io {
@@ -29,8 +30,6 @@ bool is_pfm(const std::vector<std::uint8_t>& head) {
            head[2] == '\r';
 }
 
-// Recognises the format by its first bytes. PNG is streamed from the file; OpenEXR and PFM
-// are decoded from the whole file's bytes (`whole` when the caller has them, else read here).
 // RGBA -> RGB (ReadOptions::drop_alpha for the float formats).
 Image without_alpha(Image image) {
     if (image.channels != 4) return image;
@@ -43,12 +42,22 @@ Image without_alpha(Image image) {
     return opaque;
 }
 
-// compact: PNG samples as a UnormImage instead of floats.
+// "PNG, OpenEXR, PFM, JPEG, ... or WebP": every format read_image reads.
+std::string expected_formats() {
+    std::vector<std::string> names{"PNG", "OpenEXR", "PFM"};
+    for (const std::string& name : detail::oiio_format_names()) names.push_back(name);
+    return name_list(names);
+}
+
+// Recognises the format by its first bytes (TGA: its header's values or its footer). PNG is
+// streamed from the file; OpenEXR and PFM are decoded from the whole file's bytes (`whole` when
+// the caller has them, else read here); the other formats are read by OpenImageIO from the file.
+// compact: PNG and other 8/16-bit samples as a UnormImage instead of floats.
 std::variant<Image, UnormImage> decode(const detail::InputFile& file,
                                        const std::vector<std::uint8_t>* whole,
                                        const ReadOptions& options, bool compact) {
     const std::string& path = file.path();
-    std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), 12)));
+    std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), 32)));
     file.read_at(0, head.data(), head.size(), "file shrank while being read");
     if (starts_like(head, kPngMagic)) {
         if (head.size() < sizeof kPngMagic) throw Error(path, "truncated PNG data");
@@ -65,9 +74,12 @@ std::variant<Image, UnormImage> decode(const detail::InputFile& file,
     }
     if (is_pfm(head)) return opaque(detail::decode_pfm(path, bytes(), options));
     if (head.size() >= sizeof kKtx2Magic && starts_like(head, kKtx2Magic)) {
-        throw Error(path, "is a KTX2 texture, not an image (expected PNG, OpenEXR or PFM)");
+        throw Error(path, "is a KTX2 texture, not an image (expected " + expected_formats() + ")");
     }
-    throw Error(path, "unknown image format (expected PNG, OpenEXR or PFM)");
+    if (const detail::OiioFormat* format = detail::recognise_oiio_format(file, head)) {
+        return detail::decode_oiio(file, *format, options, compact);
+    }
+    throw Error(path, "unknown image format (expected " + expected_formats() + ")");
 }
 
 void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
