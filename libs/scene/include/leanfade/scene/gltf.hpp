@@ -1,0 +1,105 @@
+#pragma once
+// glTF 2.0 scenes (.gltf with embedded or external buffers, and .glb), read with tinygltf into the
+// conventions of mesh.hpp, and MikkTSpace tangents for meshes that come without them. GL-free.
+//
+// Conventions of the conversion (docs/architecture.md, "glTF scenes"):
+// - Texture coordinates: glTF puts uv = (0, 0) at the top-left of an image with v growing
+//   downward; leanfade's v grows upward (docs/math.md §1), so every TEXCOORD_0 is stored as
+//   (u, 1 - v). The image rows are used as stored (top row first), so a texel keeps its place.
+// - Tangents: glTF's bitangent w * cross(N, T) points toward the image's top (decreasing glTF v),
+//   which is +v after the flip: a file's TANGENT is kept as is (orthonormalised against N), and
+//   missing tangents are computed by generate_mikktspace_tangents() on the flipped coordinates.
+// - Normal textures are OpenGL-convention (+Y toward the image's top), as leanfade's bake expects;
+//   their `scale` multiplies the X and Y of the decoded normal (glTF 2.0 §3.9.3).
+// - Base colour: factor in linear RGB(A); the texture is sRGB-encoded and is decoded to linear
+//   by the scene assembly (gltf_scene.hpp).
+// - Nodes: every mesh instance of the chosen scene (the file's `scene`, else scene 0, else every
+//   root node) becomes one object per primitive with the node's world matrix; a node whose world
+//   matrix mirrors (negative determinant) has its triangles' winding reversed and its tangents'
+//   w negated, so that the front faces and the bitangents stay right after the transform.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "leanfade/scene/mesh.hpp"
+
+namespace leanfade::scene {
+
+// An image of a glTF file, still encoded (PNG, ...), exactly the bytes the file holds or points
+// to; decoding is left to the caller (libs/io readers, which check the format by magic bytes).
+struct GltfImage {
+    std::string name;                 // "image 2 (bricks_normal.png)": for messages
+    std::vector<std::uint8_t> bytes;  // encoded file bytes
+};
+
+// A material's part that leanfade shades (the metallic-roughness part is not used).
+struct GltfMaterial {
+    std::string name;                           // the file's name, else "material N"
+    glm::vec4 base_color_factor{1.0f};          // linear RGBA
+    int base_color_image = -1;                  // index into GltfScene::images, -1: none
+    int normal_image = -1;                      // index into GltfScene::images, -1: none
+    float normal_scale = 1.0f;                  // normalTexture.scale, finite
+};
+
+struct GltfObject {
+    Mesh mesh;                  // object space of the glTF mesh; uv flipped (see above)
+    int material = 0;           // index into GltfScene::materials
+    glm::mat4 transform{1.0f};  // the node's world matrix (object space -> scene space)
+};
+
+struct GltfScene {
+    std::string path;  // the file read (or the name given to load_gltf_from_memory)
+    std::vector<GltfObject> objects;
+    std::vector<GltfMaterial> materials;  // primitives without a material get a default one
+    std::vector<GltfImage> images;        // only those a material uses are filled
+    std::size_t primitives_with_tangents = 0;      // TANGENT read from the file
+    std::size_t primitives_generated_tangents = 0;  // MikkTSpace
+    std::vector<std::string> warnings;              // parts of the file leanfade ignores
+};
+
+// Limits checked while reading (docs/robustness.md).
+struct GltfLoadOptions {
+    // Largest file read: the .gltf/.glb itself, each external buffer and each external image.
+    std::uint64_t max_file_bytes = std::uint64_t(1) << 30;
+    // Largest number of vertices of all objects together (node instances count each time).
+    std::size_t max_vertices = std::size_t(1) << 25;
+    // Largest number of objects (mesh primitives times their instances).
+    std::size_t max_objects = 1 << 16;
+};
+
+// Reads a .gltf (JSON; buffers and images embedded as data: URIs or in files beside it) or .glb
+// (binary container, recognised by its magic bytes). External files are read only inside the
+// glTF's folder: an absolute URI, one with a scheme (http:) or one whose path leaves the folder
+// ("..") is refused. Supported: triangle lists, strips and fans; POSITION (float), NORMAL
+// (float; computed flat as the specification asks when absent), TANGENT (float), TEXCOORD_0
+// (float or normalised unsigned byte/short); indices of unsigned byte, short or int.
+// Throws leanfade::Error(path, cause) with a one-line cause for a missing, unreadable, truncated
+// or malformed file, an accessor or buffer view outside its buffer, an index out of range, a
+// value that is not finite, a node cycle, a URI outside the folder, or a limit exceeded.
+GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options = {});
+
+// load_gltf on a file's bytes in memory (same checks and messages); `name` names it in errors.
+// Only embedded data (data: URIs, the GLB binary chunk) is read: an external URI is refused.
+GltfScene load_gltf_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
+                                const GltfLoadOptions& options = {});
+
+// Tangents as the glTF 2.0 specification asks for meshes without them: MikkTSpace (Mikkelsen,
+// "Simulation of Wrinkled Surfaces Revisited", 2008), written from its description. Per triangle,
+// the direction of dP/du (object space) and the orientation of its uv mapping (the sign of its
+// signed uv area); per corner, that direction projected onto the plane of the vertex normal and
+// normalised, weighted by the corner's angle in that plane. Corners are grouped when their
+// vertices have equal position, normal and uv (welded, as MikkTSpace does, also across
+// different indices) and their triangles have the same orientation; each group's sum is
+// normalised into T, with w = +1 for orientation-preserving triangles and -1 for mirrored uvs. A
+// vertex used by triangles of both orientations is split in two (one per w). Simplification
+// against the full algorithm: a group is not split further into fans that do not share edges,
+// nor by an angle threshold; on smooth manifold meshes the results agree. A group with no usable
+// triangle (zero uv or position area) gets a unit vector orthogonal to N, w = +1.
+// Throws leanfade::Error(mesh.name, cause) for an index out of range or a count not a multiple
+// of 3. Normals must be unit length.
+void generate_mikktspace_tangents(Mesh& mesh);
+
+}  // namespace leanfade::scene
