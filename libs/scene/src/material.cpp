@@ -44,7 +44,15 @@ void validate(const Scene& scene) {
             throw Error("scene", "material '" + m.name +
                                      "' has a colour or shininess that is "
                                      "not a finite, positive number");
+        if (m.base_color_texture < -1 ||
+            m.base_color_texture >= int(scene.base_color_textures.size()))
+            throw Error("scene", "material '" + m.name + "' uses base colour texture " +
+                                     std::to_string(m.base_color_texture) + " of " +
+                                     std::to_string(scene.base_color_textures.size()));
     }
+    for (const Image& texture : scene.base_color_textures)
+        if (texture.channels != 4 || texture.width < 1 || texture.height < 1)
+            throw Error("scene", "a base colour texture is not a non-empty RGBA image");
     for (const Object& o : scene.objects) {
         if (o.material < 0 || o.material >= int(scene.materials.size()))
             throw Error(o.mesh.name, "uses material " + std::to_string(o.material) + " of " +

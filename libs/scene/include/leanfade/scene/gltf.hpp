@@ -24,6 +24,9 @@
 
 #include <glm/glm.hpp>
 
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::scene {
@@ -101,5 +104,40 @@ GltfScene load_gltf_from_memory(const std::vector<std::uint8_t>& bytes, const st
 // Throws leanfade::Error(mesh.name, cause) for an index out of range or a count not a multiple
 // of 3. Normals must be unit length.
 void generate_mikktspace_tangents(Mesh& mesh);
+
+// How make_render_scene and bake_normal_texture bake normal textures into LEAN maps.
+struct GltfBakeSettings {
+    Storage storage = Storage::Unorm16;
+    int max_image_size = kDefaultMaxImageDimension;  // per side, checked before decoding
+    int threads = 0;                                 // 0: all cores
+    std::string cache_folder;  // LEAN-map cache (lean_map_cache.hpp); empty: no cache
+};
+
+struct GltfBakeReport {
+    std::size_t baked = 0;       // normal textures baked in this call
+    std::size_t from_cache = 0;  // normal textures read from the cache
+    std::vector<std::string> warnings;  // cache entries that could not be stored
+};
+
+// The LEAN map of one normal texture with its glTF `scale` (slopes times scale: the normal's X
+// and Y scaled, glTF 2.0 §3.9.3), OpenGL convention, repeat wrap, no baked roughness. Looked up
+// in the cache first (key: the image's encoded bytes, the scale, the storage and the bake
+// version; lean_map_cache.hpp), else decoded with the project's readers, baked and stored.
+// `from_cache` (optional) tells which. Throws leanfade::Error(gltf.path, cause) for an image
+// that does not decode, has fewer than 3 channels or is not a normal map the bake accepts.
+PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image, float scale,
+                                  const GltfBakeSettings& settings, bool* from_cache = nullptr,
+                                  std::string* cache_warning = nullptr);
+
+// The renderer's scene (material.hpp) of a loaded glTF scene: one object per GltfObject, one
+// material per GltfMaterial with Kd = the base colour factor's RGB, its base colour texture
+// decoded to linear RGBA (sRGB transfer function inverted; alpha kept, not used for blending),
+// and its normal texture baked to a LEAN map (bake_normal_texture); materials without a normal
+// texture share one flat LEAN map. Throws leanfade::Error(gltf.path, cause).
+Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
+                        GltfBakeReport* report = nullptr);
+
+// True for a path that names a glTF file by its extension (.gltf or .glb, any case).
+bool is_gltf_path(const std::string& path);
 
 }  // namespace leanfade::scene

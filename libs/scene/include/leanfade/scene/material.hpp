@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/scene/mesh.hpp"
 
@@ -22,6 +23,9 @@ struct Material {
     std::optional<glm::vec3> diffuse;   // Kd, linear RGB (a glTF base colour factor)
     std::optional<glm::vec3> specular;  // Ks, linear RGB
     std::optional<float> shininess;     // Blinn-Phong exponent s > 0
+    // Index into Scene::base_color_textures, or -1: the diffuse colour Kd is multiplied by the
+    // texture (a glTF base colour texture) at the surface's tiled uv.
+    int base_color_texture = -1;
 };
 
 struct Object {
@@ -34,6 +38,9 @@ struct Scene {
     std::vector<Object> objects;
     std::vector<Material> materials;
     std::vector<PackedLeanMap> lean_maps;
+    // Base colour textures: 4-channel float images of linear RGB (sRGB decoded) and alpha, rows
+    // top first (uploaded flipped, like every texture: v up).
+    std::vector<Image> base_color_textures;
 };
 
 // The scene-space bounding box of every object's transformed bounds (its eight corners).

@@ -1,0 +1,55 @@
+#pragma once
+// A cache of baked LEAN maps on disk, keyed by the content of what was baked: a second run over
+// the same normal textures with the same settings reads the maps instead of baking them again.
+//
+// Each entry is one KTX2 file (leanfade/io/ktx2.hpp) named `<key>.ktx2` in the cache folder,
+// written atomically (AtomicFile through write_ktx2), so a reader never sees half an entry. An
+// entry that cannot be read back (truncated, corrupt, another version's layout) is ignored and
+// replaced by the next store. GL-free.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "leanfade/core/lean_map.hpp"
+
+namespace leanfade::scene {
+
+// Bumped whenever the bytes a bake produces for the same input and settings change (the baker's
+// math, packing or metadata): every older cache entry then misses.
+inline constexpr int kLeanBakeVersion = 1;
+
+// SHA-256 (FIPS 180-4) of `size` bytes, as 64 lowercase hexadecimal digits.
+std::string sha256_hex(const void* data, std::size_t size);
+
+// The cache key of one bake: SHA-256 over a format tag, leanfade's version, kLeanBakeVersion,
+// `settings` (a text naming every bake setting that changes the result) and the source's bytes
+// (the encoded image file as stored).
+std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::string& settings);
+
+// $XDG_CACHE_HOME/leanfade when XDG_CACHE_HOME is an absolute path, else $HOME/.cache/leanfade;
+// empty when neither is set (no cache).
+std::string default_lean_cache_folder();
+
+class LeanMapCache {
+  public:
+    // `folder` empty: a cache that never finds anything and stores nothing.
+    explicit LeanMapCache(std::string folder) : folder_(std::move(folder)) {}
+
+    const std::string& folder() const noexcept { return folder_; }
+    bool enabled() const noexcept { return !folder_.empty(); }
+    // `<folder>/<key>.ktx2`.
+    std::string entry_path(const std::string& key) const;
+
+    // The map stored under `key`, or nothing when there is none or it cannot be read (then it
+    // is treated as missing and overwritten by the next store()).
+    std::optional<PackedLeanMap> find(const std::string& key) const;
+    // Stores `map` under `key` (creating the folder), atomically. Returns an empty string, or
+    // the one-line reason it could not be stored (the map is still good to use).
+    std::string store(const std::string& key, const PackedLeanMap& map) const;
+
+  private:
+    std::string folder_;
+};
+
+}  // namespace leanfade::scene

@@ -1,0 +1,177 @@
+// The renderer's scene of a glTF scene (leanfade/scene/gltf.hpp): normal textures baked to LEAN
+// maps through the cache, base colour textures decoded to linear RGBA.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
+
+namespace leanfade::scene {
+namespace {
+
+std::string generator_string() {
+    return std::string("leanfade ") + LEANFADE_VERSION;
+}
+
+// The sRGB transfer function inverted (IEC 61966-2-1): encoded [0, 1] -> linear [0, 1].
+float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+Image decode(const GltfScene& gltf, const GltfImage& image, const GltfBakeSettings& settings,
+             bool drop_alpha) {
+    io::ReadOptions options;
+    options.max_dimension = settings.max_image_size;
+    options.drop_alpha = drop_alpha;
+    try {
+        return io::read_image_from_memory(image.bytes, image.name, options);
+    } catch (const Error& e) {
+        throw Error(gltf.path, e.what());
+    }
+}
+
+// A normal map whose slopes are `scale` times those of `normals` (2 rgb - 1 decoded, X and Y
+// scaled, renormalised, encoded again), glTF's normalTexture.scale.
+void scale_normals(Image& normals, float scale) {
+    for (std::size_t i = 0; i < normals.texel_count(); ++i) {
+        float* t = &normals.pixels[i * std::size_t(normals.channels)];
+        glm::vec3 n(2.0f * t[0] - 1.0f, 2.0f * t[1] - 1.0f, 2.0f * t[2] - 1.0f);
+        n.x *= scale;
+        n.y *= scale;
+        const float length = glm::length(n);
+        if (length > 0.0f && std::isfinite(length)) n /= length;
+        for (int c = 0; c < 3; ++c) t[c] = 0.5f * n[c] + 0.5f;
+    }
+}
+
+std::string settings_text(float scale, Storage storage) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &scale, sizeof bits);
+    return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
+           std::string(to_string(storage)) + " scale=" + std::to_string(bits);
+}
+
+}  // namespace
+
+bool is_gltf_path(const std::string& path) {
+    std::string lower = path.substr(path.size() >= 5 ? path.size() - 5 : 0);
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return lower == ".gltf" || (lower.size() >= 4 && lower.substr(lower.size() - 4) == ".glb");
+}
+
+PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float scale,
+                                  const GltfBakeSettings& settings, bool* from_cache,
+                                  std::string* cache_warning) {
+    if (image_index < 0 || std::size_t(image_index) >= gltf.images.size())
+        throw Error(gltf.path, "image " + std::to_string(image_index) + " does not exist");
+    if (!std::isfinite(scale)) throw Error(gltf.path, "normal texture scale is not finite");
+    const GltfImage& image = gltf.images[std::size_t(image_index)];
+    const LeanMapCache cache(settings.cache_folder);
+    const std::string key = lean_cache_key(image.bytes, settings_text(scale, settings.storage));
+    if (std::optional<PackedLeanMap> cached = cache.find(key)) {
+        if (from_cache != nullptr) *from_cache = true;
+        return std::move(*cached);
+    }
+    Image normals = decode(gltf, image, settings, true);
+    if (normals.channels < 3)
+        throw Error(gltf.path, image.name + ": a normal texture needs 3 channels (RGB), it has " +
+                                   std::to_string(normals.channels));
+    if (scale != 1.0f) scale_normals(normals, scale);
+    BakeOptions options;
+    options.wrap = Wrap::Repeat;
+    options.convention = NormalConvention::OpenGL;
+    options.threads = settings.threads;
+    PackedLeanMap map;
+    try {
+        map = bake_packed(normals, BakeSource::Normal, options, settings.storage,
+                          generator_string(), image.name)
+                  .packed;
+    } catch (const Error& e) {
+        throw Error(gltf.path, e.what());
+    }
+    const std::string warning = cache.store(key, map);
+    if (cache_warning != nullptr) *cache_warning = warning;
+    if (from_cache != nullptr) *from_cache = false;
+    return map;
+}
+
+Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
+                        GltfBakeReport* report) {
+    GltfBakeReport local;
+    GltfBakeReport& r = report != nullptr ? *report : local;
+    Scene scene;
+    std::map<std::pair<int, float>, int> maps;  // (normal image, scale) -> lean map
+    std::map<int, int> textures;                // base colour image -> texture
+    int flat_map = -1;
+    for (const GltfMaterial& gm : gltf.materials) {
+        Material m;
+        m.name = gm.name;
+        m.diffuse = glm::vec3(gm.base_color_factor);
+        if (gm.normal_image >= 0) {
+            const auto key = std::make_pair(gm.normal_image, gm.normal_scale);
+            auto found = maps.find(key);
+            if (found == maps.end()) {
+                bool cached = false;
+                std::string warning;
+                scene.lean_maps.push_back(bake_normal_texture(gltf, gm.normal_image,
+                                                              gm.normal_scale, settings, &cached,
+                                                              &warning));
+                ++(cached ? r.from_cache : r.baked);
+                if (!warning.empty()) r.warnings.push_back("cache: " + warning);
+                found = maps.emplace(key, int(scene.lean_maps.size()) - 1).first;
+            }
+            m.lean_map = found->second;
+        } else {
+            if (flat_map < 0) {
+                // A flat surface: B = 0, M = 0 (one texel, no MIP chain to speak of).
+                const Image flat(1, 1, 3, 0.5f);
+                Image normal = flat;
+                normal.pixels[2] = 1.0f;
+                BakeOptions options;
+                scene.lean_maps.push_back(bake_packed(normal, BakeSource::Normal, options,
+                                                      settings.storage, generator_string(),
+                                                      "flat")
+                                              .packed);
+                flat_map = int(scene.lean_maps.size()) - 1;
+            }
+            m.lean_map = flat_map;
+        }
+        if (gm.base_color_image >= 0) {
+            auto found = textures.find(gm.base_color_image);
+            if (found == textures.end()) {
+                const GltfImage& image = gltf.images[std::size_t(gm.base_color_image)];
+                const Image decoded = decode(gltf, image, settings, false);
+                Image rgba(decoded.width, decoded.height, 4, 1.0f);
+                for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
+                    const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
+                    float* out = &rgba.pixels[i * 4];
+                    const bool gray = decoded.channels <= 2;
+                    for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
+                    if (decoded.channels == 2 || decoded.channels == 4)
+                        out[3] = in[decoded.channels - 1];
+                }
+                scene.base_color_textures.push_back(std::move(rgba));
+                found = textures.emplace(gm.base_color_image,
+                                         int(scene.base_color_textures.size()) - 1)
+                            .first;
+            }
+            m.base_color_texture = found->second;
+        }
+        scene.materials.push_back(std::move(m));
+    }
+    for (const GltfObject& o : gltf.objects) scene.objects.push_back({o.mesh, o.material, o.transform});
+    try {
+        validate(scene);
+    } catch (const Error& e) {
+        throw Error(gltf.path, e.what());
+    }
+    return scene;
+}
+
+}  // namespace leanfade::scene

@@ -1,0 +1,250 @@
+// glTF scenes for the renderer (make_render_scene, bake_normal_texture; leanfade/scene/gltf.hpp)
+// and the LEAN-map cache (leanfade/scene/lean_map_cache.hpp).
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
+#include "test_gltf_builder.hpp"
+
+namespace leanfade::scene {
+namespace {
+
+namespace fs = std::filesystem;
+using test::GltfStorage;
+using test::GltfTestFile;
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_scene" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// A uniform normal map of the unit normal n (encoded 0.5 n + 0.5), 8x8 texels, 8-bit RGB.
+std::vector<std::uint8_t> uniform_normal_png(glm::vec3 n) {
+    n = glm::normalize(n);
+    std::vector<float> pixels;
+    for (int i = 0; i < 64; ++i)
+        for (int c = 0; c < 3; ++c) pixels.push_back(0.5f * n[c] + 0.5f);
+    return test::png_bytes(8, 8, 3, pixels);
+}
+
+// The quad of test_gltf_builder (uv = (x, 1 - y) in glTF's convention: the image's top row lies
+// at y = 1) with a normal texture, a second quad with a base colour texture.
+GltfTestFile textured_file(glm::vec3 normal, float scale = 1.0f) {
+    GltfTestFile file;
+    file.images.push_back(uniform_normal_png(normal));
+    // sRGB 0.5 -> linear 0.214; a gray + alpha PNG would do too, RGB here.
+    file.images.push_back(test::png_bytes(2, 1, 3, {0.5f, 0.5f, 0.5f, 1.0f, 0.0f, 0.0f}));
+    file.materials.push_back({"bumpy", glm::vec4(1.0f), -1, 0, scale});
+    file.materials.push_back({"painted", glm::vec4(0.5f, 1.0f, 1.0f, 1.0f), 1, -1, 1.0f});
+    file.meshes = {{test::unit_quad(0)}, {test::unit_quad(1)}};
+    return file;
+}
+
+GltfScene load_textured(const fs::path& dir, glm::vec3 normal, float scale = 1.0f) {
+    const std::string path = (dir / "scene.glb").string();
+    test::write_gltf(textured_file(normal, scale), path, GltfStorage::Binary);
+    return load_gltf(path);
+}
+
+// The world-space direction of the filtered bump normal at the quad's centre: T B.x + Bt B.y +
+// N with the mean slope B of the coarsest level (the whole map).
+glm::vec3 shading_normal(const Scene& scene, int object) {
+    const Object& o = scene.objects[std::size_t(object)];
+    const LeanMap map = unpack_lean_map(scene.lean_maps[std::size_t(
+        scene.materials[std::size_t(o.material)].lean_map)]);
+    const glm::vec2 b = map.levels.back().mean[0];
+    const Vertex& v = o.mesh.vertices[0];
+    const glm::vec3 t(v.tangent);
+    const glm::vec3 bitangent = v.tangent.w * glm::cross(v.normal, t);
+    return glm::normalize(t * b.x + bitangent * b.y + v.normal);
+}
+
+TEST(GltfScene, NormalTextureTiltsTowardItsImageDirections) {
+    const fs::path dir = scratch("tilt");
+    GltfBakeSettings settings;  // no cache
+    // Tilted toward +X of the image (red up): toward +u, the quad's +x.
+    {
+        const Scene scene = make_render_scene(load_textured(dir, {0.6f, 0.0f, 0.8f}), settings);
+        const glm::vec3 n = shading_normal(scene, 0);
+        EXPECT_NEAR(n.x, 0.6f, 0.01f);
+        EXPECT_NEAR(n.y, 0.0f, 0.01f);
+        // A light at +x (object space) sees more of it than a light at -x.
+        EXPECT_GT(glm::dot(n, glm::normalize(glm::vec3(1, 0, 1))),
+                  glm::dot(n, glm::normalize(glm::vec3(-1, 0, 1))) + 0.5f);
+    }
+    // Tilted toward +Y (green up: OpenGL's convention, the image's top): the quad's +y, where
+    // the image's top row lies (glTF uv (x, 0) at y = 1).
+    {
+        const Scene scene = make_render_scene(load_textured(dir, {0.0f, 0.6f, 0.8f}), settings);
+        const glm::vec3 n = shading_normal(scene, 0);
+        EXPECT_NEAR(n.x, 0.0f, 0.01f);
+        EXPECT_NEAR(n.y, 0.6f, 0.01f);
+    }
+}
+
+TEST(GltfScene, NormalScaleMultipliesTheSlopes) {
+    const fs::path dir = scratch("scale");
+    GltfBakeSettings settings;
+    const glm::vec3 n(0.3f, -0.2f, 0.9f);
+    const Scene one = make_render_scene(load_textured(dir, n, 1.0f), settings);
+    const Scene two = make_render_scene(load_textured(dir, n, 2.0f), settings);
+    const glm::vec2 b1 = unpack_lean_map(one.lean_maps[0]).levels.back().mean[0];
+    const glm::vec2 b2 = unpack_lean_map(two.lean_maps[0]).levels.back().mean[0];
+    EXPECT_NEAR(b1.x, 0.3f / 0.9f, 0.01f);
+    EXPECT_NEAR(b1.y, -0.2f / 0.9f, 0.01f);
+    EXPECT_NEAR(b2.x, 2.0f * b1.x, 0.01f);
+    EXPECT_NEAR(b2.y, 2.0f * b1.y, 0.01f);
+}
+
+TEST(GltfScene, MaterialsGetBaseColourFactorAndLinearTexture) {
+    const fs::path dir = scratch("colour");
+    const Scene scene = make_render_scene(load_textured(dir, {0, 0, 1}), GltfBakeSettings{});
+    ASSERT_EQ(scene.materials.size(), 2u);
+    ASSERT_EQ(scene.objects.size(), 2u);
+    EXPECT_EQ(scene.materials[0].base_color_texture, -1);
+    EXPECT_EQ(*scene.materials[1].diffuse, glm::vec3(0.5f, 1.0f, 1.0f));
+    ASSERT_EQ(scene.materials[1].base_color_texture, 0);
+    const Image& texture = scene.base_color_textures[0];
+    ASSERT_EQ(texture.channels, 4);
+    ASSERT_EQ(texture.width, 2);
+    // 8-bit 128/255 = 0.50196 sRGB -> 0.21586 linear; 255 -> 1; alpha 1 (RGB file).
+    EXPECT_NEAR(texture.at(0, 0, 0), 0.21586f, 1e-4f);
+    EXPECT_NEAR(texture.at(1, 0, 0), 1.0f, 1e-6f);
+    EXPECT_NEAR(texture.at(1, 0, 1), 0.0f, 1e-6f);
+    EXPECT_EQ(texture.at(0, 0, 3), 1.0f);
+    // The material without a normal texture has a flat map: B = 0.
+    const LeanMap flat = unpack_lean_map(scene.lean_maps[std::size_t(scene.materials[1].lean_map)]);
+    EXPECT_NEAR(glm::length(flat.levels[0].mean[0]), 0.0f, 1e-6f);
+}
+
+bool same_map(const PackedLeanMap& a, const PackedLeanMap& b) {
+    if (a.levels.size() != b.levels.size() || a.scale != b.scale || a.storage != b.storage)
+        return false;
+    for (std::size_t i = 0; i < a.levels.size(); ++i)
+        if (a.levels[i].lean1 != b.levels[i].lean1 || a.levels[i].lean2 != b.levels[i].lean2)
+            return false;
+    return true;
+}
+
+TEST(GltfScene, SecondLoadReadsTheCacheAndCorruptEntriesAreRebaked) {
+    const fs::path dir = scratch("cache");
+    GltfBakeSettings settings;
+    settings.cache_folder = (dir / "cache").string();
+    const GltfScene gltf = load_textured(dir, {0.2f, 0.1f, 0.95f});
+
+    GltfBakeReport first;
+    const Scene a = make_render_scene(gltf, settings, &first);
+    EXPECT_EQ(first.baked, 1u);
+    EXPECT_EQ(first.from_cache, 0u);
+    EXPECT_TRUE(first.warnings.empty());
+    std::vector<fs::path> entries;
+    for (const auto& e : fs::directory_iterator(settings.cache_folder)) entries.push_back(e.path());
+    ASSERT_EQ(entries.size(), 1u);
+    EXPECT_EQ(entries[0].extension(), ".ktx2");
+    const auto written = fs::last_write_time(entries[0]);
+
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    GltfBakeReport second;
+    const Scene b = make_render_scene(gltf, settings, &second);
+    EXPECT_EQ(second.baked, 0u);
+    EXPECT_EQ(second.from_cache, 1u);
+    EXPECT_EQ(fs::last_write_time(entries[0]), written);  // not written again
+    ASSERT_EQ(a.lean_maps.size(), b.lean_maps.size());
+    for (std::size_t i = 0; i < a.lean_maps.size(); ++i)
+        EXPECT_TRUE(same_map(a.lean_maps[i], b.lean_maps[i])) << i;
+
+    // Another scale is another bake (another key).
+    GltfBakeReport scaled;
+    (void)make_render_scene(load_textured(dir, {0.2f, 0.1f, 0.95f}, 0.5f), settings, &scaled);
+    EXPECT_EQ(scaled.baked, 1u);
+
+    // A truncated entry is ignored, rebaked and replaced; the result is the same map.
+    fs::resize_file(entries[0], fs::file_size(entries[0]) / 2);
+    GltfBakeReport third;
+    const Scene c = make_render_scene(gltf, settings, &third);
+    EXPECT_EQ(third.baked, 1u);
+    EXPECT_EQ(third.from_cache, 0u);
+    for (std::size_t i = 0; i < a.lean_maps.size(); ++i)
+        EXPECT_TRUE(same_map(a.lean_maps[i], c.lean_maps[i])) << i;
+    GltfBakeReport fourth;
+    (void)make_render_scene(gltf, settings, &fourth);
+    EXPECT_EQ(fourth.from_cache, 1u);
+
+    // An unwritable cache is a warning, not a failure.
+    GltfBakeSettings unwritable = settings;
+    unwritable.cache_folder = (dir / "scene.glb" / "cache").string();  // under a file
+    GltfBakeReport fifth;
+    EXPECT_NO_THROW((void)make_render_scene(gltf, unwritable, &fifth));
+    EXPECT_EQ(fifth.baked, 1u);
+    EXPECT_EQ(fifth.warnings.size(), 1u);
+}
+
+TEST(GltfScene, BrokenImagesAreOneLineErrors) {
+    const fs::path dir = scratch("broken");
+    GltfTestFile file = textured_file({0, 0, 1});
+    file.images[0].resize(file.images[0].size() / 2);  // truncated PNG
+    const std::string path = (dir / "broken.glb").string();
+    test::write_gltf(file, path, GltfStorage::Binary);
+    const GltfScene gltf = load_gltf(path);
+    try {
+        (void)make_render_scene(gltf, GltfBakeSettings{});
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), path);
+        EXPECT_NE(e.cause().find("image 0"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+    // A gray normal texture is refused.
+    file = textured_file({0, 0, 1});
+    file.images[0] = test::png_bytes(2, 2, 1, {0.5f, 0.5f, 0.5f, 0.5f});
+    test::write_gltf(file, path, GltfStorage::Binary);
+    try {
+        (void)make_render_scene(load_gltf(path), GltfBakeSettings{});
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(e.cause().find("3 channels"), std::string::npos) << e.what();
+    }
+}
+
+TEST(LeanMapCache, Sha256MatchesTheStandardsTestVectors) {
+    // FIPS 180-4 examples: "abc", the empty message and the two-block message.
+    EXPECT_EQ(sha256_hex("abc", 3),
+              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(sha256_hex("", 0),
+              "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    const std::string two = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
+    EXPECT_EQ(sha256_hex(two.data(), two.size()),
+              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    // Keys differ with the settings and the bytes.
+    EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 3}, "b"));
+    EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 4}, "a"));
+    EXPECT_EQ(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 3}, "a"));
+}
+
+TEST(LeanMapCache, DefaultFolderFollowsXdg) {
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    const std::string saved = xdg != nullptr ? xdg : "";
+    const char* home = std::getenv("HOME");
+    const std::string saved_home = home != nullptr ? home : "";
+    ::setenv("XDG_CACHE_HOME", "/somewhere/cache", 1);
+    EXPECT_EQ(default_lean_cache_folder(), "/somewhere/cache/leanfade");
+    ::setenv("XDG_CACHE_HOME", "relative", 1);  // not absolute: ignored
+    ::setenv("HOME", "/home/someone", 1);
+    EXPECT_EQ(default_lean_cache_folder(), "/home/someone/.cache/leanfade");
+    if (xdg != nullptr) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
+    else ::unsetenv("XDG_CACHE_HOME");
+    if (home != nullptr) ::setenv("HOME", saved_home.c_str(), 1);
+    else ::unsetenv("HOME");
+}
+
+}  // namespace
+}  // namespace leanfade::scene
