@@ -1054,12 +1054,21 @@ struct BakeInput {
     int channels() const { return floats != nullptr ? floats->channels : unorm->channels; }
 };
 
+// The first channel of integer samples as floats (UnormImage::to_float's values).
+Image first_channel(const UnormImage& input) {
+    Image height(input.width, input.height, 1);
+    const auto channels = std::size_t(input.channels);
+    const float scale = float(input.max_value);
+    for (std::size_t i = 0; i < height.pixels.size(); ++i)
+        height.pixels[i] = float(input.samples[i * channels]) / scale;
+    return height;
+}
+
 void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
           const BakeOptions& options, Storage storage, const std::string& generator,
           const std::string& source_name, const TargetProvider& provide_targets) {
-    result.source = source;
-    if (source == BakeSource::Auto)
-        result.source = input.channels() >= 3 ? BakeSource::Normal : BakeSource::Height;
+    result.source = input.floats != nullptr ? resolve_bake_source(source, *input.floats)
+                                            : resolve_bake_source(source, *input.unorm);
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
 
@@ -1089,9 +1098,10 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                             detail::kSteepNormalCause);
         result.clamped_texels = totals.clamped;
     } else {
+        // Integer samples: only the first channel (the height) as floats.
         slopes = input.floats != nullptr
                      ? slopes_from_height(*input.floats, options, source_name).slopes
-                     : slopes_from_height(input.unorm->to_float(), options, source_name).slopes;
+                     : slopes_from_height(first_channel(*input.unorm), options, source_name).slopes;
         plan.top.pixels = slopes.pixels.data();
         plan.top.width = slopes.width;
         plan.top.channels = 2;

@@ -252,12 +252,41 @@ std::vector<Image> build_mip_chain(const Image& top, int threads) {
     return chain;
 }
 
+namespace {
+
+template <class Samples>
+bool grey_samples(const Samples& samples, int channels) {
+    if (channels < 3) return false;
+    const auto step = std::size_t(channels);
+    for (std::size_t i = 0; i + 2 < samples.size(); i += step)
+        if (samples[i] != samples[i + 1] || samples[i] != samples[i + 2]) return false;
+    return true;
+}
+
+}  // namespace
+
+bool is_grey_colour_image(const Image& image) { return grey_samples(image.pixels, image.channels); }
+
+bool is_grey_colour_image(const UnormImage& image) {
+    return grey_samples(image.samples, image.channels);
+}
+
+BakeSource resolve_bake_source(BakeSource requested, const Image& input) {
+    if (requested != BakeSource::Auto) return requested;
+    return input.channels >= 3 && !is_grey_colour_image(input) ? BakeSource::Normal
+                                                               : BakeSource::Height;
+}
+
+BakeSource resolve_bake_source(BakeSource requested, const UnormImage& input) {
+    if (requested != BakeSource::Auto) return requested;
+    return input.channels >= 3 && !is_grey_colour_image(input) ? BakeSource::Normal
+                                                               : BakeSource::Height;
+}
+
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
                          const std::string& source_name) {
     BakeResult result;
-    result.source = source;
-    if (source == BakeSource::Auto)
-        result.source = input.channels >= 3 ? BakeSource::Normal : BakeSource::Height;
+    result.source = resolve_bake_source(source, input);
     SlopeResult slopes = result.source == BakeSource::Normal
                              ? slopes_from_normals(input, options, source_name)
                              : slopes_from_height(input, options, source_name);

@@ -75,8 +75,11 @@ void throw_steep_slope(const std::string& source_name, int x, int y, float slope
 }
 
 void throw_negative_normal_z(const std::string& source_name, int x, int y, float z) {
+    // A height map stored as colour (not grey, or it would have been taken as one) fails here.
     throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) + " (z = " +
-                                 std::to_string(z) + "): not a tangent-space normal map");
+                                 std::to_string(z) +
+                                 "): not a tangent-space normal map (a height map? set 'from' "
+                                 "to 'height')");
 }
 
 }  // namespace detail

@@ -117,13 +117,20 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 std::vector<Image> build_mip_chain(const Image& top, int threads = 0);
 
 // Whole bake from a decoded image: slopes (height or normal map) then build_lean_map.
-// Auto: 1-2 channels are a height map (first channel), 3-4 channels a normal map.
+// Auto: 1-2 channels are a height map (first channel), 3-4 channels a normal map, except a grey
+// image (r = g = b at every texel: a height map saved as RGB, RGBA or palette), a height map.
 enum class BakeSource { Auto, Height, Normal };
 const char* to_string(BakeSource source);  // "auto", "height", "normal"
 // Every source's name, in enum order.
 const std::vector<std::string>& bake_source_names();
 // Throws leanfade::Error(setting, cause) for a name that is not a source's.
 BakeSource parse_bake_source(std::string_view name, const std::string& setting = "from");
+// What `requested` means for this image: Height or Normal as given, Auto resolved as above.
+BakeSource resolve_bake_source(BakeSource requested, const Image& input);
+BakeSource resolve_bake_source(BakeSource requested, const UnormImage& input);
+// True for an image of 3 or 4 channels whose first three are equal at every texel.
+bool is_grey_colour_image(const Image& image);
+bool is_grey_colour_image(const UnormImage& image);
 struct BakeResult {
     LeanMap map;
     BakeSource source = BakeSource::Height;  // what the input was taken as
