@@ -49,13 +49,29 @@ const std::vector<std::string>& oiio_format_names();
 // nullptr. Throws "truncated <format> data" for a file too short to hold its signature.
 const OiioFormat* recognise_oiio_format(const InputFile& file,
                                         const std::vector<std::uint8_t>& head);
-// Decodes a file of that format. Checks the header (size against options.max_dimension, the
-// decoded bytes against the file's size) before any pixel memory is allocated. DDS normal maps
-// stored as two channels (BC5, DXT5 "nm" with x in alpha, RXGB) come back as RGB with the third
-// component reconstructed, z = sqrt(1 - x^2 - y^2). compact: 8- and 16-bit samples as a
-// UnormImage; options.drop_alpha: RGBA -> RGB.
+// Decodes a file of that format (through the OpenImageIO module, below), from its bytes read
+// into memory. Checks the header (size against options.max_dimension, the decoded bytes against
+// the file's size) before any pixel memory is allocated; TGA and JPEG data that ends early is
+// refused (OpenImageIO 2.4 decodes it without an error). DDS normal maps stored as two channels
+// (BC5, DXT5 "nm" with x in alpha, RXGB) come back as RGB with the third component
+// reconstructed, z = sqrt(1 - x^2 - y^2). compact: 8- and 16-bit samples as a UnormImage;
+// options.drop_alpha: RGBA -> RGB.
 std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFormat& format,
                                             const ReadOptions& options, bool compact);
+
+// The OpenImageIO module: oiio_image.cpp (with channel_order.cpp, input_file.cpp and core's
+// image.cpp and memory.cpp) built as a shared object of its own, which oiio_formats.cpp loads on
+// first use, so that OpenImageIO's dependencies load only for the files that need them.
+// `decode` decodes a whole file's bytes of `format`, as decode_oiio describes, throwing
+// leanfade::Error(path, cause).
+struct OiioModule {
+    std::variant<Image, UnormImage> (*decode)(const std::vector<std::uint8_t>& bytes,
+                                              const std::string& path, const OiioFormat& format,
+                                              const ReadOptions& options, bool compact);
+};
+using OiioModuleEntry = const OiioModule* (*)();
+inline constexpr const char* kOiioModuleFileName = "libleanfade_io_oiio.so";
+inline constexpr const char* kOiioModuleEntryName = "leanfade_io_oiio_module";
 
 Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);
