@@ -11,4 +11,13 @@ const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the v
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
 const float LF_SLICE_LEAN2 = 1.0f;  // (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
 
+// Bump layers of a layered material (docs/math.md §6): a LEAN map per layer (units
+// LF_BINDING_LAYER_MAPS + i, 2D arrays of 2 slices like the LEAN map), the cross-term textures of
+// the pairs (one 2D array, a slice per pair in pair_index order, RGBA = Bi.x Bj.x, Bi.y Bj.y,
+// Bi.x Bj.y, Bj.x Bi.y), the per-texel weights (RGBA = t_0..t_3) and the layers' uniform block.
+const int LF_BINDING_LAYER_MAPS = 10;    // units 10..13
+const int LF_BINDING_CROSS_TERMS = 14;
+const int LF_BINDING_LAYER_WEIGHTS = 15;
+const int LF_BINDING_LAYER_BLOCK = 2;  // uniform block LfLayerBlock (LfLayerUniforms)
+
 #endif  // LEANFADE_BINDINGS_GLSL

@@ -144,6 +144,26 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     return r;
 }
 
+// Mixing methods of a layered material (leanfade/core/layers.hpp, kLayerMixings): where the
+// cross terms C_ij come from. HEIGHT materials are drawn from one map mixed before filtering.
+const int LF_MIXING_HEIGHT = 0;
+const int LF_MIXING_TEXTURES = 1;  // the pair's cross-term texture (its slice of the array)
+const int LF_MIXING_APPROX = 2;    // lf_cross_products of the filtered, strength-scaled B's
+
+// What the fragment stage reads about a layered material, as one std140 uniform block (binding
+// LF_BINDING_LAYER_BLOCK). Layer i is sampled at uv * tilings[i] + its offset (velocity * time).
+struct LfLayerUniforms {
+    vec4 weights;     // t_0..t_3, sum 1 (0 for absent layers)
+    vec4 strengths;   // k_0..k_3 (k < 0 flips a layer)
+    vec4 scales;      // sc of each layer's LEAN map (docs/math.md §3)
+    vec4 tilings;     // repeats of each layer per unit of the surface's tiled uv
+    vec4 offsets[2];  // uv offsets: (u_0, v_0, u_1, v_1), (u_2, v_2, u_3, v_3)
+    int count;        // 2..4 layers
+    int mixing;       // LF_MIXING_*
+    int weight_map;   // 1: the weights come per texel from the weight map (RGBA = t_0..t_3)
+    int padding;
+};
+
 // Flow-map weights of moving layers (LEAN §3.5, Fig. 11: "layers are weighted in proportion to
 // their movement direction"): layer i's agreement with the local flow f is
 // max(0, dot(normalize(v_i), normalize(f))), and its weight t_i is its agreement over the sum of

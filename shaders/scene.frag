@@ -2,16 +2,22 @@
 // Fragment stage of every technique. The renderer defines (from the technique table,
 // libs/core/include/leanfade/core/technique.hpp):
 //   LF_TECHNIQUE          the lobe stage of lf_shade, one of LF_TECHNIQUE_* (lean_shading.glsl)
+//   LF_BRDF               the reflection model, one of LF_BRDF_* (LfParams::brdf on the CPU)
 //   LF_READS_MOMENTS      when the technique reads the lean2 layer (B and M), not only lean1
 //   LF_FINEST_LEVEL_ONLY  for the supersampled reference: shade at LOD 0; the renderer draws it
 //                         at k x k the resolution and box-filters (docs/math.md §7)
 // LF_PLAIN_COLOR (optional) fixes the output to OUTPUT_COLOR without fog at compile time.
+// LF_LAYERED (optional): the material's moments are mixed from 2..4 bump layers (docs/math.md §6)
+// instead of read from one LEAN map.
 // All shading math comes from the shared header (docs/math.md §4). Output: linear radiance.
 #include "lean_shading.glsl"
 #include "bindings.glsl"
 
 #if !defined(LF_TECHNIQUE)
 #error "the renderer defines LF_TECHNIQUE (one of LF_TECHNIQUE_*)"
+#endif
+#if !defined(LF_BRDF)
+#error "the renderer defines LF_BRDF (one of LF_BRDF_*)"
 #endif
 
 const int OUTPUT_COLOR = 0;       // (Ka + Kd NdotL + specular) light, then fog
@@ -36,25 +42,123 @@ layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
 
 layout(location = 0) out vec4 o_color;
 
-vec4 lean_texel(float slice) {
 #if defined(LF_FINEST_LEVEL_ONLY)
-    return textureLod(u_lean, vec3(v_in.uv, slice), 0.0);  // finest level only (docs/math.md §7)
+#define LF_SAMPLE(sampler, coord) textureLod(sampler, coord, 0.0)  // finest level (docs/math.md §7)
 #else
-    return texture(u_lean, vec3(v_in.uv, slice));  // trilinear / anisotropic
+#define LF_SAMPLE(sampler, coord) texture(sampler, coord)  // trilinear / anisotropic
 #endif
+
+vec4 lean_texel(float slice) {
+    return LF_SAMPLE(u_lean, vec3(v_in.uv, slice));
 }
+
+#if defined(LF_ROUGHNESS_MIPS)
+// Roughness MIPs (docs/roughness.md): every LEAN texel of a level becomes the texel the baked
+// engine textures hold (lf_roughness_mip_texel: 8-bit normal and roughness), and those are
+// filtered as a texture unit filters the baked files: bilinear in the two levels around the LOD
+// the hardware computes for this pixel, linear between them (GL_LINEAR_MIPMAP_LINEAR, repeat).
+vec4 roughness_mip_texel(ivec2 xy, int level) {
+    ivec2 size = textureSize(u_lean, level).xy;
+    ivec2 p = ((xy % size) + size) % size;
+    return lf_roughness_mip_texel(texelFetch(u_lean, ivec3(p, 0), level),
+                                  texelFetch(u_lean, ivec3(p, 1), level), u_shading.scale,
+                                  2.0 * u_shading.params.inv_s_shading);
+}
+
+vec4 roughness_mip_bilinear(vec2 uv, int level) {
+    vec2 p = uv * vec2(textureSize(u_lean, level).xy) - 0.5;
+    ivec2 i = ivec2(floor(p));
+    vec2 f = p - floor(p);
+    return mix(mix(roughness_mip_texel(i, level), roughness_mip_texel(i + ivec2(1, 0), level), f.x),
+               mix(roughness_mip_texel(i + ivec2(0, 1), level),
+                   roughness_mip_texel(i + ivec2(1, 1), level), f.x),
+               f.y);
+}
+
+vec4 roughness_mip_trilinear(vec2 uv) {
+    int last = textureQueryLevels(u_lean) - 1;
+    float lod = clamp(textureQueryLod(u_lean, uv).y, 0.0, float(last));
+    int level = min(int(floor(lod)), last);
+    int next = min(level + 1, last);
+    return mix(roughness_mip_bilinear(uv, level), roughness_mip_bilinear(uv, next),
+               lod - float(level));
+}
+#endif
+
+#if defined(LF_LAYERED)
+// Bump layers (docs/math.md §6): each layer's LEAN map, the pairs' cross-term textures, the
+// per-texel weights and the layers' uniforms (LfLayerUniforms of the shared header).
+layout(binding = LF_BINDING_LAYER_MAPS) uniform sampler2DArray u_layer_maps[4];
+layout(binding = LF_BINDING_CROSS_TERMS) uniform sampler2DArray u_cross_terms;
+layout(binding = LF_BINDING_LAYER_WEIGHTS) uniform sampler2D u_layer_weights;
+layout(std140, binding = LF_BINDING_LAYER_BLOCK) uniform LfLayerBlock {
+    LfLayerUniforms u_layers;
+};
+
+vec2 layer_uv(int i) {
+    vec4 offsets = u_layers.offsets[i / 2];
+    vec2 offset = (i % 2 == 0) ? offsets.xy : offsets.zw;
+    return v_in.uv * u_layers.tilings[i] + offset;
+}
+
+// The material's mixed moments: B = sum t_i k_i B_i, M = sum t_i^2 k_i^2 M_i + sum_{i<j} t_i t_j
+// C_ij (LEAN §3.5), with C_ij from the pair's texture or from the filtered B's (u_layers.mixing).
+LfMoments layered_moments() {
+    vec4 t = u_layers.weights;
+    if (u_layers.weight_map != 0) t = LF_SAMPLE(u_layer_weights, v_in.uv);
+    LfMoments mixed = lf_mix_start();
+    vec2 means[4];
+    vec2 uvs[4];
+    for (int i = 0; i < 4; ++i) {
+        means[i] = vec2(0.0);
+        uvs[i] = layer_uv(i);
+        if (i >= u_layers.count) continue;
+        vec4 lean1 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN1));
+        vec4 lean2 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN2));
+        LfMoments m = lf_layer_strength(lf_unpack(lean1, lean2, u_layers.scales[i]),
+                                        u_layers.strengths[i]);
+        means[i] = m.mean;
+        mixed = lf_mix_layer(mixed, m, t[i]);
+    }
+    int pair = 0;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = i + 1; j < 4; ++j) {
+            if (j >= u_layers.count) continue;
+            vec4 products;
+            if (u_layers.mixing == LF_MIXING_TEXTURES) {
+                products = LF_SAMPLE(u_cross_terms, vec3(uvs[i], float(pair))) *
+                           (u_layers.strengths[i] * u_layers.strengths[j]);
+            } else {
+                products = lf_cross_products(means[i], means[j]);
+            }
+            mixed = lf_mix_pair(mixed, products, t[i] * t[j]);
+            ++pair;
+        }
+    }
+    return lf_mix_end(mixed);
+}
+#endif
 
 void main() {
     vec3 light_dir = normalize(v_in.light_t);
+#if defined(LF_LAYERED)
+    LfMoments moments = layered_moments();
+    vec4 lean1 = vec4(0.5 * moments.normal + vec3(0.5), 0.5);  // for the fade terms' NdotL
+#else
     vec4 lean1 = lean_texel(LF_SLICE_LEAN1);
 #if defined(LF_READS_MOMENTS)
     vec4 lean2 = lean_texel(LF_SLICE_LEAN2);
 #else
     vec4 lean2 = vec4(0.5, 0.5, 0.0, 0.0);  // B = 0, M = 0: unused by the technique's lobe
 #endif
+    LfMoments moments = lf_unpack(lean1, lean2, u_shading.scale);
+#if defined(LF_ROUGHNESS_MIPS)
+    moments = lf_roughness_mips_moments(roughness_mip_trilinear(v_in.uv));
+#endif
+#endif
     LfParams params = u_shading.params;
-    LfShade shade = lf_shade(LF_TECHNIQUE, lf_unpack(lean1, lean2, u_shading.scale), light_dir,
-                             v_in.view_t, params);
+    params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
+    LfShade shade = lf_shade(LF_TECHNIQUE, moments, light_dir, v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)
     // The renderer's ordinary frames (OUTPUT_COLOR, no fog): the colour of the general path below,
     // bit for bit, without its uniform branches, which a SIMD rasteriser such as llvmpipe executes

@@ -1,4 +1,5 @@
 // Shader sources: #include resolution, variants, disk folders, glslangValidator and the driver.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -223,11 +224,31 @@ TEST_F(GlShaders, UniformBlocksMatchTheirCppMirrors) {
         check_block(p, variant.name, "LfShadingBlock", gl::kShadingBlockMembers,
                     gl::bindings::LF_BINDING_SHADING_BLOCK, sizeof(gl::LfShadingUniforms),
                     gl::kShadingBlockStd140Size);
-        const GLint sampler = glGetUniformLocation(p, "u_lean");
-        ASSERT_GE(sampler, 0) << variant.name;
-        GLint unit = -1;
-        glGetUniformiv(p, sampler, &unit);
-        EXPECT_EQ(unit, gl::bindings::LF_BINDING_LEAN_MAP) << variant.name;
+        const auto expect_unit = [&](const char* name, int binding) {
+            const GLint sampler = glGetUniformLocation(p, name);
+            ASSERT_GE(sampler, 0) << variant.name << " " << name;
+            GLint unit = -1;
+            glGetUniformiv(p, sampler, &unit);
+            EXPECT_EQ(unit, binding) << variant.name << " " << name;
+        };
+        const bool layered = std::find(variant.defines.begin(), variant.defines.end(),
+                                       "LF_LAYERED") != variant.defines.end();
+        if (layered) {
+            // Bump layers: their block, and each sampler on its named unit (docs/math.md §6).
+            check_block(p, variant.name, "LfLayerBlock", gl::kLayerBlockMembers,
+                        gl::bindings::LF_BINDING_LAYER_BLOCK, sizeof(gl::LfLayerUniforms),
+                        sizeof(gl::LfLayerUniforms));
+            for (int i = 0; i < 4; ++i)
+                expect_unit(("u_layer_maps[" + std::to_string(i) + "]").c_str(),
+                            gl::bindings::LF_BINDING_LAYER_MAPS + i);
+            // The cross terms enter M only, which the lobes without second moments drop.
+            if (std::find(variant.defines.begin(), variant.defines.end(), "LF_READS_MOMENTS") !=
+                variant.defines.end())
+                expect_unit("u_cross_terms", gl::bindings::LF_BINDING_CROSS_TERMS);
+            expect_unit("u_layer_weights", gl::bindings::LF_BINDING_LAYER_WEIGHTS);
+        } else {
+            expect_unit("u_lean", gl::bindings::LF_BINDING_LEAN_MAP);
+        }
         ++checked_programs;
     }
     EXPECT_GE(checked_programs, int(all_techniques().size()));

@@ -9,6 +9,7 @@
 #include "cli_bench_bake.hpp"
 #include "cli_bench_report.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -45,7 +46,7 @@ struct BenchArgs {
     bool generate = false;
     std::string generate_sizes = "512,1024,2048,4096";
     ShadingFlags shading;
-    LeanSourceFlags source;
+    RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
 
@@ -147,15 +148,14 @@ int run_bench(const BenchArgs& args) {
     for (const std::string& input : bake_inputs)
         if (input != "normal" && input != "height")
             throw Error("--bake-input", "expected normal or height, got '" + input + "'");
-    const Storage storage = parse_storage(args.source.bits);
+    const Storage storage = parse_storage(args.input.bumps.bits);
     if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
     if (args.bake_runs < 0 || args.bake_runs > 1000)
         throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");
     if (!args.json.empty()) {
         // Checked before anything is measured (docs/robustness.md).
         io::OutputPlan plan;
-        if (!args.source.bumps.empty() && fs::exists(args.source.bumps))
-            plan.add_input(args.source.bumps);
+        for (const std::string& input : render_source_inputs(args.input)) plan.add_input(input);
         plan.add_output(args.json, "--json");
         plan.check();
     }
@@ -177,14 +177,17 @@ int run_bench(const BenchArgs& args) {
 
     if (frames_mode) {
         say("loading the scenes and the LEAN map...");
-        std::vector<scene::Mesh> meshes;
-        for (const std::string& name : scene_names) meshes.push_back(scene::make_scene_mesh(name));
+        std::vector<scene::Scene> loaded;
+        for (const std::string& name : scene_names) {
+            RenderSourceFlags flags = args.input;
+            flags.scene = name;
+            loaded.push_back(load_render_scene(flags, settings));
+        }
         std::vector<gl::FrameBenchScene> scenes;
-        for (std::size_t i = 0; i < meshes.size(); ++i)
-            scenes.push_back({scene_names[i], &meshes[i]});
-        const PackedLeanMap map = load_lean_map(args.source, settings);
+        for (std::size_t i = 0; i < loaded.size(); ++i)
+            scenes.push_back({scene_names[i], nullptr, &loaded[i]});
+        const PackedLeanMap& map = loaded.front().lean_maps.front();
         gl::Renderer renderer(*context, shader_sources(args.gl));
-        renderer.set_lean_map(map);
         const gl::FrameBenchResult result =
             gl::run_frame_bench(renderer, scenes, request, [&](int done, int total) {
                 say("measuring view " + std::to_string(done) + "/" + std::to_string(total) +
@@ -194,7 +197,7 @@ int run_bench(const BenchArgs& args) {
         system.timing_description = result.timing.description;
         report += frame_tables(result, request);
         root["frames"] = frame_json(result, request);
-        root["frames"]["lean_map"] = {{"bumps", args.source.bumps},
+        root["frames"]["lean_map"] = {{"bumps", args.input.bumps.bumps},
                                       {"texture_size", map.levels.front().width},
                                       {"storage", to_string(map.storage)}};
     }
@@ -235,7 +238,7 @@ const CommandRegistration registration{
     "LEAN map generation on the GPU",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<BenchArgs>();
-        args->source.texture_size = 1024;
+        args->input.bumps.texture_size = 1024;
         app.add_option("--size", args->size, "Framebuffer size, WIDTHxHEIGHT pixels")
             ->capture_default_str();
         app.add_option("--scenes", args->scenes,
@@ -278,7 +281,8 @@ const CommandRegistration registration{
                        "Sizes of --generate, texels per side")
             ->capture_default_str();
         add_shading_options(app, args->shading);
-        add_lean_source_options(app, args->source);
+        add_lean_source_options(app, args->input.bumps);
+        add_layer_options(app, args->input.layers);
         add_gl_options(app, args->gl);
         return [args] { return run_bench(*args); };
     }};

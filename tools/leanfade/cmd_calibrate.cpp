@@ -12,6 +12,7 @@
 
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/calibration.hpp"
@@ -30,7 +31,6 @@ namespace fs = std::filesystem;
 struct CalibrateArgs {
     std::string target;
     bool fit_pmax = false;
-    std::string scene = "teapot";
     std::string distances = "2:64:10";
     std::string size = "128x128";
     float fov = gl::kDefaultFovYDegrees;
@@ -39,7 +39,7 @@ struct CalibrateArgs {
     std::string json;
     int spp = 64;
     ShadingFlags shading;
-    LeanSourceFlags source;
+    RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
 
@@ -85,7 +85,7 @@ int run_calibrate(const CalibrateArgs& args) {
     const PlotFiles files = args.plot.empty() ? PlotFiles{} : plot_files(args.plot);
     // Every output is checked before anything is read or rendered (docs/robustness.md).
     io::OutputPlan plan;
-    for (const std::string& input : {args.source.bumps, args.scene})
+    for (const std::string& input : render_source_inputs(args.input))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     if (!args.plot.empty()) {
         plan.add_output(files.plot.string(), "--plot");
@@ -95,17 +95,15 @@ int run_calibrate(const CalibrateArgs& args) {
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan.check();
 
-    const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
-    const PackedLeanMap map = load_lean_map(args.source, request.settings);
+    const scene::Scene scene = load_render_scene(args.input, request.settings);
     gl::Context context(context_options(args.gl));
     gl::Renderer renderer(context, shader_sources(args.gl));
-    renderer.set_mesh(mesh);
-    renderer.set_lean_map(map);
+    renderer.set_scene(scene);
     const eval::FadeCalibration c = eval::calibrate_fade(renderer, request);
 
     std::printf("target %s over %zu distances (%g to %g bounding radii), %s / %s\n",
                 eval::to_string(target).c_str(), c.distances.size(), c.distances.front(),
-                c.distances.back(), args.scene.c_str(), args.source.bumps.c_str());
+                c.distances.back(), args.input.scene.c_str(), args.input.bumps.bumps.c_str());
     std::printf("Fade = %.6g per bounding radius, Pmax = %.6g%s, p = %g, distance %s\n", c.fit.fade,
                 c.fit.pmax, args.fit_pmax ? "" : " (fixed)", request.settings.fade_exponent,
                 to_string(request.settings.fade_distance));
@@ -175,7 +173,7 @@ const CommandRegistration registration{
                        "the object is small)")
             ->capture_default_str();
         app.add_flag("--fit-pmax", args->fit_pmax, "Fit Pmax too (otherwise --pmax is kept)");
-        app.add_option("--scene", args->scene,
+        app.add_option("--scene", args->input.scene,
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--distances", args->distances,
@@ -190,7 +188,8 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the fit as JSON to this file");
         add_shading_options(app, args->shading);
-        add_lean_source_options(app, args->source);
+        add_lean_source_options(app, args->input.bumps);
+        add_layer_options(app, args->input.layers);
         add_gl_options(app, args->gl);
         return [args] { return run_calibrate(*args); };
     }};

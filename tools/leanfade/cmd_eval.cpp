@@ -11,6 +11,7 @@
 
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/preset.hpp"
@@ -25,7 +26,6 @@ namespace leanfade::cli {
 namespace {
 
 struct EvalArgs {
-    std::string scene = "teapot";
     std::string techniques = join_technique_names(approximating_techniques());
     std::string distances = "2:64:6";
     std::string shininess = "128,1024,13777";
@@ -39,7 +39,7 @@ struct EvalArgs {
     std::string out = "eval";
     std::string replot;
     ShadingFlags shading;
-    LeanSourceFlags source;
+    RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
 
@@ -161,7 +161,7 @@ int run_eval(const EvalArgs& args) {
 
     // The report folder is checked before anything is read or rendered (docs/robustness.md).
     io::OutputPlan plan;
-    for (const std::string& input : {args.source.bumps, args.scene})
+    for (const std::string& input : render_source_inputs(args.input))
         if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
     plan.add_output_folder(args.out);
     add_report_outputs(plan, args.out, true);
@@ -171,14 +171,12 @@ int run_eval(const EvalArgs& args) {
     auto status = [&](const std::string& text) {
         if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
     };
-    status("loading " + args.scene + " and " + args.source.bumps + "...");
-    const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
-    const PackedLeanMap map = load_lean_map(args.source, request.settings);
+    status("loading " + args.input.scene + " and " + args.input.bumps.bumps + "...");
+    const scene::Scene scene = load_render_scene(args.input, request.settings);
 
     gl::Context context(context_options(args.gl));
     gl::Renderer renderer(context, shader_sources(args.gl));
-    renderer.set_mesh(mesh);
-    renderer.set_lean_map(map);
+    renderer.set_scene(scene);
 
     const auto sweep_start = std::chrono::steady_clock::now();
     const eval::SweepOutput output = eval::run_sweep(renderer, request, [&](int done, int total) {
@@ -194,8 +192,8 @@ int run_eval(const EvalArgs& args) {
     if (tty) std::fprintf(stderr, "\r\033[K");
 
     eval::SweepInfo info;
-    info.scene = args.scene;
-    info.bumps = args.source.bumps;
+    info.scene = args.input.scene;
+    info.bumps = args.input.bumps.bumps;
     for (gl::Technique t : request.techniques) info.techniques.push_back(gl::to_string(t));
     info.distances = request.distances;
     info.shininesses = request.shininesses;
@@ -208,13 +206,13 @@ int run_eval(const EvalArgs& args) {
     info.motion_pixels = request.motion_pixels;
     info.renderer = context.renderer();
     Preset preset;
-    preset.scene = args.scene;
-    preset.bumps.source = args.source.bumps;
-    preset.bumps.from = args.source.from;
-    preset.bumps.directx = args.source.directx;
-    preset.bumps.bits = args.source.bits;
-    preset.bumps.seed = args.source.seed;
-    preset.bumps.texture_size = args.source.texture_size;
+    preset.scene = args.input.scene;
+    preset.bumps.source = args.input.bumps.bumps;
+    preset.bumps.from = args.input.bumps.from;
+    preset.bumps.directx = args.input.bumps.directx;
+    preset.bumps.bits = args.input.bumps.bits;
+    preset.bumps.seed = args.input.bumps.seed;
+    preset.bumps.texture_size = args.input.bumps.texture_size;
     preset.shading = request.settings;
     preset.camera.direction = request.view_direction;
     preset.camera.fov_y_degrees = request.fov_y_degrees;
@@ -249,8 +247,8 @@ int run_eval(const EvalArgs& args) {
             eval::kUnconvergedEnergyError * 100.0);
     for (const std::string& note : notes) std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
     std::printf("%s: %zu cases (%s, %s), %.1f s on %s; report %s/index.html\n",
-                (args.out + "/results.csv").c_str(), output.cases.size(), args.scene.c_str(),
-                args.source.bumps.c_str(), info.seconds, context.renderer().c_str(),
+                (args.out + "/results.csv").c_str(), output.cases.size(), args.input.scene.c_str(),
+                args.input.bumps.bumps.c_str(), info.seconds, context.renderer().c_str(),
                 args.out.c_str());
     return 0;
 }
@@ -261,7 +259,7 @@ const CommandRegistration registration{
     "shininesses: specular energy, error (RMSE, SSIM) and flicker; CSV, JSON, plots, HTML report",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<EvalArgs>();
-        app.add_option("--scene", args->scene,
+        app.add_option("--scene", args->input.scene,
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
@@ -298,7 +296,8 @@ const CommandRegistration registration{
         app.remove_option(app.get_option("--shininess"));
         app.add_option("--shininess", args->shininess, "Blinn-Phong exponents, comma-separated")
             ->capture_default_str();
-        add_lean_source_options(app, args->source);
+        add_lean_source_options(app, args->input.bumps);
+        add_layer_options(app, args->input.layers);
         add_gl_options(app, args->gl);
         return [args] { return run_eval(*args); };
     }};

@@ -1,15 +1,19 @@
 // leanfade render: the papers' comparison figure (a column per technique, a row per distance)
 // rendered offscreen with OpenGL 4.5 through EGL, written as one labelled sRGB PNG.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
+#include "cli_ocean.hpp"
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/preset.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/figure.hpp"
 #include "leanfade/gl/renderer.hpp"
@@ -24,7 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RenderArgs {
-    std::string scene = "teapot";
     // The papers' comparison: the baseline, LEAN and LEAN with fading.
     std::string techniques =
         join_technique_names(std::vector{Technique::Bump, Technique::Lean, Technique::Fade});
@@ -35,12 +38,15 @@ struct RenderArgs {
     std::string cells;
     std::string cell_format = "pfm";
     int ref_samples = 8;
+    float time = 0.0f;  // seconds, for moving bump layers
+    int frames = 1;     // a sequence of frames, `output` a %03d pattern (cli_ocean.hpp)
+    float fps = 12.0f;  // frames per second of the sequence
     float fov = gl::kDefaultFovYDegrees;
     std::string view_dir = "0,0.3,1";  // from the target toward the eye
     std::string target = "0,0,0";      // the point the camera looks at
     std::string preset;                // JSON preset of `leanfade view`: the defaults of the flags
     ShadingFlags shading;
-    LeanSourceFlags source;
+    RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
 
@@ -58,22 +64,47 @@ int run_render(const RenderArgs& args) {
     request.view_direction = parse_view_direction(args.view_dir);
     request.target = parse_vector(args.target, "--target");
     request.reference_samples = checked_reference_samples(args.ref_samples);
+    if (!std::isfinite(args.time) || std::abs(args.time) > 1e6f)
+        throw Error("--time", "must be a finite number of seconds up to 1e6 in magnitude");
+    request.time = args.time;
+    if (args.frames < 1 || args.frames > 100000)
+        throw Error("--frames", "must be in [1, 100000], got " + std::to_string(args.frames));
+    if (!(args.fps > 0.0f) || !std::isfinite(args.fps) || args.fps > 1000.0f)
+        throw Error("--fps", "must be in (0, 1000] frames per second");
+    if (args.frames > 1 && !args.cells.empty())
+        throw Error("--cells", "is for one frame; not with --frames");
+    const bool ocean = is_ocean_scene(args.input.scene);
+    // The ocean's rows are its cameras (--views), checked here before anything is read.
+    if (ocean) ocean_views(args.input.ocean.views, scene::OceanSettings{}, glm::mat4(1.0f));
+    // One picture, or one per frame of a sequence (-o a pattern such as out/ocean_%03d.png).
+    std::vector<std::string> pictures{args.output};
+    if (args.frames > 1) {
+        pictures.clear();
+        for (int k = 0; k < args.frames; ++k) pictures.push_back(frame_path(args.output, k));
+    }
     if (args.cell_format != "pfm" && args.cell_format != "exr")
         throw Error("--cell-format", "expected pfm or exr, got '" + args.cell_format + "'");
     // Every output is checked before anything is read or rendered: a regular file (or a new one)
     // in a writable folder, not an input, not another output (docs/robustness.md).
-    auto cell_name = [](gl::Technique technique, float distance) {
-        return std::string(gl::to_string(technique)) + "_d" + gl::distance_text(distance);
+    auto cell_name = [](gl::Technique technique, float distance, const std::string& view) {
+        return std::string(gl::to_string(technique)) +
+               (view.empty() ? "_d" + gl::distance_text(distance) : "_" + view);
     };
     io::OutputPlan plan;
-    for (const std::string& input : {args.source.bumps, args.scene, args.preset})
+    for (const std::string& input : render_source_inputs(args.input, args.preset))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
-    plan.add_output(args.output, "-o");
+    for (const std::string& picture : pictures) plan.add_output(picture, "-o");
     if (!args.cells.empty()) {
         plan.add_output_folder(args.cells);
+        std::vector<std::pair<float, std::string>> rows;
+        if (ocean)
+            for (const std::string& view : split(args.input.ocean.views, ','))
+                rows.emplace_back(0.0f, view);
+        else
+            for (float distance : request.distances) rows.emplace_back(distance, "");
         for (gl::Technique technique : request.techniques)
-            for (float distance : request.distances) {
-                const fs::path base = fs::path(args.cells) / cell_name(technique, distance);
+            for (const auto& [distance, view] : rows) {
+                const fs::path base = fs::path(args.cells) / cell_name(technique, distance, view);
                 plan.add_output(base.string() + ".png", "--cells");
                 plan.add_output(base.string() + "." + args.cell_format, "--cells");
             }
@@ -84,28 +115,37 @@ int run_render(const RenderArgs& args) {
     auto status = [&](const std::string& text) {
         if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
     };
-    status("loading " + args.scene + " and " + args.source.bumps + "...");
-    const scene::Mesh mesh = scene::make_scene_mesh(args.scene);
-    const PackedLeanMap map = load_lean_map(args.source, settings);
+    status("loading " + args.input.scene + " and " + args.input.bumps.bumps + "...");
+    const scene::Scene scene = load_render_scene(args.input, settings);
 
     gl::Context context(context_options(args.gl));
     gl::Renderer renderer(context, shader_sources(args.gl));
-    renderer.set_mesh(mesh);
-    renderer.set_lean_map(map);
+    renderer.set_scene(scene);
+    if (ocean)
+        request.views = ocean_views(args.input.ocean.views, scene::OceanSettings{},
+                                    renderer.model_matrix());
 
-    const gl::Figure figure = gl::render_figure(renderer, request, [&](int done, int total) {
-        status("rendering cell " + std::to_string(done) + "/" + std::to_string(total) + " on " +
-               context.renderer());
-    });
-    if (tty) std::fprintf(stderr, "\r\033[K");
-
-    // The picture and the cells are published together, or not at all.
+    // The pictures (a frame sequence: one per frame, frame k at --time + k / --fps) and the cells
+    // are published together, or not at all.
     io::OutputTransaction outputs;
-    io::write_png(outputs.stage(args.output), figure.picture, 8);
+    gl::Figure figure;
+    for (std::size_t k = 0; k < pictures.size(); ++k) {
+        request.time = args.time + float(double(k) / double(args.fps));
+        figure = gl::render_figure(renderer, request, [&](int done, int total) {
+            status((pictures.size() > 1 ? "frame " + std::to_string(k + 1) + "/" +
+                                              std::to_string(pictures.size()) + ", "
+                                        : std::string()) +
+                   "rendering cell " + std::to_string(done) + "/" + std::to_string(total) +
+                   " on " + context.renderer());
+        });
+        io::write_png(outputs.stage(pictures[k]), figure.picture, 8);
+    }
+    if (tty) std::fprintf(stderr, "\r\033[K");
     if (!args.cells.empty()) {
         const fs::path folder = outputs.stage_folder(args.cells);
         for (const gl::FigureCell& cell : figure.cells) {
-            const std::string base = (folder / cell_name(cell.technique, cell.distance)).string();
+            const std::string base =
+                (folder / cell_name(cell.technique, cell.distance, cell.view)).string();
             io::write_png(base + ".png", gl::encode_srgb(cell.radiance), 8);
             if (args.cell_format == "exr")
                 io::write_exr(base + ".exr", cell.radiance);
@@ -116,9 +156,13 @@ int run_render(const RenderArgs& args) {
     outputs.publish();
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("%s: %zu x %zu cells of %dx%d (%s), %.2f s on %s\n", args.output.c_str(),
-                request.techniques.size(), request.distances.size(), request.cell_width,
-                request.cell_height, args.scene.c_str(), seconds, context.renderer().c_str());
+    std::printf("%s: %zu x %zu cells of %dx%d (%s), %.2f s on %s\n",
+                (pictures.size() > 1 ? pictures.front() + " .. " + pictures.back() : args.output)
+                    .c_str(),
+                request.techniques.size(),
+                request.views.empty() ? request.distances.size() : request.views.size(),
+                request.cell_width,
+                request.cell_height, args.input.scene.c_str(), seconds, context.renderer().c_str());
     return 0;
 }
 
@@ -127,7 +171,7 @@ int run_render(const RenderArgs& args) {
 void apply_preset(RenderArgs& args, CLI::App& app) {
     const Preset preset = read_preset(args.preset);
     check_preset_techniques(preset, args.preset);
-    args.scene = preset.scene;
+    args.input.scene = preset.scene;
     args.techniques = join(preset.techniques);
     args.distances = number_text(preset.camera.distance);
     args.fov = preset.camera.fov_y_degrees;
@@ -135,7 +179,7 @@ void apply_preset(RenderArgs& args, CLI::App& app) {
     args.target = vector_text(preset.camera.target);
     args.ref_samples = preset.reference_samples;
     set_shading_flags(preset.shading, args.shading);
-    set_source_flags(preset.bumps, args.source);
+    set_source_flags(preset.bumps, args.input.bumps);
     reapply_explicit_options(app);
 }
 
@@ -145,8 +189,9 @@ const CommandRegistration registration{
     "fade, reference), a row per camera distance",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<RenderArgs>();
-        app.add_option("--scene", args->scene,
-                       "Object: sphere, torus, teapot, terrain, plane or an .obj file")
+        app.add_option("--scene", args->input.scene,
+                       "Object: sphere, torus, teapot, terrain, plane, ocean (docs/ocean.md) or an "
+                       ".obj file")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Columns, comma-separated: " + technique_names(all_techniques(), "and"))
@@ -167,15 +212,34 @@ const CommandRegistration registration{
         app.add_option("--cell-format", args->cell_format, "Float format of --cells: pfm or exr")
             ->capture_default_str();
         add_reference_samples_option(app, args->ref_samples);
+        app.add_option("--time", args->time,
+                       "Seconds since the start: moving bump layers are offset by their "
+                       "--layer-velocity times this")
+            ->capture_default_str();
+        app.add_option("--frames", args->frames,
+                       "Render a sequence of this many frames, frame k at --time + k / --fps; -o "
+                       "is then a pattern with one %d or %03d field (out/ocean_%03d.png)")
+            ->capture_default_str();
+        app.add_option("--fps", args->fps, "Frames per second of --frames")->capture_default_str();
         add_camera_options(app, args->fov, args->view_dir, "the target", &args->target);
         app.add_option("--preset", args->preset,
                        "Start from a preset saved by `leanfade view` (JSON): its scene, bumps, "
                        "shading, camera (one row) and techniques; flags given here override it");
         add_shading_options(app, args->shading);
-        add_lean_source_options(app, args->source);
+        add_lean_source_options(app, args->input.bumps);
+        add_layer_options(app, args->input.layers);
+        add_ocean_options(app, args->input.ocean);
         add_gl_options(app, args->gl);
         return [args, &app] {
             if (!args->preset.empty()) apply_preset(*args, app);
+            if (is_ocean_scene(args->input.scene)) {
+                // The ocean's defaults: 16:9 cells and its shading (docs/ocean.md); flags given
+                // on the command line win.
+                if (app.get_option("--size")->count() == 0) args->size = "480x270";
+                const auto [width, height] = parse_size(args->size, "--size");
+                apply_ocean_shading(args->shading, app, scene::OceanSettings{},
+                                    float(width) / float(height));
+            }
             return run_render(*args);
         };
     }};

@@ -9,8 +9,12 @@
 #include <memory>
 #include <tuple>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "cli_ocean.hpp"
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
@@ -25,7 +29,6 @@ namespace leanfade::cli {
 namespace {
 
 struct ViewArgs {
-    std::string scene = "teapot";
     std::string technique = to_string(Technique::Lean);
     std::string techniques;  // panes, comma-separated; overrides --technique
     std::string layout;      // "" = single for one technique, side-by-side for more
@@ -43,13 +46,13 @@ struct ViewArgs {
     std::string screenshot;
     std::string preset;
     ShadingFlags shading;
-    LeanSourceFlags source;
+    RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
 
 void apply_preset(const Preset& preset, ViewArgs& args, CLI::App& app) {
     check_preset_techniques(preset, args.preset);
-    args.scene = preset.scene;
+    args.input.scene = preset.scene;
     args.techniques = join(preset.techniques);
     args.layout = preset.layout;
     args.divider = preset.divider;
@@ -60,7 +63,7 @@ void apply_preset(const Preset& preset, ViewArgs& args, CLI::App& app) {
     args.ref_samples = preset.reference_samples;
     args.scale = preset.resolution_scale;
     set_shading_flags(preset.shading, args.shading);
-    set_source_flags(preset.bumps, args.source);
+    set_source_flags(preset.bumps, args.input.bumps);
     reapply_explicit_options(app);
     // An explicit single --technique replaces the preset's panes.
     if (app.count("--technique") > 0 && app.count("--techniques") == 0) {
@@ -126,7 +129,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     if (!args.screenshot.empty()) {
         // The screenshot is an output: checked before the window opens (docs/robustness.md).
         io::OutputPlan plan;
-        for (const std::string& input : {args.source.bumps, args.scene, args.preset})
+        for (const std::string& input : render_source_inputs(args.input, args.preset))
             if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
         plan.add_output(args.screenshot, "--screenshot");
         plan.check();
@@ -141,8 +144,8 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         std::fprintf(stderr,
                      "leanfade view: --egl-device is ignored: the viewer draws with its "
                      "window's OpenGL context\n");
-    p.scene = args.scene;
-    p.bumps = to_bump_source(args.source);
+    p.scene = args.input.scene;
+    p.bumps = to_bump_source(args.input.bumps);
     // The bump flags by their names (validate() would name the preset keys).
     parse_bake_source(p.bumps.from);
     parse_storage(p.bumps.bits);
@@ -152,15 +155,30 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
                                           std::to_string(p.bumps.texture_size));
     validate(p, "view");
 
-    options.mesh = scene::make_scene_mesh(p.scene);
-    const int max_size = args.source.max_size;
+    const int max_size = args.input.bumps.max_size;
     options.load_bumps = [max_size](const BumpSource& source, const ShadingSettings& settings) {
         LeanSourceFlags flags;
         set_source_flags(source, flags);
         flags.max_size = max_size;
         return load_lean_map(flags, settings);
     };
-    options.map = options.load_bumps(p.bumps, p.shading);
+    RenderSourceFlags input = args.input;  // the preset's scene and bumps, the flags' layers
+    input.scene = p.scene;
+    set_source_flags(p.bumps, input.bumps);
+    input.bumps.max_size = max_size;
+    options.scene = load_render_scene(input, p.shading);
+    if (is_ocean_scene(input.scene)) {
+        // The ocean moves (a time slider and pause) and is seen from its own cameras, in the
+        // renderer's world: the scene scaled to its unit bounding sphere.
+        const scene::Bounds bounds = scene::scene_bounds(options.scene);
+        const glm::mat4 model =
+            glm::scale(glm::mat4(1.0f), glm::vec3(1.0f / bounds.radius())) *
+            glm::translate(glm::mat4(1.0f), -bounds.center());
+        const scene::OceanSettings ocean;
+        options.loop_seconds = ocean.loop_seconds;
+        for (const auto& named : ocean_views(args.input.ocean.views, ocean, model))
+            options.scene_views.emplace_back(named.name, named.view);
+    }
     return viewer::run_viewer(std::move(options));
 }
 
@@ -170,7 +188,7 @@ const CommandRegistration registration{
     "side by side (GLFW window with an ImGui panel; needs an X display)",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ViewArgs>();
-        app.add_option("--scene", args->scene,
+        app.add_option("--scene", args->input.scene,
                        "Object: sphere, torus, teapot, terrain, plane or an .obj file")
             ->capture_default_str();
         app.add_option("--technique", args->technique,
@@ -209,13 +227,25 @@ const CommandRegistration registration{
                        "Start from a preset (JSON, saved by the viewer); flags given here "
                        "override it");
         add_shading_options(app, args->shading);
-        add_lean_source_options(app, args->source);
+        add_lean_source_options(app, args->input.bumps);
+        add_layer_options(app, args->input.layers);
+        add_ocean_options(app, args->input.ocean);
         add_gl_options(app, args->gl);
         return [args, &app] {
             std::shared_ptr<Preset> loaded;
             if (!args->preset.empty()) {
                 loaded = std::make_shared<Preset>(read_preset(args->preset));
                 apply_preset(*loaded, *args, app);
+            }
+            if (is_ocean_scene(args->input.scene)) {
+                // The ocean's shading (docs/ocean.md) for the panes' shape (the window less the
+                // panel, about 30%, shared by the techniques); flags given here win.
+                const auto [width, height] = parse_size(args->size, "--size");
+                const std::string& names =
+                    args->techniques.empty() ? args->technique : args->techniques;
+                const float panes = float(std::count(names.begin(), names.end(), ',') + 1);
+                apply_ocean_shading(args->shading, app, scene::OceanSettings{},
+                                    0.7f * float(width) / (panes * float(height)));
             }
             return run_view(*args, loaded);
         };

@@ -46,8 +46,34 @@ bool is_ktx2(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// The one-object scene of a mesh and a LEAN map (material 0 without overrides).
+scene::Scene single_object_scene(const scene::Mesh& mesh, const PackedLeanMap& map) {
+    scene::Scene result;
+    result.objects.push_back(scene::Object{mesh, 0, glm::mat4(1.0f)});
+    result.materials.push_back(scene::Material{"default", 0, {}, {}, {}, {}});
+    result.lean_maps.push_back(map);
+    return result;
+}
+
+std::string describe_objects(const scene::Scene& s) {
+    std::size_t triangles = 0;
+    for (const scene::Object& o : s.objects) triangles += o.mesh.triangle_count();
+    const std::string name = s.objects.size() == 1 ? s.objects.front().mesh.name
+                                                   : std::to_string(s.objects.size()) + " objects";
+    return name + ": " + with_thousands(triangles) + " triangles";
+}
+
+}  // namespace
+
 Session::Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loader, Preset preset,
                  const scene::Mesh& mesh, const PackedLeanMap& map)
+    : Session(context, std::move(sources), std::move(loader), std::move(preset),
+              single_object_scene(mesh, map)) {}
+
+Session::Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loader, Preset preset,
+                 const scene::Scene& scene)
     : context_(context),
       renderer_(context, sources),
       loader_(std::move(loader)),
@@ -56,13 +82,31 @@ Session::Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loa
       reloadable_(sources.origin() != "embedded"),
       shader_origin_(sources.origin()) {
     for (const std::string& name : preset_.techniques) gl::parse_technique(name, "techniques");
-    set_mesh(mesh);
-    renderer_.set_lean_map(map);
+    renderer_.set_scene(scene);
+    scene_ = scene;
+    mesh_description_ = describe_objects(scene_);
 }
 
 void Session::set_mesh(const scene::Mesh& mesh) {
-    renderer_.set_mesh(mesh);
-    mesh_description_ = mesh.name + ": " + with_thousands(mesh.triangle_count()) + " triangles";
+    scene::Scene next = scene_;
+    next.objects = {scene::Object{mesh, 0, glm::mat4(1.0f)}};
+    renderer_.set_scene(next);
+    scene_ = std::move(next);
+    mesh_description_ = describe_objects(scene_);
+    ++generation_;
+}
+
+void Session::set_map(const PackedLeanMap& map) {
+    scene::Scene next = scene_;
+    next.lean_maps = {map};
+    next.cross_terms.clear();
+    next.weight_maps.clear();
+    for (scene::Material& m : next.materials) {
+        m.lean_map = 0;
+        m.layered = {};
+    }
+    renderer_.set_scene(next);
+    scene_ = std::move(next);
     ++generation_;
 }
 
@@ -115,9 +159,8 @@ bool Session::load_bumps(const BumpSource& source) {
         checked.bumps = source;
         validate(checked, "bumps");
         const PackedLeanMap map = loader_(source, preset_.shading);
-        renderer_.set_lean_map(map);
+        set_map(map);
         preset_.bumps = source;
-        ++generation_;
         report_status("loaded " + source.source + " (" + map_description() + ")");
         return true;
     } catch (const Error& e) {
@@ -143,14 +186,11 @@ bool Session::load_preset(const std::string& path) {
         // Everything is read before anything is uploaded.
         const scene::Mesh mesh = scene::make_scene_mesh(p.scene);
         const PackedLeanMap map = loader_(p.bumps, p.shading);
-        renderer_.set_lean_map(map);
+        scene::Scene next = single_object_scene(mesh, map);
+        renderer_.set_scene(next);  // all or nothing
+        scene_ = std::move(next);
+        mesh_description_ = describe_objects(scene_);
         ++generation_;
-        try {
-            set_mesh(mesh);
-        } catch (const Error&) {
-            restore_bumps();
-            throw;
-        }
         camera_ = OrbitCamera(p.camera);
         preset_ = std::move(p);
         report_status("loaded preset " + path);
@@ -158,14 +198,6 @@ bool Session::load_preset(const std::string& path) {
     } catch (const Error& e) {
         report_error(e.what());
         return false;
-    }
-}
-
-void Session::restore_bumps() {
-    try {
-        renderer_.set_lean_map(loader_(preset_.bumps, preset_.shading));
-    } catch (const Error& e) {
-        report_error(std::string("restoring the previous bumps: ") + e.what());
     }
 }
 

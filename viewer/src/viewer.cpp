@@ -86,11 +86,10 @@ App::App(ViewerOptions options) : options_(std::move(options)) {
     if (options_.auto_scale && software_renderer_)
         preset.resolution_scale = std::min(preset.resolution_scale, 0.5f);
     session_ = std::make_unique<Session>(*context_, choose_shaders(options_.shader_dir),
-                                         options_.load_bumps, std::move(preset), options_.mesh,
-                                         options_.map);
-    // The CPU copies are no longer needed.
-    options_.mesh = {};
-    options_.map = {};
+                                         options_.load_bumps, std::move(preset),
+                                         options_.scene);
+    // The CPU copy is no longer needed.
+    options_.scene = {};
     presenter_ = std::make_unique<Presenter>();
 
     IMGUI_CHECKVERSION();
@@ -227,13 +226,17 @@ int App::run() {
 }
 
 void App::frame() {
-    const bool busy = fly_active_ || continuous_ || options_.frames > 0 || frame_count_ < 3 ||
-                      ImGui::IsAnyMouseDown();
+    const bool animating = options_.loop_seconds > 0.0f && !animation_paused_;
+    const bool busy = fly_active_ || continuous_ || animating || options_.frames > 0 ||
+                      frame_count_ < 3 || ImGui::IsAnyMouseDown();
     if (busy)
         glfwPollEvents();
     else
         glfwWaitEventsTimeout(0.5);
     const double start = now_seconds();
+    if (animating && last_frame_start_ > 0.0)
+        animation_time_ = std::fmod(animation_time_ + (start - last_frame_start_),
+                                    double(options_.loop_seconds));
     if (last_frame_start_ > 0.0) {
         const double ms = (start - last_frame_start_) * 1000.0;
         frame_ms_ = frame_ms_ > 0.0 ? 0.9 * frame_ms_ + 0.1 * ms : ms;
@@ -337,6 +340,7 @@ void App::handle_input() {
             zoomed = true;
         }
         if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) set_fly_away(!fly_active_);
+        if (ImGui::IsKeyPressed(GLFW_KEY_P, false)) animation_paused_ = !animation_paused_;
         if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) session_->reload_shaders();
         if (ImGui::IsKeyPressed(GLFW_KEY_F12, false)) screenshot_requested_ = true;
         if (ImGui::IsKeyPressed(GLFW_KEY_F1, false)) panel_visible_ = !panel_visible_;
@@ -385,8 +389,9 @@ void App::layout_panes(int width, int height) {
 
 void App::render_panes() {
     const Preset snapshot = session_->snapshot();
-    const std::string base =
-        preset_to_json(snapshot) + "#" + std::to_string(session_->generation());
+    const std::string base = preset_to_json(snapshot) + "#" +
+                             std::to_string(session_->generation()) + "#t" +
+                             std::to_string(animation_time_) + "#v" + std::to_string(scene_view_);
     const int n = pane_count();
     const glm::vec3 background =
         snapshot.shading.fog == FogMode::None ? kBackground : snapshot.shading.fog_color;
@@ -418,8 +423,11 @@ void App::render_panes() {
         request.settings = snapshot.shading;
         request.reference_samples = snapshot.reference_samples;
         request.background = background;
+        request.time = float(animation_time_);
         try {
-            request.view = session_->camera().view();
+            request.view = options_.scene_views.empty()
+                               ? session_->camera().view()
+                               : options_.scene_views[std::size_t(scene_view_)].second;
             pane.timer.begin(timing_mode_);
             session_->renderer().render_to(request, pane.canvas.framebuffer(), 0, 0);
             pane.timer.end();

@@ -9,23 +9,24 @@
 
 namespace leanfade {
 
+const LayerMixingInfo& info(LayerMixing mixing) {
+    for (const LayerMixingInfo& row : kLayerMixings)
+        if (row.id == mixing) return row;
+    return kLayerMixings[0];
+}
+
 const char* to_string(LayerMixing mixing) {
-    switch (mixing) {
-        case LayerMixing::Height:
-            return "height";
-        case LayerMixing::Textures:
-            return "textures";
-        case LayerMixing::Approx:
-            return "approx";
-    }
-    return "?";
+    return info(mixing).name;
 }
 
 LayerMixing parse_layer_mixing(std::string_view name, const std::string& setting) {
-    for (LayerMixing m : {LayerMixing::Height, LayerMixing::Textures, LayerMixing::Approx})
-        if (name == to_string(m)) return m;
-    throw Error(setting, "unknown mixing method '" + std::string(name) +
-                             "' (expected height, textures or approx)");
+    std::string names;
+    for (const LayerMixingInfo& row : kLayerMixings) {
+        if (name == row.name) return row.id;
+        names += (names.empty() ? "" : ", ") + std::string(row.name);
+    }
+    throw Error(setting, "unknown mixing method '" + std::string(name) + "' (expected " + names +
+                             ")");
 }
 
 void validate(const LayerBlend& blend) {

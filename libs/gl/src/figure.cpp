@@ -153,7 +153,8 @@ void draw_text(Image& image, int x, int y, const std::string& text, int scale,
 Figure render_figure(Renderer& renderer, const FigureRequest& request,
                      const std::function<void(int, int)>& progress) {
     if (request.techniques.empty()) throw Error("techniques", "no technique given");
-    if (request.distances.empty()) throw Error("distances", "no distance given");
+    if (request.distances.empty() && request.views.empty())
+        throw Error("distances", "no distance given");
     if (request.cell_width < 16 || request.cell_height < 16 || request.cell_width > 8192 ||
         request.cell_height > 8192)
         throw Error("size", "cells must be 16..8192 pixels on each side, got " +
@@ -164,16 +165,23 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
         request.settings.fog == FogMode::None ? request.background : request.settings.fog_color;
 
     Figure figure;
-    const int total = int(request.techniques.size() * request.distances.size());
+    // The rows: the named views, or a camera at each distance.
+    std::vector<FigureRequest::NamedView> row_views = request.views;
+    if (row_views.empty())
+        for (float distance : request.distances)
+            row_views.push_back({"", view_at_distance(distance, request.fov_y_degrees,
+                                                      request.view_direction, request.target)});
+    const int total = int(request.techniques.size() * row_views.size());
     struct Row {
         std::string label;
         std::vector<Image> cells;  // sRGB
     };
     std::vector<Row> rows;
-    for (float distance : request.distances) {
-        const View view = view_at_distance(distance, request.fov_y_degrees, request.view_direction,
-                                           request.target);
-        Row row{"d=" + distance_text(distance), {}};
+    for (std::size_t v = 0; v < row_views.size(); ++v) {
+        const bool named = !request.views.empty();
+        const float distance = named ? 0.0f : request.distances[v];
+        const View& view = row_views[v].view;
+        Row row{named ? row_views[v].name : "d=" + distance_text(distance), {}};
         for (Technique technique : request.techniques) {
             RenderRequest r;
             r.technique = technique;
@@ -182,14 +190,15 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
             r.view = view;
             r.settings = request.settings;
             r.reference_samples = request.reference_samples;
+            r.time = request.time;
             r.background = background;
-            figure.cells.push_back({technique, distance, renderer.render(r)});
+            figure.cells.push_back({technique, distance, row_views[v].name, renderer.render(r)});
             row.cells.push_back(encode_srgb(figure.cells.back().radiance));
             if (progress) progress(int(figure.cells.size()), total);
         }
         rows.push_back(std::move(row));
         const float diameter = 2.0f * projected_radius_pixels(view, ch);
-        if (request.zoom && diameter < float(ch) / 3.0f) {
+        if (request.zoom && !named && diameter < float(ch) / 3.0f) {
             const int factor =
                 std::clamp(int(std::floor(float(std::min(cw, ch)) / (1.25f * diameter))), 2, 16);
             Row zoomed;

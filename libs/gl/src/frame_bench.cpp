@@ -217,7 +217,8 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
     validate_frame_bench(request);
     if (scenes.empty()) throw Error("scenes", "no scene to measure");
     for (const FrameBenchScene& s : scenes)
-        if (s.mesh == nullptr) throw Error("scenes", "scene '" + s.name + "' has no mesh");
+        if (s.mesh == nullptr && s.scene == nullptr)
+            throw Error("scenes", "scene '" + s.name + "' has no mesh");
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
     if (request.width > max_size || request.height > max_size)
@@ -242,11 +243,19 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
     const int total = int(scenes.size() * views.size());
     int done = 0;
     for (const FrameBenchScene& s : scenes) {
-        renderer.set_mesh(*s.mesh);
         SceneResult scene_result;
         scene_result.name = s.name;
-        scene_result.triangles = s.mesh->triangle_count();
-        scene_result.vertices = s.mesh->vertices.size();
+        if (s.scene != nullptr) {
+            renderer.set_scene(*s.scene);
+            for (const scene::Object& o : s.scene->objects) {
+                scene_result.triangles += o.mesh.triangle_count();
+                scene_result.vertices += o.mesh.vertices.size();
+            }
+        } else {
+            renderer.set_mesh(*s.mesh);
+            scene_result.triangles = s.mesh->triangle_count();
+            scene_result.vertices = s.mesh->vertices.size();
+        }
         for (const PlannedView& planned : views) {
             scene_result.views.push_back(run_view(renderer, request, planned, timer, target));
             ++done;

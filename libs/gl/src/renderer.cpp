@@ -71,7 +71,7 @@ std::vector<std::uint8_t> flipped(const std::vector<std::uint8_t>& bytes, std::s
 // variant (shader_library.hpp).
 std::string variant_name(const RenderRequest& request) {
     const ShadingSettings& s = request.settings;
-    SceneVariantFlags flags = 0;
+    SceneVariantFlags flags = scene_variant_flags(request.technique, s);
     if (request.output == OutputMode::Color && s.fog == FogMode::None &&
         has_scene_variant(request.technique, kPlainColor))
         flags |= kPlainColor;
@@ -215,6 +215,9 @@ Renderer::Renderer(Context& context, ShaderSources sources)
     object_block_ = create_buffer();
     glNamedBufferStorage(object_block_.get(), GLsizeiptr(sizeof(LfObjectUniforms)), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
+    layer_block_ = create_buffer();
+    glNamedBufferStorage(layer_block_.get(), GLsizeiptr(sizeof(LfLayerUniforms)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
 }
 
 Renderer::~Renderer() = default;
@@ -297,7 +300,9 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
     context_.check("uploading mesh " + mesh.name);
     model_ = model;
     objects_ = std::move(objects);
-    materials_ = {scene::Material{"default", 0, {}, {}, {}}};
+    materials_ = {scene::Material{"default", 0, {}, {}, {}, {}}};
+    material_layers_.clear();
+    material_layers_.resize(1);
 }
 
 void Renderer::set_scene(const scene::Scene& scene) {
@@ -306,6 +311,14 @@ void Renderer::set_scene(const scene::Scene& scene) {
     const glm::mat4 model = unit_sphere_matrix(scene::scene_bounds(scene), "scene");
     std::vector<GpuMap> maps;
     for (const PackedLeanMap& map : scene.lean_maps) maps.push_back(upload_map(map));
+    for (const scene::Material& m : scene.materials)
+        for (const scene::MaterialLayer& layer : m.layered.layers)
+            if (scene.lean_maps[std::size_t(layer.lean_map)].roughness_baked)
+                throw Error("scene", "material '" + m.name +
+                                         "': a bump layer's map has roughness baked in; the base "
+                                         "roughness is added once, after mixing");
+    std::vector<GpuLayers> layers;
+    for (const scene::Material& m : scene.materials) layers.push_back(upload_layers(scene, m));
     std::vector<GpuObject> objects;
     for (const scene::Object& o : scene.objects)
         objects.push_back(upload_object(o.mesh, o.material, o.transform));
@@ -314,6 +327,86 @@ void Renderer::set_scene(const scene::Scene& scene) {
     objects_ = std::move(objects);
     maps_ = std::move(maps);
     materials_ = scene.materials;
+    material_layers_ = std::move(layers);
+}
+
+namespace {
+
+// A float texture's level from an image (rows top first): rows bottom first as GL wants them.
+std::vector<float> flipped_rows(const Image& image) {
+    std::vector<float> out(image.pixels.size());
+    const std::size_t row = std::size_t(image.width) * std::size_t(image.channels);
+    for (int y = 0; y < image.height; ++y)
+        std::copy_n(image.pixels.begin() + std::ptrdiff_t(std::size_t(y) * row), row,
+                    out.begin() + std::ptrdiff_t(std::size_t(image.height - 1 - y) * row));
+    return out;
+}
+
+void set_repeat_trilinear(GLuint texture, int levels) {
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+}  // namespace
+
+Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
+                                            const scene::Material& material) {
+    GpuLayers result;
+    const scene::MaterialLayers& l = material.layered;
+    if (l.layers.empty()) return result;
+    const int max_size = gl_integer(GL_MAX_TEXTURE_SIZE);
+    if (l.mixing == LayerMixing::Textures && !l.cross_terms.empty()) {
+        const std::vector<Image>& first = scene.cross_terms[std::size_t(l.cross_terms.front())];
+        const int width = first.front().width, height = first.front().height;
+        const GLsizei levels = GLsizei(first.size());
+        if (width > max_size || height > max_size || levels > mip_level_count(width, height))
+            throw Error("scene", "material '" + material.name +
+                                     "': a cross-term texture is too large or has too many levels");
+        result.cross_terms = create_texture(GL_TEXTURE_2D_ARRAY);
+        const GLuint texture = result.cross_terms.get();
+        glTextureStorage3D(texture, levels, GL_RGBA32F, width, height,
+                           GLsizei(l.cross_terms.size()));
+        for (std::size_t pair = 0; pair < l.cross_terms.size(); ++pair) {
+            const std::vector<Image>& chain = scene.cross_terms[std::size_t(l.cross_terms[pair])];
+            if (GLsizei(chain.size()) != levels)
+                throw Error("scene", "material '" + material.name +
+                                         "': its cross-term textures differ in size");
+            int w = width, h = height;
+            for (GLsizei level = 0; level < levels; ++level) {
+                const Image& image = chain[std::size_t(level)];
+                if (image.width != w || image.height != h || image.channels != 4)
+                    throw Error("scene", "material '" + material.name +
+                                             "': its cross-term textures differ in size");
+                const std::vector<float> rows = flipped_rows(image);
+                glTextureSubImage3D(texture, level, 0, 0, GLint(pair), w, h, 1, GL_RGBA, GL_FLOAT,
+                                    rows.data());
+                w = std::max(1, w / 2);
+                h = std::max(1, h / 2);
+            }
+        }
+        set_repeat_trilinear(texture, levels);
+    }
+    if (l.weight_map >= 0) {
+        const Image& image = scene.weight_maps[std::size_t(l.weight_map)];
+        if (image.width > max_size || image.height > max_size)
+            throw Error("layer-weight-map", "larger than GL_MAX_TEXTURE_SIZE");
+        const int levels = mip_level_count(image.width, image.height);
+        result.weights = create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(result.weights.get(), levels, GL_RGBA32F, image.width, image.height);
+        const std::vector<float> rows = flipped_rows(image);
+        glTextureSubImage2D(result.weights.get(), 0, 0, 0, image.width, image.height, GL_RGBA,
+                            GL_FLOAT, rows.data());
+        // Box-filtered weights still sum to 1 per texel: the mix stays a convex combination.
+        glGenerateTextureMipmap(result.weights.get());
+        set_repeat_trilinear(result.weights.get(), levels);
+    }
+    context_.check("uploading the bump layers of material " + material.name);
+    return result;
 }
 
 Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
@@ -378,7 +471,41 @@ void Renderer::set_lean_map(const PackedLeanMap& map) {
     GpuMap uploaded = upload_map(map);
     maps_.clear();
     maps_.push_back(std::move(uploaded));
-    for (scene::Material& m : materials_) m.lean_map = 0;
+    for (scene::Material& m : materials_) {
+        m.lean_map = 0;
+        m.layered = {};
+    }
+    material_layers_.clear();
+    material_layers_.resize(materials_.size());
+}
+
+void Renderer::bind_layers(const scene::Material& material, const GpuLayers& layers, float time) {
+    const scene::MaterialLayers& l = material.layered;
+    LfLayerUniforms block{};
+    block.count = int(l.layers.size());
+    block.mixing = info(l.mixing).shader_mixing;
+    block.weight_map = layers.weights.get() != 0 ? 1 : 0;
+    for (std::size_t i = 0; i < l.layers.size() && i < std::size_t(kMaxLayers); ++i) {
+        const scene::MaterialLayer& layer = l.layers[i];
+        const GpuMap& map = maps_[std::size_t(layer.lean_map)];
+        const int c = int(i);
+        block.weights[c] = l.weights[i];
+        block.strengths[c] = layer.strength;
+        block.scales[c] = map.info.scale;
+        block.tilings[c] = layer.tiling;
+        // A moving layer: its texture coordinates slide by velocity * time (uv units).
+        const glm::vec2 offset = layer.velocity * time;
+        block.offsets[i / 2][int(i % 2) * 2] = offset.x;
+        block.offsets[i / 2][int(i % 2) * 2 + 1] = offset.y;
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_LAYER_MAPS + c), map.texture.get());
+    }
+    if (layers.cross_terms.get() != 0)
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_CROSS_TERMS), layers.cross_terms.get());
+    if (layers.weights.get() != 0)
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_LAYER_WEIGHTS), layers.weights.get());
+    glNamedBufferSubData(layer_block_.get(), 0, sizeof(block), &block);
+    glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_LAYER_BLOCK),
+                     layer_block_.get());
 }
 
 const LeanTextureInfo& Renderer::lean_texture() const {
@@ -386,7 +513,11 @@ const LeanTextureInfo& Renderer::lean_texture() const {
     return maps_.empty() ? none : maps_.front().info;
 }
 
-void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat4& clip) {
+void Renderer::draw_scene(const std::string& variant, const RenderRequest& request,
+                          const glm::mat4& clip) {
+    const GLuint p = program(variant);
+    // Layered materials draw with the variant's _layered twin (a scene variant: not the floor).
+    const bool layerable = variant.rfind("scene_", 0) == 0 && variant != kConstantColorVariant;
     const ShadingSettings& frame = request.settings;
     const glm::mat4 view = request.view.view_matrix();
     LfObjectUniforms object_block{};
@@ -395,10 +526,13 @@ void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat
     object_block.eye_world = request.view.eye;
     object_block.light_world = glm::normalize(frame.light_direction);
     object_block.tiling = frame.tiling;
-    glUseProgram(p);
     for (const GpuObject& object : objects_) {
         const scene::Material& material = materials_[std::size_t(object.material)];
         const GpuMap& map = maps_[std::size_t(material.lean_map)];
+        const bool layered = layerable && !material.layered.layers.empty();
+        glUseProgram(layered ? program(variant + "_layered") : p);
+        if (layered) bind_layers(material, material_layers_[std::size_t(object.material)],
+                                 request.time);
         object_block.model = model_ * object.transform;
         const glm::mat3 normal_matrix(glm::transpose(glm::inverse(object_block.model)));
         for (int c = 0; c < 3; ++c)
@@ -412,7 +546,8 @@ void Renderer::draw_scene(GLuint p, const RenderRequest& request, const glm::mat
         if (material.specular) s.ks = *material.specular;
         if (material.shininess) s.shininess = *material.shininess;
         LfShadingUniforms block{};
-        block.params = to_lf_params(s, map.info.roughness_baked);
+        // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
+        block.params = to_lf_params(s, !layered && map.info.roughness_baked);
         block.scale = map.info.scale;
         block.output_mode = output_constant(request.output);
         block.fog_mode = to_shader_constant(s.fog);
@@ -471,6 +606,7 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
     if (objects_.empty()) throw Error("render", "no mesh was set");
     if (maps_.empty()) throw Error("render", "no LEAN map was set");
     validate(request.settings);
+    if (!std::isfinite(request.time)) throw Error("time", "must be a finite number of seconds");
     const int max_size =
         std::min(gl_integer(GL_MAX_TEXTURE_SIZE), gl_integer(GL_MAX_RENDERBUFFER_SIZE));
     if (request.width < 1 || request.height < 1 || request.width > max_size ||
@@ -515,7 +651,7 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
         glViewport(0, 0, request.width, request.height);
         const float aspect = float(request.width) / float(request.height);
         const glm::mat4 clip = request.view.projection_matrix(aspect) * request.view.view_matrix();
-        draw_scene(program(variant_name(request)), request, clip);
+        draw_scene(variant_name(request), request, clip);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         target.resolve();
     }
@@ -526,8 +662,12 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
     const float max_aniso = context_.max_anisotropy();
     if (s.anisotropy > 1 && max_aniso <= 1.0f)
         throw Error("aniso", "anisotropic filtering is not supported by " + context_.renderer());
-    for (const GpuMap& map : maps_) {
-        const GLuint texture = map.texture.get();
+    std::vector<GLuint> textures;
+    for (const GpuMap& map : maps_) textures.push_back(map.texture.get());
+    for (const GpuLayers& layers : material_layers_)
+        for (const Texture* t : {&layers.cross_terms, &layers.weights})
+            if (t->get() != 0) textures.push_back(t->get());
+    for (const GLuint texture : textures) {
         glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
         if (s.anisotropy > 1)
             glTextureParameterf(texture, GL_TEXTURE_MAX_ANISOTROPY,
@@ -545,7 +685,9 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     if (request.width < 1 || request.height < 1)
         throw Error("size", "the viewport must be at least 1x1 pixels");
     validate(request.settings);
-    const GLuint p = program(variant.empty() ? variant_name(request) : variant);
+    if (!std::isfinite(request.time)) throw Error("time", "must be a finite number of seconds");
+    const std::string name = variant.empty() ? variant_name(request) : variant;
+    program(name);  // built (or its error thrown) before any state changes
     apply_sampler_state(request.settings);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -555,7 +697,7 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, request.width, request.height);
     const float aspect = float(request.width) / float(request.height);
-    draw_scene(p, request, request.view.projection_matrix(aspect) * request.view.view_matrix());
+    draw_scene(name, request, request.view.projection_matrix(aspect) * request.view.view_matrix());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -566,7 +708,8 @@ void Renderer::render_reference(const RenderRequest& request, Target& output) {
     const int k = request.reference_samples;
     const int tile = std::max(1, kMaxReferenceTileSamples / k);  // output pixels per tile side
     Target samples(std::min(tile, request.width) * k, std::min(tile, request.height) * k, 1);
-    const GLuint scene_program = program(scene_variant_name(Technique::Reference));
+    const std::string scene_program = scene_variant_name(
+        Technique::Reference, scene_variant_flags(Technique::Reference, request.settings));
     const GLuint filter_program = program("box_filter");
     const float aspect = float(request.width) / float(request.height);
     const glm::mat4 projection = request.view.projection_matrix(aspect);

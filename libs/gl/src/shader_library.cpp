@@ -303,7 +303,18 @@ std::string scene_variant_name(Technique technique, SceneVariantFlags flags) {
     std::string name = "scene_" + std::string(info(technique).name);
     if (flags & kPlainColor) name += "_plain";
     if (flags & kFadeFast) name += "_fast";
+    if (flags & kCookTorrance) name += "_ct";
+    if (flags & kLeanModel) name += "_leanmodel";
+    if (flags & kLayered) name += "_layered";
     return name;
+}
+
+SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings& settings) {
+    SceneVariantFlags flags = 0;
+    if (settings.brdf == Brdf::CookTorrance) flags |= kCookTorrance;
+    if (info(technique).supersampled && settings.reference_model == ReferenceModel::Lean)
+        flags |= kLeanModel;
+    return flags;
 }
 
 bool has_scene_variant(Technique technique, SceneVariantFlags flags) {
@@ -312,6 +323,7 @@ bool has_scene_variant(Technique technique, SceneVariantFlags flags) {
     // exists for the techniques that fade.
     if ((flags & kPlainColor) && row.supersampled) return false;
     if ((flags & kFadeFast) && !row.fades) return false;
+    if ((flags & kLeanModel) && !row.supersampled) return false;
     return true;
 }
 
@@ -319,16 +331,26 @@ const std::vector<ShaderVariant>& shader_variants() {
     static const std::vector<ShaderVariant> variants = [] {
         std::vector<ShaderVariant> result;
         for (const TechniqueInfo& row : kTechniques) {
-            for (const SceneVariantFlags flags :
-                 {SceneVariantFlags(0), kPlainColor, kFadeFast, kPlainColor | kFadeFast}) {
+            for (SceneVariantFlags flags = 0; flags < 32u; ++flags) {
                 if (!has_scene_variant(row.id, flags)) continue;
-                std::vector<std::string> defines{"LF_TECHNIQUE " +
-                                                 std::to_string(row.shader_technique)};
-                if (row.reads_moments) defines.push_back("LF_READS_MOMENTS");
+                // LEAN's own model as the truth: LEAN's lobe at the finest level (docs/math.md §7).
+                const bool lean_model = (flags & kLeanModel) != 0;
+                const int technique =
+                    lean_model ? shading::LF_TECHNIQUE_LEAN : row.shader_technique;
+                std::vector<std::string> defines{"LF_TECHNIQUE " + std::to_string(technique)};
+                defines.push_back("LF_BRDF " + std::to_string((flags & kCookTorrance)
+                                                                  ? shading::LF_BRDF_COOK_TORRANCE
+                                                                  : shading::LF_BRDF_BLINN_PHONG));
+                if (row.reads_moments || lean_model) defines.push_back("LF_READS_MOMENTS");
+                // The engine's textures, filtered in the shader (docs/roughness.md).
+                if (technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS)
+                    defines.push_back("LF_ROUGHNESS_MIPS");
                 if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
                 // The renderer's ordinary frames (colour output, no fog): the same images
                 // without the output and fog branches (docs/perf.md).
                 if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");
+                // Moments mixed from the bump layers of a layered material (docs/math.md §6).
+                if (flags & kLayered) defines.push_back("LF_LAYERED");
                 // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0,
                 // Pmax > 1): (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in
                 // one exponential without the exact sf == 1 path (lean_shading.glsl).

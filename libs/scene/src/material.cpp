@@ -14,6 +14,57 @@ bool finite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// The layers of material `m` (validate(Scene)); the weights and strengths by LayerBlend's rules.
+void validate_layers(const Scene& scene, const Material& m) {
+    const MaterialLayers& l = m.layered;
+    const std::string where = "material '" + m.name + "'";
+    const int n = int(l.layers.size());
+    if (n < 2 || n > kMaxLayers)
+        throw Error("scene", where + " has " + std::to_string(n) + " bump layers; a layered " +
+                                 "material has 2.." + std::to_string(kMaxLayers));
+    LayerBlend blend;
+    blend.weights = l.weights;
+    for (const MaterialLayer& layer : l.layers) {
+        blend.strengths.push_back(layer.strength);
+        if (layer.lean_map < 0 || layer.lean_map >= int(scene.lean_maps.size()))
+            throw Error("scene", where + " has a layer with LEAN map " +
+                                     std::to_string(layer.lean_map) + " of " +
+                                     std::to_string(scene.lean_maps.size()));
+        if (!(layer.tiling > 0.0f) || !std::isfinite(layer.tiling))
+            throw Error("layer-tiling", "each layer's tiling must be finite and > 0");
+        if (!std::isfinite(layer.velocity.x) || !std::isfinite(layer.velocity.y))
+            throw Error("layer-velocity", "each layer's velocity must be finite");
+    }
+    validate(blend);
+    if (int(l.weights.size()) != n)
+        throw Error("layer-weights", std::to_string(l.weights.size()) + " weights for " +
+                                         std::to_string(n) + " layers");
+    if (l.weight_map >= int(scene.weight_maps.size()) || l.weight_map < -1)
+        throw Error("scene", where + " uses weight map " + std::to_string(l.weight_map) + " of " +
+                                 std::to_string(scene.weight_maps.size()));
+    if (l.weight_map >= 0) {
+        const Image& w = scene.weight_maps[std::size_t(l.weight_map)];
+        if (w.channels != 4 || w.width < 1 || w.height < 1)
+            throw Error("layer-weight-map", "a weight map has 4 channels (t_0..t_3), got " +
+                                                std::to_string(w.channels));
+    }
+    if (l.mixing == LayerMixing::Textures) {
+        const int pairs = n * (n - 1) / 2;
+        if (int(l.cross_terms.size()) != pairs)
+            throw Error("scene", where + " mixes by textures and needs " + std::to_string(pairs) +
+                                     " cross-term textures, has " +
+                                     std::to_string(l.cross_terms.size()));
+        for (int index : l.cross_terms) {
+            if (index < 0 || index >= int(scene.cross_terms.size()))
+                throw Error("scene", where + " uses cross-term texture " + std::to_string(index) +
+                                         " of " + std::to_string(scene.cross_terms.size()));
+            const std::vector<Image>& chain = scene.cross_terms[std::size_t(index)];
+            if (chain.empty() || chain.front().channels != 4)
+                throw Error("scene", where + ": a cross-term texture has no 4-channel levels");
+        }
+    }
+}
+
 }  // namespace
 
 Bounds scene_bounds(const Scene& scene) {
@@ -44,6 +95,7 @@ void validate(const Scene& scene) {
             throw Error("scene", "material '" + m.name +
                                      "' has a colour or shininess that is "
                                      "not a finite, positive number");
+        if (!m.layered.layers.empty()) validate_layers(scene, m);
         if (m.base_color_texture < -1 ||
             m.base_color_texture >= int(scene.base_color_textures.size()))
             throw Error("scene", "material '" + m.name + "' uses base colour texture " +

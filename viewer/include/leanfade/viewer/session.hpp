@@ -15,6 +15,7 @@
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_library.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
 #include "leanfade/viewer/camera.hpp"
 
@@ -32,6 +33,10 @@ class Session {
     // uploaded or a technique name is unknown.
     Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loader, Preset preset,
             const scene::Mesh& mesh, const PackedLeanMap& map);
+    // The same with the whole scene (objects, materials, maps) the command line built for the
+    // preset; the renderer draws it through Renderer::set_scene.
+    Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loader, Preset preset,
+            const scene::Scene& scene);
 
     // The live parameters: the panel edits them in place. camera is kept in camera().
     Preset& preset() { return preset_; }
@@ -77,9 +82,10 @@ class Session {
     std::string map_description() const;
 
   private:
+    // Replaces the scene's objects by `mesh` (material 0) and uploads the scene.
     void set_mesh(const scene::Mesh& mesh);
-    // After a failed preset load: uploads preset().bumps again (the map was replaced first).
-    void restore_bumps();
+    // Replaces the scene's maps by `map`, one map for every material, and uploads the scene.
+    void set_map(const PackedLeanMap& map);
 
     gl::Context& context_;
     gl::Renderer renderer_;
@@ -92,6 +98,7 @@ class Session {
     std::string status_;
     std::uint64_t generation_ = 1;
     std::string mesh_description_;
+    scene::Scene scene_;  // what the renderer draws (set_scene)
 };
 
 }  // namespace leanfade::viewer

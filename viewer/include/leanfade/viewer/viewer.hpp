@@ -3,10 +3,12 @@
 // panel for every parameter, an orbit camera, split views of two or three techniques, frame
 // times, shader hot reload, screenshots and presets. See docs/viewer.md.
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/preset.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/viewer/session.hpp"
 
 namespace leanfade::viewer {
@@ -19,8 +21,7 @@ enum class TimingMode {
 
 struct ViewerOptions {
     Preset preset;          // the initial parameters (valid: validate(Preset))
-    scene::Mesh mesh;       // preset.scene, already loaded
-    PackedLeanMap map;      // preset.bumps, already loaded or baked
+    scene::Scene scene;     // preset.scene with preset.bumps, already loaded (load_render_scene)
     BumpLoader load_bumps;  // for bumps chosen later in the panel
     // Shader folder for hot reload; empty: ./shaders when run from a checkout, else the source
     // tree the binary was built from if it still exists, else the built-in shaders.
@@ -30,6 +31,12 @@ struct ViewerOptions {
     // Lower preset.resolution_scale to 0.5 on software renderers (llvmpipe) for interactivity.
     bool auto_scale = true;
     bool fly_away = false;  // start with the fly-away animation running
+    // Moving bump layers (the ocean, docs/ocean.md): the animation's period in seconds, the
+    // range of the panel's time slider; 0: the scene does not move (no slider).
+    float loop_seconds = 0.0f;
+    // A scene's own cameras in world space (the ocean's near, mid and far): when given, the panel
+    // chooses among them instead of the orbit camera.
+    std::vector<std::pair<std::string, gl::View>> scene_views;
     TimingMode timing = TimingMode::Auto;
     // > 0: render this many frames, save `screenshot` (the whole window, panel included) if
     // given, and return: for automation and tests.

@@ -27,6 +27,29 @@ inline constexpr int kMaxLayers = 4;
 
 enum class LayerMixing { Height, Textures, Approx };
 
+// The mixing methods, described once: the command line's choices and help, the renderer's
+// shader constant (LF_MIXING_* of shaders/lean_shading.glsl) and the figures' labels read it.
+struct LayerMixingInfo {
+    LayerMixing id;
+    const char* name;         // command-line and preset name
+    const char* label;        // figure column title
+    const char* description;  // one line for --help
+    int shader_mixing;        // LF_MIXING_* (the renderer's per-material uniform)
+};
+inline constexpr LayerMixingInfo kLayerMixings[] = {
+    {LayerMixing::Height, "height", "mixed heights",
+     "mix the layers' slopes and bake one LEAN map (per frame on the GPU for moving layers): "
+     "exact",
+     0},
+    {LayerMixing::Textures, "textures", "mixing textures",
+     "a MIP-mapped texture of each pair's slope products: exact while the pair moves together",
+     1},
+    {LayerMixing::Approx, "approx", "mixing approximation",
+     "the products of the filtered mean slopes at shading time: exact at the finest level only",
+     2},
+};
+const LayerMixingInfo& info(LayerMixing mixing);
+
 const char* to_string(LayerMixing mixing);  // "height", "textures", "approx"
 // Throws leanfade::Error(setting, cause) for another name.
 LayerMixing parse_layer_mixing(std::string_view name, const std::string& setting = "mixing");

@@ -27,6 +27,15 @@ struct FigureRequest {
     glm::vec3 target{0.0f};
     ShadingSettings settings;
     int reference_samples = 8;
+    float time = 0.0f;  // seconds: moving bump layers' offsets (RenderRequest::time)
+    // Rows given as cameras instead of distances (a scene's own views, such as the ocean's near,
+    // mid and far, leanfade/scene/ocean.hpp): when not empty, `distances`, the field of view,
+    // view_direction, target and zoom are not used, and each row is labelled with its name.
+    struct NamedView {
+        std::string name;
+        View view;
+    };
+    std::vector<NamedView> views;
     // Adds, below each row whose object is smaller than a third of the cell, a row of
     // nearest-neighbour enlargements of the object (integer factor, same cell size).
     bool zoom = false;
@@ -36,7 +45,8 @@ struct FigureRequest {
 
 struct FigureCell {
     Technique technique = Technique::Lean;
-    float distance = 0.0f;
+    float distance = 0.0f;  // 0 for a row of FigureRequest::views
+    std::string view;       // the row's view name (FigureRequest::views), else empty
     Image radiance;  // linear RGB, cell_width x cell_height, row 0 at the top
 };
 

@@ -18,6 +18,7 @@
 #include "leanfade/core/settings.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/timer.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::gl {
@@ -70,9 +71,12 @@ struct SceneResult {
     const ViewResult* find(const std::string& name) const;
 };
 
+// A scene to measure: `scene` (drawn with Renderer::set_scene), or else `mesh` with the LEAN map
+// the renderer has (set_mesh).
 struct FrameBenchScene {
     std::string name;
     const scene::Mesh* mesh = nullptr;
+    const scene::Scene* scene = nullptr;
 };
 
 struct FrameBenchResult {
@@ -86,8 +90,8 @@ struct FrameBenchResult {
 // leanfade::Error(flag of `leanfade bench`, cause).
 void validate_frame_bench(const FrameBenchRequest& request);
 
-// Runs the benchmark over `scenes` with the renderer's LEAN map (set beforehand); the renderer's
-// mesh is replaced. progress(done, total) is called after each view when given. Throws
+// Runs the benchmark over `scenes`; the renderer's scene is replaced (a scene given as a mesh is
+// drawn with the renderer's LEAN map, set beforehand). progress(done, total) is called after each view when given. Throws
 // leanfade::Error for an invalid request, a GL error or an unavailable timing method.
 FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenchScene>& scenes,
                                  const FrameBenchRequest& request,

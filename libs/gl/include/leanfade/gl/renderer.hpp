@@ -83,6 +83,9 @@ struct RenderRequest {
     OutputMode output = OutputMode::Color;
     int reference_samples = 8;   // k of the reference (k x k samples per pixel), 1..16
     glm::vec3 background{0.0f};  // linear RGB of pixels the object does not cover
+    // Seconds since the start of the animation: a moving bump layer's texture coordinates are
+    // offset by its velocity times `time` (scene::MaterialLayer::velocity). Finite.
+    float time = 0.0f;
 };
 
 // The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 slices (lean1, lean2) with every MIP
@@ -150,7 +153,10 @@ class Renderer {
   private:
     struct Target;
     GLuint program(const std::string& variant);
-    void draw_scene(GLuint program, const RenderRequest& request, const glm::mat4& clip);
+    // Draws every object with the program of `variant` (its _layered variant for a material with
+    // bump layers).
+    void draw_scene(const std::string& variant, const RenderRequest& request,
+                    const glm::mat4& clip);
     void render_reference(const RenderRequest& request, Target& output);
     // The LEAN texture's LOD bias and anisotropy from the settings.
     void apply_sampler_state(const ShadingSettings& settings);
@@ -172,16 +178,26 @@ class Renderer {
         Texture texture;  // GL_TEXTURE_2D_ARRAY: slice 0 lean1, slice 1 lean2, every level
         LeanTextureInfo info;
     };
+    // The textures of a material's bump layers besides their LEAN maps (in maps_).
+    struct GpuLayers {
+        Texture cross_terms;  // GL_TEXTURE_2D_ARRAY RGBA32F, a slice per pair, every level
+        Texture weights;      // GL_TEXTURE_2D RGBA32F (t_0..t_3) with MIPs, when a weight map
+    };
+    GpuLayers upload_layers(const scene::Scene& scene, const scene::Material& material);
+    // Binds a layered material's maps, cross terms, weights and its LfLayerBlock for `time`.
+    void bind_layers(const scene::Material& material, const GpuLayers& layers, float time);
     GpuObject upload_object(const scene::Mesh& mesh, int material, const glm::mat4& transform);
     GpuMap upload_map(const PackedLeanMap& map);
 
     std::vector<GpuObject> objects_;
     std::vector<scene::Material> materials_;
     std::vector<GpuMap> maps_;
+    std::vector<GpuLayers> material_layers_;  // per material (empty textures: single map)
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;
     Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
     Buffer object_block_;   // LfObjectUniforms, std140
+    Buffer layer_block_;    // LfLayerUniforms, std140 (layered materials)
     std::unique_ptr<Target> target_;
 };
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
 #include "leanfade/gl/objects.hpp"
 
@@ -62,11 +63,17 @@ struct ShaderVariant {
 using SceneVariantFlags = unsigned;
 inline constexpr SceneVariantFlags kPlainColor = 1u;  // colour output without fog, no branches
 inline constexpr SceneVariantFlags kFadeFast = 2u;    // fading on with p = 2 and d = Vt.z
+inline constexpr SceneVariantFlags kCookTorrance = 4u;  // the Cook-Torrance BRDF (LF_BRDF 1)
+inline constexpr SceneVariantFlags kLeanModel = 8u;  // the reference shades with LEAN's lobe
+// The material's moments mixed from bump layers (LF_LAYERED; Renderer picks it per material).
+inline constexpr SceneVariantFlags kLayered = 16u;
+// The variant bits that ShadingSettings asks for: the BRDF, and the model of the reference.
+SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings& settings);
 
-// "scene_<technique>[_plain][_fast]".
+// "scene_<technique>[_plain][_fast][_ct][_leanmodel][_layered]".
 std::string scene_variant_name(Technique technique, SceneVariantFlags flags = 0);
 // Whether that variant is built: no plain variant for the supersampled reference, no fast one
-// for the techniques that do not fade.
+// for the techniques that do not fade, LEAN's model for the reference only.
 bool has_scene_variant(Technique technique, SceneVariantFlags flags);
 // The constant-colour fill-rate floor of `leanfade bench`: the scene's vertex stage and one
 // colour.

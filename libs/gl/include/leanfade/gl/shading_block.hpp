@@ -115,4 +115,29 @@ inline constexpr BlockMember kObjectBlockMembers[] = {
     {"u_light_world", offsetof(LfObjectUniforms, light_world)},
 };
 
+// The layers' block LfLayerBlock of layered materials (shaders/scene.frag, LfLayerUniforms of the
+// shared header): six vec4s (offsets is an array of two, stride 16) and four ints.
+using shading::LfLayerUniforms;
+static_assert(offsetof(LfLayerUniforms, weights) == 0);
+static_assert(offsetof(LfLayerUniforms, strengths) == 16);
+static_assert(offsetof(LfLayerUniforms, scales) == 32);
+static_assert(offsetof(LfLayerUniforms, tilings) == 48);
+static_assert(offsetof(LfLayerUniforms, offsets) == 64);
+static_assert(offsetof(LfLayerUniforms, count) == 96);
+static_assert(offsetof(LfLayerUniforms, mixing) == 100);
+static_assert(offsetof(LfLayerUniforms, weight_map) == 104);
+static_assert(sizeof(LfLayerUniforms) == 112);
+
+inline constexpr BlockMember kLayerBlockMembers[] = {
+    {"u_layers.weights", offsetof(LfLayerUniforms, weights)},
+    {"u_layers.strengths", offsetof(LfLayerUniforms, strengths)},
+    {"u_layers.scales", offsetof(LfLayerUniforms, scales)},
+    {"u_layers.tilings", offsetof(LfLayerUniforms, tilings)},
+    {"u_layers.offsets[0]", offsetof(LfLayerUniforms, offsets)},
+    {"u_layers.count", offsetof(LfLayerUniforms, count)},
+    {"u_layers.mixing", offsetof(LfLayerUniforms, mixing)},
+    {"u_layers.weight_map", offsetof(LfLayerUniforms, weight_map)},
+    {"u_layers.padding", offsetof(LfLayerUniforms, padding)},
+};
+
 }  // namespace leanfade::gl

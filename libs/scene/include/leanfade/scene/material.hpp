@@ -2,9 +2,10 @@
 // What the renderer draws: objects (a mesh, a transform and a material) and their materials (the
 // maps and the parameters that differ from the frame's shading settings). GL-free.
 //
-// Today a material has one bump map, a LEAN map (leanfade/core/lean_map.hpp); bump layers will add
-// more. Its parameters override ShadingSettings for the objects that use it; those it leaves
-// unset come from the frame's settings.
+// A material has one bump map, a LEAN map (leanfade/core/lean_map.hpp), or 2..kMaxLayers bump
+// layers (leanfade/core/layers.hpp, docs/math.md §6) whose moments are mixed at shading time.
+// Its parameters override ShadingSettings for the objects that use it; those it leaves unset come
+// from the frame's settings.
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,17 +13,39 @@
 #include <glm/glm.hpp>
 
 #include "leanfade/core/image.hpp"
+#include "leanfade/core/layers.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::scene {
 
+// One bump layer of a material: a LEAN map baked at strength 1 without baked roughness, and how
+// it lies on the surface.
+struct MaterialLayer {
+    int lean_map = 0;        // index into Scene::lean_maps
+    float strength = 1.0f;   // k: slopes times k (k < 0 flips the layer), finite, non-zero
+    float tiling = 1.0f;     // repeats per unit of the surface's tiled uv, finite, > 0
+    glm::vec2 velocity{0.0f};  // uv offset per second (a moving layer), finite
+};
+
+// How the layers' mixed second moments get their cross terms (docs/math.md §6).
+struct MaterialLayers {
+    std::vector<MaterialLayer> layers;  // 2..kMaxLayers; empty: the material's one lean_map
+    LayerMixing mixing = LayerMixing::Textures;
+    std::vector<float> weights;  // t_i, one per layer, >= 0, sum 1 (the weights' default)
+    // Index into Scene::weight_maps (RGBA = t_0..t_3 per texel, replacing `weights`), or -1.
+    int weight_map = -1;
+    // Textures: index into Scene::cross_terms of each pair, in pair_index order.
+    std::vector<int> cross_terms;
+};
+
 struct Material {
     std::string name;
-    int lean_map = 0;                   // index into Scene::lean_maps
+    int lean_map = 0;                   // index into Scene::lean_maps (the single-map case)
     std::optional<glm::vec3> diffuse;   // Kd, linear RGB (a glTF base colour factor)
     std::optional<glm::vec3> specular;  // Ks, linear RGB
     std::optional<float> shininess;     // Blinn-Phong exponent s > 0
+    MaterialLayers layered;             // bump layers instead of lean_map when not empty
     // Index into Scene::base_color_textures, or -1: the diffuse colour Kd is multiplied by the
     // texture (a glTF base colour texture) at the surface's tiled uv.
     int base_color_texture = -1;
@@ -38,6 +61,12 @@ struct Scene {
     std::vector<Object> objects;
     std::vector<Material> materials;
     std::vector<PackedLeanMap> lean_maps;
+    // Cross-term textures of layer pairs ("textures" mixing): each a MIP chain (finest first) of
+    // 4-channel float images (Bi.x Bj.x, Bi.y Bj.y, Bi.x Bj.y, Bj.x Bi.y), build_cross_terms.
+    std::vector<std::vector<Image>> cross_terms;
+    // Per-texel layer weights: 4-channel float images, RGBA = t_0..t_3 (each texel's weights of
+    // the layers it has sum to 1), sampled at the surface's tiled uv.
+    std::vector<Image> weight_maps;
     // Base colour textures: 4-channel float images of linear RGB (sRGB decoded) and alpha, rows
     // top first (uploaded flipped, like every texture: v up).
     std::vector<Image> base_color_textures;
@@ -48,7 +77,9 @@ Bounds scene_bounds(const Scene& scene);
 
 // Throws leanfade::Error(setting, cause) for a scene the renderer cannot draw: no object, a
 // material or map index out of range, an object without triangles, an override that is not
-// finite (or a shininess <= 0), a transform that is not finite or not invertible.
+// finite (or a shininess <= 0), a transform that is not finite or not invertible, layers that
+// are not 2..kMaxLayers with valid weights, strengths, tilings and velocities, a cross-term
+// texture missing for a pair of "textures" layers, or a weight map that is not 4-channel.
 void validate(const Scene& scene);
 
 }  // namespace leanfade::scene

@@ -1,0 +1,274 @@
+// The scene every rendering command draws (cli_render_scene.hpp).
+#include "cli_render_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/text.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/scene/scene.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+bool is_ktx2(const std::string& path) {
+    if (path.size() < 5) return false;
+    std::string tail = path.substr(path.size() - 5);
+    for (char& c : tail) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return tail == ".ktx2";
+}
+
+float parse_number(const std::string& text, const std::string& flag) {
+    char* end = nullptr;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || end == nullptr || *end != 0 || !std::isfinite(value))
+        throw Error(flag, "expected a finite number, got '" + text + "'");
+    return value;
+}
+
+// "a,b,c" -> n numbers; empty text: n times `fallback`.
+std::vector<float> parse_numbers(const std::string& text, std::size_t n, float fallback,
+                                 const std::string& flag) {
+    if (text.empty()) return std::vector<float>(n, fallback);
+    std::vector<float> values;
+    for (const std::string& part : split(text, ',')) values.push_back(parse_number(part, flag));
+    if (values.size() != n)
+        throw Error(flag, "one value per layer: " + std::to_string(n) + " layers, " +
+                              std::to_string(values.size()) + " values");
+    return values;
+}
+
+// "u:v,u:v" -> n velocities (uv per second); empty: zero.
+std::vector<glm::vec2> parse_velocities(const std::string& text, std::size_t n) {
+    const std::string flag = "--layer-velocity";
+    if (text.empty()) return std::vector<glm::vec2>(n, glm::vec2(0.0f));
+    std::vector<glm::vec2> values;
+    for (const std::string& part : split(text, ',')) {
+        const std::vector<std::string> uv = split(part, ':');
+        if (uv.size() != 2) throw Error(flag, "expected U:V per layer, got '" + part + "'");
+        values.emplace_back(parse_number(uv[0], flag), parse_number(uv[1], flag));
+    }
+    if (values.size() != n)
+        throw Error(flag, "one U:V per layer: " + std::to_string(n) + " layers, " +
+                              std::to_string(values.size()) + " values");
+    return values;
+}
+
+// One layer's float LEAN map at strength 1 (heights: times the height scale), no roughness baked.
+LeanMap load_layer(const std::string& source, const LeanSourceFlags& f,
+                   const ShadingSettings& settings) {
+    io::ReadOptions read_options;
+    read_options.max_dimension = f.max_size;
+    if (is_ktx2(source)) {
+        LeanMap map = unpack_lean_map(io::read_ktx2(source, read_options));
+        if (map.roughness_baked)
+            throw Error(source, "a bump layer's map must not have roughness baked in (bake it "
+                                "without --bake-roughness): the base roughness is added once, "
+                                "after mixing");
+        return map;
+    }
+    BakeOptions options;
+    options.strength = settings.bump_strength;
+    options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    const auto& builtins = builtin_bump_names();
+    if (std::find(builtins.begin(), builtins.end(), source) != builtins.end())
+        return bake_lean_map(make_builtin_height(source, f.texture_size, f.seed),
+                             BakeSource::Height, options)
+            .map;
+    return bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
+        .map;
+}
+
+// The 2-channel slopes B of a map's finest level.
+Image top_slopes(const LeanMap& map) {
+    const MomentLevel& top = map.levels.front();
+    Image slopes(top.width, top.height, 2);
+    for (std::size_t t = 0; t < top.mean.size(); ++t) {
+        slopes.pixels[2 * t] = top.mean[t].x;
+        slopes.pixels[2 * t + 1] = top.mean[t].y;
+    }
+    return slopes;
+}
+
+// A weight map: the first `layers` channels of an image, each texel's weights scaled to sum 1,
+// as RGBA (the channels past the layers 0).
+Image load_weight_map(const std::string& path, int layers, int max_size) {
+    io::ReadOptions read_options;
+    read_options.max_dimension = max_size;
+    const Image image = io::read_image(path, read_options);
+    if (image.channels < layers)
+        throw Error(path, "a weight map needs a channel per layer: " + std::to_string(layers) +
+                              " layers, " + std::to_string(image.channels) + " channels");
+    Image weights(image.width, image.height, 4);
+    for (std::size_t t = 0; t < image.texel_count(); ++t) {
+        float sum = 0.0f;
+        for (int c = 0; c < layers; ++c) {
+            const float w = image.pixels[t * std::size_t(image.channels) + std::size_t(c)];
+            if (!(w >= 0.0f) || !std::isfinite(w))
+                throw Error(path, "weights must be finite and >= 0");
+            sum += w;
+        }
+        if (!(sum > 0.0f))
+            throw Error(path, "texel " + std::to_string(t) + " has no weight on any layer");
+        for (int c = 0; c < layers; ++c)
+            weights.pixels[4 * t + std::size_t(c)] =
+                image.pixels[t * std::size_t(image.channels) + std::size_t(c)] / sum;
+    }
+    return weights;
+}
+
+void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
+                          const ShadingSettings& settings) {
+    const LayerFlags& f = flags.layers;
+    const std::vector<std::string> sources = split(f.layers, ',');
+    const std::size_t n = sources.size();
+    if (n < 2 || n > std::size_t(kMaxLayers))
+        throw Error("--layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
+                                    std::to_string(n) + " (one map: --bumps)");
+    const LayerMixing mixing = parse_layer_mixing(f.mixing, "--mixing");
+    LayerBlend blend;
+    blend.weights = parse_numbers(f.weights, n, 1.0f / float(n), "--layer-weights");
+    blend.strengths = parse_numbers(f.strengths, n, 1.0f, "--layer-strengths");
+    const std::vector<float> tilings = parse_numbers(f.tiling, n, 1.0f, "--layer-tiling");
+    const std::vector<glm::vec2> velocities = parse_velocities(f.velocity, n);
+    try {
+        validate(blend);
+    } catch (const Error& e) {
+        throw Error("--" + e.file(), e.cause());
+    }
+    for (float t : tilings)
+        if (!(t > 0.0f)) throw Error("--layer-tiling", "each tiling must be > 0");
+    if (flags.bumps.texture_size < 4 || flags.bumps.texture_size > kDefaultMaxImageDimension)
+        throw Error("--texture-size", "must be in [4, " +
+                                          std::to_string(kDefaultMaxImageDimension) + "], got " +
+                                          std::to_string(flags.bumps.texture_size));
+    const Storage storage = parse_storage(flags.bumps.bits);
+
+    std::vector<LeanMap> maps;
+    for (const std::string& source : sources)
+        maps.push_back(load_layer(source, flags.bumps, settings));
+    std::vector<Image> slopes;
+    for (const LeanMap& m : maps) slopes.push_back(top_slopes(m));
+    const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
+
+    scene::Material material;
+    material.name = "layers";
+    if (mixing == LayerMixing::Height) {
+        // The height method: the slopes mixed first, one map baked from them (docs/math.md §6).
+        for (std::size_t i = 0; i < n; ++i)
+            if (velocities[i] != velocities[0] || tilings[i] != tilings[0])
+                throw Error("--mixing", "height mixes layers that lie alike (one tiling, one "
+                                        "velocity); for layers that move or tile differently "
+                                        "use textures or approx");
+        if (f.weight_map.size() > 0)
+            throw Error("--layer-weight-map", "height bakes one map with constant weights; "
+                                              "per-texel weights need textures or approx");
+        BakeOptions options;
+        const LeanMap mixed = build_lean_map(mix_slopes(slopes, blend), options);
+        material.lean_map = int(result.lean_maps.size());
+        result.lean_maps.push_back(pack_lean_map(mixed, storage, generator));
+        result.materials.push_back(std::move(material));
+        return;
+    }
+    material.layered.mixing = mixing;
+    material.layered.weights = blend.weights;
+    for (std::size_t i = 0; i < n; ++i) {
+        scene::MaterialLayer layer;
+        layer.lean_map = int(result.lean_maps.size());
+        layer.strength = blend.strengths[i];
+        layer.tiling = tilings[i];
+        layer.velocity = velocities[i];
+        material.layered.layers.push_back(layer);
+        result.lean_maps.push_back(pack_lean_map(maps[i], storage, generator));
+    }
+    material.lean_map = material.layered.layers.front().lean_map;
+    if (mixing == LayerMixing::Textures) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) {
+                if (slopes[i].width != slopes[j].width || slopes[i].height != slopes[j].height)
+                    throw Error("--layers", "mixing textures needs layers of one size: '" +
+                                                sources[i] + "' and '" + sources[j] + "' differ");
+                material.layered.cross_terms.push_back(int(result.cross_terms.size()));
+                result.cross_terms.push_back(build_cross_terms(slopes[i], slopes[j]));
+            }
+    }
+    if (!f.weight_map.empty()) {
+        material.layered.weight_map = int(result.weight_maps.size());
+        result.weight_maps.push_back(
+            load_weight_map(f.weight_map, int(n), flags.bumps.max_size));
+    }
+    result.materials.push_back(std::move(material));
+}
+
+}  // namespace
+
+void add_layer_options(CLI::App& app, LayerFlags& f) {
+    const std::string group = "Bump layers (docs/math.md §6)";
+    app.add_option("--layers", f.layers,
+                   "2-4 bump layers mixed on one surface instead of --bumps: built-in sets, "
+                   "height/normal images or .ktx2 maps, comma-separated")
+        ->group(group);
+    app.add_option("--layer-weights", f.weights,
+                   "Weight t of each layer, comma-separated, summing to 1 (default: equal)")
+        ->group(group);
+    app.add_option("--layer-strengths", f.strengths,
+                   "Strength k of each layer: slopes times k, < 0 flips the layer (default: 1)")
+        ->group(group);
+    app.add_option("--layer-tiling", f.tiling,
+                   "Repeats of each layer per unit of the tiled uv (default: 1)")
+        ->group(group);
+    app.add_option("--layer-velocity", f.velocity,
+                   "Velocity U:V of each layer in uv per second, comma-separated (a moving "
+                   "layer; render --time sets the moment)")
+        ->group(group);
+    app.add_option("--layer-weight-map", f.weight_map,
+                   "Image whose channels give each layer's weight per texel (RGBA = t_0..t_3, "
+                   "normalised per texel), instead of --layer-weights")
+        ->group(group);
+    std::string help = "How the layers' moments mix:";
+    for (const LayerMixingInfo& row : kLayerMixings)
+        help += std::string(" ") + row.name + " (" + row.description + ");";
+    help.back() = '.';
+    app.add_option("--mixing", f.mixing, help)->capture_default_str()->group(group);
+}
+
+scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings) {
+    // The built-in ocean: a water plane with moving Gabor wave layers (cli_ocean.hpp).
+    if (is_ocean_scene(flags.scene))
+        return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
+    scene::Scene result;
+    scene::Object object;
+    object.mesh = scene::make_scene_mesh(flags.scene);
+    object.material = 0;
+    result.objects.push_back(std::move(object));
+    if (flags.layers.layers.empty()) {
+        scene::Material material;
+        material.name = "default";
+        material.lean_map = 0;
+        result.lean_maps.push_back(load_lean_map(flags.bumps, settings));
+        result.materials.push_back(std::move(material));
+    } else {
+        add_layered_material(result, flags, settings);
+    }
+    scene::validate(result);
+    return result;
+}
+
+std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
+                                              const std::string& extra) {
+    std::vector<std::string> inputs;
+    std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map};
+    if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
+    if (!flags.layers.layers.empty())
+        for (const std::string& source : split(flags.layers.layers, ',')) paths.push_back(source);
+    for (const std::string& path : paths)
+        if (!path.empty() && std::filesystem::exists(path)) inputs.push_back(path);
+    return inputs;
+}
+
+}  // namespace leanfade::cli

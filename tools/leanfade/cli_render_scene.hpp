@@ -1,0 +1,55 @@
+#pragma once
+// The one place where the commands that render (`render`, `view`, `eval`, `calibrate`, `bench`)
+// build what they draw: a scene::Scene of objects, materials and maps, from the scene name, the
+// bump flags and the bump-layer flags. Every kind of scene and material enters here, so that
+// every command draws it alike.
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_ocean.hpp"
+#include "cli_render_options.hpp"
+#include "leanfade/core/layers.hpp"
+#include "leanfade/core/settings.hpp"
+#include "leanfade/scene/material.hpp"
+
+namespace leanfade::cli {
+
+// Bump layers of the material (docs/math.md §6); empty `layers`: the one map of --bumps.
+struct LayerFlags {
+    std::string layers;      // --layers SRC,SRC[,...]: built-in sets, images or .ktx2 maps
+    std::string weights;     // --layer-weights W,W,...: t_i, sum 1 (default: equal)
+    std::string strengths;   // --layer-strengths K,K,...: k_i, < 0 flips (default: 1)
+    std::string tiling;      // --layer-tiling T,T,...: repeats per tiled uv (default: 1)
+    std::string velocity;    // --layer-velocity U:V,U:V,...: uv per second (default: 0:0)
+    std::string weight_map;  // --layer-weight-map FILE: RGBA = t_0..t_3 per texel
+    std::string mixing = "textures";  // --mixing: a name of kLayerMixings
+};
+
+struct RenderSourceFlags {
+    std::string scene = "teapot";  // --scene: a built-in object or an .obj file
+    LeanSourceFlags bumps;         // --bumps and the flags of its bake (also the layers' bake)
+    LayerFlags layers;             // --layers and the other layer flags
+    OceanFlags ocean;              // --scene ocean: --ocean-layers, --flow (cli_ocean.hpp)
+};
+
+// --layers --layer-weights --layer-strengths --layer-tiling --layer-velocity --layer-weight-map
+// --mixing, in the "Bump layers" group (the mixing methods' names and help from kLayerMixings).
+void add_layer_options(CLI::App& app, LayerFlags& flags);
+
+// The scene the flags describe: one object (its mesh from scene::make_scene_mesh) with one
+// material. Without --layers the material has the one LEAN map of load_lean_map. With --layers
+// each source is baked (or read) at strength 1 in the storage of --bits, without baked
+// roughness, and the material mixes them: `textures` with the cross-term texture of every pair,
+// `approx` without, `height` as one map baked from the mixed slopes (static layers; moving
+// layers are refused). `settings` gives the height scale of on-the-fly bakes. Throws
+// leanfade::Error naming the file or the flag.
+scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings);
+
+// The existing files the flags read, and `extra` (a preset) when it exists: the inputs of the
+// output plan (an output must not overwrite an input).
+std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
+                                              const std::string& extra = {});
+
+}  // namespace leanfade::cli
