@@ -11,6 +11,11 @@
 #ifndef LF_FN
 #define LF_FN
 #endif
+// A struct member's default value: `= value` in C++ (so that a C++ LfParams built field by field
+// starts from the defaults), nothing in GLSL, whose structs have no initialisers.
+#ifndef LF_DEFAULT
+#define LF_DEFAULT(value)
+#endif
 
 const float LF_PI = 3.14159265358979f;
 
@@ -30,6 +35,12 @@ const int LF_TECHNIQUE_LEAN = 1;     // LEAN's Gaussian over slopes (LEAN eq. 1)
 const int LF_TECHNIQUE_FADE = 2;     // LEAN with specular fading (fading paper eq. 6-7)
 const int LF_TECHNIQUE_TOKSVIG = 3;  // Blinn-Phong with Toksvig's exponent
 const int LF_TECHNIQUE_CLEAN = 4;    // LEAN's lobe with CLEAN's isotropic covariance
+const int LF_TECHNIQUE_ROUGHNESS_MIPS = 5;  // the BRDF on roughness + normal MIPs (engines)
+
+// BRDFs: the reflection model every technique's lobe stage evaluates (docs/math.md §4, §9). The
+// renderer compiles one (LF_BRDF of scene.frag); the CPU reads LfParams::brdf.
+const int LF_BRDF_BLINN_PHONG = 0;    // the normalised Blinn-Phong lobe as radiance (the papers')
+const int LF_BRDF_COOK_TORRANCE = 1;  // D G F / (4 (n.l)(n.v)), Beckmann D, Smith G, Schlick F
 
 // Shading parameters (docs/math.md §4). Colours are linear RGB. Each vec3 is followed by a scalar
 // so that the std140 layout of the renderer's uniform block (LfShadingUniforms below) equals the
@@ -39,7 +50,8 @@ struct LfParams {
     vec3 light_color;     // radiance scale of the light
     float shininess;      // Blinn-Phong exponent s (> 0)
     vec3 ambient;         // Ka
-    float inv_s_shading;  // 1/s added to the covariance at shading time; 0 when baked (eq. 6)
+    float inv_s_shading;  // base slope variance per axis added to the covariance at shading
+                          // time: 1/s (LEAN eq. 6), or a0^2/2 with Cook-Torrance; 0 when baked
     vec3 kd;              // diffuse albedo Kd
     float fresnel_bias;   // Fb
     vec3 ks;              // specular colour Ks
@@ -48,6 +60,8 @@ struct LfParams {
     float pmax;           // Pmax >= 1
     float fade_exponent;  // p
     int fade_distance;    // LF_FADE_DISTANCE_*
+    vec3 f0 LF_DEFAULT(vec3(0.04f));     // Cook-Torrance: Schlick's F0, linear RGB
+    int brdf LF_DEFAULT(LF_BRDF_BLINN_PHONG);  // LF_BRDF_*
 };
 
 // Everything the fragment stage of the renderer reads per draw, as one std140 uniform block
@@ -312,6 +326,156 @@ LF_FN vec3 lf_clean_covariance(vec2 mean, float second_isotropic, float inv_s) {
     return vec3(variance, variance, 0.0f);
 }
 
+// Cook-Torrance (docs/math.md §9): f = D G F / (4 (n.l)(n.v)), Cook & Torrance 1982 with the
+// normalisation of Walter et al. 2007 eq. 20. D is LEAN's Gaussian over slopes, made a
+// distribution of normals; G is Smith's for Beckmann; F is Schlick's on h.v. The slope covariance
+// holds the base roughness as a per-axis variance a0^2/2 (a Beckmann distribution of roughness a
+// is a Gaussian over slopes of variance a^2/2 per axis).
+
+// Smith's masking G1 = 1 / (1 + Lambda(a)) of a Beckmann surface, a = cot(theta) / alpha, by the
+// rational approximation of Walter et al. 2007 eq. 27 (GLSL has no erfc): exact 1 from a = 1.6
+// on, relative error below 0.4% under it (tests/core/test_brdf.cpp), capped at 1 (the rational
+// form exceeds 1 by up to 6e-5 just below 1.6). a <= 0: fully masked.
+LF_FN float lf_smith_g1_beckmann(float a) {
+    if (a <= 0.0f) return 0.0f;
+    if (a >= 1.6f) return 1.0f;
+    return min(1.0f, (3.535f * a + 2.181f * a * a) / (1.0f + 2.276f * a + 2.577f * a * a));
+}
+
+// Smith's G1 of the direction w (tangent space, unit) over facets whose slopes are a Gaussian of
+// mean B and covariance Sigma. The mean enters through the frame sheared by B, in which the
+// slopes are centred (LEADR, Dupuy et al. 2013, sec. 4): w's cotangent there is the height of w
+// over the mean facet plane, (B, 1).w / |w_xy|, and the directional roughness along w's azimuth
+// is alpha_w^2 = 2 w_xy^T Sigma w_xy / |w_xy|^2, so a = (B, 1).w / sqrt(2 w_xy^T Sigma w_xy).
+LF_FN float lf_smith_g1(vec3 w, vec2 mean, vec3 sigma) {
+    float height = w.z + mean.x * w.x + mean.y * w.y;
+    float spread =
+        2.0f * (w.x * w.x * sigma.x + w.y * w.y * sigma.y + 2.0f * w.x * w.y * sigma.z);
+    if (height <= 0.0f) return 0.0f;
+    if (spread <= 0.0f) return 1.0f;  // w along the normal: nothing masks it (a = infinity)
+    return lf_smith_g1_beckmann(height / sqrt(spread));
+}
+
+// The Cook-Torrance lobe D G / (4 (n.l)(n.v)) (the tail multiplies by F, NdotL^sf and the light)
+// for slopes of mean B and covariance Sigma over the tangent plane; h, l, v unit, tangent space.
+// D(h) = P(h~) / h.z^4: LEAN's Gaussian P over projected slopes (LEAN eq. 1) as a distribution of
+// normals, normalised as the integral of D(h) h.z over the hemisphere = 1. n.l and n.v are taken
+// on the unit mean facet normal n = (B, 1) / |(B, 1)|, which G1 of the sheared frame takes to 0
+// as fast as l or v grazes the mean facet plane: a smooth surface tilted by B then reflects all
+// the light that arrives along n, as a tilted mirror does (docs/math.md §9). B = 0 gives the
+// usual form.
+LF_FN float lf_cook_torrance_lobe(vec3 h, vec3 l, vec3 v, vec2 mean, vec3 sigma) {
+    float inv_length = 1.0f / sqrt(1.0f + mean.x * mean.x + mean.y * mean.y);
+    float n_dot_l = (l.z + mean.x * l.x + mean.y * l.y) * inv_length;
+    float n_dot_v = (v.z + mean.x * v.x + mean.y * v.y) * inv_length;
+    if (n_dot_l <= 0.0f || n_dot_v <= 0.0f || h.z <= 0.0f) return 0.0f;
+    float hz2 = h.z * h.z;
+    float d = lf_lean_lobe(h, mean, sigma) / (hz2 * hz2);
+    float g = lf_smith_g1(l, mean, sigma) * lf_smith_g1(v, mean, sigma);
+    return d * g / (4.0f * n_dot_l * n_dot_v);
+}
+
+// w in a frame around the unit normal n, for an isotropic lobe centred on n: only the cosine
+// c = n.w and the length of the rest, sqrt(1 - c^2), matter, so w becomes (sqrt(1 - c^2), 0, c).
+LF_FN vec3 lf_in_isotropic_frame(vec3 n, vec3 w) {
+    float c = dot(n, w);
+    return vec3(sqrt(max(0.0f, 1.0f - c * c)), 0.0f, c);
+}
+
+// The isotropic Beckmann lobe of roughness alpha^2 around the unit normal n (the baseline's bump
+// normal): lf_cook_torrance_lobe with B = 0 and Sigma = (alpha^2 / 2) I in n's frame.
+LF_FN float lf_cook_torrance_isotropic(vec3 n, vec3 h, vec3 l, vec3 v, float alpha_squared) {
+    float variance = 0.5f * alpha_squared;
+    return lf_cook_torrance_lobe(lf_in_isotropic_frame(n, h), lf_in_isotropic_frame(n, l),
+                                 lf_in_isotropic_frame(n, v), vec2(0.0f),
+                                 vec3(variance, variance, 0.0f));
+}
+
+// Schlick's Fresnel on h.v: F0 + (1 - F0) (1 - h.v)^5 (Schlick 1994), per colour channel.
+LF_FN vec3 lf_fresnel_schlick(vec3 h, vec3 view_dir, vec3 f0) {
+    float c = clamp(1.0f - dot(h, view_dir), 0.0f, 1.0f);
+    float c2 = c * c;
+    return f0 + (vec3(1.0f) - f0) * (c2 * c2 * c);
+}
+
+// The shared tail with Cook-Torrance: (Ka + Kd NdotL) + Ks NdotL^sf L F, times the light, where
+// L = D G / (4 (n.l)(n.v)) is the lobe and NdotL the tail's normal's (as lf_combine). At sf = 1
+// the specular term is the BRDF times the cosine; sf > 1 fades it as with Blinn-Phong (fading
+// paper eq. 7).
+LF_FN LfShade lf_combine_cook_torrance(vec3 n, vec3 light_dir, vec3 view_dir, vec3 h, float lobe,
+                                       float sf, LfParams p) {
+    float n_dot_l = clamp(dot(n, light_dir), 0.0f, 1.0f);
+    float attenuation = (sf == 1.0f) ? n_dot_l : pow(n_dot_l, sf);
+    LfShade result;
+    result.diffuse = (p.ambient + p.kd * n_dot_l) * p.light_color;
+    result.specular =
+        p.ks * lf_fresnel_schlick(h, view_dir, p.f0) * (attenuation * lobe) * p.light_color;
+    return result;
+}
+
+// Every technique's lobe stage with Cook-Torrance. The base roughness is p.inv_s_shading = a0^2/2
+// per axis: the baseline's bump normal gets the isotropic Beckmann lobe of a0; Toksvig's
+// renormalised normal a0^2 + 2 sigma^2 (Toksvig's variance on top of the base); LEAN, fading and
+// CLEAN their covariance centred on B.
+LF_FN LfShade lf_shade_cook_torrance(int technique, LfMoments m, vec3 light_dir,
+                                     vec3 view_unnormalised, vec3 v, vec3 h, LfParams p) {
+    float sf = 1.0f;
+    if (technique == LF_TECHNIQUE_FADE) {
+        sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
+                            p.fade_exponent, p.pmax);
+    }
+    if (technique == LF_TECHNIQUE_BUMP) {
+        vec3 nb = normalize(m.normal);
+        float lobe = lf_cook_torrance_isotropic(nb, h, light_dir, v, 2.0f * p.inv_s_shading);
+        return lf_combine_cook_torrance(nb, light_dir, v, h, lobe, sf, p);
+    }
+    if (technique == LF_TECHNIQUE_ROUGHNESS_MIPS) {
+        // The engine's BRDF: Beckmann of alpha = r^2 around the filtered normal renormalised.
+        vec3 n = normalize(m.normal);
+        float alpha_squared = m.second.x * m.second.x * m.second.x * m.second.x;
+        float lobe = lf_cook_torrance_isotropic(n, h, light_dir, v, alpha_squared);
+        return lf_combine_cook_torrance(n, light_dir, v, h, lobe, sf, p);
+    }
+    if (technique == LF_TECHNIQUE_TOKSVIG) {
+        float len = length(m.normal);
+        float a = clamp(len, 1e-6f, 1.0f);
+        float alpha_squared = 2.0f * p.inv_s_shading + 2.0f * (1.0f - a) / a;
+        float lobe = (len > 0.0f) ? lf_cook_torrance_isotropic(m.normal / len, h, light_dir, v,
+                                                               alpha_squared)
+                                  : 0.0f;
+        return lf_combine_cook_torrance(m.normal, light_dir, v, h, lobe, sf, p);
+    }
+    vec3 sigma = (technique == LF_TECHNIQUE_CLEAN)
+                     ? lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading)
+                     : lf_covariance(m.mean, m.second, p.inv_s_shading);
+    float lobe = lf_cook_torrance_lobe(h, light_dir, v, m.mean, sigma);
+    return lf_combine_cook_torrance(m.normal, light_dir, v, h, lobe, sf, p);
+}
+
+// Roughness MIPs for engines (docs/roughness.md, docs/math.md §9): the texel an engine's textures
+// hold for a LEAN texel of some MIP level: (0.5 n + 0.5, r) with n the unit normal of the mean
+// slope B and r = sqrt(alpha) the perceptual roughness of alpha^2 = alpha0^2 + Sxx + Syy, each
+// rounded to 8 bits as `leanfade bake --roughness-out` writes them. A map with baked roughness
+// holds 1/s in M already: pass alpha0^2 = 0 then (2 p.inv_s_shading is).
+LF_FN vec4 lf_roughness_mip_texel(vec4 lean1, vec4 lean2, float sc, float alpha0_squared) {
+    LfMoments m = lf_unpack(lean1, lean2, sc);
+    vec3 sigma = lf_covariance(m.mean, m.second, 0.0f);
+    float alpha = sqrt(alpha0_squared + sigma.x + sigma.y);
+    vec3 n = normalize(vec3(m.mean.x, m.mean.y, 1.0f));
+    vec4 texel = vec4(0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f, sqrt(alpha));
+    return round(clamp(texel, vec4(0.0f), vec4(1.0f)) * 255.0f) / 255.0f;
+}
+
+// The moments lf_shade reads for LF_TECHNIQUE_ROUGHNESS_MIPS from a filtered roughness-MIP texel:
+// normal = 2 rgb - 1 (renormalised by the lobe), second.x = r; B and the rest unused.
+LF_FN LfMoments lf_roughness_mips_moments(vec4 texel) {
+    LfMoments m;
+    m.normal = 2.0f * vec3(texel.x, texel.y, texel.z) - vec3(1.0f);
+    m.mean = vec2(0.0f);
+    m.second = vec3(texel.w, 0.0f, 0.0f);
+    return m;
+}
+
 // LEAN's lobe stage with specular fading: A = NdotL^sf D (fading paper eq. 7 times LEAN eq. 1),
 // then the shared tail. fade_enabled = false is plain LEAN.
 LF_FN LfShade lf_shade_lean_lobe(LfMoments m, vec3 light_dir, vec3 view_unnormalised, vec3 v,
@@ -348,14 +512,19 @@ LF_FN LfShade lf_shade_lean_lobe(LfMoments m, vec3 light_dir, vec3 view_unnormal
 //      the CPU) and unpack them to moments (lf_unpack: filtered normal, B, M);
 //   2. combine the moments of the material's sources (today one LEAN map, so the caller passes
 //      its moments on unchanged);
-//   3. the technique's lobe D at the half vector (Blinn-Phong, Toksvig, LEAN's Gaussian, CLEAN);
-//   4. the shared tail: NdotL^sf, Fresnel and the light (lf_combine).
+//   3. the technique's lobe D at the half vector (Blinn-Phong, Toksvig, LEAN's Gaussian, CLEAN),
+//      in the BRDF p.brdf: the lobe itself (Blinn-Phong) or D G / (4 (n.l)(n.v)) (Cook-Torrance,
+//      lf_shade_cook_torrance);
+//   4. the shared tail: NdotL^sf, Fresnel and the light (lf_combine, lf_combine_cook_torrance).
 // technique: LF_TECHNIQUE_*. light_dir: unit tangent-space direction to the light;
 // view_unnormalised: Vt, from the shaded point to the eye in world units. Linear radiance.
 LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unnormalised,
                        LfParams p) {
     vec3 v = normalize(view_unnormalised);
     vec3 h = normalize(light_dir + v);
+    if (p.brdf == LF_BRDF_COOK_TORRANCE) {
+        return lf_shade_cook_torrance(technique, m, light_dir, view_unnormalised, v, h, p);
+    }
     if (technique == LF_TECHNIQUE_BUMP) {
         // Baseline Blinn-Phong bump mapping: the filtered normal renormalised is the bump normal
         // for the lobe and for the tail.
@@ -365,6 +534,14 @@ LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unn
     if (technique == LF_TECHNIQUE_TOKSVIG) {
         return lf_combine(m.normal, light_dir, v, lf_toksvig_lobe(m.normal, h, p.shininess), 1.0f,
                           p);
+    }
+    if (technique == LF_TECHNIQUE_ROUGHNESS_MIPS) {
+        // Blinn-Phong of the exponent whose per-axis variance 1/s' is alpha^2 / 2 (docs/math.md
+        // §9), alpha = r^2, around the filtered normal renormalised.
+        vec3 n = normalize(m.normal);
+        float alpha_squared = m.second.x * m.second.x * m.second.x * m.second.x;
+        float s = 2.0f / max(alpha_squared, 1e-12f);
+        return lf_combine(n, light_dir, v, lf_blinn_phong_lobe(n, h, s), 1.0f, p);
     }
     if (technique == LF_TECHNIQUE_CLEAN) {
         vec3 sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);

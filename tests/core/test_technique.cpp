@@ -29,7 +29,7 @@ TEST(TechniqueTable, NamesAreUniqueAndParseBackToTheirRow) {
 TEST(TechniqueTable, EveryLobeIsOneOfTheSharedHeader) {
     const std::set<int> lobes{shading::LF_TECHNIQUE_BUMP, shading::LF_TECHNIQUE_LEAN,
                               shading::LF_TECHNIQUE_FADE, shading::LF_TECHNIQUE_TOKSVIG,
-                              shading::LF_TECHNIQUE_CLEAN};
+                              shading::LF_TECHNIQUE_CLEAN, shading::LF_TECHNIQUE_ROUGHNESS_MIPS};
     for (const TechniqueInfo& row : kTechniques)
         EXPECT_EQ(lobes.count(row.shader_technique), 1u) << row.name;
     // Exactly one ground truth, and it shades with the baseline's lobe.
@@ -44,7 +44,8 @@ TEST(TechniqueTable, EveryLobeIsOneOfTheSharedHeader) {
     for (const TechniqueInfo& row : kTechniques) {
         const bool moment_lobe = row.shader_technique == shading::LF_TECHNIQUE_LEAN ||
                                  row.shader_technique == shading::LF_TECHNIQUE_FADE ||
-                                 row.shader_technique == shading::LF_TECHNIQUE_CLEAN;
+                                 row.shader_technique == shading::LF_TECHNIQUE_CLEAN ||
+                                 row.shader_technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS;
         EXPECT_EQ(row.reads_moments, moment_lobe) << row.name;
         EXPECT_EQ(row.fades, row.shader_technique == shading::LF_TECHNIQUE_FADE) << row.name;
     }
@@ -58,7 +59,7 @@ TEST(TechniqueTable, ListsFollowTheTable) {
     EXPECT_EQ(measured.size(), kTechniques.size() - 1);
     for (Technique t : measured) EXPECT_FALSE(info(t).supersampled);
     EXPECT_EQ(parse_techniques(join_technique_names(all_techniques())), all_techniques());
-    EXPECT_EQ(technique_names(measured), "bump, toksvig, clean, lean or fade");
+    EXPECT_EQ(technique_names(measured), "bump, toksvig, clean, lean, fade or roughness");
 }
 
 TEST(TechniqueTable, BadListsNameTheSettingAndTheCause) {

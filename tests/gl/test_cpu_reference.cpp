@@ -28,6 +28,7 @@ struct Case {
     FadeDistance fade_distance = FadeDistance::TangentZ;
     FogMode fog = FogMode::None;
     float fade_exponent = 2.0f;  // 2: the LF_FADE_EXPONENT_2 variant; other values: pow
+    Brdf brdf = Brdf::BlinnPhong;
 };
 
 // Test names show the case's name instead of its bytes.
@@ -63,6 +64,9 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
     s.fog = c.fog;
     s.fog_color = {0.3f, 0.4f, 0.5f};
     s.fog_density = 0.3f;
+    s.brdf = c.brdf;
+    s.roughness = 0.45f;
+    s.metallic = 0.3f;
     request.background = glm::vec3(-1.0f);  // marks uncovered pixels
     const Image gpu = renderer.render(request);
 
@@ -96,9 +100,13 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             if (!inside) continue;
             // Tangent frame = world axes (T = +x, Bt = +y, N = +z).
             const glm::vec3 view_t = request.view.eye - p;
-            const shading::LfShade shade = shading::lf_shade(
-                info(c.technique).shader_technique, shading::lf_unpack(lean1, lean2, map.scale),
-                light, view_t, params);
+            shading::LfMoments moments = shading::lf_unpack(lean1, lean2, map.scale);
+            // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
+            if (c.technique == gl::Technique::Roughness)
+                moments = shading::lf_roughness_mips_moments(shading::lf_roughness_mip_texel(
+                    lean1, lean2, map.scale, 2.0f * params.inv_s_shading));
+            const shading::LfShade shade = shading::lf_shade(info(c.technique).shader_technique,
+                                                             moments, light, view_t, params);
             glm::vec3 expected = shade.diffuse + shade.specular;
             const float depth = -(view * glm::vec4(p, 1.0f)).z;
             const float f = shading::lf_fog_factor(depth, to_shader_constant(s.fog), s.fog_start,
@@ -129,7 +137,24 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"fade_eye", gl::Technique::Fade, FadeDistance::Eye},
         Case{"fade_power_1_7", gl::Technique::Fade, FadeDistance::TangentZ, FogMode::None, 1.7f},
         Case{"fade_exp_fog", gl::Technique::Fade, FadeDistance::Eye, FogMode::Exp},
-        Case{"lean_exp_fog", gl::Technique::Lean, FadeDistance::TangentZ, FogMode::Exp}),
+        Case{"lean_exp_fog", gl::Technique::Lean, FadeDistance::TangentZ, FogMode::Exp},
+        // The Cook-Torrance lobe stage of every technique (docs/math.md §9).
+        Case{"bump_ct", gl::Technique::Bump, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance},
+        Case{"toksvig_ct", gl::Technique::Toksvig, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance},
+        Case{"clean_ct", gl::Technique::Clean, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance},
+        Case{"lean_ct", gl::Technique::Lean, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance},
+        Case{"fade_ct", gl::Technique::Fade, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance},
+        Case{"fade_eye_ct_fog", gl::Technique::Fade, FadeDistance::Eye, FogMode::Exp, 1.7f,
+             Brdf::CookTorrance},
+        // Roughness MIPs (docs/roughness.md) in both BRDFs.
+        Case{"roughness", gl::Technique::Roughness},
+        Case{"roughness_ct", gl::Technique::Roughness, FadeDistance::TangentZ, FogMode::None,
+             2.0f, Brdf::CookTorrance}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 // Core images are stored top row first; the upload flips them so that the top row lies at v = 1

@@ -19,6 +19,8 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 constexpr std::string_view kFadeDistances[] = {"tangent-z", "eye"};
 constexpr std::string_view kFogModes[] = {"none", "linear", "exp", "exp2"};
+constexpr std::string_view kBrdfs[] = {"blinn-phong", "cook-torrance"};
+constexpr std::string_view kReferenceModels[] = {"baseline", "lean"};
 
 int get_fade_distance(const ShadingSettings& s) {
     return s.fade_distance == FadeDistance::Eye ? 1 : 0;
@@ -33,11 +35,24 @@ void set_fog(ShadingSettings& s, int i) {
     s.fog = FogMode(i);
 }
 
+int get_brdf(const ShadingSettings& s) {
+    return int(s.brdf);
+}
+void set_brdf(ShadingSettings& s, int i) {
+    s.brdf = Brdf(i);
+}
+int get_reference_model(const ShadingSettings& s) {
+    return int(s.reference_model);
+}
+void set_reference_model(ShadingSettings& s, int i) {
+    s.reference_model = ReferenceModel(i);
+}
+
 using K = ParameterKind;
 using S = ShadingSettings;
 
 // clang-format off
-const std::array<ParameterInfo, 22> kParameters{{
+const std::array<ParameterInfo, 27> kParameters{{
     {.key = "light_direction", .kind = K::Direction, .group = "Light", .label = "light direction",
      .unit = "world space", .help = "Direction toward the light (y up, the camera on +z)",
      .equation = "L of docs/math.md §4", .min = kMinLightDirectionLength,
@@ -56,6 +71,24 @@ const std::array<ParameterInfo, 22> kParameters{{
      .help = "Blinn-Phong exponent s; LEAN adds 1/s to the covariance",
      .equation = "LEAN eq. 6", .min = kMinShininess, .max = kMaxShininess, .logarithmic = true, .ui_min = 1.0f, .ui_max = 20000.0f,
      .scalar = &S::shininess},
+    {.key = "brdf", .kind = K::Choice, .group = "Material", .label = "BRDF",
+     .help = "Reflection model of every technique: the papers' Blinn-Phong, or Cook-Torrance "
+             "(Beckmann D, Smith G, Schlick F)",
+     .equation = "docs/math.md §9", .choices = kBrdfs, .get_choice = get_brdf,
+     .set_choice = set_brdf},
+    {.key = "roughness", .kind = K::Scalar, .group = "Material", .label = "roughness r",
+     .help = "Cook-Torrance perceptual roughness r: Beckmann alpha0 = r^2, slope variance "
+             "alpha0^2/2 per axis",
+     .equation = "docs/math.md §9", .min = kMinRoughness, .max = 1.0f, .ui_min = kMinRoughness,
+     .ui_max = 1.0f, .scalar = &S::roughness},
+    {.key = "metallic", .kind = K::Scalar, .group = "Material", .label = "metallic",
+     .help = "Cook-Torrance metalness: F0 = mix(f0, Kd, metallic), diffuse Kd (1 - metallic)",
+     .equation = "docs/math.md §9", .min = 0.0f, .max = 1.0f, .ui_min = 0.0f, .ui_max = 1.0f,
+     .scalar = &S::metallic},
+    {.key = "f0", .kind = K::Scalar, .group = "Material", .label = "F0",
+     .help = "Cook-Torrance reflectance at normal incidence of the dielectric part (Schlick)",
+     .equation = "docs/math.md §9", .min = 0.0f, .max = 1.0f, .ui_min = 0.0f, .ui_max = 1.0f,
+     .scalar = &S::f0},
     {.key = "fresnel_bias", .kind = K::Scalar, .group = "Fresnel", .label = "Fresnel bias Fb",
      .help = "Fresnel bias Fb of clamp(Fb + Fs (1 - n.V)^5, 0, 1)",
      .equation = "fading paper, listing 1", .min = 0.0f, .max = kInfinity, .ui_min = 0.0f, .ui_max = 1.0f,
@@ -105,6 +138,11 @@ const std::array<ParameterInfo, 22> kParameters{{
     {.key = "anisotropy", .kind = K::Integer, .group = "Texturing", .label = "anisotropy",
      .help = "Anisotropic filtering ratio (1 = trilinear)", .min = 1.0f, .max = 16.0f, .ui_min = 1.0f, .ui_max = 16.0f,
      .integer = &S::anisotropy},
+    {.key = "reference_model", .kind = K::Choice, .group = "Material", .label = "reference model",
+     .help = "What the supersampled truth shades each LOD-0 sample with: the BRDF on the bump "
+             "normal, or LEAN's own lobe",
+     .equation = "docs/math.md §7", .choices = kReferenceModels,
+     .get_choice = get_reference_model, .set_choice = set_reference_model},
     {.key = "msaa", .kind = K::Integer, .group = "Texturing", .label = "MSAA samples",
      .help = "Multisample anti-aliasing samples (1 = off): 1, 2, 4, 8 or 16", .min = 1.0f,
      .max = 16.0f, .ui_min = 1.0f, .ui_max = 16.0f, .integer = &S::msaa},

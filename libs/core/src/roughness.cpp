@@ -106,4 +106,57 @@ std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOp
     return out;
 }
 
+RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,
+                                     const Image* metallic_roughness_input, int threads) {
+    if (levels.empty()) throw Error("roughness", "no levels");
+    std::vector<Image> kept;  // R, G, B, A of the input at every level (G unused)
+    if (metallic_roughness_input != nullptr) {
+        const Image& in = *metallic_roughness_input;
+        if (in.width != levels.front().width || in.height != levels.front().height ||
+            in.channels < 3)
+            throw Error("roughness map",
+                        "a metallic-roughness texture of 3 or 4 channels and " +
+                            std::to_string(levels.front().width) + "x" +
+                            std::to_string(levels.front().height) + " texels is needed, got " +
+                            std::to_string(in.width) + "x" + std::to_string(in.height) + "x" +
+                            std::to_string(in.channels));
+        Image rgba(in.width, in.height, 4, 1.0f);
+        for (std::size_t t = 0; t < in.texel_count(); ++t)
+            for (int c = 0; c < in.channels && c < 4; ++c)
+                rgba.pixels[4 * t + std::size_t(c)] = in.pixels[t * std::size_t(in.channels) + c];
+        kept = build_mip_chain(rgba, threads);
+        // Level 0 keeps the input's values exactly.
+        kept.front() = std::move(rgba);
+    }
+    RoughnessTextures out;
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+        const RoughnessLevel& level = levels[l];
+        Image mr(level.width, level.height, 4), normal(level.width, level.height, 4),
+            aniso(level.width, level.height, 4);
+        for (std::size_t t = 0; t < level.alpha.size(); ++t) {
+            const std::size_t i = 4 * t;
+            if (!kept.empty()) {
+                for (int c : {0, 2, 3}) mr.pixels[i + std::size_t(c)] = kept[l].pixels[i + c];
+            } else {
+                mr.pixels[i + 3] = 1.0f;
+            }
+            mr.pixels[i + 1] = std::min(1.0f, perceptual_roughness(level.alpha[t]));
+            const glm::vec3 n = level.normal[t];
+            normal.pixels[i] = 0.5f * n.x + 0.5f;
+            normal.pixels[i + 1] = 0.5f * n.y + 0.5f;
+            normal.pixels[i + 2] = 0.5f * n.z + 0.5f;
+            normal.pixels[i + 3] = 1.0f;
+            const glm::vec2 d = level.direction[t];
+            aniso.pixels[i] = 0.5f * d.x + 0.5f;
+            aniso.pixels[i + 1] = 0.5f * d.y + 0.5f;
+            aniso.pixels[i + 2] = anisotropy_strength(level.alpha_t[t], level.alpha_b[t]);
+            aniso.pixels[i + 3] = 1.0f;
+        }
+        out.metallic_roughness.push_back(std::move(mr));
+        out.normal.push_back(std::move(normal));
+        out.anisotropy.push_back(std::move(aniso));
+    }
+    return out;
+}
+
 }  // namespace leanfade

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <glm/common.hpp>
+
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parameters.hpp"
 
@@ -31,6 +33,20 @@ shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
     p.pmax = s.pmax;
     p.fade_exponent = s.fade_exponent;
     p.fade_distance = to_shader_constant(s.fade_distance);
+    p.brdf = to_shader_constant(s.brdf);
+    p.f0 = glm::vec3(s.f0);
+    if (s.brdf == Brdf::CookTorrance) {
+        if (roughness_baked)
+            throw Error("brdf",
+                        "cook-torrance takes its base roughness from 'roughness', but the LEAN map "
+                        "has a baked 1/s in its second moments (bake it without one)");
+        // docs/math.md §9: a0 = r^2, per-axis slope variance a0^2 / 2 in place of 1/s.
+        const float alpha0 = s.roughness * s.roughness;
+        p.inv_s_shading = 0.5f * alpha0 * alpha0;
+        // The metallic-roughness model of glTF: metals reflect their base colour, without diffuse.
+        p.f0 = glm::mix(glm::vec3(s.f0), s.kd, s.metallic);
+        p.kd = s.kd * (1.0f - s.metallic);
+    }
     return p;
 }
 
@@ -53,6 +69,11 @@ int to_shader_constant(FogMode mode) {
     return shading::LF_FOG_NONE;
 }
 
+int to_shader_constant(Brdf brdf) {
+    return brdf == Brdf::CookTorrance ? shading::LF_BRDF_COOK_TORRANCE
+                                      : shading::LF_BRDF_BLINN_PHONG;
+}
+
 // Names from the parameter schema's choices (leanfade/core/parameters.hpp), listed in enum
 // order.
 const char* to_string(FadeDistance mode) {
@@ -61,6 +82,14 @@ const char* to_string(FadeDistance mode) {
 
 const char* to_string(FogMode mode) {
     return find_shading_parameter("fog")->choices[std::size_t(mode)].data();
+}
+
+const char* to_string(Brdf brdf) {
+    return find_shading_parameter("brdf")->choices[std::size_t(brdf)].data();
+}
+
+const char* to_string(ReferenceModel model) {
+    return find_shading_parameter("reference_model")->choices[std::size_t(model)].data();
 }
 
 }  // namespace leanfade

@@ -184,6 +184,11 @@ gl::View panned(const gl::View& view, int image_height, float pixels_x, float pi
     return out;
 }
 
+float roughness_for_shininess(float shininess) {
+    const float alpha0 = std::sqrt(2.0f / (shininess + 2.0f));
+    return std::clamp(std::sqrt(alpha0), kMinRoughness, 1.0f);
+}
+
 SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                       const std::function<void(int done, int total)>& progress) {
     validate(request);
@@ -196,6 +201,8 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
     for (float shininess : request.shininesses) {
         ShadingSettings settings = request.settings;
         settings.shininess = shininess;
+        if (settings.brdf == Brdf::CookTorrance)
+            settings.roughness = roughness_for_shininess(shininess);
         for (float distance : request.distances) {
             const float margin = request.motion_pixels * float(request.frames - 1) + 2.0f;
             const Framing framing =

@@ -44,6 +44,25 @@ struct RoughnessLevel {
 // outside [0, 1] or not finite, or a roughness map of another size.
 std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOptions& options);
 
+// The textures engines read, one image per MIP level (level 0 first), 4 channels of values in
+// [0, 1], rows top first (docs/roughness.md):
+//   metallic_roughness  glTF metallic-roughness: G = perceptual r = √α; R, B, A those of the
+//                       input texture (its MIP chain filtered linearly, as the moments), or
+//                       (0, 0, 1) without one (metallic 0)
+//   normal              0.5 n + 0.5 of the unit normal of the mean slope, A = 1
+//   anisotropy          KHR_materials_anisotropy: RG = 0.5 d + 0.5 of the direction d of the larger
+//                       slope variance (tangent space), B = strength, A = 1
+struct RoughnessTextures {
+    std::vector<Image> metallic_roughness;
+    std::vector<Image> normal;
+    std::vector<Image> anisotropy;
+};
+
+// `metallic_roughness_input`: the glTF texture the base roughness came from (3 or 4 channels, the
+// size of level 0), or nullptr. Throws leanfade::Error("roughness map", cause) for another size.
+RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,
+                                     const Image* metallic_roughness_input, int threads = 0);
+
 // glTF perceptual roughness of a Beckmann α: √α.
 float perceptual_roughness(float alpha);
 

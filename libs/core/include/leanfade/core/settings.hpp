@@ -26,6 +26,18 @@ enum class FadeDistance {
 // Distance fog (the OpenGL fog factors, docs/math.md §4): C' = f C + (1 - f) C_fog.
 enum class FogMode { None, Linear, Exp, Exp2 };
 
+// The reflection model of every technique's lobe stage (docs/math.md §4, §9).
+enum class Brdf {
+    BlinnPhong,    // the normalised Blinn-Phong lobe of exponent s (the papers' model)
+    CookTorrance,  // D G F / (4 (n.l)(n.v)): Beckmann D of roughness a0 = r^2, Smith G, Schlick F
+};
+
+// What the supersampled truth shades each LOD-0 sample with (docs/math.md §7).
+enum class ReferenceModel {
+    Baseline,  // the BRDF around the sample's bump normal: what a filtered bumpy surface shows
+    Lean,      // LEAN's own lobe (base roughness only, centred on the sample's B): LEAN's model
+};
+
 struct ShadingSettings {
     // Light (one directional light).
     // World space, toward the light: upper-left-front (the camera looks along -z).
@@ -38,7 +50,17 @@ struct ShadingSettings {
     glm::vec3 ks{1.0f};                       // Ks: white
     float shininess = 800.0f;                 // Blinn-Phong exponent s (> 0)
 
-    // Fresnel, Schlick form of the fading paper's listing: clamp(Fb + Fs (1 - n.V)^5, 0, 1).
+    // Cook-Torrance (brdf = CookTorrance; docs/math.md §9). Blinn-Phong reads shininess instead.
+    Brdf brdf = Brdf::BlinnPhong;
+    float roughness = 0.3f;  // perceptual roughness r in [0.01, 1]: Beckmann a0 = r^2
+    float metallic = 0.0f;   // 0: dielectric (F0 = f0), 1: metal (F0 = Kd, no diffuse)
+    float f0 = 0.04f;        // Schlick's F0 of the dielectric part
+
+    // The supersampled truth's model (the reference technique, eval's ground truth).
+    ReferenceModel reference_model = ReferenceModel::Baseline;
+
+    // Fresnel of Blinn-Phong, Schlick form of the fading paper's listing:
+    // clamp(Fb + Fs (1 - n.V)^5, 0, 1). Cook-Torrance uses Schlick on h.V with F0 instead.
     float fresnel_bias = 0.2f;   // Fb
     float fresnel_scale = 0.8f;  // Fs
 
@@ -71,6 +93,8 @@ struct ShadingSettings {
 inline constexpr float kMinLightDirectionLength = 1e-6f;
 inline constexpr float kMaxLightDirectionLength = 1e6f;
 inline constexpr float kMinShininess = 1e-3f;
+// Cook-Torrance: a0 = r^2 = 1e-4 keeps the Beckmann peak 1 / (pi a0^2) below 1e8.
+inline constexpr float kMinRoughness = 0.01f;
 inline constexpr float kMaxShininess = 1e7f;
 inline constexpr float kMaxColourComponent = 1e6f;
 inline constexpr float kMaxTiling = 1e6f;
@@ -81,17 +105,23 @@ inline constexpr float kMaxTiling = 1e6f;
 void validate(const ShadingSettings& settings);
 
 // The shared header's parameters (docs/math.md §4). inv_s_shading = roughness_baked ? 0 : 1/s: a
-// LEAN map whose 1/s was baked into M (LEAN eq. 6) must not get it again at shading time.
+// LEAN map whose 1/s was baked into M (LEAN eq. 6) must not get it again at shading time. With
+// Cook-Torrance (docs/math.md §9): inv_s_shading = a0^2 / 2 with a0 = roughness^2, F0 =
+// mix(f0, Kd, metallic) and the diffuse Kd (1 - metallic); a map with baked roughness is refused
+// (leanfade::Error("brdf", cause)): its M holds 1/s where a0^2/2 belongs.
 shading::LfParams to_lf_params(const ShadingSettings& settings, bool roughness_baked);
 
 // The shader constants LF_FADE_DISTANCE_* / LF_FOG_*.
 int to_shader_constant(FadeDistance mode);
 int to_shader_constant(FogMode mode);
+int to_shader_constant(Brdf brdf);  // LF_BRDF_*
 
 // Names in presets and on the command line: "tangent-z" | "eye"; "none" | "linear" | "exp" |
 // "exp2" (the choices of the parameter schema, leanfade/core/parameters.hpp, which also parses
 // them).
 const char* to_string(FadeDistance mode);
 const char* to_string(FogMode mode);
+const char* to_string(Brdf brdf);                  // "blinn-phong" | "cook-torrance"
+const char* to_string(ReferenceModel model);       // "baseline" | "lean"
 
 }  // namespace leanfade

@@ -11,6 +11,8 @@ using std::exp;
 using std::pow;
 using std::sqrt;
 #define LF_FN inline
+#define LF_DEFAULT(value) = value
 #include "lean_shading.glsl"
+#undef LF_DEFAULT
 #undef LF_FN
 }  // namespace leanfade::shading

@@ -17,7 +17,7 @@
 namespace leanfade {
 
 // Values are positions in kTechniques.
-enum class Technique { Bump, Toksvig, Clean, Lean, Fade, Reference };
+enum class Technique { Bump, Toksvig, Clean, Lean, Fade, Roughness, Reference };
 
 struct TechniqueInfo {
     Technique id;
@@ -35,7 +35,7 @@ struct TechniqueInfo {
     Technique overhead_of;
 };
 
-inline constexpr std::array<TechniqueInfo, 6> kTechniques{{
+inline constexpr std::array<TechniqueInfo, 7> kTechniques{{
     {Technique::Bump, "bump", "Blinn-Phong bump mapping",
      "Blinn-Phong around the trilinear-filtered normal map (the baseline)",
      shading::LF_TECHNIQUE_BUMP, false, false, false, "#d62728", Technique::Bump},
@@ -51,8 +51,12 @@ inline constexpr std::array<TechniqueInfo, 6> kTechniques{{
     {Technique::Fade, "fade", "LEAN + specular fading",
      "LEAN with the specular exponent raised with distance: NdotL^sf", shading::LF_TECHNIQUE_FADE,
      true, true, false, "#2ca02c", Technique::Lean},
+    {Technique::Roughness, "roughness", "Roughness MIPs",
+     "an engine's ordinary BRDF on roughness and normal MIPs baked from the moments, trilinear",
+     shading::LF_TECHNIQUE_ROUGHNESS_MIPS, true, false, false, "#ff7f0e", Technique::Bump},
     {Technique::Reference, "reference", "Reference (supersampled)",
-     "the baseline at the finest MIP level, k x k samples per pixel, box-filtered (ground truth)",
+     "the baseline (or LEAN's lobe) at the finest MIP level, k x k samples per pixel, "
+     "box-filtered (ground truth)",
      shading::LF_TECHNIQUE_BUMP, false, false, true, "#000000", Technique::Reference},
 }};
 

@@ -38,6 +38,11 @@ Framing frame_object(float distance, float fov_y_degrees, glm::vec3 direction, i
 // pan: eye and target move together), for an image `image_height` pixels tall.
 gl::View panned(const gl::View& view, int image_height, float pixels_x, float pixels_y = 0.0f);
 
+// The perceptual roughness r of the Beckmann lobe matching the Blinn-Phong exponent s:
+// a0^2 = 2 / (s + 2) (Walter et al. 2007, docs/math.md §9) and a0 = r^2. Clamped to
+// [kMinRoughness, 1].
+float roughness_for_shininess(float shininess);
+
 struct SweepRequest {
     std::vector<gl::Technique> techniques = approximating_techniques();
     std::vector<float> distances{2.0f, 4.0f, 8.0f, 16.0f, 32.0f, 64.0f};  // bounding radii, > 1
@@ -55,7 +60,10 @@ struct SweepRequest {
     bool adaptive_reference = true;
     int frames = 16;              // >= 2: frame 0 is measured, all frames for flicker
     float motion_pixels = 0.25f;  // camera pan per frame at the object's centre, (0, 4]
-    ShadingSettings settings;     // shininess is replaced by each of `shininesses`
+    // shininess is replaced by each of `shininesses`; with the Cook-Torrance BRDF, roughness by
+    // the one of the same lobe width (roughness_for_shininess), so that the sweeps of both
+    // models stand side by side. settings.reference_model picks the truth (docs/math.md §7).
+    ShadingSettings settings;
     glm::vec3 background{0.0f};   // linear RGB behind the object in the images
     bool keep_images = true;      // fill SweepOutput::images
 };

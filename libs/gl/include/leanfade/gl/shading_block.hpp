@@ -33,19 +33,21 @@ static_assert(offsetof(LfParams, fade) == 64);
 static_assert(offsetof(LfParams, pmax) == 68);
 static_assert(offsetof(LfParams, fade_exponent) == 72);
 static_assert(offsetof(LfParams, fade_distance) == 76);
-static_assert(sizeof(LfParams) == 80, "a std140 struct is a multiple of 16 bytes");
+static_assert(offsetof(LfParams, f0) == 80);
+static_assert(offsetof(LfParams, brdf) == 92);
+static_assert(sizeof(LfParams) == 96, "a std140 struct is a multiple of 16 bytes");
 
 static_assert(offsetof(LfShadingUniforms, params) == 0);
-static_assert(offsetof(LfShadingUniforms, scale) == 80);
-static_assert(offsetof(LfShadingUniforms, output_mode) == 84);
-static_assert(offsetof(LfShadingUniforms, fog_mode) == 88);
-static_assert(offsetof(LfShadingUniforms, fog_start) == 92);
-static_assert(offsetof(LfShadingUniforms, fog_color) == 96);
-static_assert(offsetof(LfShadingUniforms, fog_end) == 108);
-static_assert(offsetof(LfShadingUniforms, fog_density) == 112);
-// std140 rounds the struct up to 128 bytes; the last 12 are padding, not uploaded.
-static_assert(sizeof(LfShadingUniforms) == 116);
-inline constexpr std::size_t kShadingBlockStd140Size = 128;
+static_assert(offsetof(LfShadingUniforms, scale) == 96);
+static_assert(offsetof(LfShadingUniforms, output_mode) == 100);
+static_assert(offsetof(LfShadingUniforms, fog_mode) == 104);
+static_assert(offsetof(LfShadingUniforms, fog_start) == 108);
+static_assert(offsetof(LfShadingUniforms, fog_color) == 112);
+static_assert(offsetof(LfShadingUniforms, fog_end) == 124);
+static_assert(offsetof(LfShadingUniforms, fog_density) == 128);
+// std140 rounds the struct up to 144 bytes; the last 12 are padding, not uploaded.
+static_assert(sizeof(LfShadingUniforms) == 132);
+inline constexpr std::size_t kShadingBlockStd140Size = 144;
 
 // Each member's name in the GL program (as glGetProgramResourceIndex knows it) and its C++
 // offset: what the driver reports must be the same.
@@ -73,6 +75,8 @@ inline constexpr BlockMember kShadingBlockMembers[] = {
     LF_PARAM(pmax),
     LF_PARAM(fade_exponent),
     LF_PARAM(fade_distance),
+    LF_PARAM(f0),
+    LF_PARAM(brdf),
     LF_UNIFORM(scale),
     LF_UNIFORM(output_mode),
     LF_UNIFORM(fog_mode),

@@ -1,0 +1,184 @@
+// `leanfade bake --roughness-out / --anisotropy-out` end to end (docs/roughness.md): the KTX2 files
+// read back with the project's KTX2 reader as plain 2D RGBA8 textures with every level, their
+// texels equal the core's roughness MIPs of the same input, a PNG per level, a glTF
+// metallic-roughness input changes in G only, and bad flags or inputs write nothing.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/roughness.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
+#include "tools_test_helpers.hpp"
+
+using namespace leanfade;
+using test::run_leanfade;
+using test::shell_quote;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A 32 x 32 height map with bumps, as a 16-bit grey PNG.
+fs::path write_height_map(const fs::path& dir) {
+    Image height = make_builtin_height("bumps", 32, 3);
+    const fs::path path = dir / "height.png";
+    io::write_png(path.string(), height, 16);
+    return path;
+}
+
+// The roughness MIPs the core computes for the same file and base roughness.
+std::vector<RoughnessLevel> expected_levels(const fs::path& height_png, float r0,
+                                            const Image* map = nullptr) {
+    const Image height = io::read_image(height_png.string());
+    BakeOptions options;
+    const LeanMap lean = bake_lean_map(height, BakeSource::Height, options).map;
+    RoughnessOptions ro;
+    ro.base_roughness = r0;
+    ro.roughness_map = map;
+    return roughness_mips(lean, ro);
+}
+
+int byte(float v) {
+    return int(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
+
+TEST(CliBakeRoughness, WritesKtx2AndPngLevelsOfTheCoreRoughnessMips) {
+    const fs::path dir = test::scratch_dir("bake_roughness");
+    const fs::path height = write_height_map(dir);
+    const fs::path rough = dir / "rough.ktx2", aniso = dir / "aniso.ktx2";
+    const auto r = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                    shell_quote((dir / "map.ktx2").string()) +
+                                    " --roughness-out " + shell_quote(rough.string()) +
+                                    " --roughness 0.3 --anisotropy-out " +
+                                    shell_quote(aniso.string()),
+                                dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(dir / "map.ktx2"));
+
+    const std::vector<RoughnessLevel> want = expected_levels(height, 0.3f);
+    const std::vector<io::Rgba8Level> mr = io::read_ktx2_rgba8(rough.string());
+    const std::vector<io::Rgba8Level> normal = io::read_ktx2_rgba8((dir / "rough.normal.ktx2").string());
+    const std::vector<io::Rgba8Level> an = io::read_ktx2_rgba8(aniso.string());
+    ASSERT_EQ(mr.size(), want.size());  // 32 x 32: 6 levels
+    ASSERT_EQ(mr.size(), 6u);
+    ASSERT_EQ(normal.size(), want.size());
+    ASSERT_EQ(an.size(), want.size());
+    const io::Ktx2Info info = io::inspect_ktx2(rough.string());
+    EXPECT_EQ(info.vk_format, io::kVkFormatR8G8B8A8Unorm);
+    EXPECT_EQ(info.layer_count, 0u);
+    EXPECT_EQ(info.data_format.transfer_function, 1u);  // linear: data, not colour
+    double coarse_r = 0.0;
+    for (std::size_t l = 0; l < want.size(); ++l) {
+        ASSERT_EQ(mr[l].width, want[l].width);
+        for (std::size_t t = 0; t < want[l].alpha.size(); ++t) {
+            const std::uint8_t* texel = &mr[l].texels[4 * t];
+            EXPECT_EQ(texel[1], byte(std::sqrt(want[l].alpha[t]))) << "level " << l;
+            EXPECT_EQ(texel[0], 0);
+            EXPECT_EQ(texel[2], 0);  // metallic 0
+            EXPECT_EQ(texel[3], 255);
+            const glm::vec3 n = want[l].normal[t];
+            EXPECT_EQ(normal[l].texels[4 * t], byte(0.5f * n.x + 0.5f));
+            EXPECT_EQ(normal[l].texels[4 * t + 2], byte(0.5f * n.z + 0.5f));
+            EXPECT_EQ(an[l].texels[4 * t + 2],
+                      byte(anisotropy_strength(want[l].alpha_t[t], want[l].alpha_b[t])));
+        }
+        if (l + 1 == want.size()) coarse_r = mr[l].texels[1] / 255.0;
+        // A PNG per level, equal to the KTX2 level.
+        const Image png =
+            io::read_image((dir / "rough.levels" / ("roughness_mip" + std::to_string(l) + ".png"))
+                               .string());
+        ASSERT_EQ(png.width, mr[l].width);
+        EXPECT_EQ(byte(png.at(0, 0, 1)), mr[l].texels[1]);
+        EXPECT_TRUE(fs::exists(dir / "rough.levels" / ("normal_mip" + std::to_string(l) + ".png")));
+        EXPECT_TRUE(
+            fs::exists(dir / "rough.levels" / ("anisotropy_mip" + std::to_string(l) + ".png")));
+    }
+    // The bumps' slope variance raises the coarse roughness above the base 0.3.
+    EXPECT_GT(coarse_r, 0.35);
+}
+
+// With a glTF metallic-roughness texture as the base, only G changes: R, B, A of level 0 are the
+// input's bytes, and G is the input's r where the bumps are flat at level 0.
+TEST(CliBakeRoughness, MetallicRoughnessInputChangesOnlyG) {
+    const fs::path dir = test::scratch_dir("bake_roughness_gltf");
+    const fs::path height = write_height_map(dir);
+    Image mr_in(32, 32, 4);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            mr_in.at(x, y, 0) = float((x * 7) % 256) / 255.0f;       // occlusion
+            mr_in.at(x, y, 1) = float(40 + (x + y) % 100) / 255.0f;  // roughness
+            mr_in.at(x, y, 2) = float((y * 5) % 256) / 255.0f;       // metallic
+            mr_in.at(x, y, 3) = float(200 + (x % 50)) / 255.0f;
+        }
+    const fs::path input = dir / "mr.png";
+    io::write_png(input.string(), mr_in, 8);
+    const Image read_back = io::read_image(input.string());
+    const fs::path rough = dir / "rough.ktx2";
+    const auto r = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                    shell_quote((dir / "map.ktx2").string()) +
+                                    " --roughness-out " + shell_quote(rough.string()) +
+                                    " --roughness-map " + shell_quote(input.string()),
+                                dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<io::Rgba8Level> mr = io::read_ktx2_rgba8(rough.string());
+    Image base(32, 32, 1);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) base.at(x, y) = read_back.at(x, y, 1);
+    const std::vector<RoughnessLevel> want = expected_levels(height, 0.0f, &base);
+    int g_changed = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const std::uint8_t* t = &mr[0].texels[4 * std::size_t(y * 32 + x)];
+            EXPECT_EQ(t[0], byte(read_back.at(x, y, 0)));
+            EXPECT_EQ(t[2], byte(read_back.at(x, y, 2)));
+            EXPECT_EQ(t[3], byte(read_back.at(x, y, 3)));
+            EXPECT_EQ(t[1], byte(std::sqrt(want[0].alpha[std::size_t(y * 32 + x)])));
+            if (t[1] != byte(read_back.at(x, y, 1))) ++g_changed;
+        }
+    // Level 0 has no slope variance (one slope per texel): G is the input's r, up to rounding.
+    EXPECT_LE(g_changed, 32 * 32 / 10);
+    // Coarser levels: G grows with the filtered variance, R B A are the input filtered.
+    EXPECT_GT(mr.back().texels[1], mr[0].texels[1] / 2);
+}
+
+TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
+    const fs::path dir = test::scratch_dir("bake_roughness_bad");
+    const fs::path height = write_height_map(dir);
+    const std::string base = "bake " + shell_quote(height.string()) + " -o " +
+                             shell_quote((dir / "map.ktx2").string());
+    const std::string rough = " --roughness-out " + shell_quote((dir / "rough.ktx2").string());
+    struct Bad {
+        std::string args;
+        std::string message;
+    };
+    Image small(8, 8, 1, 0.5f);
+    io::write_png((dir / "small.png").string(), small, 8);
+    const Bad cases[] = {
+        {rough + " --roughness 1.5", "--roughness"},
+        {rough + " --roughness 0.2 --roughness-map " + shell_quote((dir / "small.png").string()),
+         "not both"},
+        {rough + " --roughness-map " + shell_quote((dir / "small.png").string()), "small.png"},
+        {rough + " --roughness-map " + shell_quote((dir / "missing.png").string()), "missing.png"},
+        {rough + " --bake-roughness 100", "--roughness-out"},
+        {" --roughness 0.2", "--roughness"},
+        {" --roughness-out " + shell_quote((dir / "rough.png").string()), "ktx2"},
+    };
+    for (const Bad& c : cases) {
+        const auto r = run_leanfade(base + c.args, dir);
+        EXPECT_NE(r.exit_code, 0) << c.args;
+        EXPECT_THAT(r.err, HasSubstr(c.message)) << c.args;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "rough.ktx2")) << c.args;
+        EXPECT_FALSE(fs::exists(dir / "map.ktx2")) << c.args;
+        EXPECT_FALSE(fs::exists(dir / "rough.levels")) << c.args;
+    }
+}
+
+}  // namespace

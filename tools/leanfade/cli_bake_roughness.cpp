@@ -1,0 +1,165 @@
+// Roughness MIPs of `leanfade bake` (cli_bake_roughness.hpp).
+#include "cli_bake_roughness.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/roughness.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string stem_of(const std::string& path) {
+    fs::path p(path);
+    if (p.extension() == ".ktx2") p.replace_extension();
+    return p.string();
+}
+
+// Values in [0, 1] to bytes, rounded as write_png rounds its 8-bit output.
+io::Rgba8Level to_rgba8(const Image& image) {
+    io::Rgba8Level level;
+    level.width = image.width;
+    level.height = image.height;
+    level.texels.resize(image.pixels.size());
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        const float v = std::min(1.0f, std::max(0.0f, image.pixels[i]));
+        level.texels[i] = std::uint8_t(std::lround(v * 255.0f));
+    }
+    return level;
+}
+
+std::vector<io::Rgba8Level> to_rgba8(const std::vector<Image>& images) {
+    std::vector<io::Rgba8Level> levels;
+    for (const Image& image : images) levels.push_back(to_rgba8(image));
+    return levels;
+}
+
+std::string writer_string() {
+    return std::string("leanfade ") + LEANFADE_VERSION;
+}
+
+}  // namespace
+
+void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
+    app.add_option("--roughness-out", args.roughness_out,
+                   "Also write roughness MIPs for engines: FILE.ktx2 (glTF metallic-roughness, "
+                   "G = sqrt(alpha) with alpha^2 = alpha0^2 + Sxx + Syy per level), "
+                   "FILE.normal.ktx2 (the normal of the mean slope per level) and PNGs of every "
+                   "level in FILE.levels/ (docs/roughness.md)");
+    app.add_option("--anisotropy-out", args.anisotropy_out,
+                   "Also write the KHR_materials_anisotropy texture (direction and strength from "
+                   "the slope covariance) with every level, as FILE.ktx2");
+    app.add_option("--roughness", args.roughness,
+                   "Base perceptual roughness r0 in [0, 1] of the roughness MIPs (alpha0 = r0^2)")
+        ->check(CLI::Range(0.0f, 1.0f))
+        ->each([&args](const std::string&) { args.roughness_given = true; });
+    app.add_option("--roughness-map", args.roughness_map,
+                   "Base roughness per texel: a grey map of r0, or a glTF metallic-roughness "
+                   "texture (r0 in G; its R, B, A are kept in the output), of the input's size");
+}
+
+std::string normal_output_path(const std::string& roughness_out) {
+    return stem_of(roughness_out) + ".normal.ktx2";
+}
+
+std::string levels_folder_path(const RoughnessBakeArgs& args) {
+    return stem_of(!args.roughness_out.empty() ? args.roughness_out : args.anisotropy_out) +
+           ".levels";
+}
+
+void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
+                            float bake_roughness, io::OutputPlan& plan) {
+    if (!args.requested()) {
+        if (args.roughness_given || !args.roughness_map.empty())
+            throw Error(args.roughness_given ? "--roughness" : "--roughness-map",
+                        "applies to --roughness-out and --anisotropy-out");
+        return;
+    }
+    const char* flag = !args.roughness_out.empty() ? "--roughness-out" : "--anisotropy-out";
+    if (job_count != 1) throw Error(flag, "needs exactly one input");
+    if (bake_roughness > 0.0f)
+        throw Error(flag, "needs a LEAN map without a baked roughness (drop --bake-roughness; the "
+                          "base roughness is --roughness or --roughness-map)");
+    if (args.roughness_given && !args.roughness_map.empty())
+        throw Error("--roughness", "give --roughness or --roughness-map, not both");
+    for (const std::string* out : {&args.roughness_out, &args.anisotropy_out}) {
+        if (out->empty()) continue;
+        if (fs::path(*out).extension() != ".ktx2")
+            throw Error(*out, "roughness and anisotropy outputs are .ktx2 files");
+    }
+    if (!args.roughness_map.empty()) plan.add_input(args.roughness_map);
+    if (!args.roughness_out.empty()) {
+        plan.add_output(args.roughness_out, "--roughness-out");
+        plan.add_output(normal_output_path(args.roughness_out), "--roughness-out");
+    }
+    if (!args.anisotropy_out.empty()) plan.add_output(args.anisotropy_out, "--anisotropy-out");
+    plan.add_output_folder(levels_folder_path(args));
+}
+
+int write_roughness_outputs(const RoughnessBakeArgs& args,
+                            const std::variant<Image, UnormImage>& input, BakeSource source,
+                            const BakeOptions& options, const io::ReadOptions& read_options,
+                            const io::WriteOptions& write_options,
+                            io::OutputTransaction& outputs) {
+    // The float LEAN map of the input (the moments the roughness is computed from).
+    Image converted;
+    const Image* floats = std::get_if<Image>(&input);
+    if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
+    const LeanMap map = bake_lean_map(*floats, source, options).map;
+
+    RoughnessOptions roughness;
+    roughness.base_roughness = args.roughness;
+    roughness.threads = options.threads;
+    Image map_image, base;
+    const Image* metallic_roughness = nullptr;
+    if (!args.roughness_map.empty()) {
+        io::ReadOptions keep_alpha = read_options;
+        keep_alpha.drop_alpha = false;
+        map_image = io::read_image(args.roughness_map, keep_alpha);
+        // A grey map holds r0 itself; a colour one is a glTF metallic-roughness texture (r0 in G).
+        const int channel = map_image.channels >= 3 ? 1 : 0;
+        base = Image(map_image.width, map_image.height, 1);
+        for (std::size_t t = 0; t < map_image.texel_count(); ++t)
+            base.pixels[t] = map_image.pixels[t * std::size_t(map_image.channels) + channel];
+        roughness.roughness_map = &base;
+        if (map_image.channels >= 3) metallic_roughness = &map_image;
+    }
+    std::vector<RoughnessLevel> levels;
+    RoughnessTextures textures;
+    try {
+        levels = roughness_mips(map, roughness);
+        textures = roughness_textures(levels, metallic_roughness, options.threads);
+    } catch (const Error& e) {
+        // Name the file for the map's errors.
+        if (e.file() == "roughness map") throw Error(args.roughness_map, e.cause());
+        throw;
+    }
+
+    const std::string writer = writer_string();
+    const std::string folder = outputs.stage_folder(levels_folder_path(args));
+    const auto write_levels = [&](const std::vector<Image>& images, const std::string& name) {
+        for (std::size_t l = 0; l < images.size(); ++l)
+            io::write_png((fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
+                          images[l], 8, write_options);
+    };
+    if (!args.roughness_out.empty()) {
+        io::write_ktx2_rgba8(outputs.stage(args.roughness_out),
+                             to_rgba8(textures.metallic_roughness), writer, write_options);
+        io::write_ktx2_rgba8(outputs.stage(normal_output_path(args.roughness_out)),
+                             to_rgba8(textures.normal), writer, write_options);
+        write_levels(textures.metallic_roughness, "roughness");
+        write_levels(textures.normal, "normal");
+    }
+    if (!args.anisotropy_out.empty()) {
+        io::write_ktx2_rgba8(outputs.stage(args.anisotropy_out), to_rgba8(textures.anisotropy),
+                             writer, write_options);
+        write_levels(textures.anisotropy, "anisotropy");
+    }
+    return int(levels.size());
+}
+
+}  // namespace leanfade::cli

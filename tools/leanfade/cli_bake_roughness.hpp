@@ -1,0 +1,49 @@
+#pragma once
+// `leanfade bake --roughness-out FILE [--roughness R | --roughness-map MAP] [--anisotropy-out FILE]`:
+// roughness MIPs for engines from the LEAN moments of the baked input (docs/roughness.md,
+// docs/math.md §9, leanfade/core/roughness.hpp). cmd_bake.cpp adds the flags, plans the outputs
+// and calls write_roughness_outputs once the input is read.
+#include <string>
+#include <variant>
+
+#include <CLI/CLI.hpp>
+
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/output_plan.hpp"
+
+namespace leanfade::cli {
+
+struct RoughnessBakeArgs {
+    std::string roughness_out;   // FILE.ktx2: the metallic-roughness MIP chain
+    std::string anisotropy_out;  // FILE.ktx2: the KHR_materials_anisotropy MIP chain
+    float roughness = 0.0f;      // base perceptual roughness r0 where no map is given
+    bool roughness_given = false;
+    std::string roughness_map;   // a grey roughness map or a glTF metallic-roughness texture
+
+    bool requested() const { return !roughness_out.empty() || !anisotropy_out.empty(); }
+};
+
+void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args);
+
+// Checks the flags before any file is touched (they need exactly one input and a LEAN map without
+// baked roughness) and adds every output to `plan` and the map to its inputs. Throws
+// leanfade::Error(flag, cause).
+void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
+                            float bake_roughness, io::OutputPlan& plan);
+
+// The files of the outputs: for --roughness-out R.ktx2, R.ktx2, R.normal.ktx2 and the folder
+// R.levels/ of PNGs per level (roughness_mipN.png, normal_mipN.png, anisotropy_mipN.png); for
+// --anisotropy-out A.ktx2, A.ktx2.
+std::string normal_output_path(const std::string& roughness_out);
+std::string levels_folder_path(const RoughnessBakeArgs& args);
+
+// Bakes the input's float LEAN map, computes the roughness MIPs and stages every output in
+// `outputs` (published by the caller with the LEAN map). Returns the number of levels written.
+int write_roughness_outputs(const RoughnessBakeArgs& args, const std::variant<Image, UnormImage>& input,
+                            BakeSource source, const BakeOptions& options,
+                            const io::ReadOptions& read_options,
+                            const io::WriteOptions& write_options, io::OutputTransaction& outputs);
+
+}  // namespace leanfade::cli
