@@ -39,8 +39,8 @@ TEST(FlowWeights, SumToOneAndFollowTheAgreement) {
         }
     }
     // Along a layer's direction it takes everything.
-    const glm::vec4 t = shading::lf_flow_weights(glm::vec2(0.0f, -3.0f), east, north, west, south,
-                                                 4);
+    const glm::vec4 t =
+        shading::lf_flow_weights(glm::vec2(0.0f, -3.0f), east, north, west, south, 4);
     EXPECT_FLOAT_EQ(t.w, 1.0f);
     EXPECT_FLOAT_EQ(t.x + t.y + t.z, 0.0f);
 }
@@ -83,8 +83,8 @@ TEST(GyreFlow, RotatesClockwiseWithUnitSpeedOutsideItsCore) {
     const int mid = n / 2;
     EXPECT_NEAR(flow.at(n - 4, mid, 1), -1.0f, 0.05f);
     EXPECT_NEAR(flow.at(n - 4, mid, 0), 0.0f, 0.05f);
-    EXPECT_NEAR(flow.at(mid, 3, 0), 1.0f, 0.05f);  // row 3: near the top, v ~ 0.95
-    EXPECT_NEAR(flow.at(3, mid, 1), 1.0f, 0.05f);  // left: up
+    EXPECT_NEAR(flow.at(mid, 3, 0), 1.0f, 0.05f);       // row 3: near the top, v ~ 0.95
+    EXPECT_NEAR(flow.at(3, mid, 1), 1.0f, 0.05f);       // left: up
     EXPECT_NEAR(flow.at(mid, n - 4, 0), -1.0f, 0.05f);  // bottom: left
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {

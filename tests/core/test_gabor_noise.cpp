@@ -108,12 +108,12 @@ TEST(GaborNoise, TilesExactly) {
     double inside = 0.0, seam = 0.0;
     for (int y = 0; y < n; ++y) {
         for (int x = 1; x + 1 < n; ++x)
-            inside = std::max(inside, std::abs(double(image.at(x - 1, y)) -
-                                               2.0 * image.at(x, y) + image.at(x + 1, y)));
-        seam = std::max(seam, std::abs(double(image.at(n - 1, y)) - 2.0 * image.at(0, y) +
-                                       image.at(1, y)));
-        seam = std::max(seam, std::abs(double(image.at(n - 2, y)) - 2.0 * image.at(n - 1, y) +
-                                       image.at(0, y)));
+            inside = std::max(inside, std::abs(double(image.at(x - 1, y)) - 2.0 * image.at(x, y) +
+                                               image.at(x + 1, y)));
+        seam = std::max(
+            seam, std::abs(double(image.at(n - 1, y)) - 2.0 * image.at(0, y) + image.at(1, y)));
+        seam = std::max(
+            seam, std::abs(double(image.at(n - 2, y)) - 2.0 * image.at(n - 1, y) + image.at(0, y)));
     }
     EXPECT_LT(seam, 1.5 * inside);
 }

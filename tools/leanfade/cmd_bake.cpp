@@ -9,7 +9,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_bake_roughness.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -42,7 +41,6 @@ struct BakeArgs {
     std::uint32_t seed = 1;
     int max_size = kDefaultMaxImageDimension;
     std::string json;
-    RoughnessBakeArgs roughness;  // --roughness-out and its flags (cli_bake_roughness.hpp)
 };
 
 std::string generator_string() {
@@ -176,7 +174,6 @@ int run_bake(const BakeArgs& args) {
         }
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
-    plan_roughness_outputs(args.roughness, job_count, args.bake_roughness, plan);
     plan.check();
 
     // One input: its outputs and --json are published together. A batch publishes each input's
@@ -225,9 +222,6 @@ int run_bake(const BakeArgs& args) {
             baked = io::bake_to_ktx2(outputs.stage(output), input, kind, options, storage,
                                      generator_string(), name, write_options);
         }
-        if (args.roughness.requested())
-            write_roughness_outputs(args.roughness, input, kind, options, read_options,
-                                    write_options, outputs);
         if (!one_group) outputs.publish();
         const PackedLeanMap& packed = baked.packed;
         const double seconds =
@@ -314,7 +308,6 @@ const CommandRegistration registration{
             ->check(CLI::Range(1, 1 << 20))
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the summaries as JSON");
-        add_roughness_bake_options(app, args->roughness);
         return [args] { return run_bake(*args); };
     }};
 

@@ -70,6 +70,7 @@ class App {
     void draw_panel();  // panel.cpp
     void panel_view();
     void panel_camera();
+    void panel_animation();
     void panel_shading();
     bool parameter_widget(const ParameterInfo& row, ShadingSettings& settings);
     void parameter_group(std::string_view group, ShadingSettings& settings);
@@ -102,6 +103,11 @@ class App {
     bool continuous_ = false;
     bool fly_active_ = false;
     double fly_start_ = 0.0;
+    // Moving layers: the animation's time in seconds (RenderRequest::time), advancing with the
+    // clock unless paused (P), wrapped to [0, loop_seconds).
+    double animation_time_ = 0.0;
+    bool animation_paused_ = false;
+    int scene_view_ = 0;  // index into options_.scene_views
     bool dragging_divider_ = false;
     float max_anisotropy_ = 1.0f;
     int max_samples_ = 1;

@@ -67,6 +67,7 @@ void App::draw_panel() {
         ImGui::PushItemWidth(-150.0f);
         panel_messages();
         panel_view();
+        panel_animation();
         panel_camera();
         panel_shading();
         panel_bumps();
@@ -167,7 +168,24 @@ void App::panel_view() {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keeps the frame times current");
 }
 
+// Moving bump layers: the time slider and pause; a scene's own cameras (the ocean's views).
+void App::panel_animation() {
+    if (options_.loop_seconds <= 0.0f && options_.scene_views.empty()) return;
+    if (!ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (options_.loop_seconds > 0.0f) {
+        float t = float(animation_time_);
+        if (ImGui::SliderFloat("time (s)", &t, 0.0f, options_.loop_seconds, "%.2f", kClamp))
+            animation_time_ = double(t);
+        ImGui::Checkbox("pause (P)", &animation_paused_);
+    }
+    for (std::size_t i = 0; i < options_.scene_views.size(); ++i) {
+        if (i > 0) ImGui::SameLine();
+        ImGui::RadioButton(options_.scene_views[i].first.c_str(), &scene_view_, int(i));
+    }
+}
+
 void App::panel_camera() {
+    if (!options_.scene_views.empty()) return;  // the scene's cameras (panel_animation)
     if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
     OrbitCamera& c = session_->camera();
     if (ImGui::SliderFloat("distance (radii)", &c.distance, kMinOrbitDistance, 1000.0f, "%.2f",

@@ -133,8 +133,7 @@ double GaborNoise::evaluate(double u, double v) const {
     int around_count = 0;
     for (int dv = -1; dv <= 1; ++dv)
         for (int du = -1; du <= 1; ++du) {
-            const int index =
-                ((cv + dv + cells_) % cells_) * cells_ + (cu + du + cells_) % cells_;
+            const int index = ((cv + dv + cells_) % cells_) * cells_ + (cu + du + cells_) % cells_;
             if (std::find(around, around + around_count, index) == around + around_count)
                 around[around_count++] = index;
         }

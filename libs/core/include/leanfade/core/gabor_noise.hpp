@@ -24,9 +24,9 @@
 namespace leanfade {
 
 struct GaborNoiseSettings {
-    int size = 256;              // texels per side = the period (4 to 16384)
-    int cycles_u = 12;           // mean wave vector F, whole cycles per period along +u ...
-    int cycles_v = 3;            // ... and along +v (not both 0)
+    int size = 256;                   // texels per side = the period (4 to 16384)
+    int cycles_u = 12;                // mean wave vector F, whole cycles per period along +u ...
+    int cycles_v = 3;                 // ... and along +v (not both 0)
     float orientation_spread = 0.5f;  // radians, full width of the kernels' direction spread,
                                       // [0, pi]
     // Radius of a kernel (where its envelope falls to 0.1%; it is cut there) in wavelengths 1/|F|:
@@ -73,10 +73,10 @@ class GaborNoise {
     // (cycles per texel along u and v).
     struct Impulse;
     GaborNoiseSettings settings_;
-    double radius_ = 0.0;         // kernel radius, texels
-    double envelope_rate_ = 0.0;  // pi a^2
-    int cells_ = 1;               // cells per side of the torus
-    double cell_size_ = 1.0;      // texels
+    double radius_ = 0.0;                        // kernel radius, texels
+    double envelope_rate_ = 0.0;                 // pi a^2
+    int cells_ = 1;                              // cells per side of the torus
+    double cell_size_ = 1.0;                     // texels
     std::vector<std::vector<Impulse>> buckets_;  // impulses by cell, row-major (v, u)
 };
 

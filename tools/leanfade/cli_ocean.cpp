@@ -1,0 +1,131 @@
+// The ocean on the command line (cli_ocean.hpp).
+#include "cli_ocean.hpp"
+
+#include <cctype>
+#include <filesystem>
+
+#include "cli_preset.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/flow_map.hpp"
+#include "leanfade/core/text.hpp"
+#include "leanfade/gl/scene_view.hpp"
+#include "leanfade/io/image_io.hpp"
+
+namespace leanfade::cli {
+
+bool is_ocean_scene(const std::string& scene) {
+    return scene == kOceanSceneName;
+}
+
+void add_ocean_options(CLI::App& app, OceanFlags& flags) {
+    const std::string group = "Ocean (--scene ocean, docs/ocean.md)";
+    app.add_option("--ocean-layers", flags.layers,
+                   "Wave layers of Gabor noise, each moving its own way (2-4)")
+        ->capture_default_str()
+        ->group(group);
+    app.add_option("--flow", flags.flow,
+                   "Layer weights: none (equal), gyre (a clockwise current) or a flow-map image "
+                   "(red = +u, green = +v, 0.5 = still)")
+        ->capture_default_str()
+        ->group(group);
+    app.add_option("--views", flags.views,
+                   "Rows of `render`: the ocean's cameras near, mid, far, comma-separated")
+        ->capture_default_str()
+        ->group(group);
+}
+
+scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps) {
+    scene::OceanSettings settings;
+    settings.layers = flags.layers;
+    settings.texture_size = bumps.texture_size;
+    settings.seed = bumps.seed;
+    if (flags.flow == "none") {
+        settings.flow = scene::OceanFlow::None;
+    } else if (flags.flow == "gyre") {
+        settings.flow = scene::OceanFlow::Gyre;
+    } else {
+        io::ReadOptions read_options;
+        read_options.max_dimension = bumps.max_size;
+        settings.flow = scene::OceanFlow::Image;
+        settings.flow_field = flow_from_rg(io::read_image(flags.flow, read_options), flags.flow);
+    }
+    try {
+        scene::validate(settings);
+    } catch (const Error& e) {
+        // Name the flag behind the setting.
+        const std::string flag = e.file() == "ocean-layers"   ? "--ocean-layers"
+                                 : e.file() == "texture-size" ? "--texture-size"
+                                 : e.file() == "flow-map"     ? "--flow"
+                                                              : e.file();
+        throw Error(flag, e.cause());
+    }
+    return settings;
+}
+
+void apply_ocean_shading(ShadingFlags& shading, CLI::App& app, const scene::OceanSettings& settings,
+                         float aspect) {
+    set_shading_flags(scene::ocean_shading(settings, aspect), shading);
+    reapply_explicit_options(app);
+}
+
+std::vector<gl::FigureRequest::NamedView> ocean_views(const std::string& views,
+                                                      const scene::OceanSettings& settings,
+                                                      const glm::mat4& model) {
+    std::vector<gl::FigureRequest::NamedView> result;
+    for (const std::string& name : split(views, ',')) {
+        scene::OceanCamera camera;
+        try {
+            camera = scene::ocean_camera(name, settings);
+        } catch (const Error& e) {
+            throw Error("--views", e.cause());
+        }
+        result.push_back(
+            {name, gl::view_in_scene(model, camera.eye, camera.target, camera.fov_y_degrees,
+                                     camera.near_plane, camera.far_plane)});
+    }
+    if (result.empty()) throw Error("--views", "no view given (near, mid or far)");
+    return result;
+}
+
+std::string frame_path(const std::string& pattern, int index, const std::string& flag) {
+    std::string result;
+    int fields = 0;
+    for (std::size_t i = 0; i < pattern.size(); ++i) {
+        if (pattern[i] != '%') {
+            result += pattern[i];
+            continue;
+        }
+        if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+            result += '%';
+            ++i;
+            continue;
+        }
+        // %d or %0Nd (N: 1 or 2 digits).
+        std::size_t j = i + 1;
+        int width = 0;
+        if (j < pattern.size() && pattern[j] == '0') {
+            ++j;
+            const std::size_t digits_start = j;
+            while (j < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[j])) &&
+                   j - digits_start < 2)
+                width = width * 10 + (pattern[j++] - '0');
+            if (j == digits_start) width = 0;
+        }
+        if (j >= pattern.size() || pattern[j] != 'd')
+            throw Error(flag, "'" + pattern +
+                                  "': only %d, %0Nd and %% are allowed in a frame "
+                                  "file name");
+        std::string number = std::to_string(index);
+        if (int(number.size()) < width) number.insert(0, std::size_t(width) - number.size(), '0');
+        result += number;
+        ++fields;
+        i = j;
+    }
+    if (fields != 1)
+        throw Error(flag, "'" + pattern +
+                              "': a frame sequence's file name needs one %d or %0Nd "
+                              "field (e.g. out/ocean_%03d.png)");
+    return result;
+}
+
+}  // namespace leanfade::cli

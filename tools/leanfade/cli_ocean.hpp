@@ -1,0 +1,52 @@
+#pragma once
+// The built-in `ocean` scene on the command line (leanfade/scene/ocean.hpp, docs/ocean.md): its
+// flags, the ocean's shading as the defaults of the shading flags, its near / mid / far cameras
+// as the rows of `render`, and the frame sequences of `render --frames`.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <glm/glm.hpp>
+
+#include "cli_render_options.hpp"
+#include "leanfade/gl/figure.hpp"
+#include "leanfade/scene/ocean.hpp"
+
+namespace leanfade::cli {
+
+// The scene name of the ocean.
+inline constexpr const char* kOceanSceneName = "ocean";
+bool is_ocean_scene(const std::string& scene);
+
+struct OceanFlags {
+    int layers = 2;                      // --ocean-layers: 2..4 wave layers
+    std::string flow = "none";           // --flow: none | gyre | an RG flow-map image
+    std::string views = "near,mid,far";  // --views: the rows of `render --scene ocean`
+};
+
+// --ocean-layers --flow --views, in the "Ocean (--scene ocean)" group.
+void add_ocean_options(CLI::App& app, OceanFlags& flags);
+
+// The ocean's settings from the flags (the wave tiles' size and seed from the bump flags
+// --texture-size and --seed; a --flow image read with --max-size). Throws leanfade::Error naming
+// the flag or the file.
+scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps);
+
+// The ocean's shading (scene::ocean_shading) for images of width / height `aspect` becomes the
+// shading flags' values, then the flags given on the command line are applied again on top.
+void apply_ocean_shading(ShadingFlags& shading, CLI::App& app, const scene::OceanSettings& settings,
+                         float aspect);
+
+// The cameras named by --views as the rows of a figure, in the renderer's world space (`model`:
+// Renderer::model_matrix() of the ocean). Throws leanfade::Error("--views", cause).
+std::vector<gl::FigureRequest::NamedView> ocean_views(const std::string& views,
+                                                      const scene::OceanSettings& settings,
+                                                      const glm::mat4& model);
+
+// Frame `index` of a sequence: `pattern` with its one printf-style integer field ("%d", "%03d")
+// replaced by the index ("%%" is a percent sign). Throws leanfade::Error(flag, cause) for a
+// pattern with no field or more than one, or another directive.
+std::string frame_path(const std::string& pattern, int index, const std::string& flag = "-o");
+
+}  // namespace leanfade::cli
