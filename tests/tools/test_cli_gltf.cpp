@@ -1,0 +1,124 @@
+// glTF scenes on the command line: `leanfade bake FILE.gltf|.glb` bakes every normal texture
+// through the LEAN-map cache; broken scenes are one-line errors with no output.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cli_runner.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "test_gltf_builder.hpp"
+
+namespace leanfade {
+namespace {
+
+namespace fs = std::filesystem;
+using scene::test::GltfStorage;
+using scene::test::GltfTestFile;
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "cli_gltf" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::vector<std::uint8_t> normal_png(glm::vec3 n) {
+    n = glm::normalize(n);
+    std::vector<float> pixels;
+    for (int i = 0; i < 16 * 16; ++i)
+        for (int c = 0; c < 3; ++c) pixels.push_back(0.5f * n[c] + 0.5f);
+    return scene::test::png_bytes(16, 16, 3, pixels);
+}
+
+// Three materials: two normal textures (one shared by two materials with the same scale), one
+// plain material.
+GltfTestFile scene_file() {
+    GltfTestFile file;
+    file.images = {normal_png({0.3f, 0.0f, 1.0f}), normal_png({0.0f, -0.4f, 1.0f})};
+    file.materials = {{"brick wall", glm::vec4(1.0f), -1, 0, 1.0f},
+                      {"metal", glm::vec4(1.0f), -1, 1, 0.5f},
+                      {"brick again", glm::vec4(0.5f), -1, 0, 1.0f},
+                      {"plain", glm::vec4(1.0f), -1, -1, 1.0f}};
+    for (int m = 0; m < 4; ++m) file.meshes.push_back({scene::test::unit_quad(m)});
+    return file;
+}
+
+std::string env(const fs::path& dir) {
+    return "env XDG_CACHE_HOME=" + test::shell_quote((dir / "cache").string());
+}
+
+TEST(CliGltf, BakeWritesEveryNormalTextureAndReusesTheCache) {
+    for (GltfStorage storage : {GltfStorage::External, GltfStorage::Binary}) {
+        const fs::path dir = scratch(storage == GltfStorage::Binary ? "glb" : "gltf");
+        const std::string input =
+            (dir / (storage == GltfStorage::Binary ? "scene.glb" : "scene.gltf")).string();
+        scene::test::write_gltf(scene_file(), input, storage);
+        fs::create_directories(dir / "out");
+        const std::string args = "bake " + test::shell_quote(input) + " --out-dir " +
+                                 test::shell_quote((dir / "out").string());
+        const test::RunResult first = test::run_leanfade_in(args, dir, {}, env(dir));
+        ASSERT_EQ(first.exit_code, 0) << first.err;
+        const fs::path brick = dir / "out" / "scene.brick_wall.ktx2";
+        const fs::path metal = dir / "out" / "scene.metal.ktx2";
+        ASSERT_TRUE(fs::exists(brick)) << first.out;
+        ASSERT_TRUE(fs::exists(metal)) << first.out;
+        // Two maps: "brick again" shares the brick texture and scale.
+        EXPECT_EQ(std::distance(fs::directory_iterator(dir / "out"), fs::directory_iterator()), 2);
+        EXPECT_NE(first.out.find("baked"), std::string::npos) << first.out;
+        EXPECT_EQ(first.out.find("from the cache"), std::string::npos) << first.out;
+        const PackedLeanMap map = io::read_ktx2(brick.string());
+        EXPECT_EQ(map.levels[0].width, 16);
+        EXPECT_EQ(map.levels.size(), 5u);
+
+        const std::string before = test::read_text(brick);
+        const test::RunResult second = test::run_leanfade_in(args, dir, {}, env(dir));
+        ASSERT_EQ(second.exit_code, 0) << second.err;
+        EXPECT_EQ(second.out.find("baked"), std::string::npos) << second.out;
+        EXPECT_NE(second.out.find("from the cache"), std::string::npos) << second.out;
+        EXPECT_EQ(test::read_text(brick), before);
+    }
+}
+
+TEST(CliGltf, FlagsOfImageBakesAreRefused) {
+    const fs::path dir = scratch("flags");
+    const std::string input = (dir / "scene.glb").string();
+    scene::test::write_gltf(scene_file(), input, GltfStorage::Binary);
+    for (const std::string flag : {"--directx", "--strength 2", "--wrap clamp"}) {
+        const test::RunResult r =
+            test::run_leanfade_in("bake " + test::shell_quote(input) + " " + flag, dir, {}, env(dir));
+        EXPECT_NE(r.exit_code, 0) << flag;
+        EXPECT_NE(r.err.find("does not apply to a glTF scene"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "scene.brick_wall.ktx2"));
+}
+
+TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
+    const fs::path dir = scratch("broken");
+    GltfTestFile file = scene_file();
+    file.meshes[1][0].indices[4] = 9;  // out of range
+    const std::string input = (dir / "scene.gltf").string();
+    scene::test::write_gltf(file, input, GltfStorage::Embedded);
+    test::RunResult r = test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(input), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("index 9 out of range"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // A truncated normal texture: nothing is published, not even the other material's map.
+    file = scene_file();
+    file.images[1].resize(40);
+    scene::test::write_gltf(file, input, GltfStorage::Embedded);
+    r = test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("image 1"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "scene.brick_wall.ktx2"));
+    r = test::run_leanfade_in("bake " + test::shell_quote((dir / "missing.glb").string()), dir,
+                              {}, env(dir));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("missing.glb"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace leanfade

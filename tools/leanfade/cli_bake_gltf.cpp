@@ -1,0 +1,149 @@
+// glTF scenes on the command line (cli_bake_gltf.hpp).
+#include "cli_bake_gltf.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/output_plan.hpp"
+#include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A material's name as part of a file name: letters, digits, '-' and '_' kept, the rest '_'.
+std::string file_name_part(const std::string& name) {
+    std::string out;
+    for (char c : name.substr(0, 64))
+        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    return out.empty() ? "material" : out;
+}
+
+scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int threads) {
+    scene::GltfBakeSettings settings;
+    settings.storage = parse_storage(bits, "--bits");
+    if (max_size > 0) settings.max_image_size = max_size;
+    settings.threads = threads;
+    settings.cache_folder = scene::default_lean_cache_folder();
+    return settings;
+}
+
+void print_warnings(const std::string& path, const std::vector<std::string>& warnings) {
+    for (const std::string& w : warnings)
+        std::fprintf(stderr, "leanfade: %s: %s\n", path.c_str(), w.c_str());
+}
+
+}  // namespace
+
+int run_bake_gltf(const GltfBakeArgs& args) {
+    if (!args.refused_flags.empty())
+        throw Error(args.refused_flags.front(),
+                    "does not apply to a glTF scene (its normal textures are OpenGL-convention "
+                    "normal maps baked to KTX2)");
+    const scene::GltfBakeSettings settings = bake_settings(args.bits, args.max_size, args.threads);
+    if (!args.out_dir.empty() && !fs::is_directory(args.out_dir))
+        throw Error(args.out_dir, "output folder does not exist");
+    const scene::GltfScene gltf = scene::load_gltf(args.input);
+    print_warnings(args.input, gltf.warnings);
+
+    // One output per (normal image, scale), named after the first material that uses it.
+    struct Job {
+        int image = -1;
+        float scale = 1.0f;
+        std::string material;
+        std::string output;
+    };
+    std::vector<Job> jobs;
+    std::map<std::pair<int, float>, std::size_t> seen;
+    const fs::path folder =
+        args.out_dir.empty() ? fs::path(args.input).parent_path() : fs::path(args.out_dir);
+    const std::string stem = fs::path(args.input).stem().string();
+    std::map<std::string, int> names;
+    for (const scene::GltfMaterial& m : gltf.materials) {
+        if (m.normal_image < 0) continue;
+        if (seen.count({m.normal_image, m.normal_scale}) != 0) continue;
+        seen[{m.normal_image, m.normal_scale}] = jobs.size();
+        std::string name = file_name_part(m.name);
+        if (names[name]++ > 0) name += "-" + std::to_string(names[name]);
+        jobs.push_back({m.normal_image, m.normal_scale, m.name,
+                        (folder / (stem + "." + name + ".ktx2")).string()});
+    }
+    if (jobs.empty()) throw Error(args.input, "no material of the scene has a normal texture");
+
+    io::OutputPlan plan;
+    plan.add_input(args.input);
+    for (const Job& j : jobs) plan.add_output(j.output, "material '" + j.material + "'");
+    if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan.check();
+
+    const io::Durability durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
+    io::OutputTransaction outputs(durability);
+    io::WriteOptions write_options;
+    write_options.durability = durability;
+    nlohmann::json summaries = nlohmann::json::array();
+    const bool progress = stderr_is_terminal();
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        const Job& j = jobs[i];
+        if (progress)
+            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", i + 1, jobs.size(),
+                         j.material.c_str());
+        const auto start = std::chrono::steady_clock::now();
+        bool cached = false;
+        std::string cache_warning;
+        const PackedLeanMap map =
+            scene::bake_normal_texture(gltf, j.image, j.scale, settings, &cached, &cache_warning);
+        io::write_ktx2(outputs.stage(j.output), map, write_options);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (progress) std::fprintf(stderr, "\r\033[K");
+        if (!cache_warning.empty()) print_warnings(args.input, {"cache: " + cache_warning});
+        const std::string& image = gltf.images[std::size_t(j.image)].name;
+        std::printf("%s: material '%s' (%s, scale %g) -> %s\n", args.input.c_str(),
+                    j.material.c_str(), image.c_str(), double(j.scale), j.output.c_str());
+        std::printf("  %dx%d, %zu levels, sc = %.6g, %s, %.3f s\n", map.levels[0].width,
+                    map.levels[0].height, map.levels.size(), double(map.scale),
+                    cached ? "from the cache" : "baked", seconds);
+        summaries.push_back({{"input", args.input},
+                             {"material", j.material},
+                             {"image", image},
+                             {"normal_scale", j.scale},
+                             {"output", j.output},
+                             {"width", map.levels[0].width},
+                             {"height", map.levels[0].height},
+                             {"levels", map.levels.size()},
+                             {"scale", map.scale},
+                             {"from_cache", cached},
+                             {"seconds", seconds}});
+    }
+    if (!args.json.empty()) {
+        const std::string text = summaries.dump(2) + "\n";
+        io::AtomicFile file(outputs.stage(args.json), durability);
+        file.write(text.data(), text.size());
+        file.commit();
+    }
+    outputs.publish();
+    return 0;
+}
+
+scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
+                                    int max_size) {
+    const scene::GltfScene gltf = scene::load_gltf(path);
+    print_warnings(path, gltf.warnings);
+    scene::GltfBakeReport report;
+    scene::Scene result =
+        scene::make_render_scene(gltf, bake_settings(storage_bits, max_size, 0), &report);
+    print_warnings(path, report.warnings);
+    return result;
+}
+
+}  // namespace leanfade::cli

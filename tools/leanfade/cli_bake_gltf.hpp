@@ -1,0 +1,37 @@
+#pragma once
+// glTF scenes on the command line: `leanfade bake FILE.gltf|FILE.glb` (every normal texture of
+// the scene baked to a LEAN map, through the LEAN-map cache) and the scene that `--scene
+// FILE.gltf` draws in render, view, eval, calibrate and bench.
+#include <string>
+#include <vector>
+
+#include "leanfade/scene/material.hpp"
+
+namespace leanfade::cli {
+
+struct GltfBakeArgs {
+    std::string input;    // the .gltf or .glb
+    std::string out_dir;  // empty: the glTF's folder
+    std::string bits = "16";
+    int threads = 0;
+    int max_size = 0;  // largest image side; 0: the default limit
+    std::string json;  // also write the summaries as JSON
+    bool fsync = false;
+    // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
+    std::vector<std::string> refused_flags;
+};
+
+// Bakes every normal texture of the scene (one per material and normal scale) to
+// `<out>/<stem>.<material>.ktx2`, all published together (nothing is written on an error), and
+// stores each in the LEAN-map cache so that a later render does not bake it again. Prints one
+// line per map; returns 0. Throws leanfade::Error naming the file or the flag.
+int run_bake_gltf(const GltfBakeArgs& args);
+
+// The scene of a glTF file for the rendering commands (scene::make_render_scene), baking through
+// the LEAN-map cache in `storage_bits` (8, 16, 16f, 32f) with images limited to `max_size` texels
+// per side. Prints the loader's warnings and cache problems as "leanfade: PATH: ..." lines on
+// stderr. Throws leanfade::Error naming the file.
+scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
+                                    int max_size);
+
+}  // namespace leanfade::cli
