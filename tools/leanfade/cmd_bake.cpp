@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_bake_gltf.hpp"
+#include "cli_bake_roughness.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -18,7 +18,6 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
-#include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -43,6 +42,7 @@ struct BakeArgs {
     std::uint32_t seed = 1;
     int max_size = kDefaultMaxImageDimension;
     std::string json;
+    RoughnessBakeArgs roughness;  // --roughness-out and its flags (cli_bake_roughness.hpp)
 };
 
 std::string generator_string() {
@@ -116,21 +116,6 @@ void print_summary(const std::string& input, const std::string& output, const Le
 }
 
 int run_bake(const BakeArgs& args) {
-    const BakeArgs& given = args;
-    // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
-    if (given.inputs.size() == 1 && given.builtin.empty() &&
-        scene::is_gltf_path(given.inputs[0])) {
-        GltfBakeArgs gltf{given.inputs[0], given.out_dir, given.bits,  given.threads,
-                          given.max_size,  given.json,    given.fsync, {}};
-        const std::pair<const char*, bool> flags[] = {
-            {"-o", !given.output.empty()},        {"--from", given.from != "auto"},
-            {"--strength", given.strength != 1.0f}, {"--directx", given.directx},
-            {"--bake-roughness", given.bake_roughness > 0.0f},
-            {"--wrap", given.wrap != "repeat"},   {"--format", given.format == "png"}};
-        for (const auto& [flag, given_flag] : flags)
-            if (given_flag) gltf.refused_flags.push_back(flag);
-        return run_bake_gltf(gltf);
-    }
     // Validate flags before touching any file.
     if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
     if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
@@ -191,6 +176,7 @@ int run_bake(const BakeArgs& args) {
         }
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan_roughness_outputs(args.roughness, job_count, args.bake_roughness, plan);
     plan.check();
 
     // One input: its outputs and --json are published together. A batch publishes each input's
@@ -239,6 +225,9 @@ int run_bake(const BakeArgs& args) {
             baked = io::bake_to_ktx2(outputs.stage(output), input, kind, options, storage,
                                      generator_string(), name, write_options);
         }
+        if (args.roughness.requested())
+            write_roughness_outputs(args.roughness, input, kind, options, read_options,
+                                    write_options, outputs);
         if (!one_group) outputs.publish();
         const PackedLeanMap& packed = baked.packed;
         const double seconds =
@@ -325,6 +314,7 @@ const CommandRegistration registration{
             ->check(CLI::Range(1, 1 << 20))
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the summaries as JSON");
+        add_roughness_bake_options(app, args->roughness);
         return [args] { return run_bake(*args); };
     }};
 
