@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -18,6 +19,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
+#include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -116,6 +118,21 @@ void print_summary(const std::string& input, const std::string& output, const Le
 }
 
 int run_bake(const BakeArgs& args) {
+    const BakeArgs& given = args;
+    // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
+    if (given.inputs.size() == 1 && given.builtin.empty() &&
+        scene::is_gltf_path(given.inputs[0])) {
+        GltfBakeArgs gltf{given.inputs[0], given.out_dir, given.bits,  given.threads,
+                          given.max_size,  given.json,    given.fsync, {}};
+        const std::pair<const char*, bool> flags[] = {
+            {"-o", !given.output.empty()},        {"--from", given.from != "auto"},
+            {"--strength", given.strength != 1.0f}, {"--directx", given.directx},
+            {"--bake-roughness", given.bake_roughness > 0.0f},
+            {"--wrap", given.wrap != "repeat"},   {"--format", given.format == "png"}};
+        for (const auto& [flag, given_flag] : flags)
+            if (given_flag) gltf.refused_flags.push_back(flag);
+        return run_bake_gltf(gltf);
+    }
     // Validate flags before touching any file.
     if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
     if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
