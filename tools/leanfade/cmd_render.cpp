@@ -9,6 +9,7 @@
 #include "cli_ocean.hpp"
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
+#include "cli_render_mixings.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -39,6 +40,7 @@ struct RenderArgs {
     std::string cell_format = "pfm";
     int ref_samples = 8;
     float time = 0.0f;  // seconds, for moving bump layers
+    MixingFigureArgs mixings;  // --mixings: the layer figures (cli_render_mixings.hpp)
     int frames = 1;     // a sequence of frames, `output` a %03d pattern (cli_ocean.hpp)
     float fps = 12.0f;  // frames per second of the sequence
     float fov = gl::kDefaultFovYDegrees;
@@ -81,6 +83,12 @@ int run_render(const RenderArgs& args) {
     if (args.frames > 1) {
         pictures.clear();
         for (int k = 0; k < args.frames; ++k) pictures.push_back(frame_path(args.output, k));
+    }
+    if (!args.mixings.mixings.empty()) {
+        MixingFigureArgs mixing_args = args.mixings;
+        mixing_args.output = args.output;
+        return run_mixing_figure(mixing_args, args.input, request, args.gl,
+                                 render_source_inputs(args.input, args.preset));
     }
     if (args.cell_format != "pfm" && args.cell_format != "exr")
         throw Error("--cell-format", "expected pfm or exr, got '" + args.cell_format + "'");
@@ -228,6 +236,13 @@ const CommandRegistration registration{
         add_shading_options(app, args->shading);
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);
+        app.add_option("--mixings", args->mixings.mixings,
+                       "With --layers: a column per mixing method (comma-separated, the first is "
+                       "the reference of the printed relative RMSE and energy)")
+            ->group("Bump layers (docs/math.md §6)");
+        app.add_option("--table", args->mixings.table,
+                       "With --mixings: also write the metrics as this CSV (and JSON beside it)")
+            ->group("Bump layers (docs/math.md §6)");
         add_ocean_options(app, args->input.ocean);
         add_gl_options(app, args->gl);
         return [args, &app] {

@@ -191,6 +191,7 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
             r.settings = request.settings;
             r.reference_samples = request.reference_samples;
             r.time = request.time;
+            r.output = request.output;
             r.background = background;
             figure.cells.push_back({technique, distance, row_views[v].name, renderer.render(r)});
             row.cells.push_back(encode_srgb(figure.cells.back().radiance));
@@ -209,21 +210,41 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
         }
     }
 
-    // Layout: a header row of technique names, a column of row labels, 1-scale gaps.
+    std::vector<std::string> columns;
+    for (Technique technique : request.techniques) columns.push_back(to_string(technique));
+    std::vector<FigureRow> grid;
+    for (Row& row : rows) grid.push_back({row.label, std::move(row.cells)});
+    Image picture = compose_figure(columns, grid, cw, ch);
+    figure.picture = std::move(picture);
+    return figure;
+}
+
+Image compose_figure(const std::vector<std::string>& columns, const std::vector<FigureRow>& rows,
+                     int cw, int ch) {
+    for (const FigureRow& row : rows) {
+        if (row.cells.size() != columns.size())
+            throw Error("figure", "a row has " + std::to_string(row.cells.size()) +
+                                      " cells for " + std::to_string(columns.size()) + " columns");
+        for (const Image& cell : row.cells)
+            if (cell.width != cw || cell.height != ch)
+                throw Error("figure", "the cells differ in size");
+    }
+    // Layout: a header row of column names, a column of row labels, 1-scale gaps.
     const int scale = std::max(1, ch / 160);
     const int pad = 3 * scale;
     const int gap = scale;
     int label_width = 0;
-    for (const Row& row : rows) label_width = std::max(label_width, text_width(row.label, scale));
+    for (const FigureRow& row : rows)
+        label_width = std::max(label_width, text_width(row.label, scale));
     const int left = label_width + 2 * pad;
     const int top = text_height(scale) + 2 * pad;
-    const int columns = int(request.techniques.size());
-    const int width = left + columns * (cw + gap);
+    const int count = int(columns.size());
+    const int width = left + count * (cw + gap);
     const int height = top + int(rows.size()) * (ch + gap);
     Image picture(width, height, 3);
     fill(picture, 0, 0, width, height, kMarginColor);
-    for (int c = 0; c < columns; ++c) {
-        const std::string name = to_string(request.techniques[std::size_t(c)]);
+    for (int c = 0; c < count; ++c) {
+        const std::string& name = columns[std::size_t(c)];
         const int x = left + c * (cw + gap) + (cw - text_width(name, scale)) / 2;
         draw_text(picture, x, pad, name, scale, kTextColor);
     }
@@ -231,11 +252,10 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
         const int y = top + int(r) * (ch + gap);
         draw_text(picture, pad, y + (ch - text_height(scale)) / 2, rows[r].label, scale,
                   kTextColor);
-        for (int c = 0; c < columns; ++c)
+        for (int c = 0; c < count; ++c)
             blit(picture, rows[r].cells[std::size_t(c)], left + c * (cw + gap), y);
     }
-    figure.picture = std::move(picture);
-    return figure;
+    return picture;
 }
 
 }  // namespace leanfade::gl

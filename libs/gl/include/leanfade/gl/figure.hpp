@@ -28,6 +28,7 @@ struct FigureRequest {
     ShadingSettings settings;
     int reference_samples = 8;
     float time = 0.0f;  // seconds: moving bump layers' offsets (RenderRequest::time)
+    OutputMode output = OutputMode::Color;  // what each cell shows (RenderRequest::output)
     // Rows given as cameras instead of distances (a scene's own views, such as the ocean's near,
     // mid and far, leanfade/scene/ocean.hpp): when not empty, `distances`, the field of view,
     // view_direction, target and zoom are not used, and each row is labelled with its name.
@@ -60,6 +61,16 @@ struct Figure {
 // technique or distance list, a distance <= 1 or an invalid cell size.
 Figure render_figure(Renderer& renderer, const FigureRequest& request,
                      const std::function<void(int done, int total)>& progress = {});
+
+// A labelled grid of display images (sRGB-encoded RGB, each cw x ch): a header row of column
+// names, each row labelled on the left (the layout of render_figure). Throws leanfade::Error
+// ("figure", cause) when a row's cell count or a cell's size does not match.
+struct FigureRow {
+    std::string label;
+    std::vector<Image> cells;
+};
+Image compose_figure(const std::vector<std::string>& columns, const std::vector<FigureRow>& rows,
+                     int cw, int ch);
 
 // Linear RGB(A) -> display values: clamped to [0, 1] and encoded with the sRGB transfer function
 // (IEC 61966-2-1); alpha is left linear.

@@ -1,0 +1,24 @@
+#pragma once
+// `leanfade render --layers ... --mixings height,textures,approx`: the LEAN paper's layer figures
+// (Figs. 9 and 10): the same layered material drawn with each mixing method side by side, a
+// column per method (and technique), a row per distance, and the relative RMSE and energy of
+// every column against the first method's, printed and written as CSV and JSON.
+#include <string>
+
+#include "cli_render_scene.hpp"
+#include "leanfade/gl/figure.hpp"
+
+namespace leanfade::cli {
+
+struct MixingFigureArgs {
+    std::string mixings;  // comma-separated names of kLayerMixings, the first is the reference
+    std::string table;    // CSV file of the metrics (a .json beside it), or empty
+    std::string output;   // the picture
+};
+
+// Renders and writes the figure; returns the exit code. Throws leanfade::Error naming the flag.
+int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& input,
+                      gl::FigureRequest request, const GlFlags& gl_flags,
+                      const std::vector<std::string>& inputs);
+
+}  // namespace leanfade::cli
