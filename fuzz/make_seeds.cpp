@@ -22,6 +22,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/obj_loader.hpp"
+#include "../tests/io/format_writers.hpp"
 
 using namespace leanfade;
 namespace fs = std::filesystem;
@@ -252,6 +253,55 @@ void image_seeds(const fs::path& dir) {
         for (int shift = 24; shift >= 0; shift -= 8) big_endian.push_back(char(bits >> shift));
     }
     write_file(dir / "height_big_endian.pfm", big_endian);
+
+    // The formats read through OpenImageIO: written by its writers, DDS and PSD crafted
+    // (tests/io/format_writers.hpp).
+    const Image normal = sample_image(8, 8, 3);
+    const auto oiio = [&](const char* name, const char* extension, const Image& image,
+                          OIIO::TypeDesc type,
+                          std::vector<std::pair<std::string, std::string>> attributes = {}) {
+        io::test::write_with_openimageio((dir / name).string(), extension, image, type,
+                                         attributes);
+    };
+    oiio("normal.jpg", "jpg", normal, OIIO::TypeDesc::UINT8, {{"quality", "90"}});
+    oiio("height.jpg", "jpg", sample_image(8, 8, 1), OIIO::TypeDesc::UINT8);
+    oiio("normal_rle.tga", "tga", sample_image(8, 8, 4), OIIO::TypeDesc::UINT8,
+         {{"compression", "rle"}});
+    oiio("normal.tga", "tga", normal, OIIO::TypeDesc::UINT8);
+    oiio("normal16_zip.tif", "tif", normal, OIIO::TypeDesc::UINT16, {{"compression", "zip"}});
+    oiio("height_float.tif", "tif", sample_image(6, 5, 1), OIIO::TypeDesc::FLOAT);
+    oiio("normal.bmp", "bmp", normal, OIIO::TypeDesc::UINT8);
+    oiio("normal.hdr", "hdr", normal, OIIO::TypeDesc::FLOAT);
+    oiio("normal.webp", "webp", normal, OIIO::TypeDesc::UINT8);
+    for (const char* compression : {"dwaa", "dwab", "b44", "b44a", "pxr24"}) {
+        oiio((std::string("normal_") + compression + ".exr").c_str(), "exr", normal,
+             OIIO::TypeDesc::HALF, {{"compression", compression}});
+    }
+    {
+        std::vector<std::uint8_t> bc5, dxt5nm, bc1;
+        const std::vector<int> stripes{0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 1, 1, 1, 1};
+        for (int block = 0; block < 4; ++block) {
+            io::test::append_bc4_block(bc5, std::uint8_t(100 + 9 * block), 128, stripes);
+            io::test::append_bc4_block(bc5, std::uint8_t(150 - 9 * block), 128, stripes);
+            io::test::append_bc4_block(dxt5nm, std::uint8_t(100 + 9 * block), 128, stripes);
+            io::test::append_bc1_block(dxt5nm, 0xF800 | (40 << 5), 0xF800 | (24 << 5), stripes);
+            io::test::append_bc1_block(bc1, 0xFFFF, 0x001F, stripes);
+        }
+        const auto dds = [&](const char* name, const char* four_cc,
+                             const std::vector<std::uint8_t>& blocks, std::uint32_t dxgi = 0) {
+            const auto bytes =
+                io::test::dds_file(8, 8, four_cc, io::test::kDdsFourCcFlag, blocks, dxgi);
+            write_file(dir / name, std::string(bytes.begin(), bytes.end()));
+        };
+        dds("normal_bc5.dds", "ATI2", bc5);
+        dds("normal_bc5_dx10.dds", "DX10", bc5, 83);
+        dds("normal_dxt5nm.dds", "DXT5", dxt5nm);
+        dds("colour_bc1.dds", "DXT1", bc1);
+        const auto psd8 = io::test::psd_file(normal, 8);
+        write_file(dir / "normal8.psd", std::string(psd8.begin(), psd8.end()));
+        const auto psd16 = io::test::psd_file(sample_image(5, 4, 1), 16);
+        write_file(dir / "height16.psd", std::string(psd16.begin(), psd16.end()));
+    }
 }
 
 void ktx2_seeds(const fs::path& dir) {
