@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "leanfade/core/lean_map.hpp"
@@ -199,5 +200,114 @@ TEST(Packing, UnormCodesAreTheSpecValuesRoundedToNearest) {
             fetch_packed_texel(pack_lean_map(ties, storage, "test"), 0, 1, 0, 0);
         EXPECT_EQ(std::lround(lean2.x * q), std::lround(0.5f * (q + 1.0f))) << to_string(storage);
         EXPECT_EQ(std::lround(lean2.y * q), std::lround(0.5f * (q - 3.0f))) << to_string(storage);
+    }
+}
+
+// ---- sc with outliers (docs/ktx2.md, "Choosing storage and sc") -------------------------------
+
+namespace {
+
+// Gentle bumps (slopes well below 1) as a 3-channel normal map of `size`^2 texels, with `outliers`
+// texels turned into a normal along +x at the horizon (z = 0, raised to 1/64: slope 64).
+Image normal_map_with_outliers(int size, int outliers) {
+    const Image height = make_builtin_height("bumps", size, 3);
+    BakeOptions gentle;
+    gentle.strength = 0.5f;
+    const Image slopes = slopes_from_height(height, gentle).slopes;
+    Image normals(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const float bx = slopes.at(x, y, 0), by = slopes.at(x, y, 1);
+            const float inv = 1.0f / std::sqrt(bx * bx + by * by + 1.0f);
+            normals.at(x, y, 0) = 0.5f * bx * inv + 0.5f;
+            normals.at(x, y, 1) = 0.5f * by * inv + 0.5f;
+            normals.at(x, y, 2) = 0.5f * inv + 0.5f;
+        }
+    for (int i = 0; i < outliers; ++i) {
+        const int x = (7 + 37 * i) % size, y = (11 + 53 * i) % size;
+        normals.at(x, y, 0) = 1.0f;
+        normals.at(x, y, 1) = 0.5f;
+        normals.at(x, y, 2) = 0.5f;
+    }
+    return normals;
+}
+
+float max_abs_slope(const LeanMap& map) {
+    float m = 0.0f;
+    for (const glm::vec2 b : map.levels.front().mean)
+        m = std::max({m, std::abs(b.x), std::abs(b.y)});
+    return m;
+}
+
+}  // namespace
+
+TEST(ScaleChoice, AFewTexelsFarSteeperThanTheRestAreLeftBeyondSc) {
+    const Image normals = normal_map_with_outliers(64, 2);  // 2 of 4096 texels <= 0.1 %
+    const BakeResult result = bake_lean_map(normals, BakeSource::Normal, BakeOptions{});
+    const LeanMap& map = result.map;
+    EXPECT_EQ(map.texels_beyond_scale, 2u);
+    // sc covers every other texel and is far below the outliers' slope 64.
+    float rest = 0.0f;
+    for (const glm::vec2 b : map.levels.front().mean) {
+        const float steepest = std::max(std::abs(b.x), std::abs(b.y));
+        if (steepest < 32.0f) rest = std::max(rest, steepest);
+    }
+    EXPECT_GE(map.scale, rest);
+    // A histogram bin edge (4 per octave) at most 19 % above the rest, or the floor max / 128.
+    EXPECT_LE(map.scale, std::max(1.1893f * rest, 64.0f / 128.0f) * 1.0001f);
+    EXPECT_LT(map.scale, 64.0f / 2.0f);
+    // With sc = the maximum nothing is beyond it.
+    BakeOptions all_within;
+    all_within.scale_excludes_outliers = false;
+    const LeanMap max_map = bake_lean_map(normals, BakeSource::Normal, all_within).map;
+    EXPECT_EQ(max_map.texels_beyond_scale, 0u);
+    EXPECT_GE(max_map.scale, max_abs_slope(max_map));
+}
+
+TEST(ScaleChoice, ManySteepTexelsOrASmallGainKeepTheMaximum) {
+    // 10 outliers of 4096 (0.24 %) are too many to leave beyond sc.
+    const LeanMap many = bake_lean_map(normal_map_with_outliers(64, 10), BakeSource::Normal,
+                                       BakeOptions{})
+                             .map;
+    EXPECT_EQ(many.texels_beyond_scale, 0u);
+    EXPECT_GE(many.scale, max_abs_slope(many));
+    // A plain bump map: its steepest texels are not twice as steep as the 99.9th percentile.
+    const LeanMap plain = bumps_map(96);
+    EXPECT_EQ(plain.texels_beyond_scale, 0u);
+    EXPECT_GE(plain.scale, max_abs_slope(plain));
+}
+
+TEST(ScaleChoice, UnormClampsTexelsBeyondScAndTheFastPathGivesTheSameBytes) {
+    const Image normals = normal_map_with_outliers(64, 3);
+    const BakeResult reference = bake_lean_map(normals, BakeSource::Normal, BakeOptions{});
+    ASSERT_EQ(reference.map.texels_beyond_scale, 3u);
+    for (Storage storage : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
+        const PackedLeanMap packed = pack_lean_map(reference.map, storage, "test");
+        for (bool simd : {false, true}) {
+            const bool previous = set_bake_simd(simd);
+            const PackedBakeResult fast =
+                bake_packed(normals, BakeSource::Normal, BakeOptions{}, storage, "test");
+            set_bake_simd(previous);
+            EXPECT_EQ(fast.texels_beyond_scale, 3u);
+            EXPECT_EQ(fast.packed.scale, packed.scale);
+            for (std::size_t l = 0; l < packed.levels.size(); ++l) {
+                EXPECT_EQ(fast.packed.levels[l].lean1, packed.levels[l].lean1)
+                    << to_string(storage) << " level " << l << " simd " << simd;
+                EXPECT_EQ(fast.packed.levels[l].lean2, packed.levels[l].lean2)
+                    << to_string(storage) << " level " << l << " simd " << simd;
+            }
+        }
+        // An outlier's slope 64 lies beyond sc: UNORM stores the largest code, float the value.
+        const int x = 7, y = 11;
+        const glm::vec4 lean2 = fetch_packed_texel(packed, 0, 1, x, y);
+        const float expected_bx = reference.map.levels[0].mean[std::size_t(y * 64 + x)].x;
+        ASSERT_GT(expected_bx, 32.0f);
+        if (storage == Storage::Unorm8 || storage == Storage::Unorm16) {
+            EXPECT_EQ(lean2.x, 1.0f) << to_string(storage);
+            EXPECT_EQ(lean2.z, 1.0f) << to_string(storage);
+        } else {
+            const float bx = (2.0f * lean2.x - 1.0f) * packed.scale;
+            EXPECT_NEAR(bx, expected_bx, expected_bx * 2e-3f) << to_string(storage);
+        }
     }
 }

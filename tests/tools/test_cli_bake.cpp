@@ -16,6 +16,10 @@
 #include "tools_test_helpers.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/png_io.hpp"
+
+#include <nlohmann/json.hpp>
 
 using namespace leanfade;
 using test::run_leanfade;
@@ -283,10 +287,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "strength", ""},
         BadCase{"output_is_input",
                 [](const fs::path& d) {
-                    const fs::path p = write_height_png(d, "same.png");
+                    const fs::path p = write_height_png(d, "same.ktx2");  // a PNG so named
                     return "bake " + q(p) + " -o " + q(p);
                 },
-                "same file", "same.png"},
+                "same file", "same.ktx2"},
         BadCase{"one_output_many_inputs",
                 [](const fs::path& d) {
                     return "bake " + q(write_height_png(d, "a.png")) + " " +
@@ -314,3 +318,352 @@ INSTANTIATE_TEST_SUITE_P(
                 },
                 "past the end", "cut.ktx2"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// ---- Outputs, strength and precision rules of issue #15 ----------------------------------------
+
+namespace {
+
+// The bit depth a PNG file declares (IHDR byte 24).
+int png_bit_depth(const fs::path& p) {
+    const std::vector<std::uint8_t> bytes = read_bytes(p);
+    return bytes.size() > 24 ? int(bytes[24]) : -1;
+}
+
+// An 8-bit RGB normal map of gentle bumps (the rgb of a bake's lean1), with `outliers` texels
+// turned into a normal along +x at the horizon (1, 0.5, 0.5): z = 1/255 raised to 1/64, the
+// issue's "one texel raised to z = 1/64" (slope 64).
+fs::path write_bumpy_normal_png(const fs::path& dir, const std::string& name, int size,
+                                int outliers) {
+    const fs::path base = dir / (name + "_src");
+    const auto r = run_leanfade("bake --builtin bumps --size " + std::to_string(size) +
+                                    " --format png -o " + shell_quote(base.string() + ".png"),
+                                dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const Image lean1 = io::read_image(base.string() + ".lean1.png");
+    Image normals(size, size, 3);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            for (int c = 0; c < 3; ++c) normals.at(x, y, c) = lean1.at(x, y, c);
+    for (int i = 0; i < outliers; ++i) {
+        const int x = (size / 3 + 17 * i) % size, y = (size / 2 + 29 * i) % size;
+        normals.at(x, y, 0) = 1.0f;
+        normals.at(x, y, 1) = 0.5f;
+        normals.at(x, y, 2) = 0.5f;
+    }
+    fs::remove(base.string() + ".lean1.png");
+    fs::remove(base.string() + ".lean2.png");
+    const fs::path p = dir / (name + ".png");
+    io::write_png(p.string(), normals, 8);
+    return p;
+}
+
+// PSNR (dB) of two sets of linear radiance images, values clamped to [0, 1] (the displayable
+// range), the mean square error taken over every pixel and channel of all of them.
+double psnr(const std::vector<Image>& a, const std::vector<Image>& b) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].pixels.size(), b[i].pixels.size());
+        for (std::size_t k = 0; k < a[i].pixels.size(); ++k) {
+            const double d = std::clamp(a[i].pixels[k], 0.0f, 1.0f) -
+                             std::clamp(b[i].pixels[k], 0.0f, 1.0f);
+            sum += d * d;
+        }
+        count += a[i].pixels.size();
+    }
+    return sum == 0.0 ? 1e9 : 10.0 * std::log10(double(count) / sum);
+}
+
+// LEAN renders of a map at three distances (near: magnified texels; far: coarse MIP levels),
+// as linear radiance.
+std::vector<Image> lean_cells(const fs::path& dir, const fs::path& map, const std::string& tag) {
+    const fs::path cells = dir / ("cells_" + tag);
+    const auto r = run_leanfade("render --scene sphere --techniques lean --distances 1.6,4,12 "
+                                "--size 128x128 --bumps " + q(map) + " --cells " + q(cells) +
+                                    " -o " + q(dir / ("grid_" + tag + ".png")),
+                                dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::vector<fs::path> files;
+    if (fs::is_directory(cells))
+        for (const auto& e : fs::directory_iterator(cells))
+            if (e.path().extension() == ".pfm") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(files.size(), 3u);
+    std::vector<Image> images;
+    for (const fs::path& f : files) images.push_back(io::read_image(f.string()));
+    return images;
+}
+
+}  // namespace
+
+TEST(CliBakeOutputs, APngNameWritesThePngPairAndOtherNamesAreRefused) {
+    const fs::path dir = test::scratch_dir("bake_infer_format");
+    const auto png = run_leanfade("bake --builtin bumps --size 32 -o " + q(dir / "m.png"), dir);
+    ASSERT_EQ(png.exit_code, 0) << png.err;
+    EXPECT_TRUE(fs::exists(dir / "m.lean1.png"));
+    EXPECT_TRUE(fs::exists(dir / "m.lean2.png"));
+    EXPECT_FALSE(fs::exists(dir / "m.png")) << "a KTX2 file named .png";
+    const auto ktx2 = run_leanfade("bake --builtin bumps --size 32 -o " + q(dir / "m.ktx2"), dir);
+    ASSERT_EQ(ktx2.exit_code, 0) << ktx2.err;
+    EXPECT_EQ(io::inspect_ktx2((dir / "m.ktx2").string()).levels.size(), 6u);
+
+    for (const std::string& args :
+         {"-o " + q(dir / "x.png") + " --format ktx2", "-o " + q(dir / "x.ktx2") + " --format png",
+          "-o " + q(dir / "x.PNG") + " --format ktx2"}) {
+        const auto r = run_leanfade("bake --builtin bumps --size 32 " + args, dir);
+        EXPECT_NE(r.exit_code, 0) << args;
+        EXPECT_THAT(r.err, HasSubstr("-o")) << args;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    EXPECT_EQ(file_count(dir), 3u) << "a refused run wrote something";
+}
+
+TEST(CliBakeOutputs, PngPairHasTheBitDepthOfBitsAndRefusesFloatStorages) {
+    const fs::path dir = test::scratch_dir("bake_png_bits");
+    for (const char* bits : {"8", "16"}) {
+        const fs::path base = dir / (std::string("b") + bits);
+        const auto r = run_leanfade(std::string("bake --builtin ridges --size 32 --format png ") +
+                                        "--bits " + bits + " -o " + q(base),
+                                    dir);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_EQ(png_bit_depth(base.string() + ".lean1.png"), std::stoi(bits));
+        EXPECT_EQ(png_bit_depth(base.string() + ".lean2.png"), std::stoi(bits));
+    }
+    for (const char* bits : {"16f", "32f"}) {
+        const auto r = run_leanfade(std::string("bake --builtin ridges --size 32 --format png ") +
+                                        "--bits " + bits + " -o " + q(dir / "f"),
+                                    dir);
+        EXPECT_NE(r.exit_code, 0);
+        EXPECT_THAT(r.err, HasSubstr("--bits"));
+        EXPECT_FALSE(fs::exists(dir / "f.lean1.png"));
+    }
+}
+
+TEST(CliBakeOutputs, PngPairCarriesScAndLoadsBackAsTheKtx2Map) {
+    const fs::path dir = test::scratch_dir("bake_png_pair_sc");
+    const fs::path input = write_height_png(dir, "h.png", 64);
+    for (const char* bits : {"8", "16"}) {
+        const std::string tag = std::string("h") + bits;
+        const auto pair = run_leanfade("bake " + q(input) + " --strength 8 --bits " + bits +
+                                           " -o " + q(dir / (tag + ".png")),
+                                       dir);
+        ASSERT_EQ(pair.exit_code, 0) << pair.err;
+        const auto ktx2 = run_leanfade("bake " + q(input) + " --strength 8 --bits " + bits +
+                                           " -o " + q(dir / (tag + ".ktx2")),
+                                       dir);
+        ASSERT_EQ(ktx2.exit_code, 0) << ktx2.err;
+        const PackedLeanMap expected = io::read_ktx2((dir / (tag + ".ktx2")).string());
+        for (const char* layer : {".lean1.png", ".lean2.png"}) {
+            const PackedLeanMap loaded = io::read_lean_png_pair((dir / (tag + layer)).string());
+            EXPECT_EQ(loaded.scale, expected.scale) << "sc from the text chunk";
+            EXPECT_NE(loaded.scale, 1.0f);
+            EXPECT_EQ(loaded.storage, expected.storage);
+            ASSERT_EQ(loaded.levels.size(), expected.levels.size());
+            EXPECT_EQ(loaded.levels[0].lean1, expected.levels[0].lean1);
+            EXPECT_EQ(loaded.levels[0].lean2, expected.levels[0].lean2);
+            // Coarser levels: rebuilt from the quantised top level, within one code or two.
+            const float code = std::string(bits) == "8" ? 1.0f / 255.0f : 1.0f / 65535.0f;
+            for (int l = 1; l < int(loaded.levels.size()); ++l)
+                for (int y = 0; y < loaded.levels[std::size_t(l)].height; ++y)
+                    for (int x = 0; x < loaded.levels[std::size_t(l)].width; ++x)
+                        for (int s = 0; s < 2; ++s) {
+                            const glm::vec4 a = fetch_packed_texel(loaded, l, s, x, y);
+                            const glm::vec4 b = fetch_packed_texel(expected, l, s, x, y);
+                            for (int c = 0; c < 4; ++c)
+                                ASSERT_LE(std::abs(a[c] - b[c]), 2.5f * code)
+                                    << bits << " level " << l << " slice " << s;
+                        }
+        }
+    }
+    // `--bumps NAME.lean1.png` renders it (the sc chunk read back), like the KTX2 map.
+    const std::vector<Image> from_png = lean_cells(dir, dir / "h16.lean1.png", "png");
+    const std::vector<Image> from_ktx2 = lean_cells(dir, dir / "h16.ktx2", "ktx2");
+    ASSERT_EQ(from_png.size(), 3u);
+    EXPECT_GT(psnr(from_png, from_ktx2), 60.0);
+    // A pair whose text chunks are gone is refused, naming the file.
+    const Image plain = io::read_image((dir / "h16.lean2.png").string());
+    io::write_png((dir / "h16.lean2.png").string(), plain, 16);
+    const auto r = run_leanfade("render --techniques lean --distances 2 --size 32x32 --bumps " +
+                                    q(dir / "h16.lean1.png") + " -o " + q(dir / "no.png"),
+                                dir);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_THAT(r.err, HasSubstr("h16.lean2.png"));
+    EXPECT_THAT(r.err, HasSubstr("LEANFADElayout"));
+    EXPECT_FALSE(fs::exists(dir / "no.png"));
+}
+
+TEST(CliBakeOutputs, BatchJsonListsFailuresAndSuccesses) {
+    const fs::path dir = test::scratch_dir("bake_batch_json_failures");
+    const fs::path good = write_height_png(dir, "good.png");
+    write_bytes(dir / "bad.png", {'n', 'o', 't', ' ', 'a', ' ', 'p', 'n', 'g'});
+    fs::create_directories(dir / "out");
+    const auto r = run_leanfade("bake " + q(good) + " " + q(dir / "bad.png") + " --out-dir " +
+                                    q(dir / "out") + " --json " + q(dir / "summary.json"),
+                                dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    const auto json = nlohmann::json::parse(test::read_text(dir / "summary.json"));
+    ASSERT_TRUE(json.is_array());
+    ASSERT_EQ(json.size(), 2u);
+    EXPECT_EQ(json[0]["input"], good.string());
+    EXPECT_TRUE(json[0].contains("output"));
+    EXPECT_FALSE(json[0].contains("error"));
+    EXPECT_EQ(json[1]["input"], (dir / "bad.png").string());
+    EXPECT_THAT(json[1]["error"].get<std::string>(), HasSubstr("bad.png"));
+    EXPECT_FALSE(json[1].contains("output"));
+}
+
+TEST(CliStrength, ZeroIsRefusedByBakeAndRender) {
+    const fs::path dir = test::scratch_dir("strength_zero");
+    const auto bake = run_leanfade("bake --builtin bumps --size 16 --strength 0 -o " +
+                                       q(dir / "z.ktx2"),
+                                   dir);
+    EXPECT_NE(bake.exit_code, 0);
+    EXPECT_THAT(bake.err, HasSubstr("--strength"));
+    const auto render = run_leanfade("render --bumps bumps --strength 0 --distances 2 --size "
+                                     "32x32 -o " + q(dir / "z.png"),
+                                     dir);
+    EXPECT_NE(render.exit_code, 0);
+    EXPECT_THAT(render.err, HasSubstr("--strength"));
+    EXPECT_EQ(file_count(dir), 0u);
+    // A negative strength renders (it inverts the heights).
+    const auto negative = run_leanfade("render --bumps bumps --strength -2 --techniques lean "
+                                       "--distances 2 --size 32x32 -o " + q(dir / "n.png"),
+                                       dir);
+    EXPECT_EQ(negative.exit_code, 0) << negative.err;
+}
+
+TEST(CliStrength, NegativeStrengthNegatesTheSlopes) {
+    const fs::path dir = test::scratch_dir("strength_negative");
+    const fs::path input = write_height_png(dir, "h.png", 32);
+    for (const char* k : {"3", "-3"}) {
+        const auto r = run_leanfade("bake " + q(input) + " --bits 32f --strength " + k + " -o " +
+                                        q(dir / (std::string("k") + k + ".ktx2")),
+                                    dir);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const LeanMap up = unpack_lean_map(io::read_ktx2((dir / "k3.ktx2").string()));
+    const LeanMap down = unpack_lean_map(io::read_ktx2((dir / "k-3.ktx2").string()));
+    ASSERT_EQ(up.scale, down.scale);
+    float largest = 0.0f;
+    for (std::size_t i = 0; i < up.levels[0].mean.size(); ++i) {
+        EXPECT_NEAR(down.levels[0].mean[i].x, -up.levels[0].mean[i].x, 1e-5f);
+        EXPECT_NEAR(down.levels[0].mean[i].y, -up.levels[0].mean[i].y, 1e-5f);
+        EXPECT_NEAR(down.levels[0].second[i].x, up.levels[0].second[i].x, 1e-4f);
+        largest = std::max(largest, std::abs(up.levels[0].mean[i].x));
+    }
+    EXPECT_GT(largest, 0.1f);
+}
+
+TEST(CliStrength, StrengthForANormalMapIsAnError) {
+    const fs::path dir = test::scratch_dir("strength_normal_map");
+    const fs::path normals = write_normal_png(dir, "n.png");
+    const auto bake = run_leanfade("bake " + q(normals) + " --strength 2 -o " + q(dir / "n.ktx2"),
+                                   dir);
+    EXPECT_NE(bake.exit_code, 0);
+    EXPECT_THAT(bake.err, HasSubstr("n.png"));
+    EXPECT_THAT(bake.err, HasSubstr("--strength"));
+    EXPECT_FALSE(fs::exists(dir / "n.ktx2"));
+    const auto explicit_normal =
+        run_leanfade("bake " + q(normals) + " --from normal --strength 2 -o " + q(dir / "n.ktx2"),
+                     dir);
+    EXPECT_NE(explicit_normal.exit_code, 0);
+    EXPECT_THAT(explicit_normal.err, HasSubstr("--strength"));
+    const auto render = run_leanfade("render --bumps " + q(normals) +
+                                         " --strength 2 --distances 2 --size 32x32 -o " +
+                                         q(dir / "n_render.png"),
+                                     dir);
+    EXPECT_NE(render.exit_code, 0);
+    EXPECT_THAT(render.err, HasSubstr("--strength"));
+    EXPECT_FALSE(fs::exists(dir / "n_render.png"));
+    // Without --strength the normal map bakes.
+    const auto plain = run_leanfade("bake " + q(normals) + " -o " + q(dir / "n.ktx2"), dir);
+    EXPECT_EQ(plain.exit_code, 0) << plain.err;
+}
+
+TEST(CliStrength, UvUnitGivesTheSameSlopesAtTwiceTheResolution) {
+    const fs::path dir = test::scratch_dir("strength_uv");
+    // The same smooth height field sampled at 64 and 128 texels.
+    for (int size : {64, 128}) {
+        Image h(size, size, 1);
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                const double u = (x + 0.5) / size, v = (y + 0.5) / size;
+                h.at(x, y) = float(0.5 + 0.25 * std::sin(2 * M_PI * u) * std::cos(2 * M_PI * v));
+            }
+        io::write_png((dir / ("h" + std::to_string(size) + ".png")).string(), h, 16);
+    }
+    auto mean_slope = [&](int size, const std::string& unit, float strength) {
+        const fs::path json = dir / ("s" + std::to_string(size) + unit + ".json");
+        const auto r = run_leanfade(
+            "bake " + q(dir / ("h" + std::to_string(size) + ".png")) + " --strength " +
+                std::to_string(strength) + " --strength-unit " + unit + " -o " +
+                q(dir / ("m" + std::to_string(size) + unit + ".ktx2")) + " --json " + q(json),
+            dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(test::read_text(json))[0]["mean_slope"].get<double>();
+    };
+    const double uv64 = mean_slope(64, "uv", 0.2f), uv128 = mean_slope(128, "uv", 0.2f);
+    EXPECT_GT(uv64, 0.1);
+    EXPECT_NEAR(uv128 / uv64, 1.0, 0.02);
+    // Per texel, the same strength gives half the slopes at twice the resolution.
+    const double texel64 = mean_slope(64, "texel", 2.0f), texel128 = mean_slope(128, "texel", 2.0f);
+    EXPECT_NEAR(texel128 / texel64, 0.5, 0.02);
+    // uv strength K = texel strength K * size.
+    EXPECT_NEAR(mean_slope(64, "texel", 0.2f * 64), uv64, 1e-4 * uv64);
+}
+
+TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfAMapWithAHorizontalTexel) {
+    const fs::path dir = test::scratch_dir("bake_precision_outlier");
+    const fs::path input = write_bumpy_normal_png(dir, "n", 128, 1);
+    auto bake = [&](const std::string& args, const std::string& name) {
+        const auto r = run_leanfade("bake " + q(input) + " " + args + " -o " +
+                                        q(dir / (name + ".ktx2")),
+                                    dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return r.out;
+    };
+    const std::string default_out = bake("", "default");
+    EXPECT_THAT(default_out, HasSubstr("1 normals had z < 0.0156"));
+    EXPECT_THAT(default_out, HasSubstr("1 texels (0.0061 %) have a slope component above sc"));
+    EXPECT_THAT(default_out, HasSubstr("storage 16f")) << "auto storage: outliers need 16f";
+    bake("--bits 32f", "float");
+    bake("--bits 16 --sc max", "all_within");
+    const std::vector<Image> truth = lean_cells(dir, dir / "float.ktx2", "float");
+    const double kept = psnr(lean_cells(dir, dir / "default.ktx2", "default"), truth);
+    const double lost = psnr(lean_cells(dir, dir / "all_within.ktx2", "all_within"), truth);
+    EXPECT_GE(kept, 50.0) << "default storage against 32f";
+    // The issue's failure, for contrast: sc = 64 for every texel loses the highlight.
+    EXPECT_LT(lost, 45.0) << "16-bit with sc = the maximum against 32f";
+    RecordProperty("psnr_default_db", std::to_string(kept));
+    RecordProperty("psnr_sc_max_db", std::to_string(lost));
+}
+
+TEST(CliBakeConvention, WarnsWhenANormalMapFitsTheOtherConventionBetter) {
+    const fs::path dir = test::scratch_dir("bake_convention");
+    const fs::path normals = write_bumpy_normal_png(dir, "opengl", 96, 0);  // OpenGL (+Y)
+    const auto right = run_leanfade("bake " + q(normals) + " -o " + q(dir / "a.ktx2"), dir);
+    ASSERT_EQ(right.exit_code, 0) << right.err;
+    EXPECT_EQ(right.err, "");
+    const auto wrong =
+        run_leanfade("bake " + q(normals) + " --directx -o " + q(dir / "b.ktx2"), dir);
+    ASSERT_EQ(wrong.exit_code, 0) << wrong.err;
+    EXPECT_THAT(wrong.err, HasSubstr("opengl.png looks like an OpenGL (+Y) normal map"));
+    EXPECT_EQ(std::count(wrong.err.begin(), wrong.err.end(), '\n'), 1) << wrong.err;
+    // Ridges along one axis fit both conventions: no warning either way.
+    const fs::path base = dir / "ridges_src";
+    ASSERT_EQ(run_leanfade("bake --builtin ridges --size 64 --format png -o " +
+                               q(base.string() + ".png"), dir).exit_code, 0);
+    Image ridges = io::read_image(base.string() + ".lean1.png");
+    Image rgb(ridges.width, ridges.height, 3);
+    for (int y = 0; y < rgb.height; ++y)
+        for (int x = 0; x < rgb.width; ++x)
+            for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = ridges.at(x, y, c);
+    io::write_png((dir / "ridges.png").string(), rgb, 8);
+    for (const char* flag : {"", "--directx"}) {
+        const auto r = run_leanfade("bake " + q(dir / "ridges.png") + " " + flag + " -o " +
+                                        q(dir / "r.ktx2"),
+                                    dir);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_EQ(r.err, "") << flag;
+    }
+}

@@ -12,6 +12,7 @@
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/png_io.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -145,6 +146,8 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;
     if (ends_with(f.bumps, ".ktx2")) return io::read_ktx2(f.bumps, read_options);
+    if (!io::lean_png_pair_base(f.bumps).empty())  // NAME.lean1.png from `bake --format png`
+        return io::read_lean_png_pair(f.bumps, read_options);
 
     BakeOptions options;
     options.strength = settings.bump_strength;
@@ -157,7 +160,12 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
             .packed;
     }
     const Image image = io::read_image(f.bumps, read_options);
-    return bake_packed(image, source, options, storage, generator, f.bumps).packed;
+    PackedBakeResult baked = bake_packed(image, source, options, storage, generator, f.bumps);
+    // A strength other than the default was given (flag or preset) for a normal map.
+    const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
+    if (baked.source == BakeSource::Normal && strength_given)
+        throw Error(f.bumps, "is a normal map: --strength applies to height maps only");
+    return std::move(baked.packed);
 }
 
 gl::ContextOptions context_options(const GlFlags& flags) {

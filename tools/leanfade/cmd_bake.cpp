@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
+#include "cli_bake_gltf.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -20,6 +20,7 @@
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "leanfade/io/png_io.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -32,11 +33,14 @@ struct BakeArgs {
     std::string out_dir;
     std::string from = "auto";
     float strength = 1.0f;
+    bool strength_given = false;  // --strength on the command line (an error for normal maps)
+    std::string strength_unit = "texel";
+    std::string sc = "auto";
     bool directx = false;
-    std::string bits = "16";
+    std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
     float bake_roughness = 0.0f;
     std::string wrap = "repeat";
-    std::string format = "ktx2";
+    std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
     int threads = 0;
     bool fsync = false;
     std::string builtin;
@@ -51,11 +55,29 @@ std::string generator_string() {
     return std::string("leanfade ") + LEANFADE_VERSION;
 }
 
+bool has_extension(const std::string& path, const char* extension) {
+    std::string e = fs::path(path).extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e == extension;
+}
+
+// The output format: --format, else png for an -o named .png, else ktx2. An -o whose extension
+// (.png or .ktx2) contradicts --format is refused.
+std::string resolve_format(const BakeArgs& args) {
+    const bool png_name = !args.output.empty() && has_extension(args.output, ".png");
+    const bool ktx2_name = !args.output.empty() && has_extension(args.output, ".ktx2");
+    if (args.format.empty()) return png_name ? "png" : "ktx2";
+    if ((args.format == "png" && ktx2_name) || (args.format == "ktx2" && png_name))
+        throw Error("-o", "'" + args.output + "' does not name a " + args.format +
+                              " output (--format " + args.format + ")");
+    return args.format;
+}
+
 // Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
 std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
     if (!args.output.empty()) {
         fs::path out(args.output);
-        if (args.format == "png" && out.extension() == ".png") out.replace_extension();
+        if (args.format == "png" && has_extension(args.output, ".png")) out.replace_extension();
         return out.string();
     }
     fs::path stem = fs::path(input_name).stem();
@@ -65,24 +87,52 @@ std::string output_base(const BakeArgs& args, const std::string& input_name, boo
     return (folder / stem).string();
 }
 
-// The top level of both layers as 16-bit RGBA, as the fading paper's Figs. 2-3 show them, to
-// `paths` (lean1, lean2).
-void write_png_previews(const std::string (&paths)[2], const PackedLeanMap& packed,
-                        const io::WriteOptions& write_options) {
-    const PackedLevel& top = packed.levels.front();
-    for (int layer = 0; layer < 2; ++layer) {
-        Image img(top.width, top.height, 4);
-        for (int y = 0; y < top.height; ++y)
-            for (int x = 0; x < top.width; ++x) {
-                const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
-                for (int c = 0; c < 4; ++c) img.at(x, y, c) = t[c];
+// Every step-th texel of the first 3 channels, at most 512 per side: enough for the convention
+// check, in bounded memory for any input.
+Image convention_sample(const std::variant<Image, UnormImage>& input) {
+    const Image* floats = std::get_if<Image>(&input);
+    const UnormImage* unorm = std::get_if<UnormImage>(&input);
+    const int w = floats != nullptr ? floats->width : unorm->width;
+    const int h = floats != nullptr ? floats->height : unorm->height;
+    const int channels = floats != nullptr ? floats->channels : unorm->channels;
+    const int step = std::max(1, (std::max(w, h) + 511) / 512);
+    Image sample((w + step - 1) / step, (h + step - 1) / step, 3);
+    if (channels < 3) return Image();
+    for (int y = 0; y < sample.height; ++y)
+        for (int x = 0; x < sample.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i =
+                    (std::size_t(y * step) * std::size_t(w) + std::size_t(x * step)) *
+                        std::size_t(channels) +
+                    std::size_t(c);
+                sample.at(x, y, c) = floats != nullptr
+                                         ? floats->pixels[i]
+                                         : float(unorm->samples[i]) / float(unorm->max_value);
             }
-        io::write_png(paths[layer], img, 16, write_options);
-    }
+    return sample;
+}
+
+// A warning when a normal map's slopes fit a height field clearly better in the other convention
+// (check_normal_convention).
+void warn_if_other_convention(const std::string& name,
+                              const std::variant<Image, UnormImage>& input,
+                              NormalConvention convention) {
+    const NormalConventionCheck check =
+        check_normal_convention(convention_sample(input), convention);
+    if (!check.looks_flipped()) return;
+    const bool directx = convention == NormalConvention::DirectX;
+    std::fprintf(stderr,
+                 "leanfade bake: warning: %s looks like %s normal map (its slopes fit a height "
+                 "field %.3g times better with green flipped); %s\n",
+                 name.c_str(), directx ? "an OpenGL (+Y)" : "a DirectX (-Y)",
+                 check.curl_as_read / std::max(check.curl_flipped, 1e-30),
+                 directx ? "bake it without --directx if its bumps look lit from the wrong side"
+                         : "bake it with --directx if its bumps look lit from the wrong side");
 }
 
 nlohmann::json summary_json(const std::string& input, const std::string& output,
-                            const LeanMapSummary& s, const BakeResult& result, double seconds) {
+                            const LeanMapSummary& s, const BakeResult& result,
+                            const std::string& storage, double seconds) {
     return {{"input", input},
             {"output", output},
             {"source", to_string(result.source)},
@@ -98,15 +148,17 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
                                         ? nlohmann::json(s.coarsest_anisotropy)
                                         : nlohmann::json("inf")},
             {"clamped_normals", result.clamped_texels},
+            {"texels_beyond_sc", result.map.texels_beyond_scale},
+            {"storage", storage},
             {"roughness_baked", result.map.roughness_baked},
             {"seconds", seconds}};
 }
 
 void print_summary(const std::string& input, const std::string& output, const LeanMapSummary& s,
-                   const BakeResult& result, double seconds) {
+                   const BakeResult& result, Storage storage, double seconds) {
     std::printf("%s -> %s\n", input.c_str(), output.c_str());
-    std::printf("  %dx%d, %d levels, %s map, sc = %.6g\n", s.width, s.height, s.levels,
-                to_string(result.source), s.scale);
+    std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height,
+                s.levels, to_string(result.source), s.scale, to_string(storage));
     std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
     std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
                 s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
@@ -114,11 +166,20 @@ void print_summary(const std::string& input, const std::string& output, const Le
     if (result.clamped_texels > 0)
         std::printf("  %zu normals had z < %.4f and were raised to it\n", result.clamped_texels,
                     kMinNormalZ);
+    const std::uint64_t beyond = result.map.texels_beyond_scale;
+    if (beyond > 0) {
+        const double percent = 100.0 * double(beyond) / (double(s.width) * double(s.height));
+        const bool unorm = storage == Storage::Unorm8 || storage == Storage::Unorm16;
+        std::printf("  %llu texels (%.3g %%) have a slope component above sc (up to %.4g): %s\n",
+                    static_cast<unsigned long long>(beyond), percent, s.max_slope,
+                    unorm ? "clamped to sc in this UNORM map (docs/ktx2.md, \"Choosing storage "
+                            "and sc\")"
+                          : "kept, beyond [0, 1], by the float storage");
+    }
     std::printf("  %.3f s\n", seconds);
 }
 
-int run_bake(const BakeArgs& args) {
-    const BakeArgs& given = args;
+int run_bake(const BakeArgs& given) {
     // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
     if (given.inputs.size() == 1 && given.builtin.empty() &&
         scene::is_gltf_path(given.inputs[0])) {
@@ -134,7 +195,13 @@ int run_bake(const BakeArgs& args) {
         return run_bake_gltf(gltf);
     }
     // Validate flags before touching any file.
+    BakeArgs args = given;
+    args.format = resolve_format(given);
     if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
+    if (args.strength == 0.0f)
+        throw Error("--strength", "must not be 0 (a negative strength inverts the heights)");
+    if (args.strength_given && args.from == "normal")
+        throw Error("--strength", "applies to height maps; --from normal bakes normal maps");
     if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
         throw Error("--bake-roughness", "must be a positive shininess");
     if (args.inputs.empty() && args.builtin.empty())
@@ -146,14 +213,23 @@ int run_bake(const BakeArgs& args) {
     if (!args.out_dir.empty() && !fs::is_directory(args.out_dir))
         throw Error(args.out_dir, "output folder does not exist");
 
+    if (args.format == "png" && args.bits != "8" && args.bits != "16" && args.bits != "auto")
+        throw Error("--bits", "a PNG pair holds 8 or 16 bits; " + args.bits +
+                                  " needs --format ktx2");
+
     BakeOptions options;
     options.strength = args.strength;
+    options.strength_unit = args.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+    options.scale_excludes_outliers = args.sc == "auto";
     options.wrap = args.wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
     options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.bake_roughness_shininess = args.bake_roughness;
     options.threads = args.threads;
     const BakeSource source = parse_bake_source(args.from);
-    const Storage storage = parse_storage(args.bits);
+    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale) is baked again as
+    // half float, which keeps them (docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
+    const bool auto_storage = args.bits == "auto";
+    const Storage storage = auto_storage ? Storage::Unorm16 : parse_storage(args.bits);
     io::ReadOptions read_options;
     read_options.max_dimension = args.max_size;
     read_options.drop_alpha = true;  // normal maps use RGB only
@@ -232,20 +308,28 @@ int run_bake(const BakeArgs& args) {
             const Image* floats = std::get_if<Image>(&input);
             if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
             baked = bake_packed(*floats, kind, options, storage, generator_string(), name);
-            const std::string staged[2] = {outputs.stage(j.outputs[0]),
-                                           outputs.stage(j.outputs[1])};
-            write_png_previews(staged, baked.packed, write_options);
+            io::write_lean_png_pair(outputs.stage(j.outputs[0]), outputs.stage(j.outputs[1]),
+                                    baked.packed, write_options);
             output = j.outputs[0].substr(0, j.outputs[0].size() - 10) + ".lean{1,2}.png";
         } else {
             output = j.outputs[0];
             // Baked straight into the mapped output file, which appears only when complete.
-            baked = io::bake_to_ktx2(outputs.stage(output), input, kind, options, storage,
-                                     generator_string(), name, write_options);
+            const std::string staged = outputs.stage(output);
+            baked = io::bake_to_ktx2(staged, input, kind, options, storage, generator_string(),
+                                     name, write_options);
+            if (auto_storage && baked.texels_beyond_scale > 0)
+                baked = io::bake_to_ktx2(staged, input, kind, options, Storage::Float16,
+                                         generator_string(), name, write_options);
         }
+        // Checked before anything is published: the staged outputs are dropped.
+        if (args.strength_given && baked.source == BakeSource::Normal)
+            throw Error(name, "is a normal map: --strength applies to height maps only");
         if (args.roughness.requested())
             write_roughness_outputs(args.roughness, input, kind, options, read_options,
                                     write_options, outputs);
         if (!one_group) outputs.publish();
+        if (baked.source == BakeSource::Normal)
+            warn_if_other_convention(name, input, options.convention);
         const PackedLeanMap& packed = baked.packed;
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -256,9 +340,11 @@ int run_bake(const BakeArgs& args) {
         result.source = baked.source;
         result.clamped_texels = baked.clamped_texels;
         result.map.roughness_baked = packed.roughness_baked;
+        result.map.texels_beyond_scale = baked.texels_beyond_scale;
         const LeanMapSummary& s = baked.summary;
-        print_summary(name, output, s, result, seconds);
-        summaries.push_back(summary_json(name, output, s, result, seconds));
+        print_summary(name, output, s, result, packed.storage, seconds);
+        summaries.push_back(
+            summary_json(name, output, s, result, to_string(packed.storage), seconds));
     };
 
     auto guarded = [&](const Job& j) {
@@ -268,6 +354,7 @@ int run_bake(const BakeArgs& args) {
             if (progress) std::fprintf(stderr, "\r\033[K");
             if (job_count == 1) throw;
             std::fprintf(stderr, "leanfade bake: %s\n", e.what());
+            summaries.push_back({{"input", j.name}, {"error", e.what()}});
             ++failures;
         }
     };
@@ -299,22 +386,48 @@ const CommandRegistration registration{
         app.add_option("--from", args->from,
                        "Input kind: auto (1-2 channels = height, 3-4 = normal), height, normal")
             ->check(CLI::IsMember(bake_source_names()));
-        app.add_option("--strength", args->strength,
-                       "Height maps: height per texel spacing of one unit of value")
+        CLI::Option* strength =
+            app.add_option("--strength", args->strength,
+                           "Height maps: the height of one unit of value, in --strength-unit "
+                           "(not 0; negative inverts the heights; an error for normal maps)")
+                ->capture_default_str();
+        app.add_option("--strength-unit", args->strength_unit,
+                       "Unit of --strength: texel (height per texel spacing, the default: "
+                       "slopes halve at twice the resolution) or uv (height per UV unit, the "
+                       "map's width along u and height along v: the same slopes at any "
+                       "resolution)")
+            ->check(CLI::IsMember({"texel", "uv"}))
             ->capture_default_str();
-        app.add_flag("--directx", args->directx, "Normal maps use the DirectX convention (-Y)");
-        app.add_option("--bits", args->bits, "Storage: 8, 16 (UNORM), 16f, 32f (float)")
-            ->check(CLI::IsMember(storage_names()))
+        app.add_flag("--directx", args->directx,
+                     "Normal maps use the DirectX convention (green = -v, \"-Y\"; how to tell: "
+                     "README, quick start)");
+        std::vector<std::string> bits_names = storage_names();
+        bits_names.push_back("auto");
+        app.add_option("--bits", args->bits,
+                       "Storage: 8, 16 (UNORM), 16f, 32f (float), or auto: 16, or 16f for a map "
+                       "with outliers beyond sc, which 16 would clamp (a PNG pair: 16)")
+            ->check(CLI::IsMember(bits_names))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,
                        "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")
             ->check(CLI::PositiveNumber);
+        app.add_option("--sc", args->sc,
+                       "Scale sc of the slopes: auto (the steepest slope except outliers, "
+                       "texels at least twice as steep as the 99.9th percentile: counted, and "
+                       "clamped in 8/16-bit maps) or max (the steepest slope)")
+            ->check(CLI::IsMember({"auto", "max"}))
+            ->capture_default_str();
         app.add_option("--wrap", args->wrap, "Border handling of the slope filter")
             ->check(CLI::IsMember({"repeat", "clamp"}))
             ->capture_default_str();
-        app.add_option("--format", args->format, "ktx2 (GPU-ready) or png (top level previews)")
-            ->check(CLI::IsMember({"ktx2", "png"}))
-            ->capture_default_str();
+        app.add_option("--format", args->format,
+                       "ktx2 (GPU-ready, every MIP level) or png (the top level as two RGBA PNGs "
+                       "of --bits 8 or 16 with sc; loads back with --bumps NAME.lean1.png); "
+                       "default: from -o's extension, else ktx2")
+            ->check(CLI::IsMember({"ktx2", "png"}));
+        app.get_option("--output")
+            ->description("Output (one input only): NAME.ktx2, or NAME.png for the PNG pair "
+                          "NAME.lean1.png + NAME.lean2.png");
         app.add_flag("--fsync", args->fsync,
                      "Flush each output to disk before it replaces the old one (survives a "
                      "power cut; slower)");
@@ -332,7 +445,10 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the summaries as JSON");
         add_roughness_bake_options(app, args->roughness);
-        return [args] { return run_bake(*args); };
+        return [args, strength] {
+            args->strength_given = strength->count() > 0;
+            return run_bake(*args);
+        };
     }};
 
 }  // namespace

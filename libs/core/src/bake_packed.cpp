@@ -278,6 +278,7 @@ struct RowScan {
     std::uint32_t clamped = 0;
     int bad_x = -1;  // first NaN / Inf normal or normal with z <= -epsilon
     RowStats stats;  // summary: |B| = sqrt(Bx Bx + By By) in float
+    detail::SlopeHistogram* histogram = nullptr;  // the worker's: max(|Bx|, |By|), for sc
 };
 
 // Returns false at a bad texel (scanning stops there: the reference throws at the first).
@@ -295,6 +296,7 @@ bool scan_texel(const TopInput& in, const float* row, int x, RowScan& r) {
     float bx, by;
     input_slope<Channels>(in, row, x, bx, by);
     r.max_b = std::max({r.max_b, std::abs(bx), std::abs(by)});
+    r.histogram->add(std::max(std::abs(bx), std::abs(by)));
     r.nan_slope = r.nan_slope || std::isnan(bx) || std::isnan(by);
     r.stats.add(x, std::sqrt(bx * bx + by * by));
     return true;
@@ -409,6 +411,15 @@ LF_AVX2_INLINE void store32(std::uint8_t* d, __m256i v) {
 // One UNORM slice (the int32 codes of channels r, g, b, a) of 8 texels, little-endian RGBA.
 template <Storage S>
 LF_AVX2_INLINE void store_codes8(__m256i r, __m256i g, __m256i b, __m256i a, std::uint8_t* d) {
+    if constexpr (S == Storage::Unorm8) {
+        // Codes above 32767 (texels beyond sc, choose_lean_scale) would turn negative in the
+        // signed 16-bit pack below: clamped to 255 first.
+        const __m256i max_code = _mm256_set1_epi32(255);
+        r = _mm256_min_epi32(r, max_code);
+        g = _mm256_min_epi32(g, max_code);
+        b = _mm256_min_epi32(b, max_code);
+        a = _mm256_min_epi32(a, max_code);
+    }
     // Saturating packs: [R0-3 B0-3 | R4-7 B4-7] and [G0-3 A0-3 | G4-7 A4-7] as uint16.
     const __m256i rb = _mm256_packus_epi32(r, b), ga = _mm256_packus_epi32(g, a);
     if constexpr (S == Storage::Unorm16) {
@@ -597,8 +608,12 @@ LF_AVX2 bool scan_row_avx2(const TopInput& in, int y, RowScan& r) {
         } else {
             load_xy8(row + std::size_t(x) * 2, bx, by);
         }
-        max_b = _mm256_max_ps(
-            max_b, _mm256_max_ps(_mm256_andnot_ps(sign, bx), _mm256_andnot_ps(sign, by)));
+        const __m256 steepest =
+            _mm256_max_ps(_mm256_andnot_ps(sign, bx), _mm256_andnot_ps(sign, by));
+        max_b = _mm256_max_ps(max_b, steepest);
+        alignas(32) float lanes[8];
+        _mm256_store_ps(lanes, steepest);
+        for (const float v : lanes) r.histogram->add(v);
         nan = _mm256_or_ps(nan, _mm256_cmp_ps(bx, by, _CMP_UNORD_Q));
         const __m256 len =
             _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(bx, bx), _mm256_mul_ps(by, by)));
@@ -940,18 +955,22 @@ struct ScanTotals {
     std::size_t clamped = 0;
     double sum_slope = 0.0;  // sum of |B|, row by row in order
     float max_slope = 0.0f;  // max |B|
+    detail::SlopeHistogram histogram;  // of max(|Bx|, |By|), every texel
 };
 
 ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
                       const std::string& source_name, const char* steep_cause) {
     std::vector<RowScan> rows(static_cast<std::size_t>(height));
+    std::vector<detail::SlopeHistogram> histograms(
+        static_cast<std::size_t>(resolve_thread_count(threads)));
     const ScanFn scan = select_scan(in.channels, avx2);
     // Chunks are handed out in increasing order, so once a bad texel is found every row before
     // it has been (or is being) scanned and no further chunk is needed.
     std::atomic<bool> bad{false};
-    parallel_for_dynamic(height, threads, kScanGrain, [&](int, int first, int end) {
+    parallel_for_dynamic(height, threads, kScanGrain, [&](int worker, int first, int end) {
         if (bad.load(std::memory_order_relaxed)) return;
         for (int y = first; y < end; ++y) {
+            rows[std::size_t(y)].histogram = &histograms[std::size_t(worker)];
             if (!scan(in, y, rows[std::size_t(y)])) {
                 bad = true;
                 return;
@@ -1000,6 +1019,7 @@ ScanTotals scan_input(const TopInput& in, int height, int threads, bool avx2,
     // in |B| (each rounding is monotonic), so max M = fl(max|B| * max|B| + 1/s), exactly.
     totals.max_b = double(max_b);
     totals.max_m = double(max_b * max_b + in.inv_s);
+    for (const detail::SlopeHistogram& h : histograms) totals.histogram.merge(h);
     return totals;
 }
 
@@ -1108,7 +1128,13 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
         totals = scan_input(plan.top, slopes.height, options.threads, avx2, source_name,
                             "height steps times the strength are too large");
     }
-    const float sc = detail::lean_scale(totals.max_b, totals.max_m);
+    const detail::ScaleChoice scale =
+        options.scale_excludes_outliers
+            ? detail::choose_lean_scale(totals.histogram, totals.max_b, totals.max_m,
+                                        plan.top.inv_s)
+            : detail::ScaleChoice{detail::lean_scale(totals.max_b, totals.max_m), 0};
+    result.texels_beyond_scale = scale.beyond;
+    const float sc = scale.scale;
     plan.scale.sc = sc;
     plan.scale.sc2 = sc * sc;
     plan.scale.unorm = detail::unorm_packing(storage, plan.scale.sc, plan.scale.sc2);

@@ -197,9 +197,12 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
     map.source_convention = options.convention;
 
     // sc (LEAN §5): the smallest value with |B| <= sc and M.xx, M.yy <= sc^2 over the top level,
-    // so every packed channel stays in range. Floor avoids a zero scale for a flat map.
+    // so every packed channel stays in range, unless a few texels are far steeper than the rest
+    // (choose_lean_scale). Floor avoids a zero scale for a flat map.
     double max_b = 0.0, max_m = 0.0;
+    detail::SlopeHistogram histogram;
     for (const Moments& t : top) {
+        histogram.add(std::max(std::abs(t[3]), std::abs(t[4])));
         for (const float b : {t[3], t[4]}) {
             if (!(std::abs(b) <= kMaxSlope)) {  // NaN fails the comparison too
                 throw Error("", "slope " + std::to_string(b) +
@@ -209,7 +212,12 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
         max_b = std::max({max_b, double(std::abs(t[3])), double(std::abs(t[4]))});
         max_m = std::max({max_m, double(t[5]), double(t[6])});
     }
-    map.scale = detail::lean_scale(max_b, max_m);
+    const detail::ScaleChoice scale =
+        options.scale_excludes_outliers
+            ? detail::choose_lean_scale(histogram, max_b, max_m, inv_s)
+            : detail::ScaleChoice{detail::lean_scale(max_b, max_m), 0};
+    map.scale = scale.scale;
+    map.texels_beyond_scale = scale.beyond;
 
     int lw = w, lh = h;
     std::vector<Moments> current = std::move(top);

@@ -32,6 +32,34 @@ float lean_scale(double max_b, double max_m) {
     return scale;
 }
 
+ScaleChoice choose_lean_scale(const SlopeHistogram& histogram, double max_b, double max_m,
+                              float inv_s) {
+    const float exact = lean_scale(max_b, max_m);
+    std::uint64_t total = 0;
+    for (const std::uint64_t c : histogram.counts) total += c;
+    const auto allowed = std::uint64_t(double(total) * kMaxFractionBeyondScale);
+    // The percentile: the lowest bin p with at most `allowed` texels in the bins above it.
+    int p = SlopeHistogram::kCount - 1;
+    std::uint64_t above = 0;
+    while (p > 0 && above + histogram.counts[p] <= allowed) above += histogram.counts[p--];
+    // Outliers: the bins that start at kMinScaleGain times the percentile's edge or above. sc
+    // covers the highest occupied bin below them (never below the maximum / kMaxScaleGain).
+    const double outlier_start = kMinScaleGain * double(SlopeHistogram::upper_edge(p));
+    const double lowest = double(exact) / kMaxScaleGain;
+    int k = SlopeHistogram::kCount - 1;
+    std::uint64_t beyond = 0;
+    while (k > p && (histogram.counts[k] == 0 ||
+                     double(SlopeHistogram::upper_edge(k - 1)) >= outlier_start))
+        beyond += histogram.counts[k--];
+    while (k + 1 < SlopeHistogram::kCount && double(SlopeHistogram::upper_edge(k)) < lowest)
+        beyond -= histogram.counts[++k];
+    if (beyond == 0) return {exact, 0};
+    const double edge = SlopeHistogram::upper_edge(k);
+    const float scale = lean_scale(edge, edge * edge + double(inv_s));
+    if (double(scale) * kMinScaleGain > double(exact)) return {exact, 0};
+    return {scale, beyond};
+}
+
 void summarize_coarsest(LeanMapSummary& s, glm::vec2 mean, glm::vec3 second) {
     s.coarsest_covariance = shading::lf_covariance(mean, second, 0.0f);
     const double a = s.coarsest_covariance.x, d = s.coarsest_covariance.y,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,9 @@ inline float box4(float a0, float a1, float c0, float c1) {
 //   lean2 = (B * (Q/2)/sc + Q/2 [rg], Mxx * Q/sc^2, Myy * Q/sc^2)
 //         = Q (0.5 B/sc + 0.5, M/sc^2)
 // sc2 is the float product sc * sc; the factors are rounded to float once per map. Every value
-// is within [-Q, 2Q] (|n| <= 1, |B| <= sc, M <= sc^2 up to rounding, see lean_scale), far inside
-// the int32 range, so SIMD conversions need no clamp before their saturating packs.
+// is within [-128 Q, 16384 Q] (|n| <= 1, |B| <= 128 sc, M <= 16384 sc^2: choose_lean_scale),
+// inside the int32 range, so SIMD conversions need no clamp before their saturating packs (the
+// 8-bit store clamps to 255 before its signed 16-bit pack).
 struct UnormPacking {
     float half = 0.0f;        // Q / 2 (exact)
     float b_factor = 0.0f;    // (Q / 2) / sc
@@ -91,6 +93,57 @@ inline void store_unorm_texel(std::uint8_t* texel, const std::uint16_t* codes, S
 // float with |B| <= sc and M.xx, M.yy <= sc^2, with a floor that avoids a zero scale for a flat
 // map.
 float lean_scale(double max_b, double max_m);
+
+// How many top-level texels have their steepest slope component max(|Bx|, |By|) in each of
+// 4 bins per octave (the float's exponent and first two mantissa bits), from 2^-16 (bin 0 holds
+// everything below) to 2^21 (kMaxSlope is below 2^20). Both bakes fill it from the same floats,
+// so they choose the same sc (choose_lean_scale).
+struct SlopeHistogram {
+    static constexpr int kShift = 21;                   // float bits >> 21: 4 bins per octave
+    static constexpr int kFirst = (127 - 16) << 2;      // the bin of 2^-16
+    static constexpr int kCount = (21 + 16) << 2;       // up to 2^21
+    std::uint64_t counts[kCount] = {};
+    static int bin(float steepest) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &steepest, sizeof bits);
+        const int b = int(bits >> kShift) - kFirst;
+        return std::clamp(b, 0, kCount - 1);
+    }
+    void add(float steepest) { ++counts[bin(steepest)]; }
+    void merge(const SlopeHistogram& other) {
+        for (int i = 0; i < kCount; ++i) counts[i] += other.counts[i];
+    }
+    // The smallest value of bin i + 1: every value of bins <= i is below it.
+    static float upper_edge(int i) {
+        const std::uint32_t bits = std::uint32_t(i + kFirst + 1) << kShift;
+        float value;
+        std::memcpy(&value, &bits, sizeof value);
+        return value;
+    }
+};
+
+// Outliers (docs/ktx2.md, "Choosing storage and sc"): texels at least kMinScaleGain times as
+// steep as the (1 - kMaxFractionBeyondScale) percentile of the map, so at most that fraction of
+// them ...
+inline constexpr double kMaxFractionBeyondScale = 1e-3;
+inline constexpr double kMinScaleGain = 2.0;
+// ... and sc is never below the maximum divided by this (B/sc <= 128 and M/sc^2 <= 16384 stay
+// far inside the half-float range).
+inline constexpr double kMaxScaleGain = 128.0;
+
+struct ScaleChoice {
+    float scale = 1.0f;
+    std::uint64_t beyond = 0;  // top-level texels whose steepest slope component exceeds sc
+};
+// sc from the histogram of the top level (inv_s: the baked 1/s, 0 when not baked). p = the
+// upper edge of the bin of the 99.9th percentile of max(|Bx|, |By|); the bins starting at 2 p or
+// above hold the outliers. Without outliers sc is the maximum (lean_scale(max_b, max_m)); with
+// them, sc covers every other texel (the upper edge of the highest occupied bin below 2 p, at
+// least the maximum / kMaxScaleGain) and the outliers are counted, unless that would not make
+// sc kMinScaleGain times smaller. UNORM storages clamp the outliers' values to [0, 1]; float
+// storages keep them.
+ScaleChoice choose_lean_scale(const SlopeHistogram& histogram, double max_b, double max_m,
+                              float inv_s);
 
 // The summary fields taken from the 1x1 level: covariance M - B B^T and its anisotropy.
 void summarize_coarsest(LeanMapSummary& summary, glm::vec2 mean, glm::vec3 second);

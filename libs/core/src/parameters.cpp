@@ -126,8 +126,8 @@ const std::array<ParameterInfo, 27> kParameters{{
      .max = kInfinity, .logarithmic = true, .ui_min = 0.0f, .ui_max = 2.0f, .scalar = &S::fog_density},
     {.key = "bump_strength", .kind = K::Scalar, .group = "Texturing", .label = "bump strength",
      .unit = "height per texel spacing",
-     .help = "Bump height scale of height maps baked on the fly", .equation = "docs/math.md §2",
-     .min = 0.0f, .max = kInfinity, .min_exclusive = true, .logarithmic = true, .ui_min = 0.05f, .ui_max = 20.0f, .scalar = &S::bump_strength},
+     .help = "Bump height scale of height maps baked on the fly (not 0; negative inverts the heights)", .equation = "docs/math.md §2",
+     .min = -kInfinity, .max = kInfinity, .nonzero = true, .logarithmic = true, .ui_min = 0.05f, .ui_max = 20.0f, .scalar = &S::bump_strength},
     {.key = "tiling", .kind = K::Scalar, .group = "Texturing", .label = "tiling",
      .unit = "repeats per uv unit", .help = "Texture repeats per unit of the mesh's uv",
      .min = 0.0f, .max = kMaxTiling, .min_exclusive = true, .logarithmic = true, .ui_min = 0.05f, .ui_max = 64.0f,
@@ -176,6 +176,7 @@ void require_finite(const ParameterInfo& row, float value) {
 
 void check_range(const ParameterInfo& row, float v) {
     const std::string key(row.key);
+    if (row.nonzero && v == 0.0f) throw Error(key, "must not be 0, got " + text(v));
     const bool below = row.min_exclusive ? !(v > row.min) : !(v >= row.min);
     const bool above = !(v <= row.max);
     if (!below && !above) return;

@@ -96,6 +96,10 @@ SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                 throw Error(source_name, "NaN or Inf height at " + texel_name(x, y));
 
     SlopeResult result{Image(w, h, 2), 0};
+    // Strength per texel spacing along u and v (BakeOptions::strength_unit).
+    const bool per_uv = options.strength_unit == StrengthUnit::Uv;
+    const double strength_u = double(options.strength) * (per_uv ? double(w) : 1.0);
+    const double strength_v = double(options.strength) * (per_uv ? double(h) : 1.0);
     // Sobel / 8 gives the derivative per texel spacing. Rows run top to bottom, so +v (up) is
     // towards row y - 1. b~ = (-strength df/du, -strength df/dv) (docs/math.md §2).
     parallel_for_rows(h, options.threads, [&](int first, int end) {
@@ -113,7 +117,7 @@ SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                 // Clamped to the float range so that the conversion cannot overflow;
                 // check_slopes refuses anything past kMaxSlope, naming the value.
                 const double huge = std::numeric_limits<float>::max();
-                const double sx = -options.strength * dfdu, sy = -options.strength * dfdv;
+                const double sx = -strength_u * dfdu, sy = -strength_v * dfdv;
                 result.slopes.at(x, y, 0) = float(std::clamp(sx, -huge, huge));
                 result.slopes.at(x, y, 1) = float(std::clamp(sy, -huge, huge));
             }

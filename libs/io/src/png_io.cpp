@@ -5,6 +5,8 @@
 #include <png.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cctype>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -15,6 +17,10 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/shading.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/png_io.hpp"
 
 namespace leanfade::io::detail {
 namespace {
@@ -176,11 +182,14 @@ struct PngImageLayout {
 };
 
 bool write_png_rows(png_structp png, png_infop info, PngContext& context,
-                    const PngImageLayout& layout, png_bytepp rows) {
+                    const PngImageLayout& layout, png_bytepp rows, png_textp text,
+                    int text_count) {
     if (setjmp(context.jump) != 0) return false;
     png_set_write_fn(png, &context, write_to_memory, flush_nothing);
     png_set_IHDR(png, info, layout.width, layout.height, layout.bit_depth, layout.color_type,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    // tEXt chunks before IDAT, so that a streamed read has them once the header is read.
+    if (text_count > 0) png_set_text(png, info, text, text_count);
     // zlib's fastest level: a 4096² 16-bit RGBA slice (the PNG pair of a bake) encodes
     // 2.5x faster than at the default level 6, for files 4 % larger (docs/perf.md).
     png_set_compression_level(png, 1);
@@ -308,7 +317,8 @@ namespace {
 
 // Decodes into an Image or a UnormImage (Decoded), the rows streamed from the file.
 template <class Decoded>
-Decoded decode_png_as(const InputFile& file, const ReadOptions& options) {
+Decoded decode_png_as(const InputFile& file, const ReadOptions& options,
+                      std::vector<PngText>* text = nullptr) {
     const std::string& path = file.path();
     // The first chunk is IHDR (8-byte signature, 4-byte length, "IHDR", width, height, both
     // big-endian, bit depth, colour type): check the declared size before libpng allocates
@@ -342,6 +352,16 @@ Decoded decode_png_as(const InputFile& file, const ReadOptions& options) {
         throw_png_error(path, context);
     }
     check_dimensions(path, header.width, header.height, options.max_dimension);
+    if (text != nullptr) {  // the tEXt, zTXt and iTXt chunks before the image data
+        png_textp chunks = nullptr;
+        const int count = png_get_text(reader.png(), reader.info(), &chunks, nullptr);
+        for (int i = 0; i < count; ++i) {
+            text->push_back({chunks[i].key != nullptr ? chunks[i].key : "",
+                             chunks[i].text != nullptr
+                                 ? std::string(chunks[i].text, chunks[i].text_length)
+                                 : std::string()});
+        }
+    }
     if (header.channels < 1 || header.channels > 4 ||
         (header.bit_depth != 8 && header.bit_depth != 16)) {
         throw Error(path, "unsupported PNG layout (" + std::to_string(header.channels) +
@@ -404,7 +424,10 @@ UnormImage decode_png_unorm(const InputFile& file, const ReadOptions& options) {
     return decode_png_as<UnormImage>(file, options);
 }
 
-std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits) {
+namespace {
+
+std::vector<std::uint8_t> encode_png_text(const std::string& path, const Image& image, int bits,
+                                          const std::vector<PngText>& text) {
     if (bits != 8 && bits != 16) {
         throw Error(path, "unsupported PNG bit depth " + std::to_string(bits) + " (8 or 16)");
     }
@@ -441,13 +464,218 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image
                                            PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA};
     const PngImageLayout layout{png_uint_32(image.width), png_uint_32(image.height), bits,
                                 kColorTypes[image.channels - 1]};
+    std::vector<png_text> chunks(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i].key.empty() || text[i].key.size() > 79)
+            throw Error(path, "PNG text keyword '" + text[i].key + "' not 1-79 characters");
+        chunks[i] = png_text{};
+        chunks[i].compression = PNG_TEXT_COMPRESSION_NONE;
+        chunks[i].key = const_cast<char*>(text[i].key.c_str());
+        chunks[i].text = const_cast<char*>(text[i].value.c_str());
+        chunks[i].text_length = text[i].value.size();
+    }
     PngContext context{};
     PngWriteStruct writer(context);
     if (!writer.valid()) throw Error(path, "cannot initialise libpng");
-    if (!write_png_rows(writer.png(), writer.info(), context, layout, rows.data())) {
+    if (!write_png_rows(writer.png(), writer.info(), context, layout, rows.data(), chunks.data(),
+                        int(chunks.size()))) {
         throw Error(path, std::string("cannot encode PNG (") + context.message + ")");
     }
     return std::vector<std::uint8_t>(context.output, context.output + context.output_size);
 }
 
+}  // namespace
+
+std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits) {
+    return encode_png_text(path, image, bits, {});
+}
+
 }  // namespace leanfade::io::detail
+
+// ---- Public: PNGs with text, LEAN maps as a PNG pair ------------------------------------------
+
+namespace leanfade::io {
+namespace {
+
+// The keys of the KTX2 file's metadata (docs/ktx2.md), plus the layer of this file.
+constexpr const char* kLayoutKey = "LEANFADElayout";
+constexpr const char* kLayerKey = "LEANFADElayer";
+constexpr const char* kScaleKey = "LEANFADEscale";
+constexpr const char* kRoughnessBakedKey = "LEANFADEroughnessBaked";
+constexpr const char* kBakedShininessKey = "LEANFADEbakedShininess";
+constexpr const char* kConventionKey = "LEANFADEnormalConvention";
+constexpr const char* kSoftwareKey = "Software";  // a PNG's standard keyword
+constexpr const char* kLayerNames[2] = {"lean1", "lean2"};
+
+// Shortest decimal that reads back as the same float.
+std::string exact_text(float value) {
+    char buffer[64];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+    return std::string(buffer, result.ptr);
+}
+
+const std::string* find_text(const std::vector<PngText>& text, const char* key) {
+    for (const PngText& t : text)
+        if (t.key == key) return &t.value;
+    return nullptr;
+}
+
+const std::string& require_text(const std::string& path, const std::vector<PngText>& text,
+                                const char* key) {
+    const std::string* value = find_text(text, key);
+    if (value == nullptr)
+        throw Error(path, std::string("no '") + key +
+                              "' text chunk: not a LEAN map PNG from `leanfade bake`");
+    return *value;
+}
+
+float parse_float_text(const std::string& path, const char* key, const std::string& value) {
+    float result = 0.0f;
+    const auto parsed = std::from_chars(value.data(), value.data() + value.size(), result);
+    if (parsed.ec != std::errc() || parsed.ptr != value.data() + value.size() ||
+        !std::isfinite(result))
+        throw Error(path, std::string("malformed '") + key + "' text chunk '" + value + "'");
+    return result;
+}
+
+bool ends_with_lower(const std::string& s, const std::string& suffix) {
+    if (s.size() < suffix.size()) return false;
+    for (std::size_t i = 0; i < suffix.size(); ++i) {
+        const char c = s[s.size() - suffix.size() + i];
+        if (char(std::tolower(static_cast<unsigned char>(c))) != suffix[i]) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+void write_png_with_text(const std::string& path, const Image& image, int bits,
+                         const std::vector<PngText>& text, const WriteOptions& options) {
+    const std::vector<std::uint8_t> bytes = detail::encode_png_text(path, image, bits, text);
+    AtomicFile file(path, options.durability);
+    file.write(bytes);
+    file.commit();
+}
+
+UnormImage read_png_with_text(const std::string& path, std::vector<PngText>& text,
+                              const ReadOptions& options) {
+    const detail::InputFile file(path);
+    std::uint8_t signature[8] = {};
+    if (file.size() >= 8) file.read_at(0, signature, 8, "truncated PNG data");
+    if (png_sig_cmp(signature, 0, 8) != 0) throw Error(path, "not a PNG file");
+    text.clear();
+    return detail::decode_png_as<UnormImage>(file, options, &text);
+}
+
+std::string lean_png_pair_base(const std::string& path) {
+    for (const char* suffix : kLeanPngSuffixes)
+        if (ends_with_lower(path, suffix))
+            return path.substr(0, path.size() - std::strlen(suffix));
+    return {};
+}
+
+void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2_path,
+                         const PackedLeanMap& packed, const WriteOptions& options) {
+    const std::string paths[2] = {lean1_path, lean2_path};
+    if (packed.storage != Storage::Unorm8 && packed.storage != Storage::Unorm16)
+        throw Error(lean1_path, std::string("a PNG holds 8- or 16-bit UNORM values, not storage ") +
+                                    to_string(packed.storage) + "; write a KTX2 file");
+    if (packed.levels.empty()) throw Error(lean1_path, "the LEAN map has no level");
+    const int bits = packed.storage == Storage::Unorm8 ? 8 : 16;
+    const PackedLevel& top = packed.levels.front();
+    for (int layer = 0; layer < 2; ++layer) {
+        Image image(top.width, top.height, 4);
+        for (int y = 0; y < top.height; ++y)
+            for (int x = 0; x < top.width; ++x) {
+                const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
+                for (int c = 0; c < 4; ++c) image.at(x, y, c) = t[c];
+            }
+        const std::vector<PngText> text = {
+            {kLayoutKey, kLeanLayoutName},
+            {kLayerKey, kLayerNames[layer]},
+            {kScaleKey, exact_text(packed.scale)},
+            {kRoughnessBakedKey, packed.roughness_baked ? "1" : "0"},
+            {kBakedShininessKey, exact_text(packed.roughness_baked ? packed.baked_shininess : 0.0f)},
+            {kConventionKey, to_string(packed.source_convention)},
+            {kSoftwareKey, packed.generator}};
+        write_png_with_text(paths[layer], image, bits, text, options);
+    }
+}
+
+PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& options) {
+    const std::string base = lean_png_pair_base(path);
+    if (base.empty())
+        throw Error(path, "a LEAN map PNG pair is named NAME.lean1.png and NAME.lean2.png");
+    std::string paths[2];
+    UnormImage layers[2];
+    std::vector<PngText> text[2];
+    float scale = 0.0f;
+    for (int layer = 0; layer < 2; ++layer) {
+        paths[layer] = base + kLeanPngSuffixes[layer];
+        const std::string& p = paths[layer];
+        layers[layer] = read_png_with_text(p, text[layer], options);
+        if (require_text(p, text[layer], kLayoutKey) != kLeanLayoutName)
+            throw Error(p, std::string("layout '") + *find_text(text[layer], kLayoutKey) +
+                               "' is not '" + kLeanLayoutName + "'");
+        if (require_text(p, text[layer], kLayerKey) != kLayerNames[layer])
+            throw Error(p, std::string("holds layer '") + *find_text(text[layer], kLayerKey) +
+                               "', expected " + kLayerNames[layer]);
+        if (layers[layer].channels != 4)
+            throw Error(p, "a LEAN map PNG is RGBA, this one has " +
+                               std::to_string(layers[layer].channels) + " channels");
+        const float sc = parse_float_text(p, kScaleKey, require_text(p, text[layer], kScaleKey));
+        if (!(sc > 0.0f)) throw Error(p, "sc must be > 0, got " + exact_text(sc));
+        if (layer == 1 && sc != scale)
+            throw Error(p, "sc " + exact_text(sc) + " differs from " + paths[0] + "'s " +
+                               exact_text(scale));
+        scale = sc;
+    }
+    if (layers[0].width != layers[1].width || layers[0].height != layers[1].height ||
+        layers[0].max_value != layers[1].max_value)
+        throw Error(paths[1], "size or bit depth differs from " + paths[0] + "'s");
+
+    LeanMap map;
+    map.scale = scale;
+    const std::vector<PngText>& meta = text[0];
+    map.roughness_baked = require_text(paths[0], meta, kRoughnessBakedKey) == "1";
+    map.baked_shininess = parse_float_text(paths[0], kBakedShininessKey,
+                                           require_text(paths[0], meta, kBakedShininessKey));
+    const std::string& convention = require_text(paths[0], meta, kConventionKey);
+    if (convention != to_string(NormalConvention::OpenGL) &&
+        convention != to_string(NormalConvention::DirectX))
+        throw Error(paths[0], "normal convention '" + convention + "' is not opengl or directx");
+    map.source_convention = convention == to_string(NormalConvention::OpenGL)
+                                ? NormalConvention::OpenGL
+                                : NormalConvention::DirectX;
+    // The packed values are affine in the moments, so filtering them is filtering the moments
+    // (docs/math.md §3): each level is unpacked from the filtered values, then packed again.
+    const std::vector<Image> chains[2] = {build_mip_chain(layers[0].to_float()),
+                                          build_mip_chain(layers[1].to_float())};
+    for (std::size_t l = 0; l < chains[0].size(); ++l) {
+        const Image& lean1 = chains[0][l];
+        const Image& lean2 = chains[1][l];
+        MomentLevel level;
+        level.width = lean1.width;
+        level.height = lean1.height;
+        const std::size_t texels = lean1.texel_count();
+        level.normal.resize(texels);
+        level.mean.resize(texels);
+        level.second.resize(texels);
+        for (std::size_t i = 0; i < texels; ++i) {
+            const float* a = &lean1.pixels[4 * i];
+            const float* b = &lean2.pixels[4 * i];
+            const auto m = shading::lf_unpack(glm::vec4(a[0], a[1], a[2], a[3]),
+                                              glm::vec4(b[0], b[1], b[2], b[3]), scale);
+            level.normal[i] = m.normal;
+            level.mean[i] = m.mean;
+            level.second[i] = m.second;
+        }
+        map.levels.push_back(std::move(level));
+    }
+    const std::string* software = find_text(meta, kSoftwareKey);
+    return pack_lean_map(map,
+                         layers[0].max_value == 255 ? Storage::Unorm8 : Storage::Unorm16,
+                         software != nullptr ? *software : std::string());
+}
+
+}  // namespace leanfade::io

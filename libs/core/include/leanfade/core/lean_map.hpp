@@ -43,7 +43,11 @@ struct MomentLevel {
 
 struct LeanMap {
     std::vector<MomentLevel> levels;  // 0 = finest, last = 1x1
-    float scale = 1.0f;               // sc of docs/math.md §3: |Bx|,|By| <= sc and Mxx,Myy <= sc^2
+    float scale = 1.0f;  // sc of docs/math.md §3: |Bx|,|By| <= sc and Mxx,Myy <= sc^2, except:
+    // the outliers, top-level texels at least twice as steep as the 99.9th percentile, left
+    // beyond sc (docs/ktx2.md, "Choosing storage and sc"): UNORM storages clamp their packed
+    // values to [0, 1], float storages keep them.
+    std::uint64_t texels_beyond_scale = 0;
     bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
     float baked_shininess = 0.0f;     // s when roughness_baked
     NormalConvention source_convention = NormalConvention::OpenGL;
@@ -69,8 +73,21 @@ struct PackedLeanMap {
     std::vector<PackedLevel> levels;
 };
 
+// Unit of BakeOptions::strength (docs/math.md §2).
+enum class StrengthUnit {
+    Texel,  // height per texel spacing: the same heights give half the slopes at twice the size
+    Uv,     // height per UV unit (the map's width along u, its height along v): the same slopes
+            // at any resolution of the same map
+};
+
 struct BakeOptions {
-    float strength = 1.0f;  // height per texel spacing (height maps only)
+    float strength = 1.0f;  // height of one unit of value in strength_unit (height maps only);
+                            // negative inverts the heights
+    StrengthUnit strength_unit = StrengthUnit::Texel;
+    // sc (docs/ktx2.md, "Choosing storage and sc"): false = the steepest slope of the map, so no
+    // texel is beyond it; true = outliers (at least twice as steep as the 99.9th percentile)
+    // lie beyond sc, for the precision of all others (LeanMap::texels_beyond_scale).
+    bool scale_excludes_outliers = true;
     Wrap wrap = Wrap::Repeat;
     NormalConvention convention = NormalConvention::OpenGL;  // normal maps only
     float bake_roughness_shininess = 0.0f;                   // s > 0: bake 1/s into M (eq. 6)
@@ -135,9 +152,26 @@ struct BakeResult {
     LeanMap map;
     BakeSource source = BakeSource::Height;  // what the input was taken as
     std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
+    // map.texels_beyond_scale: top-level texels steeper than sc (clamped by UNORM packing).
 };
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
                          const std::string& source_name = "");
+
+// Whether a normal map reads as a height field in `convention` or in the other one. The slopes B
+// of a height field are a gradient, so their curl dBx/dv - dBy/du is 0 (up to quantisation and
+// the z clamp); read with the wrong green sign it becomes dBx/dv + dBy/du, which is not. Both
+// are mean squares (slope per texel, squared) over every step-th texel (at most
+// max_samples_per_side per side, wrapping at the edges).
+struct NormalConventionCheck {
+    double curl_as_read = 0.0;  // mean squared curl of the slopes read in `convention`
+    double curl_flipped = 0.0;  // the same with green flipped (the other convention)
+    std::size_t samples = 0;
+    // The other convention fits clearly better (4 times less curl) and the map varies along
+    // both axes: a reliable cue to warn about (maps of 1-D ridges never trigger it).
+    bool looks_flipped() const;
+};
+NormalConventionCheck check_normal_convention(const Image& normals, NormalConvention convention,
+                                              int max_samples_per_side = 512);
 
 // MIP chain sizes: floor halving down to 1x1, as OpenGL does.
 int mip_level_count(int width, int height);
@@ -174,6 +208,7 @@ struct PackedBakeResult {
     PackedLeanMap packed;
     BakeSource source = BakeSource::Height;  // what the input was taken as
     std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
+    std::uint64_t texels_beyond_scale = 0;   // as LeanMap::texels_beyond_scale
     LeanMapSummary summary;
 };
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,

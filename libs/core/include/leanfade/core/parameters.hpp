@@ -36,6 +36,7 @@ struct ParameterInfo {
     float min = 0.0f;
     float max = 0.0f;
     bool min_exclusive = false;
+    bool nonzero = false;      // 0 is refused (a signed value whose sign means something)
     bool logarithmic = false;  // spans decades: a widget should move it on a log scale
     float ui_min = 0.0f;       // the range a widget offers (within [min, max]); for directions,
     float ui_max = 0.0f;       // each component's
