@@ -9,6 +9,7 @@
 #include "cli_bench_bake.hpp"
 #include "cli_bench_report.hpp"
 #include "cli_render_options.hpp"
+#include "cli_bench_layers.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -44,6 +45,7 @@ struct BenchArgs {
     int bake_runs = 0;
     int threads = 0;
     bool generate = false;
+    bool layer_columns = false;  // --layer-columns: the LEAN paper's Fig. 12 columns
     std::string generate_sizes = "512,1024,2048,4096";
     ShadingFlags shading;
     RenderSourceFlags input;  // --scene, --bumps and the layer flags
@@ -120,7 +122,7 @@ std::vector<GenerateBenchRow> run_generate_bench(gl::Context& context, const Ben
 int run_bench(const BenchArgs& args) {
     // Every flag is checked before anything is measured.
     const ShadingSettings settings = resolve_shading(args.shading);
-    const bool frames_mode = !args.bake && !args.generate;
+    const bool frames_mode = !args.bake && !args.generate && !args.layer_columns;
     gl::FrameBenchRequest request;
     std::tie(request.width, request.height) = parse_size(args.size, "--size");
     request.techniques = gl::parse_techniques(
@@ -169,7 +171,7 @@ int run_bench(const BenchArgs& args) {
     std::string report;
 
     std::unique_ptr<gl::Context> context;
-    if (frames_mode || args.generate) {
+    if (frames_mode || args.generate || args.layer_columns) {
         context = make_context(args.gl);
         system.gl_renderer = context->renderer();
         system.gl_version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
@@ -216,6 +218,21 @@ int run_bench(const BenchArgs& args) {
         report += generate_table(rows);
         root["generate"] = generate_json(rows);
         root["generate_settings"] = {{"frames", args.frames}, {"warmup", args.warmup}};
+    }
+    if (args.layer_columns) {
+        const std::vector<LayerBenchResult> columns =
+            run_layer_bench(*context, args.gl, args.input, scene_names, request, say);
+        const gl::TimingChoice timing = gl::choose_timing(request.timing, *context);
+        system.timing = gl::to_string(timing.method);
+        system.timing_description = timing.description;
+        report += layer_bench_table(columns);
+        root["fig12"] = layer_bench_json(columns);
+        root["fig12_settings"] = {{"layers", args.input.layers.layers.empty()
+                                                 ? std::string("bumps,noise")
+                                                 : args.input.layers.layers},
+                                  {"size", args.size},
+                                  {"frames", args.frames},
+                                  {"warmup", args.warmup}};
     }
     if (tty) std::fprintf(stderr, "\r\033[K");
 
@@ -275,6 +292,10 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--threads", args->threads, "Bake threads (0 = all hardware threads)")
             ->capture_default_str();
+        app.add_flag("--layer-columns", args->layer_columns,
+                     "The LEAN paper's Fig. 12 columns, each object filling the screen: "
+                     "Blinn-Phong, single LEAN, per-frame generation, mixture textures and "
+                     "mixture approximation of two layers (--layers, default bumps,noise)");
         app.add_flag("--generate", args->generate,
                      "Measure per-frame LEAN map generation on the GPU");
         app.add_option("--generate-sizes", args->generate_sizes,
