@@ -414,6 +414,22 @@ TEST(Formats, DecompressionBombsAreRefusedBeforeAllocating) {
     }
 }
 
+TEST(Formats, PsdSectionsPastTheEndAreRefusedBeforeAllocating) {
+    // Found by fuzz_image_bake: OpenImageIO allocated the declared colour mode data (4 GB).
+    const std::string folder = scratch_folder();
+    const std::vector<std::uint8_t> good = test::psd_file(byte_image(4, 4, 3), 8);
+    for (const std::size_t section : {std::size_t(26), std::size_t(30), std::size_t(34)}) {
+        SCOPED_TRACE(section);
+        std::vector<std::uint8_t> bytes = good;
+        for (int i = 0; i < 4; ++i) bytes[section + std::size_t(i)] = 0xFF;  // 4 GiB - 1
+        const std::string path = folder + "/sections.psd";
+        write_bytes(path, bytes);
+        test::reset_largest_allocation();
+        expect_error([&] { read_image(path); }, path, "bytes past the end of the");
+        EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+    }
+}
+
 TEST(Formats, CorruptHeadersGiveOneLineErrors) {
     const std::string folder = scratch_folder();
     const std::string path = folder + "/bad.dds";

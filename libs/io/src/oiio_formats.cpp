@@ -118,6 +118,39 @@ void check_jpeg_data(const std::string& path, const std::vector<std::uint8_t>& b
     throw Error(path, "truncated JPEG data (no end-of-image marker after the image data)");
 }
 
+// OpenImageIO's PSD reader (2.4) allocates the colour mode data, the image resources and the
+// layer and mask information at the lengths the file gives, before it checks them against the
+// file: a 152-byte file declaring 4 GB of colour data made it allocate as much (found by
+// fuzz_image_bake). Each section must fit in the file, after the 26-byte header.
+void check_psd_sections(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+    if (bytes.size() < 26) throw Error(path, "truncated PSD data (header)");
+    const int version = bytes[4] << 8 | bytes[5];
+    if (version != 1 && version != 2)
+        throw Error(path, "corrupt PSD header (version " + std::to_string(version) + ")");
+    const auto big_endian = [&](std::size_t at, int size) {
+        std::uint64_t value = 0;
+        for (int i = 0; i < size; ++i) value = value << 8 | bytes[at + std::size_t(i)];
+        return value;
+    };
+    static constexpr const char* kSections[3] = {"colour mode data", "image resources",
+                                                 "layer and mask information"};
+    std::uint64_t position = 26;
+    for (int section = 0; section < 3; ++section) {
+        // PSB (version 2) gives the layer and mask information's length in 8 bytes.
+        const int field = section == 2 && version == 2 ? 8 : 4;
+        if (position + std::uint64_t(field) > bytes.size())
+            throw Error(path, std::string("truncated PSD data (") + kSections[section] + ")");
+        const std::uint64_t length = big_endian(std::size_t(position), field);
+        position += std::uint64_t(field);
+        if (length > bytes.size() - position) {
+            throw Error(path, std::string("truncated or corrupt PSD data (") + kSections[section] +
+                                  " of " + std::to_string(length) + " bytes past the end of the " +
+                                  std::to_string(bytes.size()) + "-byte file)");
+        }
+        position += length;
+    }
+}
+
 // BMP: "BM", then an info header of one of the known sizes at offset 14.
 bool is_bmp(const std::vector<std::uint8_t>& head) {
     if (!has_prefix(head, "BM") || head.size() < 18) return false;
@@ -203,6 +236,7 @@ std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFor
     const std::vector<std::uint8_t> bytes = file.read_all();
     if (std::strcmp(format.plugin, kTarga.plugin) == 0) check_targa_data(file.path(), bytes);
     if (std::strcmp(format.plugin, kJpeg.plugin) == 0) check_jpeg_data(file.path(), bytes);
+    if (std::strcmp(format.plugin, kPsd.plugin) == 0) check_psd_sections(file.path(), bytes);
     return module.decode(bytes, file.path(), format, options, compact);
 }
 
