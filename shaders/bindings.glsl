@@ -6,6 +6,9 @@
 const int LF_BINDING_LEAN_MAP = 0;       // texture unit of the LEAN map (2D array, 2 slices)
 const int LF_BINDING_SHADING_BLOCK = 0;  // uniform block LfShadingBlock (LfShadingUniforms)
 const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the vertex stage
+// Texture unit of the material's base colour (2D, linear RGBA; Kd is multiplied by its RGB; a
+// 1x1 white texture for materials without one).
+const int LF_BINDING_BASE_COLOR = 1;
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

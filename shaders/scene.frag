@@ -36,6 +36,10 @@ in VertexData {
 // Mxx / sc^2, Myy / sc^2) (docs/math.md §3). The baseline's normal map is lean1.rgb.
 layout(binding = LF_BINDING_LEAN_MAP) uniform sampler2DArray u_lean;
 
+// The material's base colour (linear RGBA, white when it has none): Kd times its RGB, as a glTF
+// base colour texture multiplies the base colour factor.
+layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
+
 layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
     LfShadingUniforms u_shading;
 };
@@ -157,6 +161,7 @@ void main() {
 #endif
 #endif
     LfParams params = u_shading.params;
+    params.kd *= LF_SAMPLE(u_base_color, v_in.uv).rgb;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade(LF_TECHNIQUE, moments, light_dir, v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)

@@ -6,11 +6,13 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "cli_bake_gltf.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -241,6 +243,9 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
     // The built-in ocean: a water plane with moving Gabor wave layers (cli_ocean.hpp).
     if (is_ocean_scene(flags.scene))
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
+    // A glTF scene brings its own objects, materials and maps (cli_bake_gltf.hpp).
+    if (scene::is_gltf_path(flags.scene))
+        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size);
     scene::Scene result;
     scene::Object object;
     object.mesh = scene::make_scene_mesh(flags.scene);

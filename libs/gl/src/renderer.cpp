@@ -303,7 +303,38 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
     materials_ = {scene::Material{"default", 0, {}, {}, {}, {}}};
     material_layers_.clear();
     material_layers_.resize(1);
+    base_colors_.clear();
 }
+
+namespace {
+
+// A base colour texture (linear RGBA floats, rows top first) as GL_RGBA16F with a MIP chain,
+// rows flipped so that +v is up, repeating.
+Texture upload_base_color(const Image& image) {
+    if (image.width > gl_integer(GL_MAX_TEXTURE_SIZE) ||
+        image.height > gl_integer(GL_MAX_TEXTURE_SIZE))
+        throw Error("base colour texture", "larger than GL_MAX_TEXTURE_SIZE (" +
+                                               std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) +
+                                               ")");
+    const std::size_t row = std::size_t(image.width) * 4;
+    std::vector<float> rows(image.pixels.size());
+    for (int y = 0; y < image.height; ++y)
+        std::copy_n(image.pixels.data() + std::size_t(y) * row, row,
+                    rows.data() + std::size_t(image.height - 1 - y) * row);
+    Texture texture = create_texture(GL_TEXTURE_2D);
+    const int levels = mip_level_count(image.width, image.height);
+    glTextureStorage2D(texture.get(), levels, GL_RGBA16F, image.width, image.height);
+    glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT,
+                        rows.data());
+    glGenerateTextureMipmap(texture.get());
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return texture;
+}
+
+}  // namespace
 
 void Renderer::set_scene(const scene::Scene& scene) {
     scene::validate(scene);
@@ -319,6 +350,9 @@ void Renderer::set_scene(const scene::Scene& scene) {
                                          "roughness is added once, after mixing");
     std::vector<GpuLayers> layers;
     for (const scene::Material& m : scene.materials) layers.push_back(upload_layers(scene, m));
+    std::vector<Texture> base_colors;
+    for (const Image& image : scene.base_color_textures)
+        base_colors.push_back(upload_base_color(image));
     std::vector<GpuObject> objects;
     for (const scene::Object& o : scene.objects)
         objects.push_back(upload_object(o.mesh, o.material, o.transform));
@@ -328,6 +362,7 @@ void Renderer::set_scene(const scene::Scene& scene) {
     maps_ = std::move(maps);
     materials_ = scene.materials;
     material_layers_ = std::move(layers);
+    base_colors_ = std::move(base_colors);
 }
 
 namespace {
@@ -559,6 +594,11 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
         glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
                          shading_block_.get());
         glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map.texture.get());
+        if (white_.get() == 0) white_ = upload_base_color(Image(1, 1, 4, 1.0f));
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_BASE_COLOR),
+                          material.base_color_texture >= 0
+                              ? base_colors_[std::size_t(material.base_color_texture)].get()
+                              : white_.get());
         glBindVertexArray(object.vertex_array.get());
         glDrawElements(GL_TRIANGLES, object.index_count, GL_UNSIGNED_INT, nullptr);
     }

@@ -193,6 +193,8 @@ class Renderer {
     std::vector<scene::Material> materials_;
     std::vector<GpuMap> maps_;
     std::vector<GpuLayers> material_layers_;  // per material (empty textures: single map)
+    std::vector<Texture> base_colors_;  // Scene::base_color_textures, with MIP chains
+    Texture white_;                      // 1x1 white: the base colour of the others
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;
     Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)

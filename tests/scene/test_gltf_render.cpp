@@ -1,0 +1,92 @@
+// glTF scenes drawn by the renderer (OpenGL; llvmpipe here, never skipped): a normal texture
+// tilted toward +u shades the quad brighter under a light at +u (object space +x) than under the
+// mirror light, as the uv flip and the tangents promise, and the base colour texture multiplies
+// Kd (a red texture leaves the diffuse term red).
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "gl_test_helpers.hpp"
+#include "leanfade/gl/renderer.hpp"
+#include "leanfade/scene/gltf.hpp"
+#include "test_gltf_builder.hpp"
+
+using namespace leanfade;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class GltfRender : public test::GlTest {};
+
+std::vector<std::uint8_t> uniform_png(glm::vec3 rgb) {
+    std::vector<float> pixels;
+    for (int i = 0; i < 16; ++i)
+        for (int c = 0; c < 3; ++c) pixels.push_back(rgb[c]);
+    return scene::test::png_bytes(4, 4, 3, pixels);
+}
+
+// The quad (object xy plane, facing +z; the image's top row at y = 1) with one material.
+scene::Scene quad_scene(const std::string& name, int normal_image, int base_color_image,
+                        const std::vector<std::vector<std::uint8_t>>& images) {
+    scene::test::GltfTestFile file;
+    file.images = images;
+    file.materials = {{"m", glm::vec4(1.0f), base_color_image, normal_image, 1.0f}};
+    file.meshes = {{scene::test::unit_quad(0)}};
+    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+    fs::create_directories(dir);
+    const std::string path = (dir / (name + ".glb")).string();
+    scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+    return scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{});
+}
+
+Image render(gl::Renderer& renderer, glm::vec3 light, gl::OutputMode output) {
+    gl::RenderRequest r;
+    r.technique = Technique::Lean;
+    r.width = r.height = 64;
+    r.view = gl::view_at_distance(2.5f, gl::kDefaultFovYDegrees, glm::vec3(0, 0, 1));
+    r.settings.light_direction = light;
+    r.output = output;
+    return renderer.render(r);
+}
+
+glm::dvec3 channel_sums(const Image& image) {
+    glm::dvec3 sum(0.0);
+    for (std::size_t i = 0; i < image.texel_count(); ++i)
+        for (int c = 0; c < 3; ++c) sum[c] += image.pixels[i * std::size_t(image.channels) + std::size_t(c)];
+    return sum;
+}
+
+TEST_F(GltfRender, NormalTextureTiltedTowardPlusUFacesALightAtPlusX) {
+    gl::Renderer renderer(context());
+    // Normal (0.5, 0, 0.866) in the image's +X: toward +u, the quad's object +x.
+    renderer.set_scene(quad_scene("tilted", 0, -1, {uniform_png({0.75f, 0.5f, 0.933f})}));
+    const double toward = channel_sums(render(renderer, {1, 0, 1}, gl::OutputMode::Diffuse)).x;
+    const double away = channel_sums(render(renderer, {-1, 0, 1}, gl::OutputMode::Diffuse)).x;
+    // Lambert with the tilted normal: cos(15 deg) against cos(75 deg) (plus the ambient term).
+    EXPECT_GT(toward, 2.5 * away) << toward << " vs " << away;
+    // Tilted toward the image's top (+Y, OpenGL convention): the quad's +y.
+    renderer.set_scene(quad_scene("up", 0, -1, {uniform_png({0.5f, 0.75f, 0.933f})}));
+    const double up = channel_sums(render(renderer, {0, 1, 1}, gl::OutputMode::Diffuse)).x;
+    const double down = channel_sums(render(renderer, {0, -1, 1}, gl::OutputMode::Diffuse)).x;
+    EXPECT_GT(up, 2.5 * down) << up << " vs " << down;
+    // A flat texture: both lights alike.
+    renderer.set_scene(quad_scene("flat", 0, -1, {uniform_png({0.5f, 0.5f, 1.0f})}));
+    const double left = channel_sums(render(renderer, {1, 0, 1}, gl::OutputMode::Diffuse)).x;
+    const double right = channel_sums(render(renderer, {-1, 0, 1}, gl::OutputMode::Diffuse)).x;
+    EXPECT_NEAR(left / right, 1.0, 0.02);
+}
+
+TEST_F(GltfRender, BaseColourTextureMultipliesKd) {
+    gl::Renderer renderer(context());
+    renderer.set_scene(quad_scene("white", -1, -1, {}));
+    const glm::dvec3 white = channel_sums(render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse));
+    renderer.set_scene(quad_scene("red", -1, 0, {uniform_png({1.0f, 0.0f, 0.0f})}));
+    const glm::dvec3 red = channel_sums(render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse));
+    EXPECT_NEAR(red.x / white.x, 1.0, 0.01);
+    // Green and blue keep only the ambient term: far below white's.
+    EXPECT_LT(red.y, 0.1 * white.y);
+    EXPECT_LT(red.z, 0.1 * white.z);
+}
+
+}  // namespace
