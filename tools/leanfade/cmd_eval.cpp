@@ -260,7 +260,8 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<EvalArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane or an .obj file")
+                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
+                       "scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Techniques to measure, comma-separated: " +

@@ -198,8 +198,8 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<RenderArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, ocean (docs/ocean.md) or an "
-                       ".obj file")
+                       "Object: sphere, torus, teapot, terrain, plane, ocean (docs/ocean.md), an "
+                       ".obj file or a glTF scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Columns, comma-separated: " + technique_names(all_techniques(), "and"))

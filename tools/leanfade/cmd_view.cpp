@@ -189,7 +189,8 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ViewArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane or an .obj file")
+                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
+                       "scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--technique", args->technique,
                        "Technique of a single view: bump, toksvig, clean, lean, fade, reference")
