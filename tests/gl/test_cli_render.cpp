@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::test {
@@ -75,6 +77,22 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
         "--from heightmap",
         "--shader-dir nowhere",
         "--fog linear --fog-start 5 --fog-end 5",
+        // Bump layers (docs/math.md §6).
+        "--layers sine",
+        "--layers sine,flat,sine,flat,sine",
+        "--layers sine,flat --layer-weights 0.3,0.3",
+        "--layers sine,flat --layer-weights 0.5",
+        "--layers sine,flat --layer-strengths 1,0",
+        "--layers sine,flat --layer-strengths 1,nan",
+        "--layers sine,flat --layer-tiling 1,-2",
+        "--layers sine,flat --layer-velocity 1",
+        "--layers sine,flat --mixing blend",
+        "--layers sine,missing.png",
+        "--layers sine,flat --layer-weight-map missing.png",
+        "--layers sine,flat --mixing height --layer-velocity 0.1:0,0:0",
+        "--layers sine,flat --mixings height",
+        "--mixings height,approx",
+        "--time inf",
     };
     for (const std::string& args : cases) {
         std::string all = args + " -o never.png";
@@ -90,6 +108,34 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_FALSE(fs::exists(dir / "never.png"));
+}
+
+// `--mixings`: a column per mixing method, and the metrics against the first as CSV and JSON;
+// the coherent pair sine / -sine gives textures = height and approx far from it (Fig. 10).
+TEST(CliRender, MixingsWritesTheLayerFigureAndItsTable) {
+    const fs::path dir = scratch_dir("cli_render_mixings");
+    const RunResult r = run_render(
+        "--scene sphere --techniques lean --distances 3 --size 48x48 --layers sine,sine "
+        "--layer-strengths 1,-1 --mixings height,textures,approx --bits 32f --texture-size 64 "
+        "-o fig.png --table fig.csv",
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Image picture = io::read_image((dir / "fig.png").string());
+    EXPECT_GT(picture.width, 3 * 48);
+    std::ifstream csv(dir / "fig.csv");
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "distance,technique,mixing,reference,relative_rmse,energy_ratio");
+    std::map<std::string, double> rmse;
+    while (std::getline(csv, line)) {
+        const std::vector<std::string> f = split(line, ',');
+        ASSERT_EQ(f.size(), 6u) << line;
+        rmse[f[2]] = std::stod(f[4]);
+    }
+    EXPECT_EQ(rmse.at("height"), 0.0);
+    EXPECT_LT(rmse.at("textures"), 1e-3);
+    EXPECT_GT(rmse.at("approx"), 0.1);
+    EXPECT_TRUE(fs::exists(dir / "fig.json"));
 }
 
 // The image size limit (docs/robustness.md): refused on the header by default, --max-size
