@@ -122,7 +122,9 @@ TEST(CookTorrance, WhiteFurnaceAlbedoIsAtMostOne) {
             // Single scattering keeps most of the light (about 0.46 at alpha = 1 seen head-on,
             // where 37 % of the facets send it below the horizon).
             EXPECT_GT(a, 0.4) << "r " << r << " view " << theta;
-            if (r <= 0.4 && theta <= 30.0) EXPECT_GT(a, 0.99) << "r " << r;
+            if (r <= 0.4 && theta <= 30.0) {
+                EXPECT_GT(a, 0.99) << "r " << r;
+            }
         }
     }
 }
@@ -202,7 +204,9 @@ TEST(CookTorrance, FadeZeroIsExactlyLean) {
                                           view, p);
             const LfShade fade_shade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f),
                                                 l, view, p);
-            if (view.z > 1.0f) EXPECT_GT(lean.specular.x, 1e-3f);
+            if (view.z > 1.0f) {
+                EXPECT_GT(lean.specular.x, 1e-3f);
+            }
             for (int c = 0; c < 3; ++c) {
                 EXPECT_EQ(fade_shade.specular[c], lean.specular[c]);
                 EXPECT_EQ(fade_shade.diffuse[c], lean.diffuse[c]);
