@@ -338,9 +338,19 @@ const std::string* Ktx2Info::find(const std::string& key) const {
     return nullptr;
 }
 
-Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options,
-                       bool check_layers)
-    : file_(path, options.durability) {
+namespace {
+
+// Where everything goes in a KTX2 file of `layout`: the bytes of its header, level index, DFD and
+// key/value data, and each level's offset and length (both layers) in a file of `size` bytes.
+struct Ktx2FilePlan {
+    std::vector<std::uint8_t> head;
+    std::vector<std::uint64_t> level_offsets;
+    std::vector<std::uint64_t> level_lengths;
+    std::uint64_t size = 0;
+};
+
+Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout,
+                            bool check_layers) {
     const FormatInfo& format = format_of(layout.storage);
     validate_for_write(path, layout, format, check_layers);
     const auto level_count = std::uint32_t(layout.levels.size());
@@ -402,13 +412,22 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
     bytes.insert(bytes.end(), dfd_bytes.begin(), dfd_bytes.end());
     bytes.insert(bytes.end(), key_value_bytes.begin(), key_value_bytes.end());
 
+    return {std::move(bytes), std::move(level_offsets), std::move(level_lengths), end};
+}
+
+}  // namespace
+
+Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options,
+                       bool check_layers)
+    : file_(path, options.durability) {
+    const Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers);
     // The level data goes straight into the mapped file; the mip padding between levels is left
     // as the zeros a newly reserved file reads as.
-    std::uint8_t* output = file_.map(std::size_t(end));
-    std::memcpy(output, bytes.data(), bytes.size());
-    for (std::uint32_t level = 0; level < level_count; ++level) {
-        std::uint8_t* lean1 = output + level_offsets[level];
-        targets_.push_back({lean1, lean1 + level_lengths[level] / 2});
+    std::uint8_t* output = file_.map(std::size_t(plan.size));
+    std::memcpy(output, plan.head.data(), plan.head.size());
+    for (std::size_t level = 0; level < plan.level_offsets.size(); ++level) {
+        std::uint8_t* lean1 = output + plan.level_offsets[level];
+        targets_.push_back({lean1, lean1 + plan.level_lengths[level] / 2});
     }
 }
 
@@ -435,6 +454,20 @@ PackedBakeResult bake_to_ktx2(const std::string& path,
         input);
     writer->commit();
     return baked;
+}
+
+std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const std::string& name) {
+    const Ktx2FilePlan plan = plan_ktx2_file(name, map, true);
+    std::vector<std::uint8_t> file(std::size_t(plan.size), 0);  // mip padding: zeros
+    std::copy(plan.head.begin(), plan.head.end(), file.begin());
+    for (std::size_t level = 0; level < map.levels.size(); ++level) {
+        const PackedLevel& packed = map.levels[level];
+        const auto lean1 = file.begin() + std::ptrdiff_t(plan.level_offsets[level]);
+        std::copy(packed.lean1.begin(), packed.lean1.end(), lean1);
+        std::copy(packed.lean2.begin(), packed.lean2.end(),
+                  lean1 + std::ptrdiff_t(plan.level_lengths[level] / 2));
+    }
+    return file;
 }
 
 void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {

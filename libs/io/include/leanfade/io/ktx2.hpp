@@ -41,6 +41,11 @@ const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
 void write_ktx2(const std::string& path, const PackedLeanMap& map,
                 const WriteOptions& options = {});
 
+// The bytes write_ktx2 writes for `map`, in memory (for an engine's own asset pipeline or
+// archive): the same checks, with `name` in their errors. The inverse of read_ktx2_from_memory.
+std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map,
+                                               const std::string& name = "LEAN map");
+
 // A LEAN map written in place (what write_ktx2 does, without the map in memory): the
 // constructor creates the temporary output file with its final size, writes the header, level
 // index, DFD and key/value data from `layout` (the map's metadata and level sizes, checked as

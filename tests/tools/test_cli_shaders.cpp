@@ -1,0 +1,347 @@
+// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL and MSL, checked with the tools
+// Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
+// spirv-val validates every SPIR-V module (the exported ones and the HLSL compiled back), and
+// spirv-dis shows the bindings and names they keep. Debian 12 has no Metal compiler: the MSL files
+// get a structural check (entry point, block, sampler and struct names, resource indices), which
+// is not a compile. Errors: a bad --lang, an output that cannot be written, a shader that does not
+// compile: one line, exit 1, nothing written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "leanfade/core/technique.hpp"
+#include "leanfade/gl/shader_export.hpp"
+#include "leanfade/gl/shader_library.hpp"
+#include "leanfade/gl/shading_block.hpp"
+#include "tools_test_helpers.hpp"
+
+namespace leanfade::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs a command line through the shell, its output into `log` (returned with the exit code).
+int run_tool(const std::string& command, const fs::path& log, std::string* output) {
+    const int status =
+        std::system((command + " >" + shell_quote(log.string()) + " 2>&1 </dev/null").c_str());
+    *output = read_text(log);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// The scene variants the renderer builds: the fragment stages `leanfade shaders` exports.
+std::vector<const gl::ShaderVariant*> scene_variants() {
+    std::vector<const gl::ShaderVariant*> variants;
+    for (const gl::ShaderVariant& v : gl::shader_variants())
+        if (v.vertex == "scene.vert" && v.fragment == "scene.frag") variants.push_back(&v);
+    return variants;
+}
+
+struct Export {
+    fs::path folder;
+    nlohmann::json index;
+};
+
+// `leanfade shaders --lang LANG -o <scratch>/out`, which must succeed.
+Export export_shaders(const std::string& lang) {
+    const fs::path scratch = scratch_dir("shaders_" + lang);
+    const fs::path out = scratch / "out";
+    const RunResult r = run_leanfade("shaders --lang " + lang + " -o " + shell_quote(out), scratch);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(std::to_string(1 + scene_variants().size()) + " " + lang + " shaders"),
+              std::string::npos)
+        << r.out;
+    Export e{out, nlohmann::json::parse(read_text(out / "shaders.json"))};
+    return e;
+}
+
+// The index lists the vertex stage and one fragment stage per scene variant, with its defines,
+// and every file it names exists and is not empty.
+void expect_complete_index(const Export& e, const std::string& lang, const std::string& ext) {
+    ASSERT_EQ(e.index["language"], lang);
+    const auto& shaders = e.index["shaders"];
+    const std::vector<const gl::ShaderVariant*> variants = scene_variants();
+    ASSERT_EQ(shaders.size(), 1 + variants.size());
+    EXPECT_EQ(shaders[0]["stage"], "vert");
+    EXPECT_EQ(shaders[0]["file"], "scene.vert" + ext);
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+        const auto& s = shaders[i + 1];
+        EXPECT_EQ(s["variant"], variants[i]->name);
+        EXPECT_EQ(s["stage"], "frag");
+        EXPECT_EQ(s["file"], variants[i]->name + ".frag" + ext);
+        EXPECT_EQ(s["defines"].get<std::vector<std::string>>(), variants[i]->defines);
+    }
+    for (const auto& s : shaders) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        ASSERT_TRUE(fs::is_regular_file(file)) << file;
+        EXPECT_GT(fs::file_size(file), 500u) << file;
+    }
+    // Every technique of the table has its ordinary fragment stage.
+    for (const TechniqueInfo& row : kTechniques)
+        EXPECT_TRUE(
+            fs::is_regular_file(e.folder / (gl::scene_variant_name(row.id) + ".frag" + ext)))
+            << row.name;
+}
+
+std::string stage_of(const nlohmann::json& s) {
+    return s["stage"].get<std::string>();
+}
+
+TEST(ShadersCli, GlslIsSelfContainedAndCompilesForOpenGl) {
+    const Export e = export_shaders("glsl");
+    expect_complete_index(e, "glsl", ".glsl");
+    std::map<std::string, std::string> files_of_stage;  // "vert" -> "'a.glsl' 'b.glsl' ..."
+    for (const auto& s : e.index["shaders"]) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        const std::string text = read_text(file);
+        EXPECT_EQ(text.rfind("#version 450 core\n", 0), 0u) << file;
+        EXPECT_EQ(text.find("#include"), std::string::npos) << file;
+        EXPECT_EQ(text.find("#line"), std::string::npos) << file;
+        for (const std::string& define : s["defines"].get<std::vector<std::string>>())
+            EXPECT_NE(text.find("#define " + define + "\n"), std::string::npos) << define;
+        if (stage_of(s) == "frag") {
+            EXPECT_NE(text.find("LfShade lf_shade("), std::string::npos) << file;
+            EXPECT_NE(text.find("uniform LfShadingBlock"), std::string::npos) << file;
+        }
+        std::string& files = files_of_stage[stage_of(s)];
+        files += ' ';
+        files += shell_quote(file.string());
+    }
+    // glslangValidator compiles each file on its own (OpenGL rules, no SPIR-V) and fails when
+    // any does not compile, naming it.
+    const fs::path log = e.folder.parent_path() / "tool.txt";
+    ASSERT_EQ(files_of_stage.size(), 2u);
+    for (const auto& [stage, files] : files_of_stage) {
+        std::string output;
+        EXPECT_EQ(run_tool("glslangValidator -S " + stage + files, log, &output), 0) << output;
+    }
+}
+
+// The numbers of the "OpDecorate %x Binding N" lines of a disassembly, one per resource.
+std::vector<int> bindings_of(const std::string& disassembly) {
+    std::vector<int> bindings;
+    std::istringstream in(disassembly);
+    std::string line;
+    while (std::getline(in, line)) {
+        const std::size_t at = line.find(" Binding ");
+        if (line.find("OpDecorate") != std::string::npos && at != std::string::npos)
+            bindings.push_back(std::stoi(line.substr(at + 9)));
+    }
+    return bindings;
+}
+
+TEST(ShadersCli, SpirvModulesValidateAndKeepNamesAndBindings) {
+    const Export e = export_shaders("spirv");
+    expect_complete_index(e, "spirv", ".spv");
+    EXPECT_EQ(e.index["uniform_block_binding_offset"], gl::kSpirvUniformBlockBase);
+    const fs::path log = e.folder.parent_path() / "tool.txt";
+    std::vector<int> vertex_bindings;
+    for (const auto& s : e.index["shaders"]) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        const std::string bytes = read_text(file);
+        ASSERT_EQ(bytes.size() % 4, 0u) << file;
+        EXPECT_EQ(bytes.substr(0, 4), std::string("\x03\x02\x23\x07", 4)) << file;  // magic
+        std::string output;
+        EXPECT_EQ(run_tool("spirv-val --target-env vulkan1.0 " + shell_quote(file), log, &output),
+                  0)
+            << file << ": " << output;
+        ASSERT_EQ(run_tool("spirv-dis " + shell_quote(file), log, &output), 0) << output;
+        if (stage_of(s) == "frag") {
+            // The fragment block at its binding + the shift.
+            EXPECT_NE(output.find("OpName %LfShadingBlock \"LfShadingBlock\""), std::string::npos);
+            EXPECT_NE(output.find("OpMemberName %LfShadingBlock 0 \"u_shading\""),
+                      std::string::npos);
+            EXPECT_NE(
+                output.find("Binding " + std::to_string(gl::bindings::LF_BINDING_SHADING_BLOCK +
+                                                        gl::kSpirvUniformBlockBase)),
+                std::string::npos)
+                << file;
+            // The LEAN map (read by every variant but the layered ones) at its texture unit.
+            if (s["variant"].get<std::string>().find("_layered") == std::string::npos) {
+                EXPECT_NE(output.find("OpName %u_lean \"u_lean\""), std::string::npos);
+                EXPECT_NE(output.find("OpDecorate %u_lean Binding " +
+                                      std::to_string(gl::bindings::LF_BINDING_LEAN_MAP)),
+                          std::string::npos)
+                    << file;
+            }
+            EXPECT_NE(output.find("OpEntryPoint Fragment %main \"main\""), std::string::npos);
+            // One descriptor set for the pipeline: no two resources of the vertex and the
+            // fragment stage share a binding.
+            std::vector<int> all = bindings_of(output);
+            all.insert(all.end(), vertex_bindings.begin(), vertex_bindings.end());
+            EXPECT_EQ(std::set<int>(all.begin(), all.end()).size(), all.size()) << file;
+        } else {
+            vertex_bindings = bindings_of(output);  // the vertex stage comes first
+            EXPECT_EQ(vertex_bindings.size(), 1u) << output;
+            EXPECT_NE(output.find("OpName %LfObjectBlock \"LfObjectBlock\""), std::string::npos);
+            EXPECT_NE(
+                output.find("Binding " + std::to_string(gl::bindings::LF_BINDING_OBJECT_BLOCK +
+                                                        gl::kSpirvUniformBlockBase)),
+                std::string::npos);
+            EXPECT_NE(output.find("OpEntryPoint Vertex %main \"main\""), std::string::npos);
+        }
+    }
+}
+
+TEST(ShadersCli, HlslCompilesBackWithGlslangAndKeepsNames) {
+    const Export e = export_shaders("hlsl");
+    expect_complete_index(e, "hlsl", ".hlsl");
+    const fs::path log = e.folder.parent_path() / "tool.txt";
+    const fs::path back = e.folder.parent_path() / "back.spv";
+    for (const auto& s : e.index["shaders"]) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        const std::string text = read_text(file);
+        if (stage_of(s) == "frag") {
+            // Registers are the OpenGL numbers.
+            EXPECT_NE(text.find("cbuffer LfShadingBlock : register(b" +
+                                std::to_string(gl::bindings::LF_BINDING_SHADING_BLOCK) + ")"),
+                      std::string::npos)
+                << file;
+            if (s["variant"].get<std::string>().find("_layered") == std::string::npos) {
+                EXPECT_NE(text.find("Texture2DArray<float4> u_lean : register(t" +
+                                    std::to_string(gl::bindings::LF_BINDING_LEAN_MAP) + ")"),
+                          std::string::npos)
+                    << file;
+            }
+        } else {
+            EXPECT_NE(text.find("cbuffer LfObjectBlock : register(b" +
+                                std::to_string(gl::bindings::LF_BINDING_OBJECT_BLOCK) + ")"),
+                      std::string::npos)
+                << file;
+        }
+        // glslang's HLSL front end: compiled to SPIR-V, which must validate (--spirv-val) and
+        // be there.
+        std::string output;
+        fs::remove(back);
+        EXPECT_EQ(run_tool("glslangValidator -D -V --spirv-val -e main -S " + stage_of(s) + " " +
+                               shell_quote(file) + " -o " + shell_quote(back),
+                           log, &output),
+                  0)
+            << file << ": " << output;
+        EXPECT_TRUE(fs::is_regular_file(back)) << file << ": " << output;
+    }
+}
+
+// Structural only: no Metal compiler exists in Debian 12 (docs/integration.md).
+TEST(ShadersCli, MslHasEntryPointsBlocksAndResourceIndicesStructuralCheckNotACompile) {
+    const Export e = export_shaders("msl");
+    expect_complete_index(e, "msl", ".metal");
+    for (const auto& s : e.index["shaders"]) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        const std::string text = read_text(file);
+        EXPECT_NE(text.find("#include <metal_stdlib>"), std::string::npos) << file;
+        // Argument indices are the OpenGL numbers (shaders/bindings.glsl): [[texture(unit)]],
+        // [[sampler(unit)]], [[buffer(block binding)]].
+        namespace b = gl::bindings;
+        auto has = [&](const std::string& pattern) {
+            return std::regex_search(text, std::regex(pattern));
+        };
+        const std::string variant = s["variant"].get<std::string>();
+        if (stage_of(s) == "frag") {
+            EXPECT_NE(text.find("fragment main0_out main0("), std::string::npos) << file;
+            EXPECT_NE(text.find("struct LfShadingBlock"), std::string::npos) << file;
+            EXPECT_NE(text.find("LfShadingUniforms u_shading;"), std::string::npos) << file;
+            EXPECT_NE(text.find("struct LfParams"), std::string::npos) << file;
+            EXPECT_TRUE(has(R"(constant LfShadingBlock& \w+ \[\[buffer\()" +
+                            std::to_string(b::LF_BINDING_SHADING_BLOCK) + R"(\)\]\])"))
+                << file;
+            if (variant.find("_layered") == std::string::npos) {
+                const std::string unit = std::to_string(b::LF_BINDING_LEAN_MAP);
+                EXPECT_TRUE(
+                    has(R"(texture2d_array<float> u_lean \[\[texture\()" + unit + R"(\)\]\])"))
+                    << file;
+                EXPECT_TRUE(has(R"(sampler u_leanSmplr \[\[sampler\()" + unit + R"(\)\]\])"))
+                    << file;
+            } else {
+                EXPECT_TRUE(has(R"(array<texture2d_array<float>, 4> u_layer_maps \[\[texture\()" +
+                                std::to_string(b::LF_BINDING_LAYER_MAPS) + R"(\)\]\])"))
+                    << file;
+                EXPECT_TRUE(has(R"(constant LfLayerBlock& \w+ \[\[buffer\()" +
+                                std::to_string(b::LF_BINDING_LAYER_BLOCK) + R"(\)\]\])"))
+                    << file;
+            }
+        } else {
+            EXPECT_NE(text.find("vertex main0_out main0("), std::string::npos) << file;
+            EXPECT_NE(text.find("struct LfObjectBlock"), std::string::npos) << file;
+            EXPECT_TRUE(has(R"(constant LfObjectBlock& \w+ \[\[buffer\()" +
+                            std::to_string(b::LF_BINDING_OBJECT_BLOCK) + R"(\)\]\])"))
+                << file;
+        }
+        // Every brace closed: a truncated or garbled translation would not balance.
+        long depth = 0;
+        for (const char c : text) depth += c == '{' ? 1 : c == '}' ? -1 : 0;
+        EXPECT_EQ(depth, 0) << file;
+    }
+}
+
+TEST(ShadersCli, UnknownLanguageIsOneLineAndWritesNothing) {
+    const fs::path scratch = scratch_dir("shaders_bad_lang");
+    const RunResult r =
+        run_leanfade("shaders --lang cuda -o " + shell_quote(scratch / "out"), scratch);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.err,
+              "leanfade shaders: --lang: unknown shader language 'cuda' (expected glsl, spirv, "
+              "hlsl or msl)\n");
+    EXPECT_FALSE(fs::exists(scratch / "out"));
+}
+
+TEST(ShadersCli, OutputFolderThatIsAFileIsRefused) {
+    const fs::path scratch = scratch_dir("shaders_out_is_file");
+    const fs::path out = scratch / "out";
+    std::ofstream(out) << "not a folder";
+    const RunResult r = run_leanfade("shaders --lang glsl -o " + shell_quote(out), scratch);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(out.string()), std::string::npos) << r.err;
+    EXPECT_EQ(read_text(out), "not a folder");
+}
+
+// A shader that does not compile (a syntax error in the shared header of a --shaders folder):
+// the error names the file and line, and no output is written, for a language compiled by
+// glslang and for plain GLSL alike (its exported text would not compile either: the same check
+// is glslang's).
+TEST(ShadersCli, ShaderThatDoesNotCompileNamesFileAndLineAndWritesNothing) {
+    const fs::path scratch = scratch_dir("shaders_broken");
+    const fs::path sources = scratch / "src";
+    fs::copy(fs::path(LEANFADE_SOURCE_DIR) / "shaders", sources);
+    {
+        std::ofstream header(sources / "lean_shading.glsl", std::ios::app);
+        header << "this is not GLSL;\n";
+    }
+    const RunResult r = run_leanfade("shaders --lang spirv --shaders " + shell_quote(sources) +
+                                         " -o " + shell_quote(scratch / "out"),
+                                     scratch);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find((sources / "lean_shading.glsl").string() + ": line "), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(scratch / "out"));
+}
+
+// A second export into the same folder replaces every file with the same bytes (the output is
+// a function of the sources only) and leaves no temporary behind.
+TEST(ShadersCli, ExportIsDeterministicAndReplacesFiles) {
+    const fs::path scratch = scratch_dir("shaders_twice");
+    const fs::path out = scratch / "out";
+    ASSERT_EQ(run_leanfade("shaders --lang hlsl -o " + shell_quote(out), scratch).exit_code, 0);
+    std::map<std::string, std::string> first;
+    for (const auto& entry : fs::directory_iterator(out))
+        first[entry.path().filename().string()] = read_text(entry.path());
+    ASSERT_EQ(run_leanfade("shaders --lang hlsl -o " + shell_quote(out), scratch).exit_code, 0);
+    std::map<std::string, std::string> second;
+    for (const auto& entry : fs::directory_iterator(out))
+        second[entry.path().filename().string()] = read_text(entry.path());
+    EXPECT_EQ(first, second);
+    EXPECT_EQ(second.size(), 2 + scene_variants().size());  // the stages and shaders.json
+}
+
+}  // namespace
+}  // namespace leanfade::test

@@ -1,0 +1,102 @@
+// leanfade shaders: the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL),
+// one file per stage and variant, and an index (shaders.json). docs/integration.md.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/gl/shader_export.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/output_plan.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShadersArgs {
+    std::string lang;
+    std::string out_dir;
+    std::string shaders;  // a folder of shader sources instead of the embedded ones
+};
+
+constexpr const char* kIndexFile = "shaders.json";
+
+nlohmann::json index_json(gl::ShaderLanguage language,
+                          const std::vector<gl::ExportedShader>& shaders) {
+    nlohmann::json j;
+    j["generator"] = std::string("leanfade ") + LEANFADE_VERSION;
+    j["language"] = gl::to_string(language);
+    // A block's binding (SPIR-V) or register (b, [[buffer]]) = this + its OpenGL block binding;
+    // textures keep their OpenGL units everywhere.
+    j["uniform_block_binding_offset"] =
+        language == gl::ShaderLanguage::Spirv ? gl::kSpirvUniformBlockBase : 0u;
+    nlohmann::json list = nlohmann::json::array();
+    for (const gl::ExportedShader& s : shaders)
+        list.push_back({{"file", s.file_name},
+                        {"variant", s.variant},
+                        {"stage", s.stage},
+                        {"source", s.source},
+                        {"defines", s.defines}});
+    j["shaders"] = list;
+    return j;
+}
+
+// Every shader is compiled before anything is written: a refused one leaves no output.
+int run_shaders(const ShadersArgs& args) {
+    const gl::ShaderLanguage language = gl::parse_shader_language(args.lang, "--lang");
+    const gl::ShaderSources sources = args.shaders.empty()
+                                          ? gl::ShaderSources::embedded()
+                                          : gl::ShaderSources::directory(args.shaders);
+
+    io::OutputPlan plan;
+    plan.add_output_folder(args.out_dir);
+    const std::string index_path = (fs::path(args.out_dir) / kIndexFile).string();
+    plan.add_output(index_path, "the index");
+    // The output names do not depend on the compilation: checked first.
+    const std::vector<gl::ExportedShader> shaders = gl::export_shaders(sources, language);
+    for (const gl::ExportedShader& s : shaders)
+        plan.add_output((fs::path(args.out_dir) / s.file_name).string(), s.variant);
+    plan.check();
+
+    // Written into a staging folder beside the output folder, published together.
+    io::OutputTransaction outputs;
+    const fs::path staged = outputs.stage_folder(args.out_dir);
+    auto write = [&](const std::string& name, const void* data, std::size_t size) {
+        io::AtomicFile file((staged / name).string());
+        file.write(data, size);
+        file.commit();
+    };
+    for (const gl::ExportedShader& s : shaders) write(s.file_name, s.bytes.data(), s.bytes.size());
+    const std::string index = index_json(language, shaders).dump(2) + "\n";
+    write(kIndexFile, index.data(), index.size());
+    outputs.publish();
+    std::printf("%zu %s shaders (the vertex stage and %zu fragment variants) and %s in %s\n",
+                shaders.size(), gl::to_string(language), shaders.size() - 1, kIndexFile,
+                args.out_dir.c_str());
+    return 0;
+}
+
+const CommandRegistration registration{
+    "shaders", "Write the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL)",
+    [](CLI::App& app) -> Runner {
+        auto args = std::make_shared<ShadersArgs>();
+        app.add_option("--lang", args->lang,
+                       "glsl (OpenGL 4.5 source), spirv (Vulkan 1.0, by glslang), hlsl (shader "
+                       "model 5.0) or msl (Metal; both by SPIRV-Cross)")
+            ->required();
+        app.add_option("-o,--out-dir", args->out_dir,
+                       "folder for one file per stage and variant and shaders.json (created when "
+                       "missing)")
+            ->required();
+        app.add_option("--shaders", args->shaders,
+                       "a folder of shader sources to use instead of the built-in ones");
+        return [args] { return run_shaders(*args); };
+    }};
+
+}  // namespace
+}  // namespace leanfade::cli
