@@ -11,6 +11,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -136,6 +137,36 @@ TEST(CliRender, MixingsWritesTheLayerFigureAndItsTable) {
     EXPECT_LT(rmse.at("textures"), 1e-3);
     EXPECT_GT(rmse.at("approx"), 0.1);
     EXPECT_TRUE(fs::exists(dir / "fig.json"));
+}
+
+// `bake --cross-terms A,B`: the pair's cross-term texture (docs/ktx2.md): layer 0 the slope
+// products, layer 1 the two mean slopes, whose products equal layer 0 at the finest level only.
+TEST(CliRender, BakeWritesTheCrossTermTexture) {
+    const fs::path dir = scratch_dir("cli_bake_cross_terms");
+    const RunResult r = run_leanfade_in("bake --cross-terms bumps,noise --size 32 -o pair.ktx2",
+                                        dir, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const PackedLeanMap pair = io::read_ktx2((dir / "pair.ktx2").string());
+    ASSERT_EQ(pair.levels.size(), 6u);
+    EXPECT_EQ(pair.storage, Storage::Float32);
+    double level0 = 0.0, level2 = 0.0;
+    for (int level : {0, 2})
+        for (int y = 0; y < pair.levels[std::size_t(level)].height; ++y)
+            for (int x = 0; x < pair.levels[std::size_t(level)].width; ++x) {
+                const glm::vec4 p = fetch_packed_texel(pair, level, 0, x, y);
+                const glm::vec4 b = fetch_packed_texel(pair, level, 1, x, y);
+                const glm::vec4 q(b.x * b.z, b.y * b.w, b.x * b.w, b.z * b.y);
+                const double d = std::abs(double(p.x - q.x)) + std::abs(double(p.y - q.y)) +
+                                 std::abs(double(p.z - q.z)) + std::abs(double(p.w - q.w));
+                (level == 0 ? level0 : level2) = std::max(level == 0 ? level0 : level2, d);
+            }
+    EXPECT_LT(level0, 1e-6);
+    EXPECT_GT(level2, 1e-4);
+    const RunResult bad =
+        run_leanfade_in("bake --cross-terms bumps -o never.ktx2", dir, dir);
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_EQ(lines(bad.err), 1u) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "never.ktx2"));
 }
 
 // The image size limit (docs/robustness.md): refused on the header by default, --max-size

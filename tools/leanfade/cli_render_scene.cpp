@@ -61,9 +61,10 @@ std::vector<glm::vec2> parse_velocities(const std::string& text, std::size_t n) 
     return values;
 }
 
-// One layer's float LEAN map at strength 1 (heights: times the height scale), no roughness baked.
-LeanMap load_layer(const std::string& source, const LeanSourceFlags& f,
-                   const ShadingSettings& settings) {
+}  // namespace
+
+LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
+                       const ShadingSettings& settings) {
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;
     if (is_ktx2(source)) {
@@ -86,7 +87,6 @@ LeanMap load_layer(const std::string& source, const LeanSourceFlags& f,
         .map;
 }
 
-// The 2-channel slopes B of a map's finest level.
 Image top_slopes(const LeanMap& map) {
     const MomentLevel& top = map.levels.front();
     Image slopes(top.width, top.height, 2);
@@ -96,6 +96,8 @@ Image top_slopes(const LeanMap& map) {
     }
     return slopes;
 }
+
+namespace {
 
 // A weight map: the first `layers` channels of an image, each texel's weights scaled to sum 1,
 // as RGBA (the channels past the layers 0).
@@ -153,7 +155,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
 
     std::vector<LeanMap> maps;
     for (const std::string& source : sources)
-        maps.push_back(load_layer(source, flags.bumps, settings));
+        maps.push_back(load_layer_map(source, flags.bumps, settings));
     std::vector<Image> slopes;
     for (const LeanMap& m : maps) slopes.push_back(top_slopes(m));
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;

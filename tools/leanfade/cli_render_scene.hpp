@@ -47,6 +47,13 @@ void add_layer_options(CLI::App& app, LayerFlags& flags);
 // leanfade::Error naming the file or the flag.
 scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings);
 
+// One bump layer's float LEAN map: a built-in set, an image (baked with `settings`' height
+// scale, the --from and --directx of `f`) or a .ktx2 map (refused with roughness baked in).
+LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
+                       const ShadingSettings& settings);
+// The 2-channel slopes B of a map's finest level.
+Image top_slopes(const LeanMap& map);
+
 // The existing files the flags read, and `extra` (a preset) when it exists: the inputs of the
 // output plan (an output must not overwrite an input).
 std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,

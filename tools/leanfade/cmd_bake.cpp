@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_bake_cross_terms.hpp"
 #include "cli_bake_roughness.hpp"
 #include "cli_bake_gltf.hpp"
 #include "command.hpp"
@@ -44,6 +45,7 @@ struct BakeArgs {
     int threads = 0;
     bool fsync = false;
     std::string builtin;
+    std::string cross_terms;  // --cross-terms A,B (cli_bake_cross_terms.hpp)
     int size = 1024;
     std::uint32_t seed = 1;
     int max_size = kDefaultMaxImageDimension;
@@ -180,6 +182,10 @@ void print_summary(const std::string& input, const std::string& output, const Le
 }
 
 int run_bake(const BakeArgs& given) {
+    // The cross-term texture of two bump layers (cli_bake_cross_terms.cpp).
+    if (!given.cross_terms.empty())
+        return run_bake_cross_terms({given.cross_terms, given.output, given.from, given.directx,
+                                     given.strength, given.size, given.seed, given.max_size});
     // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
     if (given.inputs.size() == 1 && given.builtin.empty() &&
         scene::is_gltf_path(given.inputs[0])) {
@@ -439,6 +445,9 @@ const CommandRegistration registration{
             ->check(CLI::Range(4, kDefaultMaxImageDimension))
             ->capture_default_str();
         app.add_option("--seed", args->seed, "Built-in set seed")->capture_default_str();
+        app.add_option("--cross-terms", args->cross_terms,
+                       "Write the cross-term texture of two aligned bump layers A,B (built-in "
+                       "sets, images or .ktx2) to -o FILE.ktx2 (docs/ktx2.md)");
         app.add_option("--max-size", args->max_size,
                        "Largest accepted input width or height (refused before decoding)")
             ->check(CLI::Range(1, 1 << 20))
