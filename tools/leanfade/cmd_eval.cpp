@@ -193,7 +193,9 @@ int run_eval(const EvalArgs& args) {
 
     eval::SweepInfo info;
     info.scene = args.input.scene;
-    info.bumps = args.input.bumps.bumps;
+    info.bumps = args.input.layers.layers.empty()
+                     ? args.input.bumps.bumps
+                     : args.input.layers.layers + " (" + args.input.layers.mixing + ")";
     for (gl::Technique t : request.techniques) info.techniques.push_back(gl::to_string(t));
     info.distances = request.distances;
     info.shininesses = request.shininesses;
