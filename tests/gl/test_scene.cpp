@@ -39,8 +39,14 @@ scene::Scene two_quads(int left_map, int right_map) {
         make_constant_lean_map({0.6f, 0.0f}, {0.001f, 0.001f, 0.0f}, 1.0f, Storage::Float32));
     s.lean_maps.push_back(
         make_constant_lean_map({0.0f, 0.0f}, {0.001f, 0.001f, 0.0f}, 1.0f, Storage::Float32));
-    s.materials.push_back({"tilted", left_map, {}, {}, {}});
-    s.materials.push_back({"flat green", right_map, glm::vec3(0.0f, 0.6f, 0.0f), {}, {}});
+    scene::Material tilted;
+    tilted.name = "tilted";
+    tilted.lean_map = left_map;
+    scene::Material green;
+    green.name = "flat green";
+    green.lean_map = right_map;
+    green.diffuse = glm::vec3(0.0f, 0.6f, 0.0f);
+    s.materials = {tilted, green};
     for (int i = 0; i < 2; ++i) {
         scene::Object o;
         o.mesh = make_test_quad();
@@ -82,7 +88,8 @@ TEST_F(SceneRendering, OneObjectSceneIsTheSingleMeshRenderer) {
     single.set_lean_map(map);
     scene::Scene s;
     s.lean_maps = {map};
-    s.materials = {{"bumps", 0, {}, {}, {}}};
+    s.materials.resize(1);
+    s.materials[0].name = "bumps";
     s.objects.push_back({make_test_quad(2.0f), 0, glm::mat4(1.0f)});
     gl::Renderer from_scene(context());
     from_scene.set_scene(s);
