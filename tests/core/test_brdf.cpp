@@ -1,7 +1,7 @@
-// The Cook-Torrance lobe stage of the shared shading header (shaders/lean_shading.glsl, docs/math.md
-// §9) compiled as C++: its Smith term against the exact Beckmann Lambda, its distribution against
-// the closed-form Beckmann D, the white furnace, the bump normal's isotropic frame, fading and the
-// parameters that feed it.
+// The Cook-Torrance lobe stage of the shared shading header (shaders/lean_shading.glsl,
+// docs/math.md §9) compiled as C++: its Smith term against the exact Beckmann Lambda, its
+// distribution against the closed-form Beckmann D, the white furnace, the bump normal's isotropic
+// frame, fading and the parameters that feed it.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -13,8 +13,8 @@ namespace {
 LeanMap bumps_map(int size, float bake_s = 0.0f) {
     BakeOptions options;
     options.bake_roughness_shininess = bake_s;
-    return build_lean_map(slopes_from_height(make_builtin_height("bumps", size, 11), options).slopes,
-                          options);
+    return build_lean_map(
+        slopes_from_height(make_builtin_height("bumps", size, 11), options).slopes, options);
 }
 
 // Largest unpacking error allowed per channel: half a quantisation step of the packed value,
@@ -37,7 +37,8 @@ Bound bound_for(Storage storage, float sc, float max_value) {
 
 TEST(Packing, RoundTripWithinQuantisationForEveryStorage) {
     const LeanMap map = bumps_map(48, 512.0f);
-    for (Storage storage : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
+    for (Storage storage :
+         {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
         const PackedLeanMap packed = pack_lean_map(map, storage, "test");
         ASSERT_EQ(packed.levels.size(), map.levels.size());
         const LeanMap back = unpack_lean_map(packed);
@@ -281,7 +282,8 @@ TEST(ScaleChoice, UnormClampsTexelsBeyondScAndTheFastPathGivesTheSameBytes) {
     const Image normals = normal_map_with_outliers(64, 3);
     const BakeResult reference = bake_lean_map(normals, BakeSource::Normal, BakeOptions{});
     ASSERT_EQ(reference.map.texels_beyond_scale, 3u);
-    for (Storage storage : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
+    for (Storage storage :
+         {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
         const PackedLeanMap packed = pack_lean_map(reference.map, storage, "test");
         for (bool simd : {false, true}) {
             const bool previous = set_bake_simd(simd);

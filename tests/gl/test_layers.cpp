@@ -106,7 +106,8 @@ TEST_P(LayersGpuMatchesCpu, PixelByPixel) {
     // CPU: the same mix with the shared header (fetching the maps' only texel).
     std::vector<float> t = weights;
     if (c.weight_map)
-        for (int i = 0; i < c.layers; ++i) t[std::size_t(i)] = s.weight_maps[0].pixels[std::size_t(i)];
+        for (int i = 0; i < c.layers; ++i)
+            t[std::size_t(i)] = s.weight_maps[0].pixels[std::size_t(i)];
     shading::LfMoments mixed = shading::lf_mix_start();
     shading::LfMoments scaled[3];
     for (int i = 0; i < c.layers; ++i) {

@@ -276,11 +276,12 @@ TEST(ImageIo, DropAlphaKeepsColourChannelsOfRgbaOnly) {
     const Image rgba = quantised_image(9, 7, 4, 65535, 5);
     Image rgb(9, 7, 3);
     for (std::size_t i = 0; i < rgba.texel_count(); ++i)
-        for (int c = 0; c < 3; ++c) rgb.pixels[3 * i + std::size_t(c)] = rgba.pixels[4 * i + std::size_t(c)];
+        for (int c = 0; c < 3; ++c)
+            rgb.pixels[3 * i + std::size_t(c)] = rgba.pixels[4 * i + std::size_t(c)];
     write_png(folder + "/rgba.png", rgba, 16);
     expect_same_pixels(read_image(folder + "/rgba.png", options), rgb);
-    expect_same_pixels(std::get<UnormImage>(read_image_compact(folder + "/rgba.png", options)).to_float(),
-                       rgb);
+    expect_same_pixels(
+        std::get<UnormImage>(read_image_compact(folder + "/rgba.png", options)).to_float(), rgb);
     write_exr(folder + "/rgba.exr", rgba);
     expect_same_pixels(read_image(folder + "/rgba.exr", options), rgb);
     // Gray + alpha stays two channels (a height map's alpha decides nothing, but the channel

@@ -168,7 +168,8 @@ std::vector<std::uint8_t> pack_glb(const json& json_value, const std::vector<std
         for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(v >> (8 * i)));
     };
     const std::size_t total = 12 + 8 + text.size() + (padded.empty() ? 0 : 8 + padded.size());
-    out.insert(out.end(), {'g', 'l', 'T', 'F'});
+    out.reserve(total);
+    for (char c : {'g', 'l', 'T', 'F'}) out.push_back(std::uint8_t(c));
     u32(2);
     u32(std::uint32_t(total));
     u32(std::uint32_t(text.size()));

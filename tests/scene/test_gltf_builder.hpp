@@ -2,6 +2,7 @@
 // Small glTF 2.0 files written by the tests: meshes, materials, PNG images and nodes, stored as
 // a .gltf with external .bin and image files, a .gltf with everything in data: URIs, or a .glb.
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,14 @@
 #include <nlohmann/json.hpp>
 
 namespace leanfade::scene::test {
+
+// An empty folder LEANFADE_TEST_TMP/<suite>/<name> for one test's files (removed first).
+inline std::filesystem::path fresh_test_folder(const std::string& suite, const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::path(LEANFADE_TEST_TMP) / suite / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
 
 struct GltfTestPrimitive {
     std::vector<glm::vec3> positions;
@@ -59,7 +68,8 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
 void write_gltf(const GltfTestFile& file, const std::string& path, GltfStorage storage);
 
 // A GLB container of `json` and `bin` (glTF 2.0 §4.4), chunks padded to 4 bytes.
-std::vector<std::uint8_t> pack_glb(const nlohmann::json& json, const std::vector<std::uint8_t>& bin);
+std::vector<std::uint8_t> pack_glb(const nlohmann::json& json,
+                                   const std::vector<std::uint8_t>& bin);
 
 // Base64 of `bytes` (for data: URIs).
 std::string base64(const std::vector<std::uint8_t>& bytes);

@@ -18,12 +18,7 @@ namespace fs = std::filesystem;
 using test::GltfStorage;
 using test::GltfTestFile;
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test::fresh_test_folder("gltf", name); }
 
 // Two meshes, three materials (one without textures), two PNG images (a base colour and a
 // normal map), the second mesh with tangents from the file.
@@ -63,7 +58,8 @@ void expect_same_meshes(const GltfScene& x, const GltfScene& y) {
         EXPECT_EQ(x.objects[o].material, y.objects[o].material);
     }
     ASSERT_EQ(x.images.size(), y.images.size());
-    for (std::size_t i = 0; i < x.images.size(); ++i) EXPECT_EQ(x.images[i].bytes, y.images[i].bytes);
+    for (std::size_t i = 0; i < x.images.size(); ++i)
+        EXPECT_EQ(x.images[i].bytes, y.images[i].bytes);
 }
 
 TEST(GltfLoader, ReadsMeshesMaterialsAndImagesOfExternalFiles) {
@@ -181,9 +177,12 @@ TEST(GltfLoader, NodeTransformsAreComposedAndMirrorsKeepTheFrame) {
     }
     for (std::size_t t = 0; t < mirrored.mesh.indices.size(); t += 3) {
         const glm::vec3 p[3] = {
-            glm::vec3(mirrored.transform * glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t]].position, 1)),
-            glm::vec3(mirrored.transform * glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t + 1]].position, 1)),
-            glm::vec3(mirrored.transform * glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t + 2]].position, 1))};
+            glm::vec3(mirrored.transform *
+                      glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t]].position, 1)),
+            glm::vec3(mirrored.transform *
+                      glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t + 1]].position, 1)),
+            glm::vec3(mirrored.transform *
+                      glm::vec4(mirrored.mesh.vertices[mirrored.mesh.indices[t + 2]].position, 1))};
         const glm::vec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
         const glm::vec3 n = normal_matrix * mirrored.mesh.vertices[mirrored.mesh.indices[t]].normal;
         EXPECT_GT(glm::dot(face, n), 0.0f);

@@ -53,7 +53,8 @@ Image render(gl::Renderer& renderer, glm::vec3 light, gl::OutputMode output) {
 glm::dvec3 channel_sums(const Image& image) {
     glm::dvec3 sum(0.0);
     for (std::size_t i = 0; i < image.texel_count(); ++i)
-        for (int c = 0; c < 3; ++c) sum[c] += image.pixels[i * std::size_t(image.channels) + std::size_t(c)];
+        for (int c = 0; c < 3; ++c)
+            sum[c] += image.pixels[i * std::size_t(image.channels) + std::size_t(c)];
     return sum;
 }
 

@@ -20,12 +20,7 @@ namespace fs = std::filesystem;
 using test::GltfStorage;
 using test::GltfTestFile;
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_scene" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test::fresh_test_folder("gltf_scene", name); }
 
 // A uniform normal map of the unit normal n (encoded 0.5 n + 0.5), 8x8 texels, 8-bit RGB.
 std::vector<std::uint8_t> uniform_normal_png(glm::vec3 n) {

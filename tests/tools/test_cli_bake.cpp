@@ -128,16 +128,18 @@ TEST(CliBake, BatchWritesOneOutputPerInputIntoOutDir) {
     const fs::path a = write_height_png(dir, "a.png");
     const fs::path b = write_normal_png(dir, "b.png");
     fs::create_directories(dir / "out");
-    const auto r = run_leanfade("bake " + shell_quote(a.string()) + " " + shell_quote(b.string()) +
-                                    " --bits 8 --out-dir " + shell_quote((dir / "out").string()) +
-                                    " --json " + shell_quote((dir / "out" / "summary.json").string()),
-                                dir);
+    const auto r =
+        run_leanfade("bake " + shell_quote(a.string()) + " " + shell_quote(b.string()) +
+                         " --bits 8 --out-dir " + shell_quote((dir / "out").string()) + " --json " +
+                         shell_quote((dir / "out" / "summary.json").string()),
+                     dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "out" / "a.ktx2"));
     EXPECT_TRUE(fs::exists(dir / "out" / "b.ktx2"));
     EXPECT_THAT(r.out, HasSubstr("height map"));
     EXPECT_THAT(r.out, HasSubstr("normal map"));
-    EXPECT_THAT(test::read_text(dir / "out" / "summary.json"), HasSubstr("\"coarsest_anisotropy\""));
+    EXPECT_THAT(test::read_text(dir / "out" / "summary.json"),
+                HasSubstr("\"coarsest_anisotropy\""));
 }
 
 TEST(CliBake, PngFormatWritesTwo16BitPreviews) {
@@ -157,9 +159,10 @@ TEST(CliBake, SameInputGivesByteIdenticalFilesForAnyThreadCount) {
     const fs::path dir = test::scratch_dir("bake_determinism");
     const fs::path in = write_height_png(dir, "h.png", 96);
     for (const char* t : {"1", "2"}) {
-        const auto r = run_leanfade("bake " + shell_quote(in.string()) + " --threads " + t +
-                                        " -o " + shell_quote((dir / (std::string(t) + ".ktx2")).string()),
-                                    dir);
+        const auto r =
+            run_leanfade("bake " + shell_quote(in.string()) + " --threads " + t + " -o " +
+                             shell_quote((dir / (std::string(t) + ".ktx2")).string()),
+                         dir);
         ASSERT_EQ(r.exit_code, 0) << r.err;
     }
     const auto again = run_leanfade("bake " + shell_quote(in.string()) + " --threads 2 -o " +
@@ -227,7 +230,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "empty file", "empty.png"},
         BadCase{"garbage",
                 [](const fs::path& d) {
-                    write_bytes(d / "junk.png", {'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'});
+                    write_bytes(d / "junk.png",
+                                {'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'});
                     return "bake " + q(d / "junk.png");
                 },
                 "unknown image format", "junk.png"},
@@ -272,14 +276,19 @@ INSTANTIATE_TEST_SUITE_P(
                 },
                 "NaN", "nan.pfm"},
         BadCase{"unknown_flag",
-                [](const fs::path& d) { return "bake --builtin bumps --frobnicate -o " + q(d / "x.ktx2"); },
+                [](const fs::path& d) {
+                    return "bake --builtin bumps --frobnicate -o " + q(d / "x.ktx2");
+                },
                 "frobnicate", ""},
         BadCase{"bad_bits",
-                [](const fs::path& d) { return "bake --builtin bumps --bits 12 -o " + q(d / "x.ktx2"); },
+                [](const fs::path& d) {
+                    return "bake --builtin bumps --bits 12 -o " + q(d / "x.ktx2");
+                },
                 "--bits", ""},
-        BadCase{"bad_size",
-                [](const fs::path& d) { return "bake --builtin bumps --size 0 -o " + q(d / "x.ktx2"); },
-                "--size", ""},
+        BadCase{
+            "bad_size",
+            [](const fs::path& d) { return "bake --builtin bumps --size 0 -o " + q(d / "x.ktx2"); },
+            "--size", ""},
         BadCase{"nan_strength",
                 [](const fs::path& d) {
                     return "bake --builtin bumps --strength nan -o " + q(d / "x.ktx2");
@@ -319,7 +328,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "past the end", "cut.ktx2"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
 
-// ---- Outputs, strength and precision rules of issue #15 ----------------------------------------
+// ---- Outputs, strength and precision rules ---------------------------------------------------
 
 namespace {
 

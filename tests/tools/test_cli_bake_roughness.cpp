@@ -64,7 +64,8 @@ TEST(CliBakeRoughness, WritesKtx2AndPngLevelsOfTheCoreRoughnessMips) {
 
     const std::vector<RoughnessLevel> want = expected_levels(height, 0.3f);
     const std::vector<io::Rgba8Level> mr = io::read_ktx2_rgba8(rough.string());
-    const std::vector<io::Rgba8Level> normal = io::read_ktx2_rgba8((dir / "rough.normal.ktx2").string());
+    const std::vector<io::Rgba8Level> normal =
+        io::read_ktx2_rgba8((dir / "rough.normal.ktx2").string());
     const std::vector<io::Rgba8Level> an = io::read_ktx2_rgba8(aniso.string());
     ASSERT_EQ(mr.size(), want.size());  // 32 x 32: 6 levels
     ASSERT_EQ(mr.size(), 6u);

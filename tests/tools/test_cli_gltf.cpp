@@ -85,8 +85,8 @@ TEST(CliGltf, FlagsOfImageBakesAreRefused) {
     const std::string input = (dir / "scene.glb").string();
     scene::test::write_gltf(scene_file(), input, GltfStorage::Binary);
     for (const std::string flag : {"--directx", "--strength 2", "--wrap clamp"}) {
-        const test::RunResult r =
-            test::run_leanfade_in("bake " + test::shell_quote(input) + " " + flag, dir, {}, env(dir));
+        const test::RunResult r = test::run_leanfade_in(
+            "bake " + test::shell_quote(input) + " " + flag, dir, {}, env(dir));
         EXPECT_NE(r.exit_code, 0) << flag;
         EXPECT_NE(r.err.find("does not apply to a glTF scene"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -100,7 +100,8 @@ TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
     file.meshes[1][0].indices[4] = 9;  // out of range
     const std::string input = (dir / "scene.gltf").string();
     scene::test::write_gltf(file, input, GltfStorage::Embedded);
-    test::RunResult r = test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+    test::RunResult r =
+        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find(input), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("index 9 out of range"), std::string::npos) << r.err;

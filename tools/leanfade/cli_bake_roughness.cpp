@@ -143,8 +143,9 @@ int write_roughness_outputs(const RoughnessBakeArgs& args,
     const std::string folder = outputs.stage_folder(levels_folder_path(args));
     const auto write_levels = [&](const std::vector<Image>& images, const std::string& name) {
         for (std::size_t l = 0; l < images.size(); ++l)
-            io::write_png((fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
-                          images[l], 8, write_options);
+            io::write_png(
+                (fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
+                images[l], 8, write_options);
     };
     if (!args.roughness_out.empty()) {
         io::write_ktx2_rgba8(outputs.stage(args.roughness_out),

@@ -1,6 +1,6 @@
 #pragma once
-// `leanfade bake --roughness-out FILE [--roughness R | --roughness-map MAP] [--anisotropy-out FILE]`:
-// roughness MIPs for engines from the LEAN moments of the baked input (docs/roughness.md,
+// `leanfade bake --roughness-out FILE [--roughness R | --roughness-map MAP] [--anisotropy-out
+// FILE]`: roughness MIPs for engines from the LEAN moments of the baked input (docs/roughness.md,
 // docs/math.md §9, leanfade/core/roughness.hpp). cmd_bake.cpp adds the flags, plans the outputs
 // and calls write_roughness_outputs once the input is read.
 #include <string>
@@ -41,9 +41,9 @@ std::string levels_folder_path(const RoughnessBakeArgs& args);
 
 // Bakes the input's float LEAN map, computes the roughness MIPs and stages every output in
 // `outputs` (published by the caller with the LEAN map). Returns the number of levels written.
-int write_roughness_outputs(const RoughnessBakeArgs& args, const std::variant<Image, UnormImage>& input,
-                            BakeSource source, const BakeOptions& options,
-                            const io::ReadOptions& read_options,
+int write_roughness_outputs(const RoughnessBakeArgs& args,
+                            const std::variant<Image, UnormImage>& input, BakeSource source,
+                            const BakeOptions& options, const io::ReadOptions& read_options,
                             const io::WriteOptions& write_options, io::OutputTransaction& outputs);
 
 }  // namespace leanfade::cli

@@ -8,6 +8,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parallel.hpp"
+#include "random.hpp"
 
 namespace leanfade {
 namespace {
@@ -18,29 +19,12 @@ constexpr double kEnvelopeCut = 1e-3;
 // Impulses of one field at most (each is 48 bytes): a bound on memory and time.
 constexpr double kMaxImpulses = double(1 << 24);
 
-// SplitMix64 (as procedural.cpp): portable, so the same seed gives the same field everywhere.
-class Rng {
+// The noise's generator (its own stream constant keeps the fields as they were).
+class Rng : public detail::SplitMix64 {
   public:
-    explicit Rng(std::uint64_t seed)
-        : state_(seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-  private:
-    std::uint64_t state_;
+    explicit Rng(std::uint64_t seed) : SplitMix64(seed, 0x2545F4914F6CDD1Dull) {}
 };
-
-// Shortest signed offset a - b on a ring of length `period`.
-double wrapped_delta(double a, double b, double period) {
-    const double d = a - b;
-    return d - period * std::round(d / period);
-}
+using detail::wrapped_delta;
 
 double kernel_radius(const GaborNoiseSettings& s) {
     const double cycles = std::hypot(double(s.cycles_u), double(s.cycles_v));

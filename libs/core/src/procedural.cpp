@@ -7,36 +7,19 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/gabor_noise.hpp"
+#include "random.hpp"
 
 namespace leanfade {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// SplitMix64: a tiny, portable generator (std distributions are implementation-defined, so
-// they would break determinism across standard libraries).
-class Rng {
+// The bump sets' generator (its own stream constant keeps the sets as they were).
+class Rng : public detail::SplitMix64 {
 public:
-    explicit Rng(std::uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-private:
-    std::uint64_t state_;
+    explicit Rng(std::uint64_t seed) : SplitMix64(seed, 0x632BE59BD9B4E019ull) {}
 };
-
-// Shortest signed distance on a ring of length `period`.
-double wrapped_delta(double a, double b, double period) {
-    double d = a - b;
-    d -= period * std::round(d / period);
-    return d;
-}
+using detail::wrapped_delta;
 
 Image make_bumps(int size, Rng& rng) {
     // Round bumps with a C1 profile H (1 - (r/R)^2)^2, placed at random, tileable.
@@ -91,12 +74,12 @@ Image make_checker(int size) {
 // Tileable value-gradient noise on a lattice of `period` cells.
 class PeriodicNoise {
 public:
-    PeriodicNoise(int period, Rng& rng) : period_(period), gradients_(std::size_t(period * period)) {
-        for (auto& g : gradients_) {
-            const double a = rng.uniform(0, kTwoPi);
-            g = {std::cos(a), std::sin(a)};
-        }
-    }
+  PeriodicNoise(int period, Rng& rng) : period_(period), gradients_(std::size_t(period * period)) {
+      for (auto& g : gradients_) {
+          const double a = rng.uniform(0, kTwoPi);
+          g = {std::cos(a), std::sin(a)};
+      }
+  }
     // x, y in lattice cells; result roughly in [-0.7, 0.7].
     double operator()(double x, double y) const {
         const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
@@ -108,7 +91,8 @@ public:
         auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
         const double u = fade(fx), v = fade(fy);
         const double a = dot_grad(x0, y0, fx, fy), b = dot_grad(x0 + 1, y0, fx - 1, fy);
-        const double c = dot_grad(x0, y0 + 1, fx, fy - 1), d = dot_grad(x0 + 1, y0 + 1, fx - 1, fy - 1);
+        const double c = dot_grad(x0, y0 + 1, fx, fy - 1),
+                     d = dot_grad(x0 + 1, y0 + 1, fx - 1, fy - 1);
         return (a + (b - a) * u) + ((c + (d - c) * u) - (a + (b - a) * u)) * v;
     }
 

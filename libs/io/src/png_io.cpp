@@ -595,7 +595,8 @@ void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2
             {kLayerKey, kLayerNames[layer]},
             {kScaleKey, exact_text(packed.scale)},
             {kRoughnessBakedKey, packed.roughness_baked ? "1" : "0"},
-            {kBakedShininessKey, exact_text(packed.roughness_baked ? packed.baked_shininess : 0.0f)},
+            {kBakedShininessKey,
+             exact_text(packed.roughness_baked ? packed.baked_shininess : 0.0f)},
             {kConventionKey, to_string(packed.source_convention)},
             {kSoftwareKey, packed.generator}};
         write_png_with_text(paths[layer], image, bits, text, options);

@@ -91,7 +91,8 @@ std::string read_file(const std::string& path, std::uint64_t max_bytes,
 std::string percent_decode(const std::string& uri) {
     std::string out;
     for (std::size_t i = 0; i < uri.size(); ++i) {
-        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+        if (uri[i] == '%' && i + 2 < uri.size() &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
             std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
             out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
             i += 2;
@@ -742,7 +743,8 @@ void Converter::run() {
     // (a cycle, or two parents) is refused: glTF nodes form disjoint trees.
     std::vector<bool> visited(model_.nodes.size(), false);
     std::vector<std::pair<int, glm::dmat4>> stack;
-    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::dmat4(1.0));
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it)
+        stack.emplace_back(*it, glm::dmat4(1.0));
     bool skins = false;
     while (!stack.empty()) {
         const auto [index, parent] = stack.back();
@@ -832,8 +834,8 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
 
         tinygltf::TinyGLTF loader;
         loader.SetImageLoader(keep_encoded_image, nullptr);
-        loader.SetFsCallbacks(
-            tinygltf::FsCallbacks{file_exists, expand_file_path, read_whole_file, nullptr, &access});
+        loader.SetFsCallbacks(tinygltf::FsCallbacks{file_exists, expand_file_path, read_whole_file,
+                                                    nullptr, &access});
         tinygltf::Model model;
         std::string error, warning;
         const std::string folder = access.folder.string();
@@ -844,7 +846,8 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
                                                             text.data(), unsigned(text.size()),
                                                             folder);
         if (!access.refused.empty()) throw std::runtime_error(access.refused);
-        if (!ok) throw std::runtime_error(first_line(error.empty() ? "not a valid glTF file" : error));
+        if (!ok)
+            throw std::runtime_error(first_line(error.empty() ? "not a valid glTF file" : error));
         Converter(model, options, scene).run();
     } catch (const Error& e) {
         throw Error(name, e.file() + ": " + e.cause());

@@ -112,7 +112,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     for (const GltfMaterial& gm : gltf.materials) {
         Material m;
         m.name = gm.name;
-        m.diffuse = glm::vec3(gm.base_color_factor);
+        m.diffuse.emplace(gm.base_color_factor.x, gm.base_color_factor.y, gm.base_color_factor.z);
         if (gm.normal_image >= 0) {
             const auto key = std::make_pair(gm.normal_image, gm.normal_scale);
             auto found = maps.find(key);
@@ -165,7 +165,8 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         }
         scene.materials.push_back(std::move(m));
     }
-    for (const GltfObject& o : gltf.objects) scene.objects.push_back({o.mesh, o.material, o.transform});
+    for (const GltfObject& o : gltf.objects)
+        scene.objects.push_back({o.mesh, o.material, o.transform});
     try {
         validate(scene);
     } catch (const Error& e) {

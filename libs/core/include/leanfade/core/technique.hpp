@@ -1,8 +1,8 @@
 #pragma once
 // The shading techniques of leanfade, described once. Everything that lists, parses, names,
-// colours or compiles a technique (the command line and its help, presets, the viewer's lists, eval's
-// tables and plots, the benchmark's columns and ratios, the renderer's shader variants, the CPU
-// reference) reads this table; nothing else spells a technique's name.
+// colours or compiles a technique (the command line and its help, presets, the viewer's lists,
+// eval's tables and plots, the benchmark's columns and ratios, the renderer's shader variants, the
+// CPU reference) reads this table; nothing else spells a technique's name.
 //
 // Adding a technique: its lobe in shaders/lean_shading.glsl (a new LF_TECHNIQUE_* constant and a
 // branch of lf_shade), a row here, and its test (docs/architecture.md).

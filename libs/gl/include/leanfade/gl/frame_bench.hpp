@@ -91,8 +91,9 @@ struct FrameBenchResult {
 void validate_frame_bench(const FrameBenchRequest& request);
 
 // Runs the benchmark over `scenes`; the renderer's scene is replaced (a scene given as a mesh is
-// drawn with the renderer's LEAN map, set beforehand). progress(done, total) is called after each view when given. Throws
-// leanfade::Error for an invalid request, a GL error or an unavailable timing method.
+// drawn with the renderer's LEAN map, set beforehand). progress(done, total) is called after each
+// view when given. Throws leanfade::Error for an invalid request, a GL error or an unavailable
+// timing method.
 FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenchScene>& scenes,
                                  const FrameBenchRequest& request,
                                  const std::function<void(int done, int total)>& progress = {});

@@ -1,0 +1,34 @@
+#pragma once
+// Internal helpers of the procedural generators (procedural.cpp, gabor_noise.cpp). GL-free.
+#include <cmath>
+#include <cstdint>
+
+namespace leanfade::detail {
+
+// SplitMix64: a tiny, portable generator (std distributions are implementation-defined, so they
+// would break determinism across standard libraries). `stream` separates the sequences of
+// generators that share a seed (each generator keeps its own constant, so its output is stable).
+class SplitMix64 {
+  public:
+    SplitMix64(std::uint64_t seed, std::uint64_t stream)
+        : state_(seed * 0x9E3779B97F4A7C15ull + stream) {}
+    std::uint64_t next() {
+        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
+    double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+  private:
+    std::uint64_t state_;
+};
+
+// Shortest signed offset a - b on a ring of length `period` (same units as a and b).
+inline double wrapped_delta(double a, double b, double period) {
+    const double d = a - b;
+    return d - period * std::round(d / period);
+}
+
+}  // namespace leanfade::detail
