@@ -4,6 +4,8 @@
 // crafted here) and PSD (raw image data), which it does not write, encoded here byte by byte.
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -60,7 +62,8 @@ inline std::vector<std::uint8_t> dds_file(int width, int height, const char* fou
                                           std::uint32_t pixel_flags,
                                           const std::vector<std::uint8_t>& blocks,
                                           std::uint32_t dxgi_format = 0) {
-    std::vector<std::uint8_t> bytes(128 + (dxgi_format != 0 ? 20 : 0), 0);
+    const std::size_t header_bytes = 128 + (dxgi_format != 0 ? 20 : 0);
+    std::vector<std::uint8_t> bytes(header_bytes + blocks.size(), 0);
     std::memcpy(bytes.data(), "DDS ", 4);
     put_u32(bytes, 4, 124);
     put_u32(bytes, 8, 0x1007 | 0x80000);  // caps, height, width, pixel format, linear size
@@ -76,9 +79,7 @@ inline std::vector<std::uint8_t> dds_file(int width, int height, const char* fou
         put_u32(bytes, 132, 3);  // 2D texture
         put_u32(bytes, 140, 1);  // array size
     }
-    const std::size_t header_bytes = bytes.size();
-    bytes.resize(header_bytes + blocks.size());
-    if (!blocks.empty()) std::memcpy(bytes.data() + header_bytes, blocks.data(), blocks.size());
+    std::copy(blocks.begin(), blocks.end(), bytes.begin() + std::ptrdiff_t(header_bytes));
     return bytes;
 }
 

@@ -385,11 +385,13 @@ double psnr(const std::vector<Image>& a, const std::vector<Image>& b) {
 
 // LEAN renders of a map at three distances (near: magnified texels; far: coarse MIP levels),
 // as linear radiance.
-std::vector<Image> lean_cells(const fs::path& dir, const fs::path& map, const std::string& tag) {
+std::vector<Image> lean_cells(const fs::path& dir, const fs::path& map, const std::string& tag,
+                              const std::string& extra_args = "") {
     const fs::path cells = dir / ("cells_" + tag);
     const auto r = run_leanfade("render --scene sphere --techniques lean --distances 1.6,4,12 "
                                 "--size 128x128 --bumps " + q(map) + " --cells " + q(cells) +
-                                    " -o " + q(dir / ("grid_" + tag + ".png")),
+                                    " -o " + q(dir / ("grid_" + tag + ".png")) + " " +
+                                    extra_args,
                                 dir);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::vector<fs::path> files;
@@ -645,6 +647,20 @@ TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfAMapWithAHorizontalTexel
     EXPECT_LT(lost, 45.0) << "16-bit with sc = the maximum against 32f";
     RecordProperty("psnr_default_db", std::to_string(kept));
     RecordProperty("psnr_sc_max_db", std::to_string(lost));
+}
+
+// render bakes images on the fly with the same rule as bake (--bits auto by default).
+TEST(CliBakePrecision, RenderBakesOnTheFlyKeepTheHighlightOfAMapWithAHorizontalTexel) {
+    const fs::path dir = test::scratch_dir("render_precision_outlier");
+    const fs::path input = write_bumpy_normal_png(dir, "n", 128, 1);
+    const std::vector<Image> truth = lean_cells(dir, input, "float", "--bits 32f");
+    const double kept = psnr(lean_cells(dir, input, "default"), truth);
+    const double unorm = psnr(lean_cells(dir, input, "unorm16", "--bits 16"), truth);
+    EXPECT_GE(kept, 50.0) << "render's default on-the-fly storage against 32f";
+    RecordProperty("psnr_render_default_db", std::to_string(kept));
+    RecordProperty("psnr_render_unorm16_db", std::to_string(unorm));
+    std::printf("render on the fly, PSNR against 32f: default %.1f dB, --bits 16 %.1f dB\n", kept,
+                unorm);
 }
 
 TEST(CliBakeConvention, WarnsWhenANormalMapFitsTheOtherConventionBetter) {

@@ -118,7 +118,16 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
         ->group(group);
-    app.add_option("--bits", f.bits, "Storage of on-the-fly bakes: 8, 16, 16f, 32f")
+    app.add_option("--bits", f.bits,
+                   "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f for a map "
+                   "with outliers beyond sc, as bake)")
+        ->check(CLI::IsMember({"auto", "8", "16", "16f", "32f"}))
+        ->capture_default_str()
+        ->group(group);
+    app.add_option("--strength-unit", f.strength_unit,
+                   "Unit of --strength for height maps baked on the fly: texel (height per texel "
+                   "spacing) or uv (height per UV unit: the same slopes at any resolution)")
+        ->check(CLI::IsMember({"texel", "uv"}))
         ->capture_default_str()
         ->group(group);
     app.add_option("--seed", f.seed, "Seed of the built-in bump set")
@@ -135,6 +144,18 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
 }
 
+Storage on_the_fly_storage(const LeanSourceFlags& f) {
+    return f.bits == "auto" ? Storage::Unorm16 : parse_storage(f.bits);
+}
+
+BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {
+    BakeOptions options;
+    options.strength = settings.bump_strength;
+    options.strength_unit = f.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+    options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    return options;
+}
+
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
     const BakeSource source = parse_bake_source(f.from);
@@ -142,25 +163,28 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
                                           std::to_string(f.texture_size));
-    const Storage storage = parse_storage(f.bits);
+    const Storage storage = on_the_fly_storage(f);
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;
     if (ends_with(f.bumps, ".ktx2")) return io::read_ktx2(f.bumps, read_options);
     if (!io::lean_png_pair_base(f.bumps).empty())  // NAME.lean1.png from `bake --format png`
         return io::read_lean_png_pair(f.bumps, read_options);
 
-    BakeOptions options;
-    options.strength = settings.bump_strength;
-    options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
-    // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map).
+    const BakeOptions options = on_the_fly_bake_options(f, settings);
+    // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
+    // --bits auto bakes a map with outliers beyond sc again as 16f, as `leanfade bake` does.
+    auto bake = [&](const Image& input, BakeSource kind) {
+        PackedBakeResult result = bake_packed(input, kind, options, storage, generator, f.bumps);
+        if (f.bits == "auto" && result.texels_beyond_scale > 0)
+            result = bake_packed(input, kind, options, Storage::Float16, generator, f.bumps);
+        return result;
+    };
     const auto& builtins = builtin_bump_names();
-    if (std::find(builtins.begin(), builtins.end(), f.bumps) != builtins.end()) {
-        return bake_packed(make_builtin_height(f.bumps, f.texture_size, f.seed), BakeSource::Height,
-                           options, storage, generator, f.bumps)
+    if (std::find(builtins.begin(), builtins.end(), f.bumps) != builtins.end())
+        return bake(make_builtin_height(f.bumps, f.texture_size, f.seed), BakeSource::Height)
             .packed;
-    }
     const Image image = io::read_image(f.bumps, read_options);
-    PackedBakeResult baked = bake_packed(image, source, options, storage, generator, f.bumps);
+    PackedBakeResult baked = bake(image, source);
     // A strength other than the default was given (flag or preset) for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)

@@ -37,14 +37,22 @@ struct LeanSourceFlags {
     std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
     std::string from = "auto";    // images: auto | height | normal (auto: by channel count)
     bool directx = false;         // normal maps in the DirectX convention
-    std::string bits = "16";      // on-the-fly bakes: 8 | 16 | 16f | 32f
+    std::string bits = "auto";    // on-the-fly bakes: auto | 8 | 16 | 16f | 32f (auto: as bake)
+    std::string strength_unit = "texel";  // height maps: texel | uv (as bake's --strength-unit)
     std::uint32_t seed = 1;       // built-in sets
     int texture_size = 256;       // built-in sets, texels per side
     int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
 };
 
-// --bumps --from --directx --bits --seed --texture-size --max-size, in the "Bumps" group.
+// --bumps --from --directx --bits --strength-unit --seed --texture-size --max-size, in the
+// "Bumps" group.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
+// The storage of on-the-fly bakes: --bits, with auto first baked as 16-bit UNORM (a map with
+// outliers beyond sc is baked again as 16f by load_lean_map, as `leanfade bake` does).
+Storage on_the_fly_storage(const LeanSourceFlags& flags);
+// BakeOptions of on-the-fly bakes: strength (settings.bump_strength) in --strength-unit and the
+// normal-map convention.
+BakeOptions on_the_fly_bake_options(const LeanSourceFlags& flags, const ShadingSettings& settings);
 // Reads a .ktx2 LEAN map (recognised by its extension), or bakes one from a built-in set or an
 // image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.
 PackedLeanMap load_lean_map(const LeanSourceFlags& flags, const ShadingSettings& settings);

@@ -75,9 +75,7 @@ LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
                                 "after mixing");
         return map;
     }
-    BakeOptions options;
-    options.strength = settings.bump_strength;
-    options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    const BakeOptions options = on_the_fly_bake_options(f, settings);
     const auto& builtins = builtin_bump_names();
     if (std::find(builtins.begin(), builtins.end(), source) != builtins.end())
         return bake_lean_map(make_builtin_height(source, f.texture_size, f.seed),
@@ -151,7 +149,12 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
                                           std::to_string(flags.bumps.texture_size));
-    const Storage storage = parse_storage(flags.bumps.bits);
+    // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
+    const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
+    auto storage_of = [&](const LeanMap& m) {
+        return flags.bumps.bits == "auto" && m.texels_beyond_scale > 0 ? Storage::Float16
+                                                                       : unorm_or_given;
+    };
 
     std::vector<LeanMap> maps;
     for (const std::string& source : sources)
@@ -175,7 +178,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         BakeOptions options;
         const LeanMap mixed = build_lean_map(mix_slopes(slopes, blend), options);
         material.lean_map = int(result.lean_maps.size());
-        result.lean_maps.push_back(pack_lean_map(mixed, storage, generator));
+        result.lean_maps.push_back(pack_lean_map(mixed, storage_of(mixed), generator));
         result.materials.push_back(std::move(material));
         return;
     }
@@ -188,7 +191,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         layer.tiling = tilings[i];
         layer.velocity = velocities[i];
         material.layered.layers.push_back(layer);
-        result.lean_maps.push_back(pack_lean_map(maps[i], storage, generator));
+        result.lean_maps.push_back(pack_lean_map(maps[i], storage_of(maps[i]), generator));
     }
     material.lean_map = material.layered.layers.front().lean_map;
     if (mixing == LayerMixing::Textures) {

@@ -150,7 +150,7 @@ int run_bench(const BenchArgs& args) {
     for (const std::string& input : bake_inputs)
         if (input != "normal" && input != "height")
             throw Error("--bake-input", "expected normal or height, got '" + input + "'");
-    const Storage storage = parse_storage(args.input.bumps.bits);
+    const Storage storage = on_the_fly_storage(args.input.bumps);
     if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
     if (args.bake_runs < 0 || args.bake_runs > 1000)
         throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");

@@ -36,7 +36,7 @@ struct BumpSource {
     std::string source = "bumps";  // built-in set name, height/normal map image, or .ktx2 map
     std::string from = "auto";     // images: "auto" (by channel count) | "height" | "normal"
     bool directx = false;          // normal maps in the DirectX convention
-    std::string bits = "16";       // storage of on-the-fly bakes: "8" | "16" | "16f" | "32f"
+    std::string bits = "16";  // storage of on-the-fly bakes: "auto" | "8" | "16" | "16f" | "32f"
     std::uint32_t seed = 1;        // built-in sets
     int texture_size = 256;        // built-in sets, texels per side, [4, 16384]
 };
