@@ -1,9 +1,12 @@
 // Command-line binding of the shading settings, the LEAN map source and the GL context.
 #include "cli_render_options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_flags.hpp"
 #include "leanfade/core/error.hpp"
@@ -121,7 +124,6 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
     app.add_option("--bits", f.bits,
                    "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f for a map "
                    "with outliers beyond sc, as bake)")
-        ->check(CLI::IsMember({"auto", "8", "16", "16f", "32f"}))
         ->capture_default_str()
         ->group(group);
     app.add_option("--strength-unit", f.strength_unit,
@@ -145,7 +147,12 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
 }
 
 Storage on_the_fly_storage(const LeanSourceFlags& f) {
-    return f.bits == "auto" ? Storage::Unorm16 : parse_storage(f.bits);
+    if (f.bits == "auto") return Storage::Unorm16;
+    std::vector<std::string> names{"auto"};
+    for (const std::string& name : storage_names()) names.push_back(name);
+    if (std::find(names.begin(), names.end(), f.bits) == names.end())
+        throw Error("--bits", "expected " + name_list(names) + ", got '" + f.bits + "'");
+    return parse_storage(f.bits);
 }
 
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {

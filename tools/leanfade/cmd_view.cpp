@@ -148,7 +148,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     p.bumps = to_bump_source(args.input.bumps);
     // The bump flags by their names (validate() would name the preset keys).
     parse_bake_source(p.bumps.from);
-    parse_storage(p.bumps.bits);
+    on_the_fly_storage(args.input.bumps);
     if (p.bumps.texture_size < 4 || p.bumps.texture_size > kDefaultMaxImageDimension)
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
