@@ -32,7 +32,7 @@ std::string file_name_part(const std::string& name) {
 scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int threads) {
     scene::GltfBakeSettings settings;
     // "auto" (bake's choice per map) is 16-bit UNORM here: normal textures have bounded slopes.
-    settings.storage = bits == "auto" ? Storage::Unorm16 : parse_storage(bits, "--bits");
+    settings.storage = parse_bake_storage(bits, "--bits");
     if (max_size > 0) settings.max_image_size = max_size;
     settings.threads = threads;
     settings.cache_folder = scene::default_lean_cache_folder();

@@ -146,14 +146,7 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
 }
 
-Storage on_the_fly_storage(const LeanSourceFlags& f) {
-    if (f.bits == "auto") return Storage::Unorm16;
-    std::vector<std::string> names{"auto"};
-    for (const std::string& name : storage_names()) names.push_back(name);
-    if (std::find(names.begin(), names.end(), f.bits) == names.end())
-        throw Error("--bits", "expected " + name_list(names) + ", got '" + f.bits + "'");
-    return parse_storage(f.bits);
-}
+Storage on_the_fly_storage(const LeanSourceFlags& f) { return parse_bake_storage(f.bits); }
 
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {
     BakeOptions options;

@@ -235,7 +235,7 @@ int run_bake(const BakeArgs& given) {
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale) is baked again as
     // half float, which keeps them (docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
     const bool auto_storage = args.bits == "auto";
-    const Storage storage = auto_storage ? Storage::Unorm16 : parse_storage(args.bits);
+    const Storage storage = parse_bake_storage(args.bits);
     io::ReadOptions read_options;
     read_options.max_dimension = args.max_size;
     read_options.drop_alpha = true;  // normal maps use RGB only
@@ -407,12 +407,10 @@ const CommandRegistration registration{
         app.add_flag("--directx", args->directx,
                      "Normal maps use the DirectX convention (green = -v, \"-Y\"; how to tell: "
                      "README, quick start)");
-        std::vector<std::string> bits_names = storage_names();
-        bits_names.push_back("auto");
         app.add_option("--bits", args->bits,
                        "Storage: 8, 16 (UNORM), 16f, 32f (float), or auto: 16, or 16f for a map "
                        "with outliers beyond sc, which 16 would clamp (a PNG pair: 16)")
-            ->check(CLI::IsMember(bits_names))
+            ->check(CLI::IsMember(bake_storage_names()))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,
                        "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")

@@ -346,8 +346,7 @@ void App::panel_bumps() {
     if (ImGui::RadioButton("normal map", &from, 2)) bumps_field_.from = "normal";
     ImGui::SameLine();
     ImGui::Checkbox("DirectX", &bumps_field_.directx);
-    std::vector<std::string> bits{"auto"};  // 16, or 16f for a map with outliers beyond sc
-    for (const std::string& name : storage_names()) bits.push_back(name);
+    const std::vector<std::string>& bits = bake_storage_names();
     int bit = index_of(bits, bumps_field_.bits);
     if (combo("storage bits", bit, bits)) bumps_field_.bits = bits[std::size_t(bit)];
     int seed = int(bumps_field_.seed);

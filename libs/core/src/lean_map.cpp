@@ -49,6 +49,24 @@ Storage parse_storage(std::string_view name, const std::string& setting) {
                 "expected " + name_list(storage_names()) + ", got '" + std::string(name) + "'");
 }
 
+const std::vector<std::string>& bake_storage_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> all = storage_names();
+        all.push_back("auto");
+        return all;
+    }();
+    return names;
+}
+
+Storage parse_bake_storage(std::string_view name, const std::string& setting) {
+    if (name == "auto") return Storage::Unorm16;
+    const auto& names = bake_storage_names();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+        throw Error(setting,
+                    "expected " + name_list(names) + ", got '" + std::string(name) + "'");
+    return parse_storage(name, setting);
+}
+
 const char* to_string(BakeSource source) {
     switch (source) {
         case BakeSource::Auto:

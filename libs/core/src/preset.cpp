@@ -229,7 +229,7 @@ void validate(const Preset& p, const std::string& file) {
         check_no_control_characters(file, "view.techniques", name);
     try {
         parse_bake_source(b.from);
-        if (b.bits != "auto") parse_storage(b.bits);  // auto: 16, or 16f for outliers
+        parse_bake_storage(b.bits);
     } catch (const Error& e) {
         fail(file, "bumps." + e.file(), e.cause());
     }

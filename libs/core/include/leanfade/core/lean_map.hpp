@@ -30,6 +30,12 @@ const char* to_string(Storage);  // "8", "16", "16f", "32f": the bits of a chann
 const std::vector<std::string>& storage_names();
 // Throws leanfade::Error(setting, cause) for a name that is not a storage's.
 Storage parse_storage(std::string_view name, const std::string& setting = "bits");
+// The storage choices of a bake: storage_names() and "auto" (16-bit UNORM, baked again as half
+// float by the caller for a map with texels beyond sc: docs/ktx2.md, "Choosing storage and sc").
+const std::vector<std::string>& bake_storage_names();
+// The storage a bake starts with: Unorm16 for "auto", else parse_storage's. Throws
+// leanfade::Error(setting, "expected 8, 16, 16f, 32f or auto, got ...").
+Storage parse_bake_storage(std::string_view name, const std::string& setting = "bits");
 int bytes_per_texel(Storage);  // one RGBA texel of one slice (lean1 or lean2)
 
 // One MIP level of float moments. Index i = y * width + x, rows top first.
