@@ -165,16 +165,15 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
 
     scene::Material material;
     material.name = "layers";
-    if (mixing == LayerMixing::Height) {
-        // The height method: the slopes mixed first, one map baked from them (docs/math.md §6).
-        for (std::size_t i = 0; i < n; ++i)
-            if (velocities[i] != velocities[0] || tilings[i] != tilings[0])
-                throw Error("--mixing", "height mixes layers that lie alike (one tiling, one "
-                                        "velocity); for layers that move or tile differently "
-                                        "use textures or approx");
-        if (f.weight_map.size() > 0)
-            throw Error("--layer-weight-map", "height bakes one map with constant weights; "
-                                              "per-texel weights need textures or approx");
+    bool aligned = f.weight_map.empty();
+    for (std::size_t i = 0; i < n; ++i)
+        aligned = aligned && velocities[i] == glm::vec2(0.0f) && tilings[i] == tilings[0] &&
+                  slopes[i].width == slopes[0].width && slopes[i].height == slopes[0].height;
+    if (mixing == LayerMixing::Height && aligned && tilings[0] == 1.0f) {
+        // The height method for layers that lie alike: the slopes mixed first, one map baked
+        // from them on the CPU (docs/math.md §6). Layers that move, tile differently or carry
+        // per-texel weights are mixed into a map the renderer generates on the GPU for each
+        // frame's time (the layered material below).
         BakeOptions options;
         const LeanMap mixed = build_lean_map(mix_slopes(slopes, blend), options);
         material.lean_map = int(result.lean_maps.size());

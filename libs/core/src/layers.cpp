@@ -2,6 +2,8 @@
 // aligned layers mixed per texel with the shared header's formulas (leanfade/core/layers.hpp).
 #include "leanfade/core/layers.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "leanfade/core/error.hpp"
@@ -75,6 +77,101 @@ Image mix_slopes(std::span<const Image> slopes, const LayerBlend& blend) {
         const float f = blend.weights[i] * blend.strengths[i];
         for (std::size_t v = 0; v < mixed.pixels.size(); ++v)
             mixed.pixels[v] += f * slopes[i].pixels[v];
+    }
+    return mixed;
+}
+
+glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
+                          std::span<const LayerPlacement> placements) {
+    if (sizes.size() != placements.size() || sizes.empty())
+        throw Error("layers", "one size and one placement per layer");
+    glm::ivec2 size(0);
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+        const float tiling = placements[i].tiling;
+        if (!(tiling >= 1.0f) || tiling > float(kMaxMixedMapSize) ||
+            std::abs(tiling - std::round(tiling)) > 1e-4f)
+            throw Error("layer-tiling",
+                        "the height method generates one map repeating once per unit of uv: "
+                        "each tiling must be a whole number >= 1, got " + std::to_string(tiling));
+        if (sizes[i].x < 1 || sizes[i].y < 1) throw Error("layers", "a layer has no texels");
+        const long long whole = std::llround(tiling);
+        size.x = int(std::min<long long>(std::max<long long>(size.x, sizes[i].x * whole),
+                                         kMaxMixedMapSize + 1));
+        size.y = int(std::min<long long>(std::max<long long>(size.y, sizes[i].y * whole),
+                                         kMaxMixedMapSize + 1));
+    }
+    if (size.x > kMaxMixedMapSize || size.y > kMaxMixedMapSize)
+        throw Error("layers", "the mixed map would exceed " + std::to_string(kMaxMixedMapSize) +
+                                  " texels per side (layer size x tiling); use textures or "
+                                  "approx for finely tiled layers");
+    return size;
+}
+
+namespace {
+
+// Texel index i modulo n, for any i.
+int wrap_index(int i, int n) {
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+// The bilinear value of channels [0, count) of a repeating image at uv (v up, texel values at
+// texel centres), in the order the GPU reads them: rows counted from the bottom.
+template <int count>
+std::array<float, count> bilinear_repeat(const Image& image, glm::vec2 uv) {
+    const float x = uv.x * float(image.width) - 0.5f;
+    const float y = uv.y * float(image.height) - 0.5f;
+    const float x0 = std::floor(x), y0 = std::floor(y);
+    const float fx = x - x0, fy = y - y0;
+    std::array<float, count> out{};
+    for (int corner = 0; corner < 4; ++corner) {
+        const int dx = corner & 1, dy = corner >> 1;
+        const float w = (dx ? fx : 1.0f - fx) * (dy ? fy : 1.0f - fy);
+        const int column = wrap_index(int(x0) + dx, image.width);
+        const int row_from_bottom = wrap_index(int(y0) + dy, image.height);
+        const float* texel = image.row(image.height - 1 - row_from_bottom) +
+                             std::size_t(column) * std::size_t(image.channels);
+        for (int c = 0; c < count; ++c) out[std::size_t(c)] += w * texel[c];
+    }
+    return out;
+}
+
+}  // namespace
+
+Image mix_slopes_at(std::span<const Image> slopes, const LayerBlend& blend,
+                    std::span<const LayerPlacement> placements, const Image* weights, int width,
+                    int height) {
+    validate(blend);
+    if (slopes.size() != blend.weights.size() || placements.size() != slopes.size())
+        throw Error("layers", "one slope image, weight and placement per layer");
+    for (const Image& s : slopes)
+        if (s.channels != 2 || s.empty())
+            throw Error("layers", "every layer needs 2-channel slopes");
+    if (weights != nullptr && (weights->channels != 4 || weights->empty()))
+        throw Error("layers", "a weight map has 4 channels (t_0..t_3)");
+    for (const LayerPlacement& p : placements)
+        if (!std::isfinite(p.tiling) || !std::isfinite(p.offset.x) || !std::isfinite(p.offset.y))
+            throw Error("layers", "placements must be finite");
+    if (width < 1 || height < 1 || width > kMaxMixedMapSize || height > kMaxMixedMapSize)
+        throw Error("layers", "the mixed map's size must be in [1, " +
+                                  std::to_string(kMaxMixedMapSize) + "]");
+    Image mixed(width, height, 2);
+    for (int row = 0; row < height; ++row) {
+        const int j = height - 1 - row;  // texel row counted from v = 0
+        for (int x = 0; x < width; ++x) {
+            const glm::vec2 uv((float(x) + 0.5f) / float(width), (float(j) + 0.5f) / float(height));
+            std::array<float, 4> t{};
+            if (weights != nullptr) t = bilinear_repeat<4>(*weights, uv);
+            for (std::size_t i = 0; i < slopes.size(); ++i) {
+                const float weight = weights != nullptr ? t[i] : blend.weights[i];
+                const glm::vec2 layer_uv = uv * placements[i].tiling + placements[i].offset;
+                const std::array<float, 2> b = bilinear_repeat<2>(slopes[i], layer_uv);
+                const float f = weight * blend.strengths[i];
+                float* out = mixed.row(row) + 2 * std::size_t(x);
+                out[0] += f * b[0];
+                out[1] += f * b[1];
+            }
+        }
     }
     return mixed;
 }

@@ -42,10 +42,11 @@ LeanGenerator::LeanGenerator(Context& context, ShaderSources sources)
     : context_(context), sources_(std::move(sources)) {}
 
 GLuint LeanGenerator::program(Storage storage) {
-    Program& p = programs_[input_ == GenerateInput::Height ? 0 : 1][int(storage)];
+    Program& p = programs_[int(input_)][int(storage)];
     if (!p) {
-        const std::string source =
-            input_ == GenerateInput::Height ? "SOURCE_HEIGHT" : "SOURCE_NORMAL";
+        const std::string source = input_ == GenerateInput::Height   ? "SOURCE_HEIGHT"
+                                   : input_ == GenerateInput::Normal ? "SOURCE_NORMAL"
+                                                                     : "SOURCE_LAYERS";
         p = build_compute_program(
             sources_, "generate_lean.comp",
             {source, std::string("SLICE_FORMAT ") + slice_format(storage).qualifier});
@@ -53,7 +54,22 @@ GLuint LeanGenerator::program(Storage storage) {
     return p.get();
 }
 
+void LeanGenerator::set_layer_source(int width, int height) {
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (width < 1 || height < 1 || width > max_size || height > max_size)
+        throw Error("generate", "the mixed map's size must be in [1, " +
+                                    std::to_string(max_size) + "] (GL_MAX_TEXTURE_SIZE)");
+    source_.reset();
+    input_ = GenerateInput::Layers;
+    if (width != width_ || height != height_) texture_.reset();
+    width_ = width;
+    height_ = height;
+}
+
 void LeanGenerator::set_source(const Image& image, GenerateInput input) {
+    if (input == GenerateInput::Layers)
+        throw Error("generate", "layers are a source of set_layer_source, not an image");
     if (image.empty() || image.width < 1 || image.height < 1)
         throw Error("generate", "the source image is empty");
     if (input == GenerateInput::Normal && image.channels < 3)
@@ -91,7 +107,8 @@ void LeanGenerator::set_source(const Image& image, GenerateInput input) {
 }
 
 void LeanGenerator::write_top_level(const GenerateOptions& options) {
-    if (!source_) throw Error("generate", "no source image was set");
+    if (!source_ && input_ != GenerateInput::Layers)
+        throw Error("generate", "no source image was set");
     if (!(options.scale > 0.0f) || !std::isfinite(options.scale))
         throw Error("generate", "sc must be a finite number > 0");
     if (!std::isfinite(options.strength) || !std::isfinite(options.bake_roughness_shininess) ||
@@ -121,7 +138,7 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
     glProgramUniform1i(p, location(p, "u_wrap_repeat"), options.wrap == Wrap::Repeat ? 1 : 0);
     glProgramUniform1f(p, location(p, "u_min_normal_z"), kMinNormalZ);
     glUseProgram(p);
-    glBindTextureUnit(0, source_.get());
+    if (input_ != GenerateInput::Layers) glBindTextureUnit(0, source_.get());
     glBindImageTexture(0, texture_.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format.internal_format);
     glDispatchCompute(GLuint((width_ + kGroupSize - 1) / kGroupSize),
                       GLuint((height_ + kGroupSize - 1) / kGroupSize), 1);

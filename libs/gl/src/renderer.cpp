@@ -30,6 +30,13 @@ void set(GLuint p, const char* name, const glm::ivec2& v) {
     glProgramUniform2iv(p, location(p, name), 1, glm::value_ptr(v));
 }
 
+// velocity * time modulo 1 (uv units, velocity in uv per second, time in seconds), in double
+// precision.
+float wrapped_offset(float velocity, float time) {
+    const double offset = double(velocity) * double(time);
+    return float(offset - std::floor(offset));
+}
+
 GLint gl_integer(GLenum name) {
     GLint value = 0;
     glGetIntegerv(name, &value);
@@ -426,6 +433,28 @@ Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
         }
         set_repeat_trilinear(texture, levels);
     }
+    if (l.mixing == LayerMixing::Height) {
+        // One map over the surface's uv square, as fine as the finest layer x its tiling.
+        std::vector<glm::ivec2> sizes;
+        std::vector<LayerPlacement> placements;
+        float bound = 0.0f;
+        Storage storage = Storage::Unorm8;
+        for (std::size_t i = 0; i < l.layers.size(); ++i) {
+            const PackedLeanMap& map = scene.lean_maps[std::size_t(l.layers[i].lean_map)];
+            sizes.emplace_back(map.levels.front().width, map.levels.front().height);
+            placements.push_back({l.layers[i].tiling, glm::vec2(0.0f)});
+            // |sum t_i k_i B_i| <= sum |t_i k_i| sc_i per axis: the mixed map's sc.
+            const float weight = l.weight_map >= 0 ? 1.0f : l.weights[i];
+            bound += weight * std::abs(l.layers[i].strength) * map.scale;
+            // The widest of the layers' storages: float when one keeps slopes beyond its sc.
+            storage = std::max(storage, map.storage);
+        }
+        const glm::ivec2 size = mixed_map_size(sizes, placements);
+        result.mixer = std::make_unique<LeanGenerator>(context_, sources_);
+        result.mixer->set_layer_source(size.x, size.y);
+        result.mixed.scale = bound > 0.0f ? bound : 1.0f;
+        result.mixed.storage = storage;
+    }
     if (l.weight_map >= 0) {
         const Image& image = scene.weight_maps[std::size_t(l.weight_map)];
         if (image.width > max_size || image.height > max_size)
@@ -514,6 +543,23 @@ void Renderer::set_lean_map(const PackedLeanMap& map) {
     material_layers_.resize(materials_.size());
 }
 
+void Renderer::update_mixed_layers(float time) {
+    for (std::size_t m = 0; m < materials_.size() && m < material_layers_.size(); ++m) {
+        GpuLayers& layers = material_layers_[m];
+        if (!layers.mixer) continue;
+        const scene::Material& material = materials_[m];
+        bool moving = false;
+        for (const scene::MaterialLayer& layer : material.layered.layers)
+            moving = moving || layer.velocity != glm::vec2(0.0f);
+        if (layers.mixed_current && (!moving || layers.mixed_time == time)) continue;
+        bind_layers(material, layers, time);
+        layers.mixer->generate(layers.mixed);
+        layers.mixed_current = true;
+        layers.mixed_time = time;
+    }
+    context_.check("generating the mixed LEAN maps");
+}
+
 void Renderer::bind_layers(const scene::Material& material, const GpuLayers& layers, float time) {
     const scene::MaterialLayers& l = material.layered;
     LfLayerUniforms block{};
@@ -528,8 +574,10 @@ void Renderer::bind_layers(const scene::Material& material, const GpuLayers& lay
         block.strengths[c] = layer.strength;
         block.scales[c] = map.info.scale;
         block.tilings[c] = layer.tiling;
-        // A moving layer: its texture coordinates slide by velocity * time (uv units).
-        const glm::vec2 offset = layer.velocity * time;
+        // A moving layer: its texture coordinates slide by velocity * time (uv units), taken
+        // modulo 1 in double precision (the layers repeat) so that late times keep their texels.
+        const glm::vec2 offset(wrapped_offset(layer.velocity.x, time),
+                               wrapped_offset(layer.velocity.y, time));
         block.offsets[i / 2][int(i % 2) * 2] = offset.x;
         block.offsets[i / 2][int(i % 2) * 2 + 1] = offset.y;
         glBindTextureUnit(GLuint(bindings::LF_BINDING_LAYER_MAPS + c), map.texture.get());
@@ -564,10 +612,14 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
     for (const GpuObject& object : objects_) {
         const scene::Material& material = materials_[std::size_t(object.material)];
         const GpuMap& map = maps_[std::size_t(material.lean_map)];
-        const bool layered = layerable && !material.layered.layers.empty();
+        // The "height" method draws its generated map (update_mixed_layers) like a single map.
+        const GpuLayers& material_layers = material_layers_[std::size_t(object.material)];
+        const LeanGenerator* mixer = material_layers.mixer.get();
+        const GLuint map_texture = mixer != nullptr ? mixer->texture() : map.texture.get();
+        const float map_scale = mixer != nullptr ? material_layers.mixed.scale : map.info.scale;
+        const bool layered = layerable && !material.layered.layers.empty() && mixer == nullptr;
         glUseProgram(layered ? program(variant + "_layered") : p);
-        if (layered) bind_layers(material, material_layers_[std::size_t(object.material)],
-                                 request.time);
+        if (layered) bind_layers(material, material_layers, request.time);
         object_block.model = model_ * object.transform;
         const glm::mat3 normal_matrix(glm::transpose(glm::inverse(object_block.model)));
         for (int c = 0; c < 3; ++c)
@@ -582,8 +634,9 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
         if (material.shininess) s.shininess = *material.shininess;
         LfShadingUniforms block{};
         // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
-        block.params = to_lf_params(s, !layered && map.info.roughness_baked);
-        block.scale = map.info.scale;
+        block.params =
+            to_lf_params(s, !layered && mixer == nullptr && map.info.roughness_baked);
+        block.scale = map_scale;
         block.output_mode = output_constant(request.output);
         block.fog_mode = to_shader_constant(s.fog);
         block.fog_start = s.fog_start;
@@ -593,7 +646,7 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
         glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
         glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
                          shading_block_.get());
-        glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map.texture.get());
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map_texture);
         if (white_.get() == 0) white_ = upload_base_color(Image(1, 1, 4, 1.0f));
         glBindTextureUnit(GLuint(bindings::LF_BINDING_BASE_COLOR),
                           material.base_color_texture >= 0
@@ -665,6 +718,7 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
                                   " samples requested, the GL driver allows " +
                                   std::to_string(gl_integer(GL_MAX_SAMPLES)));
 
+    update_mixed_layers(request.time);
     apply_sampler_state(s);
 
     if (!target_ || target_->width != request.width || target_->height != request.height ||
@@ -704,9 +758,12 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
         throw Error("aniso", "anisotropic filtering is not supported by " + context_.renderer());
     std::vector<GLuint> textures;
     for (const GpuMap& map : maps_) textures.push_back(map.texture.get());
-    for (const GpuLayers& layers : material_layers_)
+    for (const GpuLayers& layers : material_layers_) {
         for (const Texture* t : {&layers.cross_terms, &layers.weights})
             if (t->get() != 0) textures.push_back(t->get());
+        if (layers.mixer && layers.mixer->texture() != 0)
+            textures.push_back(layers.mixer->texture());
+    }
     for (const GLuint texture : textures) {
         glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
         if (s.anisotropy > 1)
@@ -728,6 +785,7 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     if (!std::isfinite(request.time)) throw Error("time", "must be a finite number of seconds");
     const std::string name = variant.empty() ? variant_name(request) : variant;
     program(name);  // built (or its error thrown) before any state changes
+    update_mixed_layers(request.time);
     apply_sampler_state(request.settings);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);

@@ -18,6 +18,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 
@@ -66,6 +68,39 @@ void validate(const LayerBlend& blend);
 
 // The "height" method's slopes: sum t_i k_i B_i of 2-channel slope images of one size.
 Image mix_slopes(std::span<const Image> slopes, const LayerBlend& blend);
+
+// Where a layer lies on the surface at one instant: its texture coordinates are
+// uv * tiling + offset (uv of the surface's tiled texture space; offset = velocity * time, taken
+// modulo 1 since the layers repeat).
+struct LayerPlacement {
+    float tiling = 1.0f;       // repeats per unit of the surface's uv: a whole number >= 1 here
+    glm::vec2 offset{0.0f};    // uv units
+};
+
+// Largest side of the map the "height" method generates for layers that move or tile
+// differently (mixed_map_size).
+inline constexpr int kMaxMixedMapSize = 4096;
+
+// The size of the one map that holds the mixed slopes of layers of sizes `sizes` (texels) at
+// `placements` over the surface's uv square [0, 1)^2: per axis, the largest size x tiling, so
+// that no layer is read at fewer texels than its own. Throws leanfade::Error("layer-tiling",
+// cause) for a tiling that is not a whole number >= 1 (the map repeats once per unit of uv, and
+// a layer that does not repeat with it would leave a seam), and Error("layers", cause) for a map
+// beyond kMaxMixedMapSize.
+glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
+                          std::span<const LayerPlacement> placements);
+
+// The "height" method for layers that move or tile differently, at one instant (docs/math.md
+// §6): at the texel centres of a width x height grid over uv [0, 1)^2 (rows top first, v = 1 at
+// the top like every image here), the slopes sum t_i k_i B_i(uv tiling_i + offset_i). Each
+// layer's slopes (2-channel, rows top first, repeating) are read bilinearly, as texel values at
+// texel centres; the weights are blend.weights, or read bilinearly from `weights` (RGBA =
+// t_0..t_3 per texel, repeating) when it is not null. With equal sizes, tiling 1 and offset 0 it
+// is mix_slopes. The GPU's per-frame generation (shaders/generate_lean.comp, SOURCE_LAYERS)
+// computes the same. Throws leanfade::Error("layers", cause) for mismatched inputs.
+Image mix_slopes_at(std::span<const Image> slopes, const LayerBlend& blend,
+                    std::span<const LayerPlacement> placements, const Image* weights, int width,
+                    int height);
 
 // The cross-term texture of layers i and j: the four products (Bi.x Bj.x, Bi.y Bj.y, Bi.x Bj.y,
 // Bj.x Bi.y) of their slopes at strength 1, with the MIP chain of build_mip_chain. Both images

@@ -22,6 +22,9 @@ namespace leanfade::gl {
 enum class GenerateInput {
     Height,  // first channel: heights in texel units (docs/math.md §2, Sobel / 8)
     Normal,  // channels 0-2: a tangent-space normal map encoded 0.5 n + 0.5
+    // A layered material's bump layers mixed by the "height" method at one instant
+    // (docs/math.md §6): the caller binds them as for drawing (set_layer_source).
+    Layers,
 };
 
 struct GenerateOptions {
@@ -45,6 +48,16 @@ class LeanGenerator {
     // leanfade::Error("generate", cause) for an empty image, too few channels or a size above
     // GL_MAX_TEXTURE_SIZE.
     void set_source(const Image& image, GenerateInput input);
+
+    // The "height" method's per-frame source: the mixed slopes sum t_i k_i B_i(uv tiling_i +
+    // offset_i) of a layered material at the texel centres of a width x height map over the
+    // surface's uv square (mix_slopes_at of leanfade/core/layers.hpp computes the same on the
+    // CPU). The layers are read from what is bound when write_top_level runs: their LEAN maps at
+    // units LF_BINDING_LAYER_MAPS + i, the weight map at LF_BINDING_LAYER_WEIGHTS and an
+    // LfLayerUniforms block at LF_BINDING_LAYER_BLOCK (shaders/bindings.glsl), as the renderer
+    // binds them for drawing. Strength, wrap and convention of GenerateOptions do not apply.
+    // Throws leanfade::Error("generate", cause) for a size outside [1, GL_MAX_TEXTURE_SIZE].
+    void set_layer_source(int width, int height);
 
     // The compute pass: level 0 of both slices. (Re)allocates the texture, with every MIP level,
     // when the source size or the storage changed. Throws leanfade::Error("generate", cause)
@@ -73,7 +86,7 @@ class LeanGenerator {
     GenerateInput input_ = GenerateInput::Height;
     Texture source_;
     Texture texture_;
-    Program programs_[2][4];  // [input][storage], built on first use
+    Program programs_[3][4];  // [input][storage], built on first use
     int width_ = 0, height_ = 0, levels_ = 0;
     Storage storage_ = Storage::Unorm16;
     float scale_ = 1.0f;

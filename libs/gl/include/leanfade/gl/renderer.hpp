@@ -19,6 +19,7 @@
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
 #include "leanfade/gl/context.hpp"
+#include "leanfade/gl/generate.hpp"
 #include "leanfade/gl/objects.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/material.hpp"
@@ -182,10 +183,18 @@ class Renderer {
     struct GpuLayers {
         Texture cross_terms;  // GL_TEXTURE_2D_ARRAY RGBA32F, a slice per pair, every level
         Texture weights;      // GL_TEXTURE_2D RGBA32F (t_0..t_3) with MIPs, when a weight map
+        // The "height" method (docs/math.md §6): the mixed map, generated on the GPU for the
+        // frame's time whenever it changes, drawn like a single LEAN map.
+        std::unique_ptr<LeanGenerator> mixer;
+        GenerateOptions mixed;          // its sc and storage
+        bool mixed_current = false;     // generated for mixed_time
+        float mixed_time = 0.0f;        // seconds
     };
     GpuLayers upload_layers(const scene::Scene& scene, const scene::Material& material);
     // Binds a layered material's maps, cross terms, weights and its LfLayerBlock for `time`.
     void bind_layers(const scene::Material& material, const GpuLayers& layers, float time);
+    // Regenerates the mixed map of every "height" material whose time is not `time` (seconds).
+    void update_mixed_layers(float time);
     GpuObject upload_object(const scene::Mesh& mesh, int material, const glm::mat4& transform);
     GpuMap upload_map(const PackedLeanMap& map);
 
