@@ -218,5 +218,84 @@ TEST(Layers, BadBlendsAndInputsAreErrors) {
         Error);
 }
 
+// Moving layers mixed by height (mix_slopes_at): aligned layers give mix_slopes; a whole-texel
+// offset rolls the layer; half a texel averages two texels; tiling 2 of a half-size layer reads
+// every layer texel once.
+Image test_slopes(int width, int height, unsigned seed) {
+    Image s(width, height, 2);
+    for (std::size_t v = 0; v < s.pixels.size(); ++v)
+        s.pixels[v] = 0.3f * std::sin(0.37f * float(v) + float(seed)) +
+                      0.1f * std::cos(1.3f * float(v * v % 97));
+    return s;
+}
+
+TEST(Layers, MixSlopesAtAlignedLayersIsMixSlopes) {
+    const Image a = test_slopes(16, 8, 1), b = test_slopes(16, 8, 2);
+    const Image both[2] = {a, b};
+    const LayerBlend blend{{0.3f, 0.7f}, {1.2f, -0.6f}};
+    const LayerPlacement aligned[2] = {};
+    const Image at = mix_slopes_at(both, blend, aligned, nullptr, 16, 8);
+    const Image plain = mix_slopes(both, blend);
+    ASSERT_EQ(at.pixels.size(), plain.pixels.size());
+    for (std::size_t v = 0; v < at.pixels.size(); ++v)
+        ASSERT_NEAR(at.pixels[v], plain.pixels[v], 1e-6f) << v;
+}
+
+TEST(Layers, MixSlopesAtOffsetsAndTilingSampleTheLayers) {
+    const Image a = test_slopes(8, 4, 3), b = test_slopes(8, 4, 4);
+    const Image both[2] = {a, b};
+    const LayerBlend only_first{{1.0f, 0.0f}, {1.0f, 1.0f}};
+    // u offset of 3 texels (3/8 uv): output texel x reads layer texel x + 3 (mod 8); v offset of
+    // one texel (1/4 uv): rows move one down (rows are top first, v up).
+    LayerPlacement moved[2] = {{1.0f, glm::vec2(3.0f / 8.0f, 1.0f / 4.0f)}, {}};
+    const Image rolled = mix_slopes_at(both, only_first, moved, nullptr, 8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x)
+            for (int c = 0; c < 2; ++c)
+                ASSERT_NEAR(rolled.at(x, y, c), a.at((x + 3) % 8, (y + 3) % 4, c), 1e-6f)
+                    << x << "," << y;
+    // Half a texel along u: the mean of two neighbours.
+    moved[0].offset = glm::vec2(0.5f / 8.0f, 0.0f);
+    const Image half = mix_slopes_at(both, only_first, moved, nullptr, 8, 4);
+    for (int x = 0; x < 8; ++x)
+        EXPECT_NEAR(half.at(x, 1, 0), 0.5f * (a.at(x, 1, 0) + a.at((x + 1) % 8, 1, 0)), 1e-6f);
+    // Tiling 2 of a 4 x 2 layer over an 8 x 4 map: texel x reads layer texel x mod 4.
+    const Image small = test_slopes(4, 2, 5);
+    const Image tiled_pair[2] = {small, b};
+    LayerPlacement tiled[2] = {{2.0f, glm::vec2(0.0f)}, {}};
+    const Image t = mix_slopes_at(tiled_pair, only_first, tiled, nullptr, 8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) ASSERT_NEAR(t.at(x, y, 0), small.at(x % 4, y % 2, 0), 1e-6f);
+}
+
+TEST(Layers, MixSlopesAtWeightMapWeighsPerTexel) {
+    const Image a = test_slopes(4, 4, 6), b = test_slopes(4, 4, 7);
+    const Image both[2] = {a, b};
+    const LayerBlend blend{{0.5f, 0.5f}, {1.0f, 2.0f}};
+    Image weights(4, 4, 4);  // the left half all a, the right half all b
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            weights.at(x, y, 0) = x < 2 ? 1.0f : 0.0f;
+            weights.at(x, y, 1) = x < 2 ? 0.0f : 1.0f;
+        }
+    const LayerPlacement aligned[2] = {};
+    const Image mixed = mix_slopes_at(both, blend, aligned, &weights, 4, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            EXPECT_NEAR(mixed.at(x, y, 1), x < 2 ? a.at(x, y, 1) : 2.0f * b.at(x, y, 1), 1e-6f);
+}
+
+TEST(Layers, MixedMapSizeIsTheFinestLayerTimesItsTiling) {
+    const glm::ivec2 sizes[2] = {{64, 64}, {32, 16}};
+    const LayerPlacement placements[2] = {{1.0f, {}}, {4.0f, {0.3f, 0.1f}}};
+    EXPECT_EQ(mixed_map_size(sizes, placements), glm::ivec2(128, 64));
+    const LayerPlacement fractional[2] = {{1.0f, {}}, {1.5f, {}}};
+    EXPECT_THROW(mixed_map_size(sizes, fractional), Error);
+    const LayerPlacement huge[2] = {{1.0f, {}}, {512.0f, {}}};  // 32 * 512 = 16384 texels
+    EXPECT_THROW(mixed_map_size(sizes, huge), Error);
+    const LayerPlacement below_one[2] = {{1.0f, {}}, {0.5f, {}}};
+    EXPECT_THROW(mixed_map_size(sizes, below_one), Error);
+}
+
 }  // namespace
 }  // namespace leanfade::test

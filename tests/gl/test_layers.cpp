@@ -237,6 +237,29 @@ TEST_F(CoherentLayers, SineAndItsNegationRenderFlatExceptWithApprox) {
     const Image height = render(single(height_mixed));
     const Image textures = render(layered(LayerMixing::Textures));
     const Image approx = render(layered(LayerMixing::Approx));
+    // Moving together, the pair stays flat: height regenerates its map for the frame's time
+    // (on the GPU), textures stays exact because the pair does not move relative to itself.
+    auto moving = [&](LayerMixing mixing) {
+        scene::Scene s = layered(mixing);
+        for (scene::MaterialLayer& layer : s.materials[0].layered.layers)
+            layer.velocity = glm::vec2(0.031f, -0.017f);
+        return s;
+    };
+    auto render_at = [&](const scene::Scene& s, float time) {
+        gl::Renderer renderer(context());
+        renderer.set_scene(s);
+        gl::RenderRequest request;
+        request.technique = gl::Technique::Lean;
+        request.width = request.height = 96;
+        request.view = gl::view_at_distance(6.0f);
+        request.settings.shininess = 256.0f;
+        request.settings.tiling = 8.0f;
+        request.output = gl::OutputMode::Specular;
+        request.time = time;
+        return renderer.render(request);
+    };
+    const Image height_moving = render_at(moving(LayerMixing::Height), 2.3f);
+    const Image textures_moving = render_at(moving(LayerMixing::Textures), 2.3f);
     const Image sine_alone = render(single(sine));
     ASSERT_GT(image_sum(reference), 1.0) << "the flat sphere must show a highlight";
     // Sanity: the bumpy sine alone is far from flat at this distance.
@@ -244,9 +267,179 @@ TEST_F(CoherentLayers, SineAndItsNegationRenderFlatExceptWithApprox) {
     EXPECT_LT(relative_l1(height, reference), 1e-4);
     EXPECT_LT(relative_l1(textures, reference), 1e-3);
     EXPECT_GT(relative_l1(approx, reference), 0.2);
-    std::printf("relative L1 to flat: sine %.3g, height %.3g, textures %.3g, approx %.3g\n",
+    EXPECT_LT(relative_l1(height_moving, reference), 1e-3);
+    EXPECT_LT(relative_l1(textures_moving, reference), 1e-3);
+    std::printf("relative L1 to flat: sine %.3g, height %.3g, textures %.3g, approx %.3g; "
+                "moving together: height %.3g, textures %.3g\n",
                 relative_l1(sine_alone, reference), relative_l1(height, reference),
-                relative_l1(textures, reference), relative_l1(approx, reference));
+                relative_l1(textures, reference), relative_l1(approx, reference),
+                relative_l1(height_moving, reference), relative_l1(textures_moving, reference));
+}
+
+// The "height" method for layers that move, tile differently or have per-texel weights: the map
+// the renderer generates on the GPU for a frame's time equals the CPU's definition
+// (mix_slopes_at, then build_lean_map) at every MIP level, and at time 0 it renders like the map
+// baked once on the CPU.
+struct MovingHeightCase {
+    const char* name;
+    bool weight_map;
+};
+
+class MovingLayersHeight : public GlTest, public ::testing::WithParamInterface<MovingHeightCase> {
+  protected:
+    // Layers bumps (64^2) and noise (32^2, tiling 2), moving apart; weights 0.3 / 0.7 or, with
+    // a weight map, varying along u.
+    scene::Scene make_scene(const std::vector<glm::vec2>& velocities) const {
+        scene::Scene s;
+        s.objects.push_back(scene::Object{scene::make_scene_mesh("sphere"), 0, glm::mat4(1.0f)});
+        scene::Material material;
+        material.name = "moving";
+        material.layered.mixing = LayerMixing::Height;
+        material.layered.weights = {0.3f, 0.7f};
+        const char* sets[2] = {"bumps", "noise"};
+        const int sizes[2] = {64, 32};
+        for (int i = 0; i < 2; ++i) {
+            const LeanMap map = bake_lean_map(make_builtin_height(sets[i], sizes[i], 5),
+                                              BakeSource::Height, BakeOptions{}, sets[i])
+                                    .map;
+            s.lean_maps.push_back(pack_lean_map(map, Storage::Float32, "tests"));
+            material.layered.layers.push_back(scene::MaterialLayer{
+                i, i == 0 ? 1.0f : -1.4f, float(i + 1), velocities[std::size_t(i)]});
+        }
+        if (GetParam().weight_map) {
+            Image weights(16, 8, 4);
+            for (int y = 0; y < 8; ++y)
+                for (int x = 0; x < 16; ++x) {
+                    weights.at(x, y, 0) = float(x) / 15.0f;
+                    weights.at(x, y, 1) = 1.0f - float(x) / 15.0f;
+                }
+            s.weight_maps.push_back(weights);
+            material.layered.weight_map = 0;
+        }
+        s.materials.push_back(material);
+        return s;
+    }
+};
+
+TEST_P(MovingLayersHeight, GeneratedMapIsTheCpuMixAtEveryLevel) {
+    const std::vector<glm::vec2> velocities = {{0.013f, 0.0f}, {-0.004f, 0.021f}};
+    const scene::Scene s = make_scene(velocities);
+    gl::Renderer renderer(context());
+    renderer.set_scene(s);
+    const float time = 17.3f;
+    const LeanMap gpu = unpack_lean_map(renderer.mixed_lean_map(0, time));
+
+    std::vector<Image> slopes;
+    LayerBlend blend{{0.3f, 0.7f}, {}};
+    std::vector<LayerPlacement> placements;
+    for (std::size_t i = 0; i < 2; ++i) {
+        const LeanMap layer = unpack_lean_map(s.lean_maps[i]);
+        Image b(layer.levels[0].width, layer.levels[0].height, 2);
+        for (std::size_t t = 0; t < layer.levels[0].mean.size(); ++t) {
+            b.pixels[2 * t] = layer.levels[0].mean[t].x;
+            b.pixels[2 * t + 1] = layer.levels[0].mean[t].y;
+        }
+        slopes.push_back(b);
+        const scene::MaterialLayer& l = s.materials[0].layered.layers[i];
+        blend.strengths.push_back(l.strength);
+        const double ox = double(l.velocity.x) * time, oy = double(l.velocity.y) * time;
+        placements.push_back({l.tiling, glm::vec2(float(ox - std::floor(ox)),
+                                                  float(oy - std::floor(oy)))});
+    }
+    ASSERT_EQ(gpu.levels[0].width, 64);  // max(64 x 1, 32 x 2)
+    const Image* weights = s.weight_maps.empty() ? nullptr : &s.weight_maps[0];
+    const LeanMap cpu = build_lean_map(
+        mix_slopes_at(slopes, blend, placements, weights, 64, 64), BakeOptions{});
+    ASSERT_EQ(gpu.levels.size(), cpu.levels.size());
+    double worst = 0.0, variance_scale = 0.0;
+    for (std::size_t level = 0; level < cpu.levels.size(); ++level) {
+        const MomentLevel& a = gpu.levels[level];
+        const MomentLevel& b = cpu.levels[level];
+        ASSERT_EQ(a.mean.size(), b.mean.size());
+        for (std::size_t t = 0; t < b.mean.size(); ++t) {
+            for (int c = 0; c < 2; ++c)
+                worst = std::max(worst, double(std::abs(a.mean[t][c] - b.mean[t][c])));
+            for (int c = 0; c < 3; ++c) {
+                worst = std::max(worst, double(std::abs(a.second[t][c] - b.second[t][c])));
+                variance_scale = std::max(variance_scale, double(std::abs(b.second[t][c])));
+            }
+        }
+    }
+    ASSERT_GT(variance_scale, 1e-3) << "the mixed layers must be bumpy";
+    EXPECT_LT(worst, 2e-5 + 1e-4 * variance_scale);
+    std::printf("GPU mixed map vs CPU, every level: max |difference| %.3g (largest M %.3g)\n",
+                worst, variance_scale);
+    // A later time moves the layers: the map changes.
+    const LeanMap later = unpack_lean_map(renderer.mixed_lean_map(0, time + 3.0f));
+    double moved = 0.0;
+    for (std::size_t t = 0; t < later.levels[0].mean.size(); ++t)
+        moved = std::max(moved, double(std::abs(later.levels[0].mean[t].x -
+                                                gpu.levels[0].mean[t].x)));
+    EXPECT_GT(moved, 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Weights, MovingLayersHeight,
+                         ::testing::Values(MovingHeightCase{"constant", false},
+                                           MovingHeightCase{"weight_map", true}),
+                         [](const ::testing::TestParamInfo<MovingHeightCase>& info) {
+                             return std::string(info.param.name);
+                         });
+
+class MovingLayersAtTimeZero : public GlTest {};
+
+TEST_F(MovingLayersAtTimeZero, RenderLikeTheMapBakedOnceOnTheCpu) {
+    scene::Scene moving;
+    moving.objects.push_back(
+        scene::Object{scene::make_scene_mesh("sphere"), 0, glm::mat4(1.0f)});
+    scene::Material material;
+    material.name = "moving";
+    material.layered.mixing = LayerMixing::Height;
+    material.layered.weights = {0.4f, 0.6f};
+    std::vector<Image> slopes;
+    const char* sets[2] = {"bumps", "noise"};
+    for (int i = 0; i < 2; ++i) {
+        const LeanMap map = bake_lean_map(make_builtin_height(sets[i], 64, 9), BakeSource::Height,
+                                          BakeOptions{}, sets[i])
+                                .map;
+        Image b(64, 64, 2);
+        for (std::size_t t = 0; t < map.levels[0].mean.size(); ++t) {
+            b.pixels[2 * t] = map.levels[0].mean[t].x;
+            b.pixels[2 * t + 1] = map.levels[0].mean[t].y;
+        }
+        slopes.push_back(b);
+        moving.lean_maps.push_back(pack_lean_map(map, Storage::Float32, "tests"));
+        material.layered.layers.push_back(scene::MaterialLayer{
+            i, i == 0 ? 1.0f : 0.8f, 1.0f, glm::vec2(0.05f * float(i + 1), -0.02f)});
+    }
+    moving.materials.push_back(material);
+
+    scene::Scene baked;
+    baked.objects = moving.objects;
+    baked.materials.push_back(scene::Material{"baked", 0, {}, {}, {}, {}});
+    const LayerBlend blend{{0.4f, 0.6f}, {1.0f, 0.8f}};
+    baked.lean_maps.push_back(pack_lean_map(
+        build_lean_map(mix_slopes(slopes, blend), BakeOptions{}), Storage::Float32, "tests"));
+
+    auto render = [&](const scene::Scene& s, float time) {
+        gl::Renderer renderer(context());
+        renderer.set_scene(s);
+        gl::RenderRequest request;
+        request.technique = gl::Technique::Fade;
+        request.width = request.height = 96;
+        request.view = gl::view_at_distance(4.0f);
+        request.settings.shininess = 128.0f;
+        request.settings.tiling = 4.0f;
+        request.time = time;
+        return renderer.render(request);
+    };
+    const Image once = render(baked, 0.0f);
+    const Image per_frame = render(moving, 0.0f);
+    const Image later = render(moving, 1.5f);
+    ASSERT_GT(image_sum(once), 1.0);
+    EXPECT_LT(relative_l1(per_frame, once), 1e-4);
+    EXPECT_GT(relative_l1(later, once), 1e-3) << "the layers move";
+    std::printf("relative L1 to the map baked once: t = 0 %.3g, t = 1.5 s %.3g\n",
+                relative_l1(per_frame, once), relative_l1(later, once));
 }
 
 }  // namespace

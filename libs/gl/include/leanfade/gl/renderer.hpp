@@ -146,6 +146,12 @@ class Renderer {
     // an interactive viewer goes on drawing with the last good shaders.
     void rebuild_shaders();
 
+    // The map the "height" method generates for material `material` of the scene (bump layers
+    // that move, tile differently or have per-texel weights: docs/math.md §6) at `time`
+    // (seconds), read back in the CPU baker's layout (LeanGenerator::read_back). Throws
+    // leanfade::Error("scene", cause) for another material.
+    PackedLeanMap mixed_lean_map(int material, float time);
+
     const glm::mat4& model_matrix() const { return model_; }
     // The first LEAN map's texture (an empty description before any map).
     const LeanTextureInfo& lean_texture() const;
