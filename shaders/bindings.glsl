@@ -9,6 +9,10 @@ const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the v
 // Texture unit of the material's base colour (2D, linear RGBA; Kd is multiplied by its RGB; a
 // 1x1 white texture for materials without one).
 const int LF_BINDING_BASE_COLOR = 1;
+// Texture unit of the material's base roughness map (2D, R32F: alpha0^2 per texel with its MIP
+// chain filtered as the moments, docs/math.md §9), read with Cook-Torrance when
+// LfShadingUniforms::roughness_map is 1.
+const int LF_BINDING_BASE_ROUGHNESS = 2;
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

@@ -75,6 +75,8 @@ struct LfShadingUniforms {
     vec3 fog_color;     // linear RGB
     float fog_end;      // world units
     float fog_density;  // per world unit
+    int roughness_map;  // 1: Cook-Torrance's base roughness comes per texel from the map's
+                        // alpha0^2 (LF_BINDING_BASE_ROUGHNESS), not from params.inv_s_shading
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4).
@@ -389,6 +391,15 @@ LF_FN float lf_cook_torrance_isotropic(vec3 n, vec3 h, vec3 l, vec3 v, float alp
     return lf_cook_torrance_lobe(lf_in_isotropic_frame(n, h), lf_in_isotropic_frame(n, l),
                                  lf_in_isotropic_frame(n, v), vec2(0.0f),
                                  vec3(variance, variance, 0.0f));
+}
+
+// A base roughness map (docs/math.md §9): the texel's alpha0^2 = r^4, MIP-filtered linearly as
+// the moments are, becomes the per-axis slope variance alpha0^2 / 2 that a uniform roughness
+// gives (to_lf_params), before the lobe is evaluated. Cook-Torrance only.
+LF_FN LfParams lf_with_base_roughness(LfParams p, float alpha0_squared) {
+    LfParams r = p;
+    r.inv_s_shading = 0.5f * max(alpha0_squared, 0.0f);
+    return r;
 }
 
 // Schlick's Fresnel on h.v: F0 + (1 - F0) (1 - h.v)^5 (Schlick 1994), per colour channel.

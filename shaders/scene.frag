@@ -40,6 +40,11 @@ layout(binding = LF_BINDING_LEAN_MAP) uniform sampler2DArray u_lean;
 // base colour texture multiplies the base colour factor.
 layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
 
+// The material's base roughness (Cook-Torrance, u_shading.roughness_map == 1): alpha0^2 = r^4 per
+// texel, its MIP chain filtered linearly as the moments are (docs/math.md §9), at the LEAN map's
+// uv with the same sampler state.
+layout(binding = LF_BINDING_BASE_ROUGHNESS) uniform sampler2D u_base_roughness;
+
 layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
     LfShadingUniforms u_shading;
 };
@@ -56,7 +61,25 @@ vec4 lean_texel(float slice) {
     return LF_SAMPLE(u_lean, vec3(v_in.uv, slice));
 }
 
+// Cook-Torrance with a base roughness map: the map's filtered alpha0^2 here.
+bool has_roughness_map() {
+    return LF_BRDF == LF_BRDF_COOK_TORRANCE && u_shading.roughness_map != 0;
+}
+
 #if defined(LF_ROUGHNESS_MIPS)
+// alpha0^2 of the LEAN map's texel p of `level` for the engine texel: the uniform roughness's, or
+// the map's texel at that level (the bake's pairing, `bake --roughness-out --roughness-map`); a
+// map of another size is read at the texel's centre from its level of the same footprint.
+float roughness_mip_alpha0_squared(ivec2 p, int level) {
+    if (!has_roughness_map()) return 2.0 * u_shading.params.inv_s_shading;
+    ivec2 size = textureSize(u_base_roughness, 0);
+    ivec2 lean_size = textureSize(u_lean, 0).xy;
+    if (size == lean_size) return texelFetch(u_base_roughness, p, level).r;
+    vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(u_lean, level).xy);
+    return textureLod(u_base_roughness, uv,
+                      float(level) + log2(float(size.x) / float(lean_size.x))).r;
+}
+
 // Roughness MIPs (docs/roughness.md): every LEAN texel of a level becomes the texel the baked
 // engine textures hold (lf_roughness_mip_texel: 8-bit normal and roughness), and those are
 // filtered as a texture unit filters the baked files: bilinear in the two levels around the LOD
@@ -66,7 +89,7 @@ vec4 roughness_mip_texel(ivec2 xy, int level) {
     ivec2 p = ((xy % size) + size) % size;
     return lf_roughness_mip_texel(texelFetch(u_lean, ivec3(p, 0), level),
                                   texelFetch(u_lean, ivec3(p, 1), level), u_shading.scale,
-                                  2.0 * u_shading.params.inv_s_shading);
+                                  roughness_mip_alpha0_squared(p, level));
 }
 
 vec4 roughness_mip_bilinear(vec2 uv, int level) {
@@ -162,6 +185,9 @@ void main() {
 #endif
     LfParams params = u_shading.params;
     params.kd *= LF_SAMPLE(u_base_color, v_in.uv).rgb;
+    if (has_roughness_map()) {
+        params = lf_with_base_roughness(params, LF_SAMPLE(u_base_roughness, v_in.uv).r);
+    }
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade(LF_TECHNIQUE, moments, light_dir, v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)

@@ -10,6 +10,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/core/shading.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -145,6 +146,85 @@ TEST(Roughness, BadInputsAreErrors) {
     baked.bake_roughness_shininess = 64.0f;
     EXPECT_THROW(roughness_mips(build_lean_map(slopes, baked), options), Error);
     EXPECT_THROW(roughness_mips(LeanMap{}, options), Error);
+}
+
+// The render-time chain (base_alpha_squared_mips, docs/math.md §9): α0² = r⁴ per texel, each
+// level's texel the mean of its 2x2 children (linear in α0², the moments' own box filter).
+TEST(Roughness, RenderTimeChainIsTheMeanOfAlphaSquared) {
+    Image r(16, 8, 1);
+    for (int y = 0; y < r.height; ++y)
+        for (int x = 0; x < r.width; ++x) r.at(x, y) = 0.05f + 0.9f * float(x * 8 + y) / 127.0f;
+    const std::vector<Image> chain = base_alpha_squared_mips(r);
+    ASSERT_EQ(chain.size(), 5u);  // 16x8, 8x4, 4x2, 2x1, 1x1
+    for (int y = 0; y < r.height; ++y)
+        for (int x = 0; x < r.width; ++x)
+            EXPECT_FLOAT_EQ(chain[0].at(x, y), std::pow(r.at(x, y), 4.0f));
+    for (std::size_t l = 1; l < chain.size(); ++l) {
+        const Image& fine = chain[l - 1];
+        const Image& level = chain[l];
+        ASSERT_EQ(level.channels, 1);
+        ASSERT_EQ(level.width, std::max(1, fine.width / 2));
+        ASSERT_EQ(level.height, std::max(1, fine.height / 2));
+        for (int y = 0; y < level.height; ++y)
+            for (int x = 0; x < level.width; ++x) {
+                double mean = 0.0;
+                const int ny = fine.height > 1 ? 2 : 1;
+                for (int dy = 0; dy < ny; ++dy)
+                    for (int dx = 0; dx < 2; ++dx)
+                        mean += fine.at(2 * x + dx, 2 * y + dy) / double(2 * ny);
+                EXPECT_NEAR(level.at(x, y), mean, 1e-6 * mean) << "level " << l;
+            }
+    }
+    // The mean over the whole map is kept: the coarsest texel is the mean α0², not (mean r)⁴.
+    double mean_a2 = 0.0;
+    for (float v : r.pixels) mean_a2 += std::pow(double(v), 4.0) / double(r.texel_count());
+    EXPECT_NEAR(chain.back().at(0, 0), mean_a2, 1e-6 * mean_a2);
+}
+
+// The bake's roughness MIPs with a map take their α0² from the very chain the renderer samples.
+TEST(Roughness, BakeAndRenderShareTheAlphaSquaredChain) {
+    const LeanMap map = build_lean_map(slopes_of("bumps", 16), BakeOptions{});
+    Image r(16, 16, 1);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) r.at(x, y) = x < 8 ? 0.2f : 0.6f;
+    RoughnessOptions options;
+    options.roughness_map = &r;
+    const std::vector<RoughnessLevel> levels = roughness_mips(map, options);
+    const std::vector<Image> chain = base_alpha_squared_mips(r);
+    ASSERT_EQ(levels.size(), chain.size());
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        for (std::size_t t = 0; t < levels[l].alpha.size(); ++t) {
+            const glm::vec3 sigma = shading::lf_covariance(map.levels[l].mean[t],
+                                                           map.levels[l].second[t], 0.0f);
+            const float alpha = std::sqrt(chain[l].pixels[t] + std::max(0.0f, sigma.x) +
+                                          std::max(0.0f, sigma.y));
+            EXPECT_NEAR(levels[l].alpha[t], alpha, 1e-5f) << "level " << l << " texel " << t;
+        }
+}
+
+// The map's channel: a grey image's first, a glTF metallic-roughness texture's G; values outside
+// [0, 1] or NaN are errors naming the texel.
+TEST(Roughness, RenderTimeMapChannelAndErrors) {
+    Image rgba(2, 1, 4);
+    rgba.pixels = {0.9f, 0.25f, 0.1f, 1.0f, 0.0f, 0.75f, 1.0f, 1.0f};
+    const Image g = base_roughness_channel(rgba);
+    ASSERT_EQ(g.channels, 1);
+    EXPECT_EQ(g.pixels, (std::vector<float>{0.25f, 0.75f}));
+    Image grey_alpha(2, 1, 2);
+    grey_alpha.pixels = {0.3f, 1.0f, 0.4f, 0.0f};
+    EXPECT_EQ(base_roughness_channel(grey_alpha).pixels, (std::vector<float>{0.3f, 0.4f}));
+    for (float bad : {1.5f, -0.25f, std::nanf("")}) {
+        Image r(4, 4, 1, 0.5f);
+        r.at(2, 1) = bad;
+        try {
+            base_alpha_squared_mips(r);
+            FAIL() << bad << " must be refused";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), "roughness map");
+            EXPECT_NE(e.cause().find("(2, 1)"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_THROW(base_alpha_squared_mips(Image{}), Error);
 }
 
 }  // namespace

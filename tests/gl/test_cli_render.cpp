@@ -111,6 +111,74 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 }
 
+// --roughness-map (docs/roughness.md): Cook-Torrance's base roughness per texel, on one map or on
+// bump layers; a missing file, values outside [0, 1], NaN, Blinn-Phong, the ocean and the map as
+// the output are one-line errors with exit 1 and no output.
+TEST(CliRender, RoughnessMap) {
+    const fs::path dir = scratch_dir("cli_render_roughness_map");
+    Image gradient(32, 32, 1);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) gradient.at(x, y) = 0.1f + 0.8f * float(x) / 31.0f;
+    io::write_png((dir / "rough.png").string(), gradient, 16);
+    Image metallic_roughness(32, 32, 3, 0.0f);  // glTF: r in G
+    for (std::size_t t = 0; t < metallic_roughness.texel_count(); ++t)
+        metallic_roughness.pixels[3 * t + 1] = 0.4f;
+    io::write_png((dir / "mr.png").string(), metallic_roughness, 8);
+    Image beyond(8, 8, 1, 0.5f);
+    beyond.at(5, 2) = 1.5f;
+    io::write_pfm((dir / "beyond.pfm").string(), beyond);
+    {  // write_pfm refuses NaN: the bytes by hand (grey PFM, little-endian, rows bottom first)
+        std::ofstream nan(dir / "nan.pfm", std::ios::binary);
+        nan << "Pf\n8 8\n-1.0\n";
+        for (int t = 0; t < 64; ++t) {
+            const float v = t == 9 ? std::nanf("") : 0.5f;
+            nan.write(reinterpret_cast<const char*>(&v), sizeof v);
+        }
+    }
+
+    const std::string common = "--size 32x32 --distances 3 --texture-size 32 ";
+    RunResult r = run_render(common + "--scene sphere --techniques lean,roughness,reference "
+                                      "--ref-samples 2 "
+                                      "--brdf cook-torrance --roughness-map rough.png -o map.png",
+                             dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "map.png"));
+    r = run_render(common + "--scene sphere --techniques lean --layers sine,flat "
+                            "--brdf cook-torrance "
+                            "--roughness-map mr.png -o layers.png",
+                   dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "layers.png"));
+
+    const struct {
+        std::string args;
+        std::string named;  // what the message names
+    } cases[] = {
+        {"--brdf cook-torrance --roughness-map missing.png", "missing.png"},
+        {"--brdf cook-torrance --roughness-map beyond.pfm", "beyond.pfm"},
+        {"--brdf cook-torrance --roughness-map nan.pfm", "nan.pfm"},
+        {"--roughness-map rough.png", "--roughness-map"},
+        {"--brdf cook-torrance --roughness-map rough.png --scene ocean", "--roughness-map"},
+    };
+    for (const auto& c : cases) {
+        const std::string scene =
+            c.args.find("--scene") == std::string::npos ? "--scene sphere " : "";
+        r = run_render(common + scene + "--techniques lean " + c.args + " -o never.png", dir);
+        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "never.png")) << c.args;
+    }
+    // The map is an input: an output never overwrites it.
+    const std::string before = read_text(dir / "rough.png");
+    r = run_render(common + "--scene sphere --techniques lean --brdf cook-torrance "
+                            "--roughness-map rough.png -o rough.png",
+                   dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_EQ(read_text(dir / "rough.png"), before);
+}
+
 // `--mixings`: a column per mixing method, and the metrics against the first as CSV and JSON;
 // the coherent pair sine / -sine gives textures = height and approx far from it (Fig. 10).
 TEST(CliRender, MixingsWritesTheLayerFigureAndItsTable) {

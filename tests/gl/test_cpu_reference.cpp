@@ -10,14 +10,21 @@
 // order of operations. Measured on llvmpipe the largest relative error is near 1e-5; the bound
 // leaves two orders of magnitude for other drivers while catching any formula change (a wrong
 // constant, sc, 1/s or a missing term changes values by percents).
+//
+// With a base roughness map (Cook-Torrance, docs/math.md §9) the quad's map has r = 0.2 on its
+// left half (u < 0.5) and r = 0.6 on its right half, 8 x 8 texels magnified (level 0 only): the
+// CPU takes α0² of the texel under the pixel and compares the pixels whose bilinear footprint lies
+// in one half (the others blend the halves by the rasteriser's filter weights).
 #include <cmath>
 #include <ostream>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_test_helpers.hpp"
+#include "leanfade/core/roughness.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/shading.hpp"
+#include "leanfade/scene/material.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -29,7 +36,16 @@ struct Case {
     FogMode fog = FogMode::None;
     float fade_exponent = 2.0f;  // 2: the LF_FADE_EXPONENT_2 variant; other values: pow
     Brdf brdf = Brdf::BlinnPhong;
+    bool roughness_map = false;  // the half-and-half base roughness map (Cook-Torrance)
 };
+
+constexpr int kMapSize = 8;  // texels per side of the LEAN and roughness maps with a map
+
+// Perceptual roughness of the map's column x: 0.2 on the left half, 0.6 on the right (repeating).
+float map_roughness(int x) {
+    x = ((x % kMapSize) + kMapSize) % kMapSize;
+    return x < kMapSize / 2 ? 0.2f : 0.6f;
+}
 
 // Test names show the case's name instead of its bytes.
 void PrintTo(const Case& c, std::ostream* os) {
@@ -41,12 +57,28 @@ class GpuMatchesCpu : public GlTest, public ::testing::WithParamInterface<Case> 
 TEST_P(GpuMatchesCpu, PixelByPixel) {
     const Case& c = GetParam();
     const PackedLeanMap map =
-        make_constant_lean_map({0.12f, -0.07f}, {0.010f, 0.018f, 0.004f}, 0.97f, Storage::Float32);
+        make_constant_lean_map({0.12f, -0.07f}, {0.010f, 0.018f, 0.004f}, 0.97f, Storage::Float32,
+                               c.roughness_map ? kMapSize : 4);
+    Image roughness(kMapSize, kMapSize, 1);
+    for (int y = 0; y < kMapSize; ++y)
+        for (int x = 0; x < kMapSize; ++x) roughness.at(x, y) = map_roughness(x);
+    const std::vector<Image> alpha0_squared = base_alpha_squared_mips(roughness);
 
     gl::Renderer renderer(context());
     const scene::Mesh quad = make_test_quad();
-    renderer.set_mesh(quad);
-    renderer.set_lean_map(map);
+    if (c.roughness_map) {
+        scene::Scene scene;
+        scene.objects.push_back(scene::Object{quad, 0, glm::mat4(1.0f)});
+        scene::Material material;
+        material.roughness_map = 0;
+        scene.materials.push_back(material);
+        scene.lean_maps.push_back(map);
+        scene.roughness_maps.push_back(alpha0_squared);
+        renderer.set_scene(scene);
+    } else {
+        renderer.set_mesh(quad);
+        renderer.set_lean_map(map);
+    }
 
     gl::RenderRequest request;
     request.technique = c.technique;
@@ -75,12 +107,30 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
     const shading::LfParams params = to_lf_params(s, map.roughness_baked);
     const glm::vec4 lean1 = fetch_packed_texel(map, 0, 0, 0, 0);
     const glm::vec4 lean2 = fetch_packed_texel(map, 0, 1, 0, 0);
+    if (c.roughness_map && c.technique == gl::Technique::Roughness) {
+        // The engine texel the shader builds from the map's α0² is the one `leanfade bake
+        // --roughness-out --roughness-map` writes, within its 8-bit rounding.
+        RoughnessOptions options;
+        options.roughness_map = &roughness;
+        const RoughnessTextures baked =
+            roughness_textures(roughness_mips(unpack_lean_map(map), options), nullptr);
+        for (int x : {0, kMapSize - 1}) {
+            const glm::vec4 texel = shading::lf_roughness_mip_texel(
+                lean1, lean2, map.scale, alpha0_squared[0].at(x, 0));
+            const float r = baked.metallic_roughness[0].at(x, 0, 1);
+            EXPECT_NEAR(texel.w, std::round(r * 255.0f) / 255.0f, 1.0f / 255.0f + 1e-6f);
+            for (int ch = 0; ch < 3; ++ch)
+                EXPECT_NEAR(texel[ch], std::round(baked.normal[0].at(x, 0, ch) * 255.0f) / 255.0f,
+                            1.0f / 255.0f + 1e-6f);
+        }
+    }
     const glm::mat4 view = request.view.view_matrix();
     const glm::mat4 inverse = glm::inverse(
         request.view.projection_matrix(float(request.width) / float(request.height)) * view);
     const float half = 1.0f / std::sqrt(2.0f);
     const glm::vec3 light = glm::normalize(s.light_direction);
-    int compared = 0;
+    int compared = 0, blended = 0;
+    int compared_per_half[2] = {0, 0};
     double worst = 0.0;
     for (int y = 0; y < gpu.height; ++y) {
         for (int x = 0; x < gpu.width; ++x) {
@@ -100,13 +150,27 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             if (!inside) continue;
             // Tangent frame = world axes (T = +x, Bt = +y, N = +z).
             const glm::vec3 view_t = request.view.eye - p;
+            shading::LfParams pixel_params = params;
+            float base = 2.0f * params.inv_s_shading;  // α0² of the uniform roughness
+            if (c.roughness_map) {
+                // The map's texel columns under the bilinear footprint at u (level 0).
+                const float u = p.x / (2.0f * half) + 0.5f;
+                const int left = int(std::floor(u * kMapSize - 0.5f));
+                if (map_roughness(left) != map_roughness(left + 1)) {
+                    ++blended;
+                    continue;
+                }
+                base = base_alpha_squared(map_roughness(left));
+                pixel_params = shading::lf_with_base_roughness(params, base);
+                ++compared_per_half[map_roughness(left) < 0.5f ? 0 : 1];
+            }
             shading::LfMoments moments = shading::lf_unpack(lean1, lean2, map.scale);
             // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
             if (c.technique == gl::Technique::Roughness)
-                moments = shading::lf_roughness_mips_moments(shading::lf_roughness_mip_texel(
-                    lean1, lean2, map.scale, 2.0f * params.inv_s_shading));
+                moments = shading::lf_roughness_mips_moments(
+                    shading::lf_roughness_mip_texel(lean1, lean2, map.scale, base));
             const shading::LfShade shade = shading::lf_shade(info(c.technique).shader_technique,
-                                                             moments, light, view_t, params);
+                                                             moments, light, view_t, pixel_params);
             glm::vec3 expected = shade.diffuse + shade.specular;
             const float depth = -(view * glm::vec4(p, 1.0f)).z;
             const float f = shading::lf_fog_factor(depth, to_shader_constant(s.fog), s.fog_start,
@@ -123,7 +187,14 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             ++compared;
         }
     }
-    EXPECT_GT(compared, gpu.width * gpu.height / 4) << "the quad must cover much of the image";
+    EXPECT_GT(compared, gpu.width * gpu.height / (c.roughness_map ? 6 : 4))
+        << "the quad must cover much of the image";
+    if (c.roughness_map) {
+        EXPECT_GT(compared_per_half[0], 200) << "pixels of r = 0.2";
+        EXPECT_GT(compared_per_half[1], 200) << "pixels of r = 0.6";
+        std::printf("%s: %d + %d pixels of r = 0.2 and 0.6, %d blending them skipped\n", c.name,
+                    compared_per_half[0], compared_per_half[1], blended);
+    }
     RecordProperty("worst_relative_error", std::to_string(worst));
     std::printf("%s: %d pixels, worst relative error %.3g\n", c.name, compared, worst);
 }
@@ -154,7 +225,22 @@ INSTANTIATE_TEST_SUITE_P(
         // Roughness MIPs (docs/roughness.md) in both BRDFs.
         Case{"roughness", gl::Technique::Roughness},
         Case{"roughness_ct", gl::Technique::Roughness, FadeDistance::TangentZ, FogMode::None,
-             2.0f, Brdf::CookTorrance}),
+             2.0f, Brdf::CookTorrance},
+        // A base roughness map (docs/math.md §9): α0² per texel in every Cook-Torrance stage.
+        Case{"bump_ct_map", gl::Technique::Bump, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance, true},
+        Case{"toksvig_ct_map", gl::Technique::Toksvig, FadeDistance::TangentZ, FogMode::None,
+             2.0f, Brdf::CookTorrance, true},
+        Case{"clean_ct_map", gl::Technique::Clean, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance, true},
+        Case{"lean_ct_map", gl::Technique::Lean, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance, true},
+        Case{"fade_ct_map", gl::Technique::Fade, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance, true},
+        Case{"fade_eye_ct_fog_map", gl::Technique::Fade, FadeDistance::Eye, FogMode::Exp, 1.7f,
+             Brdf::CookTorrance, true},
+        Case{"roughness_ct_map", gl::Technique::Roughness, FadeDistance::TangentZ, FogMode::None,
+             2.0f, Brdf::CookTorrance, true}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 // Core images are stored top row first; the upload flips them so that the top row lies at v = 1

@@ -43,6 +43,16 @@ TEST(CliFlags, EveryParameterIsAFlagOfTheRenderingCommands) {
     }
 }
 
+// The base roughness map (docs/roughness.md) beside the source flags of every rendering command.
+TEST(CliFlags, RoughnessMapIsAFlagOfTheRenderingCommands) {
+    for (const char* command : {"render", "view", "eval", "calibrate", "bench"}) {
+        const RunResult r =
+            run_leanfade(std::string(command) + " --help", scratch_dir("cli_flags_help"));
+        ASSERT_EQ(r.exit_code, 0) << command << ": " << r.err;
+        EXPECT_NE(r.out.find("--roughness-map "), std::string::npos) << command;
+    }
+}
+
 TEST(CliFlags, ARangeErrorNamesTheFlag) {
     const RunResult r =
         run_leanfade("render --fade-exponent 0 -o never.png", scratch_dir("cli_flags_range"));

@@ -44,6 +44,12 @@ std::string writer_string() {
 
 }  // namespace
 
+Image read_roughness_map(const std::string& path, const io::ReadOptions& read_options) {
+    io::ReadOptions keep_alpha = read_options;
+    keep_alpha.drop_alpha = false;
+    return io::read_image(path, keep_alpha);
+}
+
 void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
     app.add_option("--roughness-out", args.roughness_out,
                    "Also write roughness MIPs for engines: FILE.ktx2 (glTF metallic-roughness, "
@@ -117,14 +123,8 @@ int write_roughness_outputs(const RoughnessBakeArgs& args,
     Image map_image, base;
     const Image* metallic_roughness = nullptr;
     if (!args.roughness_map.empty()) {
-        io::ReadOptions keep_alpha = read_options;
-        keep_alpha.drop_alpha = false;
-        map_image = io::read_image(args.roughness_map, keep_alpha);
-        // A grey map holds r0 itself; a colour one is a glTF metallic-roughness texture (r0 in G).
-        const int channel = map_image.channels >= 3 ? 1 : 0;
-        base = Image(map_image.width, map_image.height, 1);
-        for (std::size_t t = 0; t < map_image.texel_count(); ++t)
-            base.pixels[t] = map_image.pixels[t * std::size_t(map_image.channels) + channel];
+        map_image = read_roughness_map(args.roughness_map, read_options);
+        base = base_roughness_channel(map_image);
         roughness.roughness_map = &base;
         if (map_image.channels >= 3) metallic_roughness = &map_image;
     }

@@ -25,6 +25,11 @@ struct RoughnessBakeArgs {
     bool requested() const { return !roughness_out.empty() || !anisotropy_out.empty(); }
 };
 
+// A base roughness map as read (alpha kept: a glTF metallic-roughness texture keeps its 4
+// channels), under the size limit of `read_options`; leanfade::base_roughness_channel takes r
+// from it. Throws io::read_image's errors.
+Image read_roughness_map(const std::string& path, const io::ReadOptions& read_options);
+
 void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args);
 
 // Checks the flags before any file is touched (they need exactly one input and a LEAN map without

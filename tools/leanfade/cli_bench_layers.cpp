@@ -1,13 +1,10 @@
 // The LEAN paper's Fig. 12 columns (cli_bench_layers.hpp).
 #include "cli_bench_layers.hpp"
 
-#include <algorithm>
 #include <cstdio>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/procedural.hpp"
 #include "leanfade/core/text.hpp"
-#include "leanfade/gl/generate.hpp"
 #include "leanfade/gl/renderer.hpp"
 
 namespace leanfade::cli {
@@ -29,13 +26,14 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
                                               const std::function<void(const std::string&)>& say) {
     RenderSourceFlags layered = input;
     if (layered.layers.layers.empty()) layered.layers.layers = "bumps,noise";
+    // Moving layers (their offsets change every frame), unless the command line sets them.
+    if (layered.layers.velocity.empty()) layered.layers.velocity = kFig12Velocities;
     if (split(layered.layers.layers, ',').size() != 2)
         throw Error("--layers", "the Fig. 12 columns mix two layers");
     request.fill = true;
     request.distances.clear();
     request.floor = false;
     gl::Renderer renderer(context, shader_sources(gl_flags));
-    gl::LeanGenerator generator(context, shader_sources(gl_flags));
     std::vector<LayerBenchResult> results;
     for (const std::string& name : scene_names) {
         LayerBenchResult result;
@@ -58,52 +56,29 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
                                   base.scenes.front().views.front().ratio("bump", "lean")});
         result.columns.push_back({"single_lean", "single LEAN", lean_ms, lean.fps, 1.0});
 
-        // Per-frame generation: the mixed height field's LEAN map generated on the GPU (compute
-        // pass + MIPs) every frame, then drawn with LEAN: the two medians added.
-        // The mixed height field sum t_i k_i h_i of the two (built-in) layers: what a moving
-        // pair needs each frame (its offsets change, so the mix and the map are redone).
-        const std::vector<std::string> sources = split(layered.layers.layers, ',');
-        Image mixed_height;
-        for (std::size_t i = 0; i < sources.size(); ++i) {
-            const auto& builtins = builtin_bump_names();
-            if (std::find(builtins.begin(), builtins.end(), sources[i]) == builtins.end())
-                throw Error("--layers", "the per-frame generation column mixes built-in sets");
-            const Image h = make_builtin_height(sources[i], input.bumps.texture_size,
-                                                input.bumps.seed);
-            if (i == 0) mixed_height = Image(h.width, h.height, 1);
-            for (std::size_t t = 0; t < h.texel_count(); ++t)
-                mixed_height.pixels[t] += 0.5f * h.pixels[t * std::size_t(h.channels)];
-        }
-        gl::GenerateOptions options;
-        options.strength = request.settings.bump_strength;
-        options.scale = single_scene.lean_maps.front().scale;
-        options.storage = single_scene.lean_maps.front().storage;
-        generator.set_source(mixed_height, gl::GenerateInput::Height);
-        gl::IntervalTimer timer(base.timing.method);
-        const gl::GenerationTimes times =
-            gl::time_generation(generator, options, request.frames, request.warmup, timer);
-        std::vector<double> generation;
-        for (std::size_t i = 0; i < times.pass_ms.size(); ++i)
-            generation.push_back(times.pass_ms[i] + times.mipmap_ms[i]);
-        const double generation_ms = gl::sample_stats(generation).median;
-        const double per_frame_ms = lean_ms + generation_ms;
-        result.columns.push_back({"per_frame_generation", "per-frame generation", per_frame_ms,
-                                  1000.0 / per_frame_ms, per_frame_ms / lean_ms});
-
-        // Mixture textures and approximation: two layers mixed at shading time.
-        for (const char* mixing : {"textures", "approx"}) {
+        // Per-frame generation and the two mixtures: the same two moving layers (docs/math.md
+        // §6), drawn with LEAN; the clock advances every frame, so the height method's mixed map
+        // is generated on the GPU (compute pass + MIPs) inside every timed frame.
+        struct MixedColumn {
+            const char* mixing;
+            const char* key;
+            const char* label;
+        };
+        const MixedColumn mixed_columns[] = {
+            {"height", "per_frame_generation", "per-frame generation"},
+            {"textures", "mixture_textures", "mixture textures"},
+            {"approx", "mixture_approximation", "mixture approximation"}};
+        for (const MixedColumn& column : mixed_columns) {
             RenderSourceFlags flags = layered;
             flags.scene = name;
-            flags.layers.mixing = mixing;
+            flags.layers.mixing = column.mixing;
             const scene::Scene scene = load_render_scene(flags, request.settings);
             request.techniques = {gl::Technique::Lean};
             const gl::FrameBenchResult mixed =
                 gl::run_frame_bench(renderer, {{name, nullptr, &scene}}, request);
             const gl::TechniqueTiming& t = fill_timing(mixed, gl::Technique::Lean);
-            const bool textures = std::string(mixing) == "textures";
-            result.columns.push_back({textures ? "mixture_textures" : "mixture_approximation",
-                                      textures ? "mixture textures" : "mixture approximation",
-                                      t.stats.median, t.fps, t.stats.median / lean_ms});
+            result.columns.push_back(
+                {column.key, column.label, t.stats.median, t.fps, t.stats.median / lean_ms});
         }
         results.push_back(std::move(result));
     }

@@ -1,8 +1,9 @@
 #pragma once
 // `leanfade bench --layers-columns`: the LEAN paper's Fig. 12 columns, each object filling the
-// screen: Blinn-Phong bump mapping, single LEAN, per-frame generation (the mixed map generated on
-// the GPU every frame, then drawn with LEAN), mixture textures and mixture approximation (two
-// layers mixed at shading time), with FPS and the ratio of each to single LEAN.
+// screen: Blinn-Phong bump mapping, single LEAN, per-frame generation (two moving layers mixed by
+// height: their mixed map generated on the GPU inside every frame, then drawn with LEAN), mixture
+// textures and mixture approximation (the same layers mixed at shading time), with FPS and the
+// ratio of each to single LEAN.
 #include <functional>
 #include <string>
 
@@ -13,6 +14,9 @@
 #include "leanfade/gl/frame_bench.hpp"
 
 namespace leanfade::cli {
+
+// The layers' velocities (uv per second) of the mixed columns when --layer-velocity is not given.
+inline constexpr const char* kFig12Velocities = "0.02:0,-0.01:0.03";
 
 struct LayerBenchColumn {
     std::string key;    // JSON key: blinn_phong, single_lean, per_frame_generation, ...

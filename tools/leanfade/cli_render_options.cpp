@@ -144,6 +144,12 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str()
         ->group(group);
+    app.add_option("--roughness-map", f.roughness_map,
+                   "Base roughness per texel with --brdf cook-torrance, instead of --roughness: a "
+                   "grey image of perceptual r in [0, 1] or a glTF metallic-roughness texture (r "
+                   "in G), at the bumps' uv; alpha0^2 = r^4 is MIP-filtered linearly, as the "
+                   "moments (docs/roughness.md)")
+        ->group(group);
 }
 
 Storage on_the_fly_storage(const LeanSourceFlags& f) { return parse_bake_storage(f.bits); }

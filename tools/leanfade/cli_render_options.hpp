@@ -42,10 +42,14 @@ struct LeanSourceFlags {
     std::uint32_t seed = 1;       // built-in sets
     int texture_size = 256;       // built-in sets, texels per side
     int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
+    // --roughness-map: Cook-Torrance's base roughness per texel, a grey image of perceptual r in
+    // [0, 1] or a glTF metallic-roughness texture (r in G), on the material of --bumps or
+    // --layers (load_render_scene); empty: the uniform --roughness.
+    std::string roughness_map;
 };
 
 // --bumps --from --directx --bits --strength-unit --seed --texture-size --max-size, in the
-// "Bumps" group.
+// "Bumps" group, and --roughness-map.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
 // The storage of on-the-fly bakes: --bits, with auto first baked as 16-bit UNORM (a map with
 // outliers beyond sc is baked again as 16f by load_lean_map, as `leanfade bake` does).

@@ -7,8 +7,10 @@
 #include <filesystem>
 
 #include "cli_bake_gltf.hpp"
+#include "cli_bake_roughness.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/procedural.hpp"
+#include "leanfade/core/roughness.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -122,6 +124,36 @@ Image load_weight_map(const std::string& path, int layers, int max_size) {
                 image.pixels[t * std::size_t(image.channels) + std::size_t(c)] / sum;
     }
     return weights;
+}
+
+// --roughness-map: its α0² chain (docs/math.md §9) on every material of the scene. Checked before
+// anything is baked: it needs Cook-Torrance and a scene whose material the flags build.
+void check_roughness_map(const RenderSourceFlags& flags, const ShadingSettings& settings) {
+    const std::string& path = flags.bumps.roughness_map;
+    if (path.empty()) return;
+    if (settings.brdf != Brdf::CookTorrance)
+        throw Error("--roughness-map", "needs --brdf cook-torrance (the base roughness of "
+                                       "Blinn-Phong is 1/s, --shininess)");
+    if (is_ocean_scene(flags.scene) || scene::is_gltf_path(flags.scene))
+        throw Error("--roughness-map", "applies to the material of --bumps or --layers, not to "
+                                       "the ocean or a glTF scene's own materials");
+}
+
+void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
+    const std::string& path = flags.bumps.roughness_map;
+    if (path.empty()) return;
+    io::ReadOptions read_options;
+    read_options.max_dimension = flags.bumps.max_size;
+    try {
+        result.roughness_maps.push_back(base_alpha_squared_mips(
+            base_roughness_channel(read_roughness_map(path, read_options))));
+    } catch (const Error& e) {
+        // Name the file for the map's errors.
+        if (e.file() == "roughness map") throw Error(path, e.cause());
+        throw;
+    }
+    for (scene::Material& material : result.materials)
+        material.roughness_map = int(result.roughness_maps.size()) - 1;
 }
 
 void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
@@ -244,6 +276,7 @@ void add_layer_options(CLI::App& app, LayerFlags& f) {
 }
 
 scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings) {
+    check_roughness_map(flags, settings);
     // The built-in ocean: a water plane with moving Gabor wave layers (cli_ocean.hpp).
     if (is_ocean_scene(flags.scene))
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
@@ -264,6 +297,7 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
     } else {
         add_layered_material(result, flags, settings);
     }
+    add_roughness_map(result, flags);
     scene::validate(result);
     return result;
 }
@@ -271,7 +305,8 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
 std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
                                               const std::string& extra) {
     std::vector<std::string> inputs;
-    std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map};
+    std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map,
+                                   flags.bumps.roughness_map};
     if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
     if (!flags.layers.layers.empty())
         for (const std::string& source : split(flags.layers.layers, ',')) paths.push_back(source);

@@ -43,8 +43,10 @@ void add_layer_options(CLI::App& app, LayerFlags& flags);
 // each source is baked (or read) at strength 1 in the storage of --bits, without baked
 // roughness, and the material mixes them: `textures` with the cross-term texture of every pair,
 // `approx` without, `height` as one map baked from the mixed slopes (static layers; moving
-// layers are refused). `settings` gives the height scale of on-the-fly bakes. Throws
-// leanfade::Error naming the file or the flag.
+// layers are refused). With --roughness-map (Cook-Torrance only; not for the ocean or glTF
+// scenes) every material gets the map's α0² chain (leanfade::base_alpha_squared_mips).
+// `settings` gives the height scale of on-the-fly bakes. Throws leanfade::Error naming the file
+// or the flag.
 scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings);
 
 // One bump layer's float LEAN map: a built-in set, an image (baked with `settings`' height

@@ -36,20 +36,52 @@ std::vector<Image> base_alpha_squared(const LeanMap& map, const RoughnessOptions
                                          std::to_string(top.height) +
                                          " texels like the LEAN map, got " +
                                          std::to_string(r.width) + "x" + std::to_string(r.height));
-    Image a2(r.width, r.height, 4);
-    for (std::size_t t = 0; t < r.texel_count(); ++t) {
-        const float v = r.pixels[t * std::size_t(r.channels)];
-        if (!unit_interval(v))
-            throw Error("roughness map", "roughness " + std::to_string(v) + " at texel (" +
-                                             std::to_string(t % std::size_t(r.width)) + ", " +
-                                             std::to_string(t / std::size_t(r.width)) +
-                                             ") is outside [0, 1]");
-        a2.pixels[4 * t] = v * v * v * v;  // α0² = (r²)²
+    Image first(r.width, r.height, 1);
+    for (std::size_t t = 0; t < r.texel_count(); ++t)
+        first.pixels[t] = r.pixels[t * std::size_t(r.channels)];
+    for (Image& level : base_alpha_squared_mips(first, options.threads)) {
+        Image rgba(level.width, level.height, 4);
+        for (std::size_t t = 0; t < level.texel_count(); ++t) rgba.pixels[4 * t] = level.pixels[t];
+        levels.push_back(std::move(rgba));
     }
-    return build_mip_chain(a2, options.threads);
+    return levels;
 }
 
 }  // namespace
+
+Image base_roughness_channel(const Image& map) {
+    // A grey map holds r itself; a colour one is a glTF metallic-roughness texture (r in G).
+    const int channel = map.channels >= 3 ? 1 : 0;
+    Image r(map.width, map.height, 1);
+    for (std::size_t t = 0; t < map.texel_count(); ++t)
+        r.pixels[t] = map.pixels[t * std::size_t(map.channels) + std::size_t(channel)];
+    return r;
+}
+
+std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads) {
+    if (roughness.empty() || roughness.channels < 1)
+        throw Error("roughness map", "the map has no texels");
+    const std::size_t channels = std::size_t(roughness.channels);
+    Image a2(roughness.width, roughness.height, 4);
+    for (std::size_t t = 0; t < roughness.texel_count(); ++t) {
+        const float v = roughness.pixels[t * channels];
+        if (!unit_interval(v))
+            throw Error("roughness map", "roughness " + std::to_string(v) + " at texel (" +
+                                             std::to_string(t % std::size_t(roughness.width)) +
+                                             ", " +
+                                             std::to_string(t / std::size_t(roughness.width)) +
+                                             ") is outside [0, 1]");
+        a2.pixels[4 * t] = base_alpha_squared(v);
+    }
+    // The moments' filter works on 4 channels: α0² rides in the first.
+    std::vector<Image> levels;
+    for (const Image& level : build_mip_chain(a2, threads)) {
+        Image one(level.width, level.height, 1);
+        for (std::size_t t = 0; t < level.texel_count(); ++t) one.pixels[t] = level.pixels[4 * t];
+        levels.push_back(std::move(one));
+    }
+    return levels;
+}
 
 float perceptual_roughness(float alpha) {
     return std::sqrt(std::max(alpha, 0.0f));

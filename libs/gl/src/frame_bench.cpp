@@ -115,7 +115,8 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
         for (int k = 0; k < count; ++k) order[std::size_t(k)] = (k + round) % count;
         for (int index : order) {
             const Entry& e = entries[std::size_t(index)];
-            const RenderRequest request = frame_request(r, e.technique, view, r.width, r.height);
+            RenderRequest request = frame_request(r, e.technique, view, r.width, r.height);
+            request.time = float(round) * r.seconds_per_round;
             if (timed) timer.begin();
             target.clear();
             renderer.draw(request, target.framebuffer.get(), e.variant);
@@ -179,6 +180,8 @@ void validate_frame_bench(const FrameBenchRequest& r) {
     if (r.warmup < 0 || r.warmup > 100000)
         throw Error("warmup", "must be in [0, 100000], got " + std::to_string(r.warmup));
     if (!r.fill && r.distances.empty()) throw Error("distances", "no view to measure");
+    if (!(r.seconds_per_round >= 0.0f) || !std::isfinite(r.seconds_per_round))
+        throw Error("seconds-per-round", "must be a finite number of seconds >= 0");
     for (float d : r.distances)
         if (!(d > 1.0f) || !std::isfinite(d))
             throw Error("distances", "distances are in bounding radii and must be > 1, got " +

@@ -311,6 +311,7 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
     material_layers_.clear();
     material_layers_.resize(1);
     base_colors_.clear();
+    roughness_maps_.clear();
 }
 
 namespace {
@@ -341,6 +342,39 @@ Texture upload_base_color(const Image& image) {
     return texture;
 }
 
+// A base roughness map (scene::Scene::roughness_maps: alpha0^2, 1 channel, the full chain) as
+// GL_TEXTURE_2D R32F with every level uploaded from the CPU chain, rows flipped so that +v is up,
+// repeating, trilinear. R32F, not R16F: alpha0^2 = r^4 reaches 1e-8 at r = 0.01, below half
+// floats' normal range (6e-5), where a 16-bit float would lose it.
+Texture upload_roughness_map(const std::vector<Image>& chain) {
+    const Image& top = chain.front();
+    if (top.width > gl_integer(GL_MAX_TEXTURE_SIZE) || top.height > gl_integer(GL_MAX_TEXTURE_SIZE))
+        throw Error("roughness-map", "larger than GL_MAX_TEXTURE_SIZE (" +
+                                         std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) + ")");
+    Texture texture = create_texture(GL_TEXTURE_2D);
+    const GLsizei levels = GLsizei(chain.size());
+    glTextureStorage2D(texture.get(), levels, GL_R32F, top.width, top.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (GLsizei level = 0; level < levels; ++level) {
+        const Image& image = chain[std::size_t(level)];
+        std::vector<float> rows(image.pixels.size());
+        const std::size_t row = std::size_t(image.width);
+        for (int y = 0; y < image.height; ++y)
+            std::copy_n(image.pixels.data() + std::size_t(y) * row, row,
+                        rows.data() + std::size_t(image.height - 1 - y) * row);
+        glTextureSubImage2D(texture.get(), level, 0, 0, image.width, image.height, GL_RED,
+                            GL_FLOAT, rows.data());
+    }
+    glTextureParameteri(texture.get(), GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return texture;
+}
+
 }  // namespace
 
 void Renderer::set_scene(const scene::Scene& scene) {
@@ -360,6 +394,9 @@ void Renderer::set_scene(const scene::Scene& scene) {
     std::vector<Texture> base_colors;
     for (const Image& image : scene.base_color_textures)
         base_colors.push_back(upload_base_color(image));
+    std::vector<Texture> roughness_maps;
+    for (const std::vector<Image>& chain : scene.roughness_maps)
+        roughness_maps.push_back(upload_roughness_map(chain));
     std::vector<GpuObject> objects;
     for (const scene::Object& o : scene.objects)
         objects.push_back(upload_object(o.mesh, o.material, o.transform));
@@ -370,6 +407,7 @@ void Renderer::set_scene(const scene::Scene& scene) {
     materials_ = scene.materials;
     material_layers_ = std::move(layers);
     base_colors_ = std::move(base_colors);
+    roughness_maps_ = std::move(roughness_maps);
 }
 
 namespace {
@@ -653,6 +691,10 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
         block.fog_color = s.fog_color;
         block.fog_end = s.fog_end;
         block.fog_density = s.fog_density;
+        // docs/math.md §9: Cook-Torrance's base roughness per texel from the material's map.
+        const bool roughness_map =
+            material.roughness_map >= 0 && s.brdf == Brdf::CookTorrance;
+        block.roughness_map = roughness_map ? 1 : 0;
         glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
         glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
                          shading_block_.get());
@@ -662,6 +704,10 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
                           material.base_color_texture >= 0
                               ? base_colors_[std::size_t(material.base_color_texture)].get()
                               : white_.get());
+        glBindTextureUnit(GLuint(bindings::LF_BINDING_BASE_ROUGHNESS),
+                          roughness_map
+                              ? roughness_maps_[std::size_t(material.roughness_map)].get()
+                              : 0);
         glBindVertexArray(object.vertex_array.get());
         glDrawElements(GL_TRIANGLES, object.index_count, GL_UNSIGNED_INT, nullptr);
     }
@@ -774,6 +820,7 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
         if (layers.mixer && layers.mixer->texture() != 0)
             textures.push_back(layers.mixer->texture());
     }
+    for (const Texture& map : roughness_maps_) textures.push_back(map.get());
     for (const GLuint texture : textures) {
         glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
         if (s.anisotropy > 1)

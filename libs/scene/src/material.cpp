@@ -77,6 +77,27 @@ void validate_layers(const Scene& scene, const Material& m) {
     }
 }
 
+// A base roughness map: α0² per texel, every level of the chain, 1 channel, finite and >= 0.
+void validate_roughness_map(const std::vector<Image>& chain) {
+    if (chain.empty() || chain.front().empty())
+        throw Error("roughness-map", "a roughness map has no levels");
+    int w = chain.front().width, h = chain.front().height;
+    if (int(chain.size()) != mip_level_count(w, h))
+        throw Error("roughness-map", "a roughness map needs its full MIP chain: " +
+                                         std::to_string(mip_level_count(w, h)) + " levels, got " +
+                                         std::to_string(chain.size()));
+    for (const Image& level : chain) {
+        if (level.width != w || level.height != h || level.channels != 1)
+            throw Error("roughness-map",
+                        "a roughness map's levels are 1-channel and halve in size");
+        for (float v : level.pixels)
+            if (!(v >= 0.0f) || !std::isfinite(v))
+                throw Error("roughness-map", "a roughness map's alpha0^2 must be finite and >= 0");
+        w = std::max(1, w / 2);
+        h = std::max(1, h / 2);
+    }
+}
+
 }  // namespace
 
 Bounds scene_bounds(const Scene& scene) {
@@ -114,6 +135,12 @@ void validate(const Scene& scene) {
                                      std::to_string(m.base_color_texture) + " of " +
                                      std::to_string(scene.base_color_textures.size()));
     }
+    for (const Material& m : scene.materials)
+        if (m.roughness_map < -1 || m.roughness_map >= int(scene.roughness_maps.size()))
+            throw Error("scene", "material '" + m.name + "' uses roughness map " +
+                                     std::to_string(m.roughness_map) + " of " +
+                                     std::to_string(scene.roughness_maps.size()));
+    for (const std::vector<Image>& chain : scene.roughness_maps) validate_roughness_map(chain);
     for (const Image& texture : scene.base_color_textures)
         if (texture.channels != 4 || texture.width < 1 || texture.height < 1)
             throw Error("scene", "a base colour texture is not a non-empty RGBA image");

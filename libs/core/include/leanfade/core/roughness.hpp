@@ -63,6 +63,24 @@ struct RoughnessTextures {
 RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,
                                      const Image* metallic_roughness_input, int threads = 0);
 
+// A base roughness map's perceptual roughness r per texel (1 channel, rows as the input's): the
+// first channel of a grey image (1-2 channels), G of a glTF metallic-roughness texture (3-4).
+Image base_roughness_channel(const Image& map);
+
+// α0² = (r²)² of a perceptual roughness r (docs/math.md §9): Beckmann α0 = r², squared.
+inline float base_alpha_squared(float r) {
+    const float alpha0 = r * r;
+    return alpha0 * alpha0;
+}
+
+// The base roughness at render time (docs/roughness.md, docs/math.md §9): α0² = r⁴ per texel of
+// `roughness` (base_roughness_channel's 1 channel of r in [0, 1]), then its MIP chain filtered
+// linearly with the moments' own filter (build_mip_chain): α0² enters the covariance as a sum, so
+// its filtered value is the mean α0² of the footprint, as Σ's is. Level 0 first, 1-channel
+// float images, rows as the input's. Throws leanfade::Error("roughness map", cause) for a value
+// outside [0, 1] or not finite (naming the texel) or an empty image.
+std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads = 0);
+
 // glTF perceptual roughness of a Beckmann α: √α.
 float perceptual_roughness(float alpha);
 

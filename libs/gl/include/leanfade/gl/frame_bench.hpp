@@ -38,6 +38,9 @@ struct FrameBenchRequest {
     TimingMethod timing = TimingMethod::Auto;
     ShadingSettings settings;
     glm::vec3 view_direction = kDefaultViewDirection;
+    // The animation's clock (RenderRequest::time) advances this much per round, seconds: moving
+    // bump layers move, and a material mixed by height regenerates its map every round.
+    float seconds_per_round = 1.0f / 60.0f;
 };
 
 struct TechniqueTiming {

@@ -209,6 +209,8 @@ class Renderer {
     std::vector<GpuMap> maps_;
     std::vector<GpuLayers> material_layers_;  // per material (empty textures: single map)
     std::vector<Texture> base_colors_;  // Scene::base_color_textures, with MIP chains
+    // Scene::roughness_maps: GL_TEXTURE_2D R32F of alpha0^2 with every level of the CPU chain
+    std::vector<Texture> roughness_maps_;
     Texture white_;                      // 1x1 white: the base colour of the others
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;

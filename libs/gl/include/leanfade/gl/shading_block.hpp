@@ -45,8 +45,9 @@ static_assert(offsetof(LfShadingUniforms, fog_start) == 108);
 static_assert(offsetof(LfShadingUniforms, fog_color) == 112);
 static_assert(offsetof(LfShadingUniforms, fog_end) == 124);
 static_assert(offsetof(LfShadingUniforms, fog_density) == 128);
-// std140 rounds the struct up to 144 bytes; the last 12 are padding, not uploaded.
-static_assert(sizeof(LfShadingUniforms) == 132);
+static_assert(offsetof(LfShadingUniforms, roughness_map) == 132);
+// std140 rounds the struct up to 144 bytes; the last 8 are padding, not uploaded.
+static_assert(sizeof(LfShadingUniforms) == 136);
 inline constexpr std::size_t kShadingBlockStd140Size = 144;
 
 // Each member's name in the GL program (as glGetProgramResourceIndex knows it) and its C++
@@ -84,6 +85,7 @@ inline constexpr BlockMember kShadingBlockMembers[] = {
     LF_UNIFORM(fog_color),
     LF_UNIFORM(fog_end),
     LF_UNIFORM(fog_density),
+    LF_UNIFORM(roughness_map),
 };
 #undef LF_PARAM
 #undef LF_UNIFORM

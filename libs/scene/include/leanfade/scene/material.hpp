@@ -49,6 +49,10 @@ struct Material {
     // Index into Scene::base_color_textures, or -1: the diffuse colour Kd is multiplied by the
     // texture (a glTF base colour texture) at the surface's tiled uv.
     int base_color_texture = -1;
+    // Index into Scene::roughness_maps, or -1: with Cook-Torrance the base roughness comes per
+    // texel from the map (α0² at the surface's tiled uv, docs/math.md §9) instead of the frame's
+    // uniform roughness. Ignored by Blinn-Phong, whose base roughness is 1/s.
+    int roughness_map = -1;
 };
 
 struct Object {
@@ -70,6 +74,11 @@ struct Scene {
     // Base colour textures: 4-channel float images of linear RGB (sRGB decoded) and alpha, rows
     // top first (uploaded flipped, like every texture: v up).
     std::vector<Image> base_color_textures;
+    // Base roughness maps (leanfade::base_alpha_squared_mips): each a MIP chain (finest first,
+    // every level half the previous, down to 1x1) of 1-channel float images of α0² = r⁴ >= 0 per
+    // texel (dimensionless; α0 the Beckmann roughness), filtered linearly as the LEAN moments are,
+    // rows top first (uploaded flipped, like every texture: v up).
+    std::vector<std::vector<Image>> roughness_maps;
 };
 
 // The scene-space bounding box of every object's transformed bounds (its eight corners).
@@ -79,7 +88,8 @@ Bounds scene_bounds(const Scene& scene);
 // material or map index out of range, an object without triangles, an override that is not
 // finite (or a shininess <= 0), a transform that is not finite or not invertible, layers that
 // are not 2..kMaxLayers with valid weights, strengths, tilings and velocities, a cross-term
-// texture missing for a pair of "textures" layers, or a weight map that is not 4-channel.
+// texture missing for a pair of "textures" layers, a weight map that is not 4-channel, or a
+// roughness map that is not a full chain of 1-channel levels with finite values >= 0.
 void validate(const Scene& scene);
 
 }  // namespace leanfade::scene
