@@ -90,7 +90,9 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
         "--layers sine,flat --mixing blend",
         "--layers sine,missing.png",
         "--layers sine,flat --layer-weight-map missing.png",
-        "--layers sine,flat --mixing height --layer-velocity 0.1:0,0:0",
+        // One generated map repeating once per unit of uv: whole tilings, a bounded size.
+        "--layers sine,flat --mixing height --layer-tiling 1,1.5",
+        "--layers sine,flat --mixing height --layer-tiling 1,64 --texture-size 128",
         "--layers sine,flat --mixings height",
         "--mixings height,approx",
         "--time inf",

@@ -241,6 +241,14 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
             load_weight_map(f.weight_map, int(n), flags.bumps.max_size));
     }
     result.materials.push_back(std::move(material));
+    // The layers' own rules (whole tilings and a bounded map for height), named as flags.
+    try {
+        scene::validate(result);
+    } catch (const Error& e) {
+        if (e.file() == "layer-tiling" || e.file() == "layers")
+            throw Error("--" + e.file(), e.cause());
+        throw;
+    }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/shading.hpp"
@@ -81,6 +82,17 @@ Image mix_slopes(std::span<const Image> slopes, const LayerBlend& blend) {
     return mixed;
 }
 
+namespace {
+
+// A float as printf's %g writes it: 1.5, not 1.500000.
+std::string shortest(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(value));
+    return text;
+}
+
+}  // namespace
+
 glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
                           std::span<const LayerPlacement> placements) {
     if (sizes.size() != placements.size() || sizes.empty())
@@ -92,7 +104,7 @@ glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
             std::abs(tiling - std::round(tiling)) > 1e-4f)
             throw Error("layer-tiling",
                         "the height method generates one map repeating once per unit of uv: "
-                        "each tiling must be a whole number >= 1, got " + std::to_string(tiling));
+                        "each tiling must be a whole number >= 1, got " + shortest(tiling));
         if (sizes[i].x < 1 || sizes[i].y < 1) throw Error("layers", "a layer has no texels");
         const long long whole = std::llround(tiling);
         size.x = int(std::min<long long>(std::max<long long>(size.x, sizes[i].x * whole),

@@ -85,6 +85,13 @@ struct Resolver {
                 continue;
             }
             out.text += line + "\n";
+            // An #include inside a block the preprocessor skips leaves its #line directives
+            // unread: where such a block can end, the line number is stated again.
+            if (starts_with_directive(line, "endif", nullptr) ||
+                starts_with_directive(line, "else", nullptr) ||
+                starts_with_directive(line, "elif", nullptr))
+                out.text += "#line " + std::to_string(line_number + 1) + " " +
+                            std::to_string(index) + "\n";
         }
         if (defines != nullptr && !version_seen) throw Error(name, "the file is empty");
     }
