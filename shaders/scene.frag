@@ -136,10 +136,10 @@ LfMoments layered_moments() {
     LfMoments mixed = lf_mix_start();
     vec2 means[4];
     vec2 uvs[4];
-    for (int i = 0; i < 4; ++i) {
-        means[i] = vec2(0.0);
+    // Loops bounded by the (uniform) layer count, not by 4: a SIMD rasteriser runs what a loop
+    // spans, skipped iterations included.
+    for (int i = 0; i < u_layers.count; ++i) {
         uvs[i] = layer_uv(i);
-        if (i >= u_layers.count) continue;
         vec4 lean1 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN1));
         vec4 lean2 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN2));
         LfMoments m = lf_layer_strength(lf_unpack(lean1, lean2, u_layers.scales[i]),
@@ -148,9 +148,8 @@ LfMoments layered_moments() {
         mixed = lf_mix_layer(mixed, m, t[i]);
     }
     int pair = 0;
-    for (int i = 0; i < 4; ++i) {
-        for (int j = i + 1; j < 4; ++j) {
-            if (j >= u_layers.count) continue;
+    for (int i = 0; i < u_layers.count; ++i) {
+        for (int j = i + 1; j < u_layers.count; ++j) {
             vec4 products;
             if (u_layers.mixing == LF_MIXING_TEXTURES) {
                 products = LF_SAMPLE(u_cross_terms, vec3(uvs[i], float(pair))) *
