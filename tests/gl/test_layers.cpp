@@ -195,7 +195,7 @@ TEST_F(CoherentLayers, SineAndItsNegationRenderFlatExceptWithApprox) {
     }
     const scene::Mesh sphere = scene::make_scene_mesh("sphere");
 
-    auto render = [&](const scene::Scene& s) {
+    auto render_at = [&](const scene::Scene& s, float time) {
         gl::Renderer renderer(context());
         renderer.set_scene(s);
         gl::RenderRequest request;
@@ -205,8 +205,10 @@ TEST_F(CoherentLayers, SineAndItsNegationRenderFlatExceptWithApprox) {
         request.settings.shininess = 256.0f;
         request.settings.tiling = 8.0f;
         request.output = gl::OutputMode::Specular;
+        request.time = time;
         return renderer.render(request);
     };
+    auto render = [&](const scene::Scene& s) { return render_at(s, 0.0f); };
     auto single = [&](const LeanMap& map) {
         scene::Scene s;
         s.objects.push_back(scene::Object{sphere, 0, glm::mat4(1.0f)});
@@ -244,19 +246,6 @@ TEST_F(CoherentLayers, SineAndItsNegationRenderFlatExceptWithApprox) {
         for (scene::MaterialLayer& layer : s.materials[0].layered.layers)
             layer.velocity = glm::vec2(0.031f, -0.017f);
         return s;
-    };
-    auto render_at = [&](const scene::Scene& s, float time) {
-        gl::Renderer renderer(context());
-        renderer.set_scene(s);
-        gl::RenderRequest request;
-        request.technique = gl::Technique::Lean;
-        request.width = request.height = 96;
-        request.view = gl::view_at_distance(6.0f);
-        request.settings.shininess = 256.0f;
-        request.settings.tiling = 8.0f;
-        request.output = gl::OutputMode::Specular;
-        request.time = time;
-        return renderer.render(request);
     };
     const Image height_moving = render_at(moving(LayerMixing::Height), 2.3f);
     const Image textures_moving = render_at(moving(LayerMixing::Textures), 2.3f);

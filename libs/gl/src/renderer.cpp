@@ -316,6 +316,26 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
 
 namespace {
 
+// A float texture's level from an image (rows top first): rows bottom first as GL wants them.
+std::vector<float> flipped_rows(const Image& image) {
+    std::vector<float> out(image.pixels.size());
+    const std::size_t row = std::size_t(image.width) * std::size_t(image.channels);
+    for (int y = 0; y < image.height; ++y)
+        std::copy_n(image.pixels.begin() + std::ptrdiff_t(std::size_t(y) * row), row,
+                    out.begin() + std::ptrdiff_t(std::size_t(image.height - 1 - y) * row));
+    return out;
+}
+
+void set_repeat_trilinear(GLuint texture, int levels) {
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
 // A base colour texture (linear RGBA floats, rows top first) as GL_RGBA16F with a MIP chain,
 // rows flipped so that +v is up, repeating.
 Texture upload_base_color(const Image& image) {
@@ -324,21 +344,14 @@ Texture upload_base_color(const Image& image) {
         throw Error("base colour texture", "larger than GL_MAX_TEXTURE_SIZE (" +
                                                std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) +
                                                ")");
-    const std::size_t row = std::size_t(image.width) * 4;
-    std::vector<float> rows(image.pixels.size());
-    for (int y = 0; y < image.height; ++y)
-        std::copy_n(image.pixels.data() + std::size_t(y) * row, row,
-                    rows.data() + std::size_t(image.height - 1 - y) * row);
+    const std::vector<float> rows = flipped_rows(image);
     Texture texture = create_texture(GL_TEXTURE_2D);
     const int levels = mip_level_count(image.width, image.height);
     glTextureStorage2D(texture.get(), levels, GL_RGBA16F, image.width, image.height);
     glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT,
                         rows.data());
     glGenerateTextureMipmap(texture.get());
-    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    set_repeat_trilinear(texture.get(), levels);
     return texture;
 }
 
@@ -357,21 +370,11 @@ Texture upload_roughness_map(const std::vector<Image>& chain) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     for (GLsizei level = 0; level < levels; ++level) {
         const Image& image = chain[std::size_t(level)];
-        std::vector<float> rows(image.pixels.size());
-        const std::size_t row = std::size_t(image.width);
-        for (int y = 0; y < image.height; ++y)
-            std::copy_n(image.pixels.data() + std::size_t(y) * row, row,
-                        rows.data() + std::size_t(image.height - 1 - y) * row);
+        const std::vector<float> rows = flipped_rows(image);
         glTextureSubImage2D(texture.get(), level, 0, 0, image.width, image.height, GL_RED,
                             GL_FLOAT, rows.data());
     }
-    glTextureParameteri(texture.get(), GL_TEXTURE_BASE_LEVEL, 0);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
-                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    set_repeat_trilinear(texture.get(), levels);
     return texture;
 }
 
@@ -409,30 +412,6 @@ void Renderer::set_scene(const scene::Scene& scene) {
     base_colors_ = std::move(base_colors);
     roughness_maps_ = std::move(roughness_maps);
 }
-
-namespace {
-
-// A float texture's level from an image (rows top first): rows bottom first as GL wants them.
-std::vector<float> flipped_rows(const Image& image) {
-    std::vector<float> out(image.pixels.size());
-    const std::size_t row = std::size_t(image.width) * std::size_t(image.channels);
-    for (int y = 0; y < image.height; ++y)
-        std::copy_n(image.pixels.begin() + std::ptrdiff_t(std::size_t(y) * row), row,
-                    out.begin() + std::ptrdiff_t(std::size_t(image.height - 1 - y) * row));
-    return out;
-}
-
-void set_repeat_trilinear(GLuint texture, int levels) {
-    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
-    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER,
-                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
-}
-
-}  // namespace
 
 Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
                                             const scene::Material& material) {
@@ -548,14 +527,8 @@ Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
         }
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureParameteri(texture.get(), GL_TEXTURE_BASE_LEVEL, 0);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MAX_LEVEL, levels - 1);
     // A map whose chain stops early is still complete: trilinear uses the levels it has.
-    glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
-                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    set_repeat_trilinear(texture.get(), levels);
     context_.check("uploading the LEAN map");
 
     GpuMap result;
