@@ -47,7 +47,7 @@ TEST(CliFlags, EveryParameterIsAFlagOfTheRenderingCommands) {
 TEST(CliFlags, RoughnessMapIsAFlagOfTheRenderingCommands) {
     for (const char* command : {"render", "view", "eval", "calibrate", "bench"}) {
         const RunResult r =
-            run_leanfade(std::string(command) + " --help", scratch_dir("cli_flags_help"));
+            run_leanfade(std::string(command) + " --help", scratch_dir("cli_flags_roughness_map"));
         ASSERT_EQ(r.exit_code, 0) << command << ": " << r.err;
         EXPECT_NE(r.out.find("--roughness-map "), std::string::npos) << command;
     }
