@@ -130,6 +130,32 @@ TEST(CliBench, BakeAndGenerateModes) {
     EXPECT_TRUE(positive_number(generate[1].at("texels_per_second")));
 }
 
+// The LEAN paper's Fig. 12 columns: the five documented keys per scene, single LEAN the unit of
+// the ratios, and the settings that say what was drawn (moving layers, the clock per frame).
+TEST(CliBench, LayerColumnsWriteTheFiveColumns) {
+    const fs::path dir = scratch_dir("cli_bench_fig12");
+    const RunResult r = run_bench(
+        "--layer-columns --scenes sphere --size 48x32 --frames 2 --warmup 1 --texture-size 32 "
+        "--timing cpu --json fig12.json",
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("per-frame generation"), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(read_text(dir / "fig12.json"));
+    const nlohmann::json& sphere = j.at("fig12").at("sphere");
+    for (const char* key : {"blinn_phong", "single_lean", "per_frame_generation",
+                            "mixture_textures", "mixture_approximation"}) {
+        const nlohmann::json& column = sphere.at(key);
+        EXPECT_TRUE(positive_number(column.at("frame_ms"))) << key;
+        EXPECT_TRUE(positive_number(column.at("fps"))) << key;
+        EXPECT_TRUE(positive_number(column.at("ratio_to_single_lean"))) << key;
+    }
+    EXPECT_EQ(sphere.at("single_lean").at("ratio_to_single_lean"), 1.0);
+    const nlohmann::json& settings = j.at("fig12_settings");
+    EXPECT_EQ(settings.at("layers"), "bumps,noise");
+    EXPECT_EQ(settings.at("layer_velocity"), "0.02:0,-0.01:0.03");
+    EXPECT_TRUE(positive_number(settings.at("seconds_per_frame")));
+}
+
 TEST(CliBench, BadFlagsAreOneLineErrors) {
     const fs::path dir = scratch_dir("cli_bench_errors");
     const std::string cases[] = {

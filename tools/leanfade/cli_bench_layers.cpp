@@ -25,7 +25,7 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
                                               gl::FrameBenchRequest request,
                                               const std::function<void(const std::string&)>& say) {
     RenderSourceFlags layered = input;
-    if (layered.layers.layers.empty()) layered.layers.layers = "bumps,noise";
+    if (layered.layers.layers.empty()) layered.layers.layers = kFig12Layers;
     // Moving layers (their offsets change every frame), unless the command line sets them.
     if (layered.layers.velocity.empty()) layered.layers.velocity = kFig12Velocities;
     if (split(layered.layers.layers, ',').size() != 2)

@@ -15,7 +15,9 @@
 
 namespace leanfade::cli {
 
-// The layers' velocities (uv per second) of the mixed columns when --layer-velocity is not given.
+// The two layers when --layers is not given, and their velocities (uv per second) in the mixed
+// columns when --layer-velocity is not given.
+inline constexpr const char* kFig12Layers = "bumps,noise";
 inline constexpr const char* kFig12Velocities = "0.02:0,-0.01:0.03";
 
 struct LayerBenchColumn {

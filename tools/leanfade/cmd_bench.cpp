@@ -228,8 +228,12 @@ int run_bench(const BenchArgs& args) {
         report += layer_bench_table(columns);
         root["fig12"] = layer_bench_json(columns);
         root["fig12_settings"] = {{"layers", args.input.layers.layers.empty()
-                                                 ? std::string("bumps,noise")
+                                                 ? std::string(kFig12Layers)
                                                  : args.input.layers.layers},
+                                  {"layer_velocity", args.input.layers.velocity.empty()
+                                                         ? std::string(kFig12Velocities)
+                                                         : args.input.layers.velocity},
+                                  {"seconds_per_frame", request.seconds_per_round},
                                   {"size", args.size},
                                   {"frames", args.frames},
                                   {"warmup", args.warmup}};
