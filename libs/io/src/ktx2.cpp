@@ -50,11 +50,6 @@ constexpr std::uint32_t kFloatOneBits = 0x3F800000u;       // 1.0f
 
 constexpr const char* kKeyOrientation = "KTXorientation";
 constexpr const char* kKeyWriter = "KTXwriter";
-constexpr const char* kKeyScale = "LEANFADEscale";
-constexpr const char* kKeyRoughnessBaked = "LEANFADEroughnessBaked";
-constexpr const char* kKeyBakedShininess = "LEANFADEbakedShininess";
-constexpr const char* kKeyNormalConvention = "LEANFADEnormalConvention";
-constexpr const char* kKeyLayout = "LEANFADElayout";
 
 struct FormatInfo {
     Storage storage;
@@ -360,11 +355,11 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
         {kKeyOrientation, "rd"},
         {kKeyWriter,
          layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator},
-        {kKeyScale, format_float(layout.scale)},
-        {kKeyRoughnessBaked, layout.roughness_baked ? "1" : "0"},
-        {kKeyBakedShininess, format_float(layout.baked_shininess)},
-        {kKeyNormalConvention, normal_convention_name(layout.source_convention)},
-        {kKeyLayout, kLeanLayoutName},
+        {kScaleKey, format_float(layout.scale)},
+        {kRoughnessBakedKey, layout.roughness_baked ? "1" : "0"},
+        {kBakedShininessKey, format_float(layout.baked_shininess)},
+        {kNormalConventionKey, normal_convention_name(layout.source_convention)},
+        {kLayoutKey, kLeanLayoutName},
     };
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
@@ -763,32 +758,32 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
 
     PackedLeanMap map;
     map.storage = format->storage;
-    const std::string& layout = required_key(path, info, kKeyLayout);
+    const std::string& layout = required_key(path, info, kLayoutKey);
     if (layout != kLeanLayoutName) {
-        throw Error(path, "unsupported " + std::string(kKeyLayout) + " '" + escape_text(layout) +
+        throw Error(path, "unsupported " + std::string(kLayoutKey) + " '" + escape_text(layout) +
                               "' (expected '" + kLeanLayoutName + "')");
     }
-    map.scale = parse_float(path, kKeyScale, required_key(path, info, kKeyScale));
-    if (!(map.scale > 0.0f)) throw Error(path, std::string(kKeyScale) + " must be > 0");
-    const std::string& baked = required_key(path, info, kKeyRoughnessBaked);
+    map.scale = parse_float(path, kScaleKey, required_key(path, info, kScaleKey));
+    if (!(map.scale > 0.0f)) throw Error(path, std::string(kScaleKey) + " must be > 0");
+    const std::string& baked = required_key(path, info, kRoughnessBakedKey);
     if (baked != "0" && baked != "1") {
-        throw Error(path, "bad " + std::string(kKeyRoughnessBaked) + " value '" +
+        throw Error(path, "bad " + std::string(kRoughnessBakedKey) + " value '" +
                               escape_text(baked) +
                               "' (expected 0 or 1)");
     }
     map.roughness_baked = baked == "1";
     map.baked_shininess =
-        parse_float(path, kKeyBakedShininess, required_key(path, info, kKeyBakedShininess));
+        parse_float(path, kBakedShininessKey, required_key(path, info, kBakedShininessKey));
     if (map.baked_shininess < 0.0f) {
-        throw Error(path, std::string(kKeyBakedShininess) + " must be >= 0");
+        throw Error(path, std::string(kBakedShininessKey) + " must be >= 0");
     }
-    const std::string& convention = required_key(path, info, kKeyNormalConvention);
+    const std::string& convention = required_key(path, info, kNormalConventionKey);
     if (convention == "opengl") {
         map.source_convention = NormalConvention::OpenGL;
     } else if (convention == "directx") {
         map.source_convention = NormalConvention::DirectX;
     } else {
-        throw Error(path, "bad " + std::string(kKeyNormalConvention) + " value '" +
+        throw Error(path, "bad " + std::string(kNormalConventionKey) + " value '" +
                               escape_text(convention) + "' (expected opengl or directx)");
     }
     if (const std::string* orientation = info.find(kKeyOrientation);

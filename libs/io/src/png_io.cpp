@@ -497,13 +497,8 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image
 namespace leanfade::io {
 namespace {
 
-// The keys of the KTX2 file's metadata (docs/ktx2.md), plus the layer of this file.
-constexpr const char* kLayoutKey = "LEANFADElayout";
+// The keys of the KTX2 file's metadata (ktx2.hpp, docs/ktx2.md), plus the layer of this file.
 constexpr const char* kLayerKey = "LEANFADElayer";
-constexpr const char* kScaleKey = "LEANFADEscale";
-constexpr const char* kRoughnessBakedKey = "LEANFADEroughnessBaked";
-constexpr const char* kBakedShininessKey = "LEANFADEbakedShininess";
-constexpr const char* kConventionKey = "LEANFADEnormalConvention";
 constexpr const char* kSoftwareKey = "Software";  // a PNG's standard keyword
 constexpr const char* kLayerNames[2] = {"lean1", "lean2"};
 
@@ -597,7 +592,7 @@ void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2
             {kRoughnessBakedKey, packed.roughness_baked ? "1" : "0"},
             {kBakedShininessKey,
              exact_text(packed.roughness_baked ? packed.baked_shininess : 0.0f)},
-            {kConventionKey, to_string(packed.source_convention)},
+            {kNormalConventionKey, to_string(packed.source_convention)},
             {kSoftwareKey, packed.generator}};
         write_png_with_text(paths[layer], image, bits, text, options);
     }
@@ -641,7 +636,7 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
     map.roughness_baked = require_text(paths[0], meta, kRoughnessBakedKey) == "1";
     map.baked_shininess = parse_float_text(paths[0], kBakedShininessKey,
                                            require_text(paths[0], meta, kBakedShininessKey));
-    const std::string& convention = require_text(paths[0], meta, kConventionKey);
+    const std::string& convention = require_text(paths[0], meta, kNormalConventionKey);
     if (convention != to_string(NormalConvention::OpenGL) &&
         convention != to_string(NormalConvention::DirectX))
         throw Error(paths[0], "normal convention '" + convention + "' is not opengl or directx");

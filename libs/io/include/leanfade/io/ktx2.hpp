@@ -27,6 +27,14 @@ inline constexpr std::uint32_t kVkFormatR16G16B16A16Unorm = 91;
 inline constexpr std::uint32_t kVkFormatR16G16B16A16Sfloat = 97;
 inline constexpr std::uint32_t kVkFormatR32G32B32A32Sfloat = 109;
 
+// The keys of the LEAN map's metadata (docs/ktx2.md), written alike as KTX2 key/value data and as
+// the text chunks of a PNG pair (png_io.hpp).
+inline constexpr const char* kLayoutKey = "LEANFADElayout";
+inline constexpr const char* kScaleKey = "LEANFADEscale";
+inline constexpr const char* kRoughnessBakedKey = "LEANFADEroughnessBaked";
+inline constexpr const char* kBakedShininessKey = "LEANFADEbakedShininess";
+inline constexpr const char* kNormalConventionKey = "LEANFADEnormalConvention";
+
 // The value of the LEANFADElayout key this version writes and accepts.
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
 
