@@ -8,7 +8,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parallel.hpp"
-#include "random.hpp"
+#include "leanfade/core/random.hpp"
 
 namespace leanfade {
 namespace {
@@ -20,11 +20,10 @@ constexpr double kEnvelopeCut = 1e-3;
 constexpr double kMaxImpulses = double(1 << 24);
 
 // The noise's generator (its own stream constant keeps the fields as they were).
-class Rng : public detail::SplitMix64 {
+class Rng : public SplitMix64 {
   public:
     explicit Rng(std::uint64_t seed) : SplitMix64(seed, 0x2545F4914F6CDD1Dull) {}
 };
-using detail::wrapped_delta;
 
 double kernel_radius(const GaborNoiseSettings& s) {
     const double cycles = std::hypot(double(s.cycles_u), double(s.cycles_v));

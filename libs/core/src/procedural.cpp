@@ -7,7 +7,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/gabor_noise.hpp"
-#include "random.hpp"
+#include "leanfade/core/random.hpp"
 
 namespace leanfade {
 namespace {
@@ -15,11 +15,10 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // The bump sets' generator (its own stream constant keeps the sets as they were).
-class Rng : public detail::SplitMix64 {
+class Rng : public SplitMix64 {
 public:
     explicit Rng(std::uint64_t seed) : SplitMix64(seed, 0x632BE59BD9B4E019ull) {}
 };
-using detail::wrapped_delta;
 
 Image make_bumps(int size, Rng& rng) {
     // Round bumps with a C1 profile H (1 - (r/R)^2)^2, placed at random, tileable.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/random.hpp"
 #include "leanfade/scene/generators.hpp"
 #include "mesh_internal.hpp"
 
@@ -31,22 +32,6 @@ void require(bool ok, const char* object, const std::string& cause) {
         throw Error(object, cause);
     }
 }
-
-// SplitMix64: portable, so a seed gives the same terrain with any standard library.
-class SplitMix64 {
-public:
-    explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-    std::uint64_t next() {
-        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }  // [0, 1)
-
-private:
-    std::uint64_t state_;
-};
 
 // 2D gradient (Perlin) noise on a 256-periodic lattice, roughly in [-1, 1], zero at lattice points.
 class GradientNoise {

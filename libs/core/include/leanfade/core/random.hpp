@@ -1,9 +1,10 @@
 #pragma once
-// Internal helpers of the procedural generators (procedural.cpp, gabor_noise.cpp). GL-free.
+// Deterministic random numbers of the procedural generators (bump sets, Gabor noise, the scene
+// generators' terrain). GL-free.
 #include <cmath>
 #include <cstdint>
 
-namespace leanfade::detail {
+namespace leanfade {
 
 // SplitMix64: a tiny, portable generator (std distributions are implementation-defined, so they
 // would break determinism across standard libraries). `stream` separates the sequences of
@@ -11,7 +12,9 @@ namespace leanfade::detail {
 class SplitMix64 {
   public:
     SplitMix64(std::uint64_t seed, std::uint64_t stream)
-        : state_(seed * 0x9E3779B97F4A7C15ull + stream) {}
+        : SplitMix64(seed * 0x9E3779B97F4A7C15ull + stream) {}
+    // Starts from this exact state.
+    explicit SplitMix64(std::uint64_t state) : state_(state) {}
     std::uint64_t next() {
         std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
         z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -31,4 +34,4 @@ inline double wrapped_delta(double a, double b, double period) {
     return d - period * std::round(d / period);
 }
 
-}  // namespace leanfade::detail
+}  // namespace leanfade
