@@ -17,6 +17,8 @@ TEST(CliFlags, SettingsMapToTheirFlags) {
     EXPECT_EQ(cli::flag_for_setting("anisotropy"), "--aniso");
     EXPECT_EQ(cli::flag_for_setting("ref_samples"), "--ref-samples");
     EXPECT_EQ(cli::flag_for_setting("distances"), "--distances");
+    EXPECT_EQ(cli::flag_for_setting("layer-tiling"), "--layer-tiling");
+    EXPECT_EQ(cli::flag_for_setting("layers"), "--layers");
     // Anything else (a file name, "GL") is kept as it is.
     EXPECT_EQ(cli::flag_for_setting("a.png"), "");
     EXPECT_EQ(cli::flag_for_setting("GL"), "");

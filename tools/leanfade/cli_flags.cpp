@@ -10,10 +10,13 @@ namespace leanfade::cli {
 namespace {
 
 // Settings outside the shading schema that the libraries name: camera, sweep and benchmark
-// settings and the built-in bump sets.
+// settings, the built-in bump sets and the bump layers (leanfade/core/layers.hpp, whose setting
+// names are their flags' already).
 constexpr std::string_view kOtherSettings[] = {
-    "techniques", "distances", "spp",      "frames", "motion",      "size",    "timing", "warmup",
-    "scenes",     "fov",       "view_dir", "target", "ref_samples", "builtin", "bits",   "from",
+    "techniques", "distances", "spp", "frames", "motion", "size", "timing", "warmup", "scenes",
+    "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from",
+    "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
+    "layer-weight-map",
 };
 
 // Flags whose names are shorter than their settings'.

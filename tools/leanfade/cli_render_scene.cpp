@@ -170,11 +170,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     blend.strengths = parse_numbers(f.strengths, n, 1.0f, "--layer-strengths");
     const std::vector<float> tilings = parse_numbers(f.tiling, n, 1.0f, "--layer-tiling");
     const std::vector<glm::vec2> velocities = parse_velocities(f.velocity, n);
-    try {
-        validate(blend);
-    } catch (const Error& e) {
-        throw Error("--" + e.file(), e.cause());
-    }
+    validate(blend);
     for (float t : tilings)
         if (!(t > 0.0f)) throw Error("--layer-tiling", "each tiling must be > 0");
     if (flags.bumps.texture_size < 4 || flags.bumps.texture_size > kDefaultMaxImageDimension)
@@ -241,14 +237,6 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
             load_weight_map(f.weight_map, int(n), flags.bumps.max_size));
     }
     result.materials.push_back(std::move(material));
-    // The layers' own rules (whole tilings and a bounded map for height), named as flags.
-    try {
-        scene::validate(result);
-    } catch (const Error& e) {
-        if (e.file() == "layer-tiling" || e.file() == "layers")
-            throw Error("--" + e.file(), e.cause());
-        throw;
-    }
 }
 
 }  // namespace
