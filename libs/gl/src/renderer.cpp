@@ -452,21 +452,17 @@ Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
     }
     if (l.mixing == LayerMixing::Height) {
         // One map over the surface's uv square, as fine as the finest layer x its tiling.
-        std::vector<glm::ivec2> sizes;
-        std::vector<LayerPlacement> placements;
         float bound = 0.0f;
         Storage storage = Storage::Unorm8;
         for (std::size_t i = 0; i < l.layers.size(); ++i) {
             const PackedLeanMap& map = scene.lean_maps[std::size_t(l.layers[i].lean_map)];
-            sizes.emplace_back(map.levels.front().width, map.levels.front().height);
-            placements.push_back({l.layers[i].tiling, glm::vec2(0.0f)});
             // |sum t_i k_i B_i| <= sum |t_i k_i| sc_i per axis: the mixed map's sc.
             const float weight = l.weight_map >= 0 ? 1.0f : l.weights[i];
             bound += weight * std::abs(l.layers[i].strength) * map.scale;
             // The widest of the layers' storages: float when one keeps slopes beyond its sc.
             storage = std::max(storage, map.storage);
         }
-        const glm::ivec2 size = mixed_map_size(sizes, placements);
+        const glm::ivec2 size = scene::mixed_map_size(scene, material);
         result.mixer = std::make_unique<LeanGenerator>(context_, sources_);
         result.mixer->set_layer_source(size.x, size.y);
         result.mixed.scale = bound > 0.0f ? bound : 1.0f;
@@ -562,10 +558,9 @@ void Renderer::update_mixed_layers(float time) {
         bool moving = false;
         for (const scene::MaterialLayer& layer : material.layered.layers)
             moving = moving || layer.velocity != glm::vec2(0.0f);
-        if (layers.mixed_current && (!moving || layers.mixed_time == time)) continue;
+        if (layers.mixed_time && (!moving || *layers.mixed_time == time)) continue;
         bind_layers(material, layers, time);
         layers.mixer->generate(layers.mixed);
-        layers.mixed_current = true;
         layers.mixed_time = time;
     }
     context_.check("generating the mixed LEAN maps");

@@ -48,18 +48,8 @@ void validate_layers(const Scene& scene, const Material& m) {
             throw Error("layer-weight-map", "a weight map has 4 channels (t_0..t_3), got " +
                                                 std::to_string(w.channels));
     }
-    if (l.mixing == LayerMixing::Height) {
-        // Mixed into one generated map (docs/math.md §6): whole tilings, a bounded size.
-        std::vector<glm::ivec2> sizes;
-        std::vector<LayerPlacement> placements;
-        for (const MaterialLayer& layer : l.layers) {
-            const PackedLeanMap& map = scene.lean_maps[std::size_t(layer.lean_map)];
-            if (map.levels.empty()) throw Error("scene", where + " has a layer without levels");
-            sizes.emplace_back(map.levels.front().width, map.levels.front().height);
-            placements.push_back({layer.tiling, glm::vec2(0.0f)});
-        }
-        mixed_map_size(sizes, placements);
-    }
+    // Mixed into one generated map (docs/math.md §6): whole tilings, a bounded size.
+    if (l.mixing == LayerMixing::Height) mixed_map_size(scene, m);
     if (l.mixing == LayerMixing::Textures) {
         const int pairs = n * (n - 1) / 2;
         if (int(l.cross_terms.size()) != pairs)
@@ -99,6 +89,19 @@ void validate_roughness_map(const std::vector<Image>& chain) {
 }
 
 }  // namespace
+
+glm::ivec2 mixed_map_size(const Scene& scene, const Material& material) {
+    std::vector<glm::ivec2> sizes;
+    std::vector<LayerPlacement> placements;
+    for (const MaterialLayer& layer : material.layered.layers) {
+        const PackedLeanMap& map = scene.lean_maps.at(std::size_t(layer.lean_map));
+        if (map.levels.empty())
+            throw Error("scene", "material '" + material.name + "' has a layer without levels");
+        sizes.emplace_back(map.levels.front().width, map.levels.front().height);
+        placements.push_back({layer.tiling, glm::vec2(0.0f)});
+    }
+    return leanfade::mixed_map_size(sizes, placements);
+}
 
 Bounds scene_bounds(const Scene& scene) {
     const float inf = std::numeric_limits<float>::infinity();

@@ -9,6 +9,7 @@
 // - Images are linear radiance (RGB float, not sRGB), row 0 at the top.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -193,8 +194,7 @@ class Renderer {
         // frame's time whenever it changes, drawn like a single LEAN map.
         std::unique_ptr<LeanGenerator> mixer;
         GenerateOptions mixed;          // its sc and storage
-        bool mixed_current = false;     // generated for mixed_time
-        float mixed_time = 0.0f;        // seconds
+        std::optional<float> mixed_time;  // seconds: the time it was generated for, if it was
     };
     GpuLayers upload_layers(const scene::Scene& scene, const scene::Material& material);
     // Binds a layered material's maps, cross terms, weights and its LfLayerBlock for `time`.

@@ -81,6 +81,11 @@ struct Scene {
     std::vector<std::vector<Image>> roughness_maps;
 };
 
+// The size of the map the "height" method generates for `material`'s layers (mixed_map_size of
+// leanfade/core/layers.hpp over the top levels of their LEAN maps and their tilings). Throws
+// mixed_map_size's errors, and Error("scene", cause) for a layer map without levels.
+glm::ivec2 mixed_map_size(const Scene& scene, const Material& material);
+
 // The scene-space bounding box of every object's transformed bounds (its eight corners).
 Bounds scene_bounds(const Scene& scene);
 
