@@ -195,9 +195,9 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     material.name = "layers";
     bool aligned = f.weight_map.empty();
     for (std::size_t i = 0; i < n; ++i)
-        aligned = aligned && velocities[i] == glm::vec2(0.0f) && tilings[i] == tilings[0] &&
+        aligned = aligned && velocities[i] == glm::vec2(0.0f) && tilings[i] == 1.0f &&
                   slopes[i].width == slopes[0].width && slopes[i].height == slopes[0].height;
-    if (mixing == LayerMixing::Height && aligned && tilings[0] == 1.0f) {
+    if (mixing == LayerMixing::Height && aligned) {
         // The height method for layers that lie alike: the slopes mixed first, one map baked
         // from them on the CPU (docs/math.md §6). Layers that move, tile differently or carry
         // per-texel weights are mixed into a map the renderer generates on the GPU for each
