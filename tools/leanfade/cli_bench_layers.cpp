@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/layers.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/gl/renderer.hpp"
 
@@ -60,18 +61,18 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
         // §6), drawn with LEAN; the clock advances every frame, so the height method's mixed map
         // is generated on the GPU (compute pass + MIPs) inside every timed frame.
         struct MixedColumn {
-            const char* mixing;
+            LayerMixing mixing;
             const char* key;
             const char* label;
         };
         const MixedColumn mixed_columns[] = {
-            {"height", "per_frame_generation", "per-frame generation"},
-            {"textures", "mixture_textures", "mixture textures"},
-            {"approx", "mixture_approximation", "mixture approximation"}};
+            {LayerMixing::Height, "per_frame_generation", "per-frame generation"},
+            {LayerMixing::Textures, "mixture_textures", "mixture textures"},
+            {LayerMixing::Approx, "mixture_approximation", "mixture approximation"}};
         for (const MixedColumn& column : mixed_columns) {
             RenderSourceFlags flags = layered;
             flags.scene = name;
-            flags.layers.mixing = column.mixing;
+            flags.layers.mixing = to_string(column.mixing);
             const scene::Scene scene = load_render_scene(flags, request.settings);
             request.techniques = {gl::Technique::Lean};
             const gl::FrameBenchResult mixed =
