@@ -36,6 +36,7 @@ const int LF_TECHNIQUE_FADE = 2;     // LEAN with specular fading (fading paper 
 const int LF_TECHNIQUE_TOKSVIG = 3;  // Blinn-Phong with Toksvig's exponent
 const int LF_TECHNIQUE_CLEAN = 4;    // LEAN's lobe with CLEAN's isotropic covariance
 const int LF_TECHNIQUE_ROUGHNESS_MIPS = 5;  // the BRDF on roughness + normal MIPs (engines)
+const int LF_TECHNIQUE_COUNT = 6;  // the lobe constants above are 0 .. LF_TECHNIQUE_COUNT - 1
 
 // BRDFs: the reflection model every technique's lobe stage evaluates (docs/math.md §4, §9). The
 // renderer compiles one (LF_BRDF of scene.frag); the CPU reads LfParams::brdf.

@@ -115,15 +115,15 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->capture_default_str()
         ->group(group);
     app.add_option("--from", f.from,
-                   "Image inputs: auto (1-2 channels height, 3-4 normal, as bake), height or "
-                   "normal map")
+                   "Image inputs: " + name_list(bake_source_names()) +
+                       " (auto: 1-2 channels height, 3-4 normal, as bake)")
         ->capture_default_str()
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
         ->group(group);
     app.add_option("--bits", f.bits,
-                   "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f for a map "
-                   "with outliers beyond sc, as bake)")
+                   "Storage of on-the-fly bakes: " + name_list(bake_storage_names()) +
+                       " (auto: 16, or 16f for a map with outliers beyond sc, as bake)")
         ->capture_default_str()
         ->group(group);
     app.add_option("--strength-unit", f.strength_unit,

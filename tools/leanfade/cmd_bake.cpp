@@ -14,6 +14,7 @@
 #include "cli_bake_gltf.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/atomic_file.hpp"
@@ -390,7 +391,8 @@ const CommandRegistration registration{
                        ".lean1.png/.lean2.png");
         app.add_option("--out-dir", args->out_dir, "Folder for the outputs of a batch");
         app.add_option("--from", args->from,
-                       "Input kind: auto (1-2 channels = height, 3-4 = normal), height, normal")
+                       "Input kind: " + name_list(bake_source_names()) +
+                           " (auto: 1-2 channels = height, 3-4 = normal)")
             ->check(CLI::IsMember(bake_source_names()));
         CLI::Option* strength =
             app.add_option("--strength", args->strength,
@@ -408,8 +410,9 @@ const CommandRegistration registration{
                      "Normal maps use the DirectX convention (green = -v, \"-Y\"; how to tell: "
                      "README, quick start)");
         app.add_option("--bits", args->bits,
-                       "Storage: 8, 16 (UNORM), 16f, 32f (float), or auto: 16, or 16f for a map "
-                       "with outliers beyond sc, which 16 would clamp (a PNG pair: 16)")
+                       "Storage: " + name_list(bake_storage_names()) +
+                           " (8, 16: UNORM; 16f, 32f: float; auto: 16, or 16f for a map with "
+                           "outliers beyond sc, which 16 would clamp; a PNG pair: 16)")
             ->check(CLI::IsMember(bake_storage_names()))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,

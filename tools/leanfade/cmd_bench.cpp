@@ -263,7 +263,7 @@ const CommandRegistration registration{
         app.add_option("--size", args->size, "Framebuffer size, WIDTHxHEIGHT pixels")
             ->capture_default_str();
         app.add_option("--scenes", args->scenes,
-                       "Objects, comma-separated: sphere, torus, teapot, terrain, plane, .obj")
+                       "Objects, comma-separated: " + scene::scene_choices_text())
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Techniques, comma-separated (default: every real-time technique: " +

@@ -174,8 +174,7 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_flag("--fit-pmax", args->fit_pmax, "Fit Pmax too (otherwise --pmax is kept)");
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
-                       "scene (.gltf, .glb)")
+                       "Object: " + scene::scene_choices_text())
             ->capture_default_str();
         app.add_option("--distances", args->distances,
                        "Camera distances in bounding radii: A:B:N (log-spaced) or a comma list")

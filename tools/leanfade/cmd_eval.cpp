@@ -262,8 +262,7 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<EvalArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
-                       "scene (.gltf, .glb)")
+                       "Object: " + scene::scene_choices_text())
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Techniques to measure, comma-separated: " +

@@ -193,13 +193,12 @@ void apply_preset(RenderArgs& args, CLI::App& app) {
 
 const CommandRegistration registration{
     "render",
-    "Render the papers' comparison figure: a column per technique (bump, toksvig, clean, lean, "
-    "fade, reference), a row per camera distance",
+    "Render the papers' comparison figure: a column per technique (" +
+        technique_names(all_techniques(), "or") + "), a row per camera distance",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<RenderArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, ocean (docs/ocean.md), an "
-                       ".obj file or a glTF scene (.gltf, .glb)")
+                       "Object: " + scene::scene_choices_text())
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Columns, comma-separated: " + technique_names(all_techniques(), "and"))

@@ -19,6 +19,8 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/preset.hpp"
+#include "leanfade/core/technique.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/io/output_plan.hpp"
@@ -99,7 +101,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         args.layout.empty() ? (techniques.size() == 1 ? "single" : "side-by-side") : args.layout;
     const auto& layouts = preset_layouts();
     if (std::find(layouts.begin(), layouts.end(), p.layout) == layouts.end())
-        throw Error("--layout", "expected single, split or side-by-side, got '" + p.layout + "'");
+        throw Error("--layout", "expected " + name_list(layouts) + ", got '" + p.layout + "'");
     if (p.layout == "single" && techniques.size() != 1)
         throw Error("--layout", "single shows one technique; --techniques gives " +
                                     std::to_string(techniques.size()));
@@ -189,18 +191,19 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ViewArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
-                       "scene (.gltf, .glb)")
+                       "Object: " + scene::scene_choices_text())
             ->capture_default_str();
         app.add_option("--technique", args->technique,
-                       "Technique of a single view: bump, toksvig, clean, lean, fade, reference")
+                       "Technique of a single view: " + technique_names(all_techniques()))
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Two or three techniques side by side (or split, see --layout), "
-                       "comma-separated");
+                       "comma-separated: " +
+                           technique_names(all_techniques(), "and"));
         app.add_option("--layout", args->layout,
-                       "single | split (a draggable divider) | side-by-side; default: single "
-                       "for one technique, side-by-side for more");
+                       name_list(preset_layouts()) +
+                           " (split: a draggable divider); default: single for one technique, "
+                           "side-by-side for more");
         app.add_option("--divider", args->divider, "Split view: divider position, 0..1")
             ->capture_default_str();
         app.add_option("--distance", args->distance,

@@ -72,6 +72,7 @@ class App {
     void panel_camera();
     void panel_animation();
     void panel_shading();
+    void panel_fade_calibration(ShadingSettings& settings);
     bool parameter_widget(const ParameterInfo& row, ShadingSettings& settings);
     void parameter_group(std::string_view group, ShadingSettings& settings);
     void panel_bumps();

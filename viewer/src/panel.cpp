@@ -12,6 +12,7 @@
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/scene/scene.hpp"
+#include "leanfade/viewer/panel_sections.hpp"
 
 namespace leanfade::viewer {
 namespace {
@@ -273,46 +274,54 @@ void App::parameter_group(std::string_view group, ShadingSettings& s) {
 
 void App::panel_shading() {
     ShadingSettings& s = session_->preset().shading;
-    if (ImGui::CollapsingHeader("Light and material", ImGuiTreeNodeFlags_DefaultOpen)) {
-        for (std::string_view group : {"Light", "Material", "Fresnel"}) parameter_group(group, s);
-        note("Colours are linear RGB.");
+    for (const PanelSection& section : panel_sections()) {
+        if (section.extras == PanelSection::Extras::SceneAndBumps) continue;  // panel_bumps()
+        const ImGuiTreeNodeFlags open =
+            section.open_by_default ? ImGuiTreeNodeFlags_DefaultOpen : ImGuiTreeNodeFlags_None;
+        if (!ImGui::CollapsingHeader(section.header.c_str(), open)) continue;
+        for (std::string_view group : section.groups) parameter_group(group, s);
+        if (section.extras == PanelSection::Extras::ColourNote) note("Colours are linear RGB.");
+        if (section.extras == PanelSection::Extras::FadeCalibrate) panel_fade_calibration(s);
     }
-    if (ImGui::CollapsingHeader("Specular fading", ImGuiTreeNodeFlags_DefaultOpen)) {
-        parameter_group("Fading", s);
-        note("sf = clamp(1 + (d Fade)^p, 1, Pmax); Fade = 0 is plain LEAN.");
-        // `leanfade calibrate` for this view: Fade such that fade's specular energy relative to
-        // LEAN follows exp(-sigma d) (or the fog) over 2 to 64 radii along this direction.
-        static float sigma = 0.05f;
-        ImGui::SliderFloat("target sigma", &sigma, 0.001f, 1.0f, "%.4f", kLog);
-        const bool to_exp = ImGui::Button("fit Fade to exp(-sigma d)");
-        ImGui::SameLine();
-        const bool to_fog = ImGui::Button("fit Fade to the fog");
-        if (to_exp || to_fog) {
-            try {
-                eval::FadeCalibrationRequest request;
-                request.cameras.view_direction = session_->camera().direction();
-                request.cameras.fov_y_degrees = session_->camera().fov_y_degrees;
-                request.settings = s;
-                request.target.kind =
-                    to_fog ? eval::FadeTarget::Kind::Fog : eval::FadeTarget::Kind::Exponential;
-                request.target.sigma = sigma;
-                const eval::FadeCalibration c = eval::calibrate_fade(session_->renderer(), request);
-                s.fade = c.fit.fade;
-                char text[128];
-                std::snprintf(text, sizeof text, "Fade %.4g fits %s (RMS residual %.3f)",
-                              double(c.fit.fade), eval::to_string(request.target).c_str(),
-                              c.achieved_residual);
-                session_->report_status(text);
-            } catch (const Error& e) {
-                session_->report_error(e.what());
-            }
-        }
+}
+
+void App::panel_fade_calibration(ShadingSettings& s) {
+    note("sf = clamp(1 + (d Fade)^p, 1, Pmax); Fade = 0 is plain LEAN.");
+    // `leanfade calibrate` for this view: Fade such that fade's specular energy relative to
+    // LEAN follows exp(-sigma d) (or the fog) over 2 to 64 radii along this direction.
+    static float sigma = 0.05f;
+    ImGui::SliderFloat("target sigma", &sigma, 0.001f, 1.0f, "%.4f", kLog);
+    const bool to_exp = ImGui::Button("fit Fade to exp(-sigma d)");
+    ImGui::SameLine();
+    const bool to_fog = ImGui::Button("fit Fade to the fog");
+    if (!to_exp && !to_fog) return;
+    try {
+        eval::FadeCalibrationRequest request;
+        request.cameras.view_direction = session_->camera().direction();
+        request.cameras.fov_y_degrees = session_->camera().fov_y_degrees;
+        request.settings = s;
+        request.target.kind =
+            to_fog ? eval::FadeTarget::Kind::Fog : eval::FadeTarget::Kind::Exponential;
+        request.target.sigma = sigma;
+        const eval::FadeCalibration c = eval::calibrate_fade(session_->renderer(), request);
+        s.fade = c.fit.fade;
+        char text[128];
+        std::snprintf(text, sizeof text, "Fade %.4g fits %s (RMS residual %.3f)",
+                      double(c.fit.fade), eval::to_string(request.target).c_str(),
+                      c.achieved_residual);
+        session_->report_status(text);
+    } catch (const Error& e) {
+        session_->report_error(e.what());
     }
-    if (ImGui::CollapsingHeader("Fog")) parameter_group("Fog", s);
 }
 
 void App::panel_bumps() {
-    if (!ImGui::CollapsingHeader("Scene, bumps and textures", ImGuiTreeNodeFlags_DefaultOpen))
+    const std::vector<PanelSection> sections = panel_sections();
+    const auto section = std::find_if(sections.begin(), sections.end(), [](const PanelSection& s) {
+        return s.extras == PanelSection::Extras::SceneAndBumps;
+    });
+    if (section == sections.end() ||
+        !ImGui::CollapsingHeader(section->header.c_str(), ImGuiTreeNodeFlags_DefaultOpen))
         return;
     Preset& p = session_->preset();
     ShadingSettings& s = p.shading;
@@ -358,7 +367,9 @@ void App::panel_bumps() {
     if (ImGui::Button("bake / load with these settings")) session_->load_bumps(bumps_field_);
 
     for (const ParameterInfo& row : shading_parameters()) {
-        if (row.group != "Texturing") continue;
+        if (std::find(section->groups.begin(), section->groups.end(), row.group) ==
+            section->groups.end())
+            continue;
         parameter_widget(row, s);
         // A new strength re-bakes the height map, once the slider is released.
         if (row.scalar == &ShadingSettings::bump_strength && ImGui::IsItemDeactivatedAfterEdit())

@@ -1,6 +1,7 @@
 // The shading parameter schema (leanfade/core/parameters.hpp).
 #include "leanfade/core/parameters.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -207,6 +208,14 @@ void check_range(const ParameterInfo& row, float v) {
 
 std::span<const ParameterInfo> shading_parameters() {
     return kParameters;
+}
+
+std::vector<std::string_view> parameter_groups() {
+    std::vector<std::string_view> groups;
+    for (const ParameterInfo& row : kParameters)
+        if (std::find(groups.begin(), groups.end(), row.group) == groups.end())
+            groups.push_back(row.group);
+    return groups;
 }
 
 const ParameterInfo* find_shading_parameter(std::string_view key) {

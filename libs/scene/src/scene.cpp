@@ -22,8 +22,23 @@ bool ends_with_obj(const std::string& s) {
 
 }  // namespace
 
+const BuiltinScene* find_builtin_scene(std::string_view name) {
+    for (const BuiltinScene& scene : kBuiltinScenes)
+        if (scene.name == name) return &scene;
+    return nullptr;
+}
+
 std::vector<std::string> builtin_scene_names() {
-    return {"sphere", "torus", "teapot", "terrain", "plane"};
+    std::vector<std::string> names;
+    for (const BuiltinScene& scene : kBuiltinScenes)
+        if (scene.is_mesh) names.emplace_back(scene.name);
+    return names;
+}
+
+std::string scene_choices_text() {
+    std::string text;
+    for (const BuiltinScene& scene : kBuiltinScenes) text += std::string(scene.name) + ", ";
+    return text + "an .obj file or a glTF scene (.gltf, .glb)";
 }
 
 Mesh make_scene_mesh(const std::string& name_or_path) {
@@ -45,11 +60,9 @@ Mesh make_scene_mesh(const std::string& name_or_path) {
     if (ends_with_obj(name_or_path)) {
         return load_obj(name_or_path);
     }
-    std::string valid;
-    for (const std::string& name : builtin_scene_names()) {
-        valid += name + ", ";
-    }
-    throw Error(name_or_path, "unknown scene; valid: " + valid + "or a path ending in .obj");
+    if (const BuiltinScene* scene = find_builtin_scene(name_or_path); scene && !scene->is_mesh)
+        throw Error(name_or_path, "is a scene of its own, not one mesh");
+    throw Error(name_or_path, "unknown scene; valid: " + scene_choices_text());
 }
 
 }  // namespace leanfade::scene

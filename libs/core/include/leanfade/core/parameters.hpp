@@ -10,6 +10,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -51,6 +52,8 @@ struct ParameterInfo {
 
 // Every shading parameter, in the order of help texts and presets.
 std::span<const ParameterInfo> shading_parameters();
+// The groups of shading_parameters(), each once, in the order they first appear in the table.
+std::vector<std::string_view> parameter_groups();
 // The row of `key`, or nullptr.
 const ParameterInfo* find_shading_parameter(std::string_view key);
 

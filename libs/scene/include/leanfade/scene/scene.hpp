@@ -1,7 +1,9 @@
 #pragma once
 // The scene library's entry point: mesh types, built-in generators, OBJ loading, and a by-name
 // dispatcher for command lines and configuration files.
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "leanfade/scene/generators.hpp"
@@ -10,9 +12,32 @@
 
 namespace leanfade::scene {
 
-// The names make_scene_mesh() accepts besides OBJ paths, in a fixed order:
-// "sphere", "torus", "teapot", "terrain", "plane".
+// The built-in scenes, described once: the command lines' help and messages, the viewer's list
+// and make_scene_mesh() read this table.
+struct BuiltinScene {
+    std::string_view name;         // in command lines and presets
+    std::string_view description;  // one line for help texts
+    bool is_mesh;                  // one object from make_scene_mesh(); false: its own builder
+};
+inline constexpr std::array<BuiltinScene, 6> kBuiltinScenes{{
+    {"sphere", "a unit sphere", true},
+    {"torus", "a torus", true},
+    {"teapot", "the Utah teapot", true},
+    {"terrain", "a procedural height field (seed 1)", true},
+    {"plane", "a flat 20 x 20 square, the map repeated every 0.4 units", true},
+    {"ocean", "the animated ocean: moving Gabor wave layers (docs/ocean.md)", false},
+}};
+// The built-in scene called `name`, or nullptr.
+const BuiltinScene* find_builtin_scene(std::string_view name);
+
+// The names make_scene_mesh() accepts besides OBJ paths: the rows of kBuiltinScenes that are
+// one mesh, in table order ("sphere", "torus", "teapot", "terrain", "plane").
 std::vector<std::string> builtin_scene_names();
+
+// Every scene a rendering command accepts, for help texts and messages: the table's names, then
+// the files ("sphere, torus, teapot, terrain, plane, ocean, an .obj file or a glTF scene (.gltf,
+// .glb)").
+std::string scene_choices_text();
 
 // A built-in object at its default parameters (see generators.hpp; "terrain" uses seed 1,
 // "plane" is 20 x 20 world units in 64 x 64 quads), or load_obj(name_or_path) for a path ending
