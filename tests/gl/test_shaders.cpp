@@ -197,7 +197,7 @@ void check_block(GLuint p, const std::string& variant, const char* block_name,
     EXPECT_EQ(block_values[1], binding) << variant << " " << block_name;
     EXPECT_EQ(block_values[2], GLint(members.size())) << variant << " " << block_name;
     for (const gl::BlockMember& member : members) {
-        const GLuint index = glGetProgramResourceIndex(p, GL_UNIFORM, member.name);
+        const GLuint index = glGetProgramResourceIndex(p, GL_UNIFORM, member.name.c_str());
         // std140 blocks keep every member active (the layout is fixed), so all must be found.
         ASSERT_NE(index, GL_INVALID_INDEX) << variant << ": " << member.name;
         const GLenum props[] = {GL_OFFSET, GL_BLOCK_INDEX};
@@ -217,11 +217,11 @@ TEST_F(GlShaders, UniformBlocksMatchTheirCppMirrors) {
         if (variant.vertex != "scene.vert") continue;
         gl::Program program = gl::build_program(sources, variant);
         const GLuint p = program.get();
-        check_block(p, variant.name, "LfObjectBlock", gl::kObjectBlockMembers,
+        check_block(p, variant.name, "LfObjectBlock", gl::object_block_members(),
                     gl::bindings::LF_BINDING_OBJECT_BLOCK, sizeof(gl::LfObjectUniforms),
                     sizeof(gl::LfObjectUniforms));
         if (variant.fragment != "scene.frag") continue;  // the constant colour reads no more
-        check_block(p, variant.name, "LfShadingBlock", gl::kShadingBlockMembers,
+        check_block(p, variant.name, "LfShadingBlock", gl::shading_block_members(),
                     gl::bindings::LF_BINDING_SHADING_BLOCK, sizeof(gl::LfShadingUniforms),
                     gl::kShadingBlockStd140Size);
         const auto expect_unit = [&](const char* name, int binding) {
@@ -235,7 +235,7 @@ TEST_F(GlShaders, UniformBlocksMatchTheirCppMirrors) {
                                        "LF_LAYERED") != variant.defines.end();
         if (layered) {
             // Bump layers: their block, and each sampler on its named unit (docs/math.md §6).
-            check_block(p, variant.name, "LfLayerBlock", gl::kLayerBlockMembers,
+            check_block(p, variant.name, "LfLayerBlock", gl::layer_block_members(),
                         gl::bindings::LF_BINDING_LAYER_BLOCK, sizeof(gl::LfLayerUniforms),
                         sizeof(gl::LfLayerUniforms));
             for (int i = 0; i < 4; ++i)
