@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
         int resolved = 0;
         for (const leanfade::TechniqueInfo& row : leanfade::kTechniques) {
             const leanfade::gl::ShaderVariant& variant =
-                leanfade::gl::shader_variant(leanfade::gl::scene_variant_name(row.id));
+                leanfade::gl::shader_variant(leanfade::gl::VariantKey::scene(row.id));
             const leanfade::gl::ResolvedSource source =
                 sources.resolve(variant.fragment, variant.defines);
             if (source.text.find("#include") != std::string::npos ||

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <span>
 #include <sstream>
 
@@ -56,6 +57,27 @@ TEST(ShaderSources, EveryVariantPassesGlslangValidator) {
             EXPECT_EQ(status, 0) << variant.name << " / " << stage << ":\n" << output;
         }
     }
+}
+
+// Programs are found by their typed key: every key and every name is built once, the name is
+// the key's, and each key finds its own variant.
+TEST(ShaderSources, EveryVariantHasItsOwnKeyAndName) {
+    std::set<gl::VariantKey> keys;
+    std::set<std::string> names;
+    for (const gl::ShaderVariant& variant : gl::shader_variants()) {
+        EXPECT_TRUE(keys.insert(variant.key).second) << variant.name;
+        EXPECT_TRUE(names.insert(variant.name).second) << variant.name;
+        EXPECT_EQ(variant.name, gl::variant_name(variant.key));
+        EXPECT_TRUE(gl::has_variant(variant.key)) << variant.name;
+        EXPECT_EQ(&gl::shader_variant(variant.key), &variant);
+    }
+    // Every technique of the table has its ordinary and its layered scene program.
+    for (const TechniqueInfo& row : kTechniques) {
+        EXPECT_EQ(keys.count(gl::VariantKey::scene(row.id)), 1u) << row.name;
+        EXPECT_EQ(keys.count(gl::VariantKey::scene(row.id, gl::kLayered)), 1u) << row.name;
+    }
+    EXPECT_EQ(keys.count(gl::VariantKey::box_filter()), 1u);
+    EXPECT_EQ(keys.count(gl::VariantKey::constant_color()), 1u);
 }
 
 TEST(ShaderSources, FragmentStageIncludesTheSharedHeaderOnce) {
@@ -112,7 +134,9 @@ TEST(ShaderSources, ReportsMissingAndMalformedFiles) {
     EXPECT_THROW(sources.resolve("../x.frag", {}), Error);
     EXPECT_NO_THROW(sources.resolve("loop.frag", {}));  // each file once: no endless recursion
     EXPECT_THROW(gl::ShaderSources::directory((dir / "none").string()), Error);
-    EXPECT_THROW(gl::shader_variant("scene_unknown"), Error);
+    // A key with a bit that the technique has no variant for, or an unknown bit.
+    EXPECT_THROW(gl::shader_variant(gl::VariantKey::scene(Technique::Bump, gl::kFadeFast)), Error);
+    EXPECT_THROW(gl::shader_variant(gl::VariantKey::scene(Technique::Lean, 64u)), Error);
 }
 
 // The drivers' log formats, resolved to files and lines (no context needed).
@@ -282,7 +306,7 @@ TEST_F(GlShaders, CompileErrorsNameTheIncludedFileAndLine) {
     const int line = append_line(dir / "lean_shading.glsl", "this is not GLSL;");
     try {
         gl::build_program(gl::ShaderSources::directory(dir.string()),
-                          gl::shader_variant("scene_lean"));
+                          gl::shader_variant(gl::VariantKey::scene(Technique::Lean)));
         FAIL() << "a broken shared header must not compile";
     } catch (const Error& e) {
         // The error is in the included file: its path, its line, and the stage that includes it.
@@ -300,11 +324,12 @@ TEST_F(GlShaders, CompileErrorsNameTheMainFileAndLine) {
     const fs::path dir = scratch_dir("broken_main_shader");
     copy_shaders(dir);
     const int line = append_line(dir / "scene.vert", "float broken = ;");
-    for (const char* variant : {"scene_bump", "scene_lean_plain"}) {
+    for (const gl::VariantKey variant : {gl::VariantKey::scene(Technique::Bump),
+                                         gl::VariantKey::scene(Technique::Lean, gl::kPlainColor)}) {
         try {
             gl::build_program(gl::ShaderSources::directory(dir.string()),
                               gl::shader_variant(variant));
-            FAIL() << variant << ": a broken vertex stage must not compile";
+            FAIL() << gl::variant_name(variant) << ": a broken vertex stage must not compile";
         } catch (const Error& e) {
             EXPECT_EQ(e.file(), (dir / "scene.vert").string()) << e.what();
             // The variant's #defines after #version do not shift the line numbers.

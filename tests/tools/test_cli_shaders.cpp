@@ -87,7 +87,8 @@ void expect_complete_index(const Export& e, const std::string& lang, const std::
     // Every technique of the table has its ordinary fragment stage.
     for (const TechniqueInfo& row : kTechniques)
         EXPECT_TRUE(
-            fs::is_regular_file(e.folder / (gl::scene_variant_name(row.id) + ".frag" + ext)))
+            fs::is_regular_file(e.folder / (gl::variant_name(gl::VariantKey::scene(row.id)) +
+                                            ".frag" + ext)))
             << row.name;
 }
 

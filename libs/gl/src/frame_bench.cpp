@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/figure.hpp"
@@ -91,13 +92,13 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
     // Entries: the floor first, then the techniques, each with its draw call.
     struct Entry {
         std::string name;
-        std::string variant;  // empty: the technique's own
+        std::optional<VariantKey> variant;  // none: the technique's own
         Technique technique;
     };
     std::vector<Entry> entries;
     if (r.floor)
-        entries.push_back({kFloorName, std::string(kConstantColorVariant), Technique::Lean});
-    for (Technique t : r.techniques) entries.push_back({to_string(t), "", t});
+        entries.push_back({kFloorName, VariantKey::constant_color(), Technique::Lean});
+    for (Technique t : r.techniques) entries.push_back({to_string(t), std::nullopt, t});
     const int count = int(entries.size());
     result.timings.resize(entries.size());
     for (std::size_t i = 0; i < entries.size(); ++i) result.timings[i].name = entries[i].name;
@@ -105,7 +106,7 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
     // Coverage of the full-size framebuffer, with the floor's program.
     target.clear();
     renderer.draw(frame_request(r, Technique::Lean, view, r.width, r.height),
-                  target.framebuffer.get(), std::string(kConstantColorVariant));
+                  target.framebuffer.get(), VariantKey::constant_color());
     result.coverage = target.covered_fraction();
 
     const int rounds = r.warmup + r.frames;
@@ -202,7 +203,7 @@ View fill_view(Renderer& renderer, float aspect, glm::vec3 direction, double* co
         request.width = probe_width;
         request.height = probe_height;
         request.view = view;
-        renderer.draw(request, probe.framebuffer.get(), std::string(kConstantColorVariant));
+        renderer.draw(request, probe.framebuffer.get(), VariantKey::constant_color());
         const double covered = probe.covered_fraction();
         if (covered > best_coverage) {
             best = view;

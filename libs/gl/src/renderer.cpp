@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -76,17 +77,17 @@ std::vector<std::uint8_t> flipped(const std::vector<std::uint8_t>& bytes, std::s
 // variant when there is one (the same image without the output and fog branches, which llvmpipe
 // executes for every pixel; docs/perf.md). Fading with its defaults while it is on takes the fast
 // variant (shader_library.hpp).
-std::string variant_name(const RenderRequest& request) {
+VariantKey variant_for(const RenderRequest& request) {
     const ShadingSettings& s = request.settings;
-    SceneVariantFlags flags = scene_variant_flags(request.technique, s);
+    VariantKey key = VariantKey::scene(request.technique, scene_variant_flags(request.technique, s));
     if (request.output == OutputMode::Color && s.fog == FogMode::None &&
-        has_scene_variant(request.technique, kPlainColor))
-        flags |= kPlainColor;
+        has_variant(VariantKey::scene(request.technique, kPlainColor)))
+        key = key.with(kPlainColor);
     if (info(request.technique).fades && s.fade_exponent == 2.0f &&
         s.fade_distance == FadeDistance::TangentZ && s.fade > 0.0f && s.pmax > 1.0f &&
-        has_scene_variant(request.technique, flags | kFadeFast))
-        flags |= kFadeFast;
-    return scene_variant_name(request.technique, flags);
+        has_variant(key.with(kFadeFast)))
+        key = key.with(kFadeFast);
+    return key;
 }
 
 int output_constant(OutputMode mode) {
@@ -230,16 +231,16 @@ Renderer::Renderer(Context& context, ShaderSources sources)
 Renderer::~Renderer() = default;
 
 void Renderer::rebuild_shaders() {
-    std::map<std::string, Program> rebuilt;
+    std::map<VariantKey, Program> rebuilt;
     for (const auto& entry : programs_)
         rebuilt.emplace(entry.first, build_program(sources_, shader_variant(entry.first)));
     programs_ = std::move(rebuilt);
 }
 
-GLuint Renderer::program(const std::string& name) {
-    auto it = programs_.find(name);
+GLuint Renderer::program(const VariantKey& key) {
+    auto it = programs_.find(key);
     if (it == programs_.end())
-        it = programs_.emplace(name, build_program(sources_, shader_variant(name))).first;
+        it = programs_.emplace(key, build_program(sources_, shader_variant(key))).first;
     return it->second.get();
 }
 
@@ -612,11 +613,11 @@ const LeanTextureInfo& Renderer::lean_texture() const {
     return maps_.empty() ? none : maps_.front().info;
 }
 
-void Renderer::draw_scene(const std::string& variant, const RenderRequest& request,
+void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& request,
                           const glm::mat4& clip) {
     const GLuint p = program(variant);
-    // Layered materials draw with the variant's _layered twin (a scene variant: not the floor).
-    const bool layerable = variant.rfind("scene_", 0) == 0 && variant != kConstantColorVariant;
+    // Layered materials draw with the variant's layered twin (a scene variant: not the floor).
+    const bool layerable = variant.is_scene();
     const ShadingSettings& frame = request.settings;
     const glm::mat4 view = request.view.view_matrix();
     LfObjectUniforms object_block{};
@@ -634,7 +635,7 @@ void Renderer::draw_scene(const std::string& variant, const RenderRequest& reque
         const GLuint map_texture = mixer != nullptr ? mixer->texture() : map.texture.get();
         const float map_scale = mixer != nullptr ? material_layers.mixed.scale : map.info.scale;
         const bool layered = layerable && !material.layered.layers.empty() && mixer == nullptr;
-        glUseProgram(layered ? program(variant + "_layered") : p);
+        glUseProgram(layered ? program(variant.with(kLayered)) : p);
         if (layered) bind_layers(material, material_layers, request.time);
         object_block.model = model_ * object.transform;
         const glm::mat3 normal_matrix(glm::transpose(glm::inverse(object_block.model)));
@@ -769,7 +770,7 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
         glViewport(0, 0, request.width, request.height);
         const float aspect = float(request.width) / float(request.height);
         const glm::mat4 clip = request.view.projection_matrix(aspect) * request.view.view_matrix();
-        draw_scene(variant_name(request), request, clip);
+        draw_scene(variant_for(request), request, clip);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         target.resolve();
     }
@@ -799,17 +800,18 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
     }
 }
 
-void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant) {
+void Renderer::draw(const RenderRequest& request, GLuint framebuffer,
+                    std::optional<VariantKey> variant) {
     if (objects_.empty()) throw Error("render", "no mesh was set");
     if (maps_.empty()) throw Error("render", "no LEAN map was set");
-    if (variant.empty() && request.technique == Technique::Reference)
+    if (!variant && request.technique == Technique::Reference)
         throw Error("render", "the reference is supersampled in several passes: use render()");
     if (request.width < 1 || request.height < 1)
         throw Error("size", "the viewport must be at least 1x1 pixels");
     validate(request.settings);
     if (!std::isfinite(request.time)) throw Error("time", "must be a finite number of seconds");
-    const std::string name = variant.empty() ? variant_name(request) : variant;
-    program(name);  // built (or its error thrown) before any state changes
+    const VariantKey key = variant.value_or(variant_for(request));
+    program(key);  // built (or its error thrown) before any state changes
     update_mixed_layers(request.time);
     apply_sampler_state(request.settings);
     glEnable(GL_DEPTH_TEST);
@@ -820,7 +822,7 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer, const std:
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glViewport(0, 0, request.width, request.height);
     const float aspect = float(request.width) / float(request.height);
-    draw_scene(name, request, request.view.projection_matrix(aspect) * request.view.view_matrix());
+    draw_scene(key, request, request.view.projection_matrix(aspect) * request.view.view_matrix());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -831,9 +833,9 @@ void Renderer::render_reference(const RenderRequest& request, Target& output) {
     const int k = request.reference_samples;
     const int tile = std::max(1, kMaxReferenceTileSamples / k);  // output pixels per tile side
     Target samples(std::min(tile, request.width) * k, std::min(tile, request.height) * k, 1);
-    const std::string scene_program = scene_variant_name(
+    const VariantKey scene_program = VariantKey::scene(
         Technique::Reference, scene_variant_flags(Technique::Reference, request.settings));
-    const GLuint filter_program = program("box_filter");
+    const GLuint filter_program = program(VariantKey::box_filter());
     const float aspect = float(request.width) / float(request.height);
     const glm::mat4 projection = request.view.projection_matrix(aspect);
     const glm::mat4 view = request.view.view_matrix();

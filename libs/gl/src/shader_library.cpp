@@ -306,13 +306,18 @@ ResolvedSource ShaderSources::resolve(const std::string& name,
     return std::move(r.out);
 }
 
-std::string scene_variant_name(Technique technique, SceneVariantFlags flags) {
-    std::string name = "scene_" + std::string(info(technique).name);
-    if (flags & kPlainColor) name += "_plain";
-    if (flags & kFadeFast) name += "_fast";
-    if (flags & kCookTorrance) name += "_ct";
-    if (flags & kLeanModel) name += "_leanmodel";
-    if (flags & kLayered) name += "_layered";
+std::string variant_name(const VariantKey& key) {
+    switch (key.program) {
+        case VariantKey::Program::BoxFilter: return "box_filter";
+        case VariantKey::Program::ConstantColor: return "scene_constant";
+        case VariantKey::Program::Scene: break;
+    }
+    std::string name = "scene_" + std::string(info(key.technique).name);
+    if (key.flags & kPlainColor) name += "_plain";
+    if (key.flags & kFadeFast) name += "_fast";
+    if (key.flags & kCookTorrance) name += "_ct";
+    if (key.flags & kLeanModel) name += "_leanmodel";
+    if (key.flags & kLayered) name += "_layered";
     return name;
 }
 
@@ -324,8 +329,11 @@ SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings
     return flags;
 }
 
-bool has_scene_variant(Technique technique, SceneVariantFlags flags) {
-    const TechniqueInfo& row = info(technique);
+bool has_variant(const VariantKey& key) {
+    if (!key.is_scene()) return key.flags == 0;
+    const TechniqueInfo& row = info(key.technique);
+    const SceneVariantFlags flags = key.flags;
+    if ((flags & ~kAllSceneVariantFlags) != 0) return false;
     // The supersampled reference is drawn through the general path only; the fast fading path
     // exists for the techniques that fade.
     if ((flags & kPlainColor) && row.supersampled) return false;
@@ -334,51 +342,62 @@ bool has_scene_variant(Technique technique, SceneVariantFlags flags) {
     return true;
 }
 
+namespace {
+
+// The defines of a scene variant (shaders/scene.frag, lean_shading.glsl).
+std::vector<std::string> scene_defines(const VariantKey& key) {
+    const TechniqueInfo& row = info(key.technique);
+    const SceneVariantFlags flags = key.flags;
+    // LEAN's own model as the truth: LEAN's lobe at the finest level (docs/math.md §7).
+    const bool lean_model = (flags & kLeanModel) != 0;
+    const int technique = lean_model ? shading::LF_TECHNIQUE_LEAN : row.shader_technique;
+    std::vector<std::string> defines{"LF_TECHNIQUE " + std::to_string(technique)};
+    defines.push_back("LF_BRDF " + std::to_string((flags & kCookTorrance)
+                                                      ? shading::LF_BRDF_COOK_TORRANCE
+                                                      : shading::LF_BRDF_BLINN_PHONG));
+    if (row.reads_moments || lean_model) defines.push_back("LF_READS_MOMENTS");
+    // The engine's textures, filtered in the shader (docs/roughness.md).
+    if (technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS) defines.push_back("LF_ROUGHNESS_MIPS");
+    if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
+    // The renderer's ordinary frames (colour output, no fog): the same images without the output
+    // and fog branches (docs/perf.md).
+    if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");
+    // Moments mixed from the bump layers of a layered material (docs/math.md §6).
+    if (flags & kLayered) defines.push_back("LF_LAYERED");
+    // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0, Pmax > 1):
+    // (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in one exponential without
+    // the exact sf == 1 path (lean_shading.glsl).
+    if (flags & kFadeFast)
+        defines.insert(defines.end(),
+                       {"LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY", "LF_FADE_ACTIVE"});
+    return defines;
+}
+
+}  // namespace
+
 const std::vector<ShaderVariant>& shader_variants() {
     static const std::vector<ShaderVariant> variants = [] {
         std::vector<ShaderVariant> result;
         for (const TechniqueInfo& row : kTechniques) {
-            for (SceneVariantFlags flags = 0; flags < 32u; ++flags) {
-                if (!has_scene_variant(row.id, flags)) continue;
-                // LEAN's own model as the truth: LEAN's lobe at the finest level (docs/math.md §7).
-                const bool lean_model = (flags & kLeanModel) != 0;
-                const int technique =
-                    lean_model ? shading::LF_TECHNIQUE_LEAN : row.shader_technique;
-                std::vector<std::string> defines{"LF_TECHNIQUE " + std::to_string(technique)};
-                defines.push_back("LF_BRDF " + std::to_string((flags & kCookTorrance)
-                                                                  ? shading::LF_BRDF_COOK_TORRANCE
-                                                                  : shading::LF_BRDF_BLINN_PHONG));
-                if (row.reads_moments || lean_model) defines.push_back("LF_READS_MOMENTS");
-                // The engine's textures, filtered in the shader (docs/roughness.md).
-                if (technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS)
-                    defines.push_back("LF_ROUGHNESS_MIPS");
-                if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
-                // The renderer's ordinary frames (colour output, no fog): the same images
-                // without the output and fog branches (docs/perf.md).
-                if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");
-                // Moments mixed from the bump layers of a layered material (docs/math.md §6).
-                if (flags & kLayered) defines.push_back("LF_LAYERED");
-                // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0,
-                // Pmax > 1): (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in
-                // one exponential without the exact sf == 1 path (lean_shading.glsl).
-                if (flags & kFadeFast)
-                    defines.insert(defines.end(), {"LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY",
-                                                   "LF_FADE_ACTIVE"});
-                result.push_back({scene_variant_name(row.id, flags), "scene.vert", "scene.frag",
-                                  std::move(defines)});
+            for (SceneVariantFlags flags = 0; flags <= kAllSceneVariantFlags; ++flags) {
+                const VariantKey key = VariantKey::scene(row.id, flags);
+                if (!has_variant(key)) continue;
+                result.push_back(
+                    {key, variant_name(key), "scene.vert", "scene.frag", scene_defines(key)});
             }
         }
-        result.push_back({"box_filter", "fullscreen.vert", "box_filter.frag", {}});
-        result.push_back({std::string(kConstantColorVariant), "scene.vert", "constant.frag", {}});
+        const VariantKey box = VariantKey::box_filter(), constant = VariantKey::constant_color();
+        result.push_back({box, variant_name(box), "fullscreen.vert", "box_filter.frag", {}});
+        result.push_back({constant, variant_name(constant), "scene.vert", "constant.frag", {}});
         return result;
     }();
     return variants;
 }
 
-const ShaderVariant& shader_variant(const std::string& name) {
+const ShaderVariant& shader_variant(const VariantKey& key) {
     for (const ShaderVariant& v : shader_variants())
-        if (v.name == name) return v;
-    throw Error("shaders", "no shader variant named '" + name + "'");
+        if (v.key == key) return v;
+    throw Error("shaders", "no shader variant " + variant_name(key));
 }
 
 Program build_program(const ShaderSources& sources, const ShaderVariant& variant) {

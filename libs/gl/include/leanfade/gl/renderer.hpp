@@ -136,11 +136,12 @@ class Renderer {
     // owns and clears (colour and depth attachments, any sample count): the viewport is
     // (0, 0, request.width, request.height), the render state that of render(), and nothing is
     // cleared, resolved, checked or read back, so a frame costs what its shading costs (the
-    // frame loop of `leanfade bench`). `variant` names another shader variant with the same
-    // vertex stage to draw with instead of the technique's: "scene_constant" is the
+    // frame loop of `leanfade bench`). `variant` is another program with the same vertex stage
+    // to draw with instead of the technique's: VariantKey::constant_color() is the
     // constant-colour fill-rate floor. Throws leanfade::Error without a mesh or map, for invalid
     // settings and for the reference (a multi-pass technique: render() only).
-    void draw(const RenderRequest& request, GLuint framebuffer, const std::string& variant = {});
+    void draw(const RenderRequest& request, GLuint framebuffer,
+              std::optional<VariantKey> variant = std::nullopt);
 
     // Rebuilds every program built so far from the sources, all or nothing: on a compile or link
     // error it throws leanfade::Error (naming the file) and keeps the previous programs, so that
@@ -160,10 +161,10 @@ class Renderer {
 
   private:
     struct Target;
-    GLuint program(const std::string& variant);
-    // Draws every object with the program of `variant` (its _layered variant for a material with
+    GLuint program(const VariantKey& variant);
+    // Draws every object with the program of `variant` (its kLayered twin for a material with
     // bump layers).
-    void draw_scene(const std::string& variant, const RenderRequest& request,
+    void draw_scene(const VariantKey& variant, const RenderRequest& request,
                     const glm::mat4& clip);
     void render_reference(const RenderRequest& request, Target& output);
     // The LEAN texture's LOD bias and anisotropy from the settings.
@@ -173,7 +174,7 @@ class Renderer {
 
     Context& context_;
     ShaderSources sources_;
-    std::map<std::string, Program> programs_;
+    std::map<VariantKey, Program> programs_;
     struct GpuObject {
         VertexArray vertex_array;
         Buffer vertices;

@@ -51,14 +51,6 @@ class ShaderSources {
     std::string origin_;
 };
 
-// One program of the renderer: its stages and its defines (e.g. {"LF_TECHNIQUE 1"}).
-struct ShaderVariant {
-    std::string name;  // scene_variant_name(...), "box_filter", ...
-    std::string vertex;
-    std::string fragment;
-    std::vector<std::string> defines;
-};
-
 // Variants of the scene program of a technique, as bits (shaders/scene.frag).
 using SceneVariantFlags = unsigned;
 inline constexpr SceneVariantFlags kPlainColor = 1u;  // colour output without fog, no branches
@@ -67,23 +59,60 @@ inline constexpr SceneVariantFlags kCookTorrance = 4u;  // the Cook-Torrance BRD
 inline constexpr SceneVariantFlags kLeanModel = 8u;  // the reference shades with LEAN's lobe
 // The material's moments mixed from bump layers (LF_LAYERED; Renderer picks it per material).
 inline constexpr SceneVariantFlags kLayered = 16u;
+inline constexpr SceneVariantFlags kAllSceneVariantFlags = 31u;
+
+// Which program of the renderer: a technique's scene program with its variant bits, or one of
+// the fixed programs. Programs are found and cached by this key; its name is for logs, file
+// names and `leanfade shaders` only.
+struct VariantKey {
+    enum class Program : unsigned char {
+        Scene,          // scene.vert + scene.frag of `technique` with `flags`
+        BoxFilter,      // fullscreen.vert + box_filter.frag: the reference's reduction
+        ConstantColor,  // scene.vert + constant.frag: the fill-rate floor of `leanfade bench`
+    };
+    Program program = Program::Scene;
+    Technique technique = Technique::Bump;  // Scene only
+    SceneVariantFlags flags = 0;            // Scene only
+
+    static constexpr VariantKey scene(Technique technique, SceneVariantFlags flags = 0) {
+        return {Program::Scene, technique, flags};
+    }
+    static constexpr VariantKey box_filter() { return {Program::BoxFilter, Technique::Bump, 0}; }
+    static constexpr VariantKey constant_color() {
+        return {Program::ConstantColor, Technique::Bump, 0};
+    }
+    constexpr bool is_scene() const { return program == Program::Scene; }
+    // The same scene program with more bits.
+    constexpr VariantKey with(SceneVariantFlags more) const {
+        return {program, technique, flags | more};
+    }
+    auto operator<=>(const VariantKey&) const = default;
+};
+
+// "scene_<technique>[_plain][_fast][_ct][_leanmodel][_layered]", "box_filter", "scene_constant".
+std::string variant_name(const VariantKey& key);
+
+// One program of the renderer: its key, its stages and its defines (e.g. {"LF_TECHNIQUE 1"}).
+struct ShaderVariant {
+    VariantKey key;
+    std::string name;  // variant_name(key)
+    std::string vertex;
+    std::string fragment;
+    std::vector<std::string> defines;
+};
+
 // The variant bits that ShadingSettings asks for: the BRDF, and the model of the reference.
 SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings& settings);
 
-// "scene_<technique>[_plain][_fast][_ct][_leanmodel][_layered]".
-std::string scene_variant_name(Technique technique, SceneVariantFlags flags = 0);
 // Whether that variant is built: no plain variant for the supersampled reference, no fast one
-// for the techniques that do not fade, LEAN's model for the reference only.
-bool has_scene_variant(Technique technique, SceneVariantFlags flags);
-// The constant-colour fill-rate floor of `leanfade bench`: the scene's vertex stage and one
-// colour.
-inline constexpr std::string_view kConstantColorVariant = "scene_constant";
+// for the techniques that do not fade, LEAN's model for the reference only. Fixed programs: true.
+bool has_variant(const VariantKey& key);
 
 // Every variant the renderer builds (for validation): the scene variants of every technique,
 // the box filter of the reference and the constant colour.
 const std::vector<ShaderVariant>& shader_variants();
-// The variant called `name`; throws leanfade::Error("shaders", cause) when there is none.
-const ShaderVariant& shader_variant(const std::string& name);
+// The variant of `key`; throws leanfade::Error("shaders", cause) when it is not built.
+const ShaderVariant& shader_variant(const VariantKey& key);
 
 // Compiles and links a variant. A stage that does not compile throws
 // leanfade::Error(<file>, "line L, column C: error: <message>; ... (<stage> shader <main file>
