@@ -6,13 +6,16 @@
 const int LF_BINDING_LEAN_MAP = 0;       // texture unit of the LEAN map (2D array, 2 slices)
 const int LF_BINDING_SHADING_BLOCK = 0;  // uniform block LfShadingBlock (LfShadingUniforms)
 const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the vertex stage
-// Texture unit of the material's base colour (2D, linear RGBA; Kd is multiplied by its RGB; a
-// 1x1 white texture for materials without one).
+// The material's surface maps (leanfade/scene/map_kinds.hpp): each a texture unit and a bit of
+// LfShadingUniforms::maps, set when the material has the map and the shader reads it.
+// Base colour (2D, linear RGBA; Kd is multiplied by its RGB; a 1x1 white texture for materials
+// without one).
 const int LF_BINDING_BASE_COLOR = 1;
-// Texture unit of the material's base roughness map (2D, R32F: alpha0^2 per texel with its MIP
-// chain filtered as the moments, docs/math.md §9), read with Cook-Torrance when
-// LfShadingUniforms::roughness_map is 1.
+const int LF_MAP_BASE_COLOR = 1;
+// Base roughness (2D, R32F: alpha0^2 per texel with its MIP chain filtered as the moments,
+// docs/math.md §9), read with Cook-Torrance when its bit is set.
 const int LF_BINDING_BASE_ROUGHNESS = 2;
+const int LF_MAP_BASE_ROUGHNESS = 2;
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

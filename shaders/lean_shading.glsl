@@ -76,8 +76,10 @@ struct LfShadingUniforms {
     vec3 fog_color;     // linear RGB
     float fog_end;      // world units
     float fog_density;  // per world unit
-    int roughness_map;  // 1: Cook-Torrance's base roughness comes per texel from the map's
-                        // alpha0^2 (LF_BINDING_BASE_ROUGHNESS), not from params.inv_s_shading
+    int maps;           // LF_MAP_* bits of the material's surface maps the shader reads
+                        // (shaders/bindings.glsl); with LF_MAP_BASE_ROUGHNESS Cook-Torrance's
+                        // base roughness comes per texel from the map's alpha0^2, not from
+                        // params.inv_s_shading
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4).

@@ -40,7 +40,7 @@ layout(binding = LF_BINDING_LEAN_MAP) uniform sampler2DArray u_lean;
 // base colour texture multiplies the base colour factor.
 layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
 
-// The material's base roughness (Cook-Torrance, u_shading.roughness_map == 1): alpha0^2 = r^4 per
+// The material's base roughness (Cook-Torrance, bit LF_MAP_BASE_ROUGHNESS): alpha0^2 = r^4 per
 // texel, its MIP chain filtered linearly as the moments are (docs/math.md §9), at the LEAN map's
 // uv with the same sampler state.
 layout(binding = LF_BINDING_BASE_ROUGHNESS) uniform sampler2D u_base_roughness;
@@ -63,7 +63,7 @@ vec4 lean_texel(float slice) {
 
 // Cook-Torrance with a base roughness map: the map's filtered alpha0^2 here.
 bool has_roughness_map() {
-    return LF_BRDF == LF_BRDF_COOK_TORRANCE && u_shading.roughness_map != 0;
+    return LF_BRDF == LF_BRDF_COOK_TORRANCE && (u_shading.maps & LF_MAP_BASE_ROUGHNESS) != 0;
 }
 
 #if defined(LF_ROUGHNESS_MIPS)

@@ -70,10 +70,10 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
         scene::Scene scene;
         scene.objects.push_back(scene::Object{quad, 0, glm::mat4(1.0f)});
         scene::Material material;
-        material.roughness_map = 0;
+        material.map(scene::MapKind::BaseRoughness) =
+            scene.add_map(scene::MapKind::BaseRoughness, alpha0_squared);
         scene.materials.push_back(material);
         scene.lean_maps.push_back(map);
-        scene.roughness_maps.push_back(alpha0_squared);
         renderer.set_scene(scene);
     } else {
         renderer.set_mesh(quad);

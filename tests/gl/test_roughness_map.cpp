@@ -28,9 +28,9 @@ scene::Scene bumpy_sphere(float r_map, int map_size) {
     scene::Material material;
     material.name = "bumps";
     if (r_map >= 0.0f) {
-        material.roughness_map = 0;
-        scene.roughness_maps.push_back(
-            base_alpha_squared_mips(Image(map_size, map_size, 1, r_map)));
+        material.map(scene::MapKind::BaseRoughness) =
+            scene.add_map(scene::MapKind::BaseRoughness,
+                          base_alpha_squared_mips(Image(map_size, map_size, 1, r_map)));
     }
     scene.materials.push_back(material);
     scene.lean_maps.push_back(make_bumps_map(64, 1.5f));

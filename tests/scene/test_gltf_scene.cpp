@@ -105,10 +105,11 @@ TEST(GltfScene, MaterialsGetBaseColourFactorAndLinearTexture) {
     const Scene scene = make_render_scene(load_textured(dir, {0, 0, 1}), GltfBakeSettings{});
     ASSERT_EQ(scene.materials.size(), 2u);
     ASSERT_EQ(scene.objects.size(), 2u);
-    EXPECT_EQ(scene.materials[0].base_color_texture, -1);
+    EXPECT_EQ(scene.materials[0].map(MapKind::BaseColor), -1);
     EXPECT_EQ(*scene.materials[1].diffuse, glm::vec3(0.5f, 1.0f, 1.0f));
-    ASSERT_EQ(scene.materials[1].base_color_texture, 0);
-    const Image& texture = scene.base_color_textures[0];
+    ASSERT_EQ(scene.materials[1].map(MapKind::BaseColor), 0);
+    ASSERT_EQ(scene.maps_of(MapKind::BaseColor)[0].size(), 1u);  // level 0: the GPU makes MIPs
+    const Image& texture = scene.maps_of(MapKind::BaseColor)[0][0];
     ASSERT_EQ(texture.channels, 4);
     ASSERT_EQ(texture.width, 2);
     // 8-bit 128/255 = 0.50196 sRGB -> 0.21586 linear; 255 -> 1; alpha 1 (RGB file).

@@ -144,16 +144,18 @@ void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
     if (path.empty()) return;
     io::ReadOptions read_options;
     read_options.max_dimension = flags.bumps.max_size;
+    int slot = -1;
     try {
-        result.roughness_maps.push_back(base_alpha_squared_mips(
-            base_roughness_channel(read_roughness_map(path, read_options))));
+        slot = result.add_map(scene::MapKind::BaseRoughness,
+                              base_alpha_squared_mips(
+                                  base_roughness_channel(read_roughness_map(path, read_options))));
     } catch (const Error& e) {
         // Name the file for the map's errors.
         if (e.file() == "roughness map") throw Error(path, e.cause());
         throw;
     }
     for (scene::Material& material : result.materials)
-        material.roughness_map = int(result.roughness_maps.size()) - 1;
+        material.map(scene::MapKind::BaseRoughness) = slot;
 }
 
 void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,

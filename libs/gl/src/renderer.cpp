@@ -2,6 +2,7 @@
 #include "leanfade/gl/renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <optional>
@@ -311,8 +312,7 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
     materials_ = {scene::Material{"default", 0, {}, {}, {}, {}}};
     material_layers_.clear();
     material_layers_.resize(1);
-    base_colors_.clear();
-    roughness_maps_.clear();
+    for (std::vector<Texture>& textures : surface_maps_) textures.clear();
 }
 
 namespace {
@@ -337,44 +337,48 @@ void set_repeat_trilinear(GLuint texture, int levels) {
     glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
-// A base colour texture (linear RGBA floats, rows top first) as GL_RGBA16F with a MIP chain,
-// rows flipped so that +v is up, repeating.
-Texture upload_base_color(const Image& image) {
-    if (image.width > gl_integer(GL_MAX_TEXTURE_SIZE) ||
-        image.height > gl_integer(GL_MAX_TEXTURE_SIZE))
-        throw Error("base colour texture", "larger than GL_MAX_TEXTURE_SIZE (" +
-                                               std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) +
-                                               ")");
-    const std::vector<float> rows = flipped_rows(image);
-    Texture texture = create_texture(GL_TEXTURE_2D);
-    const int levels = mip_level_count(image.width, image.height);
-    glTextureStorage2D(texture.get(), levels, GL_RGBA16F, image.width, image.height);
-    glTextureSubImage2D(texture.get(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT,
-                        rows.data());
-    glGenerateTextureMipmap(texture.get());
-    set_repeat_trilinear(texture.get(), levels);
-    return texture;
+GLenum gl_internal_format(scene::MapFormat format) {
+    switch (format) {
+        case scene::MapFormat::Rgba16f: return GL_RGBA16F;
+        case scene::MapFormat::R32f: return GL_R32F;
+    }
+    return GL_NONE;
 }
 
-// A base roughness map (scene::Scene::roughness_maps: alpha0^2, 1 channel, the full chain) as
-// GL_TEXTURE_2D R32F with every level uploaded from the CPU chain, rows flipped so that +v is up,
-// repeating, trilinear. R32F, not R16F: alpha0^2 = r^4 reaches 1e-8 at r = 0.01, below half
-// floats' normal range (6e-5), where a 16-bit float would lose it.
-Texture upload_roughness_map(const std::vector<Image>& chain) {
+GLenum gl_pixel_format(int channels) {
+    switch (channels) {
+        case 1: return GL_RED;
+        case 2: return GL_RG;
+        case 3: return GL_RGB;
+        default: return GL_RGBA;
+    }
+}
+
+// A surface map of `kind` (scene::Scene::maps, a MIP chain of float images, rows top first) as a
+// GL_TEXTURE_2D in the kind's format, rows flipped so that +v is up, repeating, trilinear: every
+// level uploaded from the chain (MapMips::Given) or level 0 and the GPU's box filter
+// (MapMips::Generated). The roughness map is R32F, not R16F: alpha0^2 = r^4 reaches 1e-8 at
+// r = 0.01, below half floats' normal range (6e-5), where a 16-bit float would lose it.
+Texture upload_surface_map(const scene::MapKindInfo& kind, const std::vector<Image>& chain) {
     const Image& top = chain.front();
     if (top.width > gl_integer(GL_MAX_TEXTURE_SIZE) || top.height > gl_integer(GL_MAX_TEXTURE_SIZE))
-        throw Error("roughness-map", "larger than GL_MAX_TEXTURE_SIZE (" +
-                                         std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) + ")");
+        throw Error(kind.setting.empty() ? std::string(kind.name) : std::string(kind.setting),
+                    "larger than GL_MAX_TEXTURE_SIZE (" +
+                        std::to_string(gl_integer(GL_MAX_TEXTURE_SIZE)) + ")");
     Texture texture = create_texture(GL_TEXTURE_2D);
-    const GLsizei levels = GLsizei(chain.size());
-    glTextureStorage2D(texture.get(), levels, GL_R32F, top.width, top.height);
+    const bool generated = kind.mips == scene::MapMips::Generated;
+    const GLsizei levels =
+        generated ? GLsizei(mip_level_count(top.width, top.height)) : GLsizei(chain.size());
+    glTextureStorage2D(texture.get(), levels, gl_internal_format(kind.format), top.width,
+                       top.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (GLsizei level = 0; level < levels; ++level) {
-        const Image& image = chain[std::size_t(level)];
+    for (std::size_t level = 0; level < (generated ? 1 : chain.size()); ++level) {
+        const Image& image = chain[level];
         const std::vector<float> rows = flipped_rows(image);
-        glTextureSubImage2D(texture.get(), level, 0, 0, image.width, image.height, GL_RED,
-                            GL_FLOAT, rows.data());
+        glTextureSubImage2D(texture.get(), GLint(level), 0, 0, image.width, image.height,
+                            gl_pixel_format(image.channels), GL_FLOAT, rows.data());
     }
+    if (generated) glGenerateTextureMipmap(texture.get());
     set_repeat_trilinear(texture.get(), levels);
     return texture;
 }
@@ -395,12 +399,10 @@ void Renderer::set_scene(const scene::Scene& scene) {
                                          "roughness is added once, after mixing");
     std::vector<GpuLayers> layers;
     for (const scene::Material& m : scene.materials) layers.push_back(upload_layers(scene, m));
-    std::vector<Texture> base_colors;
-    for (const Image& image : scene.base_color_textures)
-        base_colors.push_back(upload_base_color(image));
-    std::vector<Texture> roughness_maps;
-    for (const std::vector<Image>& chain : scene.roughness_maps)
-        roughness_maps.push_back(upload_roughness_map(chain));
+    std::array<std::vector<Texture>, scene::kMapKindCount> surface_maps;
+    for (const scene::MapKindInfo& kind : scene::kMapKinds)
+        for (const std::vector<Image>& chain : scene.maps_of(kind.kind))
+            surface_maps[std::size_t(kind.kind)].push_back(upload_surface_map(kind, chain));
     std::vector<GpuObject> objects;
     for (const scene::Object& o : scene.objects)
         objects.push_back(upload_object(o.mesh, o.material, o.transform));
@@ -410,8 +412,7 @@ void Renderer::set_scene(const scene::Scene& scene) {
     maps_ = std::move(maps);
     materials_ = scene.materials;
     material_layers_ = std::move(layers);
-    base_colors_ = std::move(base_colors);
-    roughness_maps_ = std::move(roughness_maps);
+    surface_maps_ = std::move(surface_maps);
 }
 
 Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
@@ -660,23 +661,28 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.fog_color = s.fog_color;
         block.fog_end = s.fog_end;
         block.fog_density = s.fog_density;
-        // docs/math.md §9: Cook-Torrance's base roughness per texel from the material's map.
-        const bool roughness_map =
-            material.roughness_map >= 0 && s.brdf == Brdf::CookTorrance;
-        block.roughness_map = roughness_map ? 1 : 0;
+        // The material's surface maps: each on its unit with its bit in the block's mask, or the
+        // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
+        block.maps = 0;
+        for (const scene::MapKindInfo& kind : scene::kMapKinds) {
+            const int slot = material.map(kind.kind);
+            const bool read = slot >= 0 && (!kind.cook_torrance_only || s.brdf == Brdf::CookTorrance);
+            if (read) block.maps |= kind.mask_bit;
+            GLuint texture = 0;
+            if (read) {
+                texture = surface_maps_[std::size_t(kind.kind)][std::size_t(slot)].get();
+            } else if (kind.fallback == scene::MapFallback::White) {
+                if (white_.get() == 0)
+                    white_ = upload_surface_map(scene::info(scene::MapKind::BaseColor),
+                                                {Image(1, 1, 4, 1.0f)});
+                texture = white_.get();
+            }
+            glBindTextureUnit(GLuint(kind.binding), texture);
+        }
         glNamedBufferSubData(shading_block_.get(), 0, sizeof(block), &block);
         glBindBufferBase(GL_UNIFORM_BUFFER, GLuint(bindings::LF_BINDING_SHADING_BLOCK),
                          shading_block_.get());
         glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map_texture);
-        if (white_.get() == 0) white_ = upload_base_color(Image(1, 1, 4, 1.0f));
-        glBindTextureUnit(GLuint(bindings::LF_BINDING_BASE_COLOR),
-                          material.base_color_texture >= 0
-                              ? base_colors_[std::size_t(material.base_color_texture)].get()
-                              : white_.get());
-        glBindTextureUnit(GLuint(bindings::LF_BINDING_BASE_ROUGHNESS),
-                          roughness_map
-                              ? roughness_maps_[std::size_t(material.roughness_map)].get()
-                              : 0);
         glBindVertexArray(object.vertex_array.get());
         glDrawElements(GL_TRIANGLES, object.index_count, GL_UNSIGNED_INT, nullptr);
     }
@@ -789,7 +795,10 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
         if (layers.mixer && layers.mixer->texture() != 0)
             textures.push_back(layers.mixer->texture());
     }
-    for (const Texture& map : roughness_maps_) textures.push_back(map.get());
+    for (const scene::MapKindInfo& kind : scene::kMapKinds)
+        if (kind.lean_sampler_state)
+            for (const Texture& map : surface_maps_[std::size_t(kind.kind)])
+                textures.push_back(map.get());
     for (const GLuint texture : textures) {
         glTextureParameterf(texture, GL_TEXTURE_LOD_BIAS, s.mip_bias);
         if (s.anisotropy > 1)

@@ -156,12 +156,12 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                     if (decoded.channels == 2 || decoded.channels == 4)
                         out[3] = in[decoded.channels - 1];
                 }
-                scene.base_color_textures.push_back(std::move(rgba));
-                found = textures.emplace(gm.base_color_image,
-                                         int(scene.base_color_textures.size()) - 1)
+                found = textures
+                            .emplace(gm.base_color_image,
+                                     scene.add_map(MapKind::BaseColor, {std::move(rgba)}))
                             .first;
             }
-            m.base_color_texture = found->second;
+            m.map(MapKind::BaseColor) = found->second;
         }
         scene.materials.push_back(std::move(m));
     }

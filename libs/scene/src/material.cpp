@@ -67,22 +67,29 @@ void validate_layers(const Scene& scene, const Material& m) {
     }
 }
 
-// A base roughness map: α0² per texel, every level of the chain, 1 channel, finite and >= 0.
-void validate_roughness_map(const std::vector<Image>& chain) {
-    if (chain.empty() || chain.front().empty())
-        throw Error("roughness-map", "a roughness map has no levels");
+// A surface map of `kind`: its levels have the kind's channels and halve in size (the full chain
+// down to 1x1 for a kind whose MIPs are Given, level 0 alone for one the GPU generates), its
+// values are finite, and a roughness map's alpha0^2 is >= 0.
+void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& chain) {
+    const std::string setting = kind.setting.empty() ? "scene" : std::string(kind.setting);
+    const std::string what = "a " + std::string(kind.name);
+    if (chain.empty() || chain.front().empty()) throw Error(setting, what + " has no levels");
     int w = chain.front().width, h = chain.front().height;
-    if (int(chain.size()) != mip_level_count(w, h))
-        throw Error("roughness-map", "a roughness map needs its full MIP chain: " +
-                                         std::to_string(mip_level_count(w, h)) + " levels, got " +
-                                         std::to_string(chain.size()));
+    const std::size_t levels = kind.mips == MapMips::Given ? std::size_t(mip_level_count(w, h)) : 1;
+    if (chain.size() != levels)
+        throw Error(setting, what + (kind.mips == MapMips::Given ? " needs its full MIP chain: "
+                                                                 : " holds level 0 only: ") +
+                                 std::to_string(levels) + " levels, got " +
+                                 std::to_string(chain.size()));
     for (const Image& level : chain) {
-        if (level.width != w || level.height != h || level.channels != 1)
-            throw Error("roughness-map",
-                        "a roughness map's levels are 1-channel and halve in size");
-        for (float v : level.pixels)
-            if (!(v >= 0.0f) || !std::isfinite(v))
-                throw Error("roughness-map", "a roughness map's alpha0^2 must be finite and >= 0");
+        if (level.width != w || level.height != h || level.channels != kind.channels)
+            throw Error(setting, what + "'s levels are " + std::to_string(kind.channels) +
+                                     "-channel and halve in size");
+        for (float v : level.pixels) {
+            if (!std::isfinite(v)) throw Error(setting, what + " has a value that is not finite");
+            if (kind.kind == MapKind::BaseRoughness && !(v >= 0.0f))
+                throw Error(setting, what + "'s alpha0^2 must be finite and >= 0");
+        }
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);
     }
@@ -132,21 +139,18 @@ void validate(const Scene& scene) {
                                      "' has a colour or shininess that is "
                                      "not a finite, positive number");
         if (!m.layered.layers.empty()) validate_layers(scene, m);
-        if (m.base_color_texture < -1 ||
-            m.base_color_texture >= int(scene.base_color_textures.size()))
-            throw Error("scene", "material '" + m.name + "' uses base colour texture " +
-                                     std::to_string(m.base_color_texture) + " of " +
-                                     std::to_string(scene.base_color_textures.size()));
+        for (const MapKindInfo& kind : kMapKinds) {
+            const int slot = m.map(kind.kind);
+            const std::size_t count = scene.maps_of(kind.kind).size();
+            if (slot < -1 || slot >= int(count))
+                throw Error("scene", "material '" + m.name + "' uses " + std::string(kind.name) +
+                                         " " + std::to_string(slot) + " of " +
+                                         std::to_string(count));
+        }
     }
-    for (const Material& m : scene.materials)
-        if (m.roughness_map < -1 || m.roughness_map >= int(scene.roughness_maps.size()))
-            throw Error("scene", "material '" + m.name + "' uses roughness map " +
-                                     std::to_string(m.roughness_map) + " of " +
-                                     std::to_string(scene.roughness_maps.size()));
-    for (const std::vector<Image>& chain : scene.roughness_maps) validate_roughness_map(chain);
-    for (const Image& texture : scene.base_color_textures)
-        if (texture.channels != 4 || texture.width < 1 || texture.height < 1)
-            throw Error("scene", "a base colour texture is not a non-empty RGBA image");
+    for (const MapKindInfo& kind : kMapKinds)
+        for (const std::vector<Image>& chain : scene.maps_of(kind.kind))
+            validate_surface_map(kind, chain);
     for (const Object& o : scene.objects) {
         if (o.material < 0 || o.material >= int(scene.materials.size()))
             throw Error(o.mesh.name, "uses material " + std::to_string(o.material) + " of " +

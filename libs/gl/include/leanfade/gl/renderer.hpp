@@ -7,6 +7,7 @@
 //   and scaled so that its bounding radius (scene::Bounds::radius) is 1: world units are bounding
 //   radii, for every scene. y is up.
 // - Images are linear radiance (RGB float, not sRGB), row 0 at the top.
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -209,9 +210,8 @@ class Renderer {
     std::vector<scene::Material> materials_;
     std::vector<GpuMap> maps_;
     std::vector<GpuLayers> material_layers_;  // per material (empty textures: single map)
-    std::vector<Texture> base_colors_;  // Scene::base_color_textures, with MIP chains
-    // Scene::roughness_maps: GL_TEXTURE_2D R32F of alpha0^2 with every level of the CPU chain
-    std::vector<Texture> roughness_maps_;
+    // Scene::maps: per kind of scene::kMapKinds, a GL_TEXTURE_2D per texture with its MIP chain.
+    std::array<std::vector<Texture>, scene::kMapKindCount> surface_maps_;
     Texture white_;                      // 1x1 white: the base colour of the others
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;

@@ -10,14 +10,13 @@
 
 #include <glm/mat4x4.hpp>
 
+#include "leanfade/core/bindings.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/gl/std140.hpp"
 
 namespace leanfade::gl {
 
-namespace bindings {
-#include "bindings.glsl"
-}  // namespace bindings
+namespace bindings = ::leanfade::bindings;
 
 using shading::LfParams;
 using shading::LfShadingUniforms;
@@ -50,7 +49,7 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, fog_color, Vec3),
     LF_STD140(LfShadingUniforms, fog_end, Float),
     LF_STD140(LfShadingUniforms, fog_density, Float),
-    LF_STD140(LfShadingUniforms, roughness_map, Int),
+    LF_STD140(LfShadingUniforms, maps, Int),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

@@ -6,6 +6,7 @@
 // layers (leanfade/core/layers.hpp, docs/math.md §6) whose moments are mixed at shading time.
 // Its parameters override ShadingSettings for the objects that use it; those it leaves unset come
 // from the frame's settings.
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/layers.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/scene/map_kinds.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::scene {
@@ -39,6 +41,12 @@ struct MaterialLayers {
     std::vector<int> cross_terms;
 };
 
+constexpr std::array<int, kMapKindCount> filled_map_slots(int value) {
+    std::array<int, kMapKindCount> slots{};
+    for (int& slot : slots) slot = value;
+    return slots;
+}
+
 struct Material {
     std::string name;
     int lean_map = 0;                   // index into Scene::lean_maps (the single-map case)
@@ -46,13 +54,14 @@ struct Material {
     std::optional<glm::vec3> specular;  // Ks, linear RGB
     std::optional<float> shininess;     // Blinn-Phong exponent s > 0
     MaterialLayers layered;             // bump layers instead of lean_map when not empty
-    // Index into Scene::base_color_textures, or -1: the diffuse colour Kd is multiplied by the
-    // texture (a glTF base colour texture) at the surface's tiled uv.
-    int base_color_texture = -1;
-    // Index into Scene::roughness_maps, or -1: with Cook-Torrance the base roughness comes per
-    // texel from the map (α0² at the surface's tiled uv, docs/math.md §9) instead of the frame's
-    // uniform roughness. Ignored by Blinn-Phong, whose base roughness is 1/s.
-    int roughness_map = -1;
+    // Its surface maps (leanfade/scene/map_kinds.hpp), one slot per kind: an index into
+    // Scene::maps[kind], or -1 for none. Base colour: Kd is multiplied by the texture (a glTF
+    // base colour texture) at the surface's tiled uv. Base roughness: with Cook-Torrance the base
+    // roughness comes per texel from the map (α0², docs/math.md §9) instead of the frame's
+    // uniform roughness; Blinn-Phong, whose base roughness is 1/s, ignores it.
+    std::array<int, kMapKindCount> maps = filled_map_slots(-1);
+    int& map(MapKind kind) { return maps[std::size_t(kind)]; }
+    int map(MapKind kind) const { return maps[std::size_t(kind)]; }
 };
 
 struct Object {
@@ -71,14 +80,23 @@ struct Scene {
     // Per-texel layer weights: 4-channel float images, RGBA = t_0..t_3 (each texel's weights of
     // the layers it has sum to 1), sampled at the surface's tiled uv.
     std::vector<Image> weight_maps;
-    // Base colour textures: 4-channel float images of linear RGB (sRGB decoded) and alpha, rows
-    // top first (uploaded flipped, like every texture: v up).
-    std::vector<Image> base_color_textures;
-    // Base roughness maps (leanfade::base_alpha_squared_mips): each a MIP chain (finest first,
-    // every level half the previous, down to 1x1) of 1-channel float images of α0² = r⁴ >= 0 per
-    // texel (dimensionless; α0 the Beckmann roughness), filtered linearly as the LEAN moments are,
-    // rows top first (uploaded flipped, like every texture: v up).
-    std::vector<std::vector<Image>> roughness_maps;
+    // The surface maps of each kind (kMapKinds): textures, each a MIP chain (finest first, every
+    // level half the previous) of images with the kind's channels and meaning, rows top first
+    // (uploaded flipped, like every texture: v up). A kind whose MIPs are Generated holds level 0
+    // only; one whose MIPs are Given holds every level down to 1x1. Base colour: 4-channel linear
+    // RGB (sRGB decoded) and alpha. Base roughness (leanfade::base_alpha_squared_mips): 1-channel
+    // α0² = r⁴ >= 0 (dimensionless; α0 the Beckmann roughness), filtered linearly as the LEAN
+    // moments are.
+    std::array<std::vector<std::vector<Image>>, kMapKindCount> maps;
+    std::vector<std::vector<Image>>& maps_of(MapKind kind) { return maps[std::size_t(kind)]; }
+    const std::vector<std::vector<Image>>& maps_of(MapKind kind) const {
+        return maps[std::size_t(kind)];
+    }
+    // Adds a texture of `kind` and returns its index.
+    int add_map(MapKind kind, std::vector<Image> chain) {
+        maps_of(kind).push_back(std::move(chain));
+        return int(maps_of(kind).size()) - 1;
+    }
 };
 
 // The size of the map the "height" method generates for `material`'s layers (mixed_map_size of
@@ -93,8 +111,9 @@ Bounds scene_bounds(const Scene& scene);
 // material or map index out of range, an object without triangles, an override that is not
 // finite (or a shininess <= 0), a transform that is not finite or not invertible, layers that
 // are not 2..kMaxLayers with valid weights, strengths, tilings and velocities, a cross-term
-// texture missing for a pair of "textures" layers, a weight map that is not 4-channel, or a
-// roughness map that is not a full chain of 1-channel levels with finite values >= 0.
+// texture missing for a pair of "textures" layers, a weight map that is not 4-channel, a surface
+// map slot out of range, or a surface map whose levels do not follow its kind (channels, the
+// full chain of a Given kind, finite values; a roughness map's >= 0).
 void validate(const Scene& scene);
 
 }  // namespace leanfade::scene

@@ -1,0 +1,85 @@
+#pragma once
+// The surface maps a material may carry besides its bump map, described once: the renderer's
+// upload and bind loop, the uniform block's map mask, scene validation, the command line and the
+// docs read this table (docs/architecture.md, "Add a map kind"). GL-free: formats and units are
+// named here, the renderer turns them into GL enums.
+//
+// A scene holds, per kind, a list of textures (Scene::maps), each a MIP chain of images (rows top
+// first, uploaded flipped so that +v is up, repeating, trilinear); a material points at one
+// texture of each kind or at none (Material::maps, -1).
+#include <array>
+#include <cstddef>
+#include <string_view>
+
+#include "leanfade/core/bindings.hpp"
+
+namespace leanfade::scene {
+
+namespace map_bindings = ::leanfade::bindings;
+
+enum class MapKind { BaseColor, BaseRoughness };
+inline constexpr std::size_t kMapKindCount = 2;
+
+// The texture's storage on the GPU.
+enum class MapFormat {
+    Rgba16f,  // 4 channels, half float
+    R32f,     // 1 channel, float (values far below half floats' normal range)
+};
+// How the texture's MIP chain is made.
+enum class MapMips {
+    Generated,  // the scene holds level 0; the GPU box-filters the rest
+    Given,      // the scene holds every level, filtered on the CPU (a full chain down to 1x1)
+};
+// What the shader reads for a material without the map.
+enum class MapFallback {
+    White,  // a 1x1 white texture: a factor of 1
+    None,   // nothing bound; the map's bit in LfShadingUniforms::maps is 0 and the shader uses
+            // the frame's uniform value instead
+};
+
+struct MapKindInfo {
+    MapKind kind;
+    std::string_view name;     // for people and messages: "base colour"
+    std::string_view setting;  // the setting (and flag, `--` + setting) that gives the map to
+                               // the bump source's material, or "" when none does
+    int binding;               // texture unit (shaders/bindings.glsl)
+    int mask_bit;              // its bit in LfShadingUniforms::maps (shaders/bindings.glsl)
+    int channels;              // of each level's image
+    MapFormat format;
+    MapMips mips;
+    MapFallback fallback;
+    bool cook_torrance_only;   // read by the Cook-Torrance BRDF only (Blinn-Phong ignores it)
+    bool lean_sampler_state;   // takes the LEAN map's MIP bias and anisotropy (read with the
+                               // moments, as one texture)
+    std::string_view gltf_source;  // where a glTF material's map comes from, or ""
+    std::string_view meaning;      // what a texel holds (units), one line for docs and help
+};
+
+inline constexpr std::array<MapKindInfo, kMapKindCount> kMapKinds{{
+    {MapKind::BaseColor, "base colour texture", "", map_bindings::LF_BINDING_BASE_COLOR,
+     map_bindings::LF_MAP_BASE_COLOR, 4, MapFormat::Rgba16f, MapMips::Generated,
+     MapFallback::White, false, false, "pbrMetallicRoughness.baseColorTexture",
+     "linear RGB (sRGB decoded) and alpha; Kd is multiplied by its RGB"},
+    {MapKind::BaseRoughness, "roughness map", "roughness-map",
+     map_bindings::LF_BINDING_BASE_ROUGHNESS, map_bindings::LF_MAP_BASE_ROUGHNESS, 1,
+     MapFormat::R32f, MapMips::Given, MapFallback::None, true, true, "",
+     "Cook-Torrance's alpha0^2 = r^4 (dimensionless), filtered linearly like the moments "
+     "(docs/math.md §9)"},
+}};
+
+// Every row sits at the position of its enum value, and each has its own bit.
+constexpr bool map_kind_table_is_ordered() {
+    for (std::size_t i = 0; i < kMapKinds.size(); ++i) {
+        if (std::size_t(kMapKinds[i].kind) != i) return false;
+        for (std::size_t j = 0; j < i; ++j)
+            if ((kMapKinds[i].mask_bit & kMapKinds[j].mask_bit) != 0 ||
+                kMapKinds[i].binding == kMapKinds[j].binding)
+                return false;
+    }
+    return true;
+}
+static_assert(map_kind_table_is_ordered());
+
+constexpr const MapKindInfo& info(MapKind kind) { return kMapKinds[std::size_t(kind)]; }
+
+}  // namespace leanfade::scene
