@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -15,10 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "eval" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("eval", name);
 }
 
 std::size_t count_lines(const std::string& text) {

@@ -14,6 +14,7 @@
 #include "leanfade/eval/calibration.hpp"
 #include "leanfade/eval/results.hpp"
 #include "leanfade/core/technique.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -21,10 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gnuplot_safety" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("gnuplot_safety", name);
 }
 
 void write_file(const fs::path& path, const std::string& text) {

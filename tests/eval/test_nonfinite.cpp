@@ -15,6 +15,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -22,10 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "nonfinite" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("nonfinite", name);
 }
 
 // The float samples of a PFM file as written (no check of their values, unlike io::read_image).

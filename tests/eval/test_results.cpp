@@ -10,6 +10,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/results.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::eval {
 namespace {
@@ -17,10 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "eval" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("eval", name);
 }
 
 std::string slurp(const fs::path& path) {

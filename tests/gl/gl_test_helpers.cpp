@@ -1,5 +1,7 @@
 #include "gl_test_helpers.hpp"
 
+#include "leanfade/test/scratch.hpp"
+
 #include <cmath>
 
 #include "leanfade/core/procedural.hpp"
@@ -98,10 +100,7 @@ double mean_abs_difference(const Image& a, const Image& b) {
 }
 
 std::filesystem::path scratch_dir(const std::string& name) {
-    const auto dir = std::filesystem::path(LEANFADE_TEST_TMP) / "gl" / name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
+    return fresh_scratch_folder("gl", name);
 }
 
 }  // namespace leanfade::test

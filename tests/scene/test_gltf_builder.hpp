@@ -9,14 +9,14 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "leanfade/test/scratch.hpp"
+
 namespace leanfade::scene::test {
 
 // An empty folder LEANFADE_TEST_TMP/<suite>/<name> for one test's files (removed first).
+using leanfade::test::fresh_scratch_folder;
 inline std::filesystem::path fresh_test_folder(const std::string& suite, const std::string& name) {
-    const std::filesystem::path dir = std::filesystem::path(LEANFADE_TEST_TMP) / suite / name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
+    return fresh_scratch_folder(suite, name);
 }
 
 struct GltfTestPrimitive {

@@ -8,6 +8,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "test_gltf_builder.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade {
 namespace {
@@ -17,10 +18,7 @@ using scene::test::GltfStorage;
 using scene::test::GltfTestFile;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "cli_gltf" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("cli_gltf", name);
 }
 
 std::vector<std::uint8_t> normal_png(glm::vec3 n) {

@@ -14,6 +14,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/results.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -21,10 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "cli_limits" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("cli_limits", name);
 }
 
 std::size_t lines(const std::string& text) {

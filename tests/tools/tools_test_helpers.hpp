@@ -4,15 +4,13 @@
 #include <string>
 
 #include "cli_runner.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
 
 // A fresh, empty scratch folder under the build's test-tmp, named after the test.
 inline std::filesystem::path scratch_dir(const std::string& name) {
-    const auto dir = std::filesystem::path(LEANFADE_TEST_TMP) / name;
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
-    return dir;
+    return fresh_scratch_folder(".", name);
 }
 
 }  // namespace leanfade::test

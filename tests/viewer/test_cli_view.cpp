@@ -13,6 +13,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/core/preset.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade {
 namespace {
@@ -21,10 +22,7 @@ namespace fs = std::filesystem;
 using test::RunResult;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "viewer_cli" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("viewer_cli", name);
 }
 
 // Runs `leanfade ARGS` in `dir`; under xvfb-run with a 1600x1000 screen when `x_server`.

@@ -17,6 +17,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/scene.hpp"
 #include "leanfade/viewer/session.hpp"
+#include "leanfade/test/scratch.hpp"
 
 namespace leanfade::viewer {
 namespace {
@@ -24,10 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "viewer" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
+    return leanfade::test::fresh_scratch_folder("viewer", name);
 }
 
 // As `leanfade render` loads bumps: built-in sets are baked, anything else is an image file.
