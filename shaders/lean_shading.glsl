@@ -427,45 +427,6 @@ LF_FN LfShade lf_combine_cook_torrance(vec3 n, vec3 light_dir, vec3 view_dir, ve
     return result;
 }
 
-// Every technique's lobe stage with Cook-Torrance. The base roughness is p.inv_s_shading = a0^2/2
-// per axis: the baseline's bump normal gets the isotropic Beckmann lobe of a0; Toksvig's
-// renormalised normal a0^2 + 2 sigma^2 (Toksvig's variance on top of the base); LEAN, fading and
-// CLEAN their covariance centred on B.
-LF_FN LfShade lf_shade_cook_torrance(int technique, LfMoments m, vec3 light_dir,
-                                     vec3 view_unnormalised, vec3 v, vec3 h, LfParams p) {
-    float sf = 1.0f;
-    if (technique == LF_TECHNIQUE_FADE) {
-        sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
-                            p.fade_exponent, p.pmax);
-    }
-    if (technique == LF_TECHNIQUE_BUMP) {
-        vec3 nb = normalize(m.normal);
-        float lobe = lf_cook_torrance_isotropic(nb, h, light_dir, v, 2.0f * p.inv_s_shading);
-        return lf_combine_cook_torrance(nb, light_dir, v, h, lobe, sf, p);
-    }
-    if (technique == LF_TECHNIQUE_ROUGHNESS_MIPS) {
-        // The engine's BRDF: Beckmann of alpha = r^2 around the filtered normal renormalised.
-        vec3 n = normalize(m.normal);
-        float alpha_squared = m.second.x * m.second.x * m.second.x * m.second.x;
-        float lobe = lf_cook_torrance_isotropic(n, h, light_dir, v, alpha_squared);
-        return lf_combine_cook_torrance(n, light_dir, v, h, lobe, sf, p);
-    }
-    if (technique == LF_TECHNIQUE_TOKSVIG) {
-        float len = length(m.normal);
-        float a = clamp(len, 1e-6f, 1.0f);
-        float alpha_squared = 2.0f * p.inv_s_shading + 2.0f * (1.0f - a) / a;
-        float lobe = (len > 0.0f) ? lf_cook_torrance_isotropic(m.normal / len, h, light_dir, v,
-                                                               alpha_squared)
-                                  : 0.0f;
-        return lf_combine_cook_torrance(m.normal, light_dir, v, h, lobe, sf, p);
-    }
-    vec3 sigma = (technique == LF_TECHNIQUE_CLEAN)
-                     ? lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading)
-                     : lf_covariance(m.mean, m.second, p.inv_s_shading);
-    float lobe = lf_cook_torrance_lobe(h, light_dir, v, m.mean, sigma);
-    return lf_combine_cook_torrance(m.normal, light_dir, v, h, lobe, sf, p);
-}
-
 // Roughness MIPs for engines (docs/roughness.md, docs/math.md §9): the texel an engine's textures
 // hold for a LEAN texel of some MIP level: (0.5 n + 0.5, r) with n the unit normal of the mean
 // slope B and r = sqrt(alpha) the perceptual roughness of alpha^2 = alpha0^2 + Sxx + Syy, each
@@ -490,13 +451,72 @@ LF_FN LfMoments lf_roughness_mips_moments(vec4 texel) {
     return m;
 }
 
-// LEAN's lobe stage with specular fading: A = NdotL^sf D (fading paper eq. 7 times LEAN eq. 1),
-// then the shared tail. fade_enabled = false is plain LEAN.
-LF_FN LfShade lf_shade_lean_lobe(LfMoments m, vec3 light_dir, vec3 view_unnormalised, vec3 v,
-                                 vec3 h, LfParams p, bool fade_enabled) {
-    vec3 sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
-    vec2 lobe = lf_lean_lobe_terms(h, m.mean, sigma);
-    if (fade_enabled) {
+// The lobe of a technique, set up once from the moments and fed to either BRDF: an isotropic
+// lobe around a normal (the baseline, the roughness MIPs), Toksvig's lobe around the filtered
+// normal, or a Gaussian over slopes (LEAN, fading, CLEAN).
+const int LF_LOBE_NORMAL = 0;    // isotropic around the unit lobe_normal
+const int LF_LOBE_TOKSVIG = 1;   // around lobe_normal / |lobe_normal|, spread by its length
+const int LF_LOBE_GAUSSIAN = 2;  // a Gaussian over slopes of mean B and covariance Sigma
+
+struct LfLobe {
+    int kind;             // LF_LOBE_*
+    vec3 tail_normal;     // the normal of the shared tail (NdotL^sf, Fresnel)
+    vec3 lobe_normal;     // NORMAL: unit; TOKSVIG: the filtered normal, |n| <= 1
+    float exponent;       // Blinn-Phong: the exponent s of NORMAL and TOKSVIG
+    float alpha_squared;  // Cook-Torrance: Beckmann alpha^2 of NORMAL and TOKSVIG
+    vec2 mean;            // GAUSSIAN: the slope mean B
+    vec3 sigma;           // GAUSSIAN: the slope covariance (Sxx, Syy, Sxy), base roughness included
+    bool fades;           // specular fading's NdotL^sf on the tail (fading paper eq. 6-7)
+};
+
+// Each technique is one branch here: what its lobe is, from the moments and the parameters. The
+// base roughness is p.inv_s_shading per axis (1/s, or a0^2/2 with Cook-Torrance).
+LF_FN LfLobe lf_lobe_setup(int technique, LfMoments m, LfParams p) {
+    LfLobe lobe;
+    lobe.kind = LF_LOBE_GAUSSIAN;
+    lobe.tail_normal = m.normal;
+    lobe.lobe_normal = m.normal;
+    lobe.exponent = p.shininess;
+    lobe.alpha_squared = 2.0f * p.inv_s_shading;
+    lobe.mean = m.mean;
+    lobe.sigma = vec3(0.0f);
+    lobe.fades = false;
+    if (technique == LF_TECHNIQUE_BUMP) {
+        // Baseline bump mapping: the filtered normal renormalised is the bump normal for the lobe
+        // and for the tail; Cook-Torrance's isotropic Beckmann lobe of a0.
+        lobe.kind = LF_LOBE_NORMAL;
+        lobe.lobe_normal = normalize(m.normal);
+        lobe.tail_normal = lobe.lobe_normal;
+    } else if (technique == LF_TECHNIQUE_ROUGHNESS_MIPS) {
+        // The engine's BRDF around the filtered normal renormalised, alpha = r^2: Beckmann of
+        // alpha, or Blinn-Phong of the exponent whose per-axis variance 1/s' is alpha^2 / 2
+        // (docs/math.md §9).
+        lobe.kind = LF_LOBE_NORMAL;
+        lobe.lobe_normal = normalize(m.normal);
+        lobe.tail_normal = lobe.lobe_normal;
+        lobe.alpha_squared = m.second.x * m.second.x * m.second.x * m.second.x;
+        lobe.exponent = 2.0f / max(lobe.alpha_squared, 1e-12f);
+    } else if (technique == LF_TECHNIQUE_TOKSVIG) {
+        // Toksvig's variance (1 - |Na|) / |Na| per axis on top of the base (Toksvig 2005).
+        lobe.kind = LF_LOBE_TOKSVIG;
+        float a = clamp(length(m.normal), 1e-6f, 1.0f);
+        lobe.alpha_squared = 2.0f * p.inv_s_shading + 2.0f * (1.0f - a) / a;
+    } else if (technique == LF_TECHNIQUE_CLEAN) {
+        lobe.sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
+    } else {
+        // LEAN (eq. 5) and LEAN with specular fading.
+        lobe.sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
+        lobe.fades = technique == LF_TECHNIQUE_FADE;
+    }
+    return lobe;
+}
+
+// A Gaussian lobe in Blinn-Phong, with specular fading when it fades: A = NdotL^sf D (fading paper
+// eq. 7 times LEAN eq. 1), then the shared tail.
+LF_FN LfShade lf_shade_gaussian_blinn_phong(LfLobe lobe, vec3 light_dir, vec3 view_unnormalised,
+                                            vec3 v, vec3 h, LfParams p) {
+    vec2 terms = lf_lean_lobe_terms(h, lobe.mean, lobe.sigma);
+    if (lobe.fades) {
         float sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
                                   p.fade_exponent, p.pmax);
 #if !defined(LF_FADE_ACTIVE)
@@ -504,65 +524,80 @@ LF_FN LfShade lf_shade_lean_lobe(LfMoments m, vec3 light_dir, vec3 view_unnormal
         // Shaders compiled with LF_FADE_ACTIVE (drawn only when Fade > 0 and Pmax > 1) skip this
         // test and its second exponential.
         if (sf == 1.0f) {
-            return lf_combine(m.normal, light_dir, v, lf_lean_lobe_value(lobe), 1.0f, p);
+            return lf_combine(lobe.tail_normal, light_dir, v, lf_lean_lobe_value(terms), 1.0f, p);
         }
 #endif
         // NdotL^sf exp(-e/2) in one exponential, exp2(sf log2(NdotL) - (e/2) log2(e)) (fading
         // paper eq. 7 times LEAN eq. 1): one log2 and one exp2 per pixel fewer than pow then exp.
         // NdotL = 0 gives log2 = -inf and 0, as NdotL^sf does; the clamp keeps log2 off 0 where a
         // driver would not.
-        float n_dot_l = clamp(dot(m.normal, light_dir), 0.0f, 1.0f);
-        float faded = (lobe.y > 0.0f)
-                          ? exp2(sf * log2(max(n_dot_l, 1e-30f)) + lobe.x * 1.44269504088896f) /
-                                lobe.y
+        float n_dot_l = clamp(dot(lobe.tail_normal, light_dir), 0.0f, 1.0f);
+        float faded = (terms.y > 0.0f)
+                          ? exp2(sf * log2(max(n_dot_l, 1e-30f)) + terms.x * 1.44269504088896f) /
+                                terms.y
                           : 0.0f;
-        return lf_combine_attenuated(m.normal, light_dir, v, faded, p);
+        return lf_combine_attenuated(lobe.tail_normal, light_dir, v, faded, p);
     }
-    return lf_combine(m.normal, light_dir, v, lf_lean_lobe_value(lobe), 1.0f, p);
+    return lf_combine(lobe.tail_normal, light_dir, v, lf_lean_lobe_value(terms), 1.0f, p);
+}
+
+// The papers' BRDF: the lobe itself as radiance, then the shared tail (lf_combine).
+LF_FN LfShade lf_shade_blinn_phong(LfLobe lobe, vec3 light_dir, vec3 view_unnormalised, vec3 v,
+                                   vec3 h, LfParams p) {
+    if (lobe.kind == LF_LOBE_NORMAL) {
+        return lf_combine(lobe.tail_normal, light_dir, v,
+                          lf_blinn_phong_lobe(lobe.lobe_normal, h, lobe.exponent), 1.0f, p);
+    }
+    if (lobe.kind == LF_LOBE_TOKSVIG) {
+        return lf_combine(lobe.tail_normal, light_dir, v,
+                          lf_toksvig_lobe(lobe.lobe_normal, h, lobe.exponent), 1.0f, p);
+    }
+    return lf_shade_gaussian_blinn_phong(lobe, light_dir, view_unnormalised, v, h, p);
+}
+
+// Cook-Torrance (docs/math.md §9): D G / (4 (n.l)(n.v)) of the lobe, then Schlick's F and the
+// light (lf_combine_cook_torrance), NdotL^sf when the lobe fades.
+LF_FN LfShade lf_shade_cook_torrance(LfLobe lobe, vec3 light_dir, vec3 view_unnormalised, vec3 v,
+                                     vec3 h, LfParams p) {
+    float sf = 1.0f;
+    if (lobe.fades) {
+        sf = lf_fade_factor(lf_fade_distance(view_unnormalised, p.fade_distance), p.fade,
+                            p.fade_exponent, p.pmax);
+    }
+    float value = 0.0f;
+    if (lobe.kind == LF_LOBE_NORMAL) {
+        value = lf_cook_torrance_isotropic(lobe.lobe_normal, h, light_dir, v, lobe.alpha_squared);
+    } else if (lobe.kind == LF_LOBE_TOKSVIG) {
+        float len = length(lobe.lobe_normal);
+        value = (len > 0.0f) ? lf_cook_torrance_isotropic(lobe.lobe_normal / len, h, light_dir, v,
+                                                          lobe.alpha_squared)
+                             : 0.0f;
+    } else {
+        value = lf_cook_torrance_lobe(h, light_dir, v, lobe.mean, lobe.sigma);
+    }
+    return lf_combine_cook_torrance(lobe.tail_normal, light_dir, v, h, value, sf, p);
 }
 
 // The shading pipeline of every technique, one entry for the shaders and the CPU reference:
 //   1. fetch each map's texels (the caller: filtered texture reads on the GPU, texel fetches on
 //      the CPU) and unpack them to moments (lf_unpack: filtered normal, B, M);
-//   2. combine the moments of the material's sources (today one LEAN map, so the caller passes
-//      its moments on unchanged);
-//   3. the technique's lobe D at the half vector (Blinn-Phong, Toksvig, LEAN's Gaussian, CLEAN),
-//      in the BRDF p.brdf: the lobe itself (Blinn-Phong) or D G / (4 (n.l)(n.v)) (Cook-Torrance,
-//      lf_shade_cook_torrance);
-//   4. the shared tail: NdotL^sf, Fresnel and the light (lf_combine, lf_combine_cook_torrance).
+//   2. combine the moments of the material's sources (bump layers: lf_mix_*; one LEAN map: its
+//      moments unchanged);
+//   3. the technique's lobe from the moments (lf_lobe_setup, one branch per technique);
+//   4. the lobe in the BRDF p.brdf: the lobe itself (Blinn-Phong) or D G / (4 (n.l)(n.v))
+//      (Cook-Torrance), and the shared tail: NdotL^sf, Fresnel and the light (lf_combine,
+//      lf_combine_cook_torrance).
 // technique: LF_TECHNIQUE_*. light_dir: unit tangent-space direction to the light;
 // view_unnormalised: Vt, from the shaded point to the eye in world units. Linear radiance.
 LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unnormalised,
                        LfParams p) {
     vec3 v = normalize(view_unnormalised);
     vec3 h = normalize(light_dir + v);
+    LfLobe lobe = lf_lobe_setup(technique, m, p);
     if (p.brdf == LF_BRDF_COOK_TORRANCE) {
-        return lf_shade_cook_torrance(technique, m, light_dir, view_unnormalised, v, h, p);
+        return lf_shade_cook_torrance(lobe, light_dir, view_unnormalised, v, h, p);
     }
-    if (technique == LF_TECHNIQUE_BUMP) {
-        // Baseline Blinn-Phong bump mapping: the filtered normal renormalised is the bump normal
-        // for the lobe and for the tail.
-        vec3 nb = normalize(m.normal);
-        return lf_combine(nb, light_dir, v, lf_blinn_phong_lobe(nb, h, p.shininess), 1.0f, p);
-    }
-    if (technique == LF_TECHNIQUE_TOKSVIG) {
-        return lf_combine(m.normal, light_dir, v, lf_toksvig_lobe(m.normal, h, p.shininess), 1.0f,
-                          p);
-    }
-    if (technique == LF_TECHNIQUE_ROUGHNESS_MIPS) {
-        // Blinn-Phong of the exponent whose per-axis variance 1/s' is alpha^2 / 2 (docs/math.md
-        // §9), alpha = r^2, around the filtered normal renormalised.
-        vec3 n = normalize(m.normal);
-        float alpha_squared = m.second.x * m.second.x * m.second.x * m.second.x;
-        float s = 2.0f / max(alpha_squared, 1e-12f);
-        return lf_combine(n, light_dir, v, lf_blinn_phong_lobe(n, h, s), 1.0f, p);
-    }
-    if (technique == LF_TECHNIQUE_CLEAN) {
-        vec3 sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
-        return lf_combine(m.normal, light_dir, v, lf_lean_lobe(h, m.mean, sigma), 1.0f, p);
-    }
-    return lf_shade_lean_lobe(m, light_dir, view_unnormalised, v, h, p,
-                              technique == LF_TECHNIQUE_FADE);
+    return lf_shade_blinn_phong(lobe, light_dir, view_unnormalised, v, h, p);
 }
 
 // Inputs of specular fading at a LEAN texel, for calibration: (NdotL, d) with NdotL as
