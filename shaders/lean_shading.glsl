@@ -405,6 +405,21 @@ LF_FN LfParams lf_with_base_roughness(LfParams p, float alpha0_squared) {
     return r;
 }
 
+// The material's parameters at one fragment, stage 2 of lf_shade's pipeline, from the surface
+// maps' texels the caller fetched (shaders/scene.frag: filtered reads at the surface's uv; the
+// CPU reference: the texel values): Kd times the base colour's RGB (white without a map), and
+// with has_base_roughness (the material's roughness map, Cook-Torrance) the base roughness from
+// the map's alpha0^2.
+LF_FN LfParams lf_material_params(LfParams p, vec4 base_color, bool has_base_roughness,
+                                  float alpha0_squared) {
+    LfParams r = p;
+    r.kd *= vec3(base_color.x, base_color.y, base_color.z);
+    if (has_base_roughness) {
+        r = lf_with_base_roughness(r, alpha0_squared);
+    }
+    return r;
+}
+
 // Schlick's Fresnel on h.v: F0 + (1 - F0) (1 - h.v)^5 (Schlick 1994), per colour channel.
 LF_FN vec3 lf_fresnel_schlick(vec3 h, vec3 view_dir, vec3 f0) {
     float c = clamp(1.0f - dot(h, view_dir), 0.0f, 1.0f);

@@ -182,11 +182,11 @@ void main() {
     moments = lf_roughness_mips_moments(roughness_mip_trilinear(v_in.uv));
 #endif
 #endif
-    LfParams params = u_shading.params;
-    params.kd *= LF_SAMPLE(u_base_color, v_in.uv).rgb;
-    if (has_roughness_map()) {
-        params = lf_with_base_roughness(params, LF_SAMPLE(u_base_roughness, v_in.uv).r);
-    }
+    // The surface maps' texels, then the material's parameters (lf_material_params).
+    vec4 base_color = LF_SAMPLE(u_base_color, v_in.uv);
+    float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, v_in.uv).r : 0.0;
+    LfParams params =
+        lf_material_params(u_shading.params, base_color, has_roughness_map(), alpha0_squared);
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade(LF_TECHNIQUE, moments, light_dir, v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)

@@ -150,7 +150,6 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             if (!inside) continue;
             // Tangent frame = world axes (T = +x, Bt = +y, N = +z).
             const glm::vec3 view_t = request.view.eye - p;
-            shading::LfParams pixel_params = params;
             float base = 2.0f * params.inv_s_shading;  // α0² of the uniform roughness
             if (c.roughness_map) {
                 // The map's texel columns under the bilinear footprint at u (level 0).
@@ -161,9 +160,11 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
                     continue;
                 }
                 base = base_alpha_squared(map_roughness(left));
-                pixel_params = shading::lf_with_base_roughness(params, base);
                 ++compared_per_half[map_roughness(left) < 0.5f ? 0 : 1];
             }
+            // The material stage of scene.frag: no base colour texture (white), the map's α0².
+            const shading::LfParams pixel_params = shading::lf_material_params(
+                params, glm::vec4(1.0f), c.roughness_map && s.brdf == Brdf::CookTorrance, base);
             shading::LfMoments moments = shading::lf_unpack(lean1, lean2, map.scale);
             // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
             if (c.technique == gl::Technique::Roughness)

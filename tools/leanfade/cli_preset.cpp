@@ -7,6 +7,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/gl/renderer.hpp"
 
 namespace leanfade::cli {
@@ -52,11 +53,7 @@ void check_preset_techniques(const Preset& preset, const std::string& file) {
     }
 }
 
-std::string number_text(float value) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
+std::string number_text(float value) { return shortest_text(value); }
 
 std::string vector_text(const glm::vec3& v) {
     return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
@@ -77,10 +74,9 @@ glm::vec3 parse_vector(const std::string& text, const std::string& flag) {
         if ((comma == std::string::npos) != last)
             throw Error(flag, "expected X,Y,Z, got '" + text + "'");
         const std::string part = text.substr(start, last ? std::string::npos : comma - start);
-        char* end = nullptr;
-        v[i] = std::strtof(part.c_str(), &end);
-        if (part.empty() || end == nullptr || *end != 0 || !std::isfinite(v[i]))
-            throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+        const std::optional<float> value = parse_finite_float(part);
+        if (!value) throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+        v[i] = *value;
         start = comma + 1;
     }
     return v;

@@ -21,10 +21,9 @@ namespace leanfade::cli {
 namespace {
 
 bool parse_float(const std::string& text, float& value) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    value = std::strtof(text.c_str(), &end);
-    return end != nullptr && *end == 0 && std::isfinite(value);
+    const std::optional<float> parsed = parse_finite_float(text);
+    if (parsed) value = *parsed;
+    return parsed.has_value();
 }
 
 bool ends_with(const std::string& s, const std::string& suffix) {

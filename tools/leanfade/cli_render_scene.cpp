@@ -28,11 +28,9 @@ bool is_ktx2(const std::string& path) {
 }
 
 float parse_number(const std::string& text, const std::string& flag) {
-    char* end = nullptr;
-    const float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || end == nullptr || *end != 0 || !std::isfinite(value))
-        throw Error(flag, "expected a finite number, got '" + text + "'");
-    return value;
+    const std::optional<float> value = parse_finite_float(text);
+    if (!value) throw Error(flag, "expected a finite number, got '" + text + "'");
+    return *value;
 }
 
 // "a,b,c" -> n numbers; empty text: n times `fallback`.

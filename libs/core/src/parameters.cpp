@@ -171,17 +171,12 @@ std::string text(float value) {
 }
 
 // Shortest decimal that reads back as the same float ("0.15").
-std::string exact(float value) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    return std::string(buffer, result.ptr);
-}
+std::string exact(float value) { return shortest_text(value); }
 
 bool parse_float(const std::string& text, float& value) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    value = std::strtof(text.c_str(), &end);
-    return end != nullptr && *end == 0 && std::isfinite(value);
+    const std::optional<float> parsed = parse_finite_float(text);
+    if (parsed) value = *parsed;
+    return parsed.has_value();
 }
 
 void require_finite(const ParameterInfo& row, float value) {

@@ -17,6 +17,7 @@
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/parameters.hpp"
+#include "leanfade/core/text.hpp"
 
 namespace leanfade {
 namespace {
@@ -124,10 +125,8 @@ class Reader {
 
 // Shortest decimal that reads back as the same float, stored as a double (0.15f -> 0.15).
 json exact(float value) {
-    char buffer[64];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-    *result.ptr = 0;
-    return std::strtod(buffer, nullptr);
+    const std::optional<double> shortest = parse_finite_double(shortest_text(value));
+    return shortest ? *shortest : double(value);
 }
 
 json exact(const glm::vec3& v) {

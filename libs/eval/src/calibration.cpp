@@ -10,6 +10,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/core/technique.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/eval/results.hpp"
 
 namespace leanfade::eval {
@@ -127,12 +128,10 @@ FadeTarget parse_fade_target(const std::string& text, const std::string& flag) {
     }
     if (text.rfind("exp:", 0) == 0) {
         const std::string value = text.substr(4);
-        char* end = nullptr;
-        const float sigma = std::strtof(value.c_str(), &end);
-        if (!value.empty() && end != nullptr && *end == 0 && std::isfinite(sigma) &&
-            sigma >= 0.0f) {
+        const std::optional<float> sigma = parse_finite_float(value);
+        if (sigma && *sigma >= 0.0f) {
             target.kind = FadeTarget::Kind::Exponential;
-            target.sigma = sigma;
+            target.sigma = *sigma;
             return target;
         }
         throw Error(

@@ -33,10 +33,9 @@ namespace {
 namespace fs = std::filesystem;
 
 bool parse_number(const std::string& text, double& value) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    value = std::strtod(text.c_str(), &end);
-    return end != nullptr && *end == 0 && std::isfinite(value);
+    const std::optional<double> parsed = parse_finite_double(text);
+    if (parsed) value = *parsed;
+    return parsed.has_value();
 }
 
 // Rounds to `digits` significant digits, so that log-spaced distances print as 3.17 rather than
