@@ -134,6 +134,46 @@ TEST(ResultsFiles, JsonRoundTrip) {
     EXPECT_THROW(read_results_json((dir / "missing.json").string(), info, cases), Error);
 }
 
+// sweep.preset is written again with indentation by --replot: its depth and size are checked
+// first (a 44 KB file nested 22000 deep took gigabytes).
+TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
+    const fs::path dir = scratch("json_preset");
+    SweepInfo given = sample_info();
+    given.preset_json = R"({"scene": "sphere", "bumps": {"source": "bumps"}})";
+    const std::string text = results_json(given, sample_cases());
+    const std::string marker = "\"sphere\"";
+    const std::size_t at = text.find(marker, text.find("\"preset\""));
+    ASSERT_NE(at, std::string::npos);
+    SweepInfo info;
+    std::vector<CaseResult> cases;
+    for (const auto& [levels, objects] :
+         {std::pair{15, false}, {16, false}, {22000, false}, {22000, true}}) {
+        std::string deep;
+        for (int i = 0; i < levels; ++i) deep += objects ? "{\"a\":" : "[";
+        deep += "1";
+        for (int i = 0; i < levels; ++i) deep += objects ? "}" : "]";
+        std::string hostile = text;
+        hostile.replace(at, marker.size(), deep);
+        write_text_file((dir / "results.json").string(), hostile);
+        const std::string path = (dir / "results.json").string();
+        // The preset itself is one level and its scene key's value the rest.
+        if (levels + 1 <= 16) {
+            EXPECT_NO_THROW(read_results_json(path, info, cases)) << levels;
+            continue;
+        }
+        try {
+            read_results_json(path, info, cases);
+            ADD_FAILURE() << levels << " levels were read";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.cause(), "sweep.preset nests deeper than 16 levels");
+        }
+    }
+    std::string large = text;
+    large.replace(at, marker.size(), "\"" + std::string(std::size_t(1) << 21, 'x') + "\"");
+    write_text_file((dir / "results.json").string(), large);
+    EXPECT_THROW(read_results_json((dir / "results.json").string(), info, cases), Error);
+}
+
 TEST(ResultsFiles, ReportWithPlots) {
     const fs::path dir = scratch("report");
     CaseImages images;
