@@ -173,10 +173,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     validate(blend);
     for (float t : tilings)
         if (!(t > 0.0f)) throw Error("--layer-tiling", "each tiling must be > 0");
-    if (flags.bumps.texture_size < 4 || flags.bumps.texture_size > kDefaultMaxImageDimension)
-        throw Error("--texture-size", "must be in [4, " +
-                                          std::to_string(kDefaultMaxImageDimension) + "], got " +
-                                          std::to_string(flags.bumps.texture_size));
+    check_texture_size(flags.bumps.texture_size, flags.bumps.max_size);
     // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
     const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
@@ -304,6 +301,10 @@ std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
     std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map,
                                    flags.bumps.roughness_map};
     if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
+    // A glTF scene's buffers and images are inputs too.
+    if (scene::is_gltf_path(flags.scene))
+        for (const std::string& file : scene::gltf_referenced_files(flags.scene))
+            paths.push_back(file);
     if (!flags.layers.layers.empty())
         for (const std::string& source : split(flags.layers.layers, ',')) paths.push_back(source);
     for (const std::string& path : paths)

@@ -103,7 +103,7 @@ int run_render(const RenderArgs& args) {
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     for (const std::string& picture : pictures) plan.add_output(picture, "-o");
     if (!args.cells.empty()) {
-        plan.add_output_folder(args.cells);
+        plan.add_output_folder(args.cells, true);
         std::vector<std::pair<float, std::string>> rows;
         if (ocean)
             for (const std::string& view : split(args.input.ocean.views, ','))
