@@ -590,5 +590,33 @@ TEST(CliHostileFlags, InputsInsideOutputFoldersAreNotReplaced) {
     EXPECT_EQ(test::read_text(dir / "EO" / "images" / "b.png"), before);
 }
 
+// ---- Flags without a bound, messages without a name ----------------------------------------
+
+TEST(CliHostileFlags, LayerFlagsAndFigureSizesAreBoundedAndNamed) {
+    const fs::path dir = scratch("layer_flags");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"--layers bumps,noise --layer-tiling 1e30,1",
+         "--layer-tiling: each tiling must be in (0, 1e+06]"},
+        {"--layers bumps,noise --layer-tiling 1,inf", "--layer-tiling"},
+        {"--layers bumps,noise --layer-velocity 1e30:0,0:0",
+         "--layer-velocity: each component must be in [-1e+06, 1e+06]"},
+        {"--layers bumps,noise --layer-velocity 0:0,0:nan", "--layer-velocity"},
+        {"--layers bumps,", "--layers: source 2 of 2 is empty"},
+        {"--layers ,noise", "--layers: source 1 of 2 is empty"},
+        {"--scene foo.xyz", "ocean, or a path ending in .obj, .gltf or .glb"},
+        {"--distances 2:1000:1000 --size 256x256", "--distances: "},
+        {"--scene ocean --views near,mid,far --size 4096x4096", "--views: "},
+    };
+    for (const auto& [args, cause] : cases) {
+        const test::RunResult r = test::run_leanfade_bounded(
+            "render " + args + (args.find("--size") == std::string::npos ? " --size 16x16" : "") +
+                " -o " + test::shell_quote((dir / "o.png").string()),
+            dir);
+        expect_one_line_error(r, {cause});
+        EXPECT_LT(r.max_rss_kib, 512 * 1024) << args;
+        EXPECT_FALSE(fs::exists(dir / "o.png")) << args;
+    }
+}
+
 }  // namespace
 }  // namespace leanfade

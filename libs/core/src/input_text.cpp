@@ -73,6 +73,7 @@ std::size_t printable_utf8_length(std::string_view text, std::size_t at) {
 
 std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
                               const std::string& kind) {
+    if (path.empty()) throw Error("", "the name of " + kind + " is empty");
     Descriptor file;
     // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever (it is refused
     // below); it changes nothing for a regular file.
