@@ -187,7 +187,8 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         if (!(t > 0.0f) || !(t <= kMaxTiling))
             throw Error("--layer-tiling",
                         "each tiling must be in (0, 1e+06], as --tiling, got " + number_text(t));
-    check_texture_size(flags.bumps.texture_size, flags.bumps.max_size);
+    check_texture_size(flags.bumps.texture_size, flags.bumps.max_size,
+                       std::any_of(sources.begin(), sources.end(), is_builtin_bumps));
     // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
     const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
