@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/results.hpp"
 
@@ -172,6 +173,19 @@ TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
     large.replace(at, marker.size(), "\"" + std::string(std::size_t(1) << 21, 'x') + "\"");
     write_text_file((dir / "results.json").string(), large);
     EXPECT_THROW(read_results_json((dir / "results.json").string(), info, cases), Error);
+    // The real `eval --replot` on a 44 KB file nested 22000 deep: one line, bounded memory.
+    std::string deep;
+    for (int i = 0; i < 22000; ++i) deep += "[";
+    for (int i = 0; i < 22000; ++i) deep += "]";
+    std::string hostile = text;
+    hostile.replace(at, marker.size(), deep);
+    fs::create_directories(dir / "replot");
+    write_text_file((dir / "replot" / "results.json").string(), hostile);
+    const test::RunResult r = test::run_leanfade_bounded(
+        "eval --replot " + test::shell_quote((dir / "replot").string()), dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("sweep.preset nests deeper than 16 levels"), std::string::npos) << r.err;
+    EXPECT_LT(r.max_rss_kib, 512 * 1024);
 }
 
 TEST(ResultsFiles, ReportWithPlots) {
