@@ -454,6 +454,18 @@ TEST(CliGltfHostile, OutputsMayNotReplaceTheFilesASceneNames) {
                                               dir, dir, env(dir));
     expect_one_line_error(r, {"s_image0.png", "is the same file as an input of this run"});
     EXPECT_EQ(test::read_text(dir / "s_image0.png"), image);
+    // A GLB's external image, found in its JSON chunk.
+    {
+        scene::test::GltfTestOutput out = scene::test::build_gltf(file, GltfStorage::Binary, "");
+        out.json["images"][0] = {{"uri", "tex.png"}};
+        scene::test::write_bytes((dir / "g.glb").string(),
+                                 scene::test::pack_glb(out.json, out.bin));
+        scene::test::write_bytes((dir / "tex.png").string(), file.images[0]);
+        r = test::run_leanfade_in("render --scene g.glb --size 16x16 -o tex.png", dir, dir,
+                                  env(dir));
+        expect_one_line_error(r, {"tex.png", "is the same file as an input of this run"});
+        EXPECT_EQ(scene::test::read_bytes((dir / "tex.png").string()), file.images[0]);
+    }
     // bake onto a buffer named like its output, also spelt differently in the URI.
     for (const std::string& uri : {"s.m.ktx2", "./s.m.ktx2", "s%2Em.ktx2"}) {
         scene::test::GltfTestOutput out = scene::test::build_gltf(file, GltfStorage::External, "s");

@@ -1032,13 +1032,36 @@ std::vector<std::string> gltf_referenced_files(const std::string& path,
                                                const GltfLoadOptions& options) {
     std::vector<std::string> files;
     try {
-        std::vector<std::uint8_t> bytes;
-        if (!read_file(path, std::min(options.max_file_bytes, kLargestFile), bytes).empty())
-            return files;
-        const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-        const std::string text =
-            binary ? glb_json_chunk(bytes)
-                   : std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+        // The JSON only: of a GLB, its first chunk (the binary chunk is not read).
+        std::string text;
+        {
+            const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+            if (fd < 0) return files;
+            struct FdCloser {
+                int fd;
+                ~FdCloser() { ::close(fd); }
+            } closer{fd};
+            struct stat info {};
+            if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) return files;
+            const std::uint64_t size = std::uint64_t(info.st_size);
+            if (size > std::min(options.max_file_bytes, kLargestFile)) return files;
+            const auto read_at = [&](std::uint64_t offset, std::uint64_t length) {
+                std::string part(std::size_t(length), '\0');
+                return ::pread(fd, part.data(), part.size(), off_t(offset)) == ssize_t(length)
+                           ? part
+                           : std::string();
+            };
+            const std::string head = size >= 20 ? read_at(0, 20) : std::string();
+            if (head.size() == 20 && head.compare(0, 4, "glTF") == 0) {
+                const auto byte = [&](int i) { return std::uint64_t(std::uint8_t(head[i])); };
+                const std::uint64_t length =
+                    byte(12) | byte(13) << 8 | byte(14) << 16 | byte(15) << 24;
+                if (length > size - 20) return files;
+                text = read_at(20, length);
+            } else {
+                text = read_at(0, size);
+            }
+        }
         check_json_depth(text);
         const json root = json::parse(text);
         const fs::path folder = fs::path(path).parent_path();
