@@ -127,6 +127,14 @@ TEST(CliGltfHostile, BakeReportsOfHostileNamesAreEscaped) {
         EXPECT_EQ(line.find("\xE2\x80\xAE"), std::string::npos) << line;
     }
     EXPECT_NE(r.out.find("n\\x1B[2J\\u{202E}x"), std::string::npos) << r.out;
+    // An image file name with an escape sequence, on stdout.
+    const std::string odd = std::string("odd\x1B[2Jname.png");
+    scene::test::write_bytes((dir / odd).string(), flat_normal_png());
+    const test::RunResult image =
+        test::run_leanfade_in("bake " + test::shell_quote(odd) + " -o out.ktx2", dir, dir);
+    ASSERT_EQ(image.exit_code, 0) << image.err;
+    EXPECT_EQ(image.out.find('\x1B'), std::string::npos) << image.out;
+    EXPECT_NE(image.out.find("odd\\x1B[2Jname.png -> out.ktx2"), std::string::npos) << image.out;
 }
 
 TEST(CliGltfHostile, PngPairTextIsEscaped) {
@@ -311,6 +319,17 @@ TEST(CliGltfHostile, ScenesThatWouldExhaustMemoryOrStackAreOneLineErrors) {
         for (int i = 0; i < 1500; ++i)
             out.json["images"].push_back({{"bufferView", view}, {"mimeType", "image/png"}});
         cases.push_back({"images.glb", scene::test::pack_glb(out.json, out.bin), ""});
+    }
+    {  // one normal image with 12 normalTexture scales: 12 bakes held and cached
+        std::vector<std::string> names;
+        for (int m = 0; m < 12; ++m) names.push_back("m" + std::to_string(m));
+        GltfTestFile file = materials_scene(names);
+        for (int m = 0; m < 12; ++m) file.materials[std::size_t(m)].normal_scale = 1.0f + float(m);
+        const scene::test::GltfTestOutput out =
+            scene::test::build_gltf(file, GltfStorage::Binary, "");
+        cases.push_back({"scales.glb", scene::test::pack_glb(out.json, out.bin),
+                         "image 0: normal texture of 5 different scales, more than the limit of "
+                         "4 bakes of one image"});
     }
     ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);  // inherited by the runs
     for (const Case& c : cases) {

@@ -173,7 +173,7 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
 
 void print_summary(const std::string& input, const std::string& output, const LeanMapSummary& s,
                    const BakeResult& result, Storage storage, double seconds) {
-    std::printf("%s -> %s\n", input.c_str(), output.c_str());
+    std::printf("%s -> %s\n", terminal_text(input).c_str(), terminal_text(output).c_str());
     std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height,
                 s.levels, to_string(result.source), s.scale, to_string(storage));
     std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
@@ -318,7 +318,8 @@ int run_bake(const BakeArgs& given) {
         const bool from_file = j.from_file;
         ++job;
         if (progress)
-            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count, name.c_str());
+            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count,
+                         terminal_text(name).c_str());
         const auto start = std::chrono::steady_clock::now();
         // 8- and 16-bit files stay integer samples (half the memory of floats).
         const std::variant<Image, UnormImage> input =
