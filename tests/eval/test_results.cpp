@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/results.hpp"
 #include "leanfade/test/scratch.hpp"
@@ -130,6 +131,59 @@ TEST(ResultsFiles, JsonRoundTrip) {
     write_text_file((dir / "bad.json").string(), "{\"leanfade_eval\": 1, \"sweep\": {}}");
     EXPECT_THROW(read_results_json((dir / "bad.json").string(), info, cases), Error);
     EXPECT_THROW(read_results_json((dir / "missing.json").string(), info, cases), Error);
+}
+
+// sweep.preset is written again with indentation by --replot: its depth and size are checked
+// first (a 44 KB file nested 22000 deep took gigabytes).
+TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
+    const fs::path dir = scratch("json_preset");
+    SweepInfo given = sample_info();
+    given.preset_json = R"({"scene": "sphere", "bumps": {"source": "bumps"}})";
+    const std::string text = results_json(given, sample_cases());
+    const std::string marker = "\"sphere\"";
+    const std::size_t at = text.find(marker, text.find("\"preset\""));
+    ASSERT_NE(at, std::string::npos);
+    SweepInfo info;
+    std::vector<CaseResult> cases;
+    for (const auto& [levels, objects] :
+         {std::pair{15, false}, {16, false}, {22000, false}, {22000, true}}) {
+        std::string deep;
+        for (int i = 0; i < levels; ++i) deep += objects ? "{\"a\":" : "[";
+        deep += "1";
+        for (int i = 0; i < levels; ++i) deep += objects ? "}" : "]";
+        std::string hostile = text;
+        hostile.replace(at, marker.size(), deep);
+        write_text_file((dir / "results.json").string(), hostile);
+        const std::string path = (dir / "results.json").string();
+        // The preset itself is one level and its scene key's value the rest.
+        if (levels + 1 <= 16) {
+            EXPECT_NO_THROW(read_results_json(path, info, cases)) << levels;
+            continue;
+        }
+        try {
+            read_results_json(path, info, cases);
+            ADD_FAILURE() << levels << " levels were read";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.cause(), "sweep.preset nests deeper than 16 levels");
+        }
+    }
+    std::string large = text;
+    large.replace(at, marker.size(), "\"" + std::string(std::size_t(1) << 21, 'x') + "\"");
+    write_text_file((dir / "results.json").string(), large);
+    EXPECT_THROW(read_results_json((dir / "results.json").string(), info, cases), Error);
+    // The real `eval --replot` on a 44 KB file nested 22000 deep: one line, bounded memory.
+    std::string deep;
+    for (int i = 0; i < 22000; ++i) deep += "[";
+    for (int i = 0; i < 22000; ++i) deep += "]";
+    std::string hostile = text;
+    hostile.replace(at, marker.size(), deep);
+    fs::create_directories(dir / "replot");
+    write_text_file((dir / "replot" / "results.json").string(), hostile);
+    const test::RunResult r = test::run_leanfade_bounded(
+        "eval --replot " + test::shell_quote((dir / "replot").string()), dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("sweep.preset nests deeper than 16 levels"), std::string::npos) << r.err;
+    EXPECT_LT(r.max_rss_kib, 512 * 1024);
 }
 
 TEST(ResultsFiles, ReportWithPlots) {

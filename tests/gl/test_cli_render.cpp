@@ -216,7 +216,7 @@ TEST(CliRender, BakeWritesTheCrossTermTexture) {
     const RunResult r = run_leanfade_in("bake --cross-terms bumps,noise --size 32 -o pair.ktx2",
                                         dir, dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const PackedLeanMap pair = io::read_ktx2((dir / "pair.ktx2").string());
+    const PackedLeanMap pair = io::read_cross_term_ktx2((dir / "pair.ktx2").string());
     ASSERT_EQ(pair.levels.size(), 6u);
     EXPECT_EQ(pair.storage, Storage::Float32);
     double level0 = 0.0, level2 = 0.0;

@@ -306,12 +306,12 @@ INSTANTIATE_TEST_SUITE_P(
                            q(write_height_png(d, "b.png")) + " -o " + q(d / "x.ktx2");
                 },
                 "--out-dir", ""},
-        BadCase{"missing_out_dir",
+        BadCase{"out_dir_under_a_file",
                 [](const fs::path& d) {
                     return "bake " + q(write_height_png(d, "a.png")) + " --out-dir " +
-                           q(d / "no" / "such");
+                           q(d / "a.png" / "such");
                 },
-                "does not exist", "such"},
+                "is not a folder", "such"},
         BadCase{"info_on_png",
                 [](const fs::path& d) { return "info " + q(write_height_png(d, "notktx.png")); },
                 "not a KTX 2.0 file", "notktx.png"},

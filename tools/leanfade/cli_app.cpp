@@ -13,8 +13,20 @@
 #include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::cli {
+namespace {
+
+// One line on stderr: the message whole (a NUL or newline in a name does not cut it) and made
+// safe for the terminal (terminal_text).
+void print_error_line(const std::string& prefix, const std::string& message,
+                      const std::string& suffix = {}) {
+    const std::string line = prefix + terminal_text(message) + suffix + "\n";
+    std::fwrite(line.data(), 1, line.size(), stderr);
+}
+
+}  // namespace
 
 std::vector<Command>& command_registry() {
     static std::vector<Command> commands;
@@ -51,7 +63,7 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // One line, naming the cause; CLI11's default adds a second line.
-        std::fprintf(stderr, "leanfade: %s (see leanfade --help)\n", e.what());
+        print_error_line("leanfade: ", e.what(), " (see leanfade --help)");
         return 2;
     }
     if (options.parse_only) return 0;
@@ -62,12 +74,13 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
             return run();
         } catch (const leanfade::Error& e) {
             // Libraries name settings; the command line names their flags.
-            std::fprintf(stderr, "leanfade %s: %s\n", sub->get_name().c_str(),
-                         with_flag_name(e).what());
+            const Error named = with_flag_name(e);
+            print_error_line(
+                "leanfade " + sub->get_name() + ": ",
+                named.file().empty() ? named.cause() : named.file() + ": " + named.cause());
             return 1;
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "leanfade %s: internal error: %s\n", sub->get_name().c_str(),
-                         e.what());
+            print_error_line("leanfade " + sub->get_name() + ": internal error: ", e.what());
             return 3;
         }
     }

@@ -73,7 +73,7 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
         l.lean2 = float_bytes(mean_chain[level]);
         packed.levels.push_back(std::move(l));
     }
-    io::write_ktx2(args.output, packed);
+    io::write_cross_term_ktx2(args.output, packed);
     std::printf("%s: cross terms of %s and %s, %dx%d, %zu levels\n", args.output.c_str(),
                 sources[0].c_str(), sources[1].c_str(), bi.width, bi.height,
                 packed.levels.size());

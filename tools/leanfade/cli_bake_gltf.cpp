@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
@@ -41,7 +43,7 @@ scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int
 
 void print_warnings(const std::string& path, const std::vector<std::string>& warnings) {
     for (const std::string& w : warnings)
-        std::fprintf(stderr, "leanfade: %s: %s\n", path.c_str(), w.c_str());
+        std::fprintf(stderr, "leanfade: %s\n", terminal_text(path + ": " + w).c_str());
 }
 
 }  // namespace
@@ -52,8 +54,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
                     "does not apply to a glTF scene (its normal textures are OpenGL-convention "
                     "normal maps baked to KTX2)");
     const scene::GltfBakeSettings settings = bake_settings(args.bits, args.max_size, args.threads);
-    if (!args.out_dir.empty() && !fs::is_directory(args.out_dir))
-        throw Error(args.out_dir, "output folder does not exist");
+    // A missing --out-dir is created, and removed again if the run writes nothing into it.
+    const io::CreatedFolders out_folder(args.out_dir);
     const scene::GltfScene gltf = scene::load_gltf(args.input);
     print_warnings(args.input, gltf.warnings);
 
@@ -69,13 +71,18 @@ int run_bake_gltf(const GltfBakeArgs& args) {
     const fs::path folder =
         args.out_dir.empty() ? fs::path(args.input).parent_path() : fs::path(args.out_dir);
     const std::string stem = fs::path(args.input).stem().string();
-    std::map<std::string, int> names;
+    // Each output name once: a name already taken (by an earlier material of the same name
+    // part, or by a material named like a numbered one, "a", "a", "a-2") gets the first free
+    // number.
+    std::set<std::string> names;
     for (const scene::GltfMaterial& m : gltf.materials) {
         if (m.normal_image < 0) continue;
         if (seen.count({m.normal_image, m.normal_scale}) != 0) continue;
         seen[{m.normal_image, m.normal_scale}] = jobs.size();
-        std::string name = file_name_part(m.name);
-        if (names[name]++ > 0) name += "-" + std::to_string(names[name]);
+        const std::string part = file_name_part(m.name);
+        std::string name = part;
+        for (int n = 2; names.count(name) != 0; ++n) name = part + "-" + std::to_string(n);
+        names.insert(name);
         jobs.push_back({m.normal_image, m.normal_scale, m.name,
                         (folder / (stem + "." + name + ".ktx2")).string()});
     }
@@ -83,6 +90,7 @@ int run_bake_gltf(const GltfBakeArgs& args) {
 
     io::OutputPlan plan;
     plan.add_input(args.input);
+    for (const std::string& file : scene::gltf_referenced_files(args.input)) plan.add_input(file);
     for (const Job& j : jobs) plan.add_output(j.output, "material '" + j.material + "'");
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan.check();
@@ -92,47 +100,58 @@ int run_bake_gltf(const GltfBakeArgs& args) {
     io::WriteOptions write_options;
     write_options.durability = durability;
     nlohmann::json summaries = nlohmann::json::array();
+    std::string report;  // printed once the outputs are published
     const bool progress = stderr_is_terminal();
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-        const Job& j = jobs[i];
-        if (progress)
-            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", i + 1, jobs.size(),
-                         j.material.c_str());
-        const auto start = std::chrono::steady_clock::now();
-        bool cached = false;
-        std::string cache_warning;
-        const PackedLeanMap map =
-            scene::bake_normal_texture(gltf, j.image, j.scale, settings, &cached, &cache_warning);
-        io::write_ktx2(outputs.stage(j.output), map, write_options);
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (progress) std::fprintf(stderr, "\r\033[K");
-        if (!cache_warning.empty()) print_warnings(args.input, {"cache: " + cache_warning});
-        const std::string& image = gltf.images[std::size_t(j.image)].name;
-        std::printf("%s: material '%s' (%s, scale %g) -> %s\n", args.input.c_str(),
-                    j.material.c_str(), image.c_str(), double(j.scale), j.output.c_str());
-        std::printf("  %dx%d, %zu levels, sc = %.6g, %s, %.3f s\n", map.levels[0].width,
-                    map.levels[0].height, map.levels.size(), double(map.scale),
-                    cached ? "from the cache" : "baked", seconds);
-        summaries.push_back({{"input", args.input},
-                             {"material", j.material},
-                             {"image", image},
-                             {"normal_scale", j.scale},
-                             {"output", j.output},
-                             {"width", map.levels[0].width},
-                             {"height", map.levels[0].height},
-                             {"levels", map.levels.size()},
-                             {"scale", map.scale},
-                             {"from_cache", cached},
-                             {"seconds", seconds}});
-    }
-    if (!args.json.empty()) {
-        const std::string text = summaries.dump(2) + "\n";
-        io::AtomicFile file(outputs.stage(args.json), durability);
-        file.write(text.data(), text.size());
-        file.commit();
+    try {
+        for (std::size_t i = 0; i < jobs.size(); ++i) {
+            const Job& j = jobs[i];
+            if (progress)
+                std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", i + 1, jobs.size(),
+                             terminal_text(j.material).c_str());
+            const auto start = std::chrono::steady_clock::now();
+            bool cached = false;
+            std::string cache_warning;
+            const PackedLeanMap map = scene::bake_normal_texture(gltf, j.image, j.scale, settings,
+                                                                 &cached, &cache_warning);
+            io::write_ktx2(outputs.stage(j.output), map, write_options);
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (progress) std::fprintf(stderr, "\r\033[K");
+            if (!cache_warning.empty()) print_warnings(args.input, {"cache: " + cache_warning});
+            const std::string& image = gltf.images[std::size_t(j.image)].name;
+            char line[256];
+            report += terminal_text(args.input) + ": material '" + terminal_text(j.material) +
+                      "' (" + terminal_text(image) + ", scale ";
+            std::snprintf(line, sizeof line, "%g", double(j.scale));
+            report += std::string(line) + ") -> " + terminal_text(j.output) + "\n";
+            std::snprintf(line, sizeof line, "  %dx%d, %zu levels, sc = %.6g, %s, %.3f s\n",
+                          map.levels[0].width, map.levels[0].height, map.levels.size(),
+                          double(map.scale), cached ? "from the cache" : "baked", seconds);
+            report += line;
+            summaries.push_back({{"input", args.input},
+                                 {"material", j.material},
+                                 {"image", image},
+                                 {"normal_scale", j.scale},
+                                 {"output", j.output},
+                                 {"width", map.levels[0].width},
+                                 {"height", map.levels[0].height},
+                                 {"levels", map.levels.size()},
+                                 {"scale", map.scale},
+                                 {"from_cache", cached},
+                                 {"seconds", seconds}});
+        }
+        if (!args.json.empty()) {
+            const std::string text =
+                summaries.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+            io::AtomicFile file(outputs.stage(args.json), durability);
+            file.write(text.data(), text.size());
+            file.commit();
+        }
+    } catch (const Error& e) {
+        throw outputs.named(e);  // the output's name, not its temporary's
     }
     outputs.publish();
+    std::fwrite(report.data(), 1, report.size(), stdout);
     return 0;
 }
 

@@ -37,6 +37,7 @@ void add_ocean_options(CLI::App& app, OceanFlags& flags) {
 scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps) {
     scene::OceanSettings settings;
     settings.layers = flags.layers;
+    check_texture_size(bumps.texture_size, bumps.max_size, true);
     settings.texture_size = bumps.texture_size;
     settings.seed = bumps.seed;
     if (flags.flow == "none") {

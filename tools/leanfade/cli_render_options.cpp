@@ -151,6 +151,21 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
 }
 
+bool is_builtin_bumps(const std::string& source) {
+    const auto& builtins = builtin_bump_names();
+    return std::find(builtins.begin(), builtins.end(), source) != builtins.end();
+}
+
+void check_texture_size(int texture_size, int max_size, bool builtin) {
+    const int largest =
+        builtin ? std::min(max_size, kDefaultMaxImageDimension) : kDefaultMaxImageDimension;
+    if (texture_size < 4 || texture_size > largest)
+        throw Error("--texture-size",
+                    "must be in [4, " + std::to_string(largest) + "]" +
+                        (largest < kDefaultMaxImageDimension ? " (--max-size)" : "") + ", got " +
+                        std::to_string(texture_size));
+}
+
 Storage on_the_fly_storage(const LeanSourceFlags& f) { return parse_bake_storage(f.bits); }
 
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {
@@ -164,10 +179,7 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
     const BakeSource source = parse_bake_source(f.from);
-    if (f.texture_size < 4 || f.texture_size > kDefaultMaxImageDimension)
-        throw Error("--texture-size", "must be in [4, " +
-                                          std::to_string(kDefaultMaxImageDimension) + "], got " +
-                                          std::to_string(f.texture_size));
+    check_texture_size(f.texture_size, f.max_size, is_builtin_bumps(f.bumps));
     const Storage storage = on_the_fly_storage(f);
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;

@@ -51,6 +51,13 @@ struct LeanSourceFlags {
 // --bumps --from --directx --bits --strength-unit --seed --texture-size --max-size, in the
 // "Bumps" group, and --roughness-map.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
+// The size of a built-in bump set (--texture-size, or a preset's bumps.texture_size): 4 to
+// kDefaultMaxImageDimension texels per side and, when a built-in set is made at that size
+// (`builtin`: the --bumps or a --layers source is one, or the ocean's waves), at most --max-size
+// as an image's size is. Throws Error("--texture-size", ...).
+void check_texture_size(int texture_size, int max_size, bool builtin);
+// True for the name of a built-in bump set.
+bool is_builtin_bumps(const std::string& source);
 // The storage of on-the-fly bakes: --bits, with auto first baked as 16-bit UNORM (a map with
 // outliers beyond sc is baked again as 16f by load_lean_map, as `leanfade bake` does).
 Storage on_the_fly_storage(const LeanSourceFlags& flags);

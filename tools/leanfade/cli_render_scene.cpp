@@ -8,7 +8,9 @@
 
 #include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
+#include "cli_preset.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/text.hpp"
@@ -58,6 +60,11 @@ std::vector<glm::vec2> parse_velocities(const std::string& text, std::size_t n) 
     if (values.size() != n)
         throw Error(flag, "one U:V per layer: " + std::to_string(n) + " layers, " +
                               std::to_string(values.size()) + " values");
+    // A texture offset of velocity times time: bounded as --tiling is, so that it stays finite.
+    for (const glm::vec2& v : values)
+        if (!(std::abs(v.x) <= kMaxTiling) || !(std::abs(v.y) <= kMaxTiling))
+            throw Error(flag, "each component must be in [-1e+06, 1e+06] uv units per second, "
+                              "got " + number_text(v.x) + ":" + number_text(v.y));
     return values;
 }
 
@@ -164,6 +171,11 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     if (n < 2 || n > std::size_t(kMaxLayers))
         throw Error("--layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
                                     std::to_string(n) + " (one map: --bumps)");
+    for (std::size_t i = 0; i < n; ++i)
+        if (sources[i].empty())
+            throw Error("--layers", "source " + std::to_string(i + 1) + " of " +
+                                        std::to_string(n) + " is empty ('" +
+                                        escape_text(f.layers) + "')");
     const LayerMixing mixing = parse_layer_mixing(f.mixing, "--mixing");
     LayerBlend blend;
     blend.weights = parse_numbers(f.weights, n, 1.0f / float(n), "--layer-weights");
@@ -172,11 +184,11 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     const std::vector<glm::vec2> velocities = parse_velocities(f.velocity, n);
     validate(blend);
     for (float t : tilings)
-        if (!(t > 0.0f)) throw Error("--layer-tiling", "each tiling must be > 0");
-    if (flags.bumps.texture_size < 4 || flags.bumps.texture_size > kDefaultMaxImageDimension)
-        throw Error("--texture-size", "must be in [4, " +
-                                          std::to_string(kDefaultMaxImageDimension) + "], got " +
-                                          std::to_string(flags.bumps.texture_size));
+        if (!(t > 0.0f) || !(t <= kMaxTiling))
+            throw Error("--layer-tiling",
+                        "each tiling must be in (0, 1e+06], as --tiling, got " + number_text(t));
+    check_texture_size(flags.bumps.texture_size, flags.bumps.max_size,
+                       std::any_of(sources.begin(), sources.end(), is_builtin_bumps));
     // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
     const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
@@ -281,6 +293,7 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
         return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size);
     scene::Scene result;
     scene::Object object;
+    // An unknown name: the library's message lists every scene of kBuiltinScenes and the files.
     object.mesh = scene::make_scene_mesh(flags.scene);
     object.material = 0;
     result.objects.push_back(std::move(object));
@@ -304,6 +317,10 @@ std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
     std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map,
                                    flags.bumps.roughness_map};
     if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
+    // A glTF scene's buffers and images are inputs too.
+    if (scene::is_gltf_path(flags.scene))
+        for (const std::string& file : scene::gltf_referenced_files(flags.scene))
+            paths.push_back(file);
     if (!flags.layers.layers.empty())
         for (const std::string& source : split(flags.layers.layers, ',')) paths.push_back(source);
     for (const std::string& path : paths)

@@ -1,10 +1,14 @@
 // leanfade bake: height or normal maps -> LEAN maps (KTX2 with every MIP level, or PNG previews).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <initializer_list>
 #include <memory>
+#include <string_view>
 #include <variant>
 
 #include <nlohmann/json.hpp>
@@ -14,9 +18,10 @@
 #include "cli_bake_gltf.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/procedural.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -52,7 +57,17 @@ struct BakeArgs {
     int max_size = kDefaultMaxImageDimension;
     std::string json;
     RoughnessBakeArgs roughness;  // --roughness-out and its flags (cli_bake_roughness.hpp)
+    std::vector<std::string> given;  // the options given on the command line, by long name
 };
+
+// The first option given that is not one of `applicable` ("" when all are).
+std::string first_inapplicable(const BakeArgs& args,
+                               std::initializer_list<std::string_view> applicable) {
+    for (const std::string& option : args.given)
+        if (std::find(applicable.begin(), applicable.end(), option) == applicable.end())
+            return option;
+    return {};
+}
 
 std::string generator_string() {
     return std::string("leanfade ") + LEANFADE_VERSION;
@@ -159,7 +174,7 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
 
 void print_summary(const std::string& input, const std::string& output, const LeanMapSummary& s,
                    const BakeResult& result, Storage storage, double seconds) {
-    std::printf("%s -> %s\n", input.c_str(), output.c_str());
+    std::printf("%s -> %s\n", terminal_text(input).c_str(), terminal_text(output).c_str());
     std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height,
                 s.levels, to_string(result.source), s.scale, to_string(storage));
     std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
@@ -184,21 +199,29 @@ void print_summary(const std::string& input, const std::string& output, const Le
 
 int run_bake(const BakeArgs& given) {
     // The cross-term texture of two bump layers (cli_bake_cross_terms.cpp).
-    if (!given.cross_terms.empty())
+    // Every option that the kind of bake does not honour is refused by name, rather than
+    // ignored (an output asked for and never written).
+    if (!given.cross_terms.empty()) {
+        const std::string refused =
+            first_inapplicable(given, {"--cross-terms", "--output", "--from", "--directx",
+                                       "--strength", "--size", "--seed", "--max-size"});
+        if (!refused.empty())
+            throw Error(refused,
+                        "does not apply to --cross-terms (it writes the one texture of "
+                        "-o, from --from, --directx, --strength, --size, --seed and "
+                        "--max-size)");
         return run_bake_cross_terms({given.cross_terms, given.output, given.from, given.directx,
                                      given.strength, given.size, given.seed, given.max_size});
+    }
     // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
     if (given.inputs.size() == 1 && given.builtin.empty() &&
         scene::is_gltf_path(given.inputs[0])) {
         GltfBakeArgs gltf{given.inputs[0], given.out_dir, given.bits,  given.threads,
                           given.max_size,  given.json,    given.fsync, {}};
-        const std::pair<const char*, bool> flags[] = {
-            {"-o", !given.output.empty()},        {"--from", given.from != "auto"},
-            {"--strength", given.strength != 1.0f}, {"--directx", given.directx},
-            {"--bake-roughness", given.bake_roughness > 0.0f},
-            {"--wrap", given.wrap != "repeat"},   {"--format", given.format == "png"}};
-        for (const auto& [flag, given_flag] : flags)
-            if (given_flag) gltf.refused_flags.push_back(flag);
+        const std::string refused = first_inapplicable(
+            given,
+            {"inputs", "--out-dir", "--bits", "--threads", "--max-size", "--json", "--fsync"});
+        if (!refused.empty()) gltf.refused_flags.push_back(refused);
         return run_bake_gltf(gltf);
     }
     // Validate flags before touching any file.
@@ -217,8 +240,8 @@ int run_bake(const BakeArgs& given) {
     if (!args.output.empty() && job_count > 1)
         throw Error("-o", "one output for " + std::to_string(job_count) +
                               " inputs; use --out-dir for a batch");
-    if (!args.out_dir.empty() && !fs::is_directory(args.out_dir))
-        throw Error(args.out_dir, "output folder does not exist");
+    // A missing --out-dir is created, and removed again if the run writes nothing into it.
+    const io::CreatedFolders out_folder(args.out_dir);
 
     if (args.format == "png" && args.bits != "8" && args.bits != "16" && args.bits != "auto")
         throw Error("--bits", "a PNG pair holds 8 or 16 bits; " + args.bits +
@@ -288,14 +311,16 @@ int run_bake(const BakeArgs& given) {
     int failures = 0;
     const bool progress = stderr_is_terminal();
     std::size_t job = 0;
-    auto bake_one = [&](const Job& j) {
+    // What stdout reports of an output is printed once it is published (a single input's
+    // reports after the whole group, --json included).
+    std::vector<std::function<void()>> reports;
+    auto bake_one = [&](const Job& j, io::OutputTransaction& outputs) {
         const std::string& name = j.name;
         const bool from_file = j.from_file;
-        io::OutputTransaction job_outputs(write_options.durability);
-        io::OutputTransaction& outputs = one_group ? run_outputs : job_outputs;
         ++job;
         if (progress)
-            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count, name.c_str());
+            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count,
+                         terminal_text(name).c_str());
         const auto start = std::chrono::steady_clock::now();
         // 8- and 16-bit files stay integer samples (half the memory of floats).
         const std::variant<Image, UnormImage> input =
@@ -349,18 +374,28 @@ int run_bake(const BakeArgs& given) {
         result.map.roughness_baked = packed.roughness_baked;
         result.map.texels_beyond_scale = baked.texels_beyond_scale;
         const LeanMapSummary& s = baked.summary;
-        print_summary(name, output, s, result, packed.storage, seconds);
+        const Storage stored = packed.storage;
+        auto report = [name, output, s, result, stored, seconds] {
+            print_summary(name, output, s, result, stored, seconds);
+        };
+        if (one_group)
+            reports.push_back(report);
+        else
+            report();
         summaries.push_back(
             summary_json(name, output, s, result, to_string(packed.storage), seconds));
     };
 
     auto guarded = [&](const Job& j) {
+        io::OutputTransaction job_outputs(write_options.durability);
+        io::OutputTransaction& outputs = one_group ? run_outputs : job_outputs;
         try {
-            bake_one(j);
-        } catch (const Error& e) {
+            bake_one(j, outputs);
+        } catch (const Error& raw) {
+            const Error e = outputs.named(raw);  // the output's name, not its temporary's
             if (progress) std::fprintf(stderr, "\r\033[K");
-            if (job_count == 1) throw;
-            std::fprintf(stderr, "leanfade bake: %s\n", e.what());
+            if (job_count == 1) throw e;
+            std::fprintf(stderr, "leanfade bake: %s\n", terminal_text(e.what()).c_str());
             summaries.push_back({{"input", j.name}, {"error", e.what()}});
             ++failures;
         }
@@ -368,12 +403,18 @@ int run_bake(const BakeArgs& given) {
     for (const Job& j : jobs) guarded(j);
 
     if (!args.json.empty()) {
-        const std::string text = summaries.dump(2) + "\n";
-        io::AtomicFile file(run_outputs.stage(args.json), write_options.durability);
-        file.write(text.data(), text.size());
-        file.commit();
+        const std::string text =
+            summaries.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+        try {
+            io::AtomicFile file(run_outputs.stage(args.json), write_options.durability);
+            file.write(text.data(), text.size());
+            file.commit();
+        } catch (const Error& e) {
+            throw run_outputs.named(e);
+        }
     }
     run_outputs.publish();
+    for (const auto& report : reports) report();
     if (failures > 0) {
         std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures, job_count);
         return 1;
@@ -455,8 +496,10 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the summaries as JSON");
         add_roughness_bake_options(app, args->roughness);
-        return [args, strength] {
+        return [args, strength, &app] {
             args->strength_given = strength->count() > 0;
+            for (const CLI::Option* option : app.get_options())
+                if (option->count() > 0) args->given.push_back(option->get_name());
             return run_bake(*args);
         };
     }};

@@ -95,7 +95,7 @@ int run_replot(const std::string& folder) {
     // Its results.json is read, the other files of the report replaced.
     io::OutputPlan plan;
     plan.add_input(folder + "/results.json");
-    plan.add_output_folder(folder);
+    plan.add_output_folder(folder, true);  // the files of add_report_outputs only
     add_report_outputs(plan, folder, false);
     plan.check();
     eval::SweepInfo info;

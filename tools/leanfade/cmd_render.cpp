@@ -52,6 +52,9 @@ struct RenderArgs {
     GlFlags gl;
 };
 
+// Largest number of cell pixels in one picture of `render` (2^25: 8192 x 4096).
+constexpr std::uint64_t kMaxFigurePixels = std::uint64_t(1) << 25;
+
 int run_render(const RenderArgs& args) {
     const auto start = std::chrono::steady_clock::now();
     // Every flag is checked before anything is read or rendered.
@@ -78,6 +81,19 @@ int run_render(const RenderArgs& args) {
     const bool ocean = is_ocean_scene(args.input.scene);
     // The ocean's rows are its cameras (--views), checked here before anything is read.
     if (ocean) ocean_views(args.input.ocean.views, scene::OceanSettings{}, glm::mat4(1.0f));
+    // The picture holds every cell (and a zoom row for each): bounded before any is rendered.
+    {
+        const std::uint64_t rows = ocean ? split(args.input.ocean.views, ',').size()
+                                         : request.distances.size();
+        const std::uint64_t cells = rows * request.techniques.size() * (args.zoom ? 2 : 1);
+        const std::uint64_t pixels =
+            cells * std::uint64_t(request.cell_width) * std::uint64_t(request.cell_height);
+        if (pixels > kMaxFigurePixels)
+            throw Error(ocean ? "--views" : "--distances",
+                        std::to_string(cells) + " cells of " + args.size + " make " +
+                            std::to_string(pixels) + " pixels, more than the limit of " +
+                            std::to_string(kMaxFigurePixels) + " for one picture");
+    }
     // One picture, or one per frame of a sequence (-o a pattern such as out/ocean_%03d.png).
     std::vector<std::string> pictures{args.output};
     if (args.frames > 1) {
@@ -103,7 +119,7 @@ int run_render(const RenderArgs& args) {
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     for (const std::string& picture : pictures) plan.add_output(picture, "-o");
     if (!args.cells.empty()) {
-        plan.add_output_folder(args.cells);
+        plan.add_output_folder(args.cells, true);
         std::vector<std::pair<float, std::string>> rows;
         if (ocean)
             for (const std::string& view : split(args.input.ocean.views, ','))

@@ -54,7 +54,7 @@ int run_shaders(const ShadersArgs& args) {
                                           : gl::ShaderSources::directory(args.shaders);
 
     io::OutputPlan plan;
-    plan.add_output_folder(args.out_dir);
+    plan.add_output_folder(args.out_dir, true);
     const std::string index_path = (fs::path(args.out_dir) / kIndexFile).string();
     plan.add_output(index_path, "the index");
     // The output names do not depend on the compilation: checked first.

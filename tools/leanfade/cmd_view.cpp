@@ -151,10 +151,8 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     // The bump flags by their names (validate() would name the preset keys).
     parse_bake_source(p.bumps.from);
     on_the_fly_storage(args.input.bumps);
-    if (p.bumps.texture_size < 4 || p.bumps.texture_size > kDefaultMaxImageDimension)
-        throw Error("--texture-size", "must be in [4, " +
-                                          std::to_string(kDefaultMaxImageDimension) + "], got " +
-                                          std::to_string(p.bumps.texture_size));
+    check_texture_size(p.bumps.texture_size, args.input.bumps.max_size,
+                       is_builtin_bumps(p.bumps.source));
     validate(p, "view");
 
     const int max_size = args.input.bumps.max_size;

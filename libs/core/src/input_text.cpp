@@ -21,12 +21,23 @@ struct Descriptor {
     }
 };
 
-// Length of the valid UTF-8 sequence of a printable character at text[at], or 0.
-std::size_t printable_utf8_length(std::string_view text, std::size_t at) {
+// Line and paragraph separators, bidirectional marks, embeddings, overrides and isolates,
+// invisible format characters (zero-width space and joiners, word joiner, invisible operators,
+// interlinear annotation, tags) and the byte order mark: they change how a line reads.
+bool is_format_code_point(std::uint32_t code) {
+    return code == 0x00AD || code == 0x061C || code == 0x180E ||
+           (code >= 0x200B && code <= 0x200F) || (code >= 0x2028 && code <= 0x202E) ||
+           (code >= 0x2060 && code <= 0x206F) || code == 0xFEFF ||
+           (code >= 0xFFF9 && code <= 0xFFFB) || (code >= 0xE0000 && code <= 0xE007F);
+}
+
+// Decodes the valid UTF-8 sequence at text[at]: its length (0 when invalid, overlong, a
+// surrogate or out of range) and its code point.
+std::size_t utf8_sequence(std::string_view text, std::size_t at, std::uint32_t& code) {
     const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
     const unsigned char lead = byte(at);
     std::size_t length = 0;
-    std::uint32_t code = 0;
+    code = 0;
     if (lead >= 0xC2 && lead <= 0xDF) {
         length = 2;
         code = lead & 0x1Fu;
@@ -47,13 +58,14 @@ std::size_t printable_utf8_length(std::string_view text, std::size_t at) {
     const std::uint32_t smallest[5] = {0, 0, 0x80, 0x800, 0x10000};
     if (code < smallest[length] || code > 0x10FFFF) return 0;  // overlong or out of range
     if (code >= 0xD800 && code <= 0xDFFF) return 0;            // surrogates
-    if (code <= 0x9F) return 0;                                // C1 controls
-    // Line and paragraph separators, bidirectional embeddings, overrides and isolates, BOM.
-    if (code == 0x2028 || code == 0x2029 || (code >= 0x202A && code <= 0x202E) ||
-        (code >= 0x2066 && code <= 0x2069) || code == 0xFEFF || code == 0x200E ||
-        code == 0x200F || code == 0x061C) {
-        return 0;
-    }
+    return length;
+}
+
+// Length of the valid UTF-8 sequence of a printable character at text[at], or 0.
+std::size_t printable_utf8_length(std::string_view text, std::size_t at) {
+    std::uint32_t code = 0;
+    const std::size_t length = utf8_sequence(text, at, code);
+    if (length == 0 || code <= 0x9F || is_format_code_point(code)) return 0;  // C1, format
     return length;
 }
 
@@ -61,6 +73,7 @@ std::size_t printable_utf8_length(std::string_view text, std::size_t at) {
 
 std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
                               const std::string& kind) {
+    if (path.empty()) throw Error("", "the name of " + kind + " is empty");
     Descriptor file;
     // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever (it is refused
     // below); it changes nothing for a regular file.
@@ -119,6 +132,42 @@ std::string escape_text(std::string_view text, std::size_t max_bytes) {
         ++at;
     }
     return escaped;
+}
+
+std::string terminal_text(std::string_view text) {
+    std::string shown;
+    shown.reserve(text.size());
+    char buffer[16];
+    for (std::size_t at = 0; at < text.size();) {
+        const auto byte = static_cast<unsigned char>(text[at]);
+        if (byte >= 0x20 && byte < 0x7F) {
+            shown.push_back(char(byte));
+            ++at;
+            continue;
+        }
+        if (byte < 0x80) {  // C0 controls and DEL
+            std::snprintf(buffer, sizeof buffer, "\\x%02X", unsigned(byte));
+            shown += buffer;
+            ++at;
+            continue;
+        }
+        std::uint32_t code = 0;
+        const std::size_t length = utf8_sequence(text, at, code);
+        if (length == 0) {  // invalid UTF-8: the byte
+            std::snprintf(buffer, sizeof buffer, "\\x%02X", unsigned(byte));
+            shown += buffer;
+            ++at;
+            continue;
+        }
+        if (code <= 0x9F || is_format_code_point(code)) {  // C1 controls, bidi and format
+            std::snprintf(buffer, sizeof buffer, "\\u{%04X}", unsigned(code));
+            shown += buffer;
+        } else {
+            shown.append(text.substr(at, length));
+        }
+        at += length;
+    }
+    return shown;
 }
 
 }  // namespace leanfade

@@ -366,6 +366,29 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
     return root.dump(2) + "\n";
 }
 
+namespace {
+
+// A preset nests 3 levels; results.json's sweep.preset may nest at most this deep.
+constexpr int kMaxPresetJsonDepth = 16;
+
+// How many arrays and objects of `value` nest (0 for a scalar), without recursion; the count
+// stops a level past kMaxPresetJsonDepth.
+int json_depth(const nlohmann::json& value) {
+    int deepest = 0;
+    std::vector<std::pair<const nlohmann::json*, int>> stack{{&value, 1}};
+    while (!stack.empty()) {
+        const auto [item, depth] = stack.back();
+        stack.pop_back();
+        if (!item->is_structured()) continue;
+        deepest = std::max(deepest, depth);
+        if (depth > kMaxPresetJsonDepth) break;
+        for (const nlohmann::json& child : *item) stack.emplace_back(&child, depth + 1);
+    }
+    return deepest;
+}
+
+}  // namespace
+
 void read_results_json(const std::string& path, SweepInfo& info, std::vector<CaseResult>& cases) {
     const std::string text = read_regular_file(path, kMaxResultsFileBytes, "a results file");
     auto number_or_nan = [](const nlohmann::json& v) {
@@ -392,7 +415,18 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
         info.motion_pixels = s.at("motion_pixels_per_frame").get<float>();
         info.renderer = s.at("renderer").get<std::string>();
         info.seconds = s.at("seconds").get<double>();
-        if (s.contains("preset")) info.preset_json = s.at("preset").dump(2);
+        if (s.contains("preset")) {
+            // Indentation grows with the depth: the preset's depth and size are checked on the
+            // parsed value before it is written again (a deep one took memory quadratic in it).
+            const nlohmann::json& preset = s.at("preset");
+            if (json_depth(preset) > kMaxPresetJsonDepth)
+                throw Error(path, "sweep.preset nests deeper than " +
+                                      std::to_string(kMaxPresetJsonDepth) + " levels");
+            if (preset.dump().size() > kMaxPresetFileBytes)
+                throw Error(path, "sweep.preset is larger than a preset file may be (" +
+                                      std::to_string(kMaxPresetFileBytes) + " bytes)");
+            info.preset_json = preset.dump(2);
+        }
         cases.clear();
         for (const nlohmann::json& c : root.at("cases")) {
             CaseResult r;

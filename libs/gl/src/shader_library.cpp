@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::embedded {
 const std::map<std::string, std::string_view>& shader_files();
@@ -18,6 +19,9 @@ namespace leanfade::gl {
 namespace {
 
 constexpr int kMaxIncludeDepth = 16;
+// Largest shader file of a --shader-dir folder, and largest source once its includes are resolved.
+constexpr std::uint64_t kMaxShaderFileBytes = std::uint64_t(1) << 20;
+constexpr std::size_t kMaxResolvedShaderBytes = std::size_t(4) << 20;
 
 bool starts_with_directive(const std::string& line, const std::string& directive,
                            std::string* rest) {
@@ -85,6 +89,9 @@ struct Resolver {
                 continue;
             }
             out.text += line + "\n";
+            if (out.text.size() > kMaxResolvedShaderBytes)
+                throw Error(name, "the shader source with its includes exceeds " +
+                                      std::to_string(kMaxResolvedShaderBytes) + " bytes");
             // An #include inside a block the preprocessor skips leaves its #line directives
             // unread: where such a block can end, the line number is stated again.
             if (starts_with_directive(line, "endif", nullptr) ||
@@ -284,12 +291,11 @@ std::string ShaderSources::read(const std::string& name) const {
         return std::string(it->second);
     }
     const std::string path = (std::filesystem::path(*folder_) / name).string();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path, "cannot read the shader file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw Error(path, "cannot read the shader file");
-    return text.str();
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) throw Error(path, "cannot read the shader file");
+    // A regular file of bounded size only: a FIFO cannot hang the read, a device (a link to
+    // /dev/zero) cannot make it grow (docs/robustness.md).
+    return read_regular_file(path, kMaxShaderFileBytes, "a shader file");
 }
 
 std::string ShaderSources::location(const std::string& name) const {

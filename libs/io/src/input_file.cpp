@@ -15,6 +15,7 @@
 namespace leanfade::io::detail {
 
 InputFile::InputFile(std::string path) : path_(std::move(path)) {
+    if (path_.empty()) throw Error("", "an input file name is empty");
     // O_NONBLOCK: opening a FIFO without a writer would otherwise wait forever (it is refused
     // below as not a regular file); it changes nothing for regular files.
     descriptor_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);

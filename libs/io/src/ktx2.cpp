@@ -344,8 +344,8 @@ struct Ktx2FilePlan {
     std::uint64_t size = 0;
 };
 
-Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout,
-                            bool check_layers) {
+Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout, bool check_layers,
+                            const char* layout_name = kLeanLayoutName) {
     const FormatInfo& format = format_of(layout.storage);
     validate_for_write(path, layout, format, check_layers);
     const auto level_count = std::uint32_t(layout.levels.size());
@@ -359,7 +359,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
         {kRoughnessBakedKey, layout.roughness_baked ? "1" : "0"},
         {kBakedShininessKey, format_float(layout.baked_shininess)},
         {kNormalConventionKey, normal_convention_name(layout.source_convention)},
-        {kLayoutKey, kLeanLayoutName},
+        {kLayoutKey, layout_name},
     };
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
@@ -413,9 +413,9 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
 }  // namespace
 
 Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options,
-                       bool check_layers)
+                       bool check_layers, const char* layout_name)
     : file_(path, options.durability) {
-    const Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers);
+    const Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers, layout_name);
     // The level data goes straight into the mapped file; the mip padding between levels is left
     // as the zeros a newly reserved file reads as.
     std::uint8_t* output = file_.map(std::size_t(plan.size));
@@ -465,8 +465,11 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const s
     return file;
 }
 
-void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {
-    Ktx2Writer writer(path, map, options, true);
+namespace {
+
+void write_ktx2_as(const std::string& path, const PackedLeanMap& map, const WriteOptions& options,
+                   const char* layout_name) {
+    Ktx2Writer writer(path, map, options, true, layout_name);
     const std::vector<PackedLevelTarget>& targets = writer.targets();
     // Copied from the map in chunks handed to the threads (no assembled copy of the whole file).
     struct Chunk {
@@ -494,6 +497,17 @@ void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOp
         }
     });
     writer.commit();
+}
+
+}  // namespace
+
+void write_ktx2(const std::string& path, const PackedLeanMap& map, const WriteOptions& options) {
+    write_ktx2_as(path, map, options, kLeanLayoutName);
+}
+
+void write_cross_term_ktx2(const std::string& path, const PackedLeanMap& map,
+                           const WriteOptions& options) {
+    write_ktx2_as(path, map, options, kCrossTermLayoutName);
 }
 
 namespace {
@@ -735,7 +749,8 @@ const std::string& required_key(const std::string& path, const Ktx2Info& info, c
     return *value;
 }
 
-PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& options) {
+PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& options,
+                             const char* layout_name = kLeanLayoutName) {
     const std::string& path = file.path();
     const Ktx2Info info = inspect_open_file(file, &options);
     const FormatInfo* format = find_format(info.vk_format);
@@ -759,12 +774,20 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     PackedLeanMap map;
     map.storage = format->storage;
     const std::string& layout = required_key(path, info, kLayoutKey);
-    if (layout != kLeanLayoutName) {
+    if (layout == kCrossTermLayoutName && layout != layout_name)
+        throw Error(path, "is a cross-term texture (bake --cross-terms), not a LEAN map");
+    if (layout == kLeanLayoutName && layout != layout_name)
+        throw Error(path, "is a LEAN map, not a cross-term texture");
+    if (layout != layout_name) {
         throw Error(path, "unsupported " + std::string(kLayoutKey) + " '" + escape_text(layout) +
-                              "' (expected '" + kLeanLayoutName + "')");
+                              "' (expected '" + layout_name + "')");
     }
     map.scale = parse_float(path, kScaleKey, required_key(path, info, kScaleKey));
     if (!(map.scale > 0.0f)) throw Error(path, std::string(kScaleKey) + " must be > 0");
+    if (map.scale > kMaxLeanScale)
+        throw Error(path, std::string(kScaleKey) + " " + format_float(map.scale) +
+                              " exceeds the largest sc a bake writes (" +
+                              format_float(kMaxLeanScale) + ": slopes are at most 1e6)");
     const std::string& baked = required_key(path, info, kRoughnessBakedKey);
     if (baked != "0" && baked != "1") {
         throw Error(path, "bad " + std::string(kRoughnessBakedKey) + " value '" +
@@ -830,6 +853,11 @@ Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const 
 PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options) {
     const detail::InputFile file(path);
     return read_open_file(file, options);
+}
+
+PackedLeanMap read_cross_term_ktx2(const std::string& path, const ReadOptions& options) {
+    const detail::InputFile file(path);
+    return read_open_file(file, options, kCrossTermLayoutName);
 }
 
 PackedLeanMap read_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,

@@ -23,15 +23,16 @@ std::string errno_text(int error_number) {
     return std::strerror(error_number);
 }
 
-// What stands at a path that is not a regular file, for the messages.
+// What stands at a path, for the messages.
 std::string kind_of(mode_t mode) {
+    if (S_ISREG(mode)) return "a regular file";
     if (S_ISDIR(mode)) return "a directory";
     if (S_ISLNK(mode)) return "a symbolic link";
     if (S_ISCHR(mode)) return "a character device";
     if (S_ISBLK(mode)) return "a block device";
     if (S_ISFIFO(mode)) return "a FIFO";
     if (S_ISSOCK(mode)) return "a socket";
-    return "not a regular file";
+    return "of an unknown type";
 }
 
 std::string not_regular_cause(mode_t mode) {
@@ -110,8 +111,8 @@ void OutputPlan::add_output(const std::string& path, const std::string& origin) 
     outputs_.push_back({path, origin, false});
 }
 
-void OutputPlan::add_output_folder(const std::string& path) {
-    outputs_.push_back({path, {}, true});
+void OutputPlan::add_output_folder(const std::string& path, bool every_file_listed) {
+    outputs_.push_back({path, {}, true, every_file_listed});
 }
 
 void OutputPlan::check() const {
@@ -142,10 +143,15 @@ void OutputPlan::check() const {
         std::string key = fs::weakly_canonical(fs::absolute(output.path), error).string();
         if (error) key = fs::absolute(output.path).lexically_normal().string();
         while (key.size() > 1 && key.back() == '/') key.pop_back();
-        for (const Input& input : inputs)
+        for (const Input& input : inputs) {
             if (input.key == key)
                 throw Error(output.path, "is the same file as the input " + input.path +
                                              " of this run; an output may not replace an input");
+            if (!output.every_file_listed && inside(input.key, key))
+                throw Error(output.path, "holds the input " + input.path +
+                                             " of this run; the run writes files into this "
+                                             "folder, which may not hold its inputs");
+        }
         folder_keys.push_back(key);
     }
 
@@ -195,6 +201,39 @@ void OutputPlan::check() const {
     for (const Output& output : outputs_) remove_stale_temporaries(output.path);
 }
 
+CreatedFolders::CreatedFolders(const std::string& path) {
+    if (path.empty()) return;
+    std::vector<fs::path> missing;
+    std::error_code error;
+    for (fs::path p = fs::path(path).lexically_normal(); !p.empty(); p = p.parent_path()) {
+        const fs::file_status status = fs::symlink_status(p, error);
+        if (status.type() != fs::file_type::not_found) {
+            if (!fs::is_directory(p, error))
+                throw Error(path, p == fs::path(path).lexically_normal()
+                                      ? "is not a folder"
+                                      : p.string() + " is not a folder");
+            break;
+        }
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+        if (::mkdir(it->c_str(), 0777) != 0 && errno != EEXIST) {
+            const std::string reason = std::strerror(errno);
+            for (auto made = created_.rbegin(); made != created_.rend(); ++made)
+                ::rmdir(made->c_str());
+            throw Error(path,
+                        "cannot create the output folder " + it->string() + " (" + reason + ")");
+        }
+        created_.push_back(it->string());
+    }
+}
+
+CreatedFolders::~CreatedFolders() {
+    for (auto it = created_.rbegin(); it != created_.rend(); ++it) ::rmdir(it->c_str());
+    created_.clear();
+}
+
 // One staged output: a temporary file or folder, and where it goes.
 struct OutputTransaction::Staged {
     std::string target;
@@ -226,6 +265,21 @@ std::string OutputTransaction::stage(const std::string& path) {
     staged->registration = TemporaryRegistration(staged->temporary);
     staged_.push_back(std::move(staged));
     return staged_.back()->temporary;
+}
+
+Error OutputTransaction::named(const Error& error) const {
+    std::vector<const Staged*> longest_first;
+    for (const auto& staged : staged_) longest_first.push_back(staged.get());
+    std::sort(longest_first.begin(), longest_first.end(), [](const Staged* a, const Staged* b) {
+        return a->temporary.size() > b->temporary.size();
+    });
+    std::string file = error.file(), cause = error.cause();
+    for (std::string* text : {&file, &cause})
+        for (const Staged* staged : longest_first)
+            for (std::size_t at = text->find(staged->temporary); at != std::string::npos;
+                 at = text->find(staged->temporary, at + staged->target.size()))
+                text->replace(at, staged->temporary.size(), staged->target);
+    return Error(file, cause);
 }
 
 std::string OutputTransaction::stage_folder(const std::string& path) {

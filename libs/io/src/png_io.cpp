@@ -17,6 +17,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -529,7 +530,8 @@ float parse_float_text(const std::string& path, const char* key, const std::stri
     const auto parsed = std::from_chars(value.data(), value.data() + value.size(), result);
     if (parsed.ec != std::errc() || parsed.ptr != value.data() + value.size() ||
         !std::isfinite(result))
-        throw Error(path, std::string("malformed '") + key + "' text chunk '" + value + "'");
+        throw Error(path,
+                    std::string("malformed '") + key + "' text chunk '" + escape_text(value) + "'");
     return result;
 }
 
@@ -611,16 +613,21 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         const std::string& p = paths[layer];
         layers[layer] = read_png_with_text(p, text[layer], options);
         if (require_text(p, text[layer], kLayoutKey) != kLeanLayoutName)
-            throw Error(p, std::string("layout '") + *find_text(text[layer], kLayoutKey) +
-                               "' is not '" + kLeanLayoutName + "'");
+            throw Error(p, std::string("layout '") +
+                               escape_text(*find_text(text[layer], kLayoutKey)) + "' is not '" +
+                               kLeanLayoutName + "'");
         if (require_text(p, text[layer], kLayerKey) != kLayerNames[layer])
-            throw Error(p, std::string("holds layer '") + *find_text(text[layer], kLayerKey) +
-                               "', expected " + kLayerNames[layer]);
+            throw Error(p, std::string("holds layer '") +
+                               escape_text(*find_text(text[layer], kLayerKey)) + "', expected " +
+                               kLayerNames[layer]);
         if (layers[layer].channels != 4)
             throw Error(p, "a LEAN map PNG is RGBA, this one has " +
                                std::to_string(layers[layer].channels) + " channels");
         const float sc = parse_float_text(p, kScaleKey, require_text(p, text[layer], kScaleKey));
         if (!(sc > 0.0f)) throw Error(p, "sc must be > 0, got " + exact_text(sc));
+        if (sc > kMaxLeanScale)
+            throw Error(p, "sc " + exact_text(sc) + " exceeds the largest sc a bake writes (" +
+                               exact_text(kMaxLeanScale) + ": slopes are at most 1e6)");
         if (layer == 1 && sc != scale)
             throw Error(p, "sc " + exact_text(sc) + " differs from " + paths[0] + "'s " +
                                exact_text(scale));
@@ -639,7 +646,8 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
     const std::string& convention = require_text(paths[0], meta, kNormalConventionKey);
     if (convention != to_string(NormalConvention::OpenGL) &&
         convention != to_string(NormalConvention::DirectX))
-        throw Error(paths[0], "normal convention '" + convention + "' is not opengl or directx");
+        throw Error(paths[0],
+                    "normal convention '" + escape_text(convention) + "' is not opengl or directx");
     map.source_convention = convention == to_string(NormalConvention::OpenGL)
                                 ? NormalConvention::OpenGL
                                 : NormalConvention::DirectX;

@@ -38,6 +38,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "mesh_internal.hpp"
 
@@ -133,21 +134,35 @@ struct FileAccess {
     std::string refused;  // the first refusal's message
 };
 
-// The path tinygltf asks for, if it lies inside the folder; else empty.
+// The path tinygltf asks for, if it lies inside the folder; else empty. Checked on the name and
+// then on the resolved path (symbolic links followed): a link inside the folder that points out
+// of it is outside.
 std::string confined(const std::string& requested, FileAccess& access) {
     if (!access.external_allowed) return {};
     const fs::path path = fs::path(requested).lexically_normal();
     if (!path.is_absolute()) return {};  // tinygltf's second try, relative to the working folder
     const fs::path relative = path.lexically_relative(access.folder);
     if (relative.empty() || *relative.begin() == "..") return {};
-    return path.string();
+    std::error_code error;
+    const fs::path folder = fs::weakly_canonical(access.folder, error);
+    if (error) return {};
+    const fs::path resolved = fs::weakly_canonical(path, error);
+    if (error) return {};
+    const fs::path inside = resolved.lexically_relative(folder);
+    if (inside.empty() || *inside.begin() == "..") return {};
+    return resolved.string();
 }
 
 bool file_exists(const std::string& path, void* user) {
     FileAccess& access = *static_cast<FileAccess*>(user);
-    const std::string inside = confined(path, access);
+    if (!access.external_allowed) return false;
+    // By its name only: a link out of the folder is then refused by read_whole_file, naming it.
+    const fs::path normal = fs::path(path).lexically_normal();
+    if (!normal.is_absolute()) return false;
+    const fs::path relative = normal.lexically_relative(access.folder);
+    if (relative.empty() || *relative.begin() == "..") return false;
     std::error_code error;
-    return !inside.empty() && fs::exists(inside, error);
+    return fs::exists(normal, error);
 }
 
 std::string expand_file_path(const std::string& path, void*) {
@@ -162,17 +177,71 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
                                        : read_file(inside, access.max_bytes, *out);
     if (cause.empty()) return true;
     const std::string name = fs::path(path).lexically_normal().lexically_relative(access.folder);
-    if (access.refused.empty()) access.refused = name + ": " + cause;
-    if (err != nullptr) *err += name + ": " + cause + "\n";
+    if (access.refused.empty()) access.refused = escape_text(name) + ": " + cause;
+    if (err != nullptr) *err += escape_text(name) + ": " + cause + "\n";
     return false;
 }
 
-// tinygltf's image callback: keep the encoded bytes (decoded later by the project's readers).
-bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                        const unsigned char* bytes, int size, void*) {
-    image->image.assign(bytes, bytes + std::max(size, 0));
+// The images tinygltf hands to its image callback: only those a material references are kept,
+// and their bytes together within a budget, counted before each copy.
+struct ImageKeeping {
+    std::vector<bool> used;    // by glTF image index
+    std::uint64_t limit = 0;   // bytes in all
+    std::uint64_t budget = 0;  // bytes left
+    std::string refused;       // the first refusal's message
+};
+
+// tinygltf's image callback: keep the encoded bytes (decoded later by the project's readers) of
+// the images a material uses; the others stay empty.
+bool keep_encoded_image(tinygltf::Image* image, const int index, std::string* err, std::string*,
+                        int, int, const unsigned char* bytes, int size, void* user) {
+    ImageKeeping& keeping = *static_cast<ImageKeeping*>(user);
     image->width = image->height = -1;  // not decoded
+    if (index < 0 || std::size_t(index) >= keeping.used.size() || !keeping.used[std::size_t(index)])
+        return true;
+    const auto count = std::uint64_t(std::max(size, 0));
+    if (count > keeping.budget) {
+        if (keeping.refused.empty())
+            keeping.refused = "image " + std::to_string(index) + ": the images the materials " +
+                              "use exceed the limit of " + std::to_string(keeping.limit) +
+                              " bytes of encoded data";
+        if (err != nullptr) *err += keeping.refused + "\n";
+        return false;
+    }
+    keeping.budget -= count;
+    image->image.assign(bytes, bytes + count);
     return true;
+}
+
+// The images that some material's normal or base colour texture names (through `textures`).
+std::vector<bool> images_used_by_materials(const json& root) {
+    const auto images = root.find("images");
+    std::vector<bool> used(images != root.end() && images->is_array() ? images->size() : 0, false);
+    const auto textures = root.find("textures");
+    const auto materials = root.find("materials");
+    if (textures == root.end() || !textures->is_array() || materials == root.end() ||
+        !materials->is_array())
+        return used;
+    const auto mark = [&](const json& info) {
+        if (!info.is_object()) return;
+        const auto index = info.find("index");
+        if (index == info.end() || !index->is_number_unsigned()) return;
+        const auto t = index->get<std::uint64_t>();
+        if (t >= textures->size() || !(*textures)[t].is_object()) return;
+        const auto source = (*textures)[t].find("source");
+        if (source == (*textures)[t].end() || !source->is_number_unsigned()) return;
+        const auto i = source->get<std::uint64_t>();
+        if (i < used.size()) used[i] = true;
+    };
+    for (const json& material : *materials) {
+        if (!material.is_object()) continue;
+        if (const auto normal = material.find("normalTexture"); normal != material.end())
+            mark(*normal);
+        if (const auto pbr = material.find("pbrMetallicRoughness");
+            pbr != material.end() && pbr->is_object())
+            if (const auto base = pbr->find("baseColorTexture"); base != pbr->end()) mark(*base);
+    }
+    return used;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -188,8 +257,68 @@ std::uint64_t json_uint(const json& object, const char* key, std::uint64_t fallb
     return it->get<std::uint64_t>();
 }
 
+// The nesting depth of the JSON text, without recursion (tinygltf converts `extras` and
+// `extensions` to its values recursively: a file nested some 20000 levels deep overflowed the
+// stack). Strings are skipped with their escapes; the text is not otherwise validated here.
+void check_json_depth(const std::string& text) {
+    int depth = 0;
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                in_string = false;
+            continue;
+        }
+        if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxGltfJsonDepth)
+                throw std::runtime_error("the JSON nests deeper than " +
+                                         std::to_string(kMaxGltfJsonDepth) +
+                                         " levels of arrays and objects");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
 void check_json(const json& root, bool external_allowed) {
     if (!root.is_object()) throw std::runtime_error("the JSON is not an object");
+    if (const auto required = root.find("extensionsRequired"); required != root.end()) {
+        if (!required->is_array()) throw std::runtime_error("'extensionsRequired' is not an array");
+        for (const json& name : *required) {
+            if (!name.is_string())
+                throw std::runtime_error("'extensionsRequired' holds a value that is not a name");
+            const std::string extension = name.get<std::string>();
+            if (std::find(kSupportedGltfExtensions.begin(), kSupportedGltfExtensions.end(),
+                          extension) == kSupportedGltfExtensions.end())
+                throw std::runtime_error("requires the extension '" + escape_text(extension) +
+                                         "' (extensionsRequired), which leanfade does not "
+                                         "support");
+        }
+    }
+    for (const GltfArrayLimit& limit : kGltfArrayLimits) {
+        const auto it = root.find(limit.key);
+        if (it != root.end() && it->is_array() && it->size() > limit.max_elements)
+            throw std::runtime_error("'" + std::string(limit.key) + "' has " +
+                                     std::to_string(it->size()) + " elements, more than the " +
+                                     "limit of " + std::to_string(limit.max_elements));
+    }
+    if (const auto meshes = root.find("meshes"); meshes != root.end() && meshes->is_array())
+        for (std::size_t m = 0; m < meshes->size(); ++m) {
+            const json& mesh = (*meshes)[m];
+            if (!mesh.is_object()) continue;
+            const auto primitives = mesh.find("primitives");
+            if (primitives != mesh.end() && primitives->is_array() &&
+                primitives->size() > kMaxGltfPrimitivesPerMesh)
+                throw std::runtime_error("mesh " + std::to_string(m) + " has " +
+                                         std::to_string(primitives->size()) +
+                                         " primitives, more than the limit of " +
+                                         std::to_string(kMaxGltfPrimitivesPerMesh));
+        }
     auto array = [&](const char* key) -> const json* {
         const auto it = root.find(key);
         if (it == root.end()) return nullptr;
@@ -206,7 +335,7 @@ void check_json(const json& root, bool external_allowed) {
         const std::string uri = it->get<std::string>();
         const std::string refusal = uri_refusal(uri, external_allowed);
         if (!refusal.empty())
-            throw std::runtime_error(where + ": URI '" + uri.substr(0, 200) + "' " + refusal);
+            throw std::runtime_error(where + ": URI '" + escape_text(uri) + "' " + refusal);
     };
     if (buffers != nullptr)
         for (std::size_t i = 0; i < buffers->size(); ++i) {
@@ -312,7 +441,8 @@ int component_count(int type) {
 
 class Converter {
   public:
-    Converter(const tinygltf::Model& model, const GltfLoadOptions& options, GltfScene& out)
+    // The encoded images move out of `model` into the scene.
+    Converter(tinygltf::Model& model, const GltfLoadOptions& options, GltfScene& out)
         : model_(model), options_(options), out_(out) {}
 
     void run();
@@ -324,13 +454,14 @@ class Converter {
     int image_of_texture(int texture, const std::string& where);
     glm::dmat4 local_matrix(const tinygltf::Node& node, int index) const;
 
-    const tinygltf::Model& model_;
+    tinygltf::Model& model_;
     const GltfLoadOptions& options_;
     GltfScene& out_;
     std::map<std::pair<int, int>, Mesh> meshes_;  // converted (mesh, primitive)
     std::map<int, int> materials_;                // glTF material (-1: default) -> ours
     std::map<int, int> images_;                   // glTF image -> ours
     std::size_t vertices_ = 0;
+    std::size_t indices_ = 0;
 };
 
 AccessorData Converter::accessor(int index, const std::string& what) const {
@@ -419,7 +550,7 @@ Mesh Converter::primitive_mesh(int mesh_index, int primitive_index) {
     Mesh mesh;
     mesh.name = gm.name.empty() ? "mesh " + std::to_string(mesh_index) : gm.name;
     if (gm.primitives.size() > 1) mesh.name += " primitive " + std::to_string(primitive_index);
-    const std::string where = "mesh '" + mesh.name + "'";
+    const std::string where = "mesh '" + escape_text(mesh.name, 64) + "'";
 
     const auto attribute = [&](const char* name) {
         const auto it = prim.attributes.find(name);
@@ -631,16 +762,16 @@ int Converter::image_of_texture(int texture, const std::string& where) {
         throw std::runtime_error(where + ": image " + std::to_string(source) + " does not exist");
     const auto found = images_.find(source);
     if (found != images_.end()) return found->second;
-    const tinygltf::Image& image = model_.images[std::size_t(source)];
+    tinygltf::Image& image = model_.images[std::size_t(source)];
     GltfImage ours;
     ours.name = "image " + std::to_string(source);
     const std::string label = !image.uri.empty() && image.uri.rfind("data:", 0) != 0
                                   ? image.uri
                                   : image.name;
-    if (!label.empty()) ours.name += " (" + label.substr(0, 200) + ")";
+    if (!label.empty()) ours.name += " (" + escape_text(label) + ")";
     if (image.image.empty())
         throw std::runtime_error(ours.name + ": the file could not be read");
-    ours.bytes.assign(image.image.begin(), image.image.end());
+    ours.bytes = std::move(image.image);
     out_.images.push_back(std::move(ours));
     images_[source] = int(out_.images.size()) - 1;
     return int(out_.images.size()) - 1;
@@ -659,7 +790,7 @@ int Converter::material_index(int gltf_material) {
                                      std::to_string(model_.materials.size()) + " materials)");
         const tinygltf::Material& gm = model_.materials[std::size_t(gltf_material)];
         m.name = gm.name.empty() ? "material " + std::to_string(gltf_material) : gm.name;
-        const std::string where = "material '" + m.name + "'";
+        const std::string where = "material '" + escape_text(m.name, 64) + "'";
         const std::vector<double>& factor = gm.pbrMetallicRoughness.baseColorFactor;
         if (factor.size() != 4)
             throw std::runtime_error(where + ": baseColorFactor has " +
@@ -793,6 +924,11 @@ void Converter::run() {
                 throw std::runtime_error("more than " + std::to_string(options_.max_vertices) +
                                          " vertices in the scene");
             vertices_ += mesh.vertices.size();
+            if (mesh.indices.size() > options_.max_indices - indices_)
+                throw std::runtime_error("more than " + std::to_string(options_.max_indices) +
+                                         " triangle indices in the scene (each instance of a "
+                                         "mesh counts)");
+            indices_ += mesh.indices.size();
             GltfObject object;
             object.mesh = mesh;
             object.transform = transform;
@@ -804,6 +940,19 @@ void Converter::run() {
             }
             out_.objects.push_back(std::move(object));
         }
+    }
+    // Each (normal image, scale) pair is a bake of its own, held and cached: bounded per image.
+    std::map<int, std::vector<float>> scales;
+    for (const GltfMaterial& m : out_.materials) {
+        if (m.normal_image < 0) continue;
+        std::vector<float>& of_image = scales[m.normal_image];
+        if (std::find(of_image.begin(), of_image.end(), m.normal_scale) != of_image.end()) continue;
+        of_image.push_back(m.normal_scale);
+        if (of_image.size() > kMaxGltfScalesPerImage)
+            throw std::runtime_error(
+                out_.images[std::size_t(m.normal_image)].name + ": normal texture of " +
+                std::to_string(of_image.size()) + " different scales, more than the limit of " +
+                std::to_string(kMaxGltfScalesPerImage) + " bakes of one image");
     }
     if (skins) out_.warnings.push_back("skins are ignored: meshes are drawn in their bind pose");
     if (!model_.animations.empty()) out_.warnings.push_back("animations are ignored");
@@ -819,6 +968,7 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
         const std::string text =
             binary ? glb_json_chunk(bytes)
                    : std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+        check_json_depth(text);
         json root;
         try {
             root = json::parse(text);
@@ -830,10 +980,13 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
             throw std::runtime_error("not valid glTF JSON: " + first_line(message));
         }
         check_json(root, access.external_allowed);
+        ImageKeeping keeping;
+        keeping.used = images_used_by_materials(root);
+        keeping.limit = keeping.budget = options.max_image_bytes;
         root = json();  // free it before tinygltf parses its own copy
 
         tinygltf::TinyGLTF loader;
-        loader.SetImageLoader(keep_encoded_image, nullptr);
+        loader.SetImageLoader(keep_encoded_image, &keeping);
         loader.SetFsCallbacks(tinygltf::FsCallbacks{file_exists, expand_file_path, read_whole_file,
                                                     nullptr, &access});
         tinygltf::Model model;
@@ -846,6 +999,7 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
                                                             text.data(), unsigned(text.size()),
                                                             folder);
         if (!access.refused.empty()) throw std::runtime_error(access.refused);
+        if (!keeping.refused.empty()) throw std::runtime_error(keeping.refused);
         if (!ok)
             throw std::runtime_error(first_line(error.empty() ? "not a valid glTF file" : error));
         Converter(model, options, scene).run();
@@ -872,6 +1026,61 @@ GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options) {
     const std::string cause = read_file(path, access.max_bytes, bytes);
     if (!cause.empty()) throw Error(path, cause);
     return load(bytes, path, access, options);
+}
+
+std::vector<std::string> gltf_referenced_files(const std::string& path,
+                                               const GltfLoadOptions& options) {
+    std::vector<std::string> files;
+    try {
+        // The JSON only: of a GLB, its first chunk (the binary chunk is not read).
+        std::string text;
+        {
+            const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+            if (fd < 0) return files;
+            struct FdCloser {
+                int fd;
+                ~FdCloser() { ::close(fd); }
+            } closer{fd};
+            struct stat info {};
+            if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) return files;
+            const std::uint64_t size = std::uint64_t(info.st_size);
+            if (size > std::min(options.max_file_bytes, kLargestFile)) return files;
+            const auto read_at = [&](std::uint64_t offset, std::uint64_t length) {
+                std::string part(std::size_t(length), '\0');
+                return ::pread(fd, part.data(), part.size(), off_t(offset)) == ssize_t(length)
+                           ? part
+                           : std::string();
+            };
+            const std::string head = size >= 20 ? read_at(0, 20) : std::string();
+            if (head.size() == 20 && head.compare(0, 4, "glTF") == 0) {
+                const auto byte = [&](int i) { return std::uint64_t(std::uint8_t(head[i])); };
+                const std::uint64_t length =
+                    byte(12) | byte(13) << 8 | byte(14) << 16 | byte(15) << 24;
+                if (length > size - 20) return files;
+                text = read_at(20, length);
+            } else {
+                text = read_at(0, size);
+            }
+        }
+        check_json_depth(text);
+        const json root = json::parse(text);
+        const fs::path folder = fs::path(path).parent_path();
+        for (const char* key : {"buffers", "images"}) {
+            const auto array = root.find(key);
+            if (array == root.end() || !array->is_array()) continue;
+            for (const json& entry : *array) {
+                if (!entry.is_object()) continue;
+                const auto uri = entry.find("uri");
+                if (uri == entry.end() || !uri->is_string()) continue;
+                const std::string name = uri->get<std::string>();
+                if (name.rfind("data:", 0) == 0 || !uri_refusal(name, true).empty()) continue;
+                files.push_back((folder / percent_decode(name)).string());
+            }
+        }
+    } catch (const std::exception&) {
+        // A file that does not parse names no file: load_gltf reports why.
+    }
+    return files;
 }
 
 GltfScene load_gltf_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,

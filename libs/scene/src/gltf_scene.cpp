@@ -72,9 +72,9 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
         throw Error(gltf.path, "image " + std::to_string(image_index) + " does not exist");
     if (!std::isfinite(scale)) throw Error(gltf.path, "normal texture scale is not finite");
     const GltfImage& image = gltf.images[std::size_t(image_index)];
-    const LeanMapCache cache(settings.cache_folder);
+    const LeanMapCache cache(settings.cache_folder, settings.max_cache_bytes);
     const std::string key = lean_cache_key(image.bytes, settings_text(scale, settings.storage));
-    if (std::optional<PackedLeanMap> cached = cache.find(key)) {
+    if (std::optional<PackedLeanMap> cached = cache.find(key, settings.storage)) {
         if (from_cache != nullptr) *from_cache = true;
         return std::move(*cached);
     }
@@ -109,6 +109,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     std::map<std::pair<int, float>, int> maps;  // (normal image, scale) -> lean map
     std::map<int, int> textures;                // base colour image -> texture
     int flat_map = -1;
+    std::uint64_t map_bytes = 0;  // of the LEAN maps held
     for (const GltfMaterial& gm : gltf.materials) {
         Material m;
         m.name = gm.name;
@@ -122,6 +123,13 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                 scene.lean_maps.push_back(bake_normal_texture(gltf, gm.normal_image,
                                                               gm.normal_scale, settings, &cached,
                                                               &warning));
+                for (const PackedLevel& level : scene.lean_maps.back().levels)
+                    map_bytes += level.lean1.size() + level.lean2.size();
+                if (map_bytes > settings.max_lean_map_bytes)
+                    throw Error(gltf.path, "the LEAN maps of its normal textures exceed " +
+                                               std::to_string(settings.max_lean_map_bytes) +
+                                               " bytes (" + std::to_string(maps.size() + 1) +
+                                               " maps)");
                 ++(cached ? r.from_cache : r.baked);
                 if (!warning.empty()) r.warnings.push_back("cache: " + warning);
                 found = maps.emplace(key, int(scene.lean_maps.size()) - 1).first;

@@ -1,12 +1,15 @@
 // The LEAN-map cache (leanfade/scene/lean_map_cache.hpp) and its SHA-256 key.
 #include "leanfade/scene/lean_map_cache.hpp"
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 
 namespace leanfade::scene {
@@ -146,15 +149,41 @@ std::string LeanMapCache::entry_path(const std::string& key) const {
     return (fs::path(folder_) / (key + ".ktx2")).string();
 }
 
-std::optional<PackedLeanMap> LeanMapCache::find(const std::string& key) const {
+namespace {
+
+// What an entry records of its key: a suffix of the KTX2 writer string.
+std::string key_tag(const std::string& key) {
+    return " [cache " + key + "]";
+}
+
+bool is_temporary_name(const std::string& name) {
+    return name.find(".tmp-") != std::string::npos;
+}
+
+}  // namespace
+
+std::optional<PackedLeanMap> LeanMapCache::find(const std::string& key,
+                                                std::optional<Storage> storage) const {
     if (!enabled()) return std::nullopt;
+    if (!cleaned_) {  // the first use: temporaries of killed runs, entries beyond the bound
+        cleaned_ = true;
+        clean({});
+    }
     const std::string path = entry_path(key);
     std::error_code error;
     if (!fs::is_regular_file(path, error)) return std::nullopt;
     try {
         io::ReadOptions options;
         options.max_dimension = 1 << 20;  // written by store(): the bake's own limit applied
-        return io::read_ktx2(path, options);
+        PackedLeanMap map = io::read_ktx2(path, options);
+        // The entry must be the one its name promises: its key recorded, its storage.
+        const std::string tag = key_tag(key);
+        if (map.generator.size() < tag.size() ||
+            map.generator.compare(map.generator.size() - tag.size(), tag.size(), tag) != 0)
+            return std::nullopt;
+        if (storage && map.storage != *storage) return std::nullopt;
+        map.generator.resize(map.generator.size() - tag.size());
+        return map;
     } catch (const Error&) {
         return std::nullopt;  // corrupt or foreign: baked again and overwritten
     } catch (const std::bad_alloc&) {
@@ -168,10 +197,75 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
         std::error_code error;
         fs::create_directories(folder_, error);
         if (error) return folder_ + ": " + error.message();
-        io::write_ktx2(entry_path(key), map);
+        // The map's levels written with the key recorded in the writer string (no copy of the
+        // map's layers).
+        PackedLeanMap layout;
+        layout.storage = map.storage;
+        layout.scale = map.scale;
+        layout.roughness_baked = map.roughness_baked;
+        layout.baked_shininess = map.baked_shininess;
+        layout.source_convention = map.source_convention;
+        layout.generator = map.generator + key_tag(key);
+        for (const PackedLevel& level : map.levels)
+            layout.levels.push_back({level.width, level.height, {}, {}});
+        io::Ktx2Writer writer(entry_path(key), layout);
+        const std::vector<PackedLevelTarget>& targets = writer.targets();
+        for (std::size_t l = 0; l < map.levels.size(); ++l) {
+            const auto layer = std::size_t(targets[l].lean2 - targets[l].lean1);
+            if (map.levels[l].lean1.size() != layer || map.levels[l].lean2.size() != layer)
+                throw Error(entry_path(key),
+                            "level " + std::to_string(l) + " does not have the size of its layers");
+            std::memcpy(targets[l].lean1, map.levels[l].lean1.data(), layer);
+            std::memcpy(targets[l].lean2, map.levels[l].lean2.data(), layer);
+        }
+        writer.commit();
+        clean(entry_path(key));
         return {};
     } catch (const Error& e) {
         return e.what();
+    }
+}
+
+void LeanMapCache::clean(const std::string& kept) const {
+    struct Entry {
+        fs::path path;
+        std::uint64_t bytes;
+        fs::file_time_type time;
+    };
+    std::vector<Entry> entries;
+    std::uint64_t total = 0;
+    std::error_code error;
+    const auto now = fs::file_time_type::clock::now();
+    for (fs::directory_iterator it(folder_, error), end; !error && it != end; it.increment(error)) {
+        std::error_code e;
+        if (!it->is_regular_file(e) || e) continue;
+        const fs::path path = it->path();
+        const std::string name = path.filename().string();
+        const auto time = fs::last_write_time(path, e);
+        if (e) continue;
+        if (is_temporary_name(name)) {
+            // Left by a killed run: removed once its process is gone (remove_stale_temporaries
+            // of its entry) or, whatever its process, once it is a day old.
+            const std::string entry =
+                (path.parent_path() / name.substr(0, name.find(".tmp-"))).string();
+            io::remove_stale_temporaries(entry);
+            if (now - time > std::chrono::seconds(kStaleCacheTemporarySeconds)) fs::remove(path, e);
+            continue;
+        }
+        if (path.extension() != ".ktx2") continue;
+        const std::uint64_t bytes = it->file_size(e);
+        if (e) continue;
+        total += bytes;
+        entries.push_back({path, bytes, time});
+    }
+    if (total <= max_bytes_) return;
+    std::sort(entries.begin(), entries.end(),
+              [](const Entry& a, const Entry& b) { return a.time < b.time; });  // oldest first
+    for (const Entry& entry : entries) {
+        if (total <= max_bytes_) break;
+        if (entry.path.string() == kept) continue;
+        std::error_code e;
+        if (fs::remove(entry.path, e)) total -= entry.bytes;
     }
 }
 

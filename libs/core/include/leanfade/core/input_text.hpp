@@ -30,4 +30,12 @@ std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
 // with "...".
 std::string escape_text(std::string_view text, std::size_t max_bytes = 200);
 
+// `text` as one line for a terminal, whole: control characters (newline, carriage return, NUL,
+// ESC, BEL, ...) and bytes of invalid UTF-8 as \xNN, C1 controls and the code points that change
+// how a line reads (bidirectional marks, embeddings, overrides and isolates, line and paragraph
+// separators, zero-width and other invisible format characters) as \u{NNNN}. Backslashes stay
+// (text already passed through escape_text keeps its form). Every message the command line prints
+// goes through it.
+std::string terminal_text(std::string_view text);
+
 }  // namespace leanfade

@@ -111,6 +111,11 @@ inline constexpr float kNormalZRejectEpsilon = 2.0f / 255.0f;
 // normal map components far outside [0, 1]); past about 1e19 the second moments B^2 overflow
 // the float range and the map becomes NaN, so they are refused, naming the first such texel.
 inline constexpr float kMaxSlope = 1.0e6f;
+// Largest sc a bake writes: kMaxSlope, or sqrt(kMaxSlope^2 + 1/s) with roughness baked at the
+// smallest shininess (1e-3), rounded up to a float (1000000.0625). The readers of LEAN maps
+// (KTX2, PNG pairs) refuse a larger sc: no bake wrote it, and its squares leave the range the
+// shading computes in.
+inline constexpr float kMaxLeanScale = 1.000001e6f;
 
 struct SlopeResult {
     Image slopes;                     // 2 channels: B~ (tangent space)

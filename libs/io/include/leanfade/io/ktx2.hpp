@@ -37,6 +37,9 @@ inline constexpr const char* kNormalConventionKey = "LEANFADEnormalConvention";
 
 // The value of the LEANFADElayout key this version writes and accepts.
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
+// The LEANFADElayout of a cross-term texture (`bake --cross-terms`, docs/ktx2.md): the same
+// container, other layers; read_ktx2 refuses it by name.
+inline constexpr const char* kCrossTermLayoutName = "cross terms v1";
 
 // vkFormat of a storage, and its Vulkan name ("VK_FORMAT_R16G16B16A16_UNORM").
 std::uint32_t vk_format_of(Storage storage);
@@ -48,6 +51,10 @@ const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
 // >= 0). The generator string becomes KTXwriter ("leanfade <version>" when empty).
 void write_ktx2(const std::string& path, const PackedLeanMap& map,
                 const WriteOptions& options = {});
+
+// write_ktx2 of a cross-term texture: its LEANFADElayout is kCrossTermLayoutName.
+void write_cross_term_ktx2(const std::string& path, const PackedLeanMap& map,
+                           const WriteOptions& options = {});
 
 // The bytes write_ktx2 writes for `map`, in memory (for an engine's own asset pipeline or
 // archive): the same checks, with `name` in their errors. The inverse of read_ktx2_from_memory.
@@ -63,8 +70,9 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map,
 // appears. Not copyable, not movable.
 class Ktx2Writer {
   public:
+    // `layout_name`: the LEANFADElayout value (kLeanLayoutName or kCrossTermLayoutName).
     Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options = {},
-               bool check_layers = false);
+               bool check_layers = false, const char* layout_name = kLeanLayoutName);
     // One per level, level 0 first: where lean1 and lean2 go (width * height * texel bytes each,
     // rows top first). Valid until commit().
     const std::vector<PackedLevelTarget>& targets() const noexcept { return targets_; }
@@ -95,6 +103,10 @@ PackedBakeResult bake_to_ktx2(const std::string& path,
 // of a float map is finite. Sizes are checked before any level memory is allocated. inspect_ktx2
 // runs the structural part of these checks; `leanfade info` runs both before printing anything.
 PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {});
+
+// read_ktx2 of a cross-term texture (write_cross_term_ktx2): the same checks, the layout
+// kCrossTermLayoutName; a LEAN map is refused.
+PackedLeanMap read_cross_term_ktx2(const std::string& path, const ReadOptions& options = {});
 
 // read_ktx2 on a file's bytes already in memory (same checks and messages); `name` is the file
 // name the errors give.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "leanfade/core/error.hpp"
 #include "leanfade/io/atomic_file.hpp"
 
 namespace leanfade::io {
@@ -24,8 +25,10 @@ class OutputPlan {
     // the message when two outputs have the same name ("the output of b/x.png").
     void add_output(const std::string& path, const std::string& origin = {});
     // A folder the run writes files into, created (with its missing parents) when missing. The
-    // files the run will write there should be added with add_output too.
-    void add_output_folder(const std::string& path);
+    // files the run will write there should be added with add_output too; unless
+    // `every_file_listed` (each file it writes there is an add_output), the run may write files
+    // of names not known beforehand, so no input may lie anywhere inside the folder.
+    void add_output_folder(const std::string& path, bool every_file_listed = false);
 
     // Checks every output against the rule (paths resolved: the real path of the folder plus the
     // name; existing files compared by device and inode) and throws for the first that breaks
@@ -37,6 +40,7 @@ class OutputPlan {
         std::string path;
         std::string origin;
         bool folder = false;
+        bool every_file_listed = false;
     };
     std::vector<std::string> inputs_;
     std::vector<Output> outputs_;
@@ -47,6 +51,21 @@ class OutputPlan {
 // back as they were (the previous files are kept under a second name until the end) and publish()
 // throws. If publish() is never reached, the destructor removes every temporary and no output is
 // touched. Temporaries are registered for removal on SIGINT, SIGTERM and SIGHUP. Not copyable.
+// An output folder that may not exist yet: the constructor creates each missing folder of
+// `path` (Error(path, cause) when one cannot be created or a part of it is not a folder); the
+// destructor removes again those it created that are still empty, so that a run that fails
+// leaves no folder behind and one that wrote its outputs keeps it.
+class CreatedFolders {
+  public:
+    explicit CreatedFolders(const std::string& path);
+    ~CreatedFolders();
+    CreatedFolders(const CreatedFolders&) = delete;
+    CreatedFolders& operator=(const CreatedFolders&) = delete;
+
+  private:
+    std::vector<std::string> created_;  // outermost first
+};
+
 class OutputTransaction {
   public:
     explicit OutputTransaction(Durability durability = Durability::Rename);
@@ -65,6 +84,9 @@ class OutputTransaction {
 
     // Publishes every staged output (see above). Throws leanfade::Error(output, cause).
     void publish();
+    // `error` (thrown while writing a staged output) with each temporary name in it replaced by
+    // its output's name: messages name the output, never the temporary.
+    Error named(const Error& error) const;
     bool published() const noexcept { return published_; }
 
   private:

@@ -17,15 +17,18 @@
 //   root node) becomes one object per primitive with the node's world matrix; a node whose world
 //   matrix mirrors (negative determinant) has its triangles' winding reversed and its tangents'
 //   w negated, so that the front faces and the bitangents stay right after the transform.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
 #include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
 
@@ -63,6 +66,48 @@ struct GltfScene {
     std::vector<std::string> warnings;              // parts of the file leanfade ignores
 };
 
+// The glTF extensions leanfade implements: a file that lists any other in `extensionsRequired`
+// is refused, naming it (glTF 2.0 §3.12); extensions that are only used are ignored.
+inline constexpr std::array<std::string_view, 0> kSupportedGltfExtensions{};
+
+// Deepest nesting of arrays and objects in a glTF file's JSON, checked on the text before it is
+// parsed (a scan without recursion that skips strings): deeper files are refused.
+inline constexpr int kMaxGltfJsonDepth = 64;
+
+// Largest number of elements of each top-level array of a glTF file (docs/robustness.md),
+// checked on the parsed JSON before tinygltf builds its structures: one element costs tinygltf
+// up to a few kilobytes, whatever the file spends on it.
+struct GltfArrayLimit {
+    std::string_view key;
+    std::size_t max_elements;
+};
+inline constexpr GltfArrayLimit kGltfArrayLimits[] = {
+    {"accessors", std::size_t(1) << 18},
+    {"bufferViews", std::size_t(1) << 18},
+    {"nodes", std::size_t(1) << 16},
+    {"meshes", std::size_t(1) << 16},
+    {"buffers", 4096},
+    {"materials", 4096},
+    {"textures", 4096},
+    {"images", 4096},
+    {"samplers", 4096},
+    {"scenes", 4096},
+    {"cameras", 4096},
+    {"skins", 4096},
+    {"animations", 4096},
+};
+// Largest total of the encoded bytes of the images that the materials use (only those are
+// kept; an image no material references is never copied).
+inline constexpr std::uint64_t kMaxGltfImageBytes = std::uint64_t(512) << 20;
+// Each (normal image, scale) pair of the materials is a bake of its own: one image may be used
+// with at most this many different normalTexture scales.
+inline constexpr std::size_t kMaxGltfScalesPerImage = 4;
+// Largest total size of the LEAN maps a render scene holds (make_render_scene), counted as they
+// are baked or read from the cache.
+inline constexpr std::uint64_t kMaxGltfLeanMapBytes = std::uint64_t(4) << 30;
+// Largest number of primitives of one mesh.
+inline constexpr std::size_t kMaxGltfPrimitivesPerMesh = 4096;
+
 // Limits checked while reading (docs/robustness.md).
 struct GltfLoadOptions {
     // Largest file read: the .gltf/.glb itself, each external buffer and each external image.
@@ -71,6 +116,12 @@ struct GltfLoadOptions {
     std::size_t max_vertices = std::size_t(1) << 25;
     // Largest number of objects (mesh primitives times their instances).
     std::size_t max_objects = 1 << 16;
+    // Largest number of triangle indices of all objects together, after strips and fans are
+    // expanded to triangle lists (node instances count each time: each holds its own copy),
+    // checked before an instance is copied. 2^26 indices are 256 MiB.
+    std::size_t max_indices = std::size_t(1) << 26;
+    // Largest total of the encoded bytes of the images the materials use.
+    std::uint64_t max_image_bytes = kMaxGltfImageBytes;
 };
 
 // Reads a .gltf (JSON; buffers and images embedded as data: URIs or in files beside it) or .glb
@@ -83,6 +134,13 @@ struct GltfLoadOptions {
 // or malformed file, an accessor or buffer view outside its buffer, an index out of range, a
 // value that is not finite, a node cycle, a URI outside the folder, or a limit exceeded.
 GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options = {});
+
+// The external files (buffers and images) that the glTF file at `path` names by a URI that
+// load_gltf would read, as paths beside it: inputs of a run, which its outputs may not replace.
+// Never throws: a file that cannot be read or parsed gives the files found so far (load_gltf
+// then names the cause).
+std::vector<std::string> gltf_referenced_files(const std::string& path,
+                                               const GltfLoadOptions& options = {});
 
 // load_gltf on a file's bytes in memory (same checks and messages); `name` names it in errors.
 // Only embedded data (data: URIs, the GLB binary chunk) is read: an external URI is refused.
@@ -111,6 +169,8 @@ struct GltfBakeSettings {
     int max_image_size = kDefaultMaxImageDimension;  // per side, checked before decoding
     int threads = 0;                                 // 0: all cores
     std::string cache_folder;  // LEAN-map cache (lean_map_cache.hpp); empty: no cache
+    std::uint64_t max_cache_bytes = kMaxLeanCacheBytes;       // the cache folder's bound
+    std::uint64_t max_lean_map_bytes = kMaxGltfLeanMapBytes;  // held by make_render_scene
 };
 
 struct GltfBakeReport {

@@ -4,8 +4,11 @@
 //
 // Each entry is one KTX2 file (leanfade/io/ktx2.hpp) named `<key>.ktx2` in the cache folder,
 // written atomically (AtomicFile through write_ktx2), so a reader never sees half an entry. An
-// entry that cannot be read back (truncated, corrupt, another version's layout) is ignored and
-// replaced by the next store. GL-free.
+// entry that cannot be read back (truncated, corrupt, another version's layout) or does not hold
+// what its key describes (the key recorded in the entry, its storage) is ignored and replaced by
+// the next store. The folder is bounded: after each store the oldest entries (by the time they
+// were written) are removed until the entries take at most max_bytes; at the first find() and after
+// each store, temporaries left by killed runs are removed (docs/robustness.md). GL-free.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -31,25 +34,39 @@ std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::s
 // empty when neither is set (no cache).
 std::string default_lean_cache_folder();
 
+// Largest total size of a cache folder's entries (LeanMapCache::store evicts beyond it).
+inline constexpr std::uint64_t kMaxLeanCacheBytes = std::uint64_t(2) << 30;  // 2 GiB
+// Age after which a temporary file in the cache folder is removed whatever its process.
+inline constexpr int kStaleCacheTemporarySeconds = 24 * 3600;
+
 class LeanMapCache {
   public:
     // `folder` empty: a cache that never finds anything and stores nothing.
-    explicit LeanMapCache(std::string folder) : folder_(std::move(folder)) {}
+    explicit LeanMapCache(std::string folder, std::uint64_t max_bytes = kMaxLeanCacheBytes)
+        : folder_(std::move(folder)), max_bytes_(max_bytes) {}
 
     const std::string& folder() const noexcept { return folder_; }
     bool enabled() const noexcept { return !folder_.empty(); }
     // `<folder>/<key>.ktx2`.
     std::string entry_path(const std::string& key) const;
 
-    // The map stored under `key`, or nothing when there is none or it cannot be read (then it
-    // is treated as missing and overwritten by the next store()).
-    std::optional<PackedLeanMap> find(const std::string& key) const;
-    // Stores `map` under `key` (creating the folder), atomically. Returns an empty string, or
-    // the one-line reason it could not be stored (the map is still good to use).
+    // The map stored under `key`, or nothing when there is none, it cannot be read, it records
+    // another key than its name or (when given) its storage is not `storage`: then it is treated
+    // as missing and overwritten by the next store().
+    std::optional<PackedLeanMap> find(const std::string& key,
+                                      std::optional<Storage> storage = std::nullopt) const;
+    // Stores `map` under `key` (creating the folder), atomically, recording the key in the entry;
+    // then removes stale temporaries and the oldest entries beyond max_bytes.
+    // Returns an empty string, or the one-line reason it could not be stored (the map is still
+    // good to use).
     std::string store(const std::string& key, const PackedLeanMap& map) const;
 
   private:
+    void clean(const std::string& kept) const;
+
     std::string folder_;
+    std::uint64_t max_bytes_ = kMaxLeanCacheBytes;
+    mutable bool cleaned_ = false;
 };
 
 }  // namespace leanfade::scene
