@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -121,6 +122,10 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
         ->group(group);
+    app.add_flag("--strict-normals", f.strict_normals,
+                 "Normal maps: refuse texels with z <= 0 instead of taking (0, 0, 0) padding as "
+                 "flat and raising the others (counted and reported)")
+        ->group(group);
     app.add_option("--bits", f.bits,
                    "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f for a map "
                    "with outliers beyond sc, as bake)")
@@ -159,6 +164,7 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
     options.strength = settings.bump_strength;
     options.strength_unit = f.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
     options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.strict_normals = f.strict_normals;
     return options;
 }
 
@@ -195,6 +201,9 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)
         throw Error(f.bumps, "is a normal map: --strength applies to height maps only");
+    if (baked.packed.normal_repairs.any())
+        std::fprintf(stderr, "leanfade: %s\n",
+                     normal_repairs_note(f.bumps, baked.packed.normal_repairs).c_str());
     return std::move(baked.packed);
 }
 

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <filesystem>
 
 #include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
+#include "cli_flags.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
@@ -83,8 +85,13 @@ LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
         return bake_lean_map(make_builtin_height(source, f.texture_size, f.seed),
                              BakeSource::Height, options)
             .map;
-    return bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
-        .map;
+    LeanMap map =
+        bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
+            .map;
+    if (map.normal_repairs.any())
+        std::fprintf(stderr, "leanfade: %s\n",
+                     normal_repairs_note(source, map.normal_repairs).c_str());
+    return map;
 }
 
 Image top_slopes(const LeanMap& map) {
@@ -278,7 +285,8 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
     // A glTF scene brings its own objects, materials and maps (cli_bake_gltf.hpp).
     if (scene::is_gltf_path(flags.scene))
-        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size);
+        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size,
+                                      flags.bumps.strict_normals);
     scene::Scene result;
     scene::Object object;
     object.mesh = scene::make_scene_mesh(flags.scene);

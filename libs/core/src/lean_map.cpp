@@ -313,11 +313,17 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
                          const std::string& source_name) {
     BakeResult result;
     result.source = resolve_bake_source(source, input);
-    SlopeResult slopes = result.source == BakeSource::Normal
-                             ? slopes_from_normals(input, options, source_name)
-                             : slopes_from_height(input, options, source_name);
+    NormalRepairs repairs;
+    if (result.source == BakeSource::Normal && !options.strict_normals)
+        repairs = count_normal_repairs(input);
+    SlopeResult slopes =
+        result.source == BakeSource::Normal
+            ? slopes_from_normals(repairs.any() ? repair_normal_map(input) : input, options,
+                                  source_name)
+            : slopes_from_height(input, options, source_name);
     result.clamped_texels = slopes.clamped_texels;
     result.map = build_lean_map(slopes.slopes, options);
+    result.map.normal_repairs = repairs;
     return result;
 }
 
@@ -365,6 +371,7 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
     packed.roughness_baked = map.roughness_baked;
     packed.baked_shininess = map.baked_shininess;
     packed.source_convention = map.source_convention;
+    packed.normal_repairs = map.normal_repairs;
     packed.generator = generator;
     const int bpt = bytes_per_texel(storage);
     const float sc = map.scale, sc2 = map.scale * map.scale;
@@ -425,6 +432,7 @@ LeanMap unpack_lean_map(const PackedLeanMap& packed) {
     map.roughness_baked = packed.roughness_baked;
     map.baked_shininess = packed.baked_shininess;
     map.source_convention = packed.source_convention;
+    map.normal_repairs = packed.normal_repairs;
     for (std::size_t li = 0; li < packed.levels.size(); ++li) {
         const PackedLevel& pl = packed.levels[li];
         MomentLevel level;

@@ -49,11 +49,12 @@ void scale_normals(Image& normals, float scale) {
     }
 }
 
-std::string settings_text(float scale, Storage storage) {
+std::string settings_text(float scale, Storage storage, bool strict_normals) {
     std::uint32_t bits = 0;
     std::memcpy(&bits, &scale, sizeof bits);
     return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
-           std::string(to_string(storage)) + " scale=" + std::to_string(bits);
+           std::string(to_string(storage)) + " scale=" + std::to_string(bits) +
+           (strict_normals ? " strict_normals" : "");
 }
 
 }  // namespace
@@ -73,7 +74,8 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     if (!std::isfinite(scale)) throw Error(gltf.path, "normal texture scale is not finite");
     const GltfImage& image = gltf.images[std::size_t(image_index)];
     const LeanMapCache cache(settings.cache_folder);
-    const std::string key = lean_cache_key(image.bytes, settings_text(scale, settings.storage));
+    const std::string key = lean_cache_key(
+        image.bytes, settings_text(scale, settings.storage, settings.strict_normals));
     if (std::optional<PackedLeanMap> cached = cache.find(key)) {
         if (from_cache != nullptr) *from_cache = true;
         return std::move(*cached);
@@ -82,8 +84,13 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     if (normals.channels < 3)
         throw Error(gltf.path, image.name + ": a normal texture needs 3 channels (RGB), it has " +
                                    std::to_string(normals.channels));
+    // Repaired before the scale, which would turn (0, 0, 0) padding into a normal.
+    NormalRepairs repairs;
+    if (!settings.strict_normals) repairs = count_normal_repairs(normals);
+    if (repairs.any()) normals = repair_normal_map(normals);
     if (scale != 1.0f) scale_normals(normals, scale);
     BakeOptions options;
+    options.strict_normals = settings.strict_normals;
     options.wrap = Wrap::Repeat;
     options.convention = NormalConvention::OpenGL;
     options.threads = settings.threads;
@@ -95,6 +102,7 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     } catch (const Error& e) {
         throw Error(gltf.path, e.what());
     }
+    map.normal_repairs = repairs;
     const std::string warning = cache.store(key, map);
     if (cache_warning != nullptr) *cache_warning = warning;
     if (from_cache != nullptr) *from_cache = false;
@@ -123,6 +131,9 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                                                               gm.normal_scale, settings, &cached,
                                                               &warning));
                 ++(cached ? r.from_cache : r.baked);
+                if (scene.lean_maps.back().normal_repairs.any())
+                    r.repaired.emplace_back(gltf.images[std::size_t(gm.normal_image)].name,
+                                            scene.lean_maps.back().normal_repairs);
                 if (!warning.empty()) r.warnings.push_back("cache: " + warning);
                 found = maps.emplace(key, int(scene.lean_maps.size()) - 1).first;
             }
