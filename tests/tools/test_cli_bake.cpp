@@ -782,3 +782,54 @@ TEST(CliBakeImperfectNormals, PaddingAndNegativeZAreRepairedReportedAndStoredUnl
     EXPECT_EQ(render_strict.exit_code, 1);
     EXPECT_THAT(render_strict.err, HasSubstr("refused by --strict-normals"));
 }
+
+// A floor of planks (flat but for a faint grain, slopes about 0.01) with 1-texel gaps between
+// them whose walls are steep (slope 32 at strength 128): 4 % of the texels, no outliers (they are
+// not 0.1 %), so sc = 32. 16-bit UNORM then rounds M to sc^2 / 65535 = 0.016, more than the
+// base variance 1/s of every shininess above 64: the highlight of the planks is lost. --bits
+// auto predicts it (auto_storage) and bakes half floats.
+TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfPlanksWithSteepGaps) {
+    const fs::path dir = test::scratch_dir("bake_precision_planks");
+    const int size = 256, width = 64, length = 256;
+    Image height(size, size, 1);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const int column = x / width;
+            const int along = (y + (length / 2) * (column % 2)) % size;  // staggered planks
+            const bool gap = x % width == 0 || along % length == 0;
+            const double u = double(3 * x + along) / size, v = double(along) / size;
+            height.at(x, y) = gap ? 0.0f
+                                  : float(0.5 + 1e-4 * std::sin(2 * M_PI * 5 * u) +
+                                          0.6e-4 * std::sin(2 * M_PI * 17 * v + column));
+        }
+    const fs::path input = dir / "planks.png";
+    io::write_png(input.string(), height, 16);
+    const fs::path json = dir / "default.json";
+    auto bake = [&](const std::string& args, const std::string& name) {
+        const auto r = run_leanfade("bake " + q(input) + " --strength 128 " + args + " -o " +
+                                        q(dir / (name + ".ktx2")),
+                                    dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return r.out;
+    };
+    const std::string default_out = bake("--json " + q(json), "default");
+    EXPECT_THAT(default_out, HasSubstr("storage 16f")) << default_out;
+    const nlohmann::json summary = nlohmann::json::parse(test::read_text(json))[0];
+    EXPECT_EQ(summary["texels_beyond_sc"].get<std::uint64_t>(), 0u);  // not the outlier rule
+    EXPECT_GT(summary["scale"].get<double>(), 30.0);
+    bake("--bits 32f", "float");
+    bake("--bits 16", "unorm");
+    const std::vector<Image> truth = lean_cells(dir, dir / "float.ktx2", "float");
+    const double kept = psnr(lean_cells(dir, dir / "default.ktx2", "default"), truth);
+    const double unorm = psnr(lean_cells(dir, dir / "unorm.ktx2", "unorm"), truth);
+    EXPECT_GE(kept, 50.0) << "default storage against 32f";
+    EXPECT_LT(unorm, 40.0) << "16-bit UNORM against 32f";  // the failure the rule avoids
+    RecordProperty("psnr_default_db", std::to_string(kept));
+    RecordProperty("psnr_unorm16_db", std::to_string(unorm));
+    std::printf("planks, PSNR against 32f: default (16f) %.1f dB, --bits 16 %.1f dB\n", kept,
+                unorm);
+    // render's on-the-fly bake follows the same rule.
+    const double on_the_fly =
+        psnr(lean_cells(dir, input, "on_the_fly", "--strength 128"), truth);
+    EXPECT_GE(on_the_fly, 50.0) << "render --bumps planks.png against the 32f bake";
+}

@@ -127,8 +127,8 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
                  "flat and raising the others (counted and reported)")
         ->group(group);
     app.add_option("--bits", f.bits,
-                   "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f for a map "
-                   "with outliers beyond sc, as bake)")
+                   "Storage of on-the-fly bakes: 8, 16, 16f, 32f, or auto (16, or 16f/32f by "
+                   "the predicted error, as bake)")
         ->capture_default_str()
         ->group(group);
     app.add_option("--strength-unit", f.strength_unit,
@@ -184,11 +184,13 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
 
     const BakeOptions options = on_the_fly_bake_options(f, settings);
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
-    // --bits auto bakes a map with outliers beyond sc again as 16f, as `leanfade bake` does.
+    // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
         PackedBakeResult result = bake_packed(input, kind, options, storage, generator, f.bumps);
-        if (f.bits == "auto" && result.texels_beyond_scale > 0)
-            result = bake_packed(input, kind, options, Storage::Float16, generator, f.bumps);
+        const Storage chosen =
+            auto_storage(result.packed.scale, result.texels_beyond_scale, result.median_steepness);
+        if (f.bits == "auto" && chosen != storage)
+            result = bake_packed(input, kind, options, chosen, generator, f.bumps);
         return result;
     };
     const auto& builtins = builtin_bump_names();

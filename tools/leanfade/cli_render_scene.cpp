@@ -184,11 +184,12 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         throw Error("--texture-size", "must be in [4, " +
                                           std::to_string(kDefaultMaxImageDimension) + "], got " +
                                           std::to_string(flags.bumps.texture_size));
-    // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
+    // --bits auto: 16-bit UNORM, or 16f or 32f by auto_storage's rule (as `leanfade bake`).
     const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
-        return flags.bumps.bits == "auto" && m.texels_beyond_scale > 0 ? Storage::Float16
-                                                                       : unorm_or_given;
+        return flags.bumps.bits == "auto"
+                   ? auto_storage(m.scale, m.texels_beyond_scale, m.median_steepness)
+                   : unorm_or_given;
     };
 
     std::vector<LeanMap> maps;

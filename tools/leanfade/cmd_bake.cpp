@@ -240,8 +240,9 @@ int run_bake(const BakeArgs& given) {
     options.threads = args.threads;
     options.strict_normals = args.strict_normals;
     const BakeSource source = parse_bake_source(args.from);
-    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale) is baked again as
-    // half float, which keeps them (docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
+    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
+    // second moments would round away the base roughness, is baked again as half float
+    // (leanfade::auto_storage; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
     const bool auto_storage = args.bits == "auto";
     const Storage storage = parse_bake_storage(args.bits);
     io::ReadOptions read_options;
@@ -331,8 +332,10 @@ int run_bake(const BakeArgs& given) {
             const std::string staged = outputs.stage(output);
             baked = io::bake_to_ktx2(staged, input, kind, options, storage, generator_string(),
                                      name, write_options);
-            if (auto_storage && baked.texels_beyond_scale > 0)
-                baked = io::bake_to_ktx2(staged, input, kind, options, Storage::Float16,
+            const Storage chosen = leanfade::auto_storage(
+                baked.packed.scale, baked.texels_beyond_scale, baked.median_steepness);
+            if (auto_storage && chosen != storage)
+                baked = io::bake_to_ktx2(staged, input, kind, options, chosen,
                                          generator_string(), name, write_options);
         }
         // Checked before anything is published: the staged outputs are dropped.
@@ -421,7 +424,9 @@ const CommandRegistration registration{
                      "as flat and raising the others (counted and reported)");
         app.add_option("--bits", args->bits,
                        "Storage: 8, 16 (UNORM), 16f, 32f (float), or auto: 16, or 16f for a map "
-                       "with outliers beyond sc, which 16 would clamp (a PNG pair: 16)")
+                       "with outliers beyond sc, which 16 would clamp, or 16f/32f where 16's "
+                       "rounding of the moments would hide the base roughness (docs/ktx2.md; a "
+                       "PNG pair: 16)")
             ->check(CLI::IsMember(bake_storage_names()))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,

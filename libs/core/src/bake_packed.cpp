@@ -1134,6 +1134,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
                                         plan.top.inv_s)
             : detail::ScaleChoice{detail::lean_scale(totals.max_b, totals.max_m), 0};
     result.texels_beyond_scale = scale.beyond;
+    result.median_steepness = detail::median_steepness(totals.histogram);
     const float sc = scale.scale;
     plan.scale.sc = sc;
     plan.scale.sc2 = sc * sc;

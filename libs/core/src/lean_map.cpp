@@ -236,6 +236,7 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
             : detail::ScaleChoice{detail::lean_scale(max_b, max_m), 0};
     map.scale = scale.scale;
     map.texels_beyond_scale = scale.beyond;
+    map.median_steepness = detail::median_steepness(histogram);
 
     int lw = w, lh = h;
     std::vector<Moments> current = std::move(top);
@@ -307,6 +308,23 @@ BakeSource resolve_bake_source(BakeSource requested, const UnormImage& input) {
     if (requested != BakeSource::Auto) return requested;
     return input.channels >= 3 && !is_grey_colour_image(input) ? BakeSource::Normal
                                                                : BakeSource::Height;
+}
+
+double unorm16_moment_error(float scale) {
+    return double(scale) * double(scale) / (2.0 * 65535.0) * double(kAutoStorageShininess);
+}
+
+double float16_slope_error(float scale) {
+    return double(scale) / 4096.0 * std::sqrt(double(kAutoStorageShininess));
+}
+
+Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness) {
+    if (texels_beyond_scale > 0) return Storage::Float16;
+    const bool coarse = unorm16_moment_error(scale) >= kAutoStorageMaxError;
+    const bool mostly_flat = double(median_steepness) * kAutoStorageFlatRatio <= double(scale);
+    if (!coarse || !mostly_flat) return Storage::Unorm16;
+    return float16_slope_error(scale) >= kAutoStorageMaxError ? Storage::Float32
+                                                              : Storage::Float16;
 }
 
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,

@@ -65,6 +65,9 @@ struct LeanMap {
     // beyond sc (docs/ktx2.md, "Choosing storage and sc"): UNORM storages clamp their packed
     // values to [0, 1], float storages keep them.
     std::uint64_t texels_beyond_scale = 0;
+    // The median of max(|Bx|, |By|) over the top level, rounded up to a bin edge of sc's histogram
+    // (four bins per octave): what --bits auto reads (auto_storage).
+    float median_steepness = 0.0f;
     bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
     float baked_shininess = 0.0f;     // s when roughness_baked
     NormalConvention source_convention = NormalConvention::OpenGL;
@@ -240,9 +243,31 @@ struct PackedBakeResult {
     BakeSource source = BakeSource::Height;  // what the input was taken as
     std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
     std::uint64_t texels_beyond_scale = 0;   // as LeanMap::texels_beyond_scale
+    float median_steepness = 0.0f;           // as LeanMap::median_steepness
     LeanMapSummary summary;
 };
 
+// --bits auto (docs/ktx2.md, "Choosing storage and sc"): a bake starts as 16-bit UNORM and is
+// baked again as half float (Float16) when
+// - texels lie beyond sc (UNORM would clamp them), or
+// - the rounding of UNORM16's second moments, half a step sc^2 / (2 * 65535), is at least
+//   kAutoStorageMaxError times the base variance 1/kAutoStorageShininess of the sharpest
+//   highlight the map is meant for, and most texels are far flatter than sc (median of
+//   max(|Bx|, |By|) at most sc / kAutoStorageFlatRatio): their covariance M - B B^T, only the
+//   base roughness, is lost in UNORM's rounding, while half floats hold small M with 11 bits of
+//   mantissa. (A map steep everywhere is better in UNORM: half floats are coarser near sc.)
+//   Half floats round B to sc / 2^11 (half an ulp of 0.5 + 0.5 B / sc, times 2 sc); where that
+//   is at least kAutoStorageMaxError times the highlight's width 1 / sqrt(kAutoStorageShininess)
+//   (sc >= 34.9), such a map is baked as Float32 instead.
+inline constexpr float kAutoStorageShininess = 13777.0f;  // the largest s of docs/results.md
+inline constexpr double kAutoStorageMaxError = 1.0;
+inline constexpr float kAutoStorageFlatRatio = 8.0f;
+// The rounding of UNORM16's M (sc^2 / (2 * 65535)) in units of 1 / kAutoStorageShininess.
+double unorm16_moment_error(float scale);
+// The rounding of half floats' B (sc / 2^12) in units of 1 / sqrt(kAutoStorageShininess).
+double float16_slope_error(float scale);
+// Unorm16, Float16 or Float32 by the rule above.
+Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness);
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
                              const std::string& source_name = "");
