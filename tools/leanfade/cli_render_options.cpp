@@ -112,8 +112,11 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
     for (const std::string& n : builtin_bump_names()) names += (names.empty() ? "" : ", ") + n;
     app.add_option("--bumps", f.bumps,
                    "Built-in bump set (" + names +
-                       "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake`")
+                       "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake` "
+                       "(an OBJ scene with MTL materials uses their bump maps unless --bumps "
+                       "is given)")
         ->capture_default_str()
+        ->each([&f](const std::string&) { f.bumps_given = true; })
         ->group(group);
     app.add_option("--from", f.from,
                    "Image inputs: auto (1-2 channels height, 3-4 normal, as bake), height or "

@@ -35,6 +35,7 @@ ShadingSettings resolve_shading(const ShadingFlags& flags);
 
 struct LeanSourceFlags {
     std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
+    bool bumps_given = false;     // --bumps on the command line (an OBJ's MTL bumps otherwise)
     std::string from = "auto";    // images: auto | height | normal (auto: by channel count)
     bool directx = false;         // normal maps in the DirectX convention
     bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)

@@ -2,10 +2,12 @@
 #include "cli_render_scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
@@ -17,6 +19,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/obj_loader.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -163,6 +166,12 @@ void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
         material.roughness_map = int(result.roughness_maps.size()) - 1;
 }
 
+bool is_obj_path(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return extension == ".obj";
+}
+
 void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
                           const ShadingSettings& settings) {
     const LayerFlags& f = flags.layers;
@@ -288,9 +297,31 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
     if (scene::is_gltf_path(flags.scene))
         return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size,
                                       flags.bumps.strict_normals);
+    // An OBJ with MTL materials brings its own maps unless --bumps (or --layers) replaces them.
+    std::optional<scene::ObjModel> model;
+    if (is_obj_path(flags.scene)) model = scene::load_obj_model(flags.scene);
+    if (model && !model->libraries.empty() && !flags.bumps.bumps_given &&
+        flags.layers.layers.empty()) {
+        scene::ObjBakeSettings bake;
+        bake.auto_storage = flags.bumps.bits == "auto";
+        bake.storage = on_the_fly_storage(flags.bumps);
+        bake.max_image_size = flags.bumps.max_size;
+        bake.strict_normals = flags.bumps.strict_normals;
+        scene::ObjSceneReport report;
+        scene::Scene result = scene::make_obj_render_scene(*model, bake, &report);
+        for (const std::string& warning : report.warnings)
+            std::fprintf(stderr, "leanfade: %s: %s\n", flags.scene.c_str(), warning.c_str());
+        for (const auto& [file, repairs] : report.repaired)
+            std::fprintf(stderr, "leanfade: %s\n", normal_repairs_note(file, repairs).c_str());
+        add_roughness_map(result, flags);
+        scene::validate(result);
+        return result;
+    }
     scene::Scene result;
     scene::Object object;
-    object.mesh = scene::make_scene_mesh(flags.scene);
+    // The OBJ's one part is load_obj's mesh (the same vertices, in the same order).
+    object.mesh = model && model->parts.size() == 1 ? std::move(model->parts.front())
+                                                    : scene::make_scene_mesh(flags.scene);
     object.material = 0;
     result.objects.push_back(std::move(object));
     if (flags.layers.layers.empty()) {

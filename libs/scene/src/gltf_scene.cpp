@@ -10,6 +10,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
+#include "mesh_internal.hpp"
 
 namespace leanfade::scene {
 namespace {
@@ -35,8 +36,18 @@ Image decode(const GltfScene& gltf, const GltfImage& image, const GltfBakeSettin
     }
 }
 
-// A normal map whose slopes are `scale` times those of `normals` (2 rgb - 1 decoded, X and Y
-// scaled, renormalised, encoded again), glTF's normalTexture.scale.
+std::string settings_text(float scale, Storage storage, bool strict_normals) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &scale, sizeof bits);
+    return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
+           std::string(to_string(storage)) + " scale=" + std::to_string(bits) +
+           (strict_normals ? " strict_normals" : "");
+}
+
+}  // namespace
+
+namespace detail {
+
 void scale_normals(Image& normals, float scale) {
     for (std::size_t i = 0; i < normals.texel_count(); ++i) {
         float* t = &normals.pixels[i * std::size_t(normals.channels)];
@@ -49,15 +60,19 @@ void scale_normals(Image& normals, float scale) {
     }
 }
 
-std::string settings_text(float scale, Storage storage, bool strict_normals) {
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &scale, sizeof bits);
-    return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
-           std::string(to_string(storage)) + " scale=" + std::to_string(bits) +
-           (strict_normals ? " strict_normals" : "");
+Image linear_base_colour(const Image& decoded) {
+    Image rgba(decoded.width, decoded.height, 4, 1.0f);
+    for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
+        const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
+        float* out = &rgba.pixels[i * 4];
+        const bool gray = decoded.channels <= 2;
+        for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
+        if (decoded.channels == 2 || decoded.channels == 4) out[3] = in[decoded.channels - 1];
+    }
+    return rgba;
 }
 
-}  // namespace
+}  // namespace detail
 
 bool is_gltf_path(const std::string& path) {
     std::string lower = path.substr(path.size() >= 5 ? path.size() - 5 : 0);
@@ -88,7 +103,7 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     NormalRepairs repairs;
     if (!settings.strict_normals) repairs = count_normal_repairs(normals);
     if (repairs.any()) normals = repair_normal_map(normals);
-    if (scale != 1.0f) scale_normals(normals, scale);
+    if (scale != 1.0f) detail::scale_normals(normals, scale);
     BakeOptions options;
     options.strict_normals = settings.strict_normals;
     options.wrap = Wrap::Repeat;
@@ -157,17 +172,8 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
             auto found = textures.find(gm.base_color_image);
             if (found == textures.end()) {
                 const GltfImage& image = gltf.images[std::size_t(gm.base_color_image)];
-                const Image decoded = decode(gltf, image, settings, false);
-                Image rgba(decoded.width, decoded.height, 4, 1.0f);
-                for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
-                    const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
-                    float* out = &rgba.pixels[i * 4];
-                    const bool gray = decoded.channels <= 2;
-                    for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
-                    if (decoded.channels == 2 || decoded.channels == 4)
-                        out[3] = in[decoded.channels - 1];
-                }
-                scene.base_color_textures.push_back(std::move(rgba));
+                scene.base_color_textures.push_back(
+                    detail::linear_base_colour(decode(gltf, image, settings, false)));
                 found = textures.emplace(gm.base_color_image,
                                          int(scene.base_color_textures.size()) - 1)
                             .first;
