@@ -418,9 +418,11 @@ TEST(BakeFastPath, IntegerInputIsRefusedLikeFloatsBeforeAnyOutputIsOpened) {
     UnormImage samples = quantised(normal_map(40, 30, 3), 65535);
     samples.samples[(std::size_t(21) * 40 + 17) * 3 + 2] = 1000;  // z = 2 * 1000/65535 - 1 < 0
     const Image floats = samples.to_float();
+    BakeOptions strict;  // z < 0 is refused (else raised: BakeSource.PaddingIsFlat...)
+    strict.strict_normals = true;
     std::string expected = "(no error)", got = "(no error)";
     try {
-        bake_packed(floats, BakeSource::Normal, {}, Storage::Unorm16, "g", "f.png");
+        bake_packed(floats, BakeSource::Normal, strict, Storage::Unorm16, "g", "f.png");
     } catch (const Error& e) {
         expected = e.what();
     }
@@ -431,7 +433,7 @@ TEST(BakeFastPath, IntegerInputIsRefusedLikeFloatsBeforeAnyOutputIsOpened) {
                 opened = true;
                 return std::vector<PackedLevelTarget>{};
             },
-            samples, BakeSource::Normal, {}, Storage::Unorm16, "g", "f.png");
+            samples, BakeSource::Normal, strict, Storage::Unorm16, "g", "f.png");
     } catch (const Error& e) {
         got = e.what();
     }

@@ -1,12 +1,13 @@
 // Height or normal? BakeSource::Auto takes 1-2 channels as a height map, 3-4 as a normal map,
 // except grey colour images (r = g = b everywhere: a height map saved as RGB, RGBA or palette),
-// which are height maps; a normal map refused for z <= 0 names the setting that bakes it as a
-// height map.
+// which are height maps; a normal map refused for z <= 0 (strict_normals) names the setting that
+// bakes it as a height map.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,7 @@ UnormImage as_bytes(const Image& image) {
 }
 
 PackedBakeResult bake_unorm(const UnormImage& input, BakeSource source,
-                            const std::string& name = "in.png") {
+                            const std::string& name = "in.png", const BakeOptions& options = {}) {
     PackedLeanMap filled;
     return bake_packed_to(
         [&](const PackedLeanMap& layout) {
@@ -55,7 +56,7 @@ PackedBakeResult bake_unorm(const UnormImage& input, BakeSource source,
             }
             return targets;
         },
-        input, source, {}, Storage::Unorm16, "test", name);
+        input, source, options, Storage::Unorm16, "test", name);
 }
 
 }  // namespace
@@ -141,17 +142,126 @@ TEST(BakeSource, NormalRefusedForZBelowZeroSuggestsTheHeightSetting) {
         } catch (const Error& error) {
             EXPECT_EQ(error.file(), "dark.png");
             EXPECT_THAT(error.cause(), HasSubstr("normal with z <= 0 at texel (0, 0)"));
+            EXPECT_THAT(error.cause(), HasSubstr("refused by 'strict_normals'"));
             EXPECT_THAT(error.cause(),
-                        HasSubstr("not a tangent-space normal map (a height map? set 'from' "
-                                  "to 'height')"));
+                        HasSubstr("a height map stored as colour? set 'from' to 'height'"));
         }
     };
-    expect_hint([&] { bake_lean_map(coloured, BakeSource::Auto, {}, "dark.png"); });
+    BakeOptions strict;
+    strict.strict_normals = true;
+    expect_hint([&] { bake_lean_map(coloured, BakeSource::Auto, strict, "dark.png"); });
     expect_hint([&] {
-        bake_packed(coloured, BakeSource::Auto, {}, Storage::Unorm16, "test", "dark.png");
+        bake_packed(coloured, BakeSource::Auto, strict, Storage::Unorm16, "test", "dark.png");
     });
-    expect_hint([&] { bake_unorm(as_bytes(coloured), BakeSource::Auto, "dark.png"); });
+    expect_hint([&] { bake_unorm(as_bytes(coloured), BakeSource::Auto, "dark.png", strict); });
+    // Without strict_normals every texel is raised, and counted.
+    EXPECT_EQ(bake_lean_map(coloured, BakeSource::Auto, {}, "dark.png").map.normal_repairs
+                  .raised_texels,
+              16u);
+    EXPECT_EQ(bake_unorm(as_bytes(coloured), BakeSource::Auto).packed.normal_repairs.raised_texels,
+              16u);
     // As a height map it bakes.
     EXPECT_EQ(bake_lean_map(coloured, BakeSource::Height, {}, "dark.png").source,
               BakeSource::Height);
+}
+
+namespace {
+
+// An 8-bit-exact normal map of gentle bumps (k / 255 values), 24 x 20.
+Image bumpy_normals() {
+    Image normals(24, 20, 3);
+    for (int y = 0; y < normals.height; ++y)
+        for (int x = 0; x < normals.width; ++x) {
+            normals.at(x, y, 0) = float(128 + (x * 7 + y * 3) % 41 - 20) / 255.0f;
+            normals.at(x, y, 1) = float(128 + (x * 5 + y * 11) % 37 - 18) / 255.0f;
+            normals.at(x, y, 2) = 250.0f / 255.0f;
+        }
+    return normals;
+}
+
+void expect_same_bytes(const PackedLeanMap& a, const PackedLeanMap& b) {
+    ASSERT_EQ(a.levels.size(), b.levels.size());
+    EXPECT_EQ(a.scale, b.scale);
+    for (std::size_t l = 0; l < a.levels.size(); ++l) {
+        EXPECT_TRUE(a.levels[l].lean1 == b.levels[l].lean1) << "level " << l;
+        EXPECT_TRUE(a.levels[l].lean2 == b.levels[l].lean2) << "level " << l;
+    }
+}
+
+}  // namespace
+
+// Real assets: (0, 0, 0) padding outside the UV islands is taken as flat, texels slightly below
+// the surface are raised; each counted, and the map is exactly the one of the repaired image, in
+// every bake (reference, fast path from floats, fast path from integer samples).
+TEST(BakeSource, PaddingIsFlatAndNegativeZRaisedUnlessStrict) {
+    Image padded = bumpy_normals();
+    Image repaired = padded;
+    std::uint64_t padding = 0;
+    for (int y = 0; y < padded.height; ++y)
+        for (int x = 0; x < padded.width; ++x)
+            if (x < 3 || y >= 16) {  // a border of padding, as a baker leaves it
+                for (int c = 0; c < 3; ++c) padded.at(x, y, c) = 0.0f;
+                repaired.at(x, y, 0) = repaired.at(x, y, 1) = 0.5f;
+                repaired.at(x, y, 2) = 1.0f;
+                ++padding;
+            }
+    // Two authored texels below the surface (z = -0.1 and -0.02), one exactly at the reject
+    // threshold's other side (z = -1/255: an 8-bit 0, raised by the bake as before, not counted).
+    padded.at(10, 5, 2) = repaired.at(10, 5, 2) = 115.0f / 255.0f;
+    padded.at(11, 6, 2) = repaired.at(11, 6, 2) = 125.0f / 255.0f;
+    padded.at(12, 7, 2) = repaired.at(12, 7, 2) = 127.0f / 255.0f;
+    repaired.at(10, 5, 2) = repaired.at(11, 6, 2) = 0.5f;
+
+    const BakeResult reference = bake_lean_map(padded, BakeSource::Auto, {}, "padded.png");
+    EXPECT_EQ(reference.source, BakeSource::Normal);
+    EXPECT_EQ(reference.map.normal_repairs.padding_texels, padding);
+    EXPECT_EQ(reference.map.normal_repairs.raised_texels, 2u);
+    EXPECT_EQ(reference.clamped_texels, 3u);  // the two raised ones and the z = -1/255 one
+    const PackedLeanMap expected =
+        bake_packed(repaired, BakeSource::Normal, {}, Storage::Unorm16, "test").packed;
+    EXPECT_FALSE(expected.normal_repairs.any());
+    const PackedLeanMap from_reference = pack_lean_map(reference.map, Storage::Unorm16, "test");
+    EXPECT_EQ(from_reference.normal_repairs.padding_texels, padding);
+    expect_same_bytes(from_reference, expected);
+    const PackedBakeResult fast =
+        bake_packed(padded, BakeSource::Auto, {}, Storage::Unorm16, "test", "padded.png");
+    EXPECT_EQ(fast.packed.normal_repairs.padding_texels, padding);
+    EXPECT_EQ(fast.packed.normal_repairs.raised_texels, 2u);
+    EXPECT_EQ(fast.clamped_texels, 3u);
+    expect_same_bytes(fast.packed, expected);
+    const PackedBakeResult integers = bake_unorm(as_bytes(padded), BakeSource::Auto);
+    EXPECT_EQ(integers.packed.normal_repairs.padding_texels, padding);
+    EXPECT_EQ(integers.packed.normal_repairs.raised_texels, 2u);
+    // The flat texels are flat: B = 0 at a padding texel of the top level, within one code of
+    // 16-bit UNORM (2 sc / 65535).
+    const LeanMap unpacked = unpack_lean_map(fast.packed);
+    const float code = 2.0f * fast.packed.scale / 65535.0f;
+    EXPECT_NEAR(unpacked.levels[0].mean[std::size_t(18 * 24 + 1)].x, 0.0f, code);
+    EXPECT_NEAR(unpacked.levels[0].mean[std::size_t(18 * 24 + 1)].y, 0.0f, code);
+
+    // strict_normals refuses the first such texel (rows top first: (0, 0), a padding texel).
+    BakeOptions strict;
+    strict.strict_normals = true;
+    for (const auto& bake : std::vector<std::function<void()>>{
+             [&] { bake_lean_map(padded, BakeSource::Auto, strict, "padded.png"); },
+             [&] {
+                 bake_packed(padded, BakeSource::Auto, strict, Storage::Unorm16, "t",
+                             "padded.png");
+             },
+             [&] { bake_unorm(as_bytes(padded), BakeSource::Auto, "padded.png", strict); }}) {
+        try {
+            bake();
+            ADD_FAILURE() << "expected an error";
+        } catch (const Error& error) {
+            EXPECT_EQ(error.file(), "padded.png");
+            EXPECT_THAT(error.cause(), HasSubstr("normal with z <= 0 at texel (0, 0)"));
+        }
+    }
+    // A map with nothing to repair is baked as before, with nothing counted.
+    const PackedBakeResult clean =
+        bake_packed(bumpy_normals(), BakeSource::Auto, {}, Storage::Unorm16, "test");
+    EXPECT_FALSE(clean.packed.normal_repairs.any());
+    expect_same_bytes(clean.packed, bake_packed(bumpy_normals(), BakeSource::Auto, strict,
+                                                Storage::Unorm16, "test")
+                                        .packed);
 }

@@ -313,3 +313,47 @@ TEST(ScaleChoice, UnormClampsTexelsBeyondScAndTheFastPathGivesTheSameBytes) {
         }
     }
 }
+
+// --bits auto (auto_storage): UNORM16 unless texels lie beyond sc, or UNORM16's rounding of M
+// (sc^2 / (2 * 65535)) reaches the base variance 1/13777 while most texels are far flatter than
+// sc (the bound: sc = sqrt(2 * 65535 / 13777) = 3.08); then half floats, or 32-bit floats where
+// half floats' rounding of B (sc / 4096) reaches the highlight's width 1 / sqrt(13777) (sc =
+// 34.9).
+TEST(AutoStorage, HalfFloatsForOutliersOrForCoarseMomentsOfAMostlyFlatMap) {
+    EXPECT_NEAR(unorm16_moment_error(1.0f), 13777.0 / 131070.0, 1e-9);
+    EXPECT_LT(unorm16_moment_error(3.05f), kAutoStorageMaxError);
+    EXPECT_GT(unorm16_moment_error(3.1f), kAutoStorageMaxError);
+    // The built-in sets (sc 0.6 - 1.5) and gentle maps: 16-bit UNORM.
+    EXPECT_EQ(auto_storage(0.98f, 0, 0.3f), Storage::Unorm16);
+    EXPECT_EQ(auto_storage(1.5f, 0, 0.0f), Storage::Unorm16);
+    // Outliers beyond sc: half floats, whatever sc.
+    EXPECT_EQ(auto_storage(1.0f, 1, 0.3f), Storage::Float16);
+    // Steep gaps between flat planks (sc 32, median far below sc / 8): half floats.
+    EXPECT_EQ(auto_storage(32.0f, 0, 0.05f), Storage::Float16);
+    EXPECT_EQ(auto_storage(32.0f, 0, 4.0f), Storage::Float16);
+    EXPECT_LT(float16_slope_error(34.8f), kAutoStorageMaxError);
+    EXPECT_GT(float16_slope_error(35.0f), kAutoStorageMaxError);
+    EXPECT_EQ(auto_storage(64.0f, 0, 0.05f), Storage::Float32);
+    EXPECT_EQ(auto_storage(64.0f, 1, 0.05f), Storage::Float16);  // outliers: half floats
+    // A map steep everywhere (median above sc / 8) keeps UNORM, finer than half floats near sc.
+    EXPECT_EQ(auto_storage(32.0f, 0, 4.5f), Storage::Unorm16);
+    // The median a bake reports: the upper bin edge of max(|Bx|, |By|) of half of the texels.
+    Image slopes(4, 4, 2, 0.0f);
+    for (int i = 0; i < 6; ++i) slopes.pixels[std::size_t(2 * i)] = 20.0f;  // 6 of 16 steep
+    const LeanMap map = build_lean_map(slopes, {});
+    EXPECT_LT(map.median_steepness, 1e-4f);
+    EXPECT_EQ(auto_storage(map.scale, map.texels_beyond_scale, map.median_steepness),
+              Storage::Float16);
+    for (int i = 6; i < 10; ++i) slopes.pixels[std::size_t(2 * i)] = 20.0f;  // 10 of 16 steep
+    const LeanMap steep = build_lean_map(slopes, {});
+    EXPECT_GE(steep.median_steepness, 20.0f);
+    EXPECT_LE(steep.median_steepness, 20.0f * 1.25f);  // four bins per octave: 16, 20, 24, 28
+    EXPECT_EQ(auto_storage(steep.scale, steep.texels_beyond_scale, steep.median_steepness),
+              Storage::Unorm16);
+    // Both bakes report the same median.
+    const Image height = make_builtin_height("bumps", 64);
+    const float reference = bake_lean_map(height, BakeSource::Height, {}).map.median_steepness;
+    EXPECT_GT(reference, 0.0f);
+    EXPECT_EQ(bake_packed(height, BakeSource::Height, {}, Storage::Unorm16, "t").median_steepness,
+              reference);
+}

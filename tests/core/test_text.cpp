@@ -39,6 +39,8 @@ TEST(NumberText, ShortestTextReadsBackExactly) {
         ASSERT_TRUE(back.has_value()) << v;
         EXPECT_EQ(*back, v);
     }
+}
+
 // Every message the command line prints goes through terminal_text: one line, nothing that a
 // terminal acts on or that changes how the line reads, printable text kept.
 TEST(TerminalText, ControlAndFormatCharactersAreShownAndTextKept) {

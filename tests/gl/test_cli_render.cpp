@@ -393,3 +393,104 @@ TEST(CliRenderGlFaults, ShaderThatDoesNotCompileFromShaderDir) {
 
 }  // namespace
 }  // namespace leanfade::test
+
+namespace leanfade::test {
+namespace {
+
+// Mean linear RGB of the pixels of `image` in columns [x0, x1) brighter than the background.
+glm::vec3 mean_colour(const Image& image, int x0, int x1) {
+    glm::dvec3 sum(0.0);
+    int count = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const glm::vec3 c(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2));
+            if (c.x + c.y + c.z < 0.02f) continue;
+            sum += glm::dvec3(c);
+            ++count;
+        }
+    return count > 0 ? glm::vec3(sum / double(count)) : glm::vec3(0.0f);
+}
+
+}  // namespace
+
+// An OBJ with an MTL library of two materials (several per file, as exporters write them): the
+// left quad red by Kd, the right one green by its map_Kd texture and bumpy by its map_Bump.
+// render draws them with their materials unless --bumps is given.
+TEST(CliRender, ObjMaterialsFromTheMtlAreUsed) {
+    const fs::path dir = scratch_dir("cli_render_obj_mtl");
+    {
+        std::ofstream obj(dir / "two.obj");
+        obj << "mtllib two.mtl\n"
+               "v -2 -1 0\nv 0 -1 0\nv 0 1 0\nv -2 1 0\nv 2 -1 0\nv 2 1 0\n"
+               "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+               "usemtl Red\nf 1/1 2/2 3/3 4/4\n"
+               "usemtl Textured Wood\nf 2/1 5/2 6/3 3/4\n";
+        std::ofstream mtl(dir / "two.mtl");
+        mtl << "# two materials\nnewmtl Red\nKd 0.8 0.05 0.05\nKs 0.2 0.2 0.2\nNs 200\n\n"
+               "newmtl Textured Wood\nKd 1 1 1\nNs 96\nmap_Kd textures\\green.png\n"
+               "map_Bump -bm 2 textures/height.png\n";
+    }
+    fs::create_directories(dir / "textures");
+    Image green(8, 8, 3, 0.0f);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) green.at(x, y, 1) = 0.8f;
+    io::write_png((dir / "textures" / "green.png").string(), green, 8);
+    Image height(32, 32, 1);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x)
+            height.at(x, y) = 0.5f + 0.4f * std::sin(0.6f * float(x)) * std::cos(0.45f * float(y));
+    io::write_png((dir / "textures" / "height.png").string(), height, 16);
+
+    const std::string view =
+        "--scene two.obj --techniques lean --distances 2.5 --size 64x32 --view-dir 0,0,1 ";
+    const RunResult r = run_render(view + "--cells mtl --cell-format pfm -o mtl.png", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Image image = io::read_image((dir / "mtl" / "lean_d2.5.pfm").string());
+    const glm::vec3 left = mean_colour(image, 0, image.width / 2 - 2);
+    const glm::vec3 right = mean_colour(image, image.width / 2 + 2, image.width);
+    EXPECT_GT(left.x, 0.05f);
+    EXPECT_GT(left.x, 3.0f * left.y) << "Kd of 'Red'";
+    EXPECT_GT(right.y, 0.05f);
+    EXPECT_GT(right.y, 3.0f * right.x) << "map_Kd of 'Textured Wood'";
+    // --bumps flat replaces every MTL map and material: the default colours, no bumps.
+    const RunResult flat = run_render(view + "--bumps flat --cells flat --cell-format pfm -o "
+                                             "flat.png",
+                                      dir);
+    ASSERT_EQ(flat.exit_code, 0) << flat.err;
+    const Image plain = io::read_image((dir / "flat" / "lean_d2.5.pfm").string());
+    const glm::vec3 plain_left = mean_colour(plain, 0, plain.width / 2 - 2);
+    EXPECT_LT(plain_left.x, 3.0f * plain_left.y) << "the default Kd with --bumps, not 'Red'";
+    // The bumps of 'Textured Wood' spread its highlight: the right half's pixels vary.
+    double spread = 0.0, plain_spread = 0.0;
+    for (int y = 4; y < image.height - 4; ++y)
+        for (int x = image.width / 2 + 4; x < image.width - 4; ++x) {
+            spread += std::abs(image.at(x, y, 1) - image.at(x - 1, y, 1));
+            plain_spread += std::abs(plain.at(x, y, 1) - plain.at(x - 1, y, 1));
+        }
+    EXPECT_GT(spread, 2.0 * plain_spread) << "the map_Bump of 'Textured Wood'";
+
+    // Bad or missing MTL files and textures: one line naming the file, exit 1.
+    const auto expect_error = [&](const std::string& obj_text, const std::string& mtl_text,
+                                  const std::string& expected) {
+        std::ofstream(dir / "bad.obj") << obj_text;
+        if (!mtl_text.empty()) std::ofstream(dir / "bad.mtl") << mtl_text;
+        const RunResult e = run_render("--scene bad.obj --techniques lean --distances 2.5 "
+                                       "--size 16x16 -o bad.png",
+                                       dir);
+        EXPECT_EQ(e.exit_code, 1) << expected;
+        EXPECT_NE(e.err.find(expected), std::string::npos) << e.err;
+        EXPECT_EQ(lines(e.err), 1u) << e.err;
+    };
+    const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n";
+    expect_error("mtllib missing.mtl\nusemtl A\n" + quad, "", "missing.mtl");
+    expect_error("mtllib ../outside.mtl\nusemtl A\n" + quad, "",
+                 "mtllib '../outside.mtl' leaves the OBJ's folder");
+    expect_error("mtllib bad.mtl\nusemtl A\n" + quad, "newmtl A\nKd 1 zero 1\n",
+                 "bad.mtl: line 2: 'zero' is not a number");
+    expect_error("mtllib bad.mtl\nusemtl A\n" + quad, "newmtl A\nmap_Kd /etc/passwd\n",
+                 "map_Kd '/etc/passwd' is an absolute path");
+    expect_error("mtllib bad.mtl\nusemtl A\n" + quad, "newmtl A\nmap_Bump nothere.png\n",
+                 "nothere.png");
+}
+
+}  // namespace leanfade::test

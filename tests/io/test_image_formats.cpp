@@ -326,6 +326,68 @@ TEST(Dds, Dxt5nmWithXInAlphaReconstructsZ) {
     }
 }
 
+// Normal maps written by NVIDIA Texture Tools (`nvcompress -normal`, tests/io/data/README.md) carry
+// DDPF_NORMAL in every format. Each must decode to the normals of the PNG they were made from,
+// within the error of its compression:
+// - BC1 (`-bc1`: x, y, z in RGB 565; `-bc1n`: x, y in RG, blue constant): two 5/6-bit endpoints
+//   and four colours on one line per 4x4 block. On this smooth map NVTT's encoder is off by at
+//   most 0.15 (38 codes, where a block's normals do not lie on a line) and 0.016 on average:
+//   bounds 0.2 and 0.025.
+// - BC3n (x in alpha: 8-bit endpoints, 8 levels; y in green: 6 bits, 4 levels): at most 0.02
+//   (5 codes), bound 0.03; mean bound 0.01.
+// - BC5 (two BC4 channels: 8-bit endpoints, 8 levels each): at most 0.012, bound 0.02; mean 0.006.
+// - uncompressed RGBA8 (NVTT renormalises before rounding): one code, bound 1.5 / 255.
+// A two-channel format's z is rebuilt from x and y (within the same bounds of the PNG's z). A
+// decoder that reads the 4 channels with a 3-channel stride is off by about 0.3 on average.
+TEST(Dds, NvttNormalMapsDecodeAsTheirPngWhateverTheirFlags) {
+    const std::string data = std::string(LEANFADE_SOURCE_DIR) + "/tests/io/data/";
+    const Image png = read_image(data + "normal32.png");
+    ASSERT_EQ(png.channels, 3);
+    struct Case {
+        const char* file;
+        bool flagged;
+        float max_error, mean_error;
+    };
+    for (const Case& c : {Case{"nvtt-bc1.dds", true, 0.2f, 0.025f},
+                          Case{"nvtt-bc1n.dds", true, 0.2f, 0.025f},
+                          Case{"nvtt-bc3n.dds", true, 0.03f, 0.01f},
+                          Case{"nvtt-bc5.dds", true, 0.02f, 0.006f},
+                          Case{"nvtt-rgb.dds", false, 1.5f / 255.0f, 1.5f / 255.0f},
+                          Case{"nvtt-rgb-flagged.dds", true, 1.5f / 255.0f, 1.5f / 255.0f}}) {
+        SCOPED_TRACE(c.file);
+        const std::string path = data + c.file;
+        const std::vector<std::uint8_t> bytes = read_bytes(path);
+        ASSERT_GE(bytes.size(), 128u);
+        const std::uint32_t flags = std::uint32_t(bytes[80]) | (std::uint32_t(bytes[81]) << 8) |
+                                    (std::uint32_t(bytes[82]) << 16) |
+                                    (std::uint32_t(bytes[83]) << 24);
+        EXPECT_EQ((flags & test::kDdsNormalFlag) != 0, c.flagged);  // the data is what it says
+        ReadOptions opaque;
+        opaque.drop_alpha = true;  // as the bake reads
+        for (const Image& read :
+             {read_image(path), compact_as_float(read_image_compact(path, opaque))}) {
+            ASSERT_EQ(read.width, png.width);
+            ASSERT_EQ(read.height, png.height);
+            ASSERT_GE(read.channels, 3);
+            double sum = 0.0;
+            float largest = 0.0f;
+            for (int y = 0; y < png.height; ++y) {
+                for (int x = 0; x < png.width; ++x) {
+                    for (int channel = 0; channel < 3; ++channel) {
+                        const float error =
+                            std::abs(read.at(x, y, channel) - png.at(x, y, channel));
+                        largest = std::max(largest, error);
+                        sum += double(error);
+                    }
+                }
+            }
+            EXPECT_LE(largest, c.max_error);
+            EXPECT_LE(sum / double(3 * png.texel_count()), double(c.mean_error));
+        }
+        EXPECT_EQ(read_bytes(path), bytes);  // the file is never changed
+    }
+}
+
 TEST(Dds, Bc1Bc3AndBc4AreColourAndGreyImages) {
     const std::string folder = scratch_folder();
     std::vector<std::uint8_t> bc1;

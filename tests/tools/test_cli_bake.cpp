@@ -25,6 +25,7 @@ using namespace leanfade;
 using test::run_leanfade;
 using test::shell_quote;
 using ::testing::HasSubstr;
+using ::testing::Not;
 namespace fs = std::filesystem;
 
 namespace {
@@ -257,7 +258,9 @@ INSTANTIATE_TEST_SUITE_P(
                 },
                 "100000", "huge.png"},
         BadCase{"normal_below_horizon",
-                [](const fs::path& d) { return "bake " + q(write_normal_png(d, "n.png", 0.2f)); },
+                [](const fs::path& d) {
+                    return "bake --strict-normals " + q(write_normal_png(d, "n.png", 0.2f));
+                },
                 "z <= 0", "n.png"},
         BadCase{"normal_from_one_channel",
                 [](const fs::path& d) {
@@ -691,4 +694,142 @@ TEST(CliBakeConvention, WarnsWhenANormalMapFitsTheOtherConventionBetter) {
         ASSERT_EQ(r.exit_code, 0) << r.err;
         EXPECT_EQ(r.err, "") << flag;
     }
+}
+
+namespace {
+
+// A bumpy 8-bit normal map (write_bumpy_normal_png) with the imperfections of real assets: the
+// (0, 0, 0) padding a baker leaves outside the UV islands (the right quarter and the bottom
+// rows), and `below` texels authored slightly below the surface (z = -0.1).
+fs::path write_padded_normal_png(const fs::path& dir, const std::string& name, int size,
+                                 int below, std::uint64_t& padding) {
+    const Image source = io::read_image(write_bumpy_normal_png(dir, name + "_bumpy", size, 0)
+                                            .string());
+    Image normals = source;
+    padding = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            if (x >= size * 3 / 4 || y >= size - 5) {
+                for (int c = 0; c < 3; ++c) normals.at(x, y, c) = 0.0f;
+                ++padding;
+            }
+    for (int i = 0; i < below; ++i) normals.at(3 + 5 * i, 7 + 3 * i, 2) = 115.0f / 255.0f;
+    const fs::path p = dir / (name + ".png");
+    io::write_png(p.string(), normals, 8);
+    return p;
+}
+
+}  // namespace
+
+TEST(CliBakeImperfectNormals, PaddingAndNegativeZAreRepairedReportedAndStoredUnlessStrict) {
+    const fs::path dir = test::scratch_dir("bake_imperfect_normals");
+    std::uint64_t padding = 0;
+    const fs::path input = write_padded_normal_png(dir, "padded", 64, 5, padding);
+    ASSERT_GT(padding, 0u);
+    const fs::path json = dir / "padded.json";
+    const auto r = run_leanfade("bake " + q(input) + " -o " + q(dir / "padded.ktx2") +
+                                    " --json " + q(json),
+                                dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string note = input.string() + ": " + std::to_string(padding) +
+                             " (0, 0, 0) padding texels taken as flat, 5 texels with z <= 0 "
+                             "raised (--strict-normals refuses them)";
+    EXPECT_THAT(r.out, HasSubstr(note));
+    const nlohmann::json summary = nlohmann::json::parse(test::read_text(json))[0];
+    EXPECT_EQ(summary["padding_texels"].get<std::uint64_t>(), padding);
+    EXPECT_EQ(summary["raised_normals"].get<std::uint64_t>(), 5u);
+    // Stored in the file and shown by info.
+    const auto info = run_leanfade("info " + q(dir / "padded.ktx2"), dir);
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_THAT(info.out, HasSubstr("LEANFADEpaddingTexels = " + std::to_string(padding)));
+    EXPECT_THAT(info.out, HasSubstr("LEANFADEraisedTexels = 5"));
+    const PackedLeanMap map = io::read_ktx2((dir / "padded.ktx2").string());
+    EXPECT_EQ(map.normal_repairs.padding_texels, padding);
+    EXPECT_EQ(map.normal_repairs.raised_texels, 5u);
+    // A clean map has neither the keys nor the note.
+    const auto clean = run_leanfade("bake " + q(dir / "padded_bumpy.png") + " -o " +
+                                        q(dir / "clean.ktx2"),
+                                    dir);
+    ASSERT_EQ(clean.exit_code, 0) << clean.err;
+    EXPECT_THAT(clean.out, Not(HasSubstr("padding")));
+    const auto clean_info = run_leanfade("info " + q(dir / "clean.ktx2"), dir);
+    EXPECT_THAT(clean_info.out, Not(HasSubstr("LEANFADEpaddingTexels")));
+
+    // --strict-normals refuses the first such texel (rows top first: padding at x = 48), on one
+    // line in the command line's words, and writes nothing.
+    const auto strict = run_leanfade("bake --strict-normals " + q(input) + " -o " +
+                                         q(dir / "strict.ktx2"),
+                                     dir);
+    EXPECT_EQ(strict.exit_code, 1);
+    EXPECT_THAT(strict.err, HasSubstr("padded.png: normal with z <= 0 at texel (48, 0)"));
+    EXPECT_THAT(strict.err, HasSubstr("refused by --strict-normals"));
+    EXPECT_THAT(strict.err, HasSubstr("use --from height"));
+    EXPECT_THAT(strict.err, Not(HasSubstr("'from'")));
+    EXPECT_EQ(std::count(strict.err.begin(), strict.err.end(), '\n'), 1) << strict.err;
+    EXPECT_FALSE(fs::exists(dir / "strict.ktx2"));
+
+    // render --bumps bakes it on the fly with the same policy and the same note.
+    const auto rendered = run_leanfade("render --scene plane --techniques lean --distances 2 "
+                                       "--size 32x32 --bumps " + q(input) + " -o " +
+                                           q(dir / "render.png"),
+                                       dir);
+    ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+    EXPECT_THAT(rendered.err, HasSubstr(note));
+    const auto render_strict = run_leanfade("render --scene plane --techniques lean --distances 2 "
+                                            "--size 32x32 --strict-normals --bumps " +
+                                                q(input) + " -o " + q(dir / "strict.png"),
+                                            dir);
+    EXPECT_EQ(render_strict.exit_code, 1);
+    EXPECT_THAT(render_strict.err, HasSubstr("refused by --strict-normals"));
+}
+
+// A floor of planks (flat but for a faint grain, slopes about 0.01) with 1-texel gaps between
+// them whose walls are steep (slope 32 at strength 128): 4 % of the texels, no outliers (they are
+// not 0.1 %), so sc = 32. 16-bit UNORM then rounds M to sc^2 / 65535 = 0.016, more than the
+// base variance 1/s of every shininess above 64: the highlight of the planks is lost. --bits
+// auto predicts it (auto_storage) and bakes half floats.
+TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfPlanksWithSteepGaps) {
+    const fs::path dir = test::scratch_dir("bake_precision_planks");
+    const int size = 256, width = 64, length = 256;
+    Image height(size, size, 1);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const int column = x / width;
+            const int along = (y + (length / 2) * (column % 2)) % size;  // staggered planks
+            const bool gap = x % width == 0 || along % length == 0;
+            const double u = double(3 * x + along) / size, v = double(along) / size;
+            height.at(x, y) = gap ? 0.0f
+                                  : float(0.5 + 1e-4 * std::sin(2 * M_PI * 5 * u) +
+                                          0.6e-4 * std::sin(2 * M_PI * 17 * v + column));
+        }
+    const fs::path input = dir / "planks.png";
+    io::write_png(input.string(), height, 16);
+    const fs::path json = dir / "default.json";
+    auto bake = [&](const std::string& args, const std::string& name) {
+        const auto r = run_leanfade("bake " + q(input) + " --strength 128 " + args + " -o " +
+                                        q(dir / (name + ".ktx2")),
+                                    dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return r.out;
+    };
+    const std::string default_out = bake("--json " + q(json), "default");
+    EXPECT_THAT(default_out, HasSubstr("storage 16f")) << default_out;
+    const nlohmann::json summary = nlohmann::json::parse(test::read_text(json))[0];
+    EXPECT_EQ(summary["texels_beyond_sc"].get<std::uint64_t>(), 0u);  // not the outlier rule
+    EXPECT_GT(summary["scale"].get<double>(), 30.0);
+    bake("--bits 32f", "float");
+    bake("--bits 16", "unorm");
+    const std::vector<Image> truth = lean_cells(dir, dir / "float.ktx2", "float");
+    const double kept = psnr(lean_cells(dir, dir / "default.ktx2", "default"), truth);
+    const double unorm = psnr(lean_cells(dir, dir / "unorm.ktx2", "unorm"), truth);
+    EXPECT_GE(kept, 50.0) << "default storage against 32f";
+    EXPECT_LT(unorm, 40.0) << "16-bit UNORM against 32f";  // the failure the rule avoids
+    RecordProperty("psnr_default_db", std::to_string(kept));
+    RecordProperty("psnr_unorm16_db", std::to_string(unorm));
+    std::printf("planks, PSNR against 32f: default (16f) %.1f dB, --bits 16 %.1f dB\n", kept,
+                unorm);
+    // render's on-the-fly bake follows the same rule.
+    const double on_the_fly =
+        psnr(lean_cells(dir, input, "on_the_fly", "--strength 128"), truth);
+    EXPECT_GE(on_the_fly, 50.0) << "render --bumps planks.png against the 32f bake";
 }

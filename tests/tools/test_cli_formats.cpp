@@ -165,11 +165,14 @@ TEST(CliFormats, GreyColourImagesBakeAsHeightMapsUnderAuto) {
         EXPECT_THAT(test::read_text(json), HasSubstr("\"source\": \"height\""));
         EXPECT_TRUE(baked.map == reference.map) << "differs from the grey PNG's map";
     }
-    // --from normal still takes it as a normal map, and the refusal says what may be meant.
-    const Baked forced = bake(dir / "grey_rgb.png", dir, "--from normal", ".forced.ktx2");
+    // --from normal still takes it as a normal map, and the refusal of --strict-normals says, in
+    // the command line's words, what may be meant.
+    const Baked forced =
+        bake(dir / "grey_rgb.png", dir, "--from normal --strict-normals", ".forced.ktx2");
     EXPECT_EQ(forced.run.exit_code, 1);
     EXPECT_THAT(forced.run.err, HasSubstr("grey_rgb.png: normal with z <= 0"));
-    EXPECT_THAT(forced.run.err, HasSubstr("(a height map? set 'from' to 'height')"));
+    EXPECT_THAT(forced.run.err, HasSubstr("refused by --strict-normals"));
+    EXPECT_THAT(forced.run.err, HasSubstr("a height map stored as colour? use --from height)"));
     EXPECT_EQ(std::count(forced.run.err.begin(), forced.run.err.end(), '\n'), 1);
     EXPECT_TRUE(forced.map.empty());
 }

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -31,8 +32,10 @@ std::string file_name_part(const std::string& name) {
     return out.empty() ? "material" : out;
 }
 
-scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int threads) {
+scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int threads,
+                                      bool strict_normals) {
     scene::GltfBakeSettings settings;
+    settings.strict_normals = strict_normals;
     // "auto" (bake's choice per map) is 16-bit UNORM here: normal textures have bounded slopes.
     settings.storage = parse_bake_storage(bits, "--bits");
     if (max_size > 0) settings.max_image_size = max_size;
@@ -53,7 +56,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
         throw Error(args.refused_flags.front(),
                     "does not apply to a glTF scene (its normal textures are OpenGL-convention "
                     "normal maps baked to KTX2)");
-    const scene::GltfBakeSettings settings = bake_settings(args.bits, args.max_size, args.threads);
+    const scene::GltfBakeSettings settings =
+        bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
     // A missing --out-dir is created, and removed again if the run writes nothing into it.
     const io::CreatedFolders out_folder(args.out_dir);
     const scene::GltfScene gltf = scene::load_gltf(args.input);
@@ -128,6 +132,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
                           map.levels[0].width, map.levels[0].height, map.levels.size(),
                           double(map.scale), cached ? "from the cache" : "baked", seconds);
             report += line;
+            if (map.normal_repairs.any())
+                report += "  " + terminal_text(normal_repairs_note(image, map.normal_repairs)) + "\n";
             summaries.push_back({{"input", args.input},
                                  {"material", j.material},
                                  {"image", image},
@@ -138,6 +144,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
                                  {"levels", map.levels.size()},
                                  {"scale", map.scale},
                                  {"from_cache", cached},
+                                 {"padding_texels", map.normal_repairs.padding_texels},
+                                 {"raised_normals", map.normal_repairs.raised_texels},
                                  {"seconds", seconds}});
         }
         if (!args.json.empty()) {
@@ -156,13 +164,16 @@ int run_bake_gltf(const GltfBakeArgs& args) {
 }
 
 scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
-                                    int max_size) {
+                                    int max_size, bool strict_normals) {
     const scene::GltfScene gltf = scene::load_gltf(path);
     print_warnings(path, gltf.warnings);
     scene::GltfBakeReport report;
     scene::Scene result =
-        scene::make_render_scene(gltf, bake_settings(storage_bits, max_size, 0), &report);
+        scene::make_render_scene(gltf, bake_settings(storage_bits, max_size, 0, strict_normals),
+                                 &report);
     print_warnings(path, report.warnings);
+    for (const auto& [image, repairs] : report.repaired)
+        print_warnings(path, {normal_repairs_note(image, repairs)});
     return result;
 }
 

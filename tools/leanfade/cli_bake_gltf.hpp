@@ -17,6 +17,7 @@ struct GltfBakeArgs {
     int max_size = 0;  // largest image side; 0: the default limit
     std::string json;  // also write the summaries as JSON
     bool fsync = false;
+    bool strict_normals = false;  // --strict-normals
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;
 };
@@ -29,9 +30,9 @@ int run_bake_gltf(const GltfBakeArgs& args);
 
 // The scene of a glTF file for the rendering commands (scene::make_render_scene), baking through
 // the LEAN-map cache in `storage_bits` (8, 16, 16f, 32f) with images limited to `max_size` texels
-// per side. Prints the loader's warnings and cache problems as "leanfade: PATH: ..." lines on
-// stderr. Throws leanfade::Error naming the file.
+// per side. Prints the loader's warnings, cache problems and the normal textures' repaired
+// texels as "leanfade: PATH: ..." lines on stderr. Throws leanfade::Error naming the file.
 scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
-                                    int max_size);
+                                    int max_size, bool strict_normals = false);
 
 }  // namespace leanfade::cli

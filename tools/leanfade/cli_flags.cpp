@@ -16,7 +16,7 @@ constexpr std::string_view kOtherSettings[] = {
     "techniques", "distances", "spp", "frames", "motion", "size", "timing", "warmup", "scenes",
     "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from",
     "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
-    "layer-weight-map",
+    "layer-weight-map", "strict_normals",
 };
 
 // Flags whose names are shorter than their settings'.
@@ -40,9 +40,60 @@ std::string flag_for_setting(std::string_view name) {
     return flag;
 }
 
+namespace {
+
+// `text` with "set 'NAME' to 'VALUE'" turned into "use --flag VALUE" and any other quoted
+// 'NAME' of a setting into its flag.
+std::string quoted_settings_as_flags(const std::string& text) {
+    std::string out;
+    std::size_t i = 0;
+    while (i < text.size()) {
+        const std::size_t open = text.find('\'', i);
+        const std::size_t close = open == std::string::npos ? open : text.find('\'', open + 1);
+        if (close == std::string::npos) break;
+        const std::string flag = flag_for_setting(text.substr(open + 1, close - open - 1));
+        if (flag.empty()) {
+            out.append(text, i, close - i);  // the closing quote may open the next name
+            i = close;
+            continue;
+        }
+        std::size_t start = open, end = close + 1;
+        std::string replacement = flag;
+        constexpr std::string_view kSet = "set ", kTo = " to '";
+        if (start >= kSet.size() && text.compare(start - kSet.size(), kSet.size(), kSet) == 0 &&
+            text.compare(end, kTo.size(), kTo) == 0) {
+            const std::size_t value_end = text.find('\'', end + kTo.size());
+            if (value_end != std::string::npos) {
+                start -= kSet.size();
+                replacement = "use " + flag + " " +
+                              text.substr(end + kTo.size(), value_end - end - kTo.size());
+                end = value_end + 1;
+            }
+        }
+        out.append(text, i, start - i);
+        out += replacement;
+        i = end;
+    }
+    out.append(text, i, std::string::npos);
+    return out;
+}
+
+}  // namespace
+
 Error with_flag_name(const Error& error) {
     const std::string flag = flag_for_setting(error.file());
-    return flag.empty() ? error : Error(flag, error.cause());
+    const std::string cause = quoted_settings_as_flags(error.cause());
+    return Error(flag.empty() ? error.file() : flag, cause);
+}
+
+std::string normal_repairs_note(const std::string& name, const NormalRepairs& repairs) {
+    std::string note = name + ": ";
+    if (repairs.padding_texels > 0)
+        note += std::to_string(repairs.padding_texels) + " (0, 0, 0) padding texels taken as flat";
+    if (repairs.padding_texels > 0 && repairs.raised_texels > 0) note += ", ";
+    if (repairs.raised_texels > 0)
+        note += std::to_string(repairs.raised_texels) + " texels with z <= 0 raised";
+    return note + " (--strict-normals refuses them)";
 }
 
 }  // namespace leanfade::cli

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/lean_map.hpp"
 
 namespace leanfade::cli {
 
@@ -13,7 +14,13 @@ namespace leanfade::cli {
 // "--light-dir"); "" when `name` is no setting (a file name, "GL", ...).
 std::string flag_for_setting(std::string_view name);
 
-// `error` with its subject replaced by the flag when it names a setting.
+// `error` with its subject replaced by the flag when it names a setting, and the settings its
+// cause quotes ("set 'from' to 'height'", "'strict_normals'") by their flags ("use --from height",
+// "--strict-normals").
 Error with_flag_name(const Error& error);
+
+// The one line that reports what a bake repaired in a normal map (NormalRepairs):
+// "NAME: 12 (0, 0, 0) padding texels taken as flat, 5 texels with z <= 0 raised".
+std::string normal_repairs_note(const std::string& name, const NormalRepairs& repairs);
 
 }  // namespace leanfade::cli

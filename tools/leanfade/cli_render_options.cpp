@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -110,8 +111,11 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
     for (const std::string& n : builtin_bump_names()) names += (names.empty() ? "" : ", ") + n;
     app.add_option("--bumps", f.bumps,
                    "Built-in bump set (" + names +
-                       "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake`")
+                       "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake` "
+                       "(an OBJ scene with MTL materials uses their bump maps unless --bumps "
+                       "is given)")
         ->capture_default_str()
+        ->each([&f](const std::string&) { f.bumps_given = true; })
         ->group(group);
     app.add_option("--from", f.from,
                    "Image inputs: " + name_list(bake_source_names()) +
@@ -120,9 +124,13 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
         ->group(group);
+    app.add_flag("--strict-normals", f.strict_normals,
+                 "Normal maps: refuse texels with z <= 0 instead of taking (0, 0, 0) padding as "
+                 "flat and raising the others (counted and reported)")
+        ->group(group);
     app.add_option("--bits", f.bits,
                    "Storage of on-the-fly bakes: " + name_list(bake_storage_names()) +
-                       " (auto: 16, or 16f for a map with outliers beyond sc, as bake)")
+                       " (auto: 16, or 16f/32f by the predicted error, as bake)")
         ->capture_default_str()
         ->group(group);
     app.add_option("--strength-unit", f.strength_unit,
@@ -173,6 +181,7 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
     options.strength = settings.bump_strength;
     options.strength_unit = f.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
     options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.strict_normals = f.strict_normals;
     return options;
 }
 
@@ -189,11 +198,13 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
 
     const BakeOptions options = on_the_fly_bake_options(f, settings);
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
-    // --bits auto bakes a map with outliers beyond sc again as 16f, as `leanfade bake` does.
+    // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
         PackedBakeResult result = bake_packed(input, kind, options, storage, generator, f.bumps);
-        if (f.bits == "auto" && result.texels_beyond_scale > 0)
-            result = bake_packed(input, kind, options, Storage::Float16, generator, f.bumps);
+        const Storage chosen =
+            auto_storage(result.packed.scale, result.texels_beyond_scale, result.median_steepness);
+        if (f.bits == "auto" && chosen != storage)
+            result = bake_packed(input, kind, options, chosen, generator, f.bumps);
         return result;
     };
     const auto& builtins = builtin_bump_names();
@@ -206,6 +217,9 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)
         throw Error(f.bumps, "is a normal map: --strength applies to height maps only");
+    if (baked.packed.normal_repairs.any())
+        std::fprintf(stderr, "leanfade: %s\n",
+                     normal_repairs_note(f.bumps, baked.packed.normal_repairs).c_str());
     return std::move(baked.packed);
 }
 

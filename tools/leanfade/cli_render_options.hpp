@@ -35,8 +35,10 @@ ShadingSettings resolve_shading(const ShadingFlags& flags);
 
 struct LeanSourceFlags {
     std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
+    bool bumps_given = false;     // --bumps on the command line (an OBJ's MTL bumps otherwise)
     std::string from = "auto";    // images: auto | height | normal (auto: by channel count)
     bool directx = false;         // normal maps in the DirectX convention
+    bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)
     std::string bits = "auto";    // on-the-fly bakes: auto | 8 | 16 | 16f | 32f (auto: as bake)
     std::string strength_unit = "texel";  // height maps: texel | uv (as bake's --strength-unit)
     std::uint32_t seed = 1;       // built-in sets
@@ -48,7 +50,7 @@ struct LeanSourceFlags {
     std::string roughness_map;
 };
 
-// --bumps --from --directx --bits --strength-unit --seed --texture-size --max-size, in the
+// --bumps --from --directx --strict-normals --bits --strength-unit --seed --texture-size --max-size, in the
 // "Bumps" group, and --roughness-map.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
 // The size of a built-in bump set (--texture-size, or a preset's bumps.texture_size): 4 to
@@ -61,8 +63,8 @@ bool is_builtin_bumps(const std::string& source);
 // The storage of on-the-fly bakes: --bits, with auto first baked as 16-bit UNORM (a map with
 // outliers beyond sc is baked again as 16f by load_lean_map, as `leanfade bake` does).
 Storage on_the_fly_storage(const LeanSourceFlags& flags);
-// BakeOptions of on-the-fly bakes: strength (settings.bump_strength) in --strength-unit and the
-// normal-map convention.
+// BakeOptions of on-the-fly bakes: strength (settings.bump_strength) in --strength-unit, the
+// normal-map convention and --strict-normals.
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& flags, const ShadingSettings& settings);
 // Reads a .ktx2 LEAN map (recognised by its extension), or bakes one from a built-in set or an
 // image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.

@@ -2,12 +2,16 @@
 #include "cli_render_scene.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "cli_bake_gltf.hpp"
 #include "cli_bake_roughness.hpp"
+#include "cli_flags.hpp"
 #include "cli_preset.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -17,6 +21,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/obj_loader.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::cli {
@@ -88,8 +93,13 @@ LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
         return bake_lean_map(make_builtin_height(source, f.texture_size, f.seed),
                              BakeSource::Height, options)
             .map;
-    return bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
-        .map;
+    LeanMap map =
+        bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
+            .map;
+    if (map.normal_repairs.any())
+        std::fprintf(stderr, "leanfade: %s\n",
+                     normal_repairs_note(source, map.normal_repairs).c_str());
+    return map;
 }
 
 Image top_slopes(const LeanMap& map) {
@@ -163,6 +173,12 @@ void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
         material.map(scene::MapKind::BaseRoughness) = slot;
 }
 
+bool is_obj_path(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return extension == ".obj";
+}
+
 void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
                           const ShadingSettings& settings) {
     const LayerFlags& f = flags.layers;
@@ -189,11 +205,12 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
                         "each tiling must be in (0, 1e+06], as --tiling, got " + number_text(t));
     check_texture_size(flags.bumps.texture_size, flags.bumps.max_size,
                        std::any_of(sources.begin(), sources.end(), is_builtin_bumps));
-    // --bits auto: 16-bit UNORM, or 16f for a map with outliers beyond sc (as `leanfade bake`).
+    // --bits auto: 16-bit UNORM, or 16f or 32f by auto_storage's rule (as `leanfade bake`).
     const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
-        return flags.bumps.bits == "auto" && m.texels_beyond_scale > 0 ? Storage::Float16
-                                                                       : unorm_or_given;
+        return flags.bumps.bits == "auto"
+                   ? auto_storage(m.scale, m.texels_beyond_scale, m.median_steepness)
+                   : unorm_or_given;
     };
 
     std::vector<LeanMap> maps;
@@ -290,11 +307,34 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
     // A glTF scene brings its own objects, materials and maps (cli_bake_gltf.hpp).
     if (scene::is_gltf_path(flags.scene))
-        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size);
+        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size,
+                                      flags.bumps.strict_normals);
+    // An OBJ with MTL materials brings its own maps unless --bumps (or --layers) replaces them.
+    std::optional<scene::ObjModel> model;
+    if (is_obj_path(flags.scene)) model = scene::load_obj_model(flags.scene);
+    if (model && !model->libraries.empty() && !flags.bumps.bumps_given &&
+        flags.layers.layers.empty()) {
+        scene::ObjBakeSettings bake;
+        bake.auto_storage = flags.bumps.bits == "auto";
+        bake.storage = on_the_fly_storage(flags.bumps);
+        bake.max_image_size = flags.bumps.max_size;
+        bake.strict_normals = flags.bumps.strict_normals;
+        scene::ObjSceneReport report;
+        scene::Scene result = scene::make_obj_render_scene(*model, bake, &report);
+        for (const std::string& warning : report.warnings)
+            std::fprintf(stderr, "leanfade: %s: %s\n", flags.scene.c_str(), warning.c_str());
+        for (const auto& [file, repairs] : report.repaired)
+            std::fprintf(stderr, "leanfade: %s\n", normal_repairs_note(file, repairs).c_str());
+        add_roughness_map(result, flags);
+        scene::validate(result);
+        return result;
+    }
     scene::Scene result;
     scene::Object object;
-    // An unknown name: the library's message lists every scene of kBuiltinScenes and the files.
-    object.mesh = scene::make_scene_mesh(flags.scene);
+    // The OBJ's one part is load_obj's mesh (the same vertices, in the same order); an unknown
+    // name: the library's message lists every scene of kBuiltinScenes and the files.
+    object.mesh = model && model->parts.size() == 1 ? std::move(model->parts.front())
+                                                    : scene::make_scene_mesh(flags.scene);
     object.material = 0;
     result.objects.push_back(std::move(object));
     if (flags.layers.layers.empty()) {

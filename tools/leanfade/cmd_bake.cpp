@@ -16,6 +16,7 @@
 #include "cli_bake_cross_terms.hpp"
 #include "cli_bake_roughness.hpp"
 #include "cli_bake_gltf.hpp"
+#include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -44,6 +45,7 @@ struct BakeArgs {
     std::string strength_unit = "texel";
     std::string sc = "auto";
     bool directx = false;
+    bool strict_normals = false;
     std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
     float bake_roughness = 0.0f;
     std::string wrap = "repeat";
@@ -166,6 +168,8 @@ nlohmann::json summary_json(const std::string& input, const std::string& output,
                                         ? nlohmann::json(s.coarsest_anisotropy)
                                         : nlohmann::json("inf")},
             {"clamped_normals", result.clamped_texels},
+            {"padding_texels", result.map.normal_repairs.padding_texels},
+            {"raised_normals", result.map.normal_repairs.raised_texels},
             {"texels_beyond_sc", result.map.texels_beyond_scale},
             {"storage", storage},
             {"roughness_baked", result.map.roughness_baked},
@@ -184,6 +188,8 @@ void print_summary(const std::string& input, const std::string& output, const Le
     if (result.clamped_texels > 0)
         std::printf("  %zu normals had z < %.4f and were raised to it\n", result.clamped_texels,
                     kMinNormalZ);
+    if (result.map.normal_repairs.any())
+        std::printf("  %s\n", normal_repairs_note(input, result.map.normal_repairs).c_str());
     const std::uint64_t beyond = result.map.texels_beyond_scale;
     if (beyond > 0) {
         const double percent = 100.0 * double(beyond) / (double(s.width) * double(s.height));
@@ -217,10 +223,11 @@ int run_bake(const BakeArgs& given) {
     if (given.inputs.size() == 1 && given.builtin.empty() &&
         scene::is_gltf_path(given.inputs[0])) {
         GltfBakeArgs gltf{given.inputs[0], given.out_dir, given.bits,  given.threads,
-                          given.max_size,  given.json,    given.fsync, {}};
-        const std::string refused = first_inapplicable(
-            given,
-            {"inputs", "--out-dir", "--bits", "--threads", "--max-size", "--json", "--fsync"});
+                          given.max_size,  given.json,    given.fsync, given.strict_normals,
+                          {}};
+        const std::string refused =
+            first_inapplicable(given, {"inputs", "--out-dir", "--bits", "--threads",
+                                       "--max-size", "--json", "--fsync", "--strict-normals"});
         if (!refused.empty()) gltf.refused_flags.push_back(refused);
         return run_bake_gltf(gltf);
     }
@@ -255,9 +262,11 @@ int run_bake(const BakeArgs& given) {
     options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.bake_roughness_shininess = args.bake_roughness;
     options.threads = args.threads;
+    options.strict_normals = args.strict_normals;
     const BakeSource source = parse_bake_source(args.from);
-    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale) is baked again as
-    // half float, which keeps them (docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
+    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
+    // second moments would round away the base roughness, is baked again as half float
+    // (leanfade::auto_storage; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
     const bool auto_storage = args.bits == "auto";
     const Storage storage = parse_bake_storage(args.bits);
     io::ReadOptions read_options;
@@ -349,8 +358,10 @@ int run_bake(const BakeArgs& given) {
             const std::string staged = outputs.stage(output);
             baked = io::bake_to_ktx2(staged, input, kind, options, storage, generator_string(),
                                      name, write_options);
-            if (auto_storage && baked.texels_beyond_scale > 0)
-                baked = io::bake_to_ktx2(staged, input, kind, options, Storage::Float16,
+            const Storage chosen = leanfade::auto_storage(
+                baked.packed.scale, baked.texels_beyond_scale, baked.median_steepness);
+            if (auto_storage && chosen != storage)
+                baked = io::bake_to_ktx2(staged, input, kind, options, chosen,
                                          generator_string(), name, write_options);
         }
         // Checked before anything is published: the staged outputs are dropped.
@@ -373,6 +384,7 @@ int run_bake(const BakeArgs& given) {
         result.clamped_texels = baked.clamped_texels;
         result.map.roughness_baked = packed.roughness_baked;
         result.map.texels_beyond_scale = baked.texels_beyond_scale;
+        result.map.normal_repairs = packed.normal_repairs;
         const LeanMapSummary& s = baked.summary;
         const Storage stored = packed.storage;
         auto report = [name, output, s, result, stored, seconds] {
@@ -450,10 +462,15 @@ const CommandRegistration registration{
         app.add_flag("--directx", args->directx,
                      "Normal maps use the DirectX convention (green = -v, \"-Y\"; how to tell: "
                      "README, quick start)");
+        app.add_flag("--strict-normals", args->strict_normals,
+                     "Normal maps: refuse texels with z <= 0 instead of taking (0, 0, 0) padding "
+                     "as flat and raising the others (counted and reported)");
         app.add_option("--bits", args->bits,
                        "Storage: " + name_list(bake_storage_names()) +
                            " (8, 16: UNORM; 16f, 32f: float; auto: 16, or 16f for a map with "
-                           "outliers beyond sc, which 16 would clamp; a PNG pair: 16)")
+                           "outliers beyond sc, which 16 would clamp, or 16f/32f where 16's "
+                           "rounding of the moments would hide the base roughness, docs/ktx2.md; "
+                           "a PNG pair: 16)")
             ->check(CLI::IsMember(bake_storage_names()))
             ->capture_default_str();
         app.add_option("--bake-roughness", args->bake_roughness,

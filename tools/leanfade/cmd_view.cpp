@@ -41,7 +41,7 @@ struct ViewArgs {
     int ref_samples = 4;
     float divider = 0.5f;
     std::string size = "1280x800";
-    float scale = 0.0f;  // 0 = automatic (1, or 0.5 on software renderers)
+    float scale = 1.0f;  // internal resolution / window; 0 = automatic (0.5 on software renderers)
     bool fly_away = false;
     std::string timing = "auto";
     int frames = 0;
@@ -212,8 +212,9 @@ const CommandRegistration registration{
         app.add_option("--size", args->size, "Window size, WIDTHxHEIGHT pixels")
             ->capture_default_str();
         app.add_option("--scale", args->scale,
-                       "Internal resolution / window, 0.1..1 (default: 1, or 0.5 on software "
-                       "renderers such as llvmpipe)");
+                       "Internal resolution / window, 0.1..1 (default: 1, full resolution; 0: "
+                       "0.5 on software renderers such as llvmpipe, else 1)")
+            ->capture_default_str();
         app.add_flag("--fly-away", args->fly_away,
                      "Start with the camera flying from near to far and back");
         app.add_option("--timing", args->timing,

@@ -1084,11 +1084,11 @@ Image first_channel(const UnormImage& input) {
     return height;
 }
 
-void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
-          const BakeOptions& options, Storage storage, const std::string& generator,
-          const std::string& source_name, const TargetProvider& provide_targets) {
-    result.source = input.floats != nullptr ? resolve_bake_source(source, *input.floats)
-                                            : resolve_bake_source(source, *input.unorm);
+void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource source,
+                   const BakeOptions& options, Storage storage, const std::string& generator,
+                   const std::string& source_name, const TargetProvider& provide_targets,
+                   const NormalRepairs& repairs) {
+    result.source = source;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
 
@@ -1134,6 +1134,7 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                                         plan.top.inv_s)
             : detail::ScaleChoice{detail::lean_scale(totals.max_b, totals.max_m), 0};
     result.texels_beyond_scale = scale.beyond;
+    result.median_steepness = detail::median_steepness(totals.histogram);
     const float sc = scale.scale;
     plan.scale.sc = sc;
     plan.scale.sc2 = sc * sc;
@@ -1154,6 +1155,7 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     packed.roughness_baked = plan.top.inv_s > 0.0f;
     packed.baked_shininess = packed.roughness_baked ? options.bake_roughness_shininess : 0.0f;
     packed.source_convention = options.convention;
+    packed.normal_repairs = repairs;
     packed.generator = generator;
     packed.levels.assign(plan.levels.size(), PackedLevel{});
     for (std::size_t l = 0; l < plan.levels.size(); ++l) {
@@ -1188,6 +1190,30 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     s.mean_slope = float(totals.sum_slope / (double(width) * double(height)));
     detail::summarize_coarsest(s, {coarsest[kBx][0], coarsest[kBy][0]},
                                {coarsest[kMxx][0], coarsest[kMyy][0], coarsest[kMxy][0]});
+}
+
+// The bake of a normal map's repaired copy where it has texels to repair (NormalRepairs), else of
+// the input as it is.
+void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
+          const BakeOptions& options, Storage storage, const std::string& generator,
+          const std::string& source_name, const TargetProvider& provide_targets) {
+    const BakeSource resolved = input.floats != nullptr
+                                    ? resolve_bake_source(source, *input.floats)
+                                    : resolve_bake_source(source, *input.unorm);
+    NormalRepairs repairs;
+    if (resolved == BakeSource::Normal && !options.strict_normals) {
+        repairs = input.floats != nullptr ? count_normal_repairs(*input.floats)
+                                          : count_normal_repairs(*input.unorm);
+    }
+    if (!repairs.any()) {
+        bake_repaired(result, input, resolved, options, storage, generator, source_name,
+                      provide_targets, repairs);
+        return;
+    }
+    const Image repaired = repair_normal_map(input.floats != nullptr ? *input.floats
+                                                                     : input.unorm->to_float());
+    bake_repaired(result, BakeInput{&repaired, nullptr}, resolved, options, storage, generator,
+                  source_name, provide_targets, repairs);
 }
 
 }  // namespace

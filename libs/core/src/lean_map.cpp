@@ -236,6 +236,7 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
             : detail::ScaleChoice{detail::lean_scale(max_b, max_m), 0};
     map.scale = scale.scale;
     map.texels_beyond_scale = scale.beyond;
+    map.median_steepness = detail::median_steepness(histogram);
 
     int lw = w, lh = h;
     std::vector<Moments> current = std::move(top);
@@ -309,15 +310,38 @@ BakeSource resolve_bake_source(BakeSource requested, const UnormImage& input) {
                                                                : BakeSource::Height;
 }
 
+double unorm16_moment_error(float scale) {
+    return double(scale) * double(scale) / (2.0 * 65535.0) * double(kAutoStorageShininess);
+}
+
+double float16_slope_error(float scale) {
+    return double(scale) / 4096.0 * std::sqrt(double(kAutoStorageShininess));
+}
+
+Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness) {
+    if (texels_beyond_scale > 0) return Storage::Float16;
+    const bool coarse = unorm16_moment_error(scale) >= kAutoStorageMaxError;
+    const bool mostly_flat = double(median_steepness) * kAutoStorageFlatRatio <= double(scale);
+    if (!coarse || !mostly_flat) return Storage::Unorm16;
+    return float16_slope_error(scale) >= kAutoStorageMaxError ? Storage::Float32
+                                                              : Storage::Float16;
+}
+
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
                          const std::string& source_name) {
     BakeResult result;
     result.source = resolve_bake_source(source, input);
-    SlopeResult slopes = result.source == BakeSource::Normal
-                             ? slopes_from_normals(input, options, source_name)
-                             : slopes_from_height(input, options, source_name);
+    NormalRepairs repairs;
+    if (result.source == BakeSource::Normal && !options.strict_normals)
+        repairs = count_normal_repairs(input);
+    SlopeResult slopes =
+        result.source == BakeSource::Normal
+            ? slopes_from_normals(repairs.any() ? repair_normal_map(input) : input, options,
+                                  source_name)
+            : slopes_from_height(input, options, source_name);
     result.clamped_texels = slopes.clamped_texels;
     result.map = build_lean_map(slopes.slopes, options);
+    result.map.normal_repairs = repairs;
     return result;
 }
 
@@ -365,6 +389,7 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
     packed.roughness_baked = map.roughness_baked;
     packed.baked_shininess = map.baked_shininess;
     packed.source_convention = map.source_convention;
+    packed.normal_repairs = map.normal_repairs;
     packed.generator = generator;
     const int bpt = bytes_per_texel(storage);
     const float sc = map.scale, sc2 = map.scale * map.scale;
@@ -425,6 +450,7 @@ LeanMap unpack_lean_map(const PackedLeanMap& packed) {
     map.roughness_baked = packed.roughness_baked;
     map.baked_shininess = packed.baked_shininess;
     map.source_convention = packed.source_convention;
+    map.normal_repairs = packed.normal_repairs;
     for (std::size_t li = 0; li < packed.levels.size(); ++li) {
         const PackedLevel& pl = packed.levels[li];
         MomentLevel level;

@@ -75,14 +75,70 @@ void throw_steep_slope(const std::string& source_name, int x, int y, float slope
 }
 
 void throw_negative_normal_z(const std::string& source_name, int x, int y, float z) {
-    // A height map stored as colour (not grey, or it would have been taken as one) fails here.
+    // Reached only with strict_normals (the bakes repair such texels otherwise). A height map
+    // stored as colour (not grey, or it would have been taken as one) fails here too.
     throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) + " (z = " +
                                  std::to_string(z) +
-                                 "): not a tangent-space normal map (a height map? set 'from' "
-                                 "to 'height')");
+                                 ") refused by 'strict_normals' (without it, (0, 0, 0) padding "
+                                 "is taken as flat and z <= 0 raised; a height map stored as "
+                                 "colour? set 'from' to 'height')");
 }
 
 }  // namespace detail
+
+namespace {
+
+bool is_padding(float r, float g, float b) {
+    return r == 0.0f && g == 0.0f && b == 0.0f;
+}
+
+bool needs_raising(float b) {
+    return 2.0f * b - 1.0f <= -kNormalZRejectEpsilon;  // false for NaN: the bake refuses it
+}
+
+template <class Sample>
+NormalRepairs count_repairs(const std::vector<Sample>& samples, int channels, float max_value) {
+    NormalRepairs repairs;
+    const auto step = std::size_t(channels);
+    for (std::size_t i = 0; i + 2 < samples.size(); i += step) {
+        const float r = float(samples[i]) / max_value, g = float(samples[i + 1]) / max_value,
+                    b = float(samples[i + 2]) / max_value;
+        if (is_padding(r, g, b))
+            ++repairs.padding_texels;
+        else if (needs_raising(b))
+            ++repairs.raised_texels;
+    }
+    return repairs;
+}
+
+}  // namespace
+
+NormalRepairs count_normal_repairs(const Image& normals) {
+    if (normals.channels < 3) return {};
+    return count_repairs(normals.pixels, normals.channels, 1.0f);
+}
+
+NormalRepairs count_normal_repairs(const UnormImage& normals) {
+    if (normals.channels < 3) return {};
+    return count_repairs(normals.samples, normals.channels, float(normals.max_value));
+}
+
+Image repair_normal_map(const Image& normals) {
+    Image repaired = normals;
+    if (repaired.channels < 3) return repaired;
+    const auto step = std::size_t(repaired.channels);
+    for (std::size_t i = 0; i + 2 < repaired.pixels.size(); i += step) {
+        float* t = &repaired.pixels[i];
+        if (is_padding(t[0], t[1], t[2])) {
+            t[0] = 0.5f;
+            t[1] = 0.5f;
+            t[2] = 1.0f;
+        } else if (needs_raising(t[2])) {
+            t[2] = 0.5f;  // z = 0, raised to kMinNormalZ by the bake
+        }
+    }
+    return repaired;
+}
 
 SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                const std::string& source_name) {

@@ -247,6 +247,18 @@ std::string format_float(float value) {
     return std::string(buffer, result.ptr);
 }
 
+// A count of texels written by to_string: decimal digits only.
+std::uint64_t parse_count(const std::string& path, const std::string& key,
+                          const std::string& text) {
+    std::uint64_t value = 0;
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || result.ec != std::errc() || result.ptr != text.data() + text.size()) {
+        throw Error(path, "bad " + key + " value '" + escape_text(text) +
+                              "' (expected a count of texels)");
+    }
+    return value;
+}
+
 float parse_float(const std::string& path, const std::string& key, const std::string& text) {
     float value = 0.0f;
     const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -361,6 +373,12 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
         {kNormalConventionKey, normal_convention_name(layout.source_convention)},
         {kLayoutKey, layout_name},
     };
+    if (layout.normal_repairs.padding_texels > 0)
+        key_values.emplace_back(kPaddingTexelsKey,
+                                std::to_string(layout.normal_repairs.padding_texels));
+    if (layout.normal_repairs.raised_texels > 0)
+        key_values.emplace_back(kRaisedTexelsKey,
+                                std::to_string(layout.normal_repairs.raised_texels));
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
     for (const auto& [key, value] : key_values) append_key_value(key_value_bytes, key, value);
@@ -808,6 +826,12 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     } else {
         throw Error(path, "bad " + std::string(kNormalConventionKey) + " value '" +
                               escape_text(convention) + "' (expected opengl or directx)");
+    }
+    for (const auto& [key, count] :
+         {std::pair{kPaddingTexelsKey, &map.normal_repairs.padding_texels},
+          std::pair{kRaisedTexelsKey, &map.normal_repairs.raised_texels}}) {
+        if (const std::string* text = info.find(key); text != nullptr) *count =
+            parse_count(path, key, *text);
     }
     if (const std::string* orientation = info.find(kKeyOrientation);
         orientation != nullptr && *orientation != "rd") {

@@ -72,19 +72,42 @@ bool channel_is_constant(const std::vector<float>& pixels, int channels, int cha
     return true;
 }
 
-// Which channels of the decoded DDS hold the normal's x and y (encoded 0.5 n + 0.5), when it is a
-// two-channel normal map; {-1, -1} otherwise. OpenImageIO returns BC5 as R, G; a DXT5 flagged as
-// a normal map with x (from alpha) in R and y in G (and its own 8-bit z in B, recomputed here in
-// float); RXGB (Doom 3's DXT5) with x moved to R. An unflagged DXT5 whose R and B are the same
-// everywhere is DXT5 "nm" (x in alpha, y in green; R and B constant by construction).
+// DDPF_NORMAL (NVIDIA's tools set it on every normal map they write, whatever the format) changes
+// how OpenImageIO decodes a file: it reports 3 channels for DXT1-DXT3, BC4 and BC7 but copies the
+// decoder's 4-channel texels with a 3-channel stride, so the channels shift texel by texel. So
+// the flag is cleared in a private copy of the header (never in the file) and the channels come
+// from the compression alone; which of them hold the normal is decided here, from the flag.
+const std::vector<std::uint8_t>& without_normal_flag(const std::vector<std::uint8_t>& bytes,
+                                                     const DdsLayout& layout,
+                                                     std::vector<std::uint8_t>& copy) {
+    if ((layout.pixel_flags & kDdsNormalFlag) == 0) return bytes;
+    copy = bytes;
+    const std::uint32_t flags = layout.pixel_flags & ~kDdsNormalFlag;
+    for (int i = 0; i < 4; ++i) copy[80 + std::size_t(i)] = std::uint8_t(flags >> (8 * i));
+    return copy;
+}
+
+// Which channels of the decoded DDS (read without DDPF_NORMAL) hold the normal's x and y (encoded
+// 0.5 n + 0.5), when it is a two-channel normal map; {-1, -1} otherwise (the channels are the
+// normal's x, y, z as stored). OpenImageIO returns BC5 as R, G; RXGB (Doom 3's DXT5) with x
+// moved to R. A DXT5 flagged as a normal map, or unflagged with R and B the same everywhere, is
+// DXT5 "nm": x in alpha, y in green. A flagged DXT1-DXT3 with a constant blue (NVIDIA's DXT1nm)
+// holds x, y in red and green.
 std::pair<int, int> dds_normal_channels(const DdsLayout& layout, const std::string& compression,
                                         const std::vector<float>& pixels, int channels) {
+    const bool flagged = (layout.pixel_flags & kDdsNormalFlag) != 0;
     if (compression == "BC5" && channels == 2) return {0, 1};
-    if (compression != "DXT5") return {-1, -1};
-    if (layout.four_cc == "RXGB" && channels >= 2) return {0, 1};
-    if ((layout.pixel_flags & kDdsNormalFlag) != 0 && channels >= 2) return {0, 1};
-    if (channels == 4 && channel_is_constant(pixels, 4, 0) && channel_is_constant(pixels, 4, 2))
-        return {3, 1};
+    if (compression == "DXT5") {
+        if (layout.four_cc == "RXGB" && channels >= 2) return {0, 1};
+        if (flagged && channels == 4) return {3, 1};
+        if (channels == 4 && channel_is_constant(pixels, 4, 0) &&
+            channel_is_constant(pixels, 4, 2))
+            return {3, 1};
+        return {-1, -1};
+    }
+    if (flagged && channels >= 3 && compression.starts_with("DXT") &&
+        channel_is_constant(pixels, channels, 2))
+        return {0, 1};
     return {-1, -1};
 }
 
@@ -147,12 +170,17 @@ void select_channels(const std::vector<Sample>& samples, int channels,
 std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
                                        const std::string& path, const OiioFormat& format,
                                        const ReadOptions& options, bool compact) {
+    const bool dds = is(format, "dds");
+    const DdsLayout layout = dds ? dds_layout(bytes) : DdsLayout{};
+    std::vector<std::uint8_t> unflagged;
+    const std::vector<std::uint8_t>& input = dds ? without_normal_flag(bytes, layout, unflagged)
+                                                 : bytes;
     Decoder decoder{path, OIIO::ImageInput::create(format.plugin)};
     if (decoder.input == nullptr) {
         throw Error(path, std::string("cannot read ") + format.name + " (" +
                               one_line(OIIO::geterror()) + ")");
     }
-    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
+    OIIO::Filesystem::IOMemReader proxy(input.data(), input.size());
     if (!decoder.input->set_ioproxy(&proxy))
         decoder.fail(std::string("cannot read ") + format.name);
     OIIO::ImageSpec config;
@@ -196,7 +224,6 @@ std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
 
     const int width = spec.width, height = spec.height;
     const std::string compression = spec.get_string_attribute("compression");
-    const bool dds = is(format, "dds");
     if (options.drop_alpha && order.size() == 4) order.pop_back();
     // Integer samples are kept as such (as PNG's: the float of a sample is sample / max, exactly
     // UnormImage::to_float's), the others read as floats.
@@ -227,7 +254,7 @@ std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
     }
 
     const auto [x_channel, y_channel] =
-        dds ? dds_normal_channels(dds_layout(bytes), compression, floats, spec.nchannels)
+        dds ? dds_normal_channels(layout, compression, floats, spec.nchannels)
             : std::pair<int, int>{-1, -1};
     if (x_channel >= 0)
         return reconstruct_normals(floats, width, height, spec.nchannels, x_channel, y_channel);

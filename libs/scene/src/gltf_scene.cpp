@@ -10,6 +10,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
+#include "mesh_internal.hpp"
 
 namespace leanfade::scene {
 namespace {
@@ -35,8 +36,18 @@ Image decode(const GltfScene& gltf, const GltfImage& image, const GltfBakeSettin
     }
 }
 
-// A normal map whose slopes are `scale` times those of `normals` (2 rgb - 1 decoded, X and Y
-// scaled, renormalised, encoded again), glTF's normalTexture.scale.
+std::string settings_text(float scale, Storage storage, bool strict_normals) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &scale, sizeof bits);
+    return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
+           std::string(to_string(storage)) + " scale=" + std::to_string(bits) +
+           (strict_normals ? " strict_normals" : "");
+}
+
+}  // namespace
+
+namespace detail {
+
 void scale_normals(Image& normals, float scale) {
     for (std::size_t i = 0; i < normals.texel_count(); ++i) {
         float* t = &normals.pixels[i * std::size_t(normals.channels)];
@@ -49,14 +60,19 @@ void scale_normals(Image& normals, float scale) {
     }
 }
 
-std::string settings_text(float scale, Storage storage) {
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &scale, sizeof bits);
-    return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
-           std::string(to_string(storage)) + " scale=" + std::to_string(bits);
+Image linear_base_colour(const Image& decoded) {
+    Image rgba(decoded.width, decoded.height, 4, 1.0f);
+    for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
+        const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
+        float* out = &rgba.pixels[i * 4];
+        const bool gray = decoded.channels <= 2;
+        for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
+        if (decoded.channels == 2 || decoded.channels == 4) out[3] = in[decoded.channels - 1];
+    }
+    return rgba;
 }
 
-}  // namespace
+}  // namespace detail
 
 bool is_gltf_path(const std::string& path) {
     std::string lower = path.substr(path.size() >= 5 ? path.size() - 5 : 0);
@@ -73,7 +89,8 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     if (!std::isfinite(scale)) throw Error(gltf.path, "normal texture scale is not finite");
     const GltfImage& image = gltf.images[std::size_t(image_index)];
     const LeanMapCache cache(settings.cache_folder, settings.max_cache_bytes);
-    const std::string key = lean_cache_key(image.bytes, settings_text(scale, settings.storage));
+    const std::string key = lean_cache_key(
+        image.bytes, settings_text(scale, settings.storage, settings.strict_normals));
     if (std::optional<PackedLeanMap> cached = cache.find(key, settings.storage)) {
         if (from_cache != nullptr) *from_cache = true;
         return std::move(*cached);
@@ -82,8 +99,13 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     if (normals.channels < 3)
         throw Error(gltf.path, image.name + ": a normal texture needs 3 channels (RGB), it has " +
                                    std::to_string(normals.channels));
-    if (scale != 1.0f) scale_normals(normals, scale);
+    // Repaired before the scale, which would turn (0, 0, 0) padding into a normal.
+    NormalRepairs repairs;
+    if (!settings.strict_normals) repairs = count_normal_repairs(normals);
+    if (repairs.any()) normals = repair_normal_map(normals);
+    if (scale != 1.0f) detail::scale_normals(normals, scale);
     BakeOptions options;
+    options.strict_normals = settings.strict_normals;
     options.wrap = Wrap::Repeat;
     options.convention = NormalConvention::OpenGL;
     options.threads = settings.threads;
@@ -95,6 +117,7 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     } catch (const Error& e) {
         throw Error(gltf.path, e.what());
     }
+    map.normal_repairs = repairs;
     const std::string warning = cache.store(key, map);
     if (cache_warning != nullptr) *cache_warning = warning;
     if (from_cache != nullptr) *from_cache = false;
@@ -131,6 +154,9 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                                                " bytes (" + std::to_string(maps.size() + 1) +
                                                " maps)");
                 ++(cached ? r.from_cache : r.baked);
+                if (scene.lean_maps.back().normal_repairs.any())
+                    r.repaired.emplace_back(gltf.images[std::size_t(gm.normal_image)].name,
+                                            scene.lean_maps.back().normal_repairs);
                 if (!warning.empty()) r.warnings.push_back("cache: " + warning);
                 found = maps.emplace(key, int(scene.lean_maps.size()) - 1).first;
             }
@@ -154,19 +180,11 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
             auto found = textures.find(gm.base_color_image);
             if (found == textures.end()) {
                 const GltfImage& image = gltf.images[std::size_t(gm.base_color_image)];
-                const Image decoded = decode(gltf, image, settings, false);
-                Image rgba(decoded.width, decoded.height, 4, 1.0f);
-                for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
-                    const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
-                    float* out = &rgba.pixels[i * 4];
-                    const bool gray = decoded.channels <= 2;
-                    for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
-                    if (decoded.channels == 2 || decoded.channels == 4)
-                        out[3] = in[decoded.channels - 1];
-                }
                 found = textures
                             .emplace(gm.base_color_image,
-                                     scene.add_map(MapKind::BaseColor, {std::move(rgba)}))
+                                     scene.add_map(MapKind::BaseColor,
+                                                   {detail::linear_base_colour(
+                                                       decode(gltf, image, settings, false))}))
                             .first;
             }
             m.map(MapKind::BaseColor) = found->second;

@@ -4,9 +4,18 @@
 
 #include <glm/glm.hpp>
 
+#include "leanfade/core/image.hpp"
 #include "leanfade/scene/mesh.hpp"
 
 namespace leanfade::scene::detail {
+
+// A normal map whose slopes are `scale` times those of `normals` (2 rgb - 1 decoded, X and Y
+// scaled, renormalised, encoded again): glTF's normalTexture.scale, an MTL norm's -bm.
+void scale_normals(Image& normals, float scale);
+
+// A decoded colour texture (1-4 channels, sRGB encoded) as linear RGBA: the sRGB transfer
+// function inverted, grey expanded, alpha kept (1 when absent).
+Image linear_base_colour(const Image& decoded);
 
 // Any unit vector orthogonal to the unit vector n (Duff et al. 2017, branchless basis).
 glm::vec3 any_orthonormal(const glm::vec3& n);

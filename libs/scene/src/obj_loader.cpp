@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -61,7 +62,24 @@ struct FaceCorner {
 // A face: `count` corners from `first` in the corner list, and the line it is on.
 struct Face {
     std::size_t first, count, line;
+    int material = -1;  // index into ObjMaterialUse::names (usemtl), -1: none
 };
+
+// The material statements of an OBJ file: mtllib file names and usemtl names, in file order.
+struct ObjMaterialUse {
+    std::vector<std::string> libraries;
+    std::vector<std::string> names;
+};
+
+// The rest of a statement's line after its keyword, trimmed (names and paths may hold spaces).
+std::string statement_argument(std::string_view data, std::string_view keyword) {
+    std::string_view rest = data.substr(data.find(keyword) + keyword.size());
+    while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.front())))
+        rest.remove_prefix(1);
+    while (!rest.empty() && std::isspace(static_cast<unsigned char>(rest.back())))
+        rest.remove_suffix(1);
+    return std::string(rest);
+}
 
 // Checks every number on v / vt / vn lines and every index on f lines (Error(path, ...) with the
 // line number) and returns the text tinyobjloader parses: only the v, vt and vn lines (every
@@ -76,7 +94,9 @@ struct Face {
 // The faces do not reach tinyobjloader: it stores a face's vertex count in 8 bits when it does not
 // triangulate, and triangulates in quadratic time when it does (triangulate_polygon).
 std::string precheck(const std::string& path, const std::string& text,
-                     std::vector<FaceCorner>& corners, std::vector<Face>& faces) {
+                     std::vector<FaceCorner>& corners, std::vector<Face>& faces,
+                     ObjMaterialUse* materials) {
+    int current_material = -1;
     std::string clean;
     clean.reserve(text.size());
     long long counts[3] = {0, 0, 0};  // positions, texture coordinates, normals
@@ -129,7 +149,7 @@ std::string precheck(const std::string& path, const std::string& text,
             if (tokens.size() < 4) {
                 fail("a face needs at least 3 vertices");
             }
-            faces.push_back({corners.size(), tokens.size() - 1, line_number});
+            faces.push_back({corners.size(), tokens.size() - 1, line_number, current_material});
             for (std::size_t k = 1; k < tokens.size(); ++k) {
                 std::string_view rest = tokens[k];
                 long long resolved[3] = {-1, -1, -1};
@@ -160,6 +180,18 @@ std::string precheck(const std::string& path, const std::string& text,
             }
             clean.push_back('\n');
         } else {
+            if (materials != nullptr && (keyword == "usemtl" || keyword == "mtllib")) {
+                const std::string argument = statement_argument(data, keyword);
+                if (argument.empty()) fail(std::string(keyword) + " needs a name");
+                if (keyword == "mtllib") {
+                    materials->libraries.push_back(argument);
+                } else {
+                    auto found = std::find(materials->names.begin(), materials->names.end(),
+                                           argument);
+                    current_material = int(found - materials->names.begin());
+                    if (found == materials->names.end()) materials->names.push_back(argument);
+                }
+            }
             clean.push_back('\n');
         }
     }
@@ -303,16 +335,13 @@ struct KeyHash {
     }
 };
 
-}  // namespace
-
-Mesh load_obj(const std::string& path) {
-    return load_obj_from_memory(read_regular_file(path, kMaxObjFileBytes, "an OBJ file"), path);
-}
-
-Mesh load_obj_from_memory(const std::string& file_text, const std::string& path) {
+// The mesh of every face, and with `materials` the usemtl index of each triangle
+// (`triangle_materials`).
+Mesh build_obj_mesh(const std::string& file_text, const std::string& path,
+                    ObjMaterialUse* materials, std::vector<int>* triangle_materials) {
     std::vector<FaceCorner> face_corners;
     std::vector<Face> faces;
-    const std::string text = precheck(path, file_text, face_corners, faces);
+    const std::string text = precheck(path, file_text, face_corners, faces, materials);
 
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;  // no faces reach it (precheck)
@@ -353,6 +382,9 @@ Mesh load_obj_from_memory(const std::string& file_text, const std::string& path)
             polygon.push_back(position(corner.v));
         }
         triangulate_polygon(polygon, triangles);
+        if (triangle_materials != nullptr)
+            triangle_materials->insert(triangle_materials->end(), triangles.size() / 3,
+                                       face.material);
         for (const std::uint32_t c : triangles) {
             const FaceCorner& corner = face_corners[face.first + c];
             long long n = corner.n;
@@ -440,6 +472,176 @@ Mesh load_obj_from_memory(const std::string& file_text, const std::string& path)
     }
     detail::finish(mesh);
     return mesh;
+}
+
+}  // namespace
+
+Mesh load_obj(const std::string& path) {
+    return load_obj_from_memory(read_regular_file(path, kMaxObjFileBytes, "an OBJ file"), path);
+}
+
+Mesh load_obj_from_memory(const std::string& file_text, const std::string& path) {
+    return build_obj_mesh(file_text, path, nullptr, nullptr);
+}
+
+ObjModel load_obj_model(const std::string& path) {
+    const std::string text = read_regular_file(path, kMaxObjFileBytes, "an OBJ file");
+    ObjMaterialUse use;
+    std::vector<int> triangle_materials;
+    const Mesh mesh = build_obj_mesh(text, path, &use, &triangle_materials);
+    ObjModel model;
+    model.path = path;
+    model.libraries = use.libraries;
+    model.material_names = use.names;
+    // One material (or none): the mesh as load_obj makes it.
+    if (std::adjacent_find(triangle_materials.begin(), triangle_materials.end(),
+                           std::not_equal_to<>()) == triangle_materials.end()) {
+        model.part_materials.push_back(triangle_materials.empty() ? -1
+                                                                  : triangle_materials.front());
+        model.parts.push_back(mesh);
+        return model;
+    }
+    // One mesh per material, its triangles in file order, the vertices they use (with the
+    // tangents of the whole mesh, so that no seam appears between the parts).
+    for (int group = -1; group < int(use.names.size()); ++group) {
+        Mesh part;
+        part.name = mesh.name;
+        std::vector<std::uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+        for (std::size_t t = 0; t < triangle_materials.size(); ++t) {
+            if (triangle_materials[t] != group) continue;
+            for (std::size_t k = 3 * t; k < 3 * t + 3; ++k) {
+                const std::uint32_t v = mesh.indices[k];
+                if (remap[v] == UINT32_MAX) {
+                    remap[v] = std::uint32_t(part.vertices.size());
+                    part.vertices.push_back(mesh.vertices[v]);
+                }
+                part.indices.push_back(remap[v]);
+            }
+        }
+        if (part.indices.empty()) continue;
+        compute_bounds(part);
+        model.parts.push_back(std::move(part));
+        model.part_materials.push_back(group);
+    }
+    return model;
+}
+
+namespace {
+
+// A number of an MTL statement (finite, as strtod reads it whole), or an Error naming the line.
+float mtl_number(std::string_view token, const std::function<void(const std::string&)>& fail) {
+    const std::string text(token);
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size()) fail(quoted(token) + " is not a number");
+    if (!std::isfinite(value) || std::abs(value) > std::numeric_limits<float>::max())
+        fail("non-finite value " + quoted(token));
+    return float(value);
+}
+
+bool is_number(std::string_view token) {
+    const std::string text(token);
+    char* end = nullptr;
+    std::strtod(text.c_str(), &end);
+    return !text.empty() && end == text.c_str() + text.size();
+}
+
+}  // namespace
+
+std::vector<MtlMaterial> parse_mtl(const std::string& text, const std::string& path) {
+    std::vector<MtlMaterial> materials;
+    std::size_t line_number = 0, pos = 0;
+    while (pos < text.size()) {
+        std::size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        const std::string_view line(text.data() + pos, end - pos);
+        pos = end + 1;
+        ++line_number;
+        const std::function<void(const std::string&)> fail = [&](const std::string& cause) {
+            throw Error(path, "line " + std::to_string(line_number) + ": " + cause);
+        };
+        const std::string_view data = line.substr(0, line.find('#'));
+        const auto tokens = split_whitespace(data);
+        if (tokens.empty()) continue;
+        const std::string_view keyword = tokens[0];
+        if (keyword == "newmtl") {
+            MtlMaterial material;
+            material.name = statement_argument(data, keyword);
+            if (material.name.empty()) fail("newmtl needs a name");
+            materials.push_back(std::move(material));
+            continue;
+        }
+        const bool known = keyword == "Kd" || keyword == "Ks" || keyword == "Ns" ||
+                           keyword == "Pr" || keyword == "map_Kd" || keyword == "map_Pr" ||
+                           keyword == "map_Bump" || keyword == "map_bump" || keyword == "bump" ||
+                           keyword == "norm" || keyword == "map_Norm";
+        if (!known) continue;  // Ka, Ke, d, illum, map_Ks, ...: not used
+        if (materials.empty()) fail(std::string(keyword) + " before any newmtl");
+        MtlMaterial& m = materials.back();
+        if (keyword == "Kd" || keyword == "Ks") {
+            if (tokens.size() < 2) fail(std::string(keyword) + " needs a colour");
+            if (tokens[1] == "spectral" || tokens[1] == "xyz")
+                continue;  // colour forms leanfade does not read
+            glm::vec3 colour;
+            for (int c = 0; c < 3; ++c) {
+                // "Kd r" alone means r = g = b.
+                const std::size_t k = tokens.size() >= 4 ? std::size_t(1 + c) : 1;
+                colour[c] = mtl_number(tokens[k], fail);
+                if (colour[c] < 0.0f) fail(std::string(keyword) + " must not be negative");
+            }
+            (keyword == "Kd" ? m.kd : m.ks) = colour;
+        } else if (keyword == "Ns" || keyword == "Pr") {
+            if (tokens.size() < 2) fail(std::string(keyword) + " needs a value");
+            const float value = mtl_number(tokens[1], fail);
+            if (keyword == "Ns") {
+                if (value < 0.0f) fail("Ns must not be negative");
+                if (value > 0.0f) m.ns = value;
+            } else {
+                if (value < 0.0f || value > 1.0f) fail("Pr must be in [0, 1]");
+                m.roughness = value;
+            }
+        } else {
+            // A texture: options, then the file name (which may hold spaces).
+            float multiplier = 1.0f;
+            std::size_t k = 1;
+            while (k < tokens.size() && tokens[k].size() > 1 && tokens[k][0] == '-' &&
+                   !is_number(tokens[k])) {
+                const std::string_view option = tokens[k++];
+                std::size_t values = 1;
+                if (option == "-o" || option == "-s" || option == "-t") values = 3;
+                if (option == "-mm") values = 2;
+                if (option == "-bm") {
+                    if (k >= tokens.size()) fail("-bm needs a value");
+                    multiplier = mtl_number(tokens[k++], fail);
+                    continue;
+                }
+                for (std::size_t v = 0; v < values && k < tokens.size(); ++v) {
+                    if (values == 3 && !is_number(tokens[k])) break;  // -o u [v [w]]
+                    ++k;
+                }
+            }
+            if (k >= tokens.size()) fail(std::string(keyword) + " needs a file name");
+            std::string file(tokens[k]);
+            for (++k; k < tokens.size(); ++k) file += " " + std::string(tokens[k]);
+            std::replace(file.begin(), file.end(), '\\', '/');
+            if (keyword == "map_Kd") {
+                m.kd_map = file;
+            } else if (keyword == "map_Pr") {
+                m.roughness_map = file;
+            } else if (keyword == "norm" || keyword == "map_Norm") {
+                m.normal_map = file;
+                m.bump_multiplier = multiplier;
+            } else {
+                m.bump_map = file;
+                m.bump_multiplier = multiplier;
+            }
+        }
+    }
+    return materials;
+}
+
+std::vector<MtlMaterial> load_mtl(const std::string& path) {
+    return parse_mtl(read_regular_file(path, kMaxObjFileBytes, "an MTL file"), path);
 }
 
 }  // namespace leanfade::scene

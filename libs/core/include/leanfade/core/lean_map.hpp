@@ -38,6 +38,17 @@ const std::vector<std::string>& bake_storage_names();
 Storage parse_bake_storage(std::string_view name, const std::string& setting = "bits");
 int bytes_per_texel(Storage);  // one RGBA texel of one slice (lean1 or lean2)
 
+// The imperfect texels of a normal map that a bake repairs (docs/math.md §2) unless
+// BakeOptions::strict_normals: texels encoded (0, 0, 0), the padding of image editors and bakers
+// outside the UV islands, are taken as flat (0, 0, 1); texels with z <= -kNormalZRejectEpsilon
+// (authored slightly below the surface, or a channel shifted) are raised to kMinNormalZ as the
+// bake raises z near 0.
+struct NormalRepairs {
+    std::uint64_t padding_texels = 0;  // (0, 0, 0) taken as flat
+    std::uint64_t raised_texels = 0;   // z <= -kNormalZRejectEpsilon raised
+    bool any() const { return padding_texels > 0 || raised_texels > 0; }
+};
+
 // One MIP level of float moments. Index i = y * width + x, rows top first.
 struct MomentLevel {
     int width = 0;
@@ -54,9 +65,13 @@ struct LeanMap {
     // beyond sc (docs/ktx2.md, "Choosing storage and sc"): UNORM storages clamp their packed
     // values to [0, 1], float storages keep them.
     std::uint64_t texels_beyond_scale = 0;
+    // The median of max(|Bx|, |By|) over the top level, rounded up to a bin edge of sc's histogram
+    // (four bins per octave): what --bits auto reads (auto_storage).
+    float median_steepness = 0.0f;
     bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
     float baked_shininess = 0.0f;     // s when roughness_baked
     NormalConvention source_convention = NormalConvention::OpenGL;
+    NormalRepairs normal_repairs;     // what the bake repaired in its normal map
 };
 
 // One packed MIP level: two slices (lean1, lean2) of RGBA texels in the storage format, rows top
@@ -75,6 +90,7 @@ struct PackedLeanMap {
     bool roughness_baked = false;
     float baked_shininess = 0.0f;
     NormalConvention source_convention = NormalConvention::OpenGL;
+    NormalRepairs normal_repairs;  // as LeanMap::normal_repairs
     std::string generator;  // e.g. "leanfade 0.1.0"
     std::vector<PackedLevel> levels;
 };
@@ -98,6 +114,9 @@ struct BakeOptions {
     NormalConvention convention = NormalConvention::OpenGL;  // normal maps only
     float bake_roughness_shininess = 0.0f;                   // s > 0: bake 1/s into M (eq. 6)
     int threads = 0;                                         // 0 = hardware concurrency
+    // Normal maps: refuse texels with z <= -kNormalZRejectEpsilon, (0, 0, 0) padding included,
+    // instead of repairing them (NormalRepairs).
+    bool strict_normals = false;
 };
 
 // Normals with z below this (after decoding 2*rgb-1) are raised to it, and counted; normals with
@@ -128,9 +147,18 @@ struct SlopeResult {
 SlopeResult slopes_from_height(const Image& height, const BakeOptions& options,
                                const std::string& source_name = "");
 // Normal map (>= 3 channels, encoded 0.5 n + 0.5 in [0,1]) -> B = n.xy / n.z (docs/math.md §2).
-// Throws on NaN/Inf, z <= -kNormalZRejectEpsilon and a slope steeper than kMaxSlope.
+// Throws on NaN/Inf, z <= -kNormalZRejectEpsilon and a slope steeper than kMaxSlope (the bakes
+// below repair such texels first unless BakeOptions::strict_normals: repair_normal_map).
 SlopeResult slopes_from_normals(const Image& normals, const BakeOptions& options,
                                 const std::string& source_name = "");
+
+// The texels of a normal map (>= 3 channels, encoded 0.5 n + 0.5) that repair_normal_map changes.
+NormalRepairs count_normal_repairs(const Image& normals);
+NormalRepairs count_normal_repairs(const UnormImage& normals);
+// `normals` with its (0, 0, 0) texels set to the flat (0.5, 0.5, 1) and the z of texels with z <=
+// -kNormalZRejectEpsilon set to 0 (encoded 0.5; the bake raises it to kMinNormalZ). NaN and Inf
+// are left for the bake to refuse. Other channels (alpha) are kept.
+Image repair_normal_map(const Image& normals);
 
 // Top level moments from slopes, then the full MIP chain (area-weighted linear filter, exact for
 // odd sizes: every level's mean equals the top level's mean up to float rounding; the 2x2 box of
@@ -220,8 +248,31 @@ struct PackedBakeResult {
     BakeSource source = BakeSource::Height;  // what the input was taken as
     std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
     std::uint64_t texels_beyond_scale = 0;   // as LeanMap::texels_beyond_scale
+    float median_steepness = 0.0f;           // as LeanMap::median_steepness
     LeanMapSummary summary;
 };
+
+// --bits auto (docs/ktx2.md, "Choosing storage and sc"): a bake starts as 16-bit UNORM and is
+// baked again as half float (Float16) when
+// - texels lie beyond sc (UNORM would clamp them), or
+// - the rounding of UNORM16's second moments, half a step sc^2 / (2 * 65535), is at least
+//   kAutoStorageMaxError times the base variance 1/kAutoStorageShininess of the sharpest
+//   highlight the map is meant for, and most texels are far flatter than sc (median of
+//   max(|Bx|, |By|) at most sc / kAutoStorageFlatRatio): their covariance M - B B^T, only the
+//   base roughness, is lost in UNORM's rounding, while half floats hold small M with 11 bits of
+//   mantissa. (A map steep everywhere is better in UNORM: half floats are coarser near sc.)
+//   Half floats round B to sc / 2^11 (half an ulp of 0.5 + 0.5 B / sc, times 2 sc); where that
+//   is at least kAutoStorageMaxError times the highlight's width 1 / sqrt(kAutoStorageShininess)
+//   (sc >= 34.9), such a map is baked as Float32 instead.
+inline constexpr float kAutoStorageShininess = 13777.0f;  // the largest s of docs/results.md
+inline constexpr double kAutoStorageMaxError = 1.0;
+inline constexpr float kAutoStorageFlatRatio = 8.0f;
+// The rounding of UNORM16's M (sc^2 / (2 * 65535)) in units of 1 / kAutoStorageShininess.
+double unorm16_moment_error(float scale);
+// The rounding of half floats' B (sc / 2^12) in units of 1 / sqrt(kAutoStorageShininess).
+double float16_slope_error(float scale);
+// Unorm16, Float16 or Float32 by the rule above.
+Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness);
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
                              const std::string& source_name = "");

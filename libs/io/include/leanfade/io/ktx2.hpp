@@ -34,6 +34,10 @@ inline constexpr const char* kScaleKey = "LEANFADEscale";
 inline constexpr const char* kRoughnessBakedKey = "LEANFADEroughnessBaked";
 inline constexpr const char* kBakedShininessKey = "LEANFADEbakedShininess";
 inline constexpr const char* kNormalConventionKey = "LEANFADEnormalConvention";
+// Written only when not 0 (NormalRepairs): the source's (0, 0, 0) padding texels taken as flat
+// and its texels with z <= 0 raised.
+inline constexpr const char* kPaddingTexelsKey = "LEANFADEpaddingTexels";
+inline constexpr const char* kRaisedTexelsKey = "LEANFADEraisedTexels";
 
 // The value of the LEANFADElayout key this version writes and accepts.
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";

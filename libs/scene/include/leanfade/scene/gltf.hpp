@@ -171,12 +171,17 @@ struct GltfBakeSettings {
     std::string cache_folder;  // LEAN-map cache (lean_map_cache.hpp); empty: no cache
     std::uint64_t max_cache_bytes = kMaxLeanCacheBytes;       // the cache folder's bound
     std::uint64_t max_lean_map_bytes = kMaxGltfLeanMapBytes;  // held by make_render_scene
+    // Refuse normal textures with texels of z <= 0 instead of repairing them (NormalRepairs,
+    // BakeOptions::strict_normals).
+    bool strict_normals = false;
 };
 
 struct GltfBakeReport {
     std::size_t baked = 0;       // normal textures baked in this call
     std::size_t from_cache = 0;  // normal textures read from the cache
     std::vector<std::string> warnings;  // cache entries that could not be stored
+    // The normal textures whose bake repaired texels (PackedLeanMap::normal_repairs), by image.
+    std::vector<std::pair<std::string, NormalRepairs>> repaired;
 };
 
 // The LEAN map of one normal texture with its glTF `scale` (slopes times scale: the normal's X
