@@ -174,8 +174,9 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_flag("--fit-pmax", args->fit_pmax, "Fit Pmax too (otherwise --pmax is kept)");
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
-                       "scene (.gltf, .glb)")
+                       "Object: sphere, torus, teapot, terrain, plane (20 x 20 units, uv 0..50 "
+                       "for the built-in sets, 0..5 for a map of one's own), an .obj file or a "
+                       "glTF scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--distances", args->distances,
                        "Camera distances in bounding radii: A:B:N (log-spaced) or a comma list")

@@ -198,8 +198,9 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<RenderArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, ocean (docs/ocean.md), an "
-                       ".obj file or a glTF scene (.gltf, .glb)")
+                       "Object: sphere, torus, teapot, terrain, plane (20 x 20 units, uv 0..50 "
+                       "for the built-in sets, 0..5 for a map of one's own), ocean "
+                       "(docs/ocean.md), an .obj file or a glTF scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--techniques", args->techniques,
                        "Columns, comma-separated: " + technique_names(all_techniques(), "and"))

@@ -189,8 +189,9 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ViewArgs>();
         app.add_option("--scene", args->input.scene,
-                       "Object: sphere, torus, teapot, terrain, plane, an .obj file or a glTF "
-                       "scene (.gltf, .glb)")
+                       "Object: sphere, torus, teapot, terrain, plane (20 x 20 units, uv 0..50 "
+                       "for the built-in sets, 0..5 for a map of one's own), an .obj file or a "
+                       "glTF scene (.gltf, .glb)")
             ->capture_default_str();
         app.add_option("--technique", args->technique,
                        "Technique of a single view: bump, toksvig, clean, lean, fade, reference")
