@@ -494,3 +494,47 @@ TEST(CliRender, ObjMaterialsFromTheMtlAreUsed) {
 }
 
 }  // namespace leanfade::test
+
+namespace leanfade::test {
+
+// --scene plane: the built-in sets keep uv 0..50; a map of one's own repeats 5 times across
+// (uv times 0.1), so the same map from a .ktx2 draws as the built-in one at --tiling 10.
+TEST(CliRender, PlaneTilesAMapOfOnesOwnFiveTimesAcross) {
+    const fs::path dir = scratch_dir("cli_render_plane_tiling");
+    ASSERT_EQ(run_leanfade_in("bake --builtin bumps --size 256 -o bumps.ktx2", dir, dir).exit_code,
+              0);
+    const std::string view = "--scene plane --techniques bump --distances 1.2 --size 64x64 "
+                             "--cell-format pfm ";
+    auto render = [&](const std::string& args, const std::string& name) {
+        const RunResult r = run_render(view + args + " --cells " + name + " -o " + name + ".png",
+                                       dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return io::read_image((dir / name / "bump_d1.2.pfm").string());
+    };
+    const Image builtin = render("--bumps bumps --texture-size 256", "builtin");
+    const Image own = render("--bumps bumps.ktx2", "own");
+    const Image own_tiled = render("--bumps bumps.ktx2 --tiling 10", "own_tiled");
+    auto mean_difference = [](const Image& a, const Image& b) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < a.pixels.size(); ++i)
+            sum += std::abs(a.pixels[i] - b.pixels[i]);
+        return sum / double(a.pixels.size());
+    };
+    double mean = 0.0;
+    for (float v : builtin.pixels) mean += v;
+    mean /= double(builtin.pixels.size());
+    // uv * 0.1 * 10 is the built-in's uv up to float rounding.
+    EXPECT_LT(mean_difference(own_tiled, builtin), 0.01 * mean);
+    // Tiled 50 times the bumps are finer than the pixels and vanish (the map's mean shading);
+    // 5 times they are seen: neighbouring pixels differ.
+    auto spread = [](const Image& image) {
+        double sum = 0.0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 1; x < image.width; ++x)
+                sum += std::abs(image.at(x, y, 0) - image.at(x - 1, y, 0));
+        return sum;
+    };
+    EXPECT_GT(spread(own), 3.0 * spread(builtin)) << "the own map is not tiled 5 times";
+}
+
+}  // namespace leanfade::test

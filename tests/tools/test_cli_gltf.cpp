@@ -1,9 +1,11 @@
 // glTF scenes on the command line: `leanfade bake FILE.gltf|.glb` bakes every normal texture
 // through the LEAN-map cache; broken scenes are one-line errors with no output.
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -120,4 +122,65 @@ TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
 }
 
 }  // namespace
+// A bumpy normal map written in the DirectX convention (green = -v): the convention warning of
+// `bake IMAGE` also comes for the same image as a glTF normal texture (baked, and from the
+// cache), in `bake SCENE.gltf --json` and in the batch --json of `bake`.
+TEST(CliGltf, NormalTexturesThatLookDirectXAreWarnedAbout) {
+    const fs::path dir = scratch("convention");
+    const int size = 64;
+    std::vector<float> pixels;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            // h = 3 sin(2 pi x / 32) sin(2 pi y / 16) texels; OpenGL B = (-dh/dx, +dh/drow),
+            // DirectX flips the second.
+            const double a = 2.0 * M_PI / 32.0, b = 2.0 * M_PI / 16.0;
+            const double dhdx = 3.0 * a * std::cos(a * x) * std::sin(b * y);
+            const double dhdy = 3.0 * b * std::sin(a * x) * std::cos(b * y);
+            const glm::vec3 n = glm::normalize(glm::vec3(float(-dhdx), float(-dhdy), 1.0f));
+            for (int c = 0; c < 3; ++c) pixels.push_back(0.5f * n[c] + 0.5f);
+        }
+    const std::vector<std::uint8_t> png = scene::test::png_bytes(size, size, 3, pixels);
+    scene::test::write_bytes((dir / "dx.png").string(), png);
+    scene::test::write_bytes((dir / "dx2.png").string(), png);
+    // `bake` of the images, as a batch with --json.
+    const test::RunResult batch = test::run_leanfade_in(
+        "bake dx.png dx2.png --json batch.json", dir, dir, env(dir));
+    ASSERT_EQ(batch.exit_code, 0) << batch.err;
+    EXPECT_NE(batch.err.find("dx.png looks like a DirectX (-Y) normal map"), std::string::npos)
+        << batch.err;
+    const nlohmann::json summaries = nlohmann::json::parse(test::read_text(dir / "batch.json"));
+    ASSERT_EQ(summaries.size(), 2u);
+    for (const nlohmann::json& s : summaries) EXPECT_TRUE(s["looks_like_other_convention"]);
+    // As a glTF normal texture: bake (twice: the second from the cache) and render.
+    GltfTestFile file;
+    file.images = {png};
+    file.materials = {{"wall", glm::vec4(1.0f), -1, 0, 1.0f}};
+    file.meshes.push_back({scene::test::unit_quad(0)});
+    scene::test::write_gltf(file, (dir / "scene.gltf").string(), GltfStorage::External);
+    for (int run = 0; run < 2; ++run) {
+        SCOPED_TRACE(run);
+        const test::RunResult r =
+            test::run_leanfade_in("bake scene.gltf --json scene.json", dir, dir, env(dir));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.out.find(run == 0 ? "baked" : "from the cache"), std::string::npos) << r.out;
+        EXPECT_NE(r.err.find("looks like a DirectX (-Y) normal map"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("glTF normal textures are OpenGL (+Y)"), std::string::npos) << r.err;
+        const nlohmann::json json = nlohmann::json::parse(test::read_text(dir / "scene.json"));
+        EXPECT_TRUE(json[0]["looks_like_other_convention"]);
+    }
+    const test::RunResult render = test::run_leanfade_in(
+        "render --scene scene.gltf --techniques lean --distances 3 --size 16x16 -o r.png", dir,
+        dir, env(dir));
+    ASSERT_EQ(render.exit_code, 0) << render.err;
+    EXPECT_NE(render.err.find("looks like a DirectX (-Y) normal map"), std::string::npos)
+        << render.err;
+    // An OpenGL map gives no warning.
+    for (std::size_t i = 1; i < pixels.size(); i += 3) pixels[i] = 1.0f - pixels[i];
+    scene::test::write_bytes((dir / "gl.png").string(), scene::test::png_bytes(size, size, 3,
+                                                                              pixels));
+    const test::RunResult opengl = test::run_leanfade_in("bake gl.png", dir, dir, env(dir));
+    ASSERT_EQ(opengl.exit_code, 0) << opengl.err;
+    EXPECT_EQ(opengl.err, "");
+}
+
 }  // namespace leanfade

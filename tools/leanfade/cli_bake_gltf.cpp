@@ -49,6 +49,14 @@ void print_warnings(const std::string& path, const std::vector<std::string>& war
         std::fprintf(stderr, "leanfade: %s\n", terminal_text(path + ": " + w).c_str());
 }
 
+// glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
+std::string gltf_convention_warning(const std::string& image) {
+    return "warning: " + image +
+           " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
+           "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
+           "from the wrong side, flip the texture's green channel";
+}
+
 }  // namespace
 
 int run_bake_gltf(const GltfBakeArgs& args) {
@@ -134,6 +142,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
             report += line;
             if (map.normal_repairs.any())
                 report += "  " + terminal_text(normal_repairs_note(image, map.normal_repairs)) + "\n";
+            if (map.source_looks_flipped)
+                print_warnings(args.input, {gltf_convention_warning(image)});
             summaries.push_back({{"input", args.input},
                                  {"material", j.material},
                                  {"image", image},
@@ -146,6 +156,7 @@ int run_bake_gltf(const GltfBakeArgs& args) {
                                  {"from_cache", cached},
                                  {"padding_texels", map.normal_repairs.padding_texels},
                                  {"raised_normals", map.normal_repairs.raised_texels},
+                                 {"looks_like_other_convention", map.source_looks_flipped},
                                  {"seconds", seconds}});
         }
         if (!args.json.empty()) {
@@ -172,6 +183,8 @@ scene::Scene load_gltf_render_scene(const std::string& path, const std::string& 
         scene::make_render_scene(gltf, bake_settings(storage_bits, max_size, 0, strict_normals),
                                  &report);
     print_warnings(path, report.warnings);
+    for (const std::string& image : report.other_convention)
+        print_warnings(path, {gltf_convention_warning(image)});
     for (const auto& [image, repairs] : report.repaired)
         print_warnings(path, {normal_repairs_note(image, repairs)});
     return result;

@@ -2,6 +2,7 @@
 #include "cli_flags.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "leanfade/core/parameters.hpp"
@@ -84,6 +85,16 @@ Error with_flag_name(const Error& error) {
     const std::string flag = flag_for_setting(error.file());
     const std::string cause = quoted_settings_as_flags(error.cause());
     return Error(flag.empty() ? error.file() : flag, cause);
+}
+
+std::string convention_warning(const std::string& name, bool directx, double ratio) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", ratio);
+    return name + " looks like " + (directx ? "an OpenGL (+Y)" : "a DirectX (-Y)") +
+           " normal map (its slopes fit a height field " + text +
+           " times better with green flipped); " +
+           (directx ? "bake it without --directx if its bumps look lit from the wrong side"
+                    : "bake it with --directx if its bumps look lit from the wrong side");
 }
 
 std::string normal_repairs_note(const std::string& name, const NormalRepairs& repairs) {

@@ -23,4 +23,9 @@ Error with_flag_name(const Error& error);
 // "NAME: 12 (0, 0, 0) padding texels taken as flat, 5 texels with z <= 0 raised".
 std::string normal_repairs_note(const std::string& name, const NormalRepairs& repairs);
 
+// The warning for a normal map that fits the other convention better (check_normal_convention):
+// "NAME looks like a DirectX (-Y) normal map (...); bake it with --directx if ...". `directx`:
+// the convention it was read in.
+std::string convention_warning(const std::string& name, bool directx, double ratio);
+
 }  // namespace leanfade::cli

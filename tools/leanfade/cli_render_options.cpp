@@ -220,6 +220,15 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     if (baked.packed.normal_repairs.any())
         std::fprintf(stderr, "leanfade: %s\n",
                      normal_repairs_note(f.bumps, baked.packed.normal_repairs).c_str());
+    if (baked.source == BakeSource::Normal) {
+        const NormalConventionCheck check = check_normal_convention(image, options.convention);
+        if (check.looks_flipped())
+            std::fprintf(stderr, "leanfade: warning: %s\n",
+                         convention_warning(f.bumps, f.directx,
+                                            check.curl_as_read /
+                                                std::max(check.curl_flipped, 1e-30))
+                             .c_str());
+    }
     return std::move(baked.packed);
 }
 

@@ -335,6 +335,13 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
     // name: the library's message lists every scene of kBuiltinScenes and the files.
     object.mesh = model && model->parts.size() == 1 ? std::move(model->parts.front())
                                                     : scene::make_scene_mesh(flags.scene);
+    // The plane's uv runs 0..50 (a repeat per 0.4 world units), right for the built-in sets; a
+    // map of one's own (an image or a .ktx2) would be too fine to see: it repeats 5 times
+    // across (uv 0..5, a repeat per 4 world units), before --tiling.
+    const auto& builtins = builtin_bump_names();
+    if (flags.scene == "plane" && flags.layers.layers.empty() &&
+        std::find(builtins.begin(), builtins.end(), flags.bumps.bumps) == builtins.end())
+        for (scene::Vertex& v : object.mesh.vertices) v.uv *= kUserMapPlaneUvScale;
     object.material = 0;
     result.objects.push_back(std::move(object));
     if (flags.layers.layers.empty()) {

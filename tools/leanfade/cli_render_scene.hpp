@@ -16,6 +16,10 @@
 
 namespace leanfade::cli {
 
+// --scene plane with a map of one's own (not a built-in set): its uv (0..50, a repeat per 0.4
+// world units of the 20 x 20 plane) times this, so that the map repeats 5 times across.
+inline constexpr float kUserMapPlaneUvScale = 0.1f;
+
 // Bump layers of the material (docs/math.md §6); empty `layers`: the one map of --bumps.
 struct LayerFlags {
     std::string layers;      // --layers SRC,SRC[,...]: built-in sets, images or .ktx2 maps

@@ -134,20 +134,18 @@ Image convention_sample(const std::variant<Image, UnormImage>& input) {
 
 // A warning when a normal map's slopes fit a height field clearly better in the other convention
 // (check_normal_convention).
-void warn_if_other_convention(const std::string& name,
+// Returns whether it warned (the summary's looks_like_other_convention).
+bool warn_if_other_convention(const std::string& name,
                               const std::variant<Image, UnormImage>& input,
                               NormalConvention convention) {
     const NormalConventionCheck check =
         check_normal_convention(convention_sample(input), convention);
-    if (!check.looks_flipped()) return;
-    const bool directx = convention == NormalConvention::DirectX;
-    std::fprintf(stderr,
-                 "leanfade bake: warning: %s looks like %s normal map (its slopes fit a height "
-                 "field %.3g times better with green flipped); %s\n",
-                 name.c_str(), directx ? "an OpenGL (+Y)" : "a DirectX (-Y)",
-                 check.curl_as_read / std::max(check.curl_flipped, 1e-30),
-                 directx ? "bake it without --directx if its bumps look lit from the wrong side"
-                         : "bake it with --directx if its bumps look lit from the wrong side");
+    if (!check.looks_flipped()) return false;
+    std::fprintf(stderr, "leanfade bake: warning: %s\n",
+                 convention_warning(name, convention == NormalConvention::DirectX,
+                                    check.curl_as_read / std::max(check.curl_flipped, 1e-30))
+                     .c_str());
+    return true;
 }
 
 nlohmann::json summary_json(const std::string& input, const std::string& output,
@@ -371,7 +369,8 @@ int run_bake(const BakeArgs& given) {
             write_roughness_outputs(args.roughness, input, kind, options, read_options,
                                     write_options, outputs);
         if (!one_group) outputs.publish();
-        if (baked.source == BakeSource::Normal)
+        const bool other_convention =
+            baked.source == BakeSource::Normal &&
             warn_if_other_convention(name, input, options.convention);
         const PackedLeanMap& packed = baked.packed;
         const double seconds =
@@ -396,6 +395,7 @@ int run_bake(const BakeArgs& given) {
             report();
         summaries.push_back(
             summary_json(name, output, s, result, to_string(packed.storage), seconds));
+        summaries.back()["looks_like_other_convention"] = other_convention;
     };
 
     auto guarded = [&](const Job& j) {

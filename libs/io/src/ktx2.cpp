@@ -379,6 +379,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     if (layout.normal_repairs.raised_texels > 0)
         key_values.emplace_back(kRaisedTexelsKey,
                                 std::to_string(layout.normal_repairs.raised_texels));
+    if (layout.source_looks_flipped) key_values.emplace_back(kConventionWarningKey, "other");
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
     for (const auto& [key, value] : key_values) append_key_value(key_value_bytes, key, value);
@@ -832,6 +833,12 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
           std::pair{kRaisedTexelsKey, &map.normal_repairs.raised_texels}}) {
         if (const std::string* text = info.find(key); text != nullptr) *count =
             parse_count(path, key, *text);
+    }
+    if (const std::string* warning = info.find(kConventionWarningKey); warning != nullptr) {
+        if (*warning != "other")
+            throw Error(path, "bad " + std::string(kConventionWarningKey) + " value '" +
+                                  escape_text(*warning) + "' (expected other)");
+        map.source_looks_flipped = true;
     }
     if (const std::string* orientation = info.find(kKeyOrientation);
         orientation != nullptr && *orientation != "rd") {

@@ -103,6 +103,8 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     NormalRepairs repairs;
     if (!settings.strict_normals) repairs = count_normal_repairs(normals);
     if (repairs.any()) normals = repair_normal_map(normals);
+    const bool looks_flipped =
+        check_normal_convention(normals, NormalConvention::OpenGL).looks_flipped();
     if (scale != 1.0f) detail::scale_normals(normals, scale);
     BakeOptions options;
     options.strict_normals = settings.strict_normals;
@@ -118,6 +120,7 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
         throw Error(gltf.path, e.what());
     }
     map.normal_repairs = repairs;
+    map.source_looks_flipped = looks_flipped;
     const std::string warning = cache.store(key, map);
     if (cache_warning != nullptr) *cache_warning = warning;
     if (from_cache != nullptr) *from_cache = false;
@@ -154,6 +157,8 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                                                " bytes (" + std::to_string(maps.size() + 1) +
                                                " maps)");
                 ++(cached ? r.from_cache : r.baked);
+                if (scene.lean_maps.back().source_looks_flipped)
+                    r.other_convention.push_back(gltf.images[std::size_t(gm.normal_image)].name);
                 if (scene.lean_maps.back().normal_repairs.any())
                     r.repaired.emplace_back(gltf.images[std::size_t(gm.normal_image)].name,
                                             scene.lean_maps.back().normal_repairs);

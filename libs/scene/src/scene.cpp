@@ -37,7 +37,11 @@ std::vector<std::string> builtin_scene_names() {
 
 std::string scene_choices_text() {
     std::string text;
-    for (const BuiltinScene& scene : kBuiltinScenes) text += std::string(scene.name) + ", ";
+    for (const BuiltinScene& scene : kBuiltinScenes) {
+        text += scene.name;
+        if (!scene.help_note.empty()) text += " (" + std::string(scene.help_note) + ")";
+        text += ", ";
+    }
     return text + "an .obj file or a glTF scene (.gltf, .glb)";
 }
 

@@ -91,6 +91,9 @@ struct PackedLeanMap {
     float baked_shininess = 0.0f;
     NormalConvention source_convention = NormalConvention::OpenGL;
     NormalRepairs normal_repairs;  // as LeanMap::normal_repairs
+    // The source normal map fits the other convention clearly better
+    // (NormalConventionCheck::looks_flipped), as noted by a bake that checked it.
+    bool source_looks_flipped = false;
     std::string generator;  // e.g. "leanfade 0.1.0"
     std::vector<PackedLevel> levels;
 };

@@ -38,6 +38,9 @@ inline constexpr const char* kNormalConventionKey = "LEANFADEnormalConvention";
 // and its texels with z <= 0 raised.
 inline constexpr const char* kPaddingTexelsKey = "LEANFADEpaddingTexels";
 inline constexpr const char* kRaisedTexelsKey = "LEANFADEraisedTexels";
+// Written only when a bake found its source normal map to fit the other convention better
+// (PackedLeanMap::source_looks_flipped): the value "other".
+inline constexpr const char* kConventionWarningKey = "LEANFADEconventionWarning";
 
 // The value of the LEANFADElayout key this version writes and accepts.
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";

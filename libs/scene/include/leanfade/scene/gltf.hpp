@@ -182,6 +182,9 @@ struct GltfBakeReport {
     std::vector<std::string> warnings;  // cache entries that could not be stored
     // The normal textures whose bake repaired texels (PackedLeanMap::normal_repairs), by image.
     std::vector<std::pair<std::string, NormalRepairs>> repaired;
+    // The normal textures that fit the DirectX convention clearly better than glTF's OpenGL one
+    // (PackedLeanMap::source_looks_flipped), by image.
+    std::vector<std::string> other_convention;
 };
 
 // The LEAN map of one normal texture with its glTF `scale` (slopes times scale: the normal's X

@@ -16,15 +16,17 @@ namespace leanfade::scene {
 // and make_scene_mesh() read this table.
 struct BuiltinScene {
     std::string_view name;         // in command lines and presets
-    std::string_view description;  // one line for help texts
+    std::string_view description;  // one line for the docs and the viewer
     bool is_mesh;                  // one object from make_scene_mesh(); false: its own builder
+    std::string_view help_note = {};  // what the --scene help adds after the name, or ""
 };
 inline constexpr std::array<BuiltinScene, 6> kBuiltinScenes{{
     {"sphere", "a unit sphere", true},
     {"torus", "a torus", true},
     {"teapot", "the Utah teapot", true},
     {"terrain", "a procedural height field (seed 1)", true},
-    {"plane", "a flat 20 x 20 square, the map repeated every 0.4 units", true},
+    {"plane", "a flat 20 x 20 square", true,
+     "20 x 20 units, uv 0..50 for the built-in sets, 0..5 for a map of one's own"},
     {"ocean", "the animated ocean: moving Gabor wave layers (docs/ocean.md)", false},
 }};
 // The built-in scene called `name`, or nullptr.
@@ -34,9 +36,9 @@ const BuiltinScene* find_builtin_scene(std::string_view name);
 // one mesh, in table order ("sphere", "torus", "teapot", "terrain", "plane").
 std::vector<std::string> builtin_scene_names();
 
-// Every scene a rendering command accepts, for help texts and messages: the table's names, then
-// the files ("sphere, torus, teapot, terrain, plane, ocean, an .obj file or a glTF scene (.gltf,
-// .glb)").
+// Every scene a rendering command accepts, for help texts and messages: the table's names (with
+// their help notes), then the files ("sphere, torus, teapot, terrain, plane (20 x 20 units, ...),
+// ocean, an .obj file or a glTF scene (.gltf, .glb)").
 std::string scene_choices_text();
 
 // A built-in object at its default parameters (see generators.hpp; "terrain" uses seed 1,
