@@ -538,3 +538,27 @@ TEST(CliRender, PlaneTilesAMapOfOnesOwnFiveTimesAcross) {
 }
 
 }  // namespace leanfade::test
+
+namespace leanfade::test {
+
+// render notes a reference that has not converged, by eval's measure (its specular energy
+// against a quarter of the samples): steep bumps with a sharp highlight at 8x8 samples, not the
+// default bumps.
+TEST(CliRender, NotesAReferenceThatHasNotConverged) {
+    const fs::path dir = scratch_dir("cli_render_reference_noise");
+    const std::string view = "--scene sphere --techniques lean,reference --distances 1.6,12 "
+                             "--size 64x64 --ref-samples 8 ";
+    const RunResult steep =
+        run_render(view + "--bumps noise --strength 6 --shininess 13777 -o steep.png", dir);
+    ASSERT_EQ(steep.exit_code, 0) << steep.err;
+    EXPECT_NE(steep.err.find("leanfade render: note: the reference at distance 12 has not "
+                             "converged (its specular energy is uncertain by "),
+              std::string::npos)
+        << steep.err;
+    EXPECT_NE(steep.err.find("with 8x8 samples; raise --ref-samples)"), std::string::npos);
+    const RunResult gentle = run_render(view + "--bumps bumps -o gentle.png", dir);
+    ASSERT_EQ(gentle.exit_code, 0) << gentle.err;
+    EXPECT_EQ(gentle.err, "");
+}
+
+}  // namespace leanfade::test

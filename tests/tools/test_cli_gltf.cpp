@@ -183,4 +183,36 @@ TEST(CliGltf, NormalTexturesThatLookDirectXAreWarnedAbout) {
     EXPECT_EQ(opengl.err, "");
 }
 
+// A normal texture with (0, 0, 0) padding outside its island bakes (the padding taken as flat),
+// counted in the summary, its --json and the KTX2; --strict-normals refuses it.
+TEST(CliGltf, PaddedNormalTexturesAreRepairedUnlessStrict) {
+    const fs::path dir = scratch("padded");
+    std::vector<float> pixels;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const bool padding = x >= 12;
+            const glm::vec3 n = glm::normalize(glm::vec3(0.2f * float(y % 3), 0.1f, 1.0f));
+            for (int c = 0; c < 3; ++c) pixels.push_back(padding ? 0.0f : 0.5f * n[c] + 0.5f);
+        }
+    GltfTestFile file;
+    file.images = {scene::test::png_bytes(16, 16, 3, pixels)};
+    file.materials = {{"wall", glm::vec4(1.0f), -1, 0, 1.0f}};
+    file.meshes.push_back({scene::test::unit_quad(0)});
+    scene::test::write_gltf(file, (dir / "scene.gltf").string(), GltfStorage::External);
+    const test::RunResult r =
+        test::run_leanfade_in("bake scene.gltf --json scene.json", dir, dir, env(dir));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("64 (0, 0, 0) padding texels taken as flat"), std::string::npos) << r.out;
+    const nlohmann::json json = nlohmann::json::parse(test::read_text(dir / "scene.json"));
+    EXPECT_EQ(json[0]["padding_texels"].get<int>(), 64);
+    const PackedLeanMap map = io::read_ktx2((dir / "scene.wall.ktx2").string());
+    EXPECT_EQ(map.normal_repairs.padding_texels, 64u);
+    const test::RunResult strict =
+        test::run_leanfade_in("bake scene.gltf --strict-normals --out-dir " +
+                                  test::shell_quote(dir.string()),
+                              dir, dir, env(dir));
+    EXPECT_EQ(strict.exit_code, 1);
+    EXPECT_NE(strict.err.find("refused by --strict-normals"), std::string::npos) << strict.err;
+}
+
 }  // namespace leanfade

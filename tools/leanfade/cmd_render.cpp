@@ -1,5 +1,6 @@
 // leanfade render: the papers' comparison figure (a column per technique, a row per distance)
 // rendered offscreen with OpenGL 4.5 through EGL, written as one labelled sRGB PNG.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/figure.hpp"
 #include "leanfade/gl/renderer.hpp"
+#include "leanfade/eval/results.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/output_plan.hpp"
@@ -54,6 +56,45 @@ struct RenderArgs {
 
 // Largest number of cell pixels in one picture of `render` (2^25: 8192 x 4096).
 constexpr std::uint64_t kMaxFigurePixels = std::uint64_t(1) << 25;
+
+// The reference's own error, as eval measures it (reference_energy_error, a case flagged "not
+// converged" above eval::kUnconvergedEnergyError): the specular energy of the object's pixels
+// from the reference and from a second one with a quarter of the samples (k/2 x k/2; 2 x 2 for
+// k = 1); for n times fewer samples their difference has sqrt(1 + n) times the error of the
+// better one. A note for each distance above the bound; not for a reference of fewer than 4x4
+// samples, asked for as a quick preview.
+void note_reference_noise(gl::Renderer& renderer, const gl::FigureRequest& request) {
+    if (!request.views.empty() || request.reference_samples < 4 ||
+        std::find(request.techniques.begin(), request.techniques.end(),
+                  gl::Technique::Reference) == request.techniques.end())
+        return;
+    gl::FigureRequest specular = request;
+    specular.techniques = {gl::Technique::Reference};
+    specular.zoom = false;
+    specular.output = gl::OutputMode::Specular;
+    specular.background = glm::vec3(0.0f);
+    specular.settings.fog = FogMode::None;
+    gl::FigureRequest fewer = specular;
+    const int k = request.reference_samples;
+    fewer.reference_samples = k >= 2 ? k / 2 : 2;
+    const double n = double(k * k) / double(fewer.reference_samples * fewer.reference_samples);
+    const double spread = std::sqrt(1.0 + n);
+    const gl::Figure full = gl::render_figure(renderer, specular);
+    const gl::Figure check = gl::render_figure(renderer, fewer);
+    for (std::size_t i = 0; i < full.cells.size() && i < check.cells.size(); ++i) {
+        double energy = 0.0, other = 0.0;
+        for (const float v : full.cells[i].radiance.pixels) energy += double(v);
+        for (const float v : check.cells[i].radiance.pixels) other += double(v);
+        if (!(energy > 0.0)) continue;
+        const double error = std::abs(other - energy) / (energy * spread);
+        if (error > eval::kUnconvergedEnergyError)
+            std::fprintf(stderr,
+                         "leanfade render: note: the reference at distance %s has not converged "
+                         "(its specular energy is uncertain by %.0f%% with %dx%d samples; raise "
+                         "--ref-samples)\n",
+                         gl::distance_text(full.cells[i].distance).c_str(), 100.0 * error, k, k);
+    }
+}
 
 int run_render(const RenderArgs& args) {
     const auto start = std::chrono::steady_clock::now();
@@ -165,6 +206,7 @@ int run_render(const RenderArgs& args) {
         io::write_png(outputs.stage(pictures[k]), figure.picture, 8);
     }
     if (tty) std::fprintf(stderr, "\r\033[K");
+    note_reference_noise(renderer, request);
     if (!args.cells.empty()) {
         const fs::path folder = outputs.stage_folder(args.cells);
         for (const gl::FigureCell& cell : figure.cells) {

@@ -622,7 +622,10 @@ std::vector<MtlMaterial> parse_mtl(const std::string& text, const std::string& p
             }
             if (k >= tokens.size()) fail(std::string(keyword) + " needs a file name");
             std::string file(tokens[k]);
-            for (++k; k < tokens.size(); ++k) file += " " + std::string(tokens[k]);
+            for (++k; k < tokens.size(); ++k) {
+                file.push_back(' ');
+                file.append(tokens[k]);
+            }
             std::replace(file.begin(), file.end(), '\\', '/');
             if (keyword == "map_Kd") {
                 m.kd_map = file;
