@@ -205,6 +205,8 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
         layout.roughness_baked = map.roughness_baked;
         layout.baked_shininess = map.baked_shininess;
         layout.source_convention = map.source_convention;
+        layout.normal_repairs = map.normal_repairs;
+        layout.source_looks_flipped = map.source_looks_flipped;
         layout.generator = map.generator + key_tag(key);
         for (const PackedLevel& level : map.levels)
             layout.levels.push_back({level.width, level.height, {}, {}});
