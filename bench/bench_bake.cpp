@@ -151,7 +151,7 @@ void BM_BakeCore(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
-// The ratio itself, drift cancelled: each iteration times one copy of 512 MiB (the
+// The bake's cost over the memory floor, drift cancelled: each iteration times one copy of 512 MiB (the
 // bandwidth, as BM_MemoryCopy) and then one bake (as BM_BakeCore), and the counters give the
 // floor of that iteration's bandwidth and the mean of the per-iteration ratios core / floor.
 void BM_CoreOverFloor(benchmark::State& state) {

@@ -30,7 +30,7 @@ void write_file(const fs::path& path, const std::string& text) {
     out << text;
 }
 
-// A name that ends gnuplot's string and command, then runs a shell command (the case).
+// A name that ends gnuplot's string and command, then runs a shell command.
 const std::string kHostileName = "x'\nsystem(\"id > PWNED.txt\")\nprint '";
 
 // Every line of a script: blank, a comment, or a set / unset / plot command whose single-quoted

@@ -646,7 +646,7 @@ TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfAMapWithAHorizontalTexel
     const double kept = psnr(lean_cells(dir, dir / "default.ktx2", "default"), truth);
     const double lost = psnr(lean_cells(dir, dir / "all_within.ktx2", "all_within"), truth);
     EXPECT_GE(kept, 50.0) << "default storage against 32f";
-    // The failure, for contrast: sc = 64 for every texel loses the highlight.
+    // For contrast: sc = 64 for every texel loses the highlight.
     EXPECT_LT(lost, 45.0) << "16-bit with sc = the maximum against 32f";
     RecordProperty("psnr_default_db", std::to_string(kept));
     RecordProperty("psnr_sc_max_db", std::to_string(lost));
