@@ -486,7 +486,7 @@ TEST(CliGltfHostile, OutputsMayNotReplaceTheFilesASceneNames) {
         EXPECT_EQ(scene::test::read_bytes((dir / "tex.png").string()), file.images[0]);
     }
     // bake onto a buffer named like its output, also spelt differently in the URI.
-    for (const std::string& uri : {"s.m.ktx2", "./s.m.ktx2", "s%2Em.ktx2"}) {
+    for (const std::string uri : {"s.m.ktx2", "./s.m.ktx2", "s%2Em.ktx2"}) {
         scene::test::GltfTestOutput out = scene::test::build_gltf(file, GltfStorage::External, "s");
         out.json["buffers"][0]["uri"] = uri;
         write_json(dir / "s.gltf", out.json);
