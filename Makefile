@@ -12,7 +12,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_BUILD_DIR ?= build-fuzz
 FUZZ_CC ?= clang-14
 FUZZ_CXX ?= clang++-14
-FUZZ_TARGETS ?= fuzz_image_bake fuzz_ktx2 fuzz_obj fuzz_cli fuzz_preset fuzz_gnuplot
+FUZZ_TARGETS ?= fuzz_image_bake fuzz_ktx2 fuzz_obj fuzz_gltf fuzz_cli fuzz_preset fuzz_gnuplot
 # Sanitizer settings of `make sanitize` (docs/robustness.md): leaks are errors, UBSan reports stop
 # the test with a stack trace. No suppressions.
 ASAN_CHECKS := detect_leaks=1:detect_stack_use_after_return=1
