@@ -9,6 +9,7 @@
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/gl/renderer.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::cli {
 
@@ -94,8 +95,9 @@ float checked_fov(float degrees) {
 }
 
 int checked_reference_samples(int k) {
-    if (k < 1 || k > 16)
-        throw Error("--ref-samples", "must be in [1, 16], got " + std::to_string(k));
+    if (k < 1 || k > kMaxReferenceSamples)
+        throw Error("--ref-samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
+                                         "], got " + std::to_string(k));
     return k;
 }
 

@@ -22,6 +22,7 @@
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -76,7 +77,7 @@ int run_calibrate(const CalibrateArgs& args) {
     if (target.kind != eval::FadeTarget::Kind::Reference)
         eval::target_attenuation(target, request.cameras.distances, request.settings);
     const int k = int(std::lround(std::sqrt(double(std::max(args.spp, 0)))));
-    if (args.spp < 1 || k * k != args.spp || k > 16)
+    if (args.spp < 1 || k * k != args.spp || k > kMaxReferenceSamples)
         throw Error("--spp",
                     "the reference takes k x k samples per pixel: 1, 4, 9, ..., 256, "
                     "got " +

@@ -21,6 +21,7 @@
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -134,7 +135,7 @@ int run_eval(const EvalArgs& args) {
     request.shininesses = eval::parse_shininess_list(args.shininess, "--shininess");
     std::tie(request.width, request.height) = parse_size(args.size, "--size");
     const int k = int(std::lround(std::sqrt(double(std::max(args.spp, 0)))));
-    if (args.spp < 1 || k * k != args.spp || k > 16)
+    if (args.spp < 1 || k * k != args.spp || k > kMaxReferenceSamples)
         throw Error("--spp",
                     "the reference takes k x k samples per pixel: 1, 4, 9, ..., 256, "
                     "got " +

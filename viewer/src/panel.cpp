@@ -13,6 +13,7 @@
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/scene/scene.hpp"
 #include "leanfade/viewer/panel_sections.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::viewer {
 namespace {
@@ -145,7 +146,7 @@ void App::panel_view() {
     }
     if (layout_ == Layout::Split)
         ImGui::SliderFloat("divider", &p.divider, 0.0f, 1.0f, "%.2f", kClamp);
-    ImGui::SliderInt("reference k", &p.reference_samples, 1, 16, "%d", kClamp);
+    ImGui::SliderInt("reference k", &p.reference_samples, 1, kMaxReferenceSamples, "%d", kClamp);
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Reference technique: k x k samples per pixel at LOD 0 (slow)");
     ImGui::SliderFloat("resolution", &p.resolution_scale, 0.1f, 1.0f, "%.2f", kClamp);

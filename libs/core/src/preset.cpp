@@ -18,6 +18,7 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/parameters.hpp"
 #include "leanfade/core/text.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade {
 namespace {
@@ -275,9 +276,10 @@ void validate(const Preset& p, const std::string& file) {
     }
     if (!(p.divider >= 0.0f && p.divider <= 1.0f))
         fail(file, "view.divider", "must be in [0, 1], got " + std::to_string(p.divider));
-    if (p.reference_samples < 1 || p.reference_samples > 16)
+    if (p.reference_samples < 1 || p.reference_samples > kMaxReferenceSamples)
         fail(file, "view.reference_samples",
-             "must be in [1, 16], got " + std::to_string(p.reference_samples));
+             "must be in [1, " + std::to_string(kMaxReferenceSamples) + "], got " +
+                 std::to_string(p.reference_samples));
     if (!(p.resolution_scale >= 0.1f && p.resolution_scale <= 1.0f))
         fail(file, "view.resolution_scale",
              "must be in [0.1, 1], got " + std::to_string(p.resolution_scale));
@@ -388,7 +390,7 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
               }},
              {"layout", str(p.layout)},
              {"divider", num(p.divider)},
-             {"reference_samples", integer(p.reference_samples, 1, 16)},
+             {"reference_samples", integer(p.reference_samples, 1, kMaxReferenceSamples)},
              {"resolution_scale", num(p.resolution_scale)},
              {"fly_away", fly_away}});
     };

@@ -11,6 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/metrics.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::eval {
 namespace {
@@ -37,8 +38,9 @@ void validate(const SweepRequest& r) {
     if (r.shininesses.empty()) throw Error("shininess", "no shininess");
     for (float s : r.shininesses)
         if (!(s > 0.0f) || !std::isfinite(s)) throw Error("shininess", "must be > 0");
-    if (r.reference_samples < 1 || r.reference_samples > 16)
-        throw Error("spp", "the reference takes k x k samples per pixel with k in [1, 16]");
+    if (r.reference_samples < 1 || r.reference_samples > kMaxReferenceSamples)
+        throw Error("spp", "the reference takes k x k samples per pixel with k in [1, " +
+                               std::to_string(kMaxReferenceSamples) + "]");
     if (r.frames < 2 || r.frames > 1000)
         throw Error("frames", "flicker needs 2 to 1000 frames, got " + std::to_string(r.frames));
     if (!(r.motion_pixels > 0.0f && r.motion_pixels <= 4.0f))

@@ -28,7 +28,6 @@ namespace {
 
 using detail::gl_integer;
 
-constexpr int kMaxReferenceSamples = 16;
 
 // velocity * time modulo 1 (uv units, velocity in uv per second, time in seconds), in double
 // precision.

@@ -60,6 +60,10 @@ inline constexpr std::array<TechniqueInfo, 7> kTechniques{{
      shading::LF_TECHNIQUE_BUMP, false, false, true, "#000000", Technique::Reference},
 }};
 
+// The supersampled reference takes k x k samples per pixel at the finest level, k in
+// [1, kMaxReferenceSamples] (docs/math.md §7): every setting, flag and widget of k obeys this.
+inline constexpr int kMaxReferenceSamples = 16;
+
 // Every row sits at the position of its enum value.
 constexpr bool technique_table_is_ordered() {
     for (std::size_t i = 0; i < kTechniques.size(); ++i)
