@@ -1,0 +1,117 @@
+#pragma once
+// What the KTX2 reader, writer and description share (not installed): the file's constants, the
+// LEAN map formats, the data format descriptor, key/value text and the checks before a write
+// (ktx2.cpp). ktx2_write.cpp writes LEAN maps, ktx2_read.cpp inspects and reads them,
+// ktx2_describe.cpp describes a file for people.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "input_file.hpp"
+#include "leanfade/io/ktx2.hpp"
+
+namespace leanfade::io::ktx2_detail {
+
+using detail::append_u32_le;
+using detail::append_u64_le;
+using detail::load_u32_le;
+using detail::load_u64_le;
+
+constexpr std::array<std::uint8_t, 12> kIdentifier = {0xAB, 'K',  'T',  'X',  ' ',  '2',
+                                                      '0',  0xBB, '\r', '\n', 0x1A, '\n'};
+
+constexpr std::size_t kHeaderSize = 80;  // identifier + 9 uint32 + 4 uint32 + 2 uint64
+constexpr std::size_t kLevelIndexEntrySize = 24;
+
+constexpr std::uint32_t kMaxLevelCount = 32;  // a uint32 size has at most 32 levels
+constexpr std::uint32_t kLayerCount = 2;      // lean1, lean2
+
+// Khronos Data Format (KDFWG) constants used by the basic descriptor block.
+constexpr std::uint32_t kDfdVersion13 = 2;
+
+constexpr std::uint32_t kDfdModelRgbsda = 1;
+
+constexpr std::uint32_t kDfdPrimariesBt709 = 1;
+
+constexpr std::uint32_t kDfdTransferLinear = 1;
+
+constexpr std::uint32_t kDfdChannelAlpha = 15;
+
+constexpr std::uint32_t kDfdQualifierSigned = 0x4;
+
+constexpr std::uint32_t kDfdQualifierFloat = 0x8;
+
+constexpr std::uint32_t kDfdBlockHeaderSize = 24;
+
+constexpr std::uint32_t kDfdSampleSize = 16;
+
+constexpr std::uint32_t kFloatMinusOneBits = 0xBF800000u;  // -1.0f
+constexpr std::uint32_t kFloatOneBits = 0x3F800000u;       // 1.0f
+
+constexpr const char* kKeyOrientation = "KTXorientation";
+
+constexpr const char* kKeyWriter = "KTXwriter";
+
+struct FormatInfo {
+    Storage storage;
+    std::uint32_t vk_format;
+    std::uint32_t type_size;    // bytes per channel
+    std::uint32_t texel_bytes;  // bytes per RGBA texel
+    bool is_float;
+    const char* name;
+};
+
+constexpr std::array<FormatInfo, 4> kFormats = {{
+    {Storage::Unorm8, kVkFormatR8G8B8A8Unorm, 1, 4, false, "VK_FORMAT_R8G8B8A8_UNORM"},
+    {Storage::Unorm16, kVkFormatR16G16B16A16Unorm, 2, 8, false, "VK_FORMAT_R16G16B16A16_UNORM"},
+    {Storage::Float16, kVkFormatR16G16B16A16Sfloat, 2, 8, true, "VK_FORMAT_R16G16B16A16_SFLOAT"},
+    {Storage::Float32, kVkFormatR32G32B32A32Sfloat, 4, 16, true, "VK_FORMAT_R32G32B32A32_SFLOAT"},
+}};
+
+const FormatInfo* find_format(std::uint32_t vk_format);
+
+const FormatInfo& format_of(Storage storage);
+
+std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment);
+
+// Alignment of level data: lcm(texel block size, 4).
+std::uint64_t level_alignment(const FormatInfo& format);
+
+std::uint32_t full_chain_length(std::uint32_t width, std::uint32_t height);
+
+std::uint32_t level_size(std::uint32_t size, std::uint32_t level);
+
+// Bytes of one layer of one level.
+std::uint64_t layer_bytes(const FormatInfo& format, std::uint32_t width, std::uint32_t height);
+
+// True when [offset, offset + length) lies inside a file of `size` bytes (no overflow).
+bool inside(std::uint64_t offset, std::uint64_t length, std::uint64_t size);
+
+Ktx2DataFormat expected_data_format(const FormatInfo& format);
+
+std::vector<std::uint8_t> encode_data_format(const Ktx2DataFormat& data_format);
+
+Ktx2DataFormat decode_data_format(const std::string& path, const std::vector<std::uint8_t>& bytes);
+
+std::vector<std::pair<std::string, std::string>> decode_key_values(
+    const std::string& path, const std::vector<std::uint8_t>& bytes);
+
+std::string format_float(float value);
+
+// A count of texels written by to_string: decimal digits only.
+std::uint64_t parse_count(const std::string& path, const std::string& key, const std::string& text);
+
+float parse_float(const std::string& path, const std::string& key, const std::string& text);
+
+void append_key_value(std::vector<std::uint8_t>& out, const std::string& key,
+                      const std::string& value);
+
+// check_layers: the layers' byte counts too (not for a layout whose layers are written later).
+void validate_for_write(const std::string& path, const PackedLeanMap& map, const FormatInfo& format,
+                        bool check_layers);
+
+const char* normal_convention_name(NormalConvention convention);
+
+}  // namespace leanfade::io::ktx2_detail
