@@ -84,9 +84,14 @@ TEST_F(FrameBench, InterleavesEveryTechniqueInEveryRound) {
                 EXPECT_LE(t.stats.median, t.stats.max);
                 EXPECT_NEAR(t.fps, 1000.0 / t.stats.median, 1e-9);
             }
-            const double r = view.ratio("lean", "bump");
+            const double r = view.ratio(gl::Technique::Lean, gl::Technique::Bump);
             EXPECT_TRUE(std::isfinite(r) && r > 0.0) << r;
-            EXPECT_EQ(view.ratio("lean", "toksvig-not-measured"), 0.0);
+            // A technique that was not measured has no ratio; each timing knows its technique.
+            EXPECT_EQ(view.ratio(gl::Technique::Lean, gl::Technique::Toksvig), 0.0);
+            EXPECT_EQ(view.find(gl::Technique::Toksvig), nullptr);
+            ASSERT_NE(view.floor(), nullptr);
+            EXPECT_EQ(view.floor()->name, gl::kFloorName);
+            EXPECT_EQ(view.find(gl::Technique::Fade)->name, "fade");
         }
         EXPECT_DOUBLE_EQ(scene.views[0].coverage, 1.0) << scene.name << ": the fill view";
         EXPECT_LT(scene.views[2].coverage, 0.2) << scene.name << ": far away";
@@ -107,7 +112,7 @@ TEST_F(FrameBench, LeanCostsMoreThanTheFloorWhenFillingTheScreen) {
     request.techniques = {gl::Technique::Lean};
     const gl::FrameBenchResult result = gl::run_frame_bench(*renderer_, {scenes()[0]}, request);
     const gl::ViewResult& fill = result.scenes[0].views[0];
-    EXPECT_GT(fill.ratio("lean", gl::kFloorName), 1.0);
+    EXPECT_GT(fill.ratio_to_floor(gl::Technique::Lean), 1.0);
 }
 
 TEST_F(FrameBench, ForcedGpuTimingRunsAndGivesFiniteNumbers) {

@@ -13,7 +13,7 @@ namespace {
 
 // The fill view's timing of `technique` with `scene` drawn.
 const gl::TechniqueTiming& fill_timing(const gl::FrameBenchResult& result, gl::Technique t) {
-    const gl::TechniqueTiming* timing = result.scenes.front().views.front().find(to_string(t));
+    const gl::TechniqueTiming* timing = result.scenes.front().views.front().find(t);
     if (timing == nullptr) throw Error("bench", "a column was not measured");
     return *timing;
 }
@@ -54,7 +54,7 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
         const gl::TechniqueTiming& lean = fill_timing(base, gl::Technique::Lean);
         const double lean_ms = lean.stats.median;
         result.columns.push_back({"blinn_phong", "Blinn-Phong", bump.stats.median, bump.fps,
-                                  base.scenes.front().views.front().ratio("bump", "lean")});
+                                  base.scenes.front().views.front().ratio(gl::Technique::Bump, gl::Technique::Lean)});
         result.columns.push_back({"single_lean", "single LEAN", lean_ms, lean.fps, 1.0});
 
         // Per-frame generation and the two mixtures: the same two moving layers (docs/math.md

@@ -85,14 +85,16 @@ BenchSystem describe_system() {
 
 std::vector<std::pair<std::string, double>> view_ratios(const gl::ViewResult& view) {
     std::vector<std::pair<std::string, double>> ratios;
-    auto add = [&](const std::string& a, const std::string& b) {
-        if (view.find(a) != nullptr && view.find(b) != nullptr)
-            ratios.emplace_back(a + "/" + b, view.ratio(a, b));
-    };
     for (const TechniqueInfo& row : kTechniques)
-        if (row.overhead_of != row.id) add(std::string(row.name), to_string(row.overhead_of));
-    for (const gl::TechniqueTiming& t : view.timings)
-        if (t.name != gl::kFloorName) add(t.name, gl::kFloorName);
+        if (row.overhead_of != row.id && view.find(row.id) != nullptr &&
+            view.find(row.overhead_of) != nullptr)
+            ratios.emplace_back(std::string(row.name) + "/" + to_string(row.overhead_of),
+                                view.ratio(row.id, row.overhead_of));
+    if (view.floor() != nullptr)
+        for (const gl::TechniqueTiming& t : view.timings)
+            if (t.technique)
+                ratios.emplace_back(t.name + "/" + gl::kFloorName,
+                                    view.ratio_to_floor(*t.technique));
     return ratios;
 }
 

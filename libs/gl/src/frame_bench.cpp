@@ -101,7 +101,10 @@ ViewResult run_view(Renderer& renderer, const FrameBenchRequest& r, const Planne
     for (Technique t : r.techniques) entries.push_back({to_string(t), std::nullopt, t});
     const int count = int(entries.size());
     result.timings.resize(entries.size());
-    for (std::size_t i = 0; i < entries.size(); ++i) result.timings[i].name = entries[i].name;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        result.timings[i].name = entries[i].name;
+        if (!entries[i].variant) result.timings[i].technique = entries[i].technique;
+    }
 
     // Coverage of the full-size framebuffer, with the floor's program.
     target.clear();
@@ -145,9 +148,22 @@ const TechniqueTiming* ViewResult::find(const std::string& technique) const {
     return nullptr;
 }
 
-double ViewResult::ratio(const std::string& a, const std::string& b) const {
-    const TechniqueTiming* ta = find(a);
-    const TechniqueTiming* tb = find(b);
+const TechniqueTiming* ViewResult::find(Technique technique) const {
+    for (const TechniqueTiming& t : timings)
+        if (t.technique == technique) return &t;
+    return nullptr;
+}
+
+const TechniqueTiming* ViewResult::floor() const {
+    for (const TechniqueTiming& t : timings)
+        if (!t.technique) return &t;
+    return nullptr;
+}
+
+namespace {
+
+// Median over rounds of a[i] / b[i]; 0 when either is missing.
+double median_ratio(const TechniqueTiming* ta, const TechniqueTiming* tb) {
     if (ta == nullptr || tb == nullptr || ta->frame_ms.size() != tb->frame_ms.size() ||
         ta->frame_ms.empty())
         return 0.0;
@@ -157,6 +173,12 @@ double ViewResult::ratio(const std::string& a, const std::string& b) const {
     std::sort(ratios.begin(), ratios.end());
     return sorted_quantile(ratios, 0.5);
 }
+
+}  // namespace
+
+double ViewResult::ratio(Technique a, Technique b) const { return median_ratio(find(a), find(b)); }
+
+double ViewResult::ratio_to_floor(Technique a) const { return median_ratio(find(a), floor()); }
 
 const ViewResult* SceneResult::find(const std::string& view_name) const {
     for (const ViewResult& v : views)

@@ -12,6 +12,7 @@
 // The constant-colour "floor" (shader variant scene_constant: same geometry and vertex stage) is
 // measured alongside as the fill-rate floor every technique is compared with.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct FrameBenchRequest {
 
 struct TechniqueTiming {
     std::string name;              // "bump", "lean", ..., or kFloorName
+    std::optional<Technique> technique;  // the technique timed; none for the floor
     std::vector<double> frame_ms;  // one per timed round, in round order
     SampleStats stats;             // of frame_ms
     double fps = 0.0;              // 1000 / median
@@ -59,9 +61,17 @@ struct ViewResult {
     // Per timed round, the indices into `timings` in the order they were drawn.
     std::vector<std::vector<int>> order;
 
-    const TechniqueTiming* find(const std::string& technique) const;
-    // Median over rounds of a[i] / b[i]; 0 when either is missing.
-    double ratio(const std::string& a, const std::string& b) const;
+    // The timing called `name` (a technique's name or kFloorName), or nullptr.
+    const TechniqueTiming* find(const std::string& name) const;
+    // The timing of `technique`, or nullptr when it was not measured.
+    const TechniqueTiming* find(Technique technique) const;
+    // The constant-colour floor's timing, or nullptr when it was not measured.
+    const TechniqueTiming* floor() const;
+    // Median over rounds of a[i] / b[i] (frame time of a over that of b); 0 when either was not
+    // measured.
+    double ratio(Technique a, Technique b) const;
+    // The same against the constant-colour floor.
+    double ratio_to_floor(Technique a) const;
 };
 
 struct SceneResult {
