@@ -10,6 +10,7 @@
 #include "leanfade/core/text.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/core/technique.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade::cli {
 
@@ -90,7 +91,7 @@ glm::vec3 parse_view_direction(const std::string& text) {
 }
 
 float checked_fov(float degrees) {
-    if (!(degrees > 1.0f && degrees < 170.0f)) throw Error("--fov", "must be in (1, 170) degrees");
+    check_field_of_view(degrees, "--fov");
     return degrees;
 }
 

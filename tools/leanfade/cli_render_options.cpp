@@ -17,6 +17,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/png_io.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -279,11 +280,7 @@ std::vector<float> parse_distances(const std::string& text, const std::string& f
         float d = 0.0f;
         if (!parse_float(part, d))
             throw Error(flag, "expected comma-separated numbers, got '" + text + "'");
-        if (!(d > 1.0f))
-            throw Error(flag,
-                        "distances are in bounding radii from the object's centre and must "
-                        "be > 1, got " +
-                            part);
+        check_camera_distance(d, flag, part);
         result.push_back(d);
     }
     return result;

@@ -14,6 +14,7 @@
 #include "cli_render_options.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/eval/calibration.hpp"
 #include "leanfade/eval/results.hpp"
@@ -35,7 +36,8 @@ struct CalibrateArgs {
     std::string distances = "2:64:10";
     std::string size = "128x128";
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = "0,0.3,1";  // from the object's centre toward the eye
+    // From the object's centre toward the eye.
+    std::string view_dir = vector_text(kDefaultViewDirection);
     std::string plot = "calibration.png";
     std::string json;
     int spp = 64;

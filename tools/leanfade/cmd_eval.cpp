@@ -13,6 +13,7 @@
 #include "cli_render_options.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/preset.hpp"
 #include "leanfade/eval/results.hpp"
@@ -36,7 +37,8 @@ struct EvalArgs {
     bool fixed_spp = false;
     std::string size = "256x256";
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = "0,0.3,1";  // from the object's centre toward the eye
+    // From the object's centre toward the eye.
+    std::string view_dir = vector_text(kDefaultViewDirection);
     std::string out = "eval";
     std::string replot;
     ShadingFlags shading;

@@ -13,6 +13,7 @@
 #include "cli_render_mixings.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/preset.hpp"
 #include "leanfade/core/text.hpp"
@@ -46,7 +47,7 @@ struct RenderArgs {
     int frames = 1;     // a sequence of frames, `output` a %03d pattern (cli_ocean.hpp)
     float fps = 12.0f;  // frames per second of the sequence
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = "0,0.3,1";  // from the target toward the eye
+    std::string view_dir = vector_text(kDefaultViewDirection);  // from the target toward the eye
     std::string target = "0,0,0";      // the point the camera looks at
     std::string preset;                // JSON preset of `leanfade view`: the defaults of the flags
     ShadingFlags shading;

@@ -16,6 +16,7 @@
 #include "cli_render_options.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/preset.hpp"
@@ -36,7 +37,7 @@ struct ViewArgs {
     std::string layout;      // "" = single for one technique, side-by-side for more
     float distance = 3.0f;
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = "0,0.3,1";
+    std::string view_dir = vector_text(kDefaultViewDirection);
     std::string target = "0,0,0";
     int ref_samples = 4;
     float divider = 0.5f;

@@ -19,6 +19,7 @@
 #include "leanfade/core/parameters.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/core/technique.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade {
 namespace {
@@ -256,7 +257,7 @@ void validate(const Preset& p, const std::string& file) {
         fail(file, "camera.distance",
              "must be in (1, " + std::to_string(int(kMaxCameraDistance)) +
                  "] bounding radii, got " + std::to_string(c.distance));
-    if (!(c.fov_y_degrees > 1.0f && c.fov_y_degrees < 170.0f))
+    if (!(c.fov_y_degrees > kMinFovDegrees && c.fov_y_degrees < kMaxFovDegrees))
         fail(file, "camera.fov_y_degrees",
              "must be in (1, 170) degrees, got " + std::to_string(c.fov_y_degrees));
 

@@ -30,6 +30,7 @@
 #include "leanfade/eval/metrics.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade::eval {
 
@@ -216,7 +217,7 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
         if (!parse_number(range[0], a) || !parse_number(range[1], b) ||
             !parse_number(range[2], n) || n != std::floor(n))
             throw Error(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
-        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxSweepDistance)
+        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxCameraDistance)
             throw Error(flag,
                         "A:B:N needs 1 < A < B <= 1e4 and 1 <= N <= 1000 (distances in bounding "
                         "radii), got '" +
@@ -242,16 +243,7 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
             double d = 0.0;
             if (!parse_number(part, d))
                 throw Error(flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
-            if (!(d > 1.0))
-                throw Error(flag,
-                            "distances are in bounding radii from the object's centre and "
-                            "must be > 1, got " +
-                                part);
-            if (d > kMaxSweepDistance)
-                throw Error(flag,
-                            "distances must be at most 1e4 bounding radii (the object "
-                            "covers far less than a pixel beyond), got " +
-                                part);
+            check_camera_distance(d, flag, part);
             result.push_back(float(d));
         }
     } else {

@@ -21,9 +21,6 @@ bool parse_number(const std::string& text, double& value);
 // 3.1748.
 float round_significant(double v, int digits = 3);
 
-// The largest camera distance of a sweep, bounding radii: beyond it the object covers far less
-// than a pixel of any frame.
-constexpr double kMaxSweepDistance = 1e4;
 
 std::string number(double v);
 

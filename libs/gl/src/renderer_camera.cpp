@@ -4,6 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/renderer.hpp"
 
@@ -18,11 +19,8 @@ glm::mat4 View::projection_matrix(float aspect) const {
 }
 
 View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction, glm::vec3 target) {
-    if (!(distance > 1.0f) || !std::isfinite(distance))
-        throw Error("distances", "camera distances are in bounding radii and must be > 1, got " +
-                                     std::to_string(distance));
-    if (!(fov_y_degrees > 1.0f && fov_y_degrees < 170.0f))
-        throw Error("fov", "must be in (1, 170) degrees, got " + std::to_string(fov_y_degrees));
+    check_camera_distance(distance, "distances");
+    check_field_of_view(fov_y_degrees, "fov");
     if (!(glm::length(direction) > 0.0f) || !std::isfinite(glm::length(direction)))
         throw Error("view_dir", "must be a finite, non-zero vector");
     if (!std::isfinite(target.x) || !std::isfinite(target.y) || !std::isfinite(target.z))

@@ -28,6 +28,7 @@
 #include <glm/vec3.hpp>
 
 #include "leanfade/core/settings.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade {
 
@@ -44,12 +45,10 @@ struct BumpSource {
 // An orbit camera in world space (units are object bounding radii, y up; see gl/renderer.hpp).
 struct CameraSettings {
     glm::vec3 target{0.0f};                 // the point looked at; the object's centre is 0
-    glm::vec3 direction{0.0f, 0.3f, 1.0f};  // from the target toward the eye, non-zero
+    glm::vec3 direction = kDefaultViewDirection;  // from the target toward the eye, non-zero
     float distance = 3.0f;                  // eye to target, > 1 and <= kMaxCameraDistance
     float fov_y_degrees = 34.0f;            // vertical field of view, (1, 170)
 };
-
-inline constexpr float kMaxCameraDistance = 10000.0f;
 
 // The "fly away" animation of the viewer: the distance goes from near to far and back.
 struct FlyAwaySettings {

@@ -26,6 +26,7 @@
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
+#include "leanfade/core/camera.hpp"
 
 namespace leanfade::gl {
 
@@ -63,7 +64,7 @@ struct View {
 };
 
 // Default viewing direction of the figures: from the front (+z), slightly above.
-inline constexpr glm::vec3 kDefaultViewDirection{0.0f, 0.3f, 1.0f};
+using leanfade::kDefaultViewDirection;  // leanfade/core/camera.hpp
 
 // A camera looking at `target` (default: the world origin, the object's centre) from `distance`
 // world units (object bounding radii, > 1) along `direction` (from the target toward the eye, any

@@ -1,0 +1,28 @@
+#pragma once
+// The camera's settings, described once for the renderer, presets, eval and the command line:
+// distances in bounding radii from the object's centre, the vertical field of view in degrees,
+// and the default direction from the target toward the eye (world space, y up).
+#include <string>
+
+#include <glm/vec3.hpp>
+
+namespace leanfade {
+
+inline constexpr glm::vec3 kDefaultViewDirection{0.0f, 0.3f, 1.0f};
+
+// A camera distance d (bounding radii from the object's centre) is in (1, kMaxCameraDistance]:
+// at 1 the eye touches the bounding sphere; beyond the upper end the object covers far less
+// than a pixel of any frame.
+inline constexpr float kMaxCameraDistance = 10000.0f;
+// Throws leanfade::Error(setting, cause) for a distance outside that range or not finite;
+// `text` is the value as given, for the message ("" to print the number).
+void check_camera_distance(double distance, const std::string& setting,
+                           const std::string& text = {});
+
+// The vertical field of view, degrees: in (kMinFovDegrees, kMaxFovDegrees).
+inline constexpr float kMinFovDegrees = 1.0f;
+inline constexpr float kMaxFovDegrees = 170.0f;
+// Throws leanfade::Error(setting, "must be in (1, 170) degrees, got ...") outside that range.
+void check_field_of_view(float degrees, const std::string& setting);
+
+}  // namespace leanfade
