@@ -269,7 +269,7 @@ const CommandRegistration registration{
                        "Techniques, comma-separated (default: every real-time technique: " +
                            default_techniques() + ")");
         app.add_option("--distances", args->distances,
-                       "Camera distances of the near / mid / far views in bounding radii (> 1), "
+                       "Camera distances of the near / mid / far views in bounding radii, in (1, 1e4], "
                        "or 'none'")
             ->capture_default_str();
         app.add_flag("--no-fill", args->no_fill, "Skip the object-filling-the-screen view");

@@ -264,7 +264,7 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--distances", args->distances,
                        "Rows: camera distances from the target (default the object's centre) in "
-                       "bounding radii (> 1)")
+                       "bounding radii, in (1, 1e4]")
             ->capture_default_str();
         app.add_option("--size", args->size, "Size of each cell, WIDTHxHEIGHT pixels")
             ->capture_default_str();

@@ -110,8 +110,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         throw Error("--layout", "split needs exactly two techniques (--techniques A,B)");
     if (p.layout == "side-by-side" && techniques.size() < 2)
         throw Error("--layout", "side-by-side needs two or three techniques (--techniques A,B)");
-    if (!(args.distance > 1.0f && args.distance <= kMaxCameraDistance))
-        throw Error("--distance", "must be in (1, 10000] bounding radii");
+    check_camera_distance(args.distance, "--distance");
     p.camera.distance = args.distance;
     p.camera.fov_y_degrees = checked_fov(args.fov);
     p.camera.direction = parse_view_direction(args.view_dir);
@@ -206,7 +205,7 @@ const CommandRegistration registration{
         app.add_option("--divider", args->divider, "Split view: divider position, 0..1")
             ->capture_default_str();
         app.add_option("--distance", args->distance,
-                       "Camera distance from the target in bounding radii (> 1)")
+                       "Camera distance from the target in bounding radii, in (1, 1e4]")
             ->capture_default_str();
         add_camera_options(app, args->fov, args->view_dir, "the target", &args->target);
         add_reference_samples_option(app, args->ref_samples);
