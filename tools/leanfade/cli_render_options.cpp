@@ -152,7 +152,7 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str()
         ->group(group);
-    app.add_option("--roughness-map", f.roughness_map,
+    app.add_option(map_flag(scene::MapKind::BaseRoughness), f.roughness_map,
                    "Base roughness per texel with --brdf cook-torrance, instead of --roughness: a "
                    "grey image of perceptual r in [0, 1] or a glTF metallic-roughness texture (r "
                    "in G), at the bumps' uv; alpha0^2 = r^4 is MIP-filtered linearly, as the "
@@ -173,6 +173,10 @@ void check_texture_size(int texture_size, int max_size, bool builtin) {
                     "must be in [4, " + std::to_string(largest) + "]" +
                         (largest < kDefaultMaxImageDimension ? " (--max-size)" : "") + ", got " +
                         std::to_string(texture_size));
+}
+
+std::string map_flag(scene::MapKind kind) {
+    return "--" + std::string(scene::info(kind).setting);
 }
 
 Storage on_the_fly_storage(const LeanSourceFlags& f) { return parse_bake_storage(f.bits); }

@@ -18,8 +18,13 @@
 #include "leanfade/core/settings.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/shader_library.hpp"
+#include "leanfade/scene/map_kinds.hpp"
 
 namespace leanfade::cli {
+
+// The flag of a surface map kind that a rendering command takes ("--roughness-map"): `--` and the
+// setting of its row in scene::kMapKinds.
+std::string map_flag(scene::MapKind kind);
 
 struct ShadingFlags {
     ShadingSettings settings;  // scalar and integer flags are bound to its fields directly

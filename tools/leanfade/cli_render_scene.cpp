@@ -147,11 +147,13 @@ void check_roughness_map(const RenderSourceFlags& flags, const ShadingSettings& 
     const std::string& path = flags.bumps.roughness_map;
     if (path.empty()) return;
     if (settings.brdf != Brdf::CookTorrance)
-        throw Error("--roughness-map", "needs --brdf cook-torrance (the base roughness of "
-                                       "Blinn-Phong is 1/s, --shininess)");
+        throw Error(map_flag(scene::MapKind::BaseRoughness),
+                    "needs --brdf cook-torrance (the base roughness of Blinn-Phong is 1/s, "
+                    "--shininess)");
     if (is_ocean_scene(flags.scene) || scene::is_gltf_path(flags.scene))
-        throw Error("--roughness-map", "applies to the material of --bumps or --layers, not to "
-                                       "the ocean or a glTF scene's own materials");
+        throw Error(map_flag(scene::MapKind::BaseRoughness),
+                    "applies to the material of --bumps or --layers, not to the ocean or a "
+                    "glTF scene's own materials");
 }
 
 void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
