@@ -183,7 +183,7 @@ TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
         "eval --replot " + test::shell_quote((dir / "replot").string()), dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find("sweep.preset nests deeper than 16 levels"), std::string::npos) << r.err;
-    EXPECT_LT(r.max_rss_kib, 512 * 1024);
+    EXPECT_LT(r.max_rss_kib, leanfade::test::memory_bound_kib(512 * 1024));
 }
 
 TEST(ResultsFiles, ReportWithPlots) {

@@ -14,6 +14,17 @@
 
 namespace leanfade::test {
 
+// The resident-memory bound of a run of leanfade, KiB: `kib` for an ordinary build, twice that
+// when the suite runs under `make sanitize` (AddressSanitizer's shadow memory and quarantine grow
+// every process; LEANFADE_TEST_SANITIZED, set by tests/CMakeLists.txt).
+inline long memory_bound_kib(long kib) {
+#if defined(LEANFADE_TEST_SANITIZED)
+    return 2 * kib;
+#else
+    return kib;
+#endif
+}
+
 struct RunResult {
     int exit_code = -1;
     std::string out;        // stdout
