@@ -22,11 +22,6 @@
 namespace leanfade::cli {
 namespace {
 
-bool parse_float(const std::string& text, float& value) {
-    const std::optional<float> parsed = parse_finite_float(text);
-    if (parsed) value = *parsed;
-    return parsed.has_value();
-}
 
 bool ends_with(const std::string& s, const std::string& suffix) {
     if (s.size() < suffix.size()) return false;
@@ -282,7 +277,7 @@ std::vector<float> parse_distances(const std::string& text, const std::string& f
     std::vector<float> result;
     for (const std::string& part : split(text, ',')) {
         float d = 0.0f;
-        if (!parse_float(part, d))
+        if (!parse_finite(part, d))
             throw Error(flag, "expected comma-separated numbers, got '" + text + "'");
         check_camera_distance(d, flag, part);
         result.push_back(d);

@@ -173,11 +173,6 @@ std::string text(float value) {
 // Shortest decimal that reads back as the same float ("0.15").
 std::string exact(float value) { return shortest_text(value); }
 
-bool parse_float(const std::string& text, float& value) {
-    const std::optional<float> parsed = parse_finite_float(text);
-    if (parsed) value = *parsed;
-    return parsed.has_value();
-}
 
 void require_finite(const ParameterInfo& row, float value) {
     if (!std::isfinite(value))
@@ -241,7 +236,7 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
     switch (row.kind) {
         case ParameterKind::Scalar: {
             float v = 0.0f;
-            if (!parse_float(value, v)) throw Error(key, "expected a number, got '" + value + "'");
+            if (!parse_finite(value, v)) throw Error(key, "expected a number, got '" + value + "'");
             s.*row.scalar = v;
             return;
         }
@@ -258,12 +253,12 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
             const bool colour = row.kind == ParameterKind::Colour;
             const std::vector<std::string> parts = split(value, ',');
             glm::vec3 v(0.0f);
-            if (parts.size() == 1 && colour && parse_float(parts[0], v.x)) {
+            if (parts.size() == 1 && colour && parse_finite(parts[0], v.x)) {
                 s.*row.vector = glm::vec3(v.x);
                 return;
             }
-            if (parts.size() == 3 && parse_float(parts[0], v.x) && parse_float(parts[1], v.y) &&
-                parse_float(parts[2], v.z)) {
+            if (parts.size() == 3 && parse_finite(parts[0], v.x) && parse_finite(parts[1], v.y) &&
+                parse_finite(parts[2], v.z)) {
                 s.*row.vector = v;
                 return;
             }

@@ -68,6 +68,18 @@ std::optional<double> parse_finite_double(std::string_view text) {
                                 [](const char* s, char** end) { return std::strtod(s, end); });
 }
 
+bool parse_finite(std::string_view text, float& value) {
+    const std::optional<float> parsed = parse_finite_float(text);
+    if (parsed) value = *parsed;
+    return parsed.has_value();
+}
+
+bool parse_finite(std::string_view text, double& value) {
+    const std::optional<double> parsed = parse_finite_double(text);
+    if (parsed) value = *parsed;
+    return parsed.has_value();
+}
+
 std::string shortest_text(float value) { return shortest(value); }
 std::string shortest_text(double value) { return shortest(value); }
 

@@ -36,11 +36,6 @@ namespace leanfade::eval {
 
 namespace results_detail {
 
-bool parse_number(const std::string& text, double& value) {
-    const std::optional<double> parsed = parse_finite_double(text);
-    if (parsed) value = *parsed;
-    return parsed.has_value();
-}
 
 float round_significant(double v, int digits) {
     if (v == 0.0) return 0.0f;
@@ -214,8 +209,8 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
     std::vector<float> result;
     if (range.size() == 3) {
         double a = 0.0, b = 0.0, n = 0.0;
-        if (!parse_number(range[0], a) || !parse_number(range[1], b) ||
-            !parse_number(range[2], n) || n != std::floor(n))
+        if (!parse_finite(range[0], a) || !parse_finite(range[1], b) ||
+            !parse_finite(range[2], n) || n != std::floor(n))
             throw Error(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
         if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxCameraDistance)
             throw Error(flag,
@@ -241,7 +236,7 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
     } else if (range.size() == 1) {
         for (const std::string& part : split(text, ',')) {
             double d = 0.0;
-            if (!parse_number(part, d))
+            if (!parse_finite(part, d))
                 throw Error(flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
             check_camera_distance(d, flag, part);
             result.push_back(float(d));
@@ -260,7 +255,7 @@ std::vector<float> parse_shininess_list(const std::string& text, const std::stri
     std::vector<float> result;
     for (const std::string& part : split(text, ',')) {
         double s = 0.0;
-        if (!parse_number(part, s) || !(s > 0.0) || s > 1e7)
+        if (!parse_finite(part, s) || !(s > 0.0) || s > 1e7)
             throw Error(flag, "expected comma-separated exponents in (0, 1e7], got '" + text + "'");
         if (std::find(result.begin(), result.end(), float(s)) != result.end())
             throw Error(flag, "shininess " + part + " given twice");

@@ -15,8 +15,6 @@ namespace leanfade::eval::results_detail {
 
 namespace fs = std::filesystem;
 
-bool parse_number(const std::string& text, double& value);
-
 // Rounds to `digits` significant digits, so that log-spaced distances print as 3.17 rather than
 // 3.1748.
 float round_significant(double v, int digits = 3);

@@ -22,6 +22,9 @@ std::string name_list(std::span<const std::string> names, std::string_view last 
 // NaN, infinities and values beyond the type's range are not numbers here.
 std::optional<float> parse_finite_float(std::string_view text);
 std::optional<double> parse_finite_double(std::string_view text);
+// The same as a test: true and `value` set for a number, false and `value` unchanged otherwise.
+bool parse_finite(std::string_view text, float& value);
+bool parse_finite(std::string_view text, double& value);
 // The shortest decimal that reads back as the same value ("0.15", "1e-08", "300").
 std::string shortest_text(float value);
 std::string shortest_text(double value);
