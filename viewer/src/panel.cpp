@@ -317,7 +317,7 @@ void App::panel_fade_calibration(ShadingSettings& s) {
 }
 
 void App::panel_bumps() {
-    const std::vector<PanelSection> sections = panel_sections();
+    const std::vector<PanelSection>& sections = panel_sections();
     const auto section = std::find_if(sections.begin(), sections.end(), [](const PanelSection& s) {
         return s.extras == PanelSection::Extras::SceneAndBumps;
     });

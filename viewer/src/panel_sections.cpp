@@ -7,7 +7,9 @@
 
 namespace leanfade::viewer {
 
-std::vector<PanelSection> panel_sections() {
+namespace {
+
+std::vector<PanelSection> make_panel_sections() {
     using Extras = PanelSection::Extras;
     std::vector<PanelSection> sections{
         {"Light and material", {"Light", "Material", "Fresnel"}, true, Extras::ColourNote},
@@ -23,6 +25,13 @@ std::vector<PanelSection> panel_sections() {
     };
     for (std::string_view group : parameter_groups())
         if (!claimed(group)) sections.push_back({std::string(group), {group}, true, Extras::None});
+    return sections;
+}
+
+}  // namespace
+
+const std::vector<PanelSection>& panel_sections() {
+    static const std::vector<PanelSection> sections = make_panel_sections();
     return sections;
 }
 

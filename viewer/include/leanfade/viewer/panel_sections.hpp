@@ -22,7 +22,8 @@ struct PanelSection {
     Extras extras = Extras::None;
 };
 
-// The sections in panel order. Every group of parameter_groups() is in exactly one of them.
-std::vector<PanelSection> panel_sections();
+// The sections in panel order, derived once from the schema. Every group of parameter_groups() is
+// in exactly one of them.
+const std::vector<PanelSection>& panel_sections();
 
 }  // namespace leanfade::viewer
