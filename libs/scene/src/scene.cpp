@@ -31,7 +31,7 @@ const BuiltinScene* find_builtin_scene(std::string_view name) {
 std::vector<std::string> builtin_scene_names() {
     std::vector<std::string> names;
     for (const BuiltinScene& scene : kBuiltinScenes)
-        if (scene.is_mesh) names.emplace_back(scene.name);
+        if (scene.make_mesh != nullptr) names.emplace_back(scene.name);
     return names;
 }
 
@@ -46,26 +46,12 @@ std::string scene_choices_text() {
 }
 
 Mesh make_scene_mesh(const std::string& name_or_path) {
-    if (name_or_path == "sphere") {
-        return make_sphere();
-    }
-    if (name_or_path == "torus") {
-        return make_torus();
-    }
-    if (name_or_path == "teapot") {
-        return make_teapot();
-    }
-    if (name_or_path == "terrain") {
-        return make_terrain(1);
-    }
-    if (name_or_path == "plane") {
-        return make_plane(20.0f, 64);
-    }
+    const BuiltinScene* scene = find_builtin_scene(name_or_path);
+    if (scene != nullptr && scene->make_mesh != nullptr) return scene->make_mesh();
     if (ends_with_obj(name_or_path)) {
         return load_obj(name_or_path);
     }
-    if (const BuiltinScene* scene = find_builtin_scene(name_or_path); scene && !scene->is_mesh)
-        throw Error(name_or_path, "is a scene of its own, not one mesh");
+    if (scene != nullptr) throw Error(name_or_path, "is a scene of its own, not one mesh");
     throw Error(name_or_path, "unknown scene; valid: " + scene_choices_text());
 }
 

@@ -17,17 +17,19 @@ namespace leanfade::scene {
 struct BuiltinScene {
     std::string_view name;         // in command lines and presets
     std::string_view description;  // one line for the docs and the viewer
-    bool is_mesh;                  // one object from make_scene_mesh(); false: its own builder
+    // Its one mesh at the default parameters (make_scene_mesh), or nullptr for a scene with a
+    // builder of its own (the ocean: make_ocean_scene).
+    Mesh (*make_mesh)();
     std::string_view help_note = {};  // what the --scene help adds after the name, or ""
 };
 inline constexpr std::array<BuiltinScene, 6> kBuiltinScenes{{
-    {"sphere", "a unit sphere", true},
-    {"torus", "a torus", true},
-    {"teapot", "the Utah teapot", true},
-    {"terrain", "a procedural height field (seed 1)", true},
-    {"plane", "a flat 20 x 20 square", true,
+    {"sphere", "a unit sphere", +[] { return make_sphere(); }},
+    {"torus", "a torus", +[] { return make_torus(); }},
+    {"teapot", "the Utah teapot", +[] { return make_teapot(); }},
+    {"terrain", "a procedural height field (seed 1)", +[] { return make_terrain(1); }},
+    {"plane", "a flat 20 x 20 square", +[] { return make_plane(20.0f, 64); },
      "20 x 20 units, uv 0..50 for the built-in sets, 0..5 for a map of one's own"},
-    {"ocean", "the animated ocean: moving Gabor wave layers (docs/ocean.md)", false},
+    {"ocean", "the animated ocean: moving Gabor wave layers (docs/ocean.md)", nullptr},
 }};
 // The built-in scene called `name`, or nullptr.
 const BuiltinScene* find_builtin_scene(std::string_view name);
