@@ -9,21 +9,21 @@
 namespace leanfade {
 
 void check_camera_distance(double distance, const std::string& setting, const std::string& text) {
+    if (is_camera_distance(distance)) return;
     const std::string shown = text.empty() ? shortest_text(distance) : text;
     if (!(distance > 1.0) || !std::isfinite(distance))
         throw Error(setting,
                     "distances are in bounding radii from the object's centre and must be > 1, "
                     "got " +
                         shown);
-    if (distance > kMaxCameraDistance)
-        throw Error(setting,
-                    "distances must be at most 1e4 bounding radii (the object covers far less "
-                    "than a pixel beyond), got " +
-                        shown);
+    throw Error(setting,
+                "distances must be at most 1e4 bounding radii (the object covers far less than a "
+                "pixel beyond), got " +
+                    shown);
 }
 
 void check_field_of_view(float degrees, const std::string& setting) {
-    if (!(degrees > kMinFovDegrees && degrees < kMaxFovDegrees))
+    if (!is_field_of_view(degrees))
         throw Error(setting, "must be in (1, 170) degrees, got " + shortest_text(degrees));
 }
 

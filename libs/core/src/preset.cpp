@@ -253,11 +253,11 @@ void validate(const Preset& p, const std::string& file) {
                                    c.direction.z * c.direction.z);
     if (!std::isfinite(length) || !(length > 0.0f))
         fail(file, "camera.direction", "must be a finite, non-zero vector");
-    if (!(c.distance > 1.0f && c.distance <= kMaxCameraDistance))
+    if (!is_camera_distance(c.distance))
         fail(file, "camera.distance",
              "must be in (1, " + std::to_string(int(kMaxCameraDistance)) +
                  "] bounding radii, got " + std::to_string(c.distance));
-    if (!(c.fov_y_degrees > kMinFovDegrees && c.fov_y_degrees < kMaxFovDegrees))
+    if (!is_field_of_view(c.fov_y_degrees))
         fail(file, "camera.fov_y_degrees",
              "must be in (1, 170) degrees, got " + std::to_string(c.fov_y_degrees));
 

@@ -14,6 +14,9 @@ inline constexpr glm::vec3 kDefaultViewDirection{0.0f, 0.3f, 1.0f};
 // at 1 the eye touches the bounding sphere; beyond the upper end the object covers far less
 // than a pixel of any frame.
 inline constexpr float kMaxCameraDistance = 10000.0f;
+constexpr bool is_camera_distance(double distance) {
+    return distance > 1.0 && distance <= double(kMaxCameraDistance);  // NaN and infinities: no
+}
 // Throws leanfade::Error(setting, cause) for a distance outside that range or not finite;
 // `text` is the value as given, for the message ("" to print the number).
 void check_camera_distance(double distance, const std::string& setting,
@@ -22,6 +25,9 @@ void check_camera_distance(double distance, const std::string& setting,
 // The vertical field of view, degrees: in (kMinFovDegrees, kMaxFovDegrees).
 inline constexpr float kMinFovDegrees = 1.0f;
 inline constexpr float kMaxFovDegrees = 170.0f;
+constexpr bool is_field_of_view(float degrees) {
+    return degrees > kMinFovDegrees && degrees < kMaxFovDegrees;
+}
 // Throws leanfade::Error(setting, "must be in (1, 170) degrees, got ...") outside that range.
 void check_field_of_view(float degrees, const std::string& setting);
 
