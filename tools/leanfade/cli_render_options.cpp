@@ -200,12 +200,9 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
     // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
-        PackedBakeResult result = bake_packed(input, kind, options, storage, generator, f.bumps);
-        const Storage chosen =
-            auto_storage(result.packed.scale, result.texels_beyond_scale, result.median_steepness);
-        if (f.bits == "auto" && chosen != storage)
-            result = bake_packed(input, kind, options, chosen, generator, f.bumps);
-        return result;
+        return bake_with_auto_storage(storage, f.bits == "auto", [&](Storage s) {
+            return bake_packed(input, kind, options, s, generator, f.bumps);
+        });
     };
     const auto& builtins = builtin_bump_names();
     if (std::find(builtins.begin(), builtins.end(), f.bumps) != builtins.end())

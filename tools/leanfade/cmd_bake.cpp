@@ -354,13 +354,10 @@ int run_bake(const BakeArgs& given) {
             output = j.outputs[0];
             // Baked straight into the mapped output file, which appears only when complete.
             const std::string staged = outputs.stage(output);
-            baked = io::bake_to_ktx2(staged, input, kind, options, storage, generator_string(),
-                                     name, write_options);
-            const Storage chosen = leanfade::auto_storage(
-                baked.packed.scale, baked.texels_beyond_scale, baked.median_steepness);
-            if (auto_storage && chosen != storage)
-                baked = io::bake_to_ktx2(staged, input, kind, options, chosen,
-                                         generator_string(), name, write_options);
+            baked = bake_with_auto_storage(storage, auto_storage, [&](Storage s) {
+                return io::bake_to_ktx2(staged, input, kind, options, s, generator_string(), name,
+                                        write_options);
+            });
         }
         // Checked before anything is published: the staged outputs are dropped.
         if (args.strength_given && baked.source == BakeSource::Normal)

@@ -52,15 +52,10 @@ struct MaterialBuilder {
 
     PackedLeanMap bake(const Image& input, BakeSource source, const BakeOptions& options,
                        const std::string& name) const {
-        PackedBakeResult baked =
-            bake_packed(input, source, options, settings.storage, generator_string(), name);
-        if (settings.auto_storage) {
-            const Storage chosen = auto_storage(baked.packed.scale, baked.texels_beyond_scale,
-                                                baked.median_steepness);
-            if (chosen != settings.storage)
-                baked = bake_packed(input, source, options, chosen, generator_string(), name);
-        }
-        return std::move(baked.packed);
+        return bake_with_auto_storage(settings.storage, settings.auto_storage, [&](Storage s) {
+                   return bake_packed(input, source, options, s, generator_string(), name);
+               })
+            .packed;
     }
 
     int lean_map(const MtlMaterial& m, const std::string& mtl) {

@@ -279,6 +279,16 @@ Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float media
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
                              const std::string& source_name = "");
+// The storage rule of `--bits auto` around any bake: `bake(storage)` first; with `automatic`, a
+// second `bake(auto_storage(...))` when the rule picks another storage for what the first found.
+template <typename Bake>
+PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, Bake&& bake) {
+    PackedBakeResult result = bake(storage);
+    if (!automatic) return result;
+    const Storage chosen =
+        auto_storage(result.packed.scale, result.texels_beyond_scale, result.median_steepness);
+    return chosen == storage ? result : bake(chosen);
+}
 // The same into `result`, reusing its buffers: baking another map of the same size and storage
 // allocates no output memory.
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
