@@ -16,6 +16,11 @@ const int LF_MAP_BASE_COLOR = 1;
 // docs/math.md §9), read with Cook-Torrance when its bit is set.
 const int LF_BINDING_BASE_ROUGHNESS = 2;
 const int LF_MAP_BASE_ROUGHNESS = 2;
+// Plateau layer of two-lobe LEAN (2D, RGBA16F: (f, f Bs.x, f Bs.y, f |Bs|^2) with its MIP chain
+// filtered as the moments are, docs/math.md §10), read by the two-lobe technique when its bit is
+// set; without it f = 0 and two-lobe shades as LEAN.
+const int LF_BINDING_PLATEAU = 3;
+const int LF_MAP_PLATEAU = 4;
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

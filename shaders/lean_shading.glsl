@@ -36,7 +36,8 @@ const int LF_TECHNIQUE_FADE = 2;     // LEAN with specular fading (fading paper 
 const int LF_TECHNIQUE_TOKSVIG = 3;  // Blinn-Phong with Toksvig's exponent
 const int LF_TECHNIQUE_CLEAN = 4;    // LEAN's lobe with CLEAN's isotropic covariance
 const int LF_TECHNIQUE_ROUGHNESS_MIPS = 5;  // the BRDF on roughness + normal MIPs (engines)
-const int LF_TECHNIQUE_COUNT = 6;  // the lobe constants above are 0 .. LF_TECHNIQUE_COUNT - 1
+const int LF_TECHNIQUE_TWO_LOBE = 6;  // a plateau's spike plus LEAN's halo (docs/math.md §10)
+const int LF_TECHNIQUE_COUNT = 7;  // the lobe constants above are 0 .. LF_TECHNIQUE_COUNT - 1
 
 // BRDFs: the reflection model every technique's lobe stage evaluates (docs/math.md §4, §9). The
 // renderer compiles one (LF_BRDF of scene.frag); the CPU reads LfParams::brdf.
@@ -80,13 +81,25 @@ struct LfShadingUniforms {
                         // (shaders/bindings.glsl); with LF_MAP_BASE_ROUGHNESS Cook-Torrance's
                         // base roughness comes per texel from the map's alpha0^2, not from
                         // params.inv_s_shading
+    // Geometric specular antialiasing (docs/math.md §11): the clamp kappa of the pixel
+    // footprint's alpha^2 (lf_footprint_covariance), read by the shaders compiled with
+    // LF_GEOMETRIC_AA.
+    float geometric_aa_kappa;
 };
 
-// Moments unpacked from the two LEAN textures (docs/math.md §3-4).
+// Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows
+// about its slope distribution.
 struct LfMoments {
     vec3 normal;  // filtered normal, not renormalised
     vec2 mean;    // B
     vec3 second;  // M = (Mxx, Myy, Mxy)
+    // The plateau map's filtered texel (docs/math.md §10): (f, f Bs.x, f Bs.y, f |Bs|^2), the
+    // fraction f of the footprint on a plateau and the plateau texels' first and (isotropic)
+    // second moments; 0 without one.
+    vec4 plateau LF_DEFAULT(vec4(0.0f));
+    // The pixel footprint's slope covariance of geometric specular antialiasing (docs/math.md
+    // §11), (Sxx, Syy, Sxy), added to the lobe's; 0 without it.
+    vec3 footprint LF_DEFAULT(vec3(0.0f));
 };
 
 // Shading result split so that tests can compare diffuse and specular separately.
@@ -102,6 +115,8 @@ LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc) {
     m.normal = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
     m.mean = (2.0f * vec2(lean2.x, lean2.y) - vec2(1.0f)) * sc;
     m.second = vec3(lean2.z * sc * sc, lean2.w * sc * sc, (2.0f * lean1.w - 1.0f) * sc * sc);
+    m.plateau = vec4(0.0f);
+    m.footprint = vec3(0.0f);
     return m;
 }
 
@@ -123,6 +138,8 @@ LF_FN LfMoments lf_layer_strength(LfMoments m, float k) {
     r.normal = m.normal;
     r.mean = m.mean * k;
     r.second = m.second * (k * k);
+    r.plateau = vec4(0.0f);  // bump layers shade without a plateau (docs/math.md §10)
+    r.footprint = m.footprint;
     return r;
 }
 
@@ -131,6 +148,8 @@ LF_FN LfMoments lf_mix_start() {
     r.normal = vec3(0.0f);
     r.mean = vec2(0.0f);
     r.second = vec3(0.0f);
+    r.plateau = vec4(0.0f);
+    r.footprint = vec3(0.0f);
     return r;
 }
 
@@ -140,6 +159,8 @@ LF_FN LfMoments lf_mix_layer(LfMoments mixed, LfMoments layer, float t) {
     r.normal = mixed.normal;
     r.mean = mixed.mean + t * layer.mean;
     r.second = mixed.second + (t * t) * layer.second;
+    r.plateau = mixed.plateau;
+    r.footprint = mixed.footprint;
     return r;
 }
 
@@ -151,6 +172,8 @@ LF_FN LfMoments lf_mix_pair(LfMoments mixed, vec4 products, float ti_tj) {
     r.mean = mixed.mean;
     r.second = mixed.second +
                ti_tj * vec3(2.0f * products.x, 2.0f * products.y, products.z + products.w);
+    r.plateau = mixed.plateau;
+    r.footprint = mixed.footprint;
     return r;
 }
 
@@ -160,6 +183,8 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     r.normal = normalize(vec3(mixed.mean.x, mixed.mean.y, 1.0f));
     r.mean = mixed.mean;
     r.second = mixed.second;
+    r.plateau = mixed.plateau;
+    r.footprint = mixed.footprint;
     return r;
 }
 
@@ -463,6 +488,8 @@ LF_FN LfMoments lf_roughness_mips_moments(vec4 texel) {
     m.normal = 2.0f * vec3(texel.x, texel.y, texel.z) - vec3(1.0f);
     m.mean = vec2(0.0f);
     m.second = vec3(texel.w, 0.0f, 0.0f);
+    m.plateau = vec4(0.0f);
+    m.footprint = vec3(0.0f);
     return m;
 }
 
@@ -472,6 +499,8 @@ LF_FN LfMoments lf_roughness_mips_moments(vec4 texel) {
 const int LF_LOBE_NORMAL = 0;    // isotropic around the unit lobe_normal
 const int LF_LOBE_TOKSVIG = 1;   // around lobe_normal / |lobe_normal|, spread by its length
 const int LF_LOBE_GAUSSIAN = 2;  // a Gaussian over slopes of mean B and covariance Sigma
+const int LF_LOBE_TWO_LOBE = 3;  // a plateau's spike plus the halo of the other slopes, both
+                                 // Gaussians over slopes (docs/math.md §10)
 
 struct LfLobe {
     int kind;             // LF_LOBE_*
@@ -480,9 +509,73 @@ struct LfLobe {
     float exponent;       // Blinn-Phong: the exponent s of NORMAL and TOKSVIG
     float alpha_squared;  // Cook-Torrance: Beckmann alpha^2 of NORMAL and TOKSVIG
     vec2 mean;            // GAUSSIAN: the slope mean B
-    vec3 sigma;           // GAUSSIAN: the slope covariance (Sxx, Syy, Sxy), base roughness included
+    vec3 sigma;           // GAUSSIAN: the slope covariance (Sxx, Syy, Sxy), base roughness included;
+                          // TWO_LOBE: the halo's mean and covariance
     bool fades;           // specular fading's NdotL^sf on the tail (fading paper eq. 6-7)
+    float spike_weight;   // TWO_LOBE: f, the plateau's share; the halo's is 1 - f
+    vec2 spike_mean;      // TWO_LOBE: the plateau's mean slope Bs
+    vec3 spike_sigma;     // TWO_LOBE: the plateau's covariance, base roughness included
 };
+
+// Two-lobe LEAN (docs/math.md §10): the footprint's slopes as a plateau of weight f = p.x (texels
+// whose slope hardly differs from their neighbours', stored as (f, f Bs, f |Bs|^2) so that MIP
+// filtering stays exact) and the halo of the rest, each a Gaussian:
+//   D = f N(h~; Bs, Sigma_s + Sigma0) + (1 - f) N(h~; B_h, Sigma_h + Sigma0),
+// with Bs = (f Bs) / f, Sigma_s = ((f |Bs|^2) / f - |Bs|^2) / 2 I, and the halo's moments the map's
+// minus the plateau's: B_h = (B - f Bs) / (1 - f), M_h = (M - f (Bs Bs^T + Sigma_s)) / (1 - f).
+// Sigma0 is the base roughness (inv_s per axis). f = 0 leaves `lobe` as LEAN's; 1 - f below
+// 1e-3 (where the halo's moments would be quantisation noise divided by 1 - f) is all plateau.
+LF_FN LfLobe lf_two_lobe_split(LfLobe lobe, LfMoments m, float inv_s) {
+    float f = clamp(m.plateau.x, 0.0f, 1.0f);
+    if (f <= 0.0f) return lobe;
+    LfLobe r = lobe;
+    r.kind = LF_LOBE_TWO_LOBE;
+    vec2 f_mean = vec2(m.plateau.y, m.plateau.z);
+    vec2 spike_mean = f_mean / f;
+    float spread = max(0.5f * (m.plateau.w / f - dot(spike_mean, spike_mean)), 0.0f);
+    r.spike_weight = f;
+    r.spike_mean = spike_mean;
+    r.spike_sigma = vec3(spread + inv_s, spread + inv_s, 0.0f);
+    float g = 1.0f - f;
+    if (g > 1e-3f) {
+        vec2 halo_mean = (m.mean - f_mean) / g;
+        vec3 f_second = vec3(f_mean.x * spike_mean.x + f * spread,
+                             f_mean.y * spike_mean.y + f * spread, f_mean.x * spike_mean.y);
+        r.mean = halo_mean;
+        r.sigma = lf_covariance(halo_mean, (m.second - f_second) / g, inv_s);
+    } else {
+        r.spike_weight = 1.0f;
+        r.mean = r.spike_mean;
+        r.sigma = r.spike_sigma;
+    }
+    return r;
+}
+
+// Geometric specular antialiasing (Kaplanyan et al. 2016; Tokuyoshi and Kaplanyan 2019, Listing
+// 1; docs/math.md §11): the half vector's slope h~ = h.xy / h.z changes across a pixel with the
+// surface's curvature and the view; a Gaussian pixel filter of variance 1/(2 pi) pixel^2 spreads
+// the slopes one pixel sees by Sigma = (1 / (2 pi)) (dh~/dx^2 + dh~/dy^2) per axis, whose alpha^2
+// = 2 Sigma is clamped at kappa. dslope_dx, dslope_dy: the screen-space derivatives of h~ (per
+// pixel). Returns (Sxx, Syy, 0), added to every lobe's covariance (lf_lobe_setup).
+LF_FN vec3 lf_footprint_covariance(vec2 dslope_dx, vec2 dslope_dy, float kappa) {
+    vec2 variance = 0.15915494f * (dslope_dx * dslope_dx + dslope_dy * dslope_dy);
+    float limit = 0.5f * max(kappa, 0.0f);
+    return vec3(min(variance.x, limit), min(variance.y, limit), 0.0f);
+}
+
+// The footprint covariance added to a lobe: each Gaussian's covariance grows by it, and an
+// isotropic lobe's alpha^2 by its trace (Blinn-Phong: the per-axis variance 1/s by half of it).
+// A zero footprint leaves the lobe as it is, bit for bit.
+LF_FN LfLobe lf_with_footprint(LfLobe lobe, vec3 footprint) {
+    float trace = footprint.x + footprint.y;
+    if (trace <= 0.0f) return lobe;
+    LfLobe r = lobe;
+    r.sigma = lobe.sigma + footprint;
+    r.spike_sigma = lobe.spike_sigma + footprint;
+    r.alpha_squared = lobe.alpha_squared + trace;
+    r.exponent = 1.0f / (1.0f / max(lobe.exponent, 1e-12f) + 0.5f * trace);
+    return r;
+}
 
 // Each technique is one branch here: what its lobe is, from the moments and the parameters. The
 // base roughness is p.inv_s_shading per axis (1/s, or a0^2/2 with Cook-Torrance).
@@ -496,6 +589,9 @@ LF_FN LfLobe lf_lobe_setup(int technique, LfMoments m, LfParams p) {
     lobe.mean = m.mean;
     lobe.sigma = vec3(0.0f);
     lobe.fades = false;
+    lobe.spike_weight = 0.0f;
+    lobe.spike_mean = vec2(0.0f);
+    lobe.spike_sigma = vec3(0.0f);
     if (technique == LF_TECHNIQUE_BUMP) {
         // Baseline bump mapping: the filtered normal renormalised is the bump normal for the lobe
         // and for the tail; Cook-Torrance's isotropic Beckmann lobe of a0.
@@ -518,12 +614,16 @@ LF_FN LfLobe lf_lobe_setup(int technique, LfMoments m, LfParams p) {
         lobe.alpha_squared = 2.0f * p.inv_s_shading + 2.0f * (1.0f - a) / a;
     } else if (technique == LF_TECHNIQUE_CLEAN) {
         lobe.sigma = lf_clean_covariance(m.mean, m.second.x + m.second.y, p.inv_s_shading);
+    } else if (technique == LF_TECHNIQUE_TWO_LOBE) {
+        // LEAN's Gaussian split into a plateau's spike and a halo (docs/math.md §10).
+        lobe.sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
+        lobe = lf_two_lobe_split(lobe, m, p.inv_s_shading);
     } else {
         // LEAN (eq. 5) and LEAN with specular fading.
         lobe.sigma = lf_covariance(m.mean, m.second, p.inv_s_shading);
         lobe.fades = technique == LF_TECHNIQUE_FADE;
     }
-    return lobe;
+    return lf_with_footprint(lobe, m.footprint);
 }
 
 // A Gaussian lobe in Blinn-Phong, with specular fading when it fades: A = NdotL^sf D (fading paper
@@ -567,6 +667,11 @@ LF_FN LfShade lf_shade_blinn_phong(LfLobe lobe, vec3 light_dir, vec3 view_unnorm
         return lf_combine(lobe.tail_normal, light_dir, v,
                           lf_toksvig_lobe(lobe.lobe_normal, h, lobe.exponent), 1.0f, p);
     }
+    if (lobe.kind == LF_LOBE_TWO_LOBE) {
+        float d = lobe.spike_weight * lf_lean_lobe(h, lobe.spike_mean, lobe.spike_sigma) +
+                  (1.0f - lobe.spike_weight) * lf_lean_lobe(h, lobe.mean, lobe.sigma);
+        return lf_combine(lobe.tail_normal, light_dir, v, d, 1.0f, p);
+    }
     return lf_shade_gaussian_blinn_phong(lobe, light_dir, view_unnormalised, v, h, p);
 }
 
@@ -587,6 +692,11 @@ LF_FN LfShade lf_shade_cook_torrance(LfLobe lobe, vec3 light_dir, vec3 view_unno
         value = (len > 0.0f) ? lf_cook_torrance_isotropic(lobe.lobe_normal / len, h, light_dir, v,
                                                           lobe.alpha_squared)
                              : 0.0f;
+    } else if (lobe.kind == LF_LOBE_TWO_LOBE) {
+        value = lobe.spike_weight *
+                    lf_cook_torrance_lobe(h, light_dir, v, lobe.spike_mean, lobe.spike_sigma) +
+                (1.0f - lobe.spike_weight) *
+                    lf_cook_torrance_lobe(h, light_dir, v, lobe.mean, lobe.sigma);
     } else {
         value = lf_cook_torrance_lobe(h, light_dir, v, lobe.mean, lobe.sigma);
     }

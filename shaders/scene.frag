@@ -6,6 +6,9 @@
 //   LF_READS_MOMENTS      when the technique reads the lean2 layer (B and M), not only lean1
 //   LF_FINEST_LEVEL_ONLY  for the supersampled reference: shade at LOD 0; the renderer draws it
 //                         at k x k the resolution and box-filters (docs/math.md §7)
+//   LF_READS_PLATEAU      when the technique reads the plateau layer (two-lobe LEAN)
+//   LF_GEOMETRIC_AA       geometric specular antialiasing: the footprint's slope covariance from
+//                         the screen-space derivatives of the half vector (docs/math.md §11)
 // LF_PLAIN_COLOR (optional) fixes the output to OUTPUT_COLOR without fog at compile time.
 // LF_LAYERED (optional): the material's moments are mixed from 2..4 bump layers (docs/math.md §6)
 // instead of read from one LEAN map.
@@ -44,6 +47,12 @@ layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
 // texel, its MIP chain filtered linearly as the moments are (docs/math.md §9), at the LEAN map's
 // uv with the same sampler state.
 layout(binding = LF_BINDING_BASE_ROUGHNESS) uniform sampler2D u_base_roughness;
+
+#if defined(LF_READS_PLATEAU)
+// Two-lobe LEAN's plateau layer (bit LF_MAP_PLATEAU): (f, f Bs, f |Bs|^2), filtered as the
+// moments are, at the LEAN map's uv with the same sampler state (docs/math.md §10).
+layout(binding = LF_BINDING_PLATEAU) uniform sampler2D u_plateau;
+#endif
 
 layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
     LfShadingUniforms u_shading;
@@ -181,6 +190,16 @@ void main() {
 #if defined(LF_ROUGHNESS_MIPS)
     moments = lf_roughness_mips_moments(roughness_mip_trilinear(v_in.uv));
 #endif
+#if defined(LF_READS_PLATEAU)
+    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) moments.plateau = LF_SAMPLE(u_plateau, v_in.uv);
+#endif
+#endif
+#if defined(LF_GEOMETRIC_AA)
+    // The half vector's slope and its change to the neighbouring pixels (docs/math.md §11).
+    vec3 half_t = normalize(light_dir + normalize(v_in.view_t));
+    vec2 half_slope = half_t.xy / max(half_t.z, 1e-3);
+    moments.footprint = lf_footprint_covariance(dFdx(half_slope), dFdy(half_slope),
+                                                u_shading.geometric_aa_kappa);
 #endif
     // The surface maps' texels, then the material's parameters (lf_material_params).
     vec4 base_color = LF_SAMPLE(u_base_color, v_in.uv);

@@ -19,8 +19,12 @@ TEST(TechniqueTable, NamesAreUniqueAndParseBackToTheirRow) {
         EXPECT_EQ(parse_technique(row.name), row.id);
         EXPECT_EQ(std::string(to_string(row.id)), row.name);
         EXPECT_FALSE(row.description.empty()) << row.name;
-        // Names go into file names, JSON keys and plot scripts: lower-case letters only.
-        for (char c : row.name) EXPECT_TRUE(c >= 'a' && c <= 'z') << row.name;
+        // Names go into file names, JSON keys, CSV headers and plot scripts (quoted): lower-case
+        // letters, with inner hyphens between words.
+        for (char c : row.name) EXPECT_TRUE((c >= 'a' && c <= 'z') || c == '-') << row.name;
+        EXPECT_NE(row.name.front(), '-') << row.name;
+        EXPECT_NE(row.name.back(), '-') << row.name;
+        EXPECT_EQ(row.name.find("--"), std::string_view::npos) << row.name;
         EXPECT_EQ(row.plot_color.size(), 7u) << row.name;
         EXPECT_EQ(row.plot_color[0], '#') << row.name;
     }
@@ -44,8 +48,13 @@ TEST(TechniqueTable, EveryLobeIsOneOfTheSharedHeader) {
         const bool moment_lobe = row.shader_technique == shading::LF_TECHNIQUE_LEAN ||
                                  row.shader_technique == shading::LF_TECHNIQUE_FADE ||
                                  row.shader_technique == shading::LF_TECHNIQUE_CLEAN ||
-                                 row.shader_technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS;
+                                 row.shader_technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS ||
+                                 row.shader_technique == shading::LF_TECHNIQUE_TWO_LOBE;
         EXPECT_EQ(row.reads_moments, moment_lobe) << row.name;
+        EXPECT_EQ(row.reads_plateau, row.shader_technique == shading::LF_TECHNIQUE_TWO_LOBE)
+            << row.name;
+        // The truth integrates the footprint itself: it never asks for geometric AA.
+        if (row.supersampled) EXPECT_FALSE(row.geometric_aa_by_default) << row.name;
         EXPECT_EQ(row.fades, row.shader_technique == shading::LF_TECHNIQUE_FADE) << row.name;
     }
 }

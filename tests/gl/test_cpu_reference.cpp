@@ -37,7 +37,13 @@ struct Case {
     float fade_exponent = 2.0f;  // 2: the LF_FADE_EXPONENT_2 variant; other values: pow
     Brdf brdf = Brdf::BlinnPhong;
     bool roughness_map = false;  // the half-and-half base roughness map (Cook-Torrance)
+    // Two-lobe LEAN's plateau layer (docs/math.md §10), constant over the quad: f = 0.4 of its
+    // texels on a plateau of slope (0.1, -0.05) with a little spread; false: none (f = 0).
+    bool plateau = false;
 };
+
+// The plateau texel (f, f Bs, f |Bs|^2) of Case::plateau.
+const glm::vec4 kPlateauTexel(0.4f, 0.04f, -0.02f, 0.4f * (0.0125f + 0.0002f));
 
 constexpr int kMapSize = 8;  // texels per side of the LEAN and roughness maps with a map
 
@@ -66,12 +72,20 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
 
     gl::Renderer renderer(context());
     const scene::Mesh quad = make_test_quad();
-    if (c.roughness_map) {
+    if (c.roughness_map || c.plateau) {
         scene::Scene scene;
         scene.objects.push_back(scene::Object{quad, 0, glm::mat4(1.0f)});
         scene::Material material;
-        material.map(scene::MapKind::BaseRoughness) =
-            scene.add_map(scene::MapKind::BaseRoughness, alpha0_squared);
+        if (c.roughness_map)
+            material.map(scene::MapKind::BaseRoughness) =
+                scene.add_map(scene::MapKind::BaseRoughness, alpha0_squared);
+        if (c.plateau) {
+            Image plateau(4, 4, 4);
+            for (int i = 0; i < 16; ++i)
+                for (int ch = 0; ch < 4; ++ch) plateau.pixels[std::size_t(i * 4 + ch)] = kPlateauTexel[ch];
+            material.map(scene::MapKind::Plateau) =
+                scene.add_map(scene::MapKind::Plateau, build_mip_chain(plateau));
+        }
         scene.materials.push_back(material);
         scene.lean_maps.push_back(map);
         renderer.set_scene(scene);
@@ -99,6 +113,8 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
     s.brdf = c.brdf;
     s.roughness = 0.45f;
     s.metallic = 0.3f;
+    // The CPU passes no footprint: geometric antialiasing (docs/math.md §11) stays off here.
+    s.geometric_aa = GeometricAa::Off;
     request.background = glm::vec3(-1.0f);  // marks uncovered pixels
     const Image gpu = renderer.render(request);
 
@@ -166,6 +182,7 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             const shading::LfParams pixel_params = shading::lf_material_params(
                 params, glm::vec4(1.0f), c.roughness_map && s.brdf == Brdf::CookTorrance, base);
             shading::LfMoments moments = shading::lf_unpack(lean1, lean2, map.scale);
+            if (c.plateau) moments.plateau = kPlateauTexel;
             // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
             if (c.technique == gl::Technique::Roughness)
                 moments = shading::lf_roughness_mips_moments(
@@ -224,7 +241,15 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"fade_eye_ct_fog", gl::Technique::Fade, FadeDistance::Eye, FogMode::Exp, 1.7f,
              Brdf::CookTorrance},
         // Roughness MIPs (docs/roughness.md) in both BRDFs.
-        Case{"roughness", gl::Technique::Roughness},
+        // Two-lobe LEAN (docs/math.md §10) with and without a plateau layer, both BRDFs.
+        Case{"two_lobe", gl::Technique::TwoLobe, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::BlinnPhong, false, true},
+        Case{"two_lobe_no_plateau", gl::Technique::TwoLobe},
+        Case{"two_lobe_ct", gl::Technique::TwoLobe, FadeDistance::TangentZ, FogMode::None, 2.0f,
+             Brdf::CookTorrance, false, true},
+        Case{"two_lobe_ct_map", gl::Technique::TwoLobe, FadeDistance::TangentZ, FogMode::None,
+             2.0f, Brdf::CookTorrance, true, true},
+                Case{"roughness", gl::Technique::Roughness},
         Case{"roughness_ct", gl::Technique::Roughness, FadeDistance::TangentZ, FogMode::None,
              2.0f, Brdf::CookTorrance},
         // A base roughness map (docs/math.md §9): α0² per texel in every Cook-Torrance stage.

@@ -21,6 +21,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/material.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -73,8 +74,14 @@ class GoldenRenders : public GlTest {};
 
 TEST_F(GoldenRenders, EveryTechniqueMatchesItsGolden) {
     gl::Renderer renderer(context());
-    renderer.set_mesh(scene::make_sphere(24, 24));
-    renderer.set_lean_map(make_bumps_map(64, 1.0f));
+    // One sphere with the bumps map and its plateau layer (two-lobe LEAN, docs/math.md §10; the
+    // other techniques do not read it).
+    scene::Scene scene;
+    scene.objects.push_back(scene::Object{scene::make_sphere(24, 24), 0, glm::mat4(1.0f)});
+    scene.materials.push_back(scene::Material{});
+    scene.lean_maps.push_back(make_bumps_map(64, 1.0f));
+    scene::add_plateau_maps(scene);
+    renderer.set_scene(scene);
 
     const std::filesystem::path renderer_file = kGoldenDir / "renderer.txt";
     if (updating()) {

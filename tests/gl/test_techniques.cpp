@@ -5,6 +5,7 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/scene/material.hpp"
 #include "leanfade/scene/scene.hpp"
 
 namespace leanfade::test {
@@ -113,6 +114,48 @@ TEST_F(Techniques, FadeZeroIsBitIdenticalToLean) {
         const Image fade = render(gl::Technique::Fade, distance, settings);
         ASSERT_EQ(lean.pixels.size(), fade.pixels.size());
         EXPECT_TRUE(lean.pixels == fade.pixels) << "distance " << distance;
+    }
+}
+
+// Two-lobe LEAN (docs/math.md §10) on a material without a plateau layer reads f = 0: LEAN's
+// pixels, bit for bit, in both BRDFs (without geometric antialiasing, which LEAN does not get).
+TEST_F(Techniques, TwoLobeWithoutPlateauIsBitIdenticalToLean) {
+    ShadingSettings settings;
+    settings.geometric_aa = GeometricAa::Off;
+    for (Brdf brdf : {Brdf::BlinnPhong, Brdf::CookTorrance}) {
+        settings.brdf = brdf;
+        for (float distance : {3.0f, 24.0f}) {
+            const Image lean = render(gl::Technique::Lean, distance, settings);
+            const Image two = render(gl::Technique::TwoLobe, distance, settings);
+            ASSERT_EQ(lean.pixels.size(), two.pixels.size());
+            EXPECT_TRUE(lean.pixels == two.pixels) << "distance " << distance;
+        }
+    }
+}
+
+// With the plateau layer the far sphere's two-lobe highlight differs from LEAN's (the spike of
+// the flat ground), and geometric antialiasing (docs/math.md §11) changes each technique's
+// specular image when it is on and leaves it bit for bit when it is off.
+TEST_F(Techniques, PlateauAndGeometricAntialiasingChangeTheFarHighlight) {
+    scene::Scene scene;
+    scene.objects.push_back(scene::Object{scene::make_scene_mesh("sphere"), 0, glm::mat4(1.0f)});
+    scene.materials.push_back(scene::Material{});
+    scene.lean_maps.push_back(make_bumps_map(256));
+    scene::add_plateau_maps(scene);
+    ASSERT_EQ(scene.materials[0].map(scene::MapKind::Plateau), 0);
+    renderer_->set_scene(scene);
+    ShadingSettings off;
+    off.geometric_aa = GeometricAa::Off;
+    const Image lean = render(gl::Technique::Lean, 24.0f, off, gl::OutputMode::Specular);
+    const Image two = render(gl::Technique::TwoLobe, 24.0f, off, gl::OutputMode::Specular);
+    EXPECT_GT(relative_l1(two, lean), 0.05) << "the plateau's spike must show";
+    ShadingSettings on;
+    on.geometric_aa = GeometricAa::On;
+    for (gl::Technique t : {gl::Technique::Bump, gl::Technique::Lean, gl::Technique::TwoLobe}) {
+        const Image a = render(t, 24.0f, off, gl::OutputMode::Specular);
+        const Image b = render(t, 24.0f, on, gl::OutputMode::Specular);
+        EXPECT_GT(relative_l1(b, a), 1e-3) << gl::to_string(t);
+        EXPECT_GT(image_sum(b), 0.0) << gl::to_string(t);
     }
 }
 

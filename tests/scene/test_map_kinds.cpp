@@ -42,7 +42,9 @@ TEST(MapKinds, ValidateHoldsEveryKindToItsRules) {
     for (const MapKindInfo& kind : kMapKinds) {
         // A good texture of the kind: level 0 for Generated, the full chain for Given.
         std::vector<Image> good{Image(4, 4, kind.channels, 0.5f)};
-        if (kind.mips == MapMips::Given) good = base_alpha_squared_mips(Image(4, 4, 1, 0.5f));
+        if (kind.mips == MapMips::Given)
+            good = kind.channels == 1 ? base_alpha_squared_mips(Image(4, 4, 1, 0.5f))
+                                      : build_mip_chain(Image(4, 4, kind.channels, 0.5f));
         Scene scene = one_object_scene();
         scene.materials[0].map(kind.kind) = scene.add_map(kind.kind, good);
         EXPECT_NO_THROW(validate(scene)) << kind.name;

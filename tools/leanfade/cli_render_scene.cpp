@@ -302,7 +302,9 @@ void add_layer_options(CLI::App& app, LayerFlags& f) {
     app.add_option("--mixing", f.mixing, help)->capture_default_str()->group(group);
 }
 
-scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings) {
+namespace {
+
+scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSettings& settings) {
     check_roughness_map(flags, settings);
     // The built-in ocean: a water plane with moving Gabor wave layers (cli_ocean.hpp).
     if (is_ocean_scene(flags.scene))
@@ -356,6 +358,16 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
         add_layered_material(result, flags, settings);
     }
     add_roughness_map(result, flags);
+    scene::validate(result);
+    return result;
+}
+
+}  // namespace
+
+scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSettings& settings) {
+    scene::Scene result = load_scene_objects(flags, settings);
+    // Two-lobe LEAN's plateau layer of every single-map material (docs/math.md §10).
+    scene::add_plateau_maps(result);
     scene::validate(result);
     return result;
 }

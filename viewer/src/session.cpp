@@ -54,6 +54,7 @@ scene::Scene single_object_scene(const scene::Mesh& mesh, const PackedLeanMap& m
     result.objects.push_back(scene::Object{mesh, 0, glm::mat4(1.0f)});
     result.materials.push_back(scene::Material{"default", 0, {}, {}, {}, {}});
     result.lean_maps.push_back(map);
+    scene::add_plateau_maps(result);  // two-lobe LEAN's layer (docs/math.md §10)
     return result;
 }
 
@@ -101,10 +102,13 @@ void Session::set_map(const PackedLeanMap& map) {
     next.lean_maps = {map};
     next.cross_terms.clear();
     next.weight_maps.clear();
+    next.maps_of(scene::MapKind::Plateau).clear();  // the old map's
     for (scene::Material& m : next.materials) {
         m.lean_map = 0;
         m.layered = {};
+        m.map(scene::MapKind::Plateau) = -1;
     }
+    scene::add_plateau_maps(next);
     renderer_.set_scene(next);
     scene_ = std::move(next);
     ++generation_;

@@ -22,6 +22,7 @@ constexpr std::string_view kFadeDistances[] = {"tangent-z", "eye"};
 constexpr std::string_view kFogModes[] = {"none", "linear", "exp", "exp2"};
 constexpr std::string_view kBrdfs[] = {"blinn-phong", "cook-torrance"};
 constexpr std::string_view kReferenceModels[] = {"baseline", "lean"};
+constexpr std::string_view kGeometricAaModes[] = {"auto", "on", "off"};
 
 int get_fade_distance(const ShadingSettings& s) {
     return s.fade_distance == FadeDistance::Eye ? 1 : 0;
@@ -42,6 +43,12 @@ int get_brdf(const ShadingSettings& s) {
 void set_brdf(ShadingSettings& s, int i) {
     s.brdf = Brdf(i);
 }
+int get_geometric_aa(const ShadingSettings& s) {
+    return int(s.geometric_aa);
+}
+void set_geometric_aa(ShadingSettings& s, int i) {
+    s.geometric_aa = GeometricAa(i);
+}
 int get_reference_model(const ShadingSettings& s) {
     return int(s.reference_model);
 }
@@ -53,7 +60,7 @@ using K = ParameterKind;
 using S = ShadingSettings;
 
 // clang-format off
-const std::array<ParameterInfo, 27> kParameters{{
+const std::array<ParameterInfo, 29> kParameters{{
     {.key = "light_direction", .kind = K::Direction, .group = "Light", .label = "light direction",
      .unit = "world space", .help = "Direction toward the light (y up, the camera on +z)",
      .equation = "L of docs/math.md §4", .min = kMinLightDirectionLength,
@@ -134,6 +141,17 @@ const std::array<ParameterInfo, 27> kParameters{{
      .unit = "per bounding radius", .help = "Exp / exp2 fog density", .min = 0.0f,
      .max = kInfinity, .logarithmic = true, .ui_min = 0.0f, .ui_max = 2.0f,
      .scalar = &S::fog_density},
+    {.key = "geometric_aa", .kind = K::Choice, .group = "Antialiasing",
+     .label = "geometric AA",
+     .help = "Geometric specular antialiasing: the pixel footprint's slope variance added to the "
+             "lobe; auto: two-lobe only, on: every technique, off: none",
+     .equation = "docs/math.md §11", .choices = kGeometricAaModes,
+     .get_choice = get_geometric_aa, .set_choice = set_geometric_aa},
+    {.key = "geometric_aa_kappa", .kind = K::Scalar, .group = "Antialiasing",
+     .label = "geometric AA kappa",
+     .help = "Clamp kappa of the footprint's alpha^2 per axis (Tokuyoshi and Kaplanyan 2019)",
+     .equation = "docs/math.md §11", .min = 0.0f, .max = 1.0f, .ui_min = 0.0f, .ui_max = 1.0f,
+     .scalar = &S::geometric_aa_kappa},
     {.key = "bump_strength", .kind = K::Scalar, .group = "Texturing", .label = "bump strength",
      .unit = "height per texel spacing",
      .help = "Bump height scale of height maps baked on the fly (not 0; negative inverts the "

@@ -207,6 +207,7 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.fog_color = s.fog_color;
         block.fog_end = s.fog_end;
         block.fog_density = s.fog_density;
+        block.geometric_aa_kappa = s.geometric_aa_kappa;
         // The material's surface maps: each on its unit with its bit in the block's mask, or the
         // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
         block.maps = 0;

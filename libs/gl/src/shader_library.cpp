@@ -324,7 +324,15 @@ std::string variant_name(const VariantKey& key) {
     if (key.flags & kCookTorrance) name += "_ct";
     if (key.flags & kLeanModel) name += "_leanmodel";
     if (key.flags & kLayered) name += "_layered";
+    if (key.flags & kGeometricAa) name += "_gaa";
     return name;
+}
+
+bool uses_geometric_aa(Technique technique, const ShadingSettings& settings) {
+    const TechniqueInfo& row = info(technique);
+    if (row.supersampled) return false;
+    return settings.geometric_aa == GeometricAa::On ||
+           (settings.geometric_aa == GeometricAa::Auto && row.geometric_aa_by_default);
 }
 
 SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings& settings) {
@@ -332,6 +340,7 @@ SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings
     if (settings.brdf == Brdf::CookTorrance) flags |= kCookTorrance;
     if (info(technique).supersampled && settings.reference_model == ReferenceModel::Lean)
         flags |= kLeanModel;
+    if (uses_geometric_aa(technique, settings)) flags |= kGeometricAa;
     return flags;
 }
 
@@ -345,6 +354,7 @@ bool has_variant(const VariantKey& key) {
     if ((flags & kPlainColor) && row.supersampled) return false;
     if ((flags & kFadeFast) && !row.fades) return false;
     if ((flags & kLeanModel) && !row.supersampled) return false;
+    if ((flags & kGeometricAa) && row.supersampled) return false;
     return true;
 }
 
@@ -365,6 +375,8 @@ std::vector<std::string> scene_defines(const VariantKey& key) {
     // The engine's textures, filtered in the shader (docs/roughness.md).
     if (technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS) defines.push_back("LF_ROUGHNESS_MIPS");
     if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
+    if (row.reads_plateau) defines.push_back("LF_READS_PLATEAU");
+    if (flags & kGeometricAa) defines.push_back("LF_GEOMETRIC_AA");
     // The renderer's ordinary frames (colour output, no fog): the same images without the output
     // and fog branches (docs/perf.md).
     if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");

@@ -97,6 +97,22 @@ void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& cha
 
 }  // namespace
 
+void add_plateau_maps(Scene& scene, float epsilon) {
+    std::vector<int> slot_of_map(scene.lean_maps.size(), -1);
+    for (Material& material : scene.materials) {
+        if (!material.layered.layers.empty() || material.map(MapKind::Plateau) >= 0) continue;
+        if (material.lean_map < 0 || std::size_t(material.lean_map) >= scene.lean_maps.size())
+            continue;  // validate() reports it
+        int& slot = slot_of_map[std::size_t(material.lean_map)];
+        if (slot < 0)
+            slot = scene.add_map(
+                MapKind::Plateau,
+                plateau_mips(packed_top_slopes(scene.lean_maps[std::size_t(material.lean_map)]),
+                             epsilon));
+        material.map(MapKind::Plateau) = slot;
+    }
+}
+
 glm::ivec2 mixed_map_size(const Scene& scene, const Material& material) {
     std::vector<glm::ivec2> sizes;
     std::vector<LayerPlacement> placements;

@@ -38,6 +38,15 @@ enum class ReferenceModel {
     Lean,      // LEAN's own lobe (base roughness only, centred on the sample's B): LEAN's model
 };
 
+// Which techniques get geometric specular antialiasing (docs/math.md §11): the pixel footprint's
+// slope covariance added to the lobe.
+enum class GeometricAa {
+    Auto,  // the techniques whose row asks for it (TechniqueInfo::geometric_aa_by_default:
+           // two-lobe); the papers' techniques keep their published look
+    On,    // every technique but the supersampled truth
+    Off,   // none
+};
+
 struct ShadingSettings {
     // Light (one directional light).
     // World space, toward the light: upper-left-front (the camera looks along -z).
@@ -76,6 +85,10 @@ struct ShadingSettings {
     float fog_start = 5.0f;
     float fog_end = 40.0f;
     float fog_density = 0.05f;  // per world unit (exp, exp2)
+
+    // Geometric specular antialiasing (docs/math.md §11; Tokuyoshi and Kaplanyan 2019).
+    GeometricAa geometric_aa = GeometricAa::Auto;
+    float geometric_aa_kappa = 0.18f;  // the clamp of the footprint's alpha^2 per axis, [0, 1]
 
     // Bumps and texturing.
     float bump_strength = 1.0f;  // height per texel spacing of height maps (docs/math.md §2)

@@ -17,7 +17,7 @@
 namespace leanfade {
 
 // Values are positions in kTechniques.
-enum class Technique { Bump, Toksvig, Clean, Lean, Fade, Roughness, Reference };
+enum class Technique { Bump, Toksvig, Clean, Lean, Fade, Roughness, TwoLobe, Reference };
 
 struct TechniqueInfo {
     Technique id;
@@ -29,35 +29,42 @@ struct TechniqueInfo {
     bool fades;          // applies specular fading (Fade, Pmax, p and the distance measure)
     bool supersampled;   // the ground truth: k x k samples per pixel at the finest MIP level,
                          // box-filtered (docs/math.md §7); drawn in several passes
+    bool reads_plateau;  // samples the material's plateau layer (MapKind::Plateau, two-lobe)
+    // Gets geometric specular antialiasing under GeometricAa::Auto (docs/math.md §11).
+    bool geometric_aa_by_default;
     std::string_view plot_color;  // eval's plots and report, "#rrggbb"
     // The technique this one's frame time is compared with in `leanfade bench` ("lean/bump"),
     // or itself when it has none.
     Technique overhead_of;
 };
 
-inline constexpr std::array<TechniqueInfo, 7> kTechniques{{
+inline constexpr std::array<TechniqueInfo, 8> kTechniques{{
     {Technique::Bump, "bump", "Blinn-Phong bump mapping",
      "Blinn-Phong around the trilinear-filtered normal map (the baseline)",
-     shading::LF_TECHNIQUE_BUMP, false, false, false, "#d62728", Technique::Bump},
+     shading::LF_TECHNIQUE_BUMP, false, false, false, false, false, "#d62728", Technique::Bump},
     {Technique::Toksvig, "toksvig", "Toksvig mapping",
      "Blinn-Phong with the exponent lowered by the filtered normal's length (Toksvig 2005)",
-     shading::LF_TECHNIQUE_TOKSVIG, false, false, false, "#9467bd", Technique::Toksvig},
+     shading::LF_TECHNIQUE_TOKSVIG, false, false, false, false, false, "#9467bd", Technique::Toksvig},
     {Technique::Clean, "clean", "CLEAN mapping",
      "LEAN with one isotropic second moment (Baker 2011)", shading::LF_TECHNIQUE_CLEAN, true, false,
-     false, "#8c564b", Technique::Clean},
+     false, false, false, "#8c564b", Technique::Clean},
     {Technique::Lean, "lean", "LEAN mapping",
      "a Gaussian over bump slopes from filtered first and second moments (Olano and Baker 2010)",
-     shading::LF_TECHNIQUE_LEAN, true, false, false, "#1f77b4", Technique::Bump},
+     shading::LF_TECHNIQUE_LEAN, true, false, false, false, false, "#1f77b4", Technique::Bump},
     {Technique::Fade, "fade", "LEAN + specular fading",
      "LEAN with the specular exponent raised with distance: NdotL^sf", shading::LF_TECHNIQUE_FADE,
-     true, true, false, "#2ca02c", Technique::Lean},
+     true, true, false, false, false, "#2ca02c", Technique::Lean},
     {Technique::Roughness, "roughness", "Roughness MIPs",
      "an engine's ordinary BRDF on roughness and normal MIPs baked from the moments, trilinear",
-     shading::LF_TECHNIQUE_ROUGHNESS_MIPS, true, false, false, "#ff7f0e", Technique::Bump},
+     shading::LF_TECHNIQUE_ROUGHNESS_MIPS, true, false, false, false, false, "#ff7f0e", Technique::Bump},
+    {Technique::TwoLobe, "two-lobe", "Two-lobe LEAN",
+     "LEAN split into a plateau's mirror spike and the halo of the other slopes, with geometric "
+     "specular antialiasing",
+     shading::LF_TECHNIQUE_TWO_LOBE, true, false, false, true, true, "#17becf", Technique::Lean},
     {Technique::Reference, "reference", "Reference (supersampled)",
      "the baseline (or LEAN's lobe) at the finest MIP level, k x k samples per pixel, "
      "box-filtered (ground truth)",
-     shading::LF_TECHNIQUE_BUMP, false, false, true, "#000000", Technique::Reference},
+     shading::LF_TECHNIQUE_BUMP, false, false, true, false, false, "#000000", Technique::Reference},
 }};
 
 // The supersampled reference takes k x k samples per pixel at the finest level, k in

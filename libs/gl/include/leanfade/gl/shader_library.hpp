@@ -59,7 +59,9 @@ inline constexpr SceneVariantFlags kCookTorrance = 4u;  // the Cook-Torrance BRD
 inline constexpr SceneVariantFlags kLeanModel = 8u;  // the reference shades with LEAN's lobe
 // The material's moments mixed from bump layers (LF_LAYERED; Renderer picks it per material).
 inline constexpr SceneVariantFlags kLayered = 16u;
-inline constexpr SceneVariantFlags kAllSceneVariantFlags = 31u;
+// Geometric specular antialiasing (LF_GEOMETRIC_AA, docs/math.md §11; not for the reference).
+inline constexpr SceneVariantFlags kGeometricAa = 32u;
+inline constexpr SceneVariantFlags kAllSceneVariantFlags = 63u;
 
 // Which program of the renderer: a technique's scene program with its variant bits, or one of
 // the fixed programs. Programs are found and cached by this key; its name is for logs, file
@@ -103,6 +105,9 @@ struct ShaderVariant {
 
 // The variant bits that ShadingSettings asks for: the BRDF, and the model of the reference.
 SceneVariantFlags scene_variant_flags(Technique technique, const ShadingSettings& settings);
+// Whether the technique gets geometric specular antialiasing under the settings (geometric_aa:
+// on, or auto and the technique's row asks for it; never the supersampled reference).
+bool uses_geometric_aa(Technique technique, const ShadingSettings& settings);
 
 // Whether that variant is built: no plain variant for the supersampled reference, no fast one
 // for the techniques that do not fade, LEAN's model for the reference only. Fixed programs: true.

@@ -50,6 +50,7 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, fog_end, Float),
     LF_STD140(LfShadingUniforms, fog_density, Float),
     LF_STD140(LfShadingUniforms, maps, Int),
+    LF_STD140(LfShadingUniforms, geometric_aa_kappa, Float),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

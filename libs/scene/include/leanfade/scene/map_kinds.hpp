@@ -17,8 +17,8 @@ namespace leanfade::scene {
 
 namespace map_bindings = ::leanfade::bindings;
 
-enum class MapKind { BaseColor, BaseRoughness };
-inline constexpr std::size_t kMapKindCount = 2;
+enum class MapKind { BaseColor, BaseRoughness, Plateau };
+inline constexpr std::size_t kMapKindCount = 3;
 
 // The texture's storage on the GPU.
 enum class MapFormat {
@@ -65,6 +65,11 @@ inline constexpr std::array<MapKindInfo, kMapKindCount> kMapKinds{{
      MapFormat::R32f, MapMips::Given, MapFallback::None, true, true, "",
      "Cook-Torrance's alpha0^2 = r^4 (dimensionless), filtered linearly like the moments "
      "(docs/math.md §9)"},
+    {MapKind::Plateau, "plateau layer", "", map_bindings::LF_BINDING_PLATEAU,
+     map_bindings::LF_MAP_PLATEAU, 4, MapFormat::Rgba16f, MapMips::Given, MapFallback::None,
+     false, true, "",
+     "two-lobe LEAN's (f, f Bs.x, f Bs.y, f |Bs|^2): the fraction of texels on a plateau and "
+     "their slopes (slope units), filtered linearly like the moments (docs/math.md §10)"},
 }};
 
 // Every row sits at the position of its enum value, and each has its own bit.

@@ -16,6 +16,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/layers.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/scene/map_kinds.hpp"
 #include "leanfade/scene/mesh.hpp"
 
@@ -102,6 +103,12 @@ struct Scene {
 // The size of the map the "height" method generates for `material`'s layers (mixed_map_size of
 // leanfade/core/layers.hpp over the top levels of their LEAN maps and their tilings). Throws
 // mixed_map_size's errors, and Error("scene", cause) for a layer map without levels.
+// Gives every material drawn from one LEAN map (not from bump layers) that has no plateau layer
+// the plateau layer of its map (MapKind::Plateau, leanfade/core/plateau.hpp: two-lobe LEAN's
+// spike, docs/math.md §10), made once per map from its finest level. epsilon: slope units, as
+// plateau_texels. Materials of bump layers keep none: two-lobe shades them as LEAN.
+void add_plateau_maps(Scene& scene, float epsilon = kDefaultPlateauEpsilon);
+
 glm::ivec2 mixed_map_size(const Scene& scene, const Material& material);
 
 // The scene-space bounding box of every object's transformed bounds (its eight corners).
