@@ -1,22 +1,20 @@
 // leanfade bake: height or normal maps -> LEAN maps (KTX2 with every MIP level, or PNG previews).
-#include <algorithm>
+// The run: the plan (cli_bake_plan.hpp), then each input read, baked into its staged outputs and
+// reported (cli_bake_report.hpp); the outputs are published as they are done.
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <functional>
-#include <initializer_list>
 #include <memory>
-#include <string_view>
+#include <string>
 #include <variant>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_bake_cross_terms.hpp"
-#include "cli_bake_roughness.hpp"
 #include "cli_bake_gltf.hpp"
-#include "cli_flags.hpp"
+#include "cli_bake_plan.hpp"
+#include "cli_bake_report.hpp"
+#include "cli_bake_roughness.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -27,408 +25,203 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
-#include "leanfade/scene/gltf.hpp"
 #include "leanfade/io/png_io.hpp"
+#include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::cli {
 namespace {
 
-namespace fs = std::filesystem;
+// The cross-term texture of two bump layers (cli_bake_cross_terms.cpp). Every option that the
+// kind of bake does not honour is refused by name, rather than ignored (an output asked for and
+// never written).
+int run_cross_terms_bake(const BakeArgs& given) {
+    const std::string refused =
+        first_inapplicable(given, {"--cross-terms", "--output", "--from", "--directx", "--strength",
+                                   "--size", "--seed", "--max-size"});
+    if (!refused.empty())
+        throw Error(refused,
+                    "does not apply to --cross-terms (it writes the one texture of "
+                    "-o, from --from, --directx, --strength, --size, --seed and "
+                    "--max-size)");
+    return run_bake_cross_terms({given.cross_terms, given.output, given.from, given.directx,
+                                 given.strength, given.size, given.seed, given.max_size});
+}
 
-struct BakeArgs {
-    std::vector<std::string> inputs;
-    std::string output;
-    std::string out_dir;
-    std::string from = "auto";
-    float strength = 1.0f;
-    bool strength_given = false;  // --strength on the command line (an error for normal maps)
-    std::string strength_unit = "texel";
-    std::string sc = "auto";
-    bool directx = false;
-    bool strict_normals = false;
-    std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
-    float bake_roughness = 0.0f;
-    std::string wrap = "repeat";
-    std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
-    int threads = 0;
-    bool fsync = false;
-    std::string builtin;
-    std::string cross_terms;  // --cross-terms A,B (cli_bake_cross_terms.hpp)
-    int size = 1024;
-    std::uint32_t seed = 1;
-    int max_size = kDefaultMaxImageDimension;
-    std::string json;
-    RoughnessBakeArgs roughness;  // --roughness-out and its flags (cli_bake_roughness.hpp)
-    std::vector<std::string> given;  // the options given on the command line, by long name
+bool is_gltf_bake(const BakeArgs& given) {
+    return given.inputs.size() == 1 && given.builtin.empty() &&
+           scene::is_gltf_path(given.inputs[0]);
+}
+
+// A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
+int run_gltf_bake(const BakeArgs& given) {
+    GltfBakeArgs gltf{given.inputs[0], given.out_dir,        given.bits,
+                      given.threads,   given.max_size,       given.json,
+                      given.fsync,     given.strict_normals, {}};
+    const std::string refused =
+        first_inapplicable(given, {"inputs", "--out-dir", "--bits", "--threads", "--max-size",
+                                   "--json", "--fsync", "--strict-normals"});
+    if (!refused.empty()) gltf.refused_flags.push_back(refused);
+    return run_bake_gltf(gltf);
+}
+
+// One job's input: 8- and 16-bit files stay integer samples (half the memory of floats).
+std::variant<Image, UnormImage> read_job_input(const BakeJob& job, const BakeArgs& args,
+                                               const BakeSettings& settings) {
+    if (job.from_file) return io::read_image_compact(job.name, settings.read_options);
+    return make_builtin_height(args.builtin, args.size, args.seed);
+}
+
+// One job's LEAN map, baked into its staged outputs.
+struct StagedBake {
+    PackedBakeResult baked;
+    std::string output;  // as reported: the .ktx2, or NAME.lean{1,2}.png
 };
 
-// The first option given that is not one of `applicable` ("" when all are).
-std::string first_inapplicable(const BakeArgs& args,
-                               std::initializer_list<std::string_view> applicable) {
-    for (const std::string& option : args.given)
-        if (std::find(applicable.begin(), applicable.end(), option) == applicable.end())
-            return option;
-    return {};
-}
-
-std::string generator_string() {
-    return std::string("leanfade ") + LEANFADE_VERSION;
-}
-
-bool has_extension(const std::string& path, const char* extension) {
-    std::string e = fs::path(path).extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e == extension;
-}
-
-// The output format: --format, else png for an -o named .png, else ktx2. An -o whose extension
-// (.png or .ktx2) contradicts --format is refused.
-std::string resolve_format(const BakeArgs& args) {
-    const bool png_name = !args.output.empty() && has_extension(args.output, ".png");
-    const bool ktx2_name = !args.output.empty() && has_extension(args.output, ".ktx2");
-    if (args.format.empty()) return png_name ? "png" : "ktx2";
-    if ((args.format == "png" && ktx2_name) || (args.format == "ktx2" && png_name))
-        throw Error("-o", "'" + args.output + "' does not name a " + args.format +
-                              " output (--format " + args.format + ")");
-    return args.format;
-}
-
-// Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
-std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
-    if (!args.output.empty()) {
-        fs::path out(args.output);
-        if (args.format == "png" && has_extension(args.output, ".png")) out.replace_extension();
-        return out.string();
+// The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the summary,
+// without the float MIP chain (docs/perf.md). A PNG pair in the storage asked for; a KTX2 file
+// baked straight into the mapped output file, which appears only when complete, by the storage
+// policy.
+StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, UnormImage>& input,
+                                  BakeSource kind, const BakeArgs& args,
+                                  const BakeSettings& settings, io::OutputTransaction& outputs) {
+    StagedBake result;
+    if (args.format == "png") {
+        Image converted;
+        const Image* floats = std::get_if<Image>(&input);
+        if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
+        result.baked = bake_packed(*floats, kind, settings.options, settings.storage.storage,
+                                   generator_string(), job.name);
+        io::write_lean_png_pair(outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]),
+                                result.baked.packed, settings.write_options);
+        result.output = job.outputs[0].substr(0, job.outputs[0].size() - 10) + ".lean{1,2}.png";
+        return result;
     }
-    fs::path stem = fs::path(input_name).stem();
-    fs::path folder = !args.out_dir.empty() ? fs::path(args.out_dir)
-                      : from_file           ? fs::path(input_name).parent_path()
-                                            : fs::path();
-    return (folder / stem).string();
+    result.output = job.outputs[0];
+    const std::string staged = outputs.stage(result.output);
+    result.baked = bake_with_auto_storage(
+        settings.storage.storage, settings.storage.automatic, [&](Storage s) {
+            return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
+                                    job.name, settings.write_options);
+        });
+    return result;
 }
 
-// Every step-th texel of the first 3 channels, at most 512 per side: enough for the convention
-// check, in bounded memory for any input.
-Image convention_sample(const std::variant<Image, UnormImage>& input) {
-    const Image* floats = std::get_if<Image>(&input);
-    const UnormImage* unorm = std::get_if<UnormImage>(&input);
-    const int w = floats != nullptr ? floats->width : unorm->width;
-    const int h = floats != nullptr ? floats->height : unorm->height;
-    const int channels = floats != nullptr ? floats->channels : unorm->channels;
-    const int step = std::max(1, (std::max(w, h) + 511) / 512);
-    Image sample((w + step - 1) / step, (h + step - 1) / step, 3);
-    if (channels < 3) return Image();
-    for (int y = 0; y < sample.height; ++y)
-        for (int x = 0; x < sample.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t i =
-                    (std::size_t(y * step) * std::size_t(w) + std::size_t(x * step)) *
-                        std::size_t(channels) +
-                    std::size_t(c);
-                sample.at(x, y, c) = floats != nullptr
-                                         ? floats->pixels[i]
-                                         : float(unorm->samples[i]) / float(unorm->max_value);
-            }
-    return sample;
-}
+// The jobs of one run, in order. One input: its outputs and --json are published together. A
+// batch publishes each input's outputs when they are done, and --json at the end; a failed
+// input is reported and the others go on.
+class BakeRun {
+  public:
+    BakeRun(const BakeArgs& args, const BakeSettings& settings, const std::vector<BakeJob>& jobs)
+        : args_(args),
+          settings_(settings),
+          jobs_(jobs),
+          one_group_(jobs.size() == 1),
+          progress_(stderr_is_terminal()),
+          run_outputs_(settings.write_options.durability) {}
 
-// A warning when a normal map's slopes fit a height field clearly better in the other convention
-// (check_normal_convention).
-// Returns whether it warned (the summary's looks_like_other_convention).
-bool warn_if_other_convention(const std::string& name,
-                              const std::variant<Image, UnormImage>& input,
-                              NormalConvention convention) {
-    const NormalConventionCheck check =
-        check_normal_convention(convention_sample(input), convention);
-    if (!check.looks_flipped()) return false;
-    std::fprintf(stderr, "leanfade bake: warning: %s\n",
-                 convention_warning(name, convention == NormalConvention::DirectX,
-                                    check.curl_as_read / std::max(check.curl_flipped, 1e-30))
-                     .c_str());
-    return true;
-}
-
-nlohmann::json summary_json(const std::string& input, const std::string& output,
-                            const LeanMapSummary& s, const BakeResult& result,
-                            const std::string& storage, double seconds) {
-    return {{"input", input},
-            {"output", output},
-            {"source", to_string(result.source)},
-            {"width", s.width},
-            {"height", s.height},
-            {"levels", s.levels},
-            {"scale", s.scale},
-            {"mean_slope", s.mean_slope},
-            {"max_slope", s.max_slope},
-            {"coarsest_covariance",
-             {s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z}},
-            {"coarsest_anisotropy", std::isfinite(s.coarsest_anisotropy)
-                                        ? nlohmann::json(s.coarsest_anisotropy)
-                                        : nlohmann::json("inf")},
-            {"clamped_normals", result.clamped_texels},
-            {"padding_texels", result.map.normal_repairs.padding_texels},
-            {"raised_normals", result.map.normal_repairs.raised_texels},
-            {"texels_beyond_sc", result.map.texels_beyond_scale},
-            {"storage", storage},
-            {"roughness_baked", result.map.roughness_baked},
-            {"seconds", seconds}};
-}
-
-void print_summary(const std::string& input, const std::string& output, const LeanMapSummary& s,
-                   const BakeResult& result, Storage storage, double seconds) {
-    std::printf("%s -> %s\n", terminal_text(input).c_str(), terminal_text(output).c_str());
-    std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height,
-                s.levels, to_string(result.source), s.scale, to_string(storage));
-    std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
-    std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
-                s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
-                s.coarsest_anisotropy);
-    if (result.clamped_texels > 0)
-        std::printf("  %zu normals had z < %.4f and were raised to it\n", result.clamped_texels,
-                    kMinNormalZ);
-    if (result.map.normal_repairs.any())
-        std::printf("  %s\n", normal_repairs_note(input, result.map.normal_repairs).c_str());
-    const std::uint64_t beyond = result.map.texels_beyond_scale;
-    if (beyond > 0) {
-        const double percent = 100.0 * double(beyond) / (double(s.width) * double(s.height));
-        const bool unorm = storage == Storage::Unorm8 || storage == Storage::Unorm16;
-        std::printf("  %llu texels (%.3g %%) have a slope component above sc (up to %.4g): %s\n",
-                    static_cast<unsigned long long>(beyond), percent, s.max_slope,
-                    unorm ? "clamped to sc in this UNORM map (docs/ktx2.md, \"Choosing storage "
-                            "and sc\")"
-                          : "kept, beyond [0, 1], by the float storage");
-    }
-    std::printf("  %.3f s\n", seconds);
-}
-
-int run_bake(const BakeArgs& given) {
-    // The cross-term texture of two bump layers (cli_bake_cross_terms.cpp).
-    // Every option that the kind of bake does not honour is refused by name, rather than
-    // ignored (an output asked for and never written).
-    if (!given.cross_terms.empty()) {
-        const std::string refused =
-            first_inapplicable(given, {"--cross-terms", "--output", "--from", "--directx",
-                                       "--strength", "--size", "--seed", "--max-size"});
-        if (!refused.empty())
-            throw Error(refused,
-                        "does not apply to --cross-terms (it writes the one texture of "
-                        "-o, from --from, --directx, --strength, --size, --seed and "
-                        "--max-size)");
-        return run_bake_cross_terms({given.cross_terms, given.output, given.from, given.directx,
-                                     given.strength, given.size, given.seed, given.max_size});
-    }
-    // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
-    if (given.inputs.size() == 1 && given.builtin.empty() &&
-        scene::is_gltf_path(given.inputs[0])) {
-        GltfBakeArgs gltf{given.inputs[0], given.out_dir, given.bits,  given.threads,
-                          given.max_size,  given.json,    given.fsync, given.strict_normals,
-                          {}};
-        const std::string refused =
-            first_inapplicable(given, {"inputs", "--out-dir", "--bits", "--threads",
-                                       "--max-size", "--json", "--fsync", "--strict-normals"});
-        if (!refused.empty()) gltf.refused_flags.push_back(refused);
-        return run_bake_gltf(gltf);
-    }
-    // Validate flags before touching any file.
-    BakeArgs args = given;
-    args.format = resolve_format(given);
-    if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
-    if (args.strength == 0.0f)
-        throw Error("--strength", "must not be 0 (a negative strength inverts the heights)");
-    if (args.strength_given && args.from == "normal")
-        throw Error("--strength", "applies to height maps; --from normal bakes normal maps");
-    if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
-        throw Error("--bake-roughness", "must be a positive shininess");
-    if (args.inputs.empty() && args.builtin.empty())
-        throw Error("bake", "no input: give image files or --builtin NAME");
-    const std::size_t job_count = args.inputs.size() + (args.builtin.empty() ? 0 : 1);
-    if (!args.output.empty() && job_count > 1)
-        throw Error("-o", "one output for " + std::to_string(job_count) +
-                              " inputs; use --out-dir for a batch");
-    // A missing --out-dir is created, and removed again if the run writes nothing into it.
-    const io::CreatedFolders out_folder(args.out_dir);
-
-    if (args.format == "png" && args.bits != "8" && args.bits != "16" && args.bits != "auto")
-        throw Error("--bits", "a PNG pair holds 8 or 16 bits; " + args.bits +
-                                  " needs --format ktx2");
-
-    BakeOptions options;
-    options.strength = args.strength;
-    options.strength_unit = args.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
-    options.scale_excludes_outliers = args.sc == "auto";
-    options.wrap = args.wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
-    options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
-    options.bake_roughness_shininess = args.bake_roughness;
-    options.threads = args.threads;
-    options.strict_normals = args.strict_normals;
-    const BakeSource source = parse_bake_source(args.from);
-    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
-    // second moments would round away the base roughness, is baked again as half float
-    // (leanfade::auto_storage; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
-    const bool auto_storage = args.bits == "auto";
-    const Storage storage = parse_bake_storage(args.bits);
-    io::ReadOptions read_options;
-    read_options.max_dimension = args.max_size;
-    read_options.drop_alpha = true;  // normal maps use RGB only
-    io::WriteOptions write_options;
-    write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
-    write_options.threads = args.threads;
-
-    // Every output of the run, checked before anything is read: a regular file (or a new one) in
-    // a writable folder, not an input, not the output of another input (docs/robustness.md).
-    struct Job {
-        std::string name;
-        bool from_file = false;
-        std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png and .lean2.png
-        std::string output_is_input;       // an output that is this job's own input
-    };
-    std::vector<Job> jobs;
-    if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}, {}});
-    for (const std::string& input : args.inputs) jobs.push_back({input, true, {}, {}});
-    io::OutputPlan plan;
-    for (const std::string& input : args.inputs) plan.add_input(input);
-    for (Job& j : jobs) {
-        const std::string base =
-            output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
-        if (args.format == "png")
-            j.outputs = {base + ".lean1.png", base + ".lean2.png"};
-        else
-            j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
-        for (const std::string& output : j.outputs) {
-            // An output that is its own input (`bake map.ktx2`) fails that input alone, once it is
-            // read, so that a file that is not an image is named as such; nothing is written.
-            std::error_code error;
-            if (j.from_file && fs::equivalent(output, j.name, error) && !error) {
-                j.output_is_input = output;
-                continue;
-            }
-            plan.add_output(output, "the output of " + j.name);
+    // The exit code: 0, or 1 when an input of a batch failed.
+    int run() {
+        for (const BakeJob& job : jobs_) bake_guarded(job);
+        if (!args_.json.empty()) write_json();
+        run_outputs_.publish();
+        for (const BakeReport& report : reports_) print_bake_report(report);
+        if (failures_ > 0) {
+            std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures_,
+                         jobs_.size());
+            return 1;
         }
+        return 0;
     }
-    if (!args.json.empty()) plan.add_output(args.json, "--json");
-    plan_roughness_outputs(args.roughness, job_count, args.bake_roughness, plan);
-    plan.check();
 
-    // One input: its outputs and --json are published together. A batch publishes each input's
-    // outputs when they are done, and --json at the end.
-    const bool one_group = job_count == 1;
-    io::OutputTransaction run_outputs(write_options.durability);
-
-    nlohmann::json summaries = nlohmann::json::array();
-    int failures = 0;
-    const bool progress = stderr_is_terminal();
-    std::size_t job = 0;
-    // What stdout reports of an output is printed once it is published (a single input's
-    // reports after the whole group, --json included).
-    std::vector<std::function<void()>> reports;
-    auto bake_one = [&](const Job& j, io::OutputTransaction& outputs) {
-        const std::string& name = j.name;
-        const bool from_file = j.from_file;
-        ++job;
-        if (progress)
-            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", job, job_count,
-                         terminal_text(name).c_str());
-        const auto start = std::chrono::steady_clock::now();
-        // 8- and 16-bit files stay integer samples (half the memory of floats).
-        const std::variant<Image, UnormImage> input =
-            from_file ? io::read_image_compact(name, read_options)
-                      : std::variant<Image, UnormImage>(
-                            make_builtin_height(args.builtin, args.size, args.seed));
-        // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the
-        // summary, without the float MIP chain (docs/perf.md).
-        const BakeSource kind = from_file ? source : BakeSource::Height;
-        if (!j.output_is_input.empty())
-            throw Error(name, "is the same file as its output " + j.output_is_input +
-                                  "; an output may not replace an input");
-        std::string output;
-        PackedBakeResult baked;
-        if (args.format == "png") {
-            Image converted;
-            const Image* floats = std::get_if<Image>(&input);
-            if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
-            baked = bake_packed(*floats, kind, options, storage, generator_string(), name);
-            io::write_lean_png_pair(outputs.stage(j.outputs[0]), outputs.stage(j.outputs[1]),
-                                    baked.packed, write_options);
-            output = j.outputs[0].substr(0, j.outputs[0].size() - 10) + ".lean{1,2}.png";
-        } else {
-            output = j.outputs[0];
-            // Baked straight into the mapped output file, which appears only when complete.
-            const std::string staged = outputs.stage(output);
-            baked = bake_with_auto_storage(storage, auto_storage, [&](Storage s) {
-                return io::bake_to_ktx2(staged, input, kind, options, s, generator_string(), name,
-                                        write_options);
-            });
-        }
-        // Checked before anything is published: the staged outputs are dropped.
-        if (args.strength_given && baked.source == BakeSource::Normal)
-            throw Error(name, "is a normal map: --strength applies to height maps only");
-        if (args.roughness.requested())
-            write_roughness_outputs(args.roughness, input, kind, options, read_options,
-                                    write_options, outputs);
-        if (!one_group) outputs.publish();
-        const bool other_convention =
-            baked.source == BakeSource::Normal &&
-            warn_if_other_convention(name, input, options.convention);
-        const PackedLeanMap& packed = baked.packed;
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (progress) std::fprintf(stderr, "\r\033[K");
-        // What print_summary and summary_json read of a BakeResult: the source, the clamped
-        // count and the roughness flag.
-        BakeResult result;
-        result.source = baked.source;
-        result.clamped_texels = baked.clamped_texels;
-        result.map.roughness_baked = packed.roughness_baked;
-        result.map.texels_beyond_scale = baked.texels_beyond_scale;
-        result.map.normal_repairs = packed.normal_repairs;
-        const LeanMapSummary& s = baked.summary;
-        const Storage stored = packed.storage;
-        auto report = [name, output, s, result, stored, seconds] {
-            print_summary(name, output, s, result, stored, seconds);
-        };
-        if (one_group)
-            reports.push_back(report);
-        else
-            report();
-        summaries.push_back(
-            summary_json(name, output, s, result, to_string(packed.storage), seconds));
-        summaries.back()["looks_like_other_convention"] = other_convention;
-    };
-
-    auto guarded = [&](const Job& j) {
-        io::OutputTransaction job_outputs(write_options.durability);
-        io::OutputTransaction& outputs = one_group ? run_outputs : job_outputs;
+  private:
+    void bake_guarded(const BakeJob& job) {
+        io::OutputTransaction job_outputs(settings_.write_options.durability);
+        io::OutputTransaction& outputs = one_group_ ? run_outputs_ : job_outputs;
         try {
-            bake_one(j, outputs);
+            bake_one(job, outputs);
         } catch (const Error& raw) {
             const Error e = outputs.named(raw);  // the output's name, not its temporary's
-            if (progress) std::fprintf(stderr, "\r\033[K");
-            if (job_count == 1) throw e;
+            if (progress_) std::fprintf(stderr, "\r\033[K");
+            if (jobs_.size() == 1) throw e;
             std::fprintf(stderr, "leanfade bake: %s\n", terminal_text(e.what()).c_str());
-            summaries.push_back({{"input", j.name}, {"error", e.what()}});
-            ++failures;
+            summaries_.push_back({{"input", job.name}, {"error", e.what()}});
+            ++failures_;
         }
-    };
-    for (const Job& j : jobs) guarded(j);
+    }
 
-    if (!args.json.empty()) {
+    void bake_one(const BakeJob& job, io::OutputTransaction& outputs) {
+        const std::string& name = job.name;
+        ++done_;
+        if (progress_)
+            std::fprintf(stderr, "\r[%zu/%zu] baking %s...\033[K", done_, jobs_.size(),
+                         terminal_text(name).c_str());
+        const auto start = std::chrono::steady_clock::now();
+        const std::variant<Image, UnormImage> input = read_job_input(job, args_, settings_);
+        const BakeSource kind = job.from_file ? settings_.source : BakeSource::Height;
+        if (!job.output_is_input.empty())
+            throw Error(name, "is the same file as its output " + job.output_is_input +
+                                  "; an output may not replace an input");
+        const StagedBake staged =
+            bake_to_staged_outputs(job, input, kind, args_, settings_, outputs);
+        const PackedBakeResult& baked = staged.baked;
+        // Checked before anything is published: the staged outputs are dropped.
+        if (args_.strength_given && baked.source == BakeSource::Normal)
+            throw Error(name, "is a normal map: --strength applies to height maps only");
+        if (args_.roughness.requested())
+            write_roughness_outputs(args_.roughness, input, kind, settings_.options,
+                                    settings_.read_options, settings_.write_options, outputs);
+        if (!one_group_) outputs.publish();
+        const bool other_convention =
+            baked.source == BakeSource::Normal &&
+            warn_if_other_convention(name, input, settings_.options.convention);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (progress_) std::fprintf(stderr, "\r\033[K");
+        // What stdout reports of an output is printed once it is published (a single input's
+        // reports after the whole group, --json included).
+        const BakeReport report =
+            bake_report(name, staged.output, baked, seconds, other_convention);
+        if (one_group_)
+            reports_.push_back(report);
+        else
+            print_bake_report(report);
+        summaries_.push_back(bake_report_json(report));
+    }
+
+    void write_json() {
         const std::string text =
-            summaries.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+            summaries_.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
         try {
-            io::AtomicFile file(run_outputs.stage(args.json), write_options.durability);
+            io::AtomicFile file(run_outputs_.stage(args_.json), settings_.write_options.durability);
             file.write(text.data(), text.size());
             file.commit();
         } catch (const Error& e) {
-            throw run_outputs.named(e);
+            throw run_outputs_.named(e);
         }
     }
-    run_outputs.publish();
-    for (const auto& report : reports) report();
-    if (failures > 0) {
-        std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures, job_count);
-        return 1;
-    }
-    return 0;
+
+    const BakeArgs& args_;
+    const BakeSettings& settings_;
+    const std::vector<BakeJob>& jobs_;
+    const bool one_group_;
+    const bool progress_;
+    io::OutputTransaction run_outputs_;
+    nlohmann::json summaries_ = nlohmann::json::array();
+    std::vector<BakeReport> reports_;
+    std::size_t done_ = 0;
+    int failures_ = 0;
+};
+
+int run_bake(const BakeArgs& given) {
+    if (!given.cross_terms.empty()) return run_cross_terms_bake(given);
+    if (is_gltf_bake(given)) return run_gltf_bake(given);
+    // Flags checked before touching any file.
+    const BakeArgs args = checked_bake_args(given);
+    // A missing --out-dir is created, and removed again if the run writes nothing into it.
+    const io::CreatedFolders out_folder(args.out_dir);
+    const BakeSettings settings = bake_settings(args);
+    const std::vector<BakeJob> jobs = plan_bake_jobs(args);
+    return BakeRun(args, settings, jobs).run();
 }
 
 const CommandRegistration registration{

@@ -1,0 +1,144 @@
+// The plan of a `leanfade bake` run (cli_bake_plan.hpp).
+#include "cli_bake_plan.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <system_error>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/io/output_plan.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool has_extension(const std::string& path, const char* extension) {
+    std::string e = fs::path(path).extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e == extension;
+}
+
+// The output format: --format, else png for an -o named .png, else ktx2. An -o whose extension
+// (.png or .ktx2) contradicts --format is refused.
+std::string resolve_format(const BakeArgs& args) {
+    const bool png_name = !args.output.empty() && has_extension(args.output, ".png");
+    const bool ktx2_name = !args.output.empty() && has_extension(args.output, ".ktx2");
+    if (args.format.empty()) return png_name ? "png" : "ktx2";
+    if ((args.format == "png" && ktx2_name) || (args.format == "ktx2" && png_name))
+        throw Error("-o", "'" + args.output + "' does not name a " + args.format +
+                              " output (--format " + args.format + ")");
+    return args.format;
+}
+
+// Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
+std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
+    if (!args.output.empty()) {
+        fs::path out(args.output);
+        if (args.format == "png" && has_extension(args.output, ".png")) out.replace_extension();
+        return out.string();
+    }
+    fs::path stem = fs::path(input_name).stem();
+    fs::path folder = !args.out_dir.empty() ? fs::path(args.out_dir)
+                      : from_file           ? fs::path(input_name).parent_path()
+                                            : fs::path();
+    return (folder / stem).string();
+}
+
+std::size_t job_count(const BakeArgs& args) {
+    return args.inputs.size() + (args.builtin.empty() ? 0 : 1);
+}
+
+}  // namespace
+
+std::string first_inapplicable(const BakeArgs& args,
+                               std::initializer_list<std::string_view> applicable) {
+    for (const std::string& option : args.given)
+        if (std::find(applicable.begin(), applicable.end(), option) == applicable.end())
+            return option;
+    return {};
+}
+
+BakeArgs checked_bake_args(const BakeArgs& given) {
+    BakeArgs args = given;
+    args.format = resolve_format(given);
+    if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
+    if (args.strength == 0.0f)
+        throw Error("--strength", "must not be 0 (a negative strength inverts the heights)");
+    if (args.strength_given && args.from == "normal")
+        throw Error("--strength", "applies to height maps; --from normal bakes normal maps");
+    if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
+        throw Error("--bake-roughness", "must be a positive shininess");
+    if (args.inputs.empty() && args.builtin.empty())
+        throw Error("bake", "no input: give image files or --builtin NAME");
+    const std::size_t jobs = job_count(args);
+    if (!args.output.empty() && jobs > 1)
+        throw Error(
+            "-o", "one output for " + std::to_string(jobs) + " inputs; use --out-dir for a batch");
+    return args;
+}
+
+BakeSettings bake_settings(const BakeArgs& args) {
+    if (args.format == "png" && args.bits != "8" && args.bits != "16" && args.bits != "auto")
+        throw Error("--bits",
+                    "a PNG pair holds 8 or 16 bits; " + args.bits + " needs --format ktx2");
+    BakeSettings settings;
+    BakeOptions& options = settings.options;
+    options.strength = args.strength;
+    options.strength_unit = args.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+    options.scale_excludes_outliers = args.sc == "auto";
+    options.wrap = args.wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
+    options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.bake_roughness_shininess = args.bake_roughness;
+    options.threads = args.threads;
+    options.strict_normals = args.strict_normals;
+    settings.source = parse_bake_source(args.from);
+    // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
+    // second moments would round away the base roughness, is baked again as half float
+    // (leanfade::auto_storage; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
+    settings.storage.automatic = args.bits == "auto";
+    settings.storage.storage = parse_bake_storage(args.bits);
+    settings.read_options.max_dimension = args.max_size;
+    settings.read_options.drop_alpha = true;  // normal maps use RGB only
+    settings.write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
+    settings.write_options.threads = args.threads;
+    return settings;
+}
+
+std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
+    std::vector<BakeJob> jobs;
+    if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}, {}});
+    for (const std::string& input : args.inputs) jobs.push_back({input, true, {}, {}});
+    io::OutputPlan plan;
+    for (const std::string& input : args.inputs) plan.add_input(input);
+    for (BakeJob& j : jobs) {
+        const std::string base =
+            output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
+        if (args.format == "png")
+            j.outputs = {base + ".lean1.png", base + ".lean2.png"};
+        else
+            j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
+        for (const std::string& output : j.outputs) {
+            // An output that is its own input (`bake map.ktx2`) fails that input alone, once it is
+            // read, so that a file that is not an image is named as such; nothing is written.
+            std::error_code error;
+            if (j.from_file && fs::equivalent(output, j.name, error) && !error) {
+                j.output_is_input = output;
+                continue;
+            }
+            plan.add_output(output, "the output of " + j.name);
+        }
+    }
+    if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan_roughness_outputs(args.roughness, job_count(args), args.bake_roughness, plan);
+    plan.check();
+    return jobs;
+}
+
+std::string generator_string() {
+    return std::string("leanfade ") + LEANFADE_VERSION;
+}
+
+}  // namespace leanfade::cli

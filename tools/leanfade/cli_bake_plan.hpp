@@ -1,0 +1,90 @@
+#pragma once
+// `leanfade bake` of images and built-in sets (cmd_bake.cpp): the flags, and the plan of a run,
+// made before any input is read: the flags checked, the bake's settings with its storage policy,
+// and one job per input with its outputs, all checked together (docs/robustness.md).
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cli_bake_roughness.hpp"
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/image_io.hpp"
+
+namespace leanfade::cli {
+
+struct BakeArgs {
+    std::vector<std::string> inputs;
+    std::string output;
+    std::string out_dir;
+    std::string from = "auto";
+    float strength = 1.0f;
+    bool strength_given = false;  // --strength on the command line (an error for normal maps)
+    std::string strength_unit = "texel";
+    std::string sc = "auto";
+    bool directx = false;
+    bool strict_normals = false;
+    std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
+    float bake_roughness = 0.0f;
+    std::string wrap = "repeat";
+    std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
+    int threads = 0;
+    bool fsync = false;
+    std::string builtin;
+    std::string cross_terms;  // --cross-terms A,B (cli_bake_cross_terms.hpp)
+    int size = 1024;
+    std::uint32_t seed = 1;
+    int max_size = kDefaultMaxImageDimension;
+    std::string json;
+    RoughnessBakeArgs roughness;     // --roughness-out and its flags (cli_bake_roughness.hpp)
+    std::vector<std::string> given;  // the options given on the command line, by long name
+};
+
+// The first option given that is not one of `applicable` ("" when all are).
+std::string first_inapplicable(const BakeArgs& args,
+                               std::initializer_list<std::string_view> applicable);
+
+// The flags checked before any file is touched, with the output format resolved: --format, else
+// png for an -o named .png, else ktx2. Throws leanfade::Error(flag, cause).
+BakeArgs checked_bake_args(const BakeArgs& given);
+
+// How the LEAN maps are stored: `storage` first and, when `automatic` (--bits auto), baked again
+// in the storage leanfade::auto_storage picks (bake_with_auto_storage).
+struct StoragePolicy {
+    Storage storage = Storage::Unorm16;
+    bool automatic = false;
+};
+
+// What every bake of the run uses.
+struct BakeSettings {
+    BakeOptions options;
+    BakeSource source = BakeSource::Auto;  // of the input files (built-in sets are height maps)
+    StoragePolicy storage;
+    io::ReadOptions read_options;
+    io::WriteOptions write_options;
+};
+
+// The settings of checked_bake_args' flags. Throws leanfade::Error("--bits", ...) for a PNG pair
+// of other than 8 or 16 bits.
+BakeSettings bake_settings(const BakeArgs& args);
+
+// One input of the run and where its outputs go.
+struct BakeJob {
+    std::string name;  // the file, or builtin:NAME
+    bool from_file = false;
+    std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png and .lean2.png
+    std::string output_is_input;       // an output that is this job's own input
+};
+
+// The jobs (the built-in set first, then the files in order) with their outputs. Every output of
+// the run is checked before anything is read: a regular file (or a new one) in a writable
+// folder, not an input, not the output of another input; --json and the roughness outputs too.
+// Throws leanfade::Error naming the output.
+std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args);
+
+std::string generator_string();  // "leanfade VERSION"
+
+}  // namespace leanfade::cli

@@ -1,0 +1,125 @@
+// The reports of `leanfade bake` (cli_bake_report.hpp).
+#include "cli_bake_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "cli_flags.hpp"
+#include "leanfade/core/input_text.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+// Every step-th texel of the first 3 channels, at most 512 per side: enough for the convention
+// check, in bounded memory for any input.
+Image convention_sample(const std::variant<Image, UnormImage>& input) {
+    const Image* floats = std::get_if<Image>(&input);
+    const UnormImage* unorm = std::get_if<UnormImage>(&input);
+    const int w = floats != nullptr ? floats->width : unorm->width;
+    const int h = floats != nullptr ? floats->height : unorm->height;
+    const int channels = floats != nullptr ? floats->channels : unorm->channels;
+    const int step = std::max(1, (std::max(w, h) + 511) / 512);
+    Image sample((w + step - 1) / step, (h + step - 1) / step, 3);
+    if (channels < 3) return Image();
+    for (int y = 0; y < sample.height; ++y)
+        for (int x = 0; x < sample.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i =
+                    (std::size_t(y * step) * std::size_t(w) + std::size_t(x * step)) *
+                        std::size_t(channels) +
+                    std::size_t(c);
+                sample.at(x, y, c) = floats != nullptr
+                                         ? floats->pixels[i]
+                                         : float(unorm->samples[i]) / float(unorm->max_value);
+            }
+    return sample;
+}
+
+}  // namespace
+
+BakeReport bake_report(const std::string& input, const std::string& output,
+                       const PackedBakeResult& baked, double seconds,
+                       bool looks_like_other_convention) {
+    BakeReport report;
+    report.input = input;
+    report.output = output;
+    report.summary = baked.summary;
+    report.source = baked.source;
+    report.clamped_texels = baked.clamped_texels;
+    report.normal_repairs = baked.packed.normal_repairs;
+    report.texels_beyond_scale = baked.texels_beyond_scale;
+    report.roughness_baked = baked.packed.roughness_baked;
+    report.storage = baked.packed.storage;
+    report.seconds = seconds;
+    report.looks_like_other_convention = looks_like_other_convention;
+    return report;
+}
+
+void print_bake_report(const BakeReport& report) {
+    const LeanMapSummary& s = report.summary;
+    std::printf("%s -> %s\n", terminal_text(report.input).c_str(),
+                terminal_text(report.output).c_str());
+    std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height, s.levels,
+                to_string(report.source), s.scale, to_string(report.storage));
+    std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
+    std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
+                s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
+                s.coarsest_anisotropy);
+    if (report.clamped_texels > 0)
+        std::printf("  %zu normals had z < %.4f and were raised to it\n", report.clamped_texels,
+                    kMinNormalZ);
+    if (report.normal_repairs.any())
+        std::printf("  %s\n", normal_repairs_note(report.input, report.normal_repairs).c_str());
+    const std::uint64_t beyond = report.texels_beyond_scale;
+    if (beyond > 0) {
+        const double percent = 100.0 * double(beyond) / (double(s.width) * double(s.height));
+        const bool unorm = report.storage == Storage::Unorm8 || report.storage == Storage::Unorm16;
+        std::printf("  %llu texels (%.3g %%) have a slope component above sc (up to %.4g): %s\n",
+                    static_cast<unsigned long long>(beyond), percent, s.max_slope,
+                    unorm ? "clamped to sc in this UNORM map (docs/ktx2.md, \"Choosing storage "
+                            "and sc\")"
+                          : "kept, beyond [0, 1], by the float storage");
+    }
+    std::printf("  %.3f s\n", report.seconds);
+}
+
+nlohmann::json bake_report_json(const BakeReport& report) {
+    const LeanMapSummary& s = report.summary;
+    return {{"input", report.input},
+            {"output", report.output},
+            {"source", to_string(report.source)},
+            {"width", s.width},
+            {"height", s.height},
+            {"levels", s.levels},
+            {"scale", s.scale},
+            {"mean_slope", s.mean_slope},
+            {"max_slope", s.max_slope},
+            {"coarsest_covariance",
+             {s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z}},
+            {"coarsest_anisotropy", std::isfinite(s.coarsest_anisotropy)
+                                        ? nlohmann::json(s.coarsest_anisotropy)
+                                        : nlohmann::json("inf")},
+            {"clamped_normals", report.clamped_texels},
+            {"padding_texels", report.normal_repairs.padding_texels},
+            {"raised_normals", report.normal_repairs.raised_texels},
+            {"texels_beyond_sc", report.texels_beyond_scale},
+            {"storage", to_string(report.storage)},
+            {"roughness_baked", report.roughness_baked},
+            {"seconds", report.seconds},
+            {"looks_like_other_convention", report.looks_like_other_convention}};
+}
+
+bool warn_if_other_convention(const std::string& name, const std::variant<Image, UnormImage>& input,
+                              NormalConvention convention) {
+    const NormalConventionCheck check =
+        check_normal_convention(convention_sample(input), convention);
+    if (!check.looks_flipped()) return false;
+    std::fprintf(stderr, "leanfade bake: warning: %s\n",
+                 convention_warning(name, convention == NormalConvention::DirectX,
+                                    check.curl_as_read / std::max(check.curl_flipped, 1e-30))
+                     .c_str());
+    return true;
+}
+
+}  // namespace leanfade::cli
