@@ -34,14 +34,15 @@ TEST(CliEval, WritesCsvJsonPlotsAndReport) {
     EXPECT_TRUE(r.err.empty()) << "no progress bar when stderr is not a terminal: " << r.err;
     const std::string csv = read_text(dir / "out" / "results.csv");
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "technique,distance,shininess,energy,rmse,ssim,flicker");
+              "technique,distance,shininess,energy,rmse,ssim,flicker,energy_total,seeds,energy_spread,"
+              "energy_total_spread");
     EXPECT_EQ(count_lines(csv), 1u + 5u * 2u * 2u);
     const nlohmann::json json = nlohmann::json::parse(read_text(dir / "out" / "results.json"));
     EXPECT_EQ(json["sweep"]["distances"], nlohmann::json({3, 12}));
     EXPECT_EQ(json["cases"].size(), 20u);
     EXPECT_TRUE(json["definitions"].contains("flicker"));
     EXPECT_EQ(json["sweep"]["preset"]["scene"], "sphere");
-    for (const char* f : {"index.html", "energy.png", "rmse.png", "ssim.png", "flicker.png",
+    for (const char* f : {"index.html", "energy.png", "energy_total.png", "rmse.png", "ssim.png", "flicker.png",
                           "images/s2048_d12_reference.png", "images/s128_d3_toksvig.png"})
         EXPECT_TRUE(fs::is_regular_file(dir / "out" / f)) << f;
     EXPECT_NE(r.out.find("results.csv: 20 cases"), std::string::npos) << r.out;
@@ -53,6 +54,38 @@ TEST(CliEval, WritesCsvJsonPlotsAndReport) {
     ASSERT_EQ(again.exit_code, 0) << again.err;
     EXPECT_TRUE(fs::is_regular_file(dir / "out" / "energy.png"));
     EXPECT_EQ(read_text(dir / "out" / "results.csv"), csv);
+}
+
+// --seeds N sweeps N bump maps (--seed, --seed + 1, ...) and reports ratios of the summed
+// specular energies: the same as summing the single-seed runs' totals by hand.
+TEST(CliEval, SeedsSumTheEnergiesOfIndependentMaps) {
+    const fs::path dir = scratch("cli_eval_seeds");
+    const std::string common =
+        "eval --scene sphere --techniques lean,two-lobe --distances 6 --shininess 1024 --spp 4 "
+        "--frames 2 --size 48x48 --texture-size 64 ";
+    auto run = [&](const std::string& flags, const std::string& out) {
+        const RunResult r =
+            run_leanfade(common + flags + " --out " + shell_quote((dir / out).string()), dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(read_text(dir / out / "results.json"))["cases"];
+    };
+    const nlohmann::json one = run("--seed 3", "one"), two = run("--seed 4", "two"),
+                         both = run("--seed 3 --seeds 2", "both");
+    ASSERT_EQ(both.size(), 2u);
+    for (std::size_t i = 0; i < both.size(); ++i) {
+        EXPECT_EQ(both[i]["seeds"], 2);
+        const double expected = (one[i]["specular_total"].get<double>() +
+                                 two[i]["specular_total"].get<double>()) /
+                                (one[i]["reference_specular_total"].get<double>() +
+                                 two[i]["reference_specular_total"].get<double>());
+        EXPECT_NEAR(both[i]["energy_total"].get<double>(), expected, 1e-9 * expected);
+        EXPECT_GE(both[i]["energy_total_spread"].get<double>(), 0.0);
+        // The two maps differ: so do their energies.
+        EXPECT_NE(one[i]["reference_specular_total"], two[i]["reference_specular_total"]);
+    }
+    const RunResult image = run_leanfade(common + "--bumps flat.png --seeds 2 --out x", dir);
+    EXPECT_NE(image.exit_code, 0);
+    EXPECT_NE(image.err.find("--seeds"), std::string::npos) << image.err;
 }
 
 TEST(CliEval, BadFlagsNameTheFlag) {

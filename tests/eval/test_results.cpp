@@ -42,6 +42,7 @@ std::vector<CaseResult> sample_cases() {
                 c.rmse = 0.25;
                 c.ssim = 0.9;
                 c.flicker = (d == 8.0f && s == 1024.0f) ? std::nan("") : 1.5;
+                c.energy_total = 0.6 + d / 10.0;
                 c.object_pixels = 100;
                 c.reference_spp = 64;
                 c.reference_noise = 0.01;
@@ -107,9 +108,10 @@ TEST(ResultsFiles, CsvHasTheDocumentedColumns) {
     std::string header, first;
     std::getline(lines, header);
     std::getline(lines, first);
-    EXPECT_EQ(header, "technique,distance,shininess,energy,rmse,ssim,flicker");
-    EXPECT_EQ(first, "bump,2,128,0.7,0.25,0.9,1.5");
-    EXPECT_NE(csv.find(",nan\n"), std::string::npos) << "an undefined flicker is written as nan";
+    EXPECT_EQ(header, "technique,distance,shininess,energy,rmse,ssim,flicker,energy_total,seeds,energy_spread,"
+              "energy_total_spread");
+    EXPECT_EQ(first, "bump,2,128,0.7,0.25,0.9,1.5,0.8,1,0,0");
+    EXPECT_NE(csv.find(",nan,"), std::string::npos) << "an undefined flicker is written as nan";
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);
 }
 
@@ -220,6 +222,59 @@ TEST(ResultsFiles, WithoutGnuplotTheDataIsWrittenAndTheReportSaysSo) {
     EXPECT_TRUE(fs::is_regular_file(dir / "plots.gp"));
     EXPECT_FALSE(fs::exists(dir / "energy.png"));
     EXPECT_NE(slurp(dir / "index.html").find("gnuplot not found"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace leanfade::eval
+
+namespace leanfade::eval {
+namespace {
+
+CaseResult seed_case(double specular, double reference, double total, double reference_total,
+                     int pixels) {
+    CaseResult c;
+    c.technique = "lean";
+    c.distance = 8.0f;
+    c.shininess = 1024.0f;
+    c.specular_mean = specular;
+    c.reference_specular_mean = reference;
+    c.object_pixels = pixels;
+    c.energy = specular / reference;
+    c.specular_total = total;
+    c.reference_specular_total = reference_total;
+    c.energy_total = total / reference_total;
+    c.rmse = 0.1;
+    c.ssim = 0.9;
+    c.flicker = 1.5;
+    return c;
+}
+
+TEST(CombineSeeds, RatiosOfSumsOverTheMapsWithTheirSpread) {
+    // Two maps: one with a bright glint (reference 4, LEAN 2), one dim (reference 1, LEAN 1.5).
+    // The ratio of sums is (2 + 1.5) / (4 + 1) = 0.7, not the mean of the ratios (1.0).
+    const std::vector<std::vector<CaseResult>> sweeps{{seed_case(0.2, 0.4, 2.0, 4.0, 100)},
+                                                      {seed_case(0.15, 0.1, 1.5, 1.0, 100)}};
+    const std::vector<CaseResult> combined = combine_seeds(sweeps);
+    ASSERT_EQ(combined.size(), 1u);
+    const CaseResult& c = combined[0];
+    EXPECT_EQ(c.seeds, 2);
+    EXPECT_NEAR(c.energy_total, 0.7, 1e-12);
+    EXPECT_NEAR(c.energy, 0.7, 1e-12);
+    // Standard deviation of 0.5 and 1.5.
+    EXPECT_NEAR(c.energy_total_spread, std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(c.energy_spread, std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(c.rmse, 0.1, 1e-12);
+    // Masked sums weigh each map by its object pixels.
+    const std::vector<CaseResult> weighted =
+        combine_seeds({{seed_case(0.2, 0.4, 2.0, 4.0, 300)}, {seed_case(0.15, 0.1, 1.5, 1.0, 100)}});
+    EXPECT_NEAR(weighted[0].energy, (0.2 * 300 + 0.15 * 100) / (0.4 * 300 + 0.1 * 100), 1e-12);
+    // One map: unchanged but for the count.
+    EXPECT_EQ(combine_seeds({sweeps[0]})[0].energy_total_spread, 0.0);
+    // Sweeps of different cases are refused.
+    std::vector<std::vector<CaseResult>> mismatched = sweeps;
+    mismatched[1][0].distance = 16.0f;
+    EXPECT_THROW(combine_seeds(mismatched), Error);
+    EXPECT_THROW(combine_seeds({}), Error);
 }
 
 }  // namespace

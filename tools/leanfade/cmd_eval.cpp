@@ -9,6 +9,7 @@
 #include <iterator>
 #include <memory>
 
+#include "cli_ocean.hpp"
 #include "cli_preset.hpp"
 #include "cli_render_options.hpp"
 #include "cli_render_scene.hpp"
@@ -16,6 +17,7 @@
 #include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/preset.hpp"
+#include "leanfade/core/procedural.hpp"
 #include "leanfade/eval/results.hpp"
 #include "leanfade/eval/runner.hpp"
 #include "leanfade/gl/context.hpp"
@@ -26,6 +28,9 @@
 
 namespace leanfade::cli {
 namespace {
+
+// The most bump maps one eval sweeps (--seeds).
+constexpr int kMaxEvalSeeds = 64;
 
 struct EvalArgs {
     std::string techniques = join_technique_names(approximating_techniques());
@@ -41,6 +46,7 @@ struct EvalArgs {
     std::string view_dir = vector_text(kDefaultViewDirection);
     std::string out = "eval";
     std::string replot;
+    int seeds = 1;  // independent bump maps of a built-in set: --seed, --seed + 1, ...
     ShadingFlags shading;
     RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
@@ -62,7 +68,8 @@ void add_report_outputs(io::OutputPlan& plan, const std::string& folder, bool wi
     if (with_json)
         plan.add_output((std::filesystem::path(folder) / "results.json").string(), "the report");
     for (const char* name : {"results.csv", "plot_data.tsv", "plots.gp",
-                             "index.html", "energy.png", "rmse.png", "ssim.png", "flicker.png"})
+                             "index.html", "energy.png", "energy_total.png", "rmse.png", "ssim.png",
+                             "flicker.png"})
         plan.add_output((std::filesystem::path(folder) / name).string(), "the report");
 }
 
@@ -161,6 +168,13 @@ int run_eval(const EvalArgs& args) {
                     "flicker needs 2 to 1000 frames, got " + std::to_string(args.frames));
     if (!(args.motion > 0.0f && args.motion <= 4.0f))
         throw Error("--motion", "the pan per frame must be in (0, 4] pixels");
+    if (args.seeds < 1 || args.seeds > kMaxEvalSeeds)
+        throw Error("--seeds", "must be 1 to " + std::to_string(kMaxEvalSeeds) + ", got " +
+                                   std::to_string(args.seeds));
+    if (args.seeds > 1 && (!is_builtin_bumps(args.input.bumps.bumps) ||
+                           !args.input.layers.layers.empty() || is_ocean_scene(args.input.scene)))
+        throw Error("--seeds", "independent maps come from a built-in bump set (--bumps one of " +
+                                   join(builtin_bump_names()) + "), without --layers");
 
     // The report folder is checked before anything is read or rendered (docs/robustness.md).
     io::OutputPlan plan;
@@ -182,16 +196,35 @@ int run_eval(const EvalArgs& args) {
     renderer.set_scene(scene);
 
     const auto sweep_start = std::chrono::steady_clock::now();
-    const eval::SweepOutput output = eval::run_sweep(renderer, request, [&](int done, int total) {
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start).count();
-        const int width = 30;
-        const int filled = done * width / std::max(total, 1);
-        const std::string bar =
-            std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.');
-        status("[" + bar + "] " + std::to_string(done) + "/" + std::to_string(total) + " frames, " +
-               duration_text(elapsed * (total - done) / std::max(done, 1)) + " left");
-    });
+    // One sweep per bump map (--seeds): seeds --seed, --seed + 1, ... of the built-in set, the
+    // report's images from the first.
+    eval::SweepOutput output;
+    std::vector<std::vector<eval::CaseResult>> per_seed;
+    for (int i = 0; i < args.seeds; ++i) {
+        if (i > 0) {
+            RenderSourceFlags input = args.input;
+            input.bumps.seed = args.input.bumps.seed + std::uint32_t(i);
+            renderer.set_scene(load_render_scene(input, request.settings));
+            request.keep_images = false;
+        }
+        eval::SweepOutput one = eval::run_sweep(renderer, request, [&](int done, int total) {
+            done += i * total;
+            total *= args.seeds;
+            const double elapsed =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start)
+                    .count();
+            const int width = 30;
+            const int filled = done * width / std::max(total, 1);
+            const std::string bar = std::string(std::size_t(filled), '#') +
+                                    std::string(std::size_t(width - filled), '.');
+            status("[" + bar + "] " + std::to_string(done) + "/" + std::to_string(total) +
+                   " frames, " + duration_text(elapsed * (total - done) / std::max(done, 1)) +
+                   " left");
+        });
+        if (i == 0) output.images = std::move(one.images);
+        per_seed.push_back(std::move(one.cases));
+    }
+    output.cases = args.seeds > 1 ? eval::combine_seeds(per_seed) : std::move(per_seed.front());
     if (tty) std::fprintf(stderr, "\r\033[K");
 
     eval::SweepInfo info;
@@ -232,19 +265,24 @@ int run_eval(const EvalArgs& args) {
     rename_folder_in_notes(notes, staged, args.out);
     outputs.publish();
 
-    std::printf("%-9s %8s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
-                "energy", "rmse", "ssim", "flicker", "refspp");
+    std::printf("%-9s %8s %9s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
+                "energy", "energy_all", "rmse", "ssim", "flicker", "refspp");
     bool any_flagged = false;
     for (const eval::CaseResult& c : output.cases) {
         const bool flagged = !(c.reference_energy_error <= eval::kUnconvergedEnergyError);
         any_flagged = any_flagged || flagged;
-        std::printf("%-9s %8g %9g %9.4g %9.4g %7.4f %8.3g %6d%s\n", c.technique.c_str(), c.distance,
-                    c.shininess, c.energy, c.rmse, c.ssim, c.flicker, c.reference_spp,
-                    flagged ? " *" : "");
+        std::printf("%-9s %8g %9g %9.4g %9.4g %9.4g %7.4f %8.3g %6d%s\n", c.technique.c_str(),
+                    c.distance, c.shininess, c.energy, c.energy_total, c.rmse, c.ssim, c.flicker,
+                    c.reference_spp, flagged ? " *" : "");
     }
     std::printf(
-        "energy: specular / reference's; rmse: relative to the reference's mean; ssim: "
-        "sRGB; flicker: frame-to-frame change / reference's\n");
+        "energy: specular / reference's over the object's inner pixels; energy_all: over every "
+        "covered pixel; rmse: relative to the reference's mean; ssim: sRGB; flicker: "
+        "frame-to-frame change / reference's%s\n",
+        args.seeds > 1 ? ("; energies are ratios of sums over " + std::to_string(args.seeds) +
+                          " bump maps")
+                             .c_str()
+                       : "");
     if (any_flagged)
         std::printf(
             "*: the reference's specular energy is uncertain by more than %.0f%% (not "
@@ -292,6 +330,11 @@ const CommandRegistration registration{
         add_camera_options(app, args->fov, args->view_dir, "the object's centre");
         app.add_option("--out", args->out,
                        "Output folder: results.csv, results.json, plots, images/, index.html")
+            ->capture_default_str();
+        app.add_option("--seeds", args->seeds,
+                       "Independent bump maps of the built-in set (seeds --seed, --seed + 1, ...): "
+                       "energies are reported as ratios of sums over the maps, with their "
+                       "spread")
             ->capture_default_str();
         app.add_option("--replot", args->replot,
                        "Only redraw the plots, results.csv and index.html of this folder from its "

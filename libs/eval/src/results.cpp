@@ -110,6 +110,8 @@ const std::vector<Metric>& metrics() {
     static const std::vector<Metric> list = {
         {"energy", "Specular energy / reference (clipped to 0.01-100)", "energy ratio", true, 1.0,
          "[0.01:100]", &CaseResult::energy},
+        {"energy_total", "Specular energy over every covered pixel / reference (clipped to 0.01-100)",
+         "energy ratio", true, 1.0, "[0.01:100]", &CaseResult::energy_total},
         {"rmse", "Relative RMSE vs reference (linear radiance)", "RMSE / reference mean", true, NAN,
          "[*:*]", &CaseResult::rmse},
         {"ssim", "SSIM vs reference (sRGB)", "SSIM", false, 1.0, "[0:1.02]", &CaseResult::ssim},

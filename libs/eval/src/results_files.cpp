@@ -34,11 +34,13 @@ namespace leanfade::eval {
 using namespace results_detail;
 
 std::string results_csv(const std::vector<CaseResult>& cases) {
-    std::string out = "technique,distance,shininess,energy,rmse,ssim,flicker\n";
+    std::string out = "technique,distance,shininess,energy,rmse,ssim,flicker,energy_total,seeds,"
+                      "energy_spread,energy_total_spread\n";
     for (const CaseResult& c : cases)
         out += c.technique + "," + number(c.distance) + "," + number(c.shininess) + "," +
                number(c.energy) + "," + number(c.rmse) + "," + number(c.ssim) + "," +
-               number(c.flicker) + "\n";
+               number(c.flicker) + "," + number(c.energy_total) + "," + std::to_string(c.seeds) +
+               "," + number(c.energy_spread) + "," + number(c.energy_total_spread) + "\n";
     return out;
 }
 
@@ -78,6 +80,15 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
          "pixels whose 3 x 3 neighbourhood is covered by the object in the "
          "single-sample render (silhouette pixels excluded)"},
         {"energy", "mean specular radiance over the object's pixels / the reference's (frame 0)"},
+        {"energy_total",
+         "specular radiance summed over the whole image (every covered pixel, the reference's "
+         "partly covered edge pixels with their share, black background) / the reference's "
+         "(frame 0)"},
+        {"seeds",
+         "independent bump maps of the built-in set (eval --seeds); above 1, energy and "
+         "energy_total are ratios of sums over the maps, rmse, ssim and flicker their means"},
+        {"energy_spread", "standard deviation of energy across the seeds' maps"},
+        {"energy_total_spread", "standard deviation of energy_total across the seeds' maps"},
         {"rmse",
          "root mean square difference of the linear colour over the object's pixels and "
          "RGB / the reference's mean linear colour (frame 0)"},
@@ -107,7 +118,13 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
                         {"object_pixels", c.object_pixels},
                         {"reference_spp", c.reference_spp},
                         {"reference_noise", json_number(c.reference_noise)},
-                        {"reference_energy_error", json_number(c.reference_energy_error)}});
+                        {"reference_energy_error", json_number(c.reference_energy_error)},
+                        {"energy_total", json_number(c.energy_total)},
+                        {"specular_total", json_number(c.specular_total)},
+                        {"reference_specular_total", json_number(c.reference_specular_total)},
+                        {"seeds", c.seeds},
+                        {"energy_spread", json_number(c.energy_spread)},
+                        {"energy_total_spread", json_number(c.energy_total_spread)}});
     const nlohmann::json root = {
         {"leanfade_eval", 1}, {"sweep", sweep}, {"definitions", definitions}, {"cases", rows}};
     return root.dump(2) + "\n";
@@ -194,6 +211,16 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
             r.reference_noise = number_or_nan(c.value("reference_noise", nlohmann::json()));
             r.reference_energy_error =
                 number_or_nan(c.value("reference_energy_error", nlohmann::json()));
+            // Results written before these keys: one map, no whole-image sums.
+            r.energy_total = number_or_nan(c.value("energy_total", nlohmann::json()));
+            r.specular_total = number_or_nan(c.value("specular_total", nlohmann::json()));
+            r.reference_specular_total =
+                number_or_nan(c.value("reference_specular_total", nlohmann::json()));
+            r.seeds = c.value("seeds", 1);
+            if (r.seeds < 1) throw Error(path, "a case's seeds must be at least 1");
+            r.energy_spread = number_or_nan(c.value("energy_spread", nlohmann::json()));
+            r.energy_total_spread =
+                number_or_nan(c.value("energy_total_spread", nlohmann::json()));
             cases.push_back(r);
         }
     } catch (const nlohmann::json::exception& e) {

@@ -96,8 +96,9 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
     // plot_data.tsv: one block per (shininess, technique), blocks separated by two blank lines
     // (gnuplot's `index`), in that order.
     std::ostringstream data;
-    data << "# distance energy rmse ssim flicker reference_noise; one block per (shininess, "
-            "technique)\n";
+    data << "# distance";
+    for (const Metric& metric : metrics()) data << " " << metric.key;
+    data << " reference_noise; one block per (shininess, technique)\n";
     for (float s : shininesses)
         for (const std::string& t : techniques) {
             std::string name = t;  // a comment line: a newline would start a data row
@@ -111,7 +112,10 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
             });
             for (const CaseResult* c : rows) {
                 data << number(c->distance);
-                for (double v : {c->energy, c->rmse, c->ssim, c->flicker, c->reference_noise})
+                std::vector<double> values;
+                for (const Metric& metric : metrics()) values.push_back(c->*metric.field);
+                values.push_back(c->reference_noise);
+                for (double v : values)
                     data << "\t" << (std::isfinite(v) ? number(v) : std::string("?"));
                 data << "\n";
             }
@@ -161,7 +165,8 @@ std::string plots_script(const std::vector<CaseResult>& cases,
                 gp << metric.truth << " with lines dt 2 lc rgb '#808080' title 'reference', ";
             if (metric.field == &CaseResult::rmse)  // the floor the reference's noise sets
                 gp << data << " index " << std::size_t(si) * techniques.size()
-                   << " using 1:6 with lines dt 2 lw 2 lc rgb '#808080' title 'reference noise', ";
+                   << " using 1:" << metrics().size() + 2
+                   << " with lines dt 2 lw 2 lc rgb '#808080' title 'reference noise', ";
             for (std::size_t ti = 0; ti < techniques.size(); ++ti) {
                 const std::size_t block = std::size_t(si) * techniques.size() + ti;
                 gp << (ti == 0 ? "" : ", ") << data << " index " << block << " using 1:" << m + 2

@@ -73,6 +73,8 @@ void require_finite_case(const CaseResult& c) {
                   {c.reference_change, "reference frame-to-frame change", false},
                   {c.reference_noise, "reference noise", false},
                   {c.energy, "energy ratio", c.reference_specular_mean == 0.0},
+                  {c.energy_total, "energy ratio over all covered pixels",
+                   c.reference_specular_total == 0.0},
                   {c.flicker, "flicker ratio", c.reference_change == 0.0}};
     for (const auto& v : values)
         if (!std::isfinite(v.value) && !v.may_be_undefined)
@@ -262,8 +264,11 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                 if (frame == 0) {
                     gl::RenderRequest s = base;
                     s.output = gl::OutputMode::Specular;
-                    const double reference_specular =
-                        masked_mean(render_reference(renderer, s, sampling), mask);
+                    const Image reference_specular_image = render_reference(renderer, s, sampling);
+                    const double reference_specular = masked_mean(reference_specular_image, mask);
+                    // Over the whole image: every covered pixel, the reference's partly covered
+                    // edge pixels with their share (the background is black).
+                    const double reference_specular_total = channel_sum(reference_specular_image);
                     const double reference_mean = masked_mean(reference, mask);
                     // The reference's own error, from one with a quarter of the samples:
                     // var(check) = n var(reference), so the difference has 1 + n times the
@@ -289,7 +294,13 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                         c.technique = gl::to_string(request.techniques[t]);
                         c.distance = distance;
                         c.shininess = shininess;
-                        c.specular_mean = masked_mean(renderer.render(s), mask);
+                        const Image specular = renderer.render(s);
+                        c.specular_mean = masked_mean(specular, mask);
+                        c.specular_total = channel_sum(specular);
+                        c.reference_specular_total = reference_specular_total;
+                        c.energy_total = reference_specular_total > 0.0
+                                             ? c.specular_total / reference_specular_total
+                                             : std::nan("");
                         c.reference_specular_mean = reference_specular;
                         c.energy = reference_specular > 0.0 ? c.specular_mean / reference_specular
                                                             : std::nan("");

@@ -34,7 +34,27 @@ struct CaseResult {
     // reference_mean (a floor under rmse); reference_energy_error: of reference_specular_mean.
     double reference_noise = 0.0;
     double reference_energy_error = 0.0;
+    // Over every pixel of the image (the object's covered pixels, not eroded; the reference's
+    // partly covered edge pixels with their share; the background is black): the sums of the
+    // three channels of the specular images and their ratio. `energy` measures the eroded
+    // object mask, which leaves out thin parts (a teapot's handle, spout and rim).
+    double specular_total = 0.0;
+    double reference_specular_total = 0.0;
+    double energy_total = 0.0;  // specular_total / reference_specular_total
+    // Sweeps over several bump maps (eval --seeds, combine_seeds): how many, and the standard
+    // deviation across them of each map's energy and energy_total (0 for one map). With more
+    // than one, energy and energy_total are ratios of sums over the maps.
+    int seeds = 1;
+    double energy_spread = 0.0;
+    double energy_total_spread = 0.0;
 };
+
+// One sweep per bump map (the same request, a built-in set with different seeds) combined into
+// one: per case, the ratios of the seed-summed specular sums (masked: specular_mean times
+// object_pixels) and their spread across the maps; rmse, ssim and flicker are the maps' means;
+// seeds = the number of sweeps. Every sweep must hold the same cases in the same order. Throws
+// leanfade::Error("seeds", ...) otherwise.
+std::vector<CaseResult> combine_seeds(const std::vector<std::vector<CaseResult>>& sweeps);
 
 // Cases whose reference_energy_error is above this are flagged as "reference not converged".
 inline constexpr double kUnconvergedEnergyError = 0.1;
@@ -88,8 +108,8 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
                                       const std::vector<CaseResult>& cases,
                                       const std::vector<CaseImages>& images);
 
-// The plots of a sweep: energy.png, rmse.png, ssim.png and flicker.png in `folder`, each with a
-// panel per shininess and a line per technique against log distance, drawn by gnuplot from
+// The plots of a sweep: energy.png, energy_total.png, rmse.png, ssim.png and flicker.png in
+// `folder`, each with a panel per shininess and a line per technique against log distance, drawn by gnuplot from
 // plot_data.tsv and plots.gp (both kept, so the plots can be redrawn by hand). Returns false and
 // sets `note` when gnuplot is not installed (Debian: gnuplot-nox) or fails: the data and the
 // script are written anyway.
