@@ -725,6 +725,28 @@ LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unn
     return lf_shade_blinn_phong(lobe, light_dir, view_unnormalised, v, h, p);
 }
 
+// The fragment pipeline after the fetch, for the shaders and the CPU reference alike: the caller
+// fetches the texels (shaders/scene.frag: filtered reads at the surface's uv; the CPU reference:
+// texel values), these turn them into moments and a shade.
+
+// Stage 1 for one LEAN map: the moments of its two texels (lf_unpack) with the plateau layer's
+// texel (docs/math.md §10; vec4(0) for a material without one).
+LF_FN LfMoments lf_map_moments(vec4 lean1, vec4 lean2, float sc, vec4 plateau) {
+    LfMoments m = lf_unpack(lean1, lean2, sc);
+    m.plateau = plateau;
+    return m;
+}
+
+// Stages 3-4 from the moments and the surface maps' texels: the material's parameters
+// (lf_material_params: Kd times the base colour, the base roughness map's alpha0^2 with
+// has_base_roughness) and lf_shade.
+LF_FN LfShade lf_shade_material(int technique, LfMoments m, vec4 base_color,
+                                bool has_base_roughness, float alpha0_squared, vec3 light_dir,
+                                vec3 view_unnormalised, LfParams p) {
+    LfParams params = lf_material_params(p, base_color, has_base_roughness, alpha0_squared);
+    return lf_shade(technique, m, light_dir, view_unnormalised, params);
+}
+
 // Inputs of specular fading at a LEAN texel, for calibration: (NdotL, d) with NdotL as
 // lf_combine computes it from the filtered normal and d as lf_fade_distance. A LEAN pixel with
 // specular term S becomes S NdotL^(sf - 1) with fading (fading paper eq. 7).

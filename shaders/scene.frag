@@ -186,12 +186,13 @@ void main() {
 #else
     vec4 lean2 = vec4(0.5, 0.5, 0.0, 0.0);  // B = 0, M = 0: unused by the technique's lobe
 #endif
-    LfMoments moments = lf_unpack(lean1, lean2, u_shading.scale);
+    vec4 plateau = vec4(0.0);  // f = 0 without the layer (docs/math.md §10)
+#if defined(LF_READS_PLATEAU)
+    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) plateau = LF_SAMPLE(u_plateau, v_in.uv);
+#endif
+    LfMoments moments = lf_map_moments(lean1, lean2, u_shading.scale, plateau);
 #if defined(LF_ROUGHNESS_MIPS)
     moments = lf_roughness_mips_moments(roughness_mip_trilinear(v_in.uv));
-#endif
-#if defined(LF_READS_PLATEAU)
-    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) moments.plateau = LF_SAMPLE(u_plateau, v_in.uv);
 #endif
 #endif
 #if defined(LF_GEOMETRIC_AA)
@@ -201,13 +202,13 @@ void main() {
     moments.footprint = lf_footprint_covariance(dFdx(half_slope), dFdy(half_slope),
                                                 u_shading.geometric_aa_kappa);
 #endif
-    // The surface maps' texels, then the material's parameters (lf_material_params).
+    // The surface maps' texels, then the material's parameters and the shade (lf_shade_material).
     vec4 base_color = LF_SAMPLE(u_base_color, v_in.uv);
     float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, v_in.uv).r : 0.0;
-    LfParams params =
-        lf_material_params(u_shading.params, base_color, has_roughness_map(), alpha0_squared);
+    LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
-    LfShade shade = lf_shade(LF_TECHNIQUE, moments, light_dir, v_in.view_t, params);
+    LfShade shade = lf_shade_material(LF_TECHNIQUE, moments, base_color, has_roughness_map(),
+                                      alpha0_squared, light_dir, v_in.view_t, params);
 #if defined(LF_PLAIN_COLOR)
     // The renderer's ordinary frames (OUTPUT_COLOR, no fog): the colour of the general path below,
     // bit for bit, without its uniform branches, which a SIMD rasteriser such as llvmpipe executes

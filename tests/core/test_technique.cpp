@@ -54,7 +54,9 @@ TEST(TechniqueTable, EveryLobeIsOneOfTheSharedHeader) {
         EXPECT_EQ(row.reads_plateau, row.shader_technique == shading::LF_TECHNIQUE_TWO_LOBE)
             << row.name;
         // The truth integrates the footprint itself: it never asks for geometric AA.
-        if (row.supersampled) EXPECT_FALSE(row.geometric_aa_by_default) << row.name;
+        if (row.supersampled) {
+            EXPECT_FALSE(row.geometric_aa_by_default) << row.name;
+        }
         EXPECT_EQ(row.fades, row.shader_technique == shading::LF_TECHNIQUE_FADE) << row.name;
     }
 }

@@ -1,6 +1,9 @@
 // The GPU output equals the CPU evaluation of the shared header (leanfade/core/shading.hpp) pixel
 // by pixel: a flat quad with a constant LEAN map, rendered to a float target.
 //
+// The CPU runs the shared header's fragment pipeline (lf_map_moments, lf_shade_material) on the
+// texels it fetches, as scene.frag does on its filtered reads.
+//
 // Tolerance: |gpu - cpu| <= 2e-3 |cpu| + 2e-4 per channel (radiance values here are 0.01-5).
 // Both sides run the same float formulas; the differences come from (a) the GPU's exp2/log2
 // approximations in exp() and pow() (relative error about 1e-6 before the exponent amplifies it:
@@ -178,17 +181,18 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
                 base = base_alpha_squared(map_roughness(left));
                 ++compared_per_half[map_roughness(left) < 0.5f ? 0 : 1];
             }
-            // The material stage of scene.frag: no base colour texture (white), the map's α0².
-            const shading::LfParams pixel_params = shading::lf_material_params(
-                params, glm::vec4(1.0f), c.roughness_map && s.brdf == Brdf::CookTorrance, base);
-            shading::LfMoments moments = shading::lf_unpack(lean1, lean2, map.scale);
-            if (c.plateau) moments.plateau = kPlateauTexel;
+            // scene.frag's pipeline on the texels: the moments of the LEAN map and the plateau
+            // layer, then the material (no base colour texture: white; the map's α0²) and the
+            // shade.
+            shading::LfMoments moments = shading::lf_map_moments(
+                lean1, lean2, map.scale, c.plateau ? kPlateauTexel : glm::vec4(0.0f));
             // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
             if (c.technique == gl::Technique::Roughness)
                 moments = shading::lf_roughness_mips_moments(
                     shading::lf_roughness_mip_texel(lean1, lean2, map.scale, base));
-            const shading::LfShade shade = shading::lf_shade(info(c.technique).shader_technique,
-                                                             moments, light, view_t, pixel_params);
+            const shading::LfShade shade = shading::lf_shade_material(
+                info(c.technique).shader_technique, moments, glm::vec4(1.0f),
+                c.roughness_map && s.brdf == Brdf::CookTorrance, base, light, view_t, params);
             glm::vec3 expected = shade.diffuse + shade.specular;
             const float depth = -(view * glm::vec4(p, 1.0f)).z;
             const float f = shading::lf_fog_factor(depth, to_shader_constant(s.fog), s.fog_start,
