@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -150,6 +151,22 @@ void BM_BakeCore(benchmark::State& state) {
     set_core_counters(state, input, packed_bytes(result.packed));
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// Two-lobe LEAN's plateau layer (docs/math.md §10) of the same map: made from the packed map's
+// finest level when a scene is loaded (packed_top_slopes, then plateau_mips), its cost next to
+// BM_BakeCore's.
+void BM_PlateauLayer(benchmark::State& state) {
+    const Image& input = decoded_input();
+    PackedBakeResult result;
+    bake_core(result, input, 0);
+    for (auto _ : state) {
+        const std::vector<Image> chain = plateau_mips(packed_top_slopes(result.packed));
+        benchmark::DoNotOptimize(chain.data());
+    }
+    state.counters["texels_per_s"] = benchmark::Counter(
+        double(input.texel_count()) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PlateauLayer)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 // The bake's cost over the memory floor, drift cancelled: each iteration times one copy of 512 MiB (the
 // bandwidth, as BM_MemoryCopy) and then one bake (as BM_BakeCore), and the counters give the

@@ -22,15 +22,17 @@ inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 // plateau texel and 0 elsewhere, so that filtered texels hold (f, f Bs, f |Bs|^2) with f the
 // fraction of the footprint on a plateau and Bs its mean slope. epsilon: slope units, > 0 and
 // finite. Throws leanfade::Error("plateau_epsilon", ...) for another epsilon, or
-// Error("plateau", ...) for slopes that are not 2 channels.
-Image plateau_texels(const Image& slopes, float epsilon = kDefaultPlateauEpsilon);
+// Error("plateau", ...) for slopes that are not 2 channels. threads: as BakeOptions::threads.
+Image plateau_texels(const Image& slopes, float epsilon = kDefaultPlateauEpsilon,
+                     int threads = 0);
 
 // plateau_texels with its MIP chain, finest first, filtered as the moments are
 // (build_mip_chain), down to 1 x 1. threads: as BakeOptions::threads.
 std::vector<Image> plateau_mips(const Image& slopes, float epsilon = kDefaultPlateauEpsilon,
                                 int threads = 0);
 
-// The 2-channel slopes B of a packed LEAN map's finest level, in slope units.
-Image packed_top_slopes(const PackedLeanMap& map);
+// The 2-channel slopes B of a packed LEAN map's finest level, in slope units. threads: as
+// BakeOptions::threads.
+Image packed_top_slopes(const PackedLeanMap& map, int threads = 0);
 
 }  // namespace leanfade

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""The bake-off of docs/results.md: every technique against the supersampled truth.
+
+Runs `leanfade eval` for each configuration below (argument lists, no shell), keeps each run's
+results.json under OUT/<name>/, and writes OUT/bake_off.csv, OUT/bake_off.json and the Markdown
+table of docs/results.md (OUT/bake_off.md): per configuration, technique and shininess, the
+energy over every covered pixel and over the eroded mask (seed-summed where --seeds > 1), the
+relative RMSE and the flicker against the truth's, at each distance.
+
+Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out/bake_off]
+                           [--seeds 8] [--frames 4] [--only NAME,...]
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+
+TECHNIQUES = "bump,toksvig,clean,roughness,lean,fade,two-lobe"
+PLANE_GLINT = ["--scene", "plane", "--view-dir", "0,1,1", "--light-dir", "0,1,-1", "--tiling", "0.1"]
+RIBS = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/RibsNormal.png"
+WRAP = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/PlasticWrap_normals.jpg"
+
+
+def configurations(seeds):
+    """(name, eval arguments, seeds) of every run."""
+    runs = []
+    for brdf, tag in (("blinn-phong", "bp"), ("cook-torrance", "ct")):
+        for aa in ("off", "on"):
+            common = ["--brdf", brdf, "--geometric-aa", aa]
+            runs.append((f"teapot_bumps_{tag}_aa{aa}", ["--scene", "teapot", "--bumps", "bumps"] + common, seeds))
+            runs.append((f"sphere_bumps_{tag}_aa{aa}", ["--scene", "sphere", "--bumps", "bumps"] + common, seeds))
+    for aa in ("off", "on"):
+        common = ["--geometric-aa", aa]
+        runs.append((f"plane_glint_bumps_bp_aa{aa}", PLANE_GLINT + ["--bumps", "bumps", "--distances", "4,16"] + common, seeds))
+        runs.append((f"teapot_noise_bp_aa{aa}", ["--scene", "teapot", "--bumps", "noise"] + common, seeds))
+        runs.append((f"teapot_ridges_bp_aa{aa}", ["--scene", "teapot", "--bumps", "ridges"] + common, seeds))
+        runs.append((f"sphere_flat_bp_aa{aa}", ["--scene", "sphere", "--bumps", "flat"] + common, 1))
+        for path, tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
+            if os.path.exists(path):
+                runs.append((f"teapot_{tag}_bp_aa{aa}", ["--scene", "teapot", "--bumps", path] + common, 1))
+    return runs
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--leanfade", default="build/tools/leanfade/leanfade")
+    parser.add_argument("--out", default="out/bake_off")
+    parser.add_argument("--seeds", type=int, default=8)
+    parser.add_argument("--frames", type=int, default=4)
+    parser.add_argument("--only", default="")
+    args = parser.parse_args()
+    only = set(filter(None, args.only.split(",")))
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    for name, flags, seeds in configurations(args.seeds):
+        if only and name not in only:
+            continue
+        folder = os.path.join(args.out, name)
+        command = [args.leanfade, "eval", "--techniques", TECHNIQUES, "--frames", str(args.frames),
+                   "--seeds", str(seeds), "--out", folder] + flags
+        print(" ".join(command), file=sys.stderr, flush=True)
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL,
+                       env=dict(os.environ, EGL_PLATFORM="surfaceless"))
+        with open(os.path.join(folder, "results.json")) as f:
+            results = json.load(f)
+        for c in results["cases"]:
+            rows.append({"configuration": name, "technique": c["technique"],
+                         "shininess": c["shininess"], "distance": c["distance"],
+                         "seeds": c.get("seeds", 1), "energy_total": c.get("energy_total"),
+                         "energy": c["energy"], "energy_total_spread": c.get("energy_total_spread"),
+                         "rmse": c["rmse"], "flicker": c["flicker"],
+                         "reference_energy_error": c.get("reference_energy_error")})
+    if not rows:
+        sys.exit("bake_off.py: no configuration selected")
+    with open(os.path.join(args.out, "bake_off.json"), "w") as f:
+        json.dump(rows, f, indent=1)
+    with open(os.path.join(args.out, "bake_off.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        writer.writeheader()
+        writer.writerows(rows)
+    with open(os.path.join(args.out, "bake_off.md"), "w") as f:
+        f.write(markdown(rows))
+    print(os.path.join(args.out, "bake_off.md"))
+
+
+def fmt(v, digits=2):
+    return "?" if v is None or v != v else f"{v:.{digits}f}"
+
+
+def markdown(rows):
+    """One table per configuration: a row per (technique, shininess), energy_total (masked
+    energy) per distance, then the RMSE and flicker at the farthest distance."""
+    out = []
+    for name in dict.fromkeys(r["configuration"] for r in rows):
+        cases = [r for r in rows if r["configuration"] == name]
+        distances = sorted({r["distance"] for r in cases})
+        seeds = cases[0]["seeds"]
+        out.append(f"\n**{name}** ({seeds} bump map{'s' if seeds > 1 else ''}; energy over every "
+                   f"covered pixel, masked in parentheses; RMSE and flicker at {distances[-1]:g} radii)\n")
+        out.append("| technique | s | " + " | ".join(f"{d:g}" for d in distances) + " | RMSE | flicker |")
+        out.append("|---|---|" + "---|" * (len(distances) + 2))
+        for technique in dict.fromkeys(r["technique"] for r in cases):
+            for s in sorted({r["shininess"] for r in cases}):
+                row = {r["distance"]: r for r in cases if r["technique"] == technique and r["shininess"] == s}
+                far = row[distances[-1]]
+                cells = [f"{fmt(row[d]['energy_total'])} ({fmt(row[d]['energy'])})" for d in distances]
+                out.append(f"| {technique} | {s:g} | " + " | ".join(cells) +
+                           f" | {fmt(far['rmse'])} | {fmt(far['flicker'])} |")
+    return "\n".join(out) + "\n"
+
+
+if __name__ == "__main__":
+    main()
