@@ -973,6 +973,7 @@ Image cell(const fs::path& folder, Technique technique, float distance) {
 TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidationMessages) {
     const ShadingSettings settings;
     int modules = 0;
+    std::string figures;
     for (const Technique technique : {Technique::Bump, Technique::Lean, Technique::Fade}) {
         const std::string variant = renderer_variant(technique, settings);
         for (const float distance : {3.0f, 12.0f}) {
@@ -988,12 +989,15 @@ TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidat
                 (*scratch_ / ("vulkan_" + variant + "_d" + gl::distance_text(distance) + ".png"))
                     .string(),
                 eval::encode_srgb(frame.image), 8);
-            std::printf(
-                "vulkan %-22s d=%-3g on %s: %d validation messages; vs leanfade render: "
-                "RMSE %.3f 8-bit codes over the object (%.1f%% of the cell), %.3f over "
-                "the cell, max %d\n",
-                variant.c_str(), distance, device_name_.c_str(), frame.messages.count,
-                c.object_rmse, 100.0 * c.covered, c.rmse, c.max_difference);
+            char line[400];
+            std::snprintf(line, sizeof line,
+                          "vulkan %-22s d=%-3g on %s: %d validation messages; vs leanfade render: "
+                          "RMSE %.3f 8-bit codes over the object (%.1f%% of the cell), %.3f over "
+                          "the cell, max %d\n",
+                          variant.c_str(), distance, device_name_.c_str(), frame.messages.count,
+                          c.object_rmse, 100.0 * c.covered, c.rmse, c.max_difference);
+            std::fputs(line, stdout);
+            figures += line;
             EXPECT_EQ(frame.messages.count, 0) << testing::PrintToString(frame.messages.texts);
             EXPECT_LE(c.object_rmse, 1.0) << variant << " at " << distance;
             // Not a comparison of two empty images: the sphere covers the cell's middle.
@@ -1002,6 +1006,9 @@ TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidat
         }
     }
     EXPECT_EQ(modules, 6);
+    // The figures also go to the build's test folder, for a report after the run (ctest shows a
+    // passing test's output only when verbose).
+    std::ofstream(fs::path(LEANFADE_TEST_TMP) / "vulkan_figures.txt") << figures;
 }
 
 // The winding the docs give is the one that draws the outside: with clockwise front faces the
