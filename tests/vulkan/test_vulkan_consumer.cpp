@@ -1,10 +1,10 @@
 // A Vulkan engine's use of `leanfade shaders --lang spirv` (docs/integration.md, "Vulkan"): on
 // Mesa's lavapipe with the Khronos validation layer, the exported vertex and fragment modules of
-// a few variants draw the sphere with a map from `leanfade bake` (every MIP level uploaded), the
-// pipeline layout and the vertex input state made from shaders.json's reflection alone, the
-// uniform blocks filled from their C++ mirrors after checking the reflected offsets against
-// them. The image is compared with `leanfade render`'s cell of the same view (8-bit sRGB codes)
-// and the validation layer must have said nothing.
+// a few variants (Blinn-Phong and Cook-Torrance) draw the sphere with a map from `leanfade bake`
+// (every MIP level uploaded), the pipeline layout and the vertex input state made from
+// shaders.json's reflection alone, the uniform blocks filled from their C++ mirrors after
+// checking the reflected offsets against them. The image is compared with `leanfade render`'s
+// cell of the same view (8-bit sRGB codes) and the validation layer must have said nothing.
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
@@ -529,6 +529,12 @@ class VulkanConsumer : public testing::Test {
             " --techniques bump,lean,fade --distances 3,12 --size " + std::to_string(kSize) + "x" +
             std::to_string(kSize) + " --cells " + shell_quote(s / "cells") +
             " --cell-format pfm -o " + shell_quote(s / "figure.png"));
+        // Cook-Torrance, whose variants read the base roughness binding too.
+        run("render --scene sphere --bumps " + shell_quote(s / "bumps.ktx2") +
+            " --brdf cook-torrance --techniques lean --distances 3 --size " +
+            std::to_string(kSize) + "x" + std::to_string(kSize) + " --cells " +
+            shell_quote(s / "cells_ct") + " --cell-format pfm -o " +
+            shell_quote(s / "figure_ct.png"));
     }
     static void TearDownTestSuite() {
         delete scratch_;
@@ -550,8 +556,10 @@ class VulkanConsumer : public testing::Test {
         return none;
     }
 
-    // Draws the sphere with the exported modules of `variant` as a Vulkan engine would.
-    void draw(const std::string& variant, float distance, VkFrontFace front_face, Frame& frame);
+    // Draws the sphere with the exported modules of `variant` as a Vulkan engine would, the
+    // blocks filled from `settings` (the defaults: `leanfade render` without flags).
+    void draw(const std::string& variant, float distance, VkFrontFace front_face, Frame& frame,
+              const ShadingSettings& settings = {});
 
     static fs::path* scratch_;
     static std::string* setup_;
@@ -563,14 +571,13 @@ fs::path* VulkanConsumer::scratch_ = nullptr;
 std::string* VulkanConsumer::setup_ = nullptr;
 
 void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFace front_face,
-                          Frame& frame) {
+                          Frame& frame, const ShadingSettings& settings) {
     const json& vert = entry("scene", "vert");
     const json& frag = entry(variant, "frag");
     ASSERT_FALSE(vert.is_null() || frag.is_null());
     const fs::path folder = *scratch_ / "spirv";
     const PackedLeanMap map = io::read_ktx2((*scratch_ / "bumps.ktx2").string());
     ASSERT_GE(map.levels.size(), 8u);  // 128 x 128 down to 1 x 1
-    const ShadingSettings settings;    // the defaults, as `leanfade render` without flags
 
     Vulkan vk(frame.messages);
     ASSERT_NO_FATAL_FAILURE(create_vulkan(vk));
@@ -801,6 +808,21 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
     white_region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     white_region.imageExtent = {1, 1, 1};
     ASSERT_NO_FATAL_FAILURE(upload(vk, white, {{255, 255, 255, 255}}, {white_region}));
+    // Base roughness, which the Cook-Torrance variants declare: the material has no map (its bit
+    // in u_shading.maps is clear), so any valid texture, here a 1x1 R32F.
+    Texture roughness;
+    bool reads_roughness = false;
+    for (const auto& [number, b] : bindings) reads_roughness |= b.name == "u_base_roughness";
+    if (reads_roughness) {
+        ASSERT_NO_FATAL_FAILURE(
+            create_image(vk, VK_FORMAT_R32_SFLOAT, 1, 1, 1, 1,
+                         VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_VIEW_TYPE_2D, roughness));
+        const float one = 1.0f;
+        std::vector<std::uint8_t> texel(4);
+        std::memcpy(texel.data(), &one, 4);
+        ASSERT_NO_FATAL_FAILURE(upload(vk, roughness, {texel}, {white_region}));
+    }
     auto sampler_info = vk_info<VkSamplerCreateInfo>(VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO);
     sampler_info.magFilter = VK_FILTER_LINEAR;
     sampler_info.minFilter = VK_FILTER_LINEAR;
@@ -902,9 +924,10 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
             buffer_infos[slot] = {uniform_buffers[slot].buffer, 0, block.size};
             w.pBufferInfo = &buffer_infos[slot];
         } else {
-            const Texture* texture = b.name == "u_lean"         ? &lean
-                                     : b.name == "u_base_color" ? &white
-                                                                : nullptr;
+            const Texture* texture = b.name == "u_lean"             ? &lean
+                                     : b.name == "u_base_color"     ? &white
+                                     : b.name == "u_base_roughness" ? &roughness
+                                                                    : nullptr;
             ASSERT_NE(texture, nullptr) << "a texture the test does not have: " << b.name;
             image_infos[slot] = {sampler, texture->view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
             w.pImageInfo = &image_infos[slot];
@@ -1005,6 +1028,26 @@ TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidat
             ++modules;
         }
     }
+    // Cook-Torrance: its variant has the base roughness binding as well.
+    ShadingSettings ct;
+    ct.brdf = Brdf::CookTorrance;
+    const std::string variant = renderer_variant(Technique::Lean, ct);
+    EXPECT_EQ(variant, "scene_lean_plain_ct");
+    Frame frame;
+    ASSERT_NO_FATAL_FAILURE(draw(variant, 3.0f, VK_FRONT_FACE_COUNTER_CLOCKWISE, frame, ct));
+    const Comparison c = compare(frame.image, cell(*scratch_ / "cells_ct", Technique::Lean, 3.0f));
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "vulkan %-22s d=%-3d on %s: %d validation messages; vs leanfade render: RMSE "
+                  "%.3f 8-bit codes over the object (%.1f%% of the cell), %.3f over the cell, "
+                  "max %d\n",
+                  variant.c_str(), 3, device_name_.c_str(), frame.messages.count, c.object_rmse,
+                  100.0 * c.covered, c.rmse, c.max_difference);
+    std::fputs(line, stdout);
+    figures += line;
+    EXPECT_EQ(frame.messages.count, 0) << testing::PrintToString(frame.messages.texts);
+    EXPECT_LE(c.object_rmse, 1.0) << variant;
+    EXPECT_GT(c.covered, 0.25) << variant;
     EXPECT_EQ(modules, 6);
     // The figures also go to the build's test folder, for a report after the run (ctest shows a
     // passing test's output only when verbose).
