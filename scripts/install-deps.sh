@@ -10,6 +10,7 @@ packages=(
   libglfw3-dev libimgui-dev glslang-tools xvfb xauth libglx-mesa0 gnuplot-nox
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev
+  spirv-tools mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
 )
 # shellcheck disable=SC2206
 packages+=(${LEANFADE_EXTRA_PACKAGES:-})

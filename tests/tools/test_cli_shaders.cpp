@@ -1,10 +1,11 @@
 // leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL and MSL, checked with the tools
 // Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
-// spirv-val validates every SPIR-V module (the exported ones and the HLSL compiled back), and
-// spirv-dis shows the bindings and names they keep. Debian 12 has no Metal compiler: the MSL files
-// get a structural check (entry point, block, sampler and struct names, resource indices), which
-// is not a compile. Errors: a bad --lang, an output that cannot be written, a shader that does not
-// compile: one line, exit 1, nothing written.
+// spirv-val validates every SPIR-V module (the exported ones, optimised, and the HLSL compiled
+// back), spirv-dis shows the bindings and names they keep, and the index's reflection of each
+// module agrees with the disassembly and the C++ mirrors of the blocks. Debian 12 has no Metal
+// compiler: the MSL files get a structural check (entry point, block, sampler and struct names,
+// resource indices), which is not a compile. Errors: a bad --lang, an output that cannot be
+// written, a shader that does not compile: one line, exit 1, nothing written.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -50,9 +51,10 @@ struct Export {
     nlohmann::json index;
 };
 
-// `leanfade shaders --lang LANG -o <scratch>/out`, which must succeed.
-Export export_shaders(const std::string& lang) {
-    const fs::path scratch = scratch_dir("shaders_" + lang);
+// `leanfade shaders --lang LANG -o <scratch>/out`, which must succeed; `name` is the scratch
+// folder's (one per test: ctest runs them in parallel).
+Export export_shaders(const std::string& lang, const std::string& name = "") {
+    const fs::path scratch = scratch_dir("shaders_" + (name.empty() ? lang : name));
     const fs::path out = scratch / "out";
     const RunResult r = run_leanfade("shaders --lang " + lang + " -o " + shell_quote(out), scratch);
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -192,6 +194,107 @@ TEST(ShadersCli, SpirvModulesValidateAndKeepNamesAndBindings) {
     }
 }
 
+// A block's reflected members (arrays by their first element, as the C++ mirrors list them) by
+// name, with their offsets.
+std::map<std::string, std::size_t> reflected_members(const nlohmann::json& resource) {
+    std::map<std::string, std::size_t> out;
+    for (const auto& m : resource["members"])
+        out[m["name"].get<std::string>() + (m.contains("array_size") ? "[0]" : "")] =
+            m["offset"].get<std::size_t>();
+    return out;
+}
+
+std::map<std::string, std::size_t> mirror_members(const std::vector<gl::BlockMember>& members) {
+    std::map<std::string, std::size_t> out;
+    for (const gl::BlockMember& m : members) out[m.name] = m.offset;
+    return out;
+}
+
+// The SPIR-V index reflects each module: exactly the bindings the module declares (after
+// optimisation, those it reads), each block's members at the offsets of its C++ mirror, the
+// vertex attributes with their formats, and the fragment stage's inputs as the vertex stage's
+// outputs. Optimisation shrinks every module and removes the base roughness from the variants
+// that do not read it.
+TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
+    const Export e = export_shaders("spirv", "spirv_reflection");
+    const fs::path log = e.folder.parent_path() / "tool.txt";
+    namespace b = gl::bindings;
+    const std::map<std::string, std::map<std::string, std::size_t>> mirrors{
+        {"LfShadingBlock", mirror_members(gl::shading_block_members())},
+        {"LfObjectBlock", mirror_members(gl::object_block_members())},
+        {"LfLayerBlock", mirror_members(gl::layer_block_members())}};
+    nlohmann::json vertex_outputs;
+    std::size_t before = 0, after = 0;
+    for (const auto& s : e.index["shaders"]) {
+        const fs::path file = e.folder / s["file"].get<std::string>();
+        const std::string variant = s["variant"];
+        EXPECT_EQ(s["size"].get<std::size_t>(), fs::file_size(file)) << file;
+        EXPECT_LT(s["size"].get<std::size_t>(), s["unoptimised_size"].get<std::size_t>()) << file;
+        before += s["unoptimised_size"].get<std::size_t>();
+        after += s["size"].get<std::size_t>();
+        const auto& r = s["reflection"];
+        EXPECT_EQ(r["entry_point"], "main");
+        EXPECT_EQ(r["stage"], stage_of(s) == "vert" ? "vertex" : "fragment");
+
+        std::string output;
+        ASSERT_EQ(run_tool("spirv-dis " + shell_quote(file), log, &output), 0) << output;
+        const std::vector<int> declared = bindings_of(output);
+        std::multiset<int> reflected;
+        for (const auto& res : r["resources"]) {
+            reflected.insert(res["binding"].get<int>());
+            EXPECT_EQ(res["set"], 0);
+            EXPECT_EQ(res["stage"], r["stage"]);
+            const std::string name = res["name"];
+            if (res["descriptor_type"] == "uniform_buffer") {
+                ASSERT_EQ(mirrors.count(name), 1u) << name;
+                EXPECT_EQ(reflected_members(res), mirrors.at(name)) << file << ": " << name;
+                EXPECT_GT(res["block_size"].get<std::size_t>(), 0u);
+                EXPECT_EQ(res["array_size"], 1);
+            } else {
+                EXPECT_EQ(res["descriptor_type"], "combined_image_sampler") << name;
+                EXPECT_EQ(res["array_size"], name == "u_layer_maps" ? 4 : 1) << name;
+                EXPECT_EQ(res["type"], name == "u_base_color" || name == "u_base_roughness" ||
+                                               name == "u_layer_weights"
+                                           ? "sampler2D"
+                                           : "sampler2DArray")
+                    << name;
+            }
+        }
+        EXPECT_EQ(reflected, std::multiset<int>(declared.begin(), declared.end())) << file;
+        const std::set<int> numbers(declared.begin(), declared.end());
+        if (stage_of(s) == "vert") {
+            const auto& inputs = r["inputs"];
+            ASSERT_EQ(inputs.size(), 4u);
+            const char* names[] = {"a_position", "a_normal", "a_uv", "a_tangent"};
+            const char* formats[] = {"R32G32B32_SFLOAT", "R32G32B32_SFLOAT", "R32G32_SFLOAT",
+                                     "R32G32B32A32_SFLOAT"};
+            for (int i = 0; i < 4; ++i) {
+                EXPECT_EQ(inputs[i]["name"], names[i]);
+                EXPECT_EQ(inputs[i]["location"], i);
+                EXPECT_EQ(inputs[i]["format"], formats[i]);
+            }
+            vertex_outputs = r["outputs"];
+            EXPECT_EQ(vertex_outputs.size(), 4u);  // VertexData; gl_Position is a built-in
+            continue;
+        }
+        EXPECT_EQ(r["inputs"], vertex_outputs) << file;
+        ASSERT_EQ(r["outputs"].size(), 1u);
+        EXPECT_EQ(r["outputs"][0]["name"], "o_color");
+        // Blinn-Phong reads no base roughness: its binding is gone.
+        if (variant.find("_ct") == std::string::npos) {
+            EXPECT_EQ(numbers.count(b::LF_BINDING_BASE_ROUGHNESS), 0u) << file;
+        } else if (variant.find("_layered") == std::string::npos) {
+            EXPECT_EQ(numbers.count(b::LF_BINDING_BASE_ROUGHNESS), 1u) << file;
+        }
+        EXPECT_EQ(numbers.count(b::LF_BINDING_LEAN_MAP),
+                  variant.find("_layered") == std::string::npos ? 1u : 0u)
+            << file;
+    }
+    // The whole set: optimisation takes out most of what glslang writes.
+    EXPECT_LT(after * 3, before) << after << " of " << before << " bytes";
+    EXPECT_NE(e.index["optimizer"].get<std::string>().find("spirv-opt -O"), std::string::npos);
+}
+
 TEST(ShadersCli, HlslCompilesBackWithGlslangAndKeepsNames) {
     const Export e = export_shaders("hlsl");
     expect_complete_index(e, "hlsl", ".hlsl");
@@ -329,19 +432,26 @@ TEST(ShadersCli, ShaderThatDoesNotCompileNamesFileAndLineAndWritesNothing) {
 
 // A second export into the same folder replaces every file with the same bytes (the output is
 // a function of the sources only) and leaves no temporary behind.
+// (SPIR-V too: the optimiser's output is a function of its input.)
 TEST(ShadersCli, ExportIsDeterministicAndReplacesFiles) {
-    const fs::path scratch = scratch_dir("shaders_twice");
-    const fs::path out = scratch / "out";
-    ASSERT_EQ(run_leanfade("shaders --lang hlsl -o " + shell_quote(out), scratch).exit_code, 0);
-    std::map<std::string, std::string> first;
-    for (const auto& entry : fs::directory_iterator(out))
-        first[entry.path().filename().string()] = read_text(entry.path());
-    ASSERT_EQ(run_leanfade("shaders --lang hlsl -o " + shell_quote(out), scratch).exit_code, 0);
-    std::map<std::string, std::string> second;
-    for (const auto& entry : fs::directory_iterator(out))
-        second[entry.path().filename().string()] = read_text(entry.path());
-    EXPECT_EQ(first, second);
-    EXPECT_EQ(second.size(), 2 + scene_variants().size());  // the stages and shaders.json
+    for (const std::string lang : {"hlsl", "spirv"}) {
+        const fs::path scratch = scratch_dir("shaders_twice_" + lang);
+        const fs::path out = scratch / "out";
+        ASSERT_EQ(
+            run_leanfade("shaders --lang " + lang + " -o " + shell_quote(out), scratch).exit_code,
+            0);
+        std::map<std::string, std::string> first;
+        for (const auto& entry : fs::directory_iterator(out))
+            first[entry.path().filename().string()] = read_text(entry.path());
+        ASSERT_EQ(
+            run_leanfade("shaders --lang " + lang + " -o " + shell_quote(out), scratch).exit_code,
+            0);
+        std::map<std::string, std::string> second;
+        for (const auto& entry : fs::directory_iterator(out))
+            second[entry.path().filename().string()] = read_text(entry.path());
+        EXPECT_EQ(first, second) << lang;
+        EXPECT_EQ(second.size(), 2 + scene_variants().size());  // the stages and shaders.json
+    }
 }
 
 }  // namespace

@@ -26,6 +26,49 @@ struct ShadersArgs {
 
 constexpr const char* kIndexFile = "shaders.json";
 
+// A SPIR-V module's reflection (docs/integration.md, "shaders.json"): what a Vulkan pipeline
+// layout and vertex input state are made from.
+nlohmann::json reflection_json(const gl::ShaderReflection& r) {
+    nlohmann::json resources = nlohmann::json::array();
+    for (const gl::ShaderResource& res : r.resources) {
+        nlohmann::json j{{"name", res.name},       {"descriptor_type", res.descriptor_type},
+                         {"type", res.type},       {"set", res.set},
+                         {"binding", res.binding}, {"array_size", res.array_size},
+                         {"stage", r.stage}};
+        if (res.descriptor_type == "uniform_buffer") {
+            j["block_size"] = res.block_size;
+            nlohmann::json members = nlohmann::json::array();
+            for (const gl::ShaderBlockMember& m : res.members) {
+                nlohmann::json member{
+                    {"name", m.name}, {"type", m.type}, {"offset", m.offset}, {"size", m.size}};
+                if (m.array_size > 0) {
+                    member["array_size"] = m.array_size;
+                    member["array_stride"] = m.array_stride;
+                }
+                if (m.matrix_stride > 0) member["matrix_stride"] = m.matrix_stride;
+                members.push_back(member);
+            }
+            j["members"] = members;
+        }
+        resources.push_back(j);
+    }
+    auto variables = [](const std::vector<gl::ShaderInterfaceVariable>& list, bool formats) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const gl::ShaderInterfaceVariable& v : list) {
+            nlohmann::json j{{"name", v.name}, {"location", v.location}, {"type", v.type}};
+            if (formats && !v.format.empty()) j["format"] = v.format;
+            out.push_back(j);
+        }
+        return out;
+    };
+    const bool vertex = r.stage == "vertex";
+    return {{"stage", r.stage},
+            {"entry_point", r.entry_point},
+            {"resources", resources},
+            {"inputs", variables(r.inputs, vertex)},
+            {"outputs", variables(r.outputs, false)}};
+}
+
 nlohmann::json index_json(gl::ShaderLanguage language,
                           const std::vector<gl::ExportedShader>& shaders) {
     nlohmann::json j;
@@ -36,12 +79,18 @@ nlohmann::json index_json(gl::ShaderLanguage language,
     j["uniform_block_binding_offset"] =
         language == gl::ShaderLanguage::Spirv ? gl::kSpirvUniformBlockBase : 0u;
     nlohmann::json list = nlohmann::json::array();
-    for (const gl::ExportedShader& s : shaders)
-        list.push_back({{"file", s.file_name},
-                        {"variant", s.variant},
-                        {"stage", s.stage},
-                        {"source", s.source},
-                        {"defines", s.defines}});
+    const bool spirv = language == gl::ShaderLanguage::Spirv;
+    if (spirv) j["optimizer"] = "SPIRV-Tools performance passes (spirv-opt -O)";
+    for (const gl::ExportedShader& s : shaders) {
+        nlohmann::json entry{{"file", s.file_name},  {"variant", s.variant},
+                             {"stage", s.stage},     {"source", s.source},
+                             {"defines", s.defines}, {"size", s.bytes.size()}};
+        if (spirv) {
+            entry["unoptimised_size"] = s.unoptimised_size;
+            entry["reflection"] = reflection_json(s.reflection);
+        }
+        list.push_back(entry);
+    }
     j["shaders"] = list;
     return j;
 }
@@ -78,6 +127,14 @@ int run_shaders(const ShadersArgs& args) {
     std::printf("%zu %s shaders (the vertex stage and %zu fragment variants) and %s in %s\n",
                 shaders.size(), gl::to_string(language), shaders.size() - 1, kIndexFile,
                 args.out_dir.c_str());
+    if (language == gl::ShaderLanguage::Spirv) {
+        std::size_t before = 0, after = 0;
+        for (const gl::ExportedShader& s : shaders) {
+            before += s.unoptimised_size;
+            after += s.bytes.size();
+        }
+        std::printf("SPIR-V optimised: %zu bytes in all, %zu before optimisation\n", after, before);
+    }
     return 0;
 }
 
@@ -86,8 +143,9 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ShadersArgs>();
         app.add_option("--lang", args->lang,
-                       "glsl (OpenGL 4.5 source), spirv (Vulkan 1.0, by glslang), hlsl (shader "
-                       "model 5.0) or msl (Metal; both by SPIRV-Cross)")
+                       "glsl (OpenGL 4.5 source), spirv (Vulkan 1.0, by glslang, optimised, "
+                       "reflected in shaders.json), hlsl (shader model 5.0) or msl (Metal; both "
+                       "by SPIRV-Cross)")
             ->required();
         app.add_option("-o,--out-dir", args->out_dir,
                        "folder for one file per stage and variant and shaders.json (created when "

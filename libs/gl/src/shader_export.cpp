@@ -1,17 +1,22 @@
 // The shading code of every technique for other APIs: GLSL as resolved, SPIR-V by the glslang
-// library (its C interface), HLSL and MSL by SPIRV-Cross (its C interface, the shared library
-// libspirv-cross-c-shared).
+// library (its C interface) optimised and validated by SPIRV-Tools (its C++ API, linked with
+// glslang's SPIR-V back end), HLSL and MSL by SPIRV-Cross (its C interface, the shared library
+// libspirv-cross-c-shared), which also reflects the SPIR-V modules.
 #include "leanfade/gl/shader_export.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <mutex>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 #include <glslang/Include/glslang_c_interface.h>
 #include <glslang/Public/resource_limits_c.h>
 #include <spirv_cross/spirv_cross_c.h>
+#include <spirv-tools/libspirv.hpp>
+#include <spirv-tools/optimizer.hpp>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -127,6 +132,34 @@ std::vector<std::uint32_t> compile_spirv(const ShaderSources& sources, const std
     if (words.empty()) throw Error(file, "glslang produced no SPIR-V");
     glslang_program_SPIRV_get(program.get(), words.data());
     return words;
+}
+
+// SPIR-V as an engine takes it: SPIRV-Tools' performance passes (those of `spirv-opt -O`:
+// inlining, constant folding, dead branches, code and variables removed), so that a variant's
+// module declares only the resources it reads, then validated for Vulkan 1.0. Deterministic: the
+// same module in, the same module out.
+std::vector<std::uint32_t> optimise_spirv(const std::string& file,
+                                          const std::vector<std::uint32_t>& words) {
+    std::string messages;
+    auto consumer = [&messages](spv_message_level_t level, const char*,
+                                const spv_position_t& position, const char* message) {
+        if (level > SPV_MSG_ERROR) return;  // warnings and information
+        messages += (messages.empty() ? "" : "; ") + std::string("word ") +
+                    std::to_string(position.index) + ": " + (message != nullptr ? message : "");
+    };
+    spvtools::Optimizer optimizer(SPV_ENV_VULKAN_1_0);
+    optimizer.SetMessageConsumer(consumer);
+    optimizer.RegisterPerformancePasses();
+    std::vector<std::uint32_t> optimised;
+    if (!optimizer.Run(words.data(), words.size(), &optimised) || optimised.empty())
+        throw Error(file, "SPIRV-Tools cannot optimise the SPIR-V: " +
+                              (messages.empty() ? std::string("no message") : messages));
+    spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_0);
+    tools.SetMessageConsumer(consumer);
+    if (!tools.Validate(optimised))
+        throw Error(file, "the optimised SPIR-V does not validate for Vulkan 1.0: " +
+                              (messages.empty() ? std::string("no message") : messages));
+    return optimised;
 }
 
 struct ContextDeleter {
@@ -252,6 +285,274 @@ std::string cross_compile(const std::string& file, const std::vector<std::uint32
     return language == ShaderLanguage::Hlsl ? fix_hlsl_lod_queries(result) : std::string(result);
 }
 
+// ---- Reflection (SPIRV-Cross) ----
+
+// The GLSL name of a scalar, vector or matrix type ("" for another).
+std::string glsl_type_name(spvc_type type) {
+    const spvc_basetype base = spvc_type_get_basetype(type);
+    const unsigned rows = spvc_type_get_vector_size(type);
+    const unsigned columns = spvc_type_get_columns(type);
+    std::string prefix;
+    std::string scalar;
+    switch (base) {
+        case SPVC_BASETYPE_FP32:
+            scalar = "float";
+            break;
+        case SPVC_BASETYPE_INT32:
+            scalar = "int";
+            prefix = "i";
+            break;
+        case SPVC_BASETYPE_UINT32:
+            scalar = "uint";
+            prefix = "u";
+            break;
+        case SPVC_BASETYPE_BOOLEAN:
+            scalar = "bool";
+            prefix = "b";
+            break;
+        default:
+            return "";
+    }
+    if (columns > 1) {
+        if (base != SPVC_BASETYPE_FP32) return "";
+        return columns == rows ? "mat" + std::to_string(columns)
+                               : "mat" + std::to_string(columns) + "x" + std::to_string(rows);
+    }
+    return rows > 1 ? prefix + "vec" + std::to_string(rows) : scalar;
+}
+
+// The Vulkan format of a vertex attribute of a 32-bit scalar or vector type ("" for another).
+std::string vertex_format(spvc_type type) {
+    const unsigned rows = spvc_type_get_vector_size(type);
+    if (spvc_type_get_columns(type) > 1 || rows < 1 || rows > 4) return "";
+    const char* suffix = nullptr;
+    switch (spvc_type_get_basetype(type)) {
+        case SPVC_BASETYPE_FP32:
+            suffix = "_SFLOAT";
+            break;
+        case SPVC_BASETYPE_INT32:
+            suffix = "_SINT";
+            break;
+        case SPVC_BASETYPE_UINT32:
+            suffix = "_UINT";
+            break;
+        default:
+            return "";
+    }
+    static const char* const channels[] = {"R32", "R32G32", "R32G32B32", "R32G32B32A32"};
+    return std::string(channels[rows - 1]) + suffix;
+}
+
+// The elements of an array type with one literal dimension (1 for a type that is not an array,
+// 0 for another).
+unsigned array_elements(spvc_type type) {
+    const unsigned dimensions = spvc_type_get_num_array_dimensions(type);
+    if (dimensions == 0) return 1;
+    if (dimensions != 1 || !spvc_type_array_dimension_is_literal(type, 0)) return 0;
+    return unsigned(spvc_type_get_array_dimension(type, 0));
+}
+
+class Reflector {
+  public:
+    Reflector(spvc_compiler compiler, const std::string& file) : compiler_(compiler), file_(file) {}
+
+    // The members of a block of struct type `struct_id`, nested structs flattened, at `base`.
+    void block_members(spvc_type_id struct_id, const std::string& prefix, std::uint32_t base,
+                       std::vector<ShaderBlockMember>& out) const {
+        const spvc_type type = spvc_compiler_get_type_handle(compiler_, struct_id);
+        const unsigned count = spvc_type_get_num_member_types(type);
+        for (unsigned i = 0; i < count; ++i) {
+            const spvc_type_id member_id = spvc_type_get_member_type(type, i);
+            const spvc_type member = spvc_compiler_get_type_handle(compiler_, member_id);
+            const char* raw_name = spvc_compiler_get_member_name(compiler_, struct_id, i);
+            const std::string name =
+                prefix + (raw_name != nullptr && *raw_name != '\0' ? std::string(raw_name)
+                                                                   : "_m" + std::to_string(i));
+            unsigned offset = 0;
+            size_t size = 0;
+            check(spvc_compiler_type_struct_member_offset(compiler_, type, i, &offset),
+                  "has no member offset");
+            check(spvc_compiler_get_declared_struct_member_size(compiler_, type, i, &size),
+                  "has no member size");
+            const unsigned elements = array_elements(member);
+            const bool array = spvc_type_get_num_array_dimensions(member) > 0;
+            if (spvc_type_get_basetype(member) == SPVC_BASETYPE_STRUCT && !array) {
+                block_members(spvc_type_get_base_type_id(member), name + ".", base + offset, out);
+                continue;
+            }
+            ShaderBlockMember m;
+            m.name = name;
+            m.type = spvc_type_get_basetype(member) == SPVC_BASETYPE_STRUCT
+                         ? std::string(spvc_compiler_get_name(compiler_,
+                                                              spvc_type_get_base_type_id(member)))
+                         : glsl_type_name(member);
+            m.offset = base + offset;
+            m.size = std::uint32_t(size);
+            if (array) {
+                m.array_size = elements;
+                unsigned stride = 0;
+                check(spvc_compiler_type_struct_member_array_stride(compiler_, type, i, &stride),
+                      "has no array stride");
+                m.array_stride = stride;
+            }
+            if (spvc_type_get_columns(member) > 1) {
+                unsigned stride = 0;
+                check(spvc_compiler_type_struct_member_matrix_stride(compiler_, type, i, &stride),
+                      "has no matrix stride");
+                m.matrix_stride = stride;
+            }
+            out.push_back(std::move(m));
+        }
+    }
+
+    ShaderResource resource(const spvc_reflected_resource& r, bool block) const {
+        ShaderResource out;
+        out.name = r.name != nullptr ? r.name : "";
+        out.descriptor_type = block ? "uniform_buffer" : "combined_image_sampler";
+        out.set = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationDescriptorSet);
+        out.binding = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationBinding);
+        const spvc_type type = spvc_compiler_get_type_handle(compiler_, r.type_id);
+        out.array_size = array_elements(type);
+        if (block) {
+            const spvc_type base = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
+            size_t size = 0;
+            check(spvc_compiler_get_declared_struct_size(compiler_, base, &size),
+                  "has no block size");
+            out.type = out.name;
+            out.block_size = std::uint32_t(size);
+            block_members(r.base_type_id, "", 0, out.members);
+        } else {
+            const spvc_type image = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
+            const SpvDim dim = spvc_type_get_image_dimension(image);
+            out.type = dim == SpvDim1D     ? "sampler1D"
+                       : dim == SpvDim2D   ? "sampler2D"
+                       : dim == SpvDim3D   ? "sampler3D"
+                       : dim == SpvDimCube ? "samplerCube"
+                                           : "sampler";
+            if (spvc_type_get_image_arrayed(image)) out.type += "Array";
+        }
+        return out;
+    }
+
+    // A stage input or output: a variable, or a block's members at consecutive locations (each
+    // scalar, vector or matrix column takes one). Built-ins are left out.
+    void interface_variable(const spvc_reflected_resource& r,
+                            std::vector<ShaderInterfaceVariable>& out) const {
+        if (spvc_compiler_has_decoration(compiler_, r.id, SpvDecorationBuiltIn)) return;
+        const std::uint32_t location =
+            spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationLocation);
+        const spvc_type type = spvc_compiler_get_type_handle(compiler_, r.type_id);
+        if (spvc_type_get_basetype(type) != SPVC_BASETYPE_STRUCT) {
+            out.push_back({r.name != nullptr ? r.name : "", location, glsl_type_name(type),
+                           vertex_format(type)});
+            return;
+        }
+        const spvc_type_id struct_id = r.base_type_id;
+        const spvc_type block = spvc_compiler_get_type_handle(compiler_, struct_id);
+        const std::string block_name = spvc_compiler_get_name(compiler_, struct_id);
+        std::uint32_t next = location;
+        for (unsigned i = 0; i < spvc_type_get_num_member_types(block); ++i) {
+            if (spvc_compiler_has_member_decoration(compiler_, struct_id, i, SpvDecorationBuiltIn))
+                continue;
+            const spvc_type member =
+                spvc_compiler_get_type_handle(compiler_, spvc_type_get_member_type(block, i));
+            if (spvc_compiler_has_member_decoration(compiler_, struct_id, i, SpvDecorationLocation))
+                next = spvc_compiler_get_member_decoration(compiler_, struct_id, i,
+                                                           SpvDecorationLocation);
+            out.push_back(
+                {block_name + "." + spvc_compiler_get_member_name(compiler_, struct_id, i), next,
+                 glsl_type_name(member), vertex_format(member)});
+            next +=
+                std::max(1u, spvc_type_get_columns(member)) * std::max(1u, array_elements(member));
+        }
+    }
+
+  private:
+    void check(spvc_result result, const char* what) const {
+        if (result != SPVC_SUCCESS)
+            throw Error(file_, std::string("SPIRV-Cross: the block ") + what);
+    }
+    spvc_compiler compiler_;
+    const std::string& file_;
+};
+
+}  // namespace
+
+ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const std::string& file) {
+    spvc_context raw = nullptr;
+    if (spvc_context_create(&raw) != SPVC_SUCCESS) throw Error(file, "SPIRV-Cross: no context");
+    std::unique_ptr<spvc_context_s, ContextDeleter> context(raw);
+    auto fail = [&](const char* what) {
+        return Error(file, std::string("SPIRV-Cross ") + what + ": " +
+                               one_line(spvc_context_get_last_error_string(context.get())));
+    };
+    spvc_parsed_ir ir = nullptr;
+    if (spvc_context_parse_spirv(context.get(), words.data(), words.size(), &ir) != SPVC_SUCCESS)
+        throw fail("cannot parse the SPIR-V");
+    spvc_compiler compiler = nullptr;
+    if (spvc_context_create_compiler(context.get(), SPVC_BACKEND_NONE, ir,
+                                     SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) != SPVC_SUCCESS)
+        throw fail("has no compiler");
+    // Only what the entry point uses: a resource declared and never read is no descriptor.
+    spvc_set active = nullptr;
+    spvc_resources resources = nullptr;
+    if (spvc_compiler_get_active_interface_variables(compiler, &active) != SPVC_SUCCESS ||
+        spvc_compiler_create_shader_resources_for_active_variables(compiler, &resources, active) !=
+            SPVC_SUCCESS)
+        throw fail("cannot list the resources");
+    auto list = [&](spvc_resource_type type) {
+        const spvc_reflected_resource* items = nullptr;
+        std::size_t count = 0;
+        if (spvc_resources_get_resource_list_for_type(resources, type, &items, &count) !=
+            SPVC_SUCCESS)
+            throw fail("cannot list the resources");
+        return std::vector<spvc_reflected_resource>(items, items + count);
+    };
+
+    ShaderReflection out;
+    const SpvExecutionModel model = spvc_compiler_get_execution_model(compiler);
+    out.stage = model == SpvExecutionModelVertex     ? "vertex"
+                : model == SpvExecutionModelFragment ? "fragment"
+                                                     : "other";
+    const spvc_entry_point* entry_points = nullptr;
+    std::size_t entry_count = 0;
+    if (spvc_compiler_get_entry_points(compiler, &entry_points, &entry_count) != SPVC_SUCCESS ||
+        entry_count == 0)
+        throw fail("finds no entry point");
+    out.entry_point = entry_points[0].name;
+
+    const Reflector reflector(compiler, file);
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_UNIFORM_BUFFER))
+        out.resources.push_back(reflector.resource(r, true));
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_SAMPLED_IMAGE))
+        out.resources.push_back(reflector.resource(r, false));
+    // Resources of other kinds would need descriptors this reflection does not describe.
+    for (const spvc_resource_type other :
+         {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, SPVC_RESOURCE_TYPE_STORAGE_IMAGE,
+          SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS,
+          SPVC_RESOURCE_TYPE_PUSH_CONSTANT, SPVC_RESOURCE_TYPE_SUBPASS_INPUT})
+        if (!list(other).empty())
+            throw Error(file,
+                        "the module has a resource of a kind that leanfade does not reflect "
+                        "(only uniform blocks and combined image samplers)");
+    std::sort(out.resources.begin(), out.resources.end(),
+              [](const ShaderResource& a, const ShaderResource& b) {
+                  return std::tie(a.set, a.binding) < std::tie(b.set, b.binding);
+              });
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STAGE_INPUT))
+        reflector.interface_variable(r, out.inputs);
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_STAGE_OUTPUT))
+        reflector.interface_variable(r, out.outputs);
+    for (auto* variables : {&out.inputs, &out.outputs})
+        std::stable_sort(variables->begin(), variables->end(),
+                         [](const ShaderInterfaceVariable& a, const ShaderInterfaceVariable& b) {
+                             return a.location < b.location;
+                         });
+    return out;
+}
+
+namespace {
+
 std::vector<std::uint8_t> text_bytes(const std::string& text) {
     return std::vector<std::uint8_t>(text.begin(), text.end());
 }
@@ -273,8 +574,11 @@ ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* v
     const std::vector<std::uint32_t> words = compile_spirv(sources, out.source, resolved, fragment);
     if (language == ShaderLanguage::Spirv) {
         cross_compile(out.source, words, language);  // checks the bindings
-        out.bytes.reserve(words.size() * 4);
-        for (const std::uint32_t w : words)
+        const std::vector<std::uint32_t> optimised = optimise_spirv(out.source, words);
+        out.unoptimised_size = words.size() * 4;
+        out.reflection = reflect_spirv(optimised, out.source);
+        out.bytes.reserve(optimised.size() * 4);
+        for (const std::uint32_t w : optimised)
             for (int shift = 0; shift < 32; shift += 8)
                 out.bytes.push_back(std::uint8_t(w >> shift));
         return out;

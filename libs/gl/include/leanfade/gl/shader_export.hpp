@@ -5,17 +5,22 @@
 // as self-contained sources in one language:
 //   glsl   GLSL 4.50 for OpenGL, as the renderer compiles it: the includes inlined, the variant's
 //          #defines after #version (the #line directives of the resolution left out).
-//   spirv  SPIR-V 1.0 for Vulkan 1.0, compiled from that GLSL by the glslang library (no
-//          optimisation, names kept). Descriptor set 0; a texture's binding is its OpenGL texture
+//   spirv  SPIR-V 1.0 for Vulkan 1.0, compiled from that GLSL by the glslang library, then
+//          optimised by SPIRV-Tools (its performance passes, as `spirv-opt -O`) and validated
+//          for Vulkan 1.0: a module declares only the resources its variant reads. Names of
+//          what remains are kept. Descriptor set 0; a texture's binding is its OpenGL texture
 //          unit, a uniform block's is kSpirvUniformBlockBase + its OpenGL block binding; the
-//          stage's inputs and outputs get consecutive locations in declaration order.
-//   hlsl   HLSL shader model 5.0 cross-compiled from the SPIR-V by SPIRV-Cross: entry point
-//          main, registers t<unit> and s<unit> for a texture, b<block binding> for a cbuffer.
-//   msl    Metal Shading Language 2.2 cross-compiled from the SPIR-V by SPIRV-Cross: entry point
-//          main0 (Metal reserves main), [[texture(unit)]], [[sampler(unit)]] and
+//          stage's inputs and outputs get consecutive locations in declaration order. Each
+//          module comes with its reflection (ShaderReflection).
+//   hlsl   HLSL shader model 5.0 cross-compiled by SPIRV-Cross from the unoptimised SPIR-V (so
+//          that the functions keep their names): entry point main, registers t<unit> and
+//          s<unit> for a texture, b<block binding> for a cbuffer.
+//   msl    Metal Shading Language 2.2 cross-compiled by SPIRV-Cross from the unoptimised SPIR-V:
+//          entry point main0 (Metal reserves main), [[texture(unit)]], [[sampler(unit)]] and
 //          [[buffer(block binding)]].
 // Block, struct, member and sampler names are those of the GLSL (LfShadingBlock, u_shading,
 // LfParams, u_lean, ...). GL-free: the tool's own library, not linked by the renderer.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -41,6 +46,48 @@ const char* file_extension(ShaderLanguage language);
 // refused.
 inline constexpr unsigned kSpirvUniformBlockBase = 16;
 
+// A member of a uniform block, nested structs flattened ("u_shading.params.light_color").
+struct ShaderBlockMember {
+    std::string name;
+    std::string type;                 // GLSL type: "float", "int", "vec3", "vec4", "mat3", "mat4"
+    std::uint32_t offset = 0;         // bytes from the start of the block
+    std::uint32_t size = 0;           // bytes the member declares (an array: all its elements)
+    std::uint32_t array_size = 0;     // elements of an array, 0 for a member that is not one
+    std::uint32_t array_stride = 0;   // bytes from element to element of an array
+    std::uint32_t matrix_stride = 0;  // bytes from column to column of a matrix
+};
+
+// A resource a module reads: one descriptor of a Vulkan pipeline layout.
+struct ShaderResource {
+    std::string name;             // the sampler ("u_lean") or the block's type ("LfShadingBlock")
+    std::string descriptor_type;  // "combined_image_sampler" or "uniform_buffer"
+    std::string type;             // "sampler2D", "sampler2DArray", or the block's name
+    std::uint32_t set = 0;
+    std::uint32_t binding = 0;
+    std::uint32_t array_size = 1;            // descriptors (u_layer_maps[4]: 4)
+    std::uint32_t block_size = 0;            // uniform_buffer: bytes the block declares (std140)
+    std::vector<ShaderBlockMember> members;  // uniform_buffer: every member, by offset
+};
+
+// A stage input or output (a block's members one by one, "VertexData.uv").
+struct ShaderInterfaceVariable {
+    std::string name;
+    std::uint32_t location = 0;
+    std::string type;    // GLSL type: "vec2", "vec3", "vec4", "float"
+    std::string format;  // the Vulkan format of a vertex attribute of that type: "R32G32B32_SFLOAT"
+};
+
+// What a pipeline needs to know about a SPIR-V module (SPIRV-Cross's reflection of the module as
+// exported): its entry point, the resources it reads (and only those) by set and binding, its
+// inputs and outputs by location (built-ins left out).
+struct ShaderReflection {
+    std::string stage;        // "vertex" or "fragment"
+    std::string entry_point;  // "main"
+    std::vector<ShaderResource> resources;
+    std::vector<ShaderInterfaceVariable> inputs;
+    std::vector<ShaderInterfaceVariable> outputs;
+};
+
 struct ExportedShader {
     std::string variant;               // "scene_lean_plain", or "scene" for the vertex stage
     std::string stage;                 // "vert" or "frag"
@@ -48,7 +95,15 @@ struct ExportedShader {
     std::vector<std::string> defines;  // the variant's ("LF_TECHNIQUE 1", ...)
     std::string file_name;             // <variant>.<stage><extension>: "scene_lean.frag.spv"
     std::vector<std::uint8_t> bytes;   // the text, or the SPIR-V words (little-endian)
+    // SPIR-V only: the bytes glslang wrote before optimisation, and the optimised module's
+    // reflection.
+    std::size_t unoptimised_size = 0;
+    ShaderReflection reflection;
 };
+
+// The reflection of a SPIR-V module (words in host order). Throws leanfade::Error(file, cause)
+// when SPIRV-Cross cannot parse it.
+ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const std::string& file);
 
 // The vertex stage, then every scene variant's fragment stage, in shader_variants() order.
 // Throws leanfade::Error(<shader file>, <compiler message>) when glslang or SPIRV-Cross refuses a
