@@ -41,6 +41,8 @@ demo: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(CTEST_ARGS)
+	@# The Vulkan consumer's figures (validation messages, RMSE against leanfade render).
+	@if [ -f $(BUILD_DIR)/test-tmp/vulkan_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/vulkan_figures.txt; fi
 
 bench: build
 	@LEANFADE_EXTRA_PACKAGES=libnvtt-bin scripts/install-deps.sh

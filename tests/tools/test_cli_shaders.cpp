@@ -254,7 +254,7 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                 EXPECT_EQ(res["descriptor_type"], "combined_image_sampler") << name;
                 EXPECT_EQ(res["array_size"], name == "u_layer_maps" ? 4 : 1) << name;
                 EXPECT_EQ(res["type"], name == "u_base_color" || name == "u_base_roughness" ||
-                                               name == "u_layer_weights"
+                                               name == "u_layer_weights" || name == "u_plateau"
                                            ? "sampler2D"
                                            : "sampler2DArray")
                     << name;
