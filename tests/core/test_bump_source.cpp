@@ -84,20 +84,40 @@ TEST(LayerSettings, CountsAndRangesNameTheirSettings) {
         const char* part;
     } cases[] = {
         {[](LayerSettings& l) { l.sources = {"bumps"}; }, "layers", "2 to 4 sources, got 1"},
-        {[](LayerSettings& l) { l.sources = {"a", "b", "c", "d", "e"}; }, "layers", "got 5"},
-        {[](LayerSettings& l) { l.sources = {"bumps", ""}; }, "layers",
-         "source 2 of 2 is empty ('bumps,')"},
+        {[](LayerSettings& l) {
+             l.sources = {"a", "b", "c", "d", "e"};
+         },
+         "layers", "got 5"},
+        {[](LayerSettings& l) {
+             l.sources = {"bumps", ""};
+         },
+         "layers", "source 2 of 2 is empty ('bumps,')"},
         {[](LayerSettings& l) { l.weights = {1.0f}; }, "layer-weights",
          "one value per layer: 2 layers, 1 values"},
-        {[](LayerSettings& l) { l.weights = {0.3f, 0.3f}; }, "layer-weights", "sum to 1"},
-        {[](LayerSettings& l) { l.strengths = {1.0f, 0.0f}; }, "layer-strengths", "non-zero"},
-        {[](LayerSettings& l) { l.tiling = {1.0f, -2.0f}; }, "layer-tiling",
-         "each tiling must be in (0, 1e+06], as 'tiling', got -2"},
-        {[](LayerSettings& l) { l.tiling = {1.0f, 2.0f, 3.0f}; }, "layer-tiling", "3 values"},
-        {[](LayerSettings& l) { l.velocity = {{1e30f, 0.0f}, {0.0f, 0.0f}}; }, "layer-velocity",
-         "each component must be in [-1e+06, 1e+06]"},
-        {[](LayerSettings& l) { l.velocity = {{0.0f, 0.0f}}; }, "layer-velocity",
-         "one U:V per layer"},
+        {[](LayerSettings& l) {
+             l.weights = {0.3f, 0.3f};
+         },
+         "layer-weights", "sum to 1"},
+        {[](LayerSettings& l) {
+             l.strengths = {1.0f, 0.0f};
+         },
+         "layer-strengths", "non-zero"},
+        {[](LayerSettings& l) {
+             l.tiling = {1.0f, -2.0f};
+         },
+         "layer-tiling", "each tiling must be in (0, 1e+06], as 'tiling', got -2"},
+        {[](LayerSettings& l) {
+             l.tiling = {1.0f, 2.0f, 3.0f};
+         },
+         "layer-tiling", "3 values"},
+        {[](LayerSettings& l) {
+             l.velocity = {{1e30f, 0.0f}, {0.0f, 0.0f}};
+         },
+         "layer-velocity", "each component must be in [-1e+06, 1e+06]"},
+        {[](LayerSettings& l) {
+             l.velocity = {{0.0f, 0.0f}};
+         },
+         "layer-velocity", "one U:V per layer"},
     };
     for (const auto& c : cases) {
         LayerSettings layers = two_layers();
@@ -142,8 +162,8 @@ TEST(PresetLayers, BadLayersMapsAndNamesNameTheirKeys) {
         const char* part;
     } cases[] = {
         {R"({"layers": {"sources": ["bumps"]}})", "layers.sources", "2 to 4 sources"},
-        {R"({"layers": {"sources": ["bumps", "noise"], "weights": [0.3, 0.3]}})",
-         "layers.weights", "sum to 1"},
+        {R"({"layers": {"sources": ["bumps", "noise"], "weights": [0.3, 0.3]}})", "layers.weights",
+         "sum to 1"},
         {R"({"layers": {"sources": ["bumps", "noise"], "tiling": [1, 0]}})", "layers.tiling",
          "(0, 1e+06]"},
         {R"({"layers": {"sources": ["bumps", "noise"], "velocity": [[1, 0], [2]]}})",

@@ -12,7 +12,9 @@ std::string long_flag(const std::string& names) {
     return comma == std::string::npos ? names : names.substr(comma + 1);
 }
 
-std::vector<std::string> parse_names(const std::string& text) { return split(text, ','); }
+std::vector<std::string> parse_names(const std::string& text) {
+    return split(text, ',');
+}
 
 namespace {
 
@@ -102,7 +104,9 @@ std::vector<int> parse_sizes(const std::string& text, const std::string& flag, i
     return sizes;
 }
 
-std::string number_text(float value) { return shortest_text(value); }
+std::string number_text(float value) {
+    return shortest_text(value);
+}
 
 std::string vector_text(const glm::vec3& v) {
     return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);

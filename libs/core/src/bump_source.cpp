@@ -48,8 +48,8 @@ std::string joined(const std::vector<std::string>& names) {
 void check_count(std::size_t values, std::size_t layers, const std::string& setting,
                  const std::string& what) {
     if (values != 0 && values != layers)
-        throw Error(setting, "one " + what + " per layer: " + std::to_string(layers) +
-                                 " layers, " + std::to_string(values) + " values");
+        throw Error(setting, "one " + what + " per layer: " + std::to_string(layers) + " layers, " +
+                                 std::to_string(values) + " values");
 }
 
 }  // namespace
@@ -80,8 +80,7 @@ void validate(const LayerSettings& layers) {
     for (std::size_t i = 0; i < n; ++i)
         if (layers.sources[i].empty())
             throw Error("layers", "source " + std::to_string(i + 1) + " of " + std::to_string(n) +
-                                      " is empty ('" + escape_text(joined(layers.sources)) +
-                                      "')");
+                                      " is empty ('" + escape_text(joined(layers.sources)) + "')");
     check_count(layers.weights.size(), n, "layer-weights", "value");
     check_count(layers.strengths.size(), n, "layer-strengths", "value");
     check_count(layers.tiling.size(), n, "layer-tiling", "value");

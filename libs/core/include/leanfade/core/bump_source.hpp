@@ -12,8 +12,8 @@
 
 #include <glm/vec2.hpp>
 
-#include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/layers.hpp"
+#include "leanfade/core/lean_map.hpp"
 
 namespace leanfade {
 
@@ -43,7 +43,7 @@ void check_texture_size(int texture_size, int max_size, bool builtin,
 
 // One map and the settings of its bake on the fly (the "Bumps" flags of the command line).
 struct BumpSource {
-    std::string source = "bumps";  // built-in set name, height/normal map image, or .ktx2 map
+    std::string source = "bumps";        // built-in set name, height/normal map image, or .ktx2 map
     BakeSource from = BakeSource::Auto;  // images: by channel count, or height / normal
     bool directx = false;                // normal maps in the DirectX convention
     BakeStorage bits;                    // storage of on-the-fly bakes: auto
