@@ -419,13 +419,13 @@ void preset_seeds(const fs::path& dir) {
     write_file(dir / "defaults.json", preset_to_json(preset));
     preset.scene = "sphere";
     preset.bumps.source = "ridges";
-    preset.bumps.bits = "16f";
+    preset.bumps.bits = BakeStorage::fixed(Storage::Float16);
     preset.shading.fog = FogMode::Exp2;
     preset.shading.fade_distance = FadeDistance::Eye;
     preset.shading.anisotropy = 8;
     preset.shading.msaa = 4;
-    preset.techniques = {"bump", "fade"};
-    preset.layout = "split";
+    preset.techniques = {Technique::Bump, Technique::Fade};
+    preset.layout = PaneLayout::Split;
     preset.divider = 0.25f;
     write_file(dir / "split_fog.json", preset_to_json(preset));
     write_file(dir / "minimal.json", "{\"leanfade_preset\": 1, \"shading\": {\"fade\": 0.5}}");

@@ -21,9 +21,9 @@ Preset unusual_preset() {
     Preset p;
     p.scene = "torus";
     p.bumps.source = "ridges";
-    p.bumps.from = "normal";
+    p.bumps.from = BakeSource::Normal;
     p.bumps.directx = true;
-    p.bumps.bits = "16f";
+    p.bumps.bits = BakeStorage::fixed(Storage::Float16);
     p.bumps.seed = 4000000000u;
     p.bumps.texture_size = 128;
     ShadingSettings& s = p.shading;
@@ -53,8 +53,8 @@ Preset unusual_preset() {
     p.camera.direction = {0.6f, 0.48f, 0.64f};
     p.camera.distance = 17.25f;
     p.camera.fov_y_degrees = 41.0f;
-    p.techniques = {"bump", "fade", "reference"};
-    p.layout = "side-by-side";
+    p.techniques = {Technique::Bump, Technique::Fade, Technique::Reference};
+    p.layout = PaneLayout::SideBySide;
     p.divider = 0.3f;
     p.reference_samples = 6;
     p.resolution_scale = 0.5f;
@@ -79,7 +79,7 @@ TEST(Preset, RoundTripIsExact) {
     EXPECT_EQ(back.camera.target, p.camera.target);
     EXPECT_EQ(back.camera.distance, 17.25f);
     EXPECT_EQ(back.techniques, p.techniques);
-    EXPECT_EQ(back.layout, "side-by-side");
+    EXPECT_EQ(back.layout, PaneLayout::SideBySide);
     EXPECT_EQ(back.fly_away.far_distance, 120.0f);
     // Shortest exact numbers: 0.05f is written as 0.05, not 0.05000000074505806.
     EXPECT_NE(text.find("\"fresnel_bias\": 0.05,"), std::string::npos) << text;

@@ -33,7 +33,7 @@ std::vector<CaseResult> sample_cases() {
     std::vector<CaseResult> cases;
     for (float s : {128.0f, 1024.0f})
         for (float d : {2.0f, 8.0f})
-            for (const char* t : {"bump", "lean"}) {
+            for (Technique t : {Technique::Bump, Technique::Lean}) {
                 CaseResult c;
                 c.technique = t;
                 c.distance = d;
@@ -56,7 +56,7 @@ SweepInfo sample_info() {
     SweepInfo info;
     info.scene = "sphere";
     info.bumps = "bumps";
-    info.techniques = {"bump", "lean"};
+    info.techniques = {Technique::Bump, Technique::Lean};
     info.distances = {2.0f, 8.0f};
     info.shininesses = {128.0f, 1024.0f};
     info.width = 64;
@@ -194,7 +194,8 @@ TEST(ResultsFiles, ReportWithPlots) {
     images.shininess = 128.0f;
     images.distance = 2.0f;
     images.reference = Image(8, 8, 3, 0.5f);
-    images.techniques = {{"bump", Image(8, 8, 3, 0.2f)}, {"lean", Image(8, 8, 3, 0.4f)}};
+    images.techniques = {{Technique::Bump, Image(8, 8, 3, 0.2f)},
+                         {Technique::Lean, Image(8, 8, 3, 0.4f)}};
     const std::vector<std::string> notes =
         write_report(dir.string(), sample_info(), sample_cases(), {images});
     EXPECT_TRUE(notes.empty()) << notes.front();
@@ -233,7 +234,7 @@ namespace {
 CaseResult seed_case(double specular, double reference, double total, double reference_total,
                      int pixels) {
     CaseResult c;
-    c.technique = "lean";
+    c.technique = Technique::Lean;
     c.distance = 8.0f;
     c.shininess = 1024.0f;
     c.specular_mean = specular;

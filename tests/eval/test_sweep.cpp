@@ -30,7 +30,7 @@ class Sweep : public GlTest {
         renderer_->set_mesh(scene::make_scene_mesh(scene));
         renderer_->set_lean_map(builtin_map(bumps, 256));
     }
-    const eval::CaseResult& find(const eval::SweepOutput& out, const char* technique, float d,
+    const eval::CaseResult& find(const eval::SweepOutput& out, gl::Technique technique, float d,
                                  float s) {
         for (const eval::CaseResult& c : out.cases)
             if (c.technique == technique && c.distance == d && c.shininess == s) return c;
@@ -41,7 +41,7 @@ class Sweep : public GlTest {
             std::printf(
                 "%-8s d %-4g s %-6g energy %.4f rmse %.4f ssim %.4f flicker %.3f "
                 "(ref spp %d, ref energy error %.3f, %d px)\n",
-                c.technique.c_str(), c.distance, c.shininess, c.energy, c.rmse, c.ssim, c.flicker,
+                to_string(c.technique), c.distance, c.shininess, c.energy, c.rmse, c.ssim, c.flicker,
                 c.reference_spp, c.reference_energy_error, c.object_pixels);
     }
     std::unique_ptr<gl::Renderer> renderer_;
@@ -110,8 +110,8 @@ TEST_F(Sweep, LeanIsCloserToTheTruthThanTheBaselineFarAway) {
     int bump_energy_off = 0;
     for (float s : request.shininesses)
         for (float d : request.distances) {
-            const eval::CaseResult& bump = find(out, "bump", d, s);
-            const eval::CaseResult& lean = find(out, "lean", d, s);
+            const eval::CaseResult& bump = find(out, gl::Technique::Bump, d, s);
+            const eval::CaseResult& lean = find(out, gl::Technique::Lean, d, s);
             EXPECT_GT(lean.object_pixels, 30);
             bump_sum += bump.rmse;
             lean_sum += lean.rmse;
@@ -165,11 +165,12 @@ TEST_F(Sweep, AnisotropyMattersOnRidges) {
     request.keep_images = false;
     const eval::SweepOutput out = eval::run_sweep(*renderer_, request);
     print(out);
-    const eval::CaseResult& lean = find(out, "lean", 24.0f, 1024.0f);
-    for (const char* peer : {"toksvig", "clean"}) {
+    const eval::CaseResult& lean = find(out, gl::Technique::Lean, 24.0f, 1024.0f);
+    for (gl::Technique peer : {gl::Technique::Toksvig, gl::Technique::Clean}) {
         const eval::CaseResult& other = find(out, peer, 24.0f, 1024.0f);
-        EXPECT_GT(lean.ssim, other.ssim) << peer;
-        EXPECT_LT(std::abs(std::log(lean.energy)), std::abs(std::log(other.energy))) << peer;
+        EXPECT_GT(lean.ssim, other.ssim) << to_string(peer);
+        EXPECT_LT(std::abs(std::log(lean.energy)), std::abs(std::log(other.energy)))
+            << to_string(peer);
     }
 }
 
@@ -190,7 +191,8 @@ TEST_F(Sweep, FadeEnergyRelativeToLean) {
     double previous = 2.0;
     for (float d : request.distances) {
         const double ratio =
-            find(out, "fade", d, 256.0f).specular_mean / find(out, "lean", d, 256.0f).specular_mean;
+            find(out, gl::Technique::Fade, d, 256.0f).specular_mean /
+                find(out, gl::Technique::Lean, d, 256.0f).specular_mean;
         std::printf("d %g: fade / lean energy %.4f\n", d, ratio);
         if (d == request.distances.front()) {
             EXPECT_NEAR(ratio, 1.0, 0.02);
@@ -204,8 +206,8 @@ TEST_F(Sweep, FadeEnergyRelativeToLean) {
     request.distances = {2.0f, 24.0f};
     const eval::SweepOutput zero = eval::run_sweep(*renderer_, request);
     for (float d : request.distances)
-        EXPECT_EQ(find(zero, "fade", d, 256.0f).specular_mean,
-                  find(zero, "lean", d, 256.0f).specular_mean)
+        EXPECT_EQ(find(zero, gl::Technique::Fade, d, 256.0f).specular_mean,
+                  find(zero, gl::Technique::Lean, d, 256.0f).specular_mean)
             << "Fade = 0 must give ratio 1 exactly at distance " << d;
 }
 

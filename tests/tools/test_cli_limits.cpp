@@ -13,6 +13,7 @@
 
 #include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/eval/results.hpp"
 #include "leanfade/test/scratch.hpp"
 
@@ -135,6 +136,117 @@ TEST(CliLimits, EvalDistancesBeyondTheBoundAreRefused) {
     EXPECT_EQ(lines(r.err), 1u);
     EXPECT_FALSE(fs::exists(dir / "o"));
     EXPECT_THROW(eval::parse_distance_sweep("2:1e30:4", "--distances"), Error);
+}
+
+// Every flag's text becomes a typed value when the command line is parsed: bad text is one line
+// naming the subcommand, the flag and the cause, exit 1, before anything is read or written.
+TEST(CliTypedFlags, BadTextIsRefusedWhenParsed) {
+    const fs::path dir = scratch("typed");
+    const std::string out = " -o " + shell_quote((dir / "o.png").string());
+    const struct {
+        std::string command;
+        std::string message;
+    } cases[] = {
+        {"render --layers bumps,noise --mixings height,blend" + out,
+         "leanfade render: --mixings: unknown mixing method 'blend' (expected height, textures, "
+         "approx)\n"},
+        {"render --layers bumps,noise --mixing blend" + out,
+         "leanfade render: --mixing: unknown mixing method 'blend' (expected height, textures, "
+         "approx)\n"},
+        {"render --layers bumps,noise --layer-velocity 1" + out,
+         "leanfade render: --layer-velocity: expected U:V per layer, got '1'\n"},
+        {"render --layers bumps,noise --layer-weights 0.5,x" + out,
+         "leanfade render: --layer-weights: expected a finite number, got 'x'\n"},
+        {"render --techniques bump,phong" + out,
+         "leanfade render: --techniques: unknown technique 'phong' (expected " +
+             technique_names(all_techniques()) + ")\n"},
+        {"render --size 10x10" + out,
+         "leanfade render: --size: each side must be in [16, 8192] pixels, got '10x10'\n"},
+        {"render --fov 170" + out, "leanfade render: --fov: must be in (1, 170) degrees, got 170\n"},
+        {"render --view-dir 0,0,0" + out,
+         "leanfade render: --view-dir: must not be the zero vector\n"},
+        {"render --target 1,2" + out, "leanfade render: --target: expected X,Y,Z, got '1,2'\n"},
+        {"render --from heightmap" + out,
+         "leanfade render: --from: expected auto, height or normal, got 'heightmap'\n"},
+        {"eval --distances 0.5 --out " + shell_quote((dir / "e").string()),
+         "leanfade eval: --distances: distances are in bounding radii from the object's centre "
+         "and must be > 1, got 0.5\n"},
+        {"calibrate --target exp:x", "leanfade calibrate: --target: "},
+        {"bench --timing fast", "leanfade bench: --timing: "},
+        {"bench --bake-input png", "leanfade bench: --bake-input: expected normal or height, got "
+                                   "'png'\n"},
+        {"bench --scenes sphere,sphere",
+         "leanfade bench: --scenes: scene 'sphere' given twice\n"},
+    };
+    for (const auto& c : cases) {
+        const RunResult r = run_leanfade_bounded(c.command, dir, 60);
+        EXPECT_EQ(r.exit_code, 1) << c.command << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << c.command << ": " << r.err;
+        if (c.message.back() == '\n')
+            EXPECT_EQ(r.err, c.message) << c.command;
+        else
+            EXPECT_EQ(r.err.rfind(c.message, 0), 0u) << c.command << ": " << r.err;
+        EXPECT_TRUE(r.out.empty()) << c.command << ": " << r.out;
+    }
+    EXPECT_FALSE(fs::exists(dir / "o.png"));
+    EXPECT_FALSE(fs::exists(dir / "e"));
+}
+
+// The layers' counts and ranges are checked once, by the library, and named by their flags.
+TEST(CliTypedFlags, LayerRulesNameTheirFlags) {
+    const fs::path dir = scratch("layer_rules");
+    const std::string out = " --size 16x16 -o " + shell_quote((dir / "o.png").string());
+    const struct {
+        std::string flags;
+        std::string message;
+    } cases[] = {
+        {"--layers bumps",
+         "leanfade render: --layers: 2 to 4 sources, got 1 (a single map is the bump source, not "
+         "a layer)\n"},
+        {"--layers bumps,noise --layer-weights 0.3,0.3",
+         "leanfade render: --layer-weights: weights must sum to 1, got 0.600000\n"},
+        {"--layers bumps,noise --layer-tiling 1,2,3",
+         "leanfade render: --layer-tiling: one value per layer: 2 layers, 3 values\n"},
+        {"--layers bumps,noise --layer-tiling 1,-2",
+         "leanfade render: --layer-tiling: each tiling must be in (0, 1e+06], as --tiling, got "
+         "-2\n"},
+    };
+    for (const auto& c : cases) {
+        const RunResult r = run_leanfade_bounded("render " + c.flags + out, dir, 60);
+        EXPECT_EQ(r.exit_code, 1) << c.flags << ": " << r.err;
+        EXPECT_EQ(r.err, c.message) << c.flags;
+    }
+    EXPECT_FALSE(fs::exists(dir / "o.png"));
+}
+
+// A preset's layers and maps are checked by the preset's reader, naming the file and the key,
+// and a map kind that the rendering commands do not take is refused by name.
+TEST(CliTypedFlags, PresetLayersAndMapsAreChecked) {
+    const fs::path dir = scratch("preset_layers");
+    const struct {
+        std::string json;
+        std::string cause;
+    } cases[] = {
+        {R"({"layers": {"sources": ["bumps"]}})", "key 'layers.sources': 2 to 4 sources, got 1"},
+        {R"({"layers": {"sources": ["bumps", "noise"], "weights": [0.3, 0.3]}})",
+         "key 'layers.weights': weights must sum to 1"},
+        {R"({"maps": {"base_color_map": "x.png"}})",
+         "key 'maps.base_color_map': unknown map (expected roughness_map)"},
+    };
+    for (const auto& c : cases) {
+        {
+            std::ofstream file(dir / "p.json");
+            file << c.json;
+        }
+        const RunResult r = run_leanfade_bounded(
+            "render --preset " + shell_quote((dir / "p.json").string()) +
+                " --size 16x16 -o " + shell_quote((dir / "o.png").string()),
+            dir, 60);
+        EXPECT_EQ(r.exit_code, 1) << c.json << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << r.err;
+        EXPECT_NE(r.err.find("p.json: " + c.cause), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "o.png"));
 }
 
 }  // namespace

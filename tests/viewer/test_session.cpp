@@ -95,7 +95,7 @@ TEST_F(SessionTest, AcceptsEveryTechniqueOfTheTable) {
     auto session = make_session();
     EXPECT_EQ(session->techniques(), std::vector<gl::Technique>{gl::Technique::Lean});
     for (gl::Technique t : gl::all_techniques()) {
-        session->preset().techniques = {gl::to_string(t)};
+        session->preset().techniques = {t};
         EXPECT_EQ(session->techniques(), std::vector<gl::Technique>{t}) << gl::to_string(t);
     }
 }
@@ -129,9 +129,9 @@ TEST_F(SessionTest, MissingBumpsKeepTheMap) {
     EXPECT_EQ(session->preset().bumps.source, "bumps");
     EXPECT_EQ(render(*session).pixels, before.pixels);
     BumpSource invalid = session->preset().bumps;
-    invalid.bits = "12";
+    invalid.texture_size = 2;  // below kMinTextureSize
     EXPECT_FALSE(session->load_bumps(invalid));
-    EXPECT_EQ(session->preset().bumps.bits, "16");
+    EXPECT_EQ(session->preset().bumps.texture_size, 32);
 
     BumpSource ridges = session->preset().bumps;
     ridges.source = "ridges";
@@ -186,8 +186,8 @@ TEST_F(SessionTest, PresetsRoundTripAndBadOnesChangeNothing) {
     auto session = make_session();
     session->preset().shading.fade = 0.75f;
     session->preset().shading.fog = FogMode::Linear;
-    session->preset().techniques = {"bump", "fade"};
-    session->preset().layout = "split";
+    session->preset().techniques = {Technique::Bump, Technique::Fade};
+    session->preset().layout = PaneLayout::Split;
     session->camera().orbit(30.0f, 10.0f);
     session->camera().zoom(2.0f);
     const std::string saved = preset_to_json(session->snapshot());

@@ -65,6 +65,16 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
         // One line, naming the cause; CLI11's default adds a second line.
         print_error_line("leanfade: ", e.what(), " (see leanfade --help)");
         return 2;
+    } catch (const leanfade::Error& e) {
+        // A flag's value that its typed conversion refused (cli_text.hpp: add_typed_option),
+        // reported as the subcommand reports the errors of its run.
+        const Error named = with_flag_name(e);
+        const std::vector<CLI::App*> parsed = app.get_subcommands();
+        print_error_line(
+            parsed.empty() ? std::string("leanfade: ")
+                           : "leanfade " + parsed.front()->get_name() + ": ",
+            named.file().empty() ? named.cause() : named.file() + ": " + named.cause());
+        return 1;
     }
     if (options.parse_only) return 0;
 

@@ -36,7 +36,7 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
     plan.check();
 
     LeanSourceFlags flags;
-    flags.from = args.from;
+    flags.from = parse_bake_source(args.from, "--from");
     flags.directx = args.directx;
     flags.texture_size = args.size;
     flags.seed = args.seed;

@@ -20,16 +20,32 @@ const gl::TechniqueTiming& fill_timing(const gl::FrameBenchResult& result, gl::T
 
 }  // namespace
 
+const std::vector<std::string>& fig12_layers() {
+    static const std::vector<std::string> layers{"bumps", "noise"};
+    return layers;
+}
+
+const std::vector<glm::vec2>& fig12_velocities() {
+    static const std::vector<glm::vec2> velocities{{0.02f, 0.0f}, {-0.01f, 0.03f}};
+    return velocities;
+}
+
+LayerSettings fig12_layer_settings(const LayerSettings& layers) {
+    LayerSettings result = layers;
+    if (result.sources.empty()) result.sources = fig12_layers();
+    // Moving layers (their offsets change every frame), unless the command line sets them.
+    if (result.velocity.empty()) result.velocity = fig12_velocities();
+    return result;
+}
+
 std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlags& gl_flags,
                                               const RenderSourceFlags& input,
                                               const std::vector<std::string>& scene_names,
                                               gl::FrameBenchRequest request,
                                               const std::function<void(const std::string&)>& say) {
     RenderSourceFlags layered = input;
-    if (layered.layers.layers.empty()) layered.layers.layers = kFig12Layers;
-    // Moving layers (their offsets change every frame), unless the command line sets them.
-    if (layered.layers.velocity.empty()) layered.layers.velocity = kFig12Velocities;
-    if (split(layered.layers.layers, ',').size() != 2)
+    layered.layers = fig12_layer_settings(input.layers);
+    if (layered.layers.sources.size() != 2)
         throw Error("--layers", "the Fig. 12 columns mix two layers");
     request.fill = true;
     request.distances.clear();
@@ -44,7 +60,7 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
         RenderSourceFlags single = input;
         single.scene = name;
         single.layers = {};
-        single.bumps.bumps = split(layered.layers.layers, ',').front();
+        single.bumps.source = layered.layers.sources.front();
         const scene::Scene single_scene = load_render_scene(single, request.settings);
         request.techniques = {gl::Technique::Bump, gl::Technique::Lean};
         const gl::FrameBenchResult base =
@@ -72,7 +88,7 @@ std::vector<LayerBenchResult> run_layer_bench(gl::Context& context, const GlFlag
         for (const MixedColumn& column : mixed_columns) {
             RenderSourceFlags flags = layered;
             flags.scene = name;
-            flags.layers.mixing = to_string(column.mixing);
+            flags.layers.mixing = column.mixing;
             const scene::Scene scene = load_render_scene(flags, request.settings);
             request.techniques = {gl::Technique::Lean};
             const gl::FrameBenchResult mixed =

@@ -17,8 +17,10 @@ namespace leanfade::cli {
 
 // The two layers when --layers is not given, and their velocities (uv per second) in the mixed
 // columns when --layer-velocity is not given.
-inline constexpr const char* kFig12Layers = "bumps,noise";
-inline constexpr const char* kFig12Velocities = "0.02:0,-0.01:0.03";
+const std::vector<std::string>& fig12_layers();       // bumps, noise
+const std::vector<glm::vec2>& fig12_velocities();      // 0.02:0, -0.01:0.03
+// The layers and velocities the columns use: `layers`' own, else those above.
+LayerSettings fig12_layer_settings(const LayerSettings& layers);
 
 struct LayerBenchColumn {
     std::string key;    // JSON key: blinn_phong, single_lean, per_frame_generation, ...

@@ -55,7 +55,7 @@ nlohmann::json stats_json(const gl::SampleStats& s) {
 
 nlohmann::json ratios_json(const gl::ViewResult& view) {
     nlohmann::json ratios = nlohmann::json::object();
-    for (const auto& [name, value] : view_ratios(view)) ratios[name] = value;
+    for (const OverheadRatio& ratio : view_ratios(view)) ratios[ratio.name()] = ratio.value;
     return ratios;
 }
 
@@ -83,18 +83,21 @@ BenchSystem describe_system() {
     return s;
 }
 
-std::vector<std::pair<std::string, double>> view_ratios(const gl::ViewResult& view) {
-    std::vector<std::pair<std::string, double>> ratios;
+std::string OverheadRatio::name() const {
+    return std::string(to_string(technique)) + "/" +
+           (baseline ? std::string(to_string(*baseline)) : std::string(gl::kFloorName));
+}
+
+std::vector<OverheadRatio> view_ratios(const gl::ViewResult& view) {
+    std::vector<OverheadRatio> ratios;
     for (const TechniqueInfo& row : kTechniques)
         if (row.overhead_of != row.id && view.find(row.id) != nullptr &&
             view.find(row.overhead_of) != nullptr)
-            ratios.emplace_back(std::string(row.name) + "/" + to_string(row.overhead_of),
-                                view.ratio(row.id, row.overhead_of));
+            ratios.push_back({row.id, row.overhead_of, view.ratio(row.id, row.overhead_of)});
     if (view.floor() != nullptr)
         for (const gl::TechniqueTiming& t : view.timings)
             if (t.technique)
-                ratios.emplace_back(t.name + "/" + gl::kFloorName,
-                                    view.ratio_to_floor(*t.technique));
+                ratios.push_back({*t.technique, std::nullopt, view.ratio_to_floor(*t.technique)});
     return ratios;
 }
 
@@ -142,19 +145,20 @@ std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenc
     header = pad("ratio", first);
     for (const gl::SceneResult& s : result.scenes) header += pad(s.name, cell);
     out += header + "\n";
-    std::vector<std::string> ratio_names;
+    std::vector<OverheadRatio> pairs;  // every pair measured in some scene, first seen first
     for (const gl::SceneResult& s : result.scenes)
         if (const gl::ViewResult* v = headline_view(s))
-            for (const auto& [name, value] : view_ratios(*v))
-                if (std::find(ratio_names.begin(), ratio_names.end(), name) == ratio_names.end())
-                    ratio_names.push_back(name);
-    for (const std::string& ratio : ratio_names) {
-        std::string row = pad(ratio, first);
+            for (const OverheadRatio& ratio : view_ratios(*v))
+                if (std::none_of(pairs.begin(), pairs.end(),
+                                 [&](const OverheadRatio& p) { return p.same_pair(ratio); }))
+                    pairs.push_back(ratio);
+    for (const OverheadRatio& pair : pairs) {
+        std::string row = pad(pair.name(), first);
         for (const gl::SceneResult& s : result.scenes) {
             std::string text = "-";
             if (const gl::ViewResult* v = headline_view(s))
-                for (const auto& [name, value] : view_ratios(*v))
-                    if (name == ratio) text = format("%.3f", value);
+                for (const OverheadRatio& ratio : view_ratios(*v))
+                    if (ratio.same_pair(pair)) text = format("%.3f", ratio.value);
             row += pad(text, cell);
         }
         out += row + "\n";

@@ -2,6 +2,7 @@
 // Tables and JSON of `leanfade bench`: frame times in the layout of the LEAN paper's Fig. 12 (a
 // row per technique, a column per scene), overhead ratios, bake throughput and per-frame
 // generation.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,9 +36,23 @@ struct GenerateBenchRow {
     double texels_per_second = 0.0;  // top-level texels / median total
 };
 
-// The ratios reported per scene and per view: lean/bump, fade/lean and every technique against
-// the floor (".../floor"); those whose techniques were not measured are left out.
-std::vector<std::pair<std::string, double>> view_ratios(const gl::ViewResult& view);
+// One overhead ratio: the frame time of `technique` over that of `baseline` (none: the
+// constant-colour floor), the median of per-round ratios.
+struct OverheadRatio {
+    Technique technique = Technique::Lean;
+    std::optional<Technique> baseline;
+    double value = 0.0;
+
+    std::string name() const;  // "lean/bump", "fade/floor"
+    bool same_pair(const OverheadRatio& other) const {
+        return technique == other.technique && baseline == other.baseline;
+    }
+};
+
+// The ratios reported per scene and per view: each technique against the one its row of the
+// technique table names (lean/bump, fade/lean) and every technique against the floor; those
+// whose techniques were not measured are left out.
+std::vector<OverheadRatio> view_ratios(const gl::ViewResult& view);
 
 std::string frame_tables(const gl::FrameBenchResult& result, const gl::FrameBenchRequest& request);
 std::string bake_table(const BakeBenchResult& result);

@@ -15,7 +15,8 @@ namespace {
 // names are their flags' already).
 constexpr std::string_view kOtherSettings[] = {
     "techniques", "distances", "spp", "frames", "motion", "size", "timing", "warmup", "scenes",
-    "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from",
+    "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from", "texture_size",
+    "max_size",
     "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
     "layer-weight-map", "strict_normals",
 };

@@ -4,7 +4,6 @@
 #include <cctype>
 #include <filesystem>
 
-#include "cli_preset.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/flow_map.hpp"
 #include "leanfade/core/text.hpp"
@@ -28,9 +27,9 @@ void add_ocean_options(CLI::App& app, OceanFlags& flags) {
                    "(red = +u, green = +v, 0.5 = still)")
         ->capture_default_str()
         ->group(group);
-    app.add_option("--views", flags.views,
-                   "Rows of `render`: the ocean's cameras near, mid, far, comma-separated")
-        ->capture_default_str()
+    add_typed_option(app, "--views", flags.views, parse_names,
+                     "Rows of `render`: the ocean's cameras near, mid, far, comma-separated",
+                     join(flags.views))
         ->group(group);
 }
 
@@ -63,17 +62,16 @@ scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFla
     return settings;
 }
 
-void apply_ocean_shading(ShadingFlags& shading, CLI::App& app, const scene::OceanSettings& settings,
+void apply_ocean_shading(ShadingFlags& shading, const CLI::App& app, const scene::OceanSettings& settings,
                          float aspect) {
-    set_shading_flags(scene::ocean_shading(settings, aspect), shading);
-    reapply_explicit_options(app);
+    set_shading_defaults(scene::ocean_shading(settings, aspect), app, shading);
 }
 
-std::vector<gl::FigureRequest::NamedView> ocean_views(const std::string& views,
+std::vector<gl::FigureRequest::NamedView> ocean_views(const std::vector<std::string>& views,
                                                       const scene::OceanSettings& settings,
                                                       const glm::mat4& model) {
     std::vector<gl::FigureRequest::NamedView> result;
-    for (const std::string& name : split(views, ',')) {
+    for (const std::string& name : views) {
         scene::OceanCamera camera;
         try {
             camera = scene::ocean_camera(name, settings);

@@ -22,7 +22,7 @@ bool is_ocean_scene(const std::string& scene);
 struct OceanFlags {
     int layers = 2;                      // --ocean-layers: 2..4 wave layers
     std::string flow = "none";           // --flow: none | gyre | an RG flow-map image
-    std::string views = "near,mid,far";  // --views: the rows of `render --scene ocean`
+    std::vector<std::string> views{"near", "mid", "far"};  // --views: rows of `render --scene ocean`
 };
 
 // --ocean-layers --flow --views, in the "Ocean (--scene ocean)" group.
@@ -34,13 +34,13 @@ void add_ocean_options(CLI::App& app, OceanFlags& flags);
 scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps);
 
 // The ocean's shading (scene::ocean_shading) for images of width / height `aspect` becomes the
-// shading flags' values, then the flags given on the command line are applied again on top.
-void apply_ocean_shading(ShadingFlags& shading, CLI::App& app, const scene::OceanSettings& settings,
+// value of every shading flag not given on the command line.
+void apply_ocean_shading(ShadingFlags& shading, const CLI::App& app, const scene::OceanSettings& settings,
                          float aspect);
 
 // The cameras named by --views as the rows of a figure, in the renderer's world space (`model`:
 // Renderer::model_matrix() of the ocean). Throws leanfade::Error("--views", cause).
-std::vector<gl::FigureRequest::NamedView> ocean_views(const std::string& views,
+std::vector<gl::FigureRequest::NamedView> ocean_views(const std::vector<std::string>& views,
                                                       const scene::OceanSettings& settings,
                                                       const glm::mat4& model);
 

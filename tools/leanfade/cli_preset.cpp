@@ -1,105 +1,70 @@
-// Presets on the command line: preset values as flag defaults, explicit flags on top.
+// Presets on the command line: preset values for the flags not given (cli_preset.hpp).
 #include "cli_preset.hpp"
 
-#include <charconv>
-#include <cmath>
-#include <cstdlib>
+#include <algorithm>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
-#include "leanfade/core/text.hpp"
-#include "leanfade/gl/renderer.hpp"
-#include "leanfade/core/technique.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/scene/map_kinds.hpp"
 
 namespace leanfade::cli {
 
-void set_shading_flags(const ShadingSettings& settings, ShadingFlags& flags) {
-    flags.settings = settings;
-    // Empty text flags keep flags.settings' values (see resolve_shading).
-    for (auto& [key, text] : flags.text) text.clear();
+bool given(const CLI::App& app, const std::string& flag) { return app.count(flag) > 0; }
+
+namespace {
+
+// The preset key of the map kind that the rendering commands take as a flag: its row's setting
+// with '_' for '-' ("roughness_map"), as the other keys of a preset.
+const std::string& roughness_map_setting() {
+    static const std::string key = [] {
+        std::string setting(scene::info(scene::MapKind::BaseRoughness).setting);
+        std::replace(setting.begin(), setting.end(), '-', '_');
+        return setting;
+    }();
+    return key;
 }
 
-void set_source_flags(const BumpSource& source, LeanSourceFlags& flags) {
-    flags.bumps = source.source;
-    flags.from = source.from;
-    flags.directx = source.directx;
-    flags.bits = source.bits;
-    flags.seed = source.seed;
-    flags.texture_size = source.texture_size;
-}
+}  // namespace
 
-BumpSource to_bump_source(const LeanSourceFlags& flags) {
-    BumpSource source;
-    source.source = flags.bumps;
-    source.from = flags.from;
-    source.directx = flags.directx;
-    source.bits = flags.bits;
-    source.seed = flags.seed;
-    source.texture_size = flags.texture_size;
-    return source;
-}
-
-void reapply_explicit_options(CLI::App& app) {
-    for (CLI::Option* option : app.get_options())
-        if (option->count() > 0) option->run_callback();
-}
-
-void check_preset_techniques(const Preset& preset, const std::string& file) {
-    for (const std::string& name : preset.techniques) {
-        try {
-            gl::parse_technique(name, file + ": key 'view.techniques'");
-        } catch (const Error& error) {  // the name is text of the file: escaped
-            throw Error(error.file(), escape_text(error.cause(), 2000));
-        }
+void set_source_defaults(const Preset& preset, const std::string& file, const CLI::App& app,
+                         RenderSourceFlags& flags, ShadingFlags& shading) {
+    set_unless_given(app, "--scene", flags.scene, preset.scene);
+    LeanSourceFlags& b = flags.bumps;
+    set_unless_given(app, "--bumps", b.source, preset.bumps.source);
+    set_unless_given(app, "--from", b.from, preset.bumps.from);
+    set_unless_given(app, "--directx", b.directx, preset.bumps.directx);
+    set_unless_given(app, "--bits", b.bits, preset.bumps.bits);
+    set_unless_given(app, "--seed", b.seed, preset.bumps.seed);
+    set_unless_given(app, "--texture-size", b.texture_size, preset.bumps.texture_size);
+    // The preset's layers unless the command line gives its own (or --bumps: one map); the
+    // layer flags given change them.
+    if (!given(app, "--layers") && !given(app, "--bumps")) {
+        LayerSettings& l = flags.layers;
+        l.sources = preset.layers.sources;
+        set_unless_given(app, "--layer-weights", l.weights, preset.layers.weights);
+        set_unless_given(app, "--layer-strengths", l.strengths, preset.layers.strengths);
+        set_unless_given(app, "--layer-tiling", l.tiling, preset.layers.tiling);
+        set_unless_given(app, "--layer-velocity", l.velocity, preset.layers.velocity);
+        set_unless_given(app, "--layer-weight-map", l.weight_map, preset.layers.weight_map);
+        set_unless_given(app, "--mixing", l.mixing, preset.layers.mixing);
     }
-}
-
-std::string number_text(float value) { return shortest_text(value); }
-
-std::string vector_text(const glm::vec3& v) {
-    return number_text(v.x) + "," + number_text(v.y) + "," + number_text(v.z);
-}
-
-std::string join(const std::vector<std::string>& names) {
-    std::string text;
-    for (const std::string& n : names) text += (text.empty() ? "" : ",") + n;
-    return text;
-}
-
-glm::vec3 parse_vector(const std::string& text, const std::string& flag) {
-    glm::vec3 v(0.0f);
-    std::size_t start = 0;
-    for (int i = 0; i < 3; ++i) {
-        const std::size_t comma = text.find(',', start);
-        const bool last = i == 2;
-        if ((comma == std::string::npos) != last)
-            throw Error(flag, "expected X,Y,Z, got '" + text + "'");
-        const std::string part = text.substr(start, last ? std::string::npos : comma - start);
-        const std::optional<float> value = parse_finite_float(part);
-        if (!value) throw Error(flag, "expected X,Y,Z, got '" + text + "'");
-        v[i] = *value;
-        start = comma + 1;
+    for (const MapFile& map : preset.maps) {
+        if (map.kind != roughness_map_setting())
+            throw Error(file, "key 'maps." + escape_text(map.kind) + "': unknown map (expected " +
+                                  roughness_map_setting() + ")");
+        set_unless_given(app, map_flag(scene::MapKind::BaseRoughness), b.roughness_map,
+                         map.path);
     }
-    return v;
+    set_shading_defaults(preset.shading, app, shading);
 }
 
-glm::vec3 parse_view_direction(const std::string& text) {
-    const glm::vec3 direction = parse_vector(text, "--view-dir");
-    if (direction == glm::vec3(0.0f)) throw Error("--view-dir", "must not be the zero vector");
-    return direction;
-}
-
-float checked_fov(float degrees) {
-    check_field_of_view(degrees, "--fov");
-    return degrees;
-}
-
-int checked_reference_samples(int k) {
-    if (k < 1 || k > kMaxReferenceSamples)
-        throw Error("--ref-samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
-                                         "], got " + std::to_string(k));
-    return k;
+void set_preset_source(const RenderSourceFlags& flags, Preset& preset) {
+    preset.scene = flags.scene;
+    preset.bumps = flags.bumps;  // the BumpSource part of the flags
+    preset.layers = flags.layers;
+    preset.maps.clear();
+    if (!flags.bumps.roughness_map.empty())
+        preset.maps.push_back({roughness_map_setting(), flags.bumps.roughness_map});
 }
 
 }  // namespace leanfade::cli

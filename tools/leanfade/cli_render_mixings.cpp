@@ -32,14 +32,26 @@ eval::Mask object_pixels(const Image& a, const Image& reference, const glm::vec3
 
 }  // namespace
 
+void add_mixings_option(CLI::App& app, MixingFigureArgs& args) {
+    add_typed_option(
+        app, "--mixings", args.mixings,
+        [](const std::string& text) {
+            std::vector<LayerMixing> mixings;
+            for (const std::string& name : split(text, ','))
+                mixings.push_back(parse_layer_mixing(name, "--mixings"));
+            return mixings;
+        },
+        "With --layers: a column per mixing method (comma-separated, the first is the "
+        "reference of the printed relative RMSE and energy)")
+        ->group("Bump layers (docs/math.md §6)");
+}
+
 int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& input,
                       gl::FigureRequest request, const GlFlags& gl_flags,
                       const std::vector<std::string>& inputs) {
-    if (input.layers.layers.empty())
+    if (input.layers.empty())
         throw Error("--mixings", "compares the mixing methods of bump layers: give --layers");
-    std::vector<LayerMixing> mixings;
-    for (const std::string& name : split(args.mixings, ','))
-        mixings.push_back(parse_layer_mixing(name, "--mixings"));
+    const std::vector<LayerMixing>& mixings = args.mixings;
     if (mixings.size() < 2) throw Error("--mixings", "give two methods or more to compare");
     io::OutputPlan plan;
     for (const std::string& path : inputs) plan.add_input(path);
@@ -58,7 +70,7 @@ int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& inp
     std::vector<gl::Figure> specular;  // the same cells' specular term: what mixing changes
     for (LayerMixing mixing : mixings) {
         RenderSourceFlags flags = input;
-        flags.layers.mixing = to_string(mixing);
+        flags.layers.mixing = mixing;
         renderer.set_scene(load_render_scene(flags, request.settings));
         figures.push_back(gl::render_figure(renderer, request));
         gl::FigureRequest specular_request = request;
@@ -121,7 +133,7 @@ int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& inp
         io::AtomicFile file(outputs.stage(args.table));
         file.write(text.data(), text.size());
         file.commit();
-        const std::string json = nlohmann::json{{"layers", input.layers.layers},
+        const std::string json = nlohmann::json{{"layers", join(input.layers.sources)},
                                                 {"cases", table}}.dump(2) + "\n";
         io::AtomicFile json_file(outputs.stage(json_path));
         json_file.write(json.data(), json.size());

@@ -4,6 +4,7 @@
 // column per method (and technique), a row per distance, and the relative RMSE and energy of
 // every column against the first method's, printed and written as CSV and JSON.
 #include <string>
+#include <vector>
 
 #include "cli_render_scene.hpp"
 #include "leanfade/gl/figure.hpp"
@@ -11,11 +12,13 @@
 namespace leanfade::cli {
 
 struct MixingFigureArgs {
-    std::string mixings;  // comma-separated names of kLayerMixings, the first is the reference
+    std::vector<LayerMixing> mixings;  // the methods compared, the first is the reference
     std::string table;    // CSV file of the metrics (a .json beside it), or empty
     std::string output;   // the picture
 };
 
+// --mixings: names of kLayerMixings, comma-separated.
+void add_mixings_option(CLI::App& app, MixingFigureArgs& args);
 // Renders and writes the figure; returns the exit code. Throws leanfade::Error naming the flag.
 int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& input,
                       gl::FigureRequest request, const GlFlags& gl_flags,

@@ -18,6 +18,8 @@
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/png_io.hpp"
 #include "leanfade/core/camera.hpp"
+#include "leanfade/core/technique.hpp"
+#include "leanfade/eval/results.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -83,7 +85,13 @@ void add_shading_options(CLI::App& app, ShadingFlags& f) {
             case ParameterKind::Colour:
             case ParameterKind::Direction:
             case ParameterKind::Choice:
-                option = app.add_option(flag, f.text[std::string(row.key)], help)
+                // Parsed into the settings when given; parse_parameter names the setting.
+                option = app.add_option_function<std::string>(
+                                flag,
+                                [&f, &row](const std::string& text) {
+                                    parse_parameter(row, text, f.settings);
+                                },
+                                help)
                              ->default_str(format_parameter(row, defaults));
                 if (row.kind == ParameterKind::Colour) option->type_name("R,G,B");
                 if (row.kind == ParameterKind::Direction) option->type_name("X,Y,Z");
@@ -94,18 +102,37 @@ void add_shading_options(CLI::App& app, ShadingFlags& f) {
 }
 
 ShadingSettings resolve_shading(const ShadingFlags& f) {
-    ShadingSettings s = f.settings;
-    for (const auto& [key, text] : f.text)
-        if (!text.empty()) parse_parameter(*find_shading_parameter(key), text, s);
-    validate(s);
-    return s;
+    validate(f.settings);
+    return f.settings;
+}
+
+void set_shading_defaults(const ShadingSettings& settings, const CLI::App& app,
+                          ShadingFlags& flags) {
+    for (const ParameterInfo& row : shading_parameters()) {
+        if (app.count(flag_for_setting(row.key)) > 0) continue;
+        switch (row.kind) {
+            case ParameterKind::Scalar:
+                flags.settings.*row.scalar = settings.*row.scalar;
+                break;
+            case ParameterKind::Integer:
+                flags.settings.*row.integer = settings.*row.integer;
+                break;
+            case ParameterKind::Colour:
+            case ParameterKind::Direction:
+                flags.settings.*row.vector = settings.*row.vector;
+                break;
+            case ParameterKind::Choice:
+                row.set_choice(flags.settings, row.get_choice(settings));
+                break;
+        }
+    }
 }
 
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
     const std::string group = "Bumps";
     std::string names;
     for (const std::string& n : builtin_bump_names()) names += (names.empty() ? "" : ", ") + n;
-    app.add_option("--bumps", f.bumps,
+    app.add_option("--bumps", f.source,
                    "Built-in bump set (" + names +
                        "), a height/normal map image, or a .ktx2 LEAN map from `leanfade bake` "
                        "(an OBJ scene with MTL materials uses their bump maps unless --bumps "
@@ -113,10 +140,12 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->capture_default_str()
         ->each([&f](const std::string&) { f.bumps_given = true; })
         ->group(group);
-    app.add_option("--from", f.from,
-                   "Image inputs: " + name_list(bake_source_names()) +
-                       " (auto: 1-2 channels height, 3-4 normal, as bake)")
-        ->capture_default_str()
+    add_typed_option(
+        app, "--from", f.from,
+        [](const std::string& text) { return parse_bake_source(text, "--from"); },
+        "Image inputs: " + name_list(bake_source_names()) +
+            " (auto: 1-2 channels height, 3-4 normal, as bake)",
+        to_string(f.from))
         ->group(group);
     app.add_flag("--directx", f.directx, "Normal maps use the DirectX convention (-Y)")
         ->group(group);
@@ -124,16 +153,22 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
                  "Normal maps: refuse texels with z <= 0 instead of taking (0, 0, 0) padding as "
                  "flat and raising the others (counted and reported)")
         ->group(group);
-    app.add_option("--bits", f.bits,
-                   "Storage of on-the-fly bakes: " + name_list(bake_storage_names()) +
-                       " (auto: 16, or 16f/32f by the predicted error, as bake)")
-        ->capture_default_str()
+    add_typed_option(
+        app, "--bits", f.bits,
+        [](const std::string& text) { return parse_bake_storage_choice(text, "--bits"); },
+        "Storage of on-the-fly bakes: " + name_list(bake_storage_names()) +
+            " (auto: 16, or 16f/32f by the predicted error, as bake)",
+        to_string(f.bits))
         ->group(group);
-    app.add_option("--strength-unit", f.strength_unit,
-                   "Unit of --strength for height maps baked on the fly: texel (height per texel "
-                   "spacing) or uv (height per UV unit: the same slopes at any resolution)")
+    add_typed_option(
+        app, "--strength-unit", f.strength_unit,
+        [](const std::string& text) {
+            return text == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+        },
+        "Unit of --strength for height maps baked on the fly: texel (height per texel "
+        "spacing) or uv (height per UV unit: the same slopes at any resolution)",
+        f.strength_unit == StrengthUnit::Uv ? "uv" : "texel")
         ->check(CLI::IsMember({"texel", "uv"}))
-        ->capture_default_str()
         ->group(group);
     app.add_option("--seed", f.seed, "Seed of the built-in bump set")
         ->capture_default_str()
@@ -160,26 +195,14 @@ bool is_builtin_bumps(const std::string& source) {
     return std::find(builtins.begin(), builtins.end(), source) != builtins.end();
 }
 
-void check_texture_size(int texture_size, int max_size, bool builtin) {
-    const int largest =
-        builtin ? std::min(max_size, kDefaultMaxImageDimension) : kDefaultMaxImageDimension;
-    if (texture_size < 4 || texture_size > largest)
-        throw Error("--texture-size",
-                    "must be in [4, " + std::to_string(largest) + "]" +
-                        (largest < kDefaultMaxImageDimension ? " (--max-size)" : "") + ", got " +
-                        std::to_string(texture_size));
-}
-
 std::string map_flag(scene::MapKind kind) {
     return "--" + std::string(scene::info(kind).setting);
 }
 
-Storage on_the_fly_storage(const LeanSourceFlags& f) { return parse_bake_storage(f.bits); }
-
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {
     BakeOptions options;
     options.strength = settings.bump_strength;
-    options.strength_unit = f.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+    options.strength_unit = f.strength_unit;
     options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.strict_normals = f.strict_normals;
     return options;
@@ -187,41 +210,38 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
 
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
     const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
-    const BakeSource source = parse_bake_source(f.from);
-    check_texture_size(f.texture_size, f.max_size, is_builtin_bumps(f.bumps));
-    const Storage storage = on_the_fly_storage(f);
+    check_texture_size(f.texture_size, f.max_size, is_builtin_bumps(f.source));
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;
-    if (ends_with(f.bumps, ".ktx2")) return io::read_ktx2(f.bumps, read_options);
-    if (!io::lean_png_pair_base(f.bumps).empty())  // NAME.lean1.png from `bake --format png`
-        return io::read_lean_png_pair(f.bumps, read_options);
+    if (ends_with(f.source, ".ktx2")) return io::read_ktx2(f.source, read_options);
+    if (!io::lean_png_pair_base(f.source).empty())  // NAME.lean1.png from `bake --format png`
+        return io::read_lean_png_pair(f.source, read_options);
 
     const BakeOptions options = on_the_fly_bake_options(f, settings);
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
     // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
-        return bake_with_auto_storage(storage, f.bits == "auto", [&](Storage s) {
-            return bake_packed(input, kind, options, s, generator, f.bumps);
+        return bake_with_auto_storage(f.bits.storage, f.bits.automatic, [&](Storage s) {
+            return bake_packed(input, kind, options, s, generator, f.source);
         });
     };
-    const auto& builtins = builtin_bump_names();
-    if (std::find(builtins.begin(), builtins.end(), f.bumps) != builtins.end())
-        return bake(make_builtin_height(f.bumps, f.texture_size, f.seed), BakeSource::Height)
+    if (is_builtin_bumps(f.source))
+        return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
             .packed;
-    const Image image = io::read_image(f.bumps, read_options);
-    PackedBakeResult baked = bake(image, source);
+    const Image image = io::read_image(f.source, read_options);
+    PackedBakeResult baked = bake(image, f.from);
     // A strength other than the default was given (flag or preset) for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)
-        throw Error(f.bumps, "is a normal map: --strength applies to height maps only");
+        throw Error(f.source, "is a normal map: --strength applies to height maps only");
     if (baked.packed.normal_repairs.any())
         std::fprintf(stderr, "leanfade: %s\n",
-                     normal_repairs_note(f.bumps, baked.packed.normal_repairs).c_str());
+                     normal_repairs_note(f.source, baked.packed.normal_repairs).c_str());
     if (baked.source == BakeSource::Normal) {
         const NormalConventionCheck check = check_normal_convention(image, options.convention);
         if (check.looks_flipped())
             std::fprintf(stderr, "leanfade: warning: %s\n",
-                         convention_warning(f.bumps, f.directx,
+                         convention_warning(f.source, f.directx,
                                             check.curl_as_read /
                                                 std::max(check.curl_flipped, 1e-30))
                              .c_str());
@@ -240,17 +260,51 @@ gl::ShaderSources shader_sources(const GlFlags& flags) {
                                     : gl::ShaderSources::directory(flags.shader_dir);
 }
 
-void add_camera_options(CLI::App& app, float& fov, std::string& view_dir, const char* view_from,
-                        std::string* target) {
-    app.add_option("--fov", fov, "Vertical field of view in degrees")->capture_default_str();
-    app.add_option("--view-dir", view_dir,
-                   std::string("Direction from ") + view_from +
-                       " toward the eye, world space (y up)")
-        ->capture_default_str();
+CLI::Option* add_techniques_option(CLI::App& app, const std::string& flag,
+                                   std::vector<Technique>& techniques, const std::string& help) {
+    return add_typed_option(
+        app, flag, techniques,
+        [flag](const std::string& text) { return parse_techniques(text, flag); }, help,
+        join_technique_names(techniques));
+}
+
+CLI::Option* add_size_option(CLI::App& app, const std::string& flag, FramebufferSize& size,
+                             const std::string& help) {
+    return add_typed_option(
+        app, flag, size, [flag](const std::string& text) { return parse_size(text, flag); }, help,
+        size_text(size));
+}
+
+CLI::Option* add_distance_sweep_option(CLI::App& app, std::vector<float>& distances,
+                                       const std::string& help, const std::string& default_text) {
+    return add_typed_option(
+        app, "--distances", distances,
+        [](const std::string& text) { return eval::parse_distance_sweep(text, "--distances"); },
+        help, default_text);
+}
+
+void add_camera_options(CLI::App& app, float& fov, glm::vec3& view_dir, const char* view_from,
+                        glm::vec3* target) {
+    add_typed_option(
+        app, "--fov", fov,
+        [](const std::string& text) {
+            float degrees = 0.0f;
+            if (!parse_finite(text, degrees))
+                throw Error("--fov", "expected a finite number, got '" + text + "'");
+            check_field_of_view(degrees, "--fov");
+            return degrees;
+        },
+        "Vertical field of view in degrees", number_text(fov));
+    add_typed_option(app, "--view-dir", view_dir, parse_view_direction,
+                     std::string("Direction from ") + view_from +
+                         " toward the eye, world space (y up)",
+                     vector_text(view_dir));
     if (target != nullptr) {
-        app.add_option("--target", *target,
-                       "Point the camera looks at, world units (bounding radii; 0 = the centre)")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--target", *target,
+            [](const std::string& text) { return parse_vector(text, "--target"); },
+            "Point the camera looks at, world units (bounding radii; 0 = the centre)",
+            vector_text(*target));
     }
 }
 
@@ -258,6 +312,19 @@ void add_reference_samples_option(CLI::App& app, int& ref_samples) {
     app.add_option("--ref-samples", ref_samples,
                    "Reference: k x k samples per pixel at LOD 0 (docs/math.md §7)")
         ->capture_default_str();
+}
+
+glm::vec3 parse_view_direction(const std::string& text) {
+    const glm::vec3 direction = parse_vector(text, "--view-dir");
+    if (direction == glm::vec3(0.0f)) throw Error("--view-dir", "must not be the zero vector");
+    return direction;
+}
+
+int checked_reference_samples(int k) {
+    if (k < 1 || k > kMaxReferenceSamples)
+        throw Error("--ref-samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
+                                         "], got " + std::to_string(k));
+    return k;
 }
 
 void add_gl_options(CLI::App& app, GlFlags& f) {
@@ -268,35 +335,6 @@ void add_gl_options(CLI::App& app, GlFlags& f) {
     app.add_option("--egl-device", f.egl_device,
                    "EGL device index (default: LEANFADE_EGL_DEVICE, else automatic)")
         ->group(group);
-}
-
-std::vector<float> parse_distances(const std::string& text, const std::string& flag) {
-    std::vector<float> result;
-    for (const std::string& part : split(text, ',')) {
-        float d = 0.0f;
-        if (!parse_finite(part, d))
-            throw Error(flag, "expected comma-separated numbers, got '" + text + "'");
-        check_camera_distance(d, flag, part);
-        result.push_back(d);
-    }
-    return result;
-}
-
-std::pair<int, int> parse_size(const std::string& text, const std::string& flag) {
-    const std::size_t x = text.find('x');
-    auto parse_int = [&](const std::string& s, int& v) {
-        if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos)
-            return false;
-        v = std::stoi(s);
-        return true;
-    };
-    int w = 0, h = 0;
-    if (x == std::string::npos || !parse_int(text.substr(0, x), w) ||
-        !parse_int(text.substr(x + 1), h))
-        throw Error(flag, "expected WIDTHxHEIGHT in pixels, got '" + text + "'");
-    if (w < 16 || h < 16 || w > 8192 || h > 8192)
-        throw Error(flag, "each side must be in [16, 8192] pixels, got '" + text + "'");
-    return {w, h};
 }
 
 }  // namespace leanfade::cli

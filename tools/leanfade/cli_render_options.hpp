@@ -3,10 +3,10 @@
 // shared by the subcommands that render (`render`, `view`, `eval`, `calibrate`, `bench`).
 //
 // The shading flags are derived from the parameter schema (leanfade/core/parameters.hpp): one
-// flag per row, named by flag_for_setting (cli_flags.hpp). Flags are parsed by CLI11 into the
-// structs below; resolve_*() then converts the text values (vectors, names) and validates ranges,
-// throwing leanfade::Error(setting, cause), which the subcommand reports as one line with the
-// setting's flag.
+// flag per row, named by flag_for_setting (cli_flags.hpp). CLI11 parses every flag into the typed
+// structs below once (cli_text.hpp: add_typed_option); the ranges are checked by the libraries
+// that own them (validate, check_texture_size, ...), whose leanfade::Error(setting, cause) the
+// subcommand reports as one line with the setting's flag.
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -14,8 +14,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli_text.hpp"
+#include "leanfade/core/bump_source.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/map_kinds.hpp"
@@ -27,27 +30,26 @@ namespace leanfade::cli {
 std::string map_flag(scene::MapKind kind);
 
 struct ShadingFlags {
-    ShadingSettings settings;  // scalar and integer flags are bound to its fields directly
-    // Text of the vector and choice flags by parameter key ("x,y,z", "eye"; colours also accept
-    // one value for grey); empty = the settings' value.
-    std::map<std::string, std::string, std::less<>> text;
+    // Every flag of the schema writes its field (vectors "x,y,z", colours also one value for
+    // grey, choices by name) when CLI11 parses it.
+    ShadingSettings settings;
 };
 
 // One flag per row of the parameter schema, in the "Shading" group.
 void add_shading_options(CLI::App& app, ShadingFlags& flags);
-// The settings with the text flags applied; validated (leanfade::validate).
+// The settings of the flags, validated (leanfade::validate).
 ShadingSettings resolve_shading(const ShadingFlags& flags);
+// `settings` for every row of the schema whose flag was not given on the command line (a
+// preset's or a scene's shading under the flags).
+void set_shading_defaults(const ShadingSettings& settings, const CLI::App& app,
+                          ShadingFlags& flags);
 
-struct LeanSourceFlags {
-    std::string bumps = "bumps";  // built-in set name, image file, or .ktx2 from `leanfade bake`
+// The bump source (--bumps --from --directx --bits --seed --texture-size) and the other settings
+// of on-the-fly bakes.
+struct LeanSourceFlags : BumpSource {
     bool bumps_given = false;     // --bumps on the command line (an OBJ's MTL bumps otherwise)
-    std::string from = "auto";    // images: auto | height | normal (auto: by channel count)
-    bool directx = false;         // normal maps in the DirectX convention
     bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)
-    std::string bits = "auto";    // on-the-fly bakes: auto | 8 | 16 | 16f | 32f (auto: as bake)
-    std::string strength_unit = "texel";  // height maps: texel | uv (as bake's --strength-unit)
-    std::uint32_t seed = 1;       // built-in sets
-    int texture_size = 256;       // built-in sets, texels per side
+    StrengthUnit strength_unit = StrengthUnit::Texel;  // height maps (as bake's --strength-unit)
     int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
     // --roughness-map: Cook-Torrance's base roughness per texel, a grey image of perceptual r in
     // [0, 1] or a glTF metallic-roughness texture (r in G), on the material of --bumps or
@@ -58,16 +60,8 @@ struct LeanSourceFlags {
 // --bumps --from --directx --strict-normals --bits --strength-unit --seed --texture-size --max-size, in the
 // "Bumps" group, and --roughness-map.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
-// The size of a built-in bump set (--texture-size, or a preset's bumps.texture_size): 4 to
-// kDefaultMaxImageDimension texels per side and, when a built-in set is made at that size
-// (`builtin`: the --bumps or a --layers source is one, or the ocean's waves), at most --max-size
-// as an image's size is. Throws Error("--texture-size", ...).
-void check_texture_size(int texture_size, int max_size, bool builtin);
 // True for the name of a built-in bump set.
 bool is_builtin_bumps(const std::string& source);
-// The storage of on-the-fly bakes: --bits, with auto first baked as 16-bit UNORM (a map with
-// outliers beyond sc is baked again as 16f by load_lean_map, as `leanfade bake` does).
-Storage on_the_fly_storage(const LeanSourceFlags& flags);
 // BakeOptions of on-the-fly bakes: strength (settings.bump_strength) in --strength-unit, the
 // normal-map convention and --strict-normals.
 BakeOptions on_the_fly_bake_options(const LeanSourceFlags& flags, const ShadingSettings& settings);
@@ -75,13 +69,30 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& flags, const ShadingS
 // image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.
 PackedLeanMap load_lean_map(const LeanSourceFlags& flags, const ShadingSettings& settings);
 
-// The camera flags of render, view, eval and calibrate: --fov (vertical, degrees) and
-// --view-dir (world space, from `view_from` toward the eye), and --target (world units) when
-// `target` is given. Checked where they are used (cli_preset.hpp).
-void add_camera_options(CLI::App& app, float& fov, std::string& view_dir, const char* view_from,
-                        std::string* target = nullptr);
-// --ref-samples: k x k supersamples per pixel of the reference.
+// A comma-separated list of techniques, parsed by parse_techniques (leanfade/core/technique.hpp)
+// naming `flag`; the help shows the list's initial value as the default (none when empty).
+CLI::Option* add_techniques_option(CLI::App& app, const std::string& flag,
+                                   std::vector<Technique>& techniques, const std::string& help);
+// A WIDTHxHEIGHT flag (parse_size), its initial value the default.
+CLI::Option* add_size_option(CLI::App& app, const std::string& flag, FramebufferSize& size,
+                             const std::string& help);
+
+// --distances of eval and calibrate: a sweep "A:B:N" or a comma list (eval::parse_distance_sweep),
+// `default_text` the default the help shows.
+CLI::Option* add_distance_sweep_option(CLI::App& app, std::vector<float>& distances,
+                                       const std::string& help, const std::string& default_text);
+
+// The camera flags of render, view, eval and calibrate: --fov (vertical, degrees, checked by
+// check_field_of_view when parsed) and --view-dir (world space, from `view_from` toward the eye,
+// not the zero vector), and --target (world units) when `target` is given.
+void add_camera_options(CLI::App& app, float& fov, glm::vec3& view_dir, const char* view_from,
+                        glm::vec3* target = nullptr);
+// --ref-samples: k x k supersamples per pixel of the reference, in [1, kMaxReferenceSamples].
 void add_reference_samples_option(CLI::App& app, int& ref_samples);
+// --view-dir: "x,y,z", not the zero vector (world space, toward the eye).
+glm::vec3 parse_view_direction(const std::string& text);
+// --ref-samples: k of the k x k supersampled reference, returned when in [1, 16]; throws Error.
+int checked_reference_samples(int k);
 
 struct GlFlags {
     std::string shader_dir;  // empty = the shaders compiled into the binary
@@ -93,10 +104,5 @@ void add_gl_options(CLI::App& app, GlFlags& flags);
 gl::ContextOptions context_options(const GlFlags& flags);
 // The shaders of the flags: read from --shader-dir, else the copies compiled into the binary.
 gl::ShaderSources shader_sources(const GlFlags& flags);
-
-// "3,6,18" -> {3, 6, 18}; every value finite and > 1 (bounding radii). Throws Error(flag, ...).
-std::vector<float> parse_distances(const std::string& text, const std::string& flag);
-// "400x300" -> {400, 300}; each in [16, 8192]. Throws Error(flag, ...).
-std::pair<int, int> parse_size(const std::string& text, const std::string& flag);
 
 }  // namespace leanfade::cli

@@ -34,45 +34,6 @@ bool is_ktx2(const std::string& path) {
     return tail == ".ktx2";
 }
 
-float parse_number(const std::string& text, const std::string& flag) {
-    const std::optional<float> value = parse_finite_float(text);
-    if (!value) throw Error(flag, "expected a finite number, got '" + text + "'");
-    return *value;
-}
-
-// "a,b,c" -> n numbers; empty text: n times `fallback`.
-std::vector<float> parse_numbers(const std::string& text, std::size_t n, float fallback,
-                                 const std::string& flag) {
-    if (text.empty()) return std::vector<float>(n, fallback);
-    std::vector<float> values;
-    for (const std::string& part : split(text, ',')) values.push_back(parse_number(part, flag));
-    if (values.size() != n)
-        throw Error(flag, "one value per layer: " + std::to_string(n) + " layers, " +
-                              std::to_string(values.size()) + " values");
-    return values;
-}
-
-// "u:v,u:v" -> n velocities (uv per second); empty: zero.
-std::vector<glm::vec2> parse_velocities(const std::string& text, std::size_t n) {
-    const std::string flag = "--layer-velocity";
-    if (text.empty()) return std::vector<glm::vec2>(n, glm::vec2(0.0f));
-    std::vector<glm::vec2> values;
-    for (const std::string& part : split(text, ',')) {
-        const std::vector<std::string> uv = split(part, ':');
-        if (uv.size() != 2) throw Error(flag, "expected U:V per layer, got '" + part + "'");
-        values.emplace_back(parse_number(uv[0], flag), parse_number(uv[1], flag));
-    }
-    if (values.size() != n)
-        throw Error(flag, "one U:V per layer: " + std::to_string(n) + " layers, " +
-                              std::to_string(values.size()) + " values");
-    // A texture offset of velocity times time: bounded as --tiling is, so that it stays finite.
-    for (const glm::vec2& v : values)
-        if (!(std::abs(v.x) <= kMaxTiling) || !(std::abs(v.y) <= kMaxTiling))
-            throw Error(flag, "each component must be in [-1e+06, 1e+06] uv units per second, "
-                              "got " + number_text(v.x) + ":" + number_text(v.y));
-    return values;
-}
-
 }  // namespace
 
 LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
@@ -88,14 +49,11 @@ LeanMap load_layer_map(const std::string& source, const LeanSourceFlags& f,
         return map;
     }
     const BakeOptions options = on_the_fly_bake_options(f, settings);
-    const auto& builtins = builtin_bump_names();
-    if (std::find(builtins.begin(), builtins.end(), source) != builtins.end())
+    if (is_builtin_bumps(source))
         return bake_lean_map(make_builtin_height(source, f.texture_size, f.seed),
                              BakeSource::Height, options)
             .map;
-    LeanMap map =
-        bake_lean_map(io::read_image(source, read_options), parse_bake_source(f.from), options)
-            .map;
+    LeanMap map = bake_lean_map(io::read_image(source, read_options), f.from, options).map;
     if (map.normal_repairs.any())
         std::fprintf(stderr, "leanfade: %s\n",
                      normal_repairs_note(source, map.normal_repairs).c_str());
@@ -183,36 +141,21 @@ bool is_obj_path(const std::string& path) {
 
 void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
                           const ShadingSettings& settings) {
-    const LayerFlags& f = flags.layers;
-    const std::vector<std::string> sources = split(f.layers, ',');
+    const LayerSettings& f = flags.layers;
+    const std::vector<std::string>& sources = f.sources;
     const std::size_t n = sources.size();
-    if (n < 2 || n > std::size_t(kMaxLayers))
-        throw Error("--layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
-                                    std::to_string(n) + " (one map: --bumps)");
-    for (std::size_t i = 0; i < n; ++i)
-        if (sources[i].empty())
-            throw Error("--layers", "source " + std::to_string(i + 1) + " of " +
-                                        std::to_string(n) + " is empty ('" +
-                                        escape_text(f.layers) + "')");
-    const LayerMixing mixing = parse_layer_mixing(f.mixing, "--mixing");
-    LayerBlend blend;
-    blend.weights = parse_numbers(f.weights, n, 1.0f / float(n), "--layer-weights");
-    blend.strengths = parse_numbers(f.strengths, n, 1.0f, "--layer-strengths");
-    const std::vector<float> tilings = parse_numbers(f.tiling, n, 1.0f, "--layer-tiling");
-    const std::vector<glm::vec2> velocities = parse_velocities(f.velocity, n);
-    validate(blend);
-    for (float t : tilings)
-        if (!(t > 0.0f) || !(t <= kMaxTiling))
-            throw Error("--layer-tiling",
-                        "each tiling must be in (0, 1e+06], as --tiling, got " + number_text(t));
+    validate(f);
+    const LayerMixing mixing = f.mixing;
+    const LayerBlend blend = layer_blend(f);
+    const std::vector<float> tilings = layer_tilings(f);
+    const std::vector<glm::vec2> velocities = layer_velocities(f);
     check_texture_size(flags.bumps.texture_size, flags.bumps.max_size,
                        std::any_of(sources.begin(), sources.end(), is_builtin_bumps));
     // --bits auto: 16-bit UNORM, or 16f or 32f by auto_storage's rule (as `leanfade bake`).
-    const Storage unorm_or_given = on_the_fly_storage(flags.bumps);
     auto storage_of = [&](const LeanMap& m) {
-        return flags.bumps.bits == "auto"
+        return flags.bumps.bits.automatic
                    ? auto_storage(m.scale, m.texels_beyond_scale, m.median_steepness)
-                   : unorm_or_given;
+                   : flags.bumps.bits.storage;
     };
 
     std::vector<LeanMap> maps;
@@ -272,24 +215,32 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
 
 }  // namespace
 
-void add_layer_options(CLI::App& app, LayerFlags& f) {
+void add_layer_options(CLI::App& app, LayerSettings& f) {
     const std::string group = "Bump layers (docs/math.md §6)";
-    app.add_option("--layers", f.layers,
-                   "2-4 bump layers mixed on one surface instead of --bumps: built-in sets, "
-                   "height/normal images or .ktx2 maps, comma-separated")
+    add_typed_option(app, "--layers", f.sources, parse_names,
+                     "2-4 bump layers mixed on one surface instead of --bumps: built-in sets, "
+                     "height/normal images or .ktx2 maps, comma-separated")
         ->group(group);
-    app.add_option("--layer-weights", f.weights,
-                   "Weight t of each layer, comma-separated, summing to 1 (default: equal)")
+    add_typed_option(
+        app, "--layer-weights", f.weights,
+        [](const std::string& text) { return parse_numbers(text, "--layer-weights"); },
+        "Weight t of each layer, comma-separated, summing to 1 (default: equal)")
         ->group(group);
-    app.add_option("--layer-strengths", f.strengths,
-                   "Strength k of each layer: slopes times k, < 0 flips the layer (default: 1)")
+    add_typed_option(
+        app, "--layer-strengths", f.strengths,
+        [](const std::string& text) { return parse_numbers(text, "--layer-strengths"); },
+        "Strength k of each layer: slopes times k, < 0 flips the layer (default: 1)")
         ->group(group);
-    app.add_option("--layer-tiling", f.tiling,
-                   "Repeats of each layer per unit of the tiled uv (default: 1)")
+    add_typed_option(
+        app, "--layer-tiling", f.tiling,
+        [](const std::string& text) { return parse_numbers(text, "--layer-tiling"); },
+        "Repeats of each layer per unit of the tiled uv (default: 1)")
         ->group(group);
-    app.add_option("--layer-velocity", f.velocity,
-                   "Velocity U:V of each layer in uv per second, comma-separated (a moving "
-                   "layer; render --time sets the moment)")
+    add_typed_option(
+        app, "--layer-velocity", f.velocity,
+        [](const std::string& text) { return parse_velocities(text, "--layer-velocity"); },
+        "Velocity U:V of each layer in uv per second, comma-separated (a moving "
+        "layer; render --time sets the moment)")
         ->group(group);
     app.add_option("--layer-weight-map", f.weight_map,
                    "Image whose channels give each layer's weight per texel (RGBA = t_0..t_3, "
@@ -299,7 +250,15 @@ void add_layer_options(CLI::App& app, LayerFlags& f) {
     for (const LayerMixingInfo& row : kLayerMixings)
         help += std::string(" ") + row.name + " (" + row.description + ");";
     help.back() = '.';
-    app.add_option("--mixing", f.mixing, help)->capture_default_str()->group(group);
+    add_typed_option(
+        app, "--mixing", f.mixing,
+        [](const std::string& text) { return parse_layer_mixing(text, "--mixing"); }, help,
+        to_string(f.mixing))
+        ->group(group);
+}
+
+std::string layers_text(const LayerSettings& layers) {
+    return join(layers.sources) + " (" + to_string(layers.mixing) + ")";
 }
 
 namespace {
@@ -311,16 +270,15 @@ scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSet
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
     // A glTF scene brings its own objects, materials and maps (cli_bake_gltf.hpp).
     if (scene::is_gltf_path(flags.scene))
-        return load_gltf_render_scene(flags.scene, flags.bumps.bits, flags.bumps.max_size,
-                                      flags.bumps.strict_normals);
+        return load_gltf_render_scene(flags.scene, to_string(flags.bumps.bits),
+                                      flags.bumps.max_size, flags.bumps.strict_normals);
     // An OBJ with MTL materials brings its own maps unless --bumps (or --layers) replaces them.
     std::optional<scene::ObjModel> model;
     if (is_obj_path(flags.scene)) model = scene::load_obj_model(flags.scene);
-    if (model && !model->libraries.empty() && !flags.bumps.bumps_given &&
-        flags.layers.layers.empty()) {
+    if (model && !model->libraries.empty() && !flags.bumps.bumps_given && flags.layers.empty()) {
         scene::ObjBakeSettings bake;
-        bake.auto_storage = flags.bumps.bits == "auto";
-        bake.storage = on_the_fly_storage(flags.bumps);
+        bake.auto_storage = flags.bumps.bits.automatic;
+        bake.storage = flags.bumps.bits.storage;
         bake.max_image_size = flags.bumps.max_size;
         bake.strict_normals = flags.bumps.strict_normals;
         scene::ObjSceneReport report;
@@ -342,13 +300,11 @@ scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSet
     // The plane's uv runs 0..50 (a repeat per 0.4 world units), right for the built-in sets; a
     // map of one's own (an image or a .ktx2) would be too fine to see: it repeats 5 times
     // across (uv 0..5, a repeat per 4 world units), before --tiling.
-    const auto& builtins = builtin_bump_names();
-    if (flags.scene == "plane" && flags.layers.layers.empty() &&
-        std::find(builtins.begin(), builtins.end(), flags.bumps.bumps) == builtins.end())
+    if (flags.scene == "plane" && flags.layers.empty() && !is_builtin_bumps(flags.bumps.source))
         for (scene::Vertex& v : object.mesh.vertices) v.uv *= kUserMapPlaneUvScale;
     object.material = 0;
     result.objects.push_back(std::move(object));
-    if (flags.layers.layers.empty()) {
+    if (flags.layers.empty()) {
         scene::Material material;
         material.name = "default";
         material.lean_map = 0;
@@ -375,15 +331,14 @@ scene::Scene load_render_scene(const RenderSourceFlags& flags, const ShadingSett
 std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
                                               const std::string& extra) {
     std::vector<std::string> inputs;
-    std::vector<std::string> paths{flags.scene, flags.bumps.bumps, extra, flags.layers.weight_map,
-                                   flags.bumps.roughness_map};
+    std::vector<std::string> paths{flags.scene, flags.bumps.source, extra,
+                                   flags.layers.weight_map, flags.bumps.roughness_map};
     if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
     // A glTF scene's buffers and images are inputs too.
     if (scene::is_gltf_path(flags.scene))
         for (const std::string& file : scene::gltf_referenced_files(flags.scene))
             paths.push_back(file);
-    if (!flags.layers.layers.empty())
-        for (const std::string& source : split(flags.layers.layers, ',')) paths.push_back(source);
+    for (const std::string& source : flags.layers.sources) paths.push_back(source);
     for (const std::string& path : paths)
         if (!path.empty() && std::filesystem::exists(path)) inputs.push_back(path);
     return inputs;

@@ -20,27 +20,21 @@ namespace leanfade::cli {
 // world units of the 20 x 20 plane) times this, so that the map repeats 5 times across.
 inline constexpr float kUserMapPlaneUvScale = 0.1f;
 
-// Bump layers of the material (docs/math.md §6); empty `layers`: the one map of --bumps.
-struct LayerFlags {
-    std::string layers;      // --layers SRC,SRC[,...]: built-in sets, images or .ktx2 maps
-    std::string weights;     // --layer-weights W,W,...: t_i, sum 1 (default: equal)
-    std::string strengths;   // --layer-strengths K,K,...: k_i, < 0 flips (default: 1)
-    std::string tiling;      // --layer-tiling T,T,...: repeats per tiled uv (default: 1)
-    std::string velocity;    // --layer-velocity U:V,U:V,...: uv per second (default: 0:0)
-    std::string weight_map;  // --layer-weight-map FILE: RGBA = t_0..t_3 per texel
-    std::string mixing = "textures";  // --mixing: a name of kLayerMixings
-};
-
 struct RenderSourceFlags {
     std::string scene = "teapot";  // --scene: a built-in object or an .obj file
     LeanSourceFlags bumps;         // --bumps and the flags of its bake (also the layers' bake)
-    LayerFlags layers;             // --layers and the other layer flags
-    OceanFlags ocean;              // --scene ocean: --ocean-layers, --flow (cli_ocean.hpp)
+    // --layers SRC,SRC[,...] (empty: the one map of --bumps), --layer-weights W,W,...,
+    // --layer-strengths K,K,..., --layer-tiling T,T,..., --layer-velocity U:V,U:V,...,
+    // --layer-weight-map FILE and --mixing (docs/math.md §6).
+    LayerSettings layers;
+    OceanFlags ocean;  // --scene ocean: --ocean-layers, --flow (cli_ocean.hpp)
 };
 
 // --layers --layer-weights --layer-strengths --layer-tiling --layer-velocity --layer-weight-map
 // --mixing, in the "Bump layers" group (the mixing methods' names and help from kLayerMixings).
-void add_layer_options(CLI::App& app, LayerFlags& flags);
+void add_layer_options(CLI::App& app, LayerSettings& layers);
+// "--layers" and "--mixing"'s text as a report names them: "bumps,noise (textures)".
+std::string layers_text(const LayerSettings& layers);
 
 // The scene the flags describe: one object (its mesh from scene::make_scene_mesh) with one
 // material. Without --layers the material has the one LEAN map of load_lean_map. With --layers

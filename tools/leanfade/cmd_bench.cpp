@@ -29,48 +29,29 @@ namespace {
 namespace fs = std::filesystem;
 
 struct BenchArgs {
-    std::string size = "1600x1200";
-    std::string scenes = "sphere,torus,teapot,terrain";
-    std::string techniques;  // empty: every real-time technique of this build
-    std::string distances = "3,8,24";
+    FramebufferSize size{1600, 1200};
+    std::vector<std::string> scenes{"sphere", "torus", "teapot", "terrain"};
+    // Every real-time technique (the reference is offline), in the table's order.
+    std::vector<Technique> techniques = approximating_techniques();
+    std::vector<float> distances{3.0f, 8.0f, 24.0f};  // empty: none
     bool no_fill = false;
     bool no_floor = false;
     int frames = 20;
     int warmup = 3;
-    std::string timing = "auto";
+    gl::TimingMethod timing = gl::TimingMethod::Auto;
     std::string json;
     bool bake = false;
-    std::string bake_sizes = "1024,2048,4096,8192";
-    std::string bake_input = "normal,height";
+    std::vector<int> bake_sizes{1024, 2048, 4096, 8192};
+    std::vector<std::string> bake_input{"normal", "height"};
     int bake_runs = 0;
     int threads = 0;
     bool generate = false;
     bool layer_columns = false;  // --layer-columns: the LEAN paper's Fig. 12 columns
-    std::string generate_sizes = "512,1024,2048,4096";
+    std::vector<int> generate_sizes{512, 1024, 2048, 4096};
     ShadingFlags shading;
     RenderSourceFlags input;  // --scene, --bumps and the layer flags
     GlFlags gl;
 };
-
-std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low, int high) {
-    std::vector<int> sizes;
-    for (const std::string& part : split(text, ',')) {
-        char* end = nullptr;
-        const long value = std::strtol(part.c_str(), &end, 10);
-        if (part.empty() || *end != 0)
-            throw Error(flag, "expected comma-separated sizes in texels, got '" + text + "'");
-        if (value < low || value > high)
-            throw Error(flag, "sizes must be in [" + std::to_string(low) + ", " +
-                                  std::to_string(high) + "], got " + part);
-        sizes.push_back(int(value));
-    }
-    return sizes;
-}
-
-// Every real-time technique (the reference is offline), in the table's order.
-std::string default_techniques() {
-    return join_technique_names(approximating_techniques());
-}
 
 std::unique_ptr<gl::Context> make_context(const GlFlags& flags) {
     gl::ContextOptions options = context_options(flags);
@@ -83,7 +64,7 @@ std::vector<GenerateBenchRow> run_generate_bench(gl::Context& context, const Ben
                                                  float strength,
                                                  const std::function<void(const std::string&)>& say,
                                                  gl::TimingChoice& timing) {
-    timing = gl::choose_timing(gl::parse_timing_method(args.timing), context);
+    timing = gl::choose_timing(args.timing, context);
     gl::LeanGenerator generator(context, shader_sources(args.gl));
     gl::IntervalTimer timer(timing.method);
     std::vector<GenerateBenchRow> rows;
@@ -124,33 +105,26 @@ int run_bench(const BenchArgs& args) {
     const ShadingSettings settings = resolve_shading(args.shading);
     const bool frames_mode = !args.bake && !args.generate && !args.layer_columns;
     gl::FrameBenchRequest request;
-    std::tie(request.width, request.height) = parse_size(args.size, "--size");
-    request.techniques = gl::parse_techniques(
-        args.techniques.empty() ? default_techniques() : args.techniques, "--techniques");
-    request.distances = args.distances.empty() || args.distances == "none"
-                            ? std::vector<float>{}
-                            : parse_distances(args.distances, "--distances");
+    request.width = args.size.width;
+    request.height = args.size.height;
+    request.techniques = args.techniques;
+    request.distances = args.distances;
     request.fill = !args.no_fill;
     request.floor = !args.no_floor;
     request.frames = args.frames;
     request.warmup = args.warmup;
-    request.timing = gl::parse_timing_method(args.timing, "--timing");
+    request.timing = args.timing;
     request.settings = settings;
     gl::validate_frame_bench(request);
-    const std::vector<std::string> scene_names = split(args.scenes, ',');
+    const std::vector<std::string>& scene_names = args.scenes;
     for (std::size_t i = 0; i < scene_names.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (scene_names[i] == scene_names[j])
                 throw Error("--scenes", "scene '" + scene_names[i] + "' given twice");
-    const std::vector<int> bake_sizes =
-        parse_sizes(args.bake_sizes, "--bake-sizes", 4, kDefaultMaxImageDimension);
-    const std::vector<int> generate_sizes =
-        parse_sizes(args.generate_sizes, "--generate-sizes", 4, kDefaultMaxImageDimension);
-    const std::vector<std::string> bake_inputs = split(args.bake_input, ',');
-    for (const std::string& input : bake_inputs)
-        if (input != "normal" && input != "height")
-            throw Error("--bake-input", "expected normal or height, got '" + input + "'");
-    const Storage storage = on_the_fly_storage(args.input.bumps);
+    const std::vector<int>& bake_sizes = args.bake_sizes;
+    const std::vector<int>& generate_sizes = args.generate_sizes;
+    const std::vector<std::string>& bake_inputs = args.bake_input;
+    const Storage storage = args.input.bumps.bits.storage;
     if (args.threads < 0) throw Error("--threads", "must be >= 0 (0 = all hardware threads)");
     if (args.bake_runs < 0 || args.bake_runs > 1000)
         throw Error("--bake-runs", "must be in [0, 1000] (0 = by size)");
@@ -199,7 +173,7 @@ int run_bench(const BenchArgs& args) {
         system.timing_description = result.timing.description;
         report += frame_tables(result, request);
         root["frames"] = frame_json(result, request);
-        root["frames"]["lean_map"] = {{"bumps", args.input.bumps.bumps},
+        root["frames"]["lean_map"] = {{"bumps", args.input.bumps.source},
                                       {"texture_size", map.levels.front().width},
                                       {"storage", to_string(map.storage)}};
     }
@@ -227,14 +201,11 @@ int run_bench(const BenchArgs& args) {
         system.timing_description = timing.description;
         report += layer_bench_table(columns);
         root["fig12"] = layer_bench_json(columns);
-        root["fig12_settings"] = {{"layers", args.input.layers.layers.empty()
-                                                 ? std::string(kFig12Layers)
-                                                 : args.input.layers.layers},
-                                  {"layer_velocity", args.input.layers.velocity.empty()
-                                                         ? std::string(kFig12Velocities)
-                                                         : args.input.layers.velocity},
+        const LayerSettings layers = fig12_layer_settings(args.input.layers);
+        root["fig12_settings"] = {{"layers", join(layers.sources)},
+                                  {"layer_velocity", velocities_text(layers.velocity)},
                                   {"seconds_per_frame", request.seconds_per_round},
-                                  {"size", args.size},
+                                  {"size", size_text(args.size)},
                                   {"frames", args.frames},
                                   {"warmup", args.warmup}};
     }
@@ -260,37 +231,67 @@ const CommandRegistration registration{
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<BenchArgs>();
         args->input.bumps.texture_size = 1024;
-        app.add_option("--size", args->size, "Framebuffer size, WIDTHxHEIGHT pixels")
-            ->capture_default_str();
-        app.add_option("--scenes", args->scenes,
-                       "Objects, comma-separated: " + scene::scene_choices_text())
-            ->capture_default_str();
-        app.add_option("--techniques", args->techniques,
-                       "Techniques, comma-separated (default: every real-time technique: " +
-                           default_techniques() + ")");
-        app.add_option("--distances", args->distances,
-                       "Camera distances of the near / mid / far views in bounding radii, in (1, 1e4], "
-                       "or 'none'")
-            ->capture_default_str();
+        add_size_option(app, "--size", args->size, "Framebuffer size, WIDTHxHEIGHT pixels");
+        add_typed_option(
+            app, "--scenes", args->scenes,
+            [](const std::string& text) {
+                const std::vector<std::string> names = parse_names(text);
+                for (std::size_t i = 0; i < names.size(); ++i)
+                    for (std::size_t j = 0; j < i; ++j)
+                        if (names[i] == names[j])
+                            throw Error("--scenes", "scene '" + names[i] + "' given twice");
+                return names;
+            },
+            "Objects, comma-separated: " + scene::scene_choices_text(), join(args->scenes));
+        add_typed_option(
+            app, "--techniques", args->techniques,
+            [](const std::string& text) { return parse_techniques(text, "--techniques"); },
+            "Techniques, comma-separated (default: every real-time technique: " +
+                join_technique_names(args->techniques) + ")");
+        add_typed_option(
+            app, "--distances", args->distances,
+            [](const std::string& text) {
+                return text.empty() || text == "none" ? std::vector<float>{}
+                                                      : parse_distances(text, "--distances");
+            },
+            "Camera distances of the near / mid / far views in bounding radii, in (1, 1e4], or "
+            "'none'",
+            "3,8,24");
         app.add_flag("--no-fill", args->no_fill, "Skip the object-filling-the-screen view");
         app.add_flag("--no-floor", args->no_floor, "Skip the constant-colour fill-rate floor");
         app.add_option("--frames", args->frames,
                        "Timed frames per technique and view (generation: per size)")
             ->capture_default_str();
         app.add_option("--warmup", args->warmup, "Untimed frames first")->capture_default_str();
-        app.add_option("--timing", args->timing,
-                       "auto (GPU timer queries unless the renderer is a software one), gpu "
-                       "(GL_TIME_ELAPSED), cpu (glFinish + steady clock) or cputime (glFinish + "
-                       "the process's CPU time: software renderers on a busy machine)")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--timing", args->timing,
+            [](const std::string& text) { return gl::parse_timing_method(text, "--timing"); },
+            "auto (GPU timer queries unless the renderer is a software one), gpu "
+            "(GL_TIME_ELAPSED), cpu (glFinish + steady clock) or cputime (glFinish + the "
+            "process's CPU time: software renderers on a busy machine)",
+            "auto");
         app.add_option("--json", args->json, "Also write the results as JSON");
         app.add_flag("--bake", args->bake,
                      "Measure bake throughput (MB/s, texels/s) against the memory bandwidth");
-        app.add_option("--bake-sizes", args->bake_sizes, "Sizes of --bake, texels per side")
-            ->capture_default_str();
-        app.add_option("--bake-input", args->bake_input,
-                       "Inputs of --bake, comma-separated: normal (3 floats per texel), height")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--bake-sizes", args->bake_sizes,
+            [](const std::string& text) {
+                return parse_sizes(text, "--bake-sizes", kMinTextureSize,
+                                   kDefaultMaxImageDimension);
+            },
+            "Sizes of --bake, texels per side", "1024,2048,4096,8192");
+        add_typed_option(
+            app, "--bake-input", args->bake_input,
+            [](const std::string& text) {
+                const std::vector<std::string> inputs = parse_names(text);
+                for (const std::string& input : inputs)
+                    if (input != "normal" && input != "height")
+                        throw Error("--bake-input",
+                                    "expected normal or height, got '" + input + "'");
+                return inputs;
+            },
+            "Inputs of --bake, comma-separated: normal (3 floats per texel), height",
+            join(args->bake_input));
         app.add_option("--bake-runs", args->bake_runs,
                        "Timed bakes per size (0: 5 up to 2048, 3 at 4096, 2 above)")
             ->capture_default_str();
@@ -302,9 +303,13 @@ const CommandRegistration registration{
                      "mixture approximation of two layers (--layers, default bumps,noise)");
         app.add_flag("--generate", args->generate,
                      "Measure per-frame LEAN map generation on the GPU");
-        app.add_option("--generate-sizes", args->generate_sizes,
-                       "Sizes of --generate, texels per side")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--generate-sizes", args->generate_sizes,
+            [](const std::string& text) {
+                return parse_sizes(text, "--generate-sizes", kMinTextureSize,
+                                   kDefaultMaxImageDimension);
+            },
+            "Sizes of --generate, texels per side", "512,1024,2048,4096");
         add_shading_options(app, args->shading);
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);

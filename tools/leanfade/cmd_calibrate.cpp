@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cli_preset.hpp"
@@ -30,14 +31,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr const char* kDefaultDistances = "2:64:10";
+
 struct CalibrateArgs {
-    std::string target;
+    std::optional<eval::FadeTarget> target;  // required
     bool fit_pmax = false;
-    std::string distances = "2:64:10";
-    std::string size = "128x128";
+    std::vector<float> distances = eval::parse_distance_sweep(kDefaultDistances);
+    FramebufferSize size{128, 128};
     float fov = gl::kDefaultFovYDegrees;
-    // From the object's centre toward the eye.
-    std::string view_dir = vector_text(kDefaultViewDirection);
+    glm::vec3 view_dir = kDefaultViewDirection;  // from the object's centre toward the eye
     std::string plot = "calibration.png";
     std::string json;
     int spp = 64;
@@ -65,16 +67,17 @@ PlotFiles plot_files(const std::string& name) {
 }
 
 int run_calibrate(const CalibrateArgs& args) {
-    if (args.target.empty()) throw Error("--target", "required: exp:SIGMA, fog or reference");
-    const eval::FadeTarget target = eval::parse_fade_target(args.target, "--target");
+    if (!args.target) throw Error("--target", "required: exp:SIGMA, fog or reference");
+    const eval::FadeTarget target = *args.target;
     eval::FadeCalibrationRequest request;
     request.settings = resolve_shading(args.shading);
     request.target = target;
     request.fit_pmax = args.fit_pmax;
-    request.cameras.distances = eval::parse_distance_sweep(args.distances, "--distances");
-    std::tie(request.cameras.width, request.cameras.height) = parse_size(args.size, "--size");
-    request.cameras.fov_y_degrees = checked_fov(args.fov);
-    request.cameras.view_direction = parse_view_direction(args.view_dir);
+    request.cameras.distances = args.distances;
+    request.cameras.width = args.size.width;
+    request.cameras.height = args.size.height;
+    request.cameras.fov_y_degrees = args.fov;
+    request.cameras.view_direction = args.view_dir;
     // Checked before rendering: fog needs the scene's fog.
     if (target.kind != eval::FadeTarget::Kind::Reference)
         eval::target_attenuation(target, request.cameras.distances, request.settings);
@@ -106,7 +109,7 @@ int run_calibrate(const CalibrateArgs& args) {
 
     std::printf("target %s over %zu distances (%g to %g bounding radii), %s / %s\n",
                 eval::to_string(target).c_str(), c.distances.size(), c.distances.front(),
-                c.distances.back(), args.input.scene.c_str(), args.input.bumps.bumps.c_str());
+                c.distances.back(), args.input.scene.c_str(), args.input.bumps.source.c_str());
     std::printf("Fade = %.6g per bounding radius, Pmax = %.6g%s, p = %g, distance %s\n", c.fit.fade,
                 c.fit.pmax, args.fit_pmax ? "" : " (fixed)", request.settings.fade_exponent,
                 to_string(request.settings.fade_distance));
@@ -166,10 +169,14 @@ const CommandRegistration registration{
     "exp(-SIGMA d), the scene's fog or the supersampled truth over distance",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<CalibrateArgs>();
-        app.add_option("--target", args->target,
-                       "Attenuation to follow: exp:SIGMA (per bounding radius), fog (the --fog "
-                       "settings' transmittance) or reference (the supersampled truth's specular "
-                       "energy relative to LEAN's)")
+        add_typed_option(
+            app, "--target", args->target,
+            [](const std::string& text) {
+                return std::optional{eval::parse_fade_target(text, "--target")};
+            },
+            "Attenuation to follow: exp:SIGMA (per bounding radius), fog (the --fog settings' "
+            "transmittance) or reference (the supersampled truth's specular energy relative to "
+            "LEAN's)")
             ->required();
         app.add_option("--spp", args->spp,
                        "Reference samples per pixel for --target reference (k x k; more where "
@@ -179,11 +186,11 @@ const CommandRegistration registration{
         app.add_option("--scene", args->input.scene,
                        "Object: " + scene::scene_choices_text())
             ->capture_default_str();
-        app.add_option("--distances", args->distances,
-                       "Camera distances in bounding radii: A:B:N (log-spaced) or a comma list")
-            ->capture_default_str();
-        app.add_option("--size", args->size, "Frame WIDTHxHEIGHT pixels of the renders")
-            ->capture_default_str();
+        add_distance_sweep_option(
+            app, args->distances,
+            "Camera distances in bounding radii: A:B:N (log-spaced) or a comma list",
+            kDefaultDistances);
+        add_size_option(app, "--size", args->size, "Frame WIDTHxHEIGHT pixels of the renders");
         add_camera_options(app, args->fov, args->view_dir, "the object's centre");
         app.add_option("--plot", args->plot,
                        "PNG of target versus achieved (gnuplot; empty: none); its .tsv data and "

@@ -31,19 +31,19 @@ namespace {
 
 // The most bump maps one eval sweeps (--seeds).
 constexpr int kMaxEvalSeeds = 64;
+constexpr const char* kDefaultDistances = "2:64:6";
 
 struct EvalArgs {
-    std::string techniques = join_technique_names(approximating_techniques());
-    std::string distances = "2:64:6";
-    std::string shininess = "128,1024,13777";
+    std::vector<Technique> techniques = approximating_techniques();
+    std::vector<float> distances = eval::parse_distance_sweep(kDefaultDistances);
+    std::vector<float> shininess{128, 1024, 13777};
     int spp = 64;
     int frames = 16;
     float motion = 0.25f;
     bool fixed_spp = false;
-    std::string size = "256x256";
+    FramebufferSize size{256, 256};
     float fov = gl::kDefaultFovYDegrees;
-    // From the object's centre toward the eye.
-    std::string view_dir = vector_text(kDefaultViewDirection);
+    glm::vec3 view_dir = kDefaultViewDirection;  // from the object's centre toward the eye
     std::string out = "eval";
     std::string replot;
     int seeds = 1;  // independent bump maps of a built-in set: --seed, --seed + 1, ...
@@ -139,10 +139,11 @@ int run_eval(const EvalArgs& args) {
     // Every flag is checked before anything is read or rendered.
     eval::SweepRequest request;
     request.settings = resolve_shading(args.shading);
-    request.techniques = gl::parse_techniques(args.techniques, "--techniques");
-    request.distances = eval::parse_distance_sweep(args.distances, "--distances");
-    request.shininesses = eval::parse_shininess_list(args.shininess, "--shininess");
-    std::tie(request.width, request.height) = parse_size(args.size, "--size");
+    request.techniques = args.techniques;
+    request.distances = args.distances;
+    request.shininesses = args.shininess;
+    request.width = args.size.width;
+    request.height = args.size.height;
     const int k = int(std::lround(std::sqrt(double(std::max(args.spp, 0)))));
     if (args.spp < 1 || k * k != args.spp || k > kMaxReferenceSamples)
         throw Error("--spp",
@@ -153,8 +154,8 @@ int run_eval(const EvalArgs& args) {
     request.adaptive_reference = !args.fixed_spp;
     request.frames = args.frames;
     request.motion_pixels = args.motion;
-    request.fov_y_degrees = checked_fov(args.fov);
-    request.view_direction = parse_view_direction(args.view_dir);
+    request.fov_y_degrees = args.fov;
+    request.view_direction = args.view_dir;
     request.background = glm::vec3(0.012f, 0.013f, 0.016f);
     if (request.techniques.empty()) throw Error("--techniques", "no technique");
     for (gl::Technique t : request.techniques)
@@ -171,8 +172,8 @@ int run_eval(const EvalArgs& args) {
     if (args.seeds < 1 || args.seeds > kMaxEvalSeeds)
         throw Error("--seeds", "must be 1 to " + std::to_string(kMaxEvalSeeds) + ", got " +
                                    std::to_string(args.seeds));
-    if (args.seeds > 1 && (!is_builtin_bumps(args.input.bumps.bumps) ||
-                           !args.input.layers.layers.empty() || is_ocean_scene(args.input.scene)))
+    if (args.seeds > 1 && (!is_builtin_bumps(args.input.bumps.source) ||
+                           !args.input.layers.empty() || is_ocean_scene(args.input.scene)))
         throw Error("--seeds", "independent maps come from a built-in bump set (--bumps one of " +
                                    join(builtin_bump_names()) + "), without --layers");
 
@@ -188,7 +189,7 @@ int run_eval(const EvalArgs& args) {
     auto status = [&](const std::string& text) {
         if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
     };
-    status("loading " + args.input.scene + " and " + args.input.bumps.bumps + "...");
+    status("loading " + args.input.scene + " and " + args.input.bumps.source + "...");
     const scene::Scene scene = load_render_scene(args.input, request.settings);
 
     gl::Context context(context_options(args.gl));
@@ -229,10 +230,9 @@ int run_eval(const EvalArgs& args) {
 
     eval::SweepInfo info;
     info.scene = args.input.scene;
-    info.bumps = args.input.layers.layers.empty()
-                     ? args.input.bumps.bumps
-                     : args.input.layers.layers + " (" + args.input.layers.mixing + ")";
-    for (gl::Technique t : request.techniques) info.techniques.push_back(gl::to_string(t));
+    info.bumps = args.input.layers.empty() ? args.input.bumps.source
+                                           : layers_text(args.input.layers);
+    info.techniques = request.techniques;
     info.distances = request.distances;
     info.shininesses = request.shininesses;
     info.width = request.width;
@@ -244,13 +244,7 @@ int run_eval(const EvalArgs& args) {
     info.motion_pixels = request.motion_pixels;
     info.renderer = context.renderer();
     Preset preset;
-    preset.scene = args.input.scene;
-    preset.bumps.source = args.input.bumps.bumps;
-    preset.bumps.from = args.input.bumps.from;
-    preset.bumps.directx = args.input.bumps.directx;
-    preset.bumps.bits = args.input.bumps.bits;
-    preset.bumps.seed = args.input.bumps.seed;
-    preset.bumps.texture_size = args.input.bumps.texture_size;
+    set_preset_source(args.input, preset);
     preset.shading = request.settings;
     preset.camera.direction = request.view_direction;
     preset.camera.fov_y_degrees = request.fov_y_degrees;
@@ -271,7 +265,7 @@ int run_eval(const EvalArgs& args) {
     for (const eval::CaseResult& c : output.cases) {
         const bool flagged = !(c.reference_energy_error <= eval::kUnconvergedEnergyError);
         any_flagged = any_flagged || flagged;
-        std::printf("%-9s %8g %9g %9.4g %9.4g %9.4g %7.4f %8.3g %6d%s\n", c.technique.c_str(),
+        std::printf("%-9s %8g %9g %9.4g %9.4g %9.4g %7.4f %8.3g %6d%s\n", to_string(c.technique),
                     c.distance, c.shininess, c.energy, c.energy_total, c.rmse, c.ssim, c.flicker,
                     c.reference_spp, flagged ? " *" : "");
     }
@@ -291,7 +285,7 @@ int run_eval(const EvalArgs& args) {
     for (const std::string& note : notes) std::fprintf(stderr, "leanfade eval: %s\n", note.c_str());
     std::printf("%s: %zu cases (%s, %s), %.1f s on %s; report %s/index.html\n",
                 (args.out + "/results.csv").c_str(), output.cases.size(), args.input.scene.c_str(),
-                args.input.bumps.bumps.c_str(), info.seconds, context.renderer().c_str(),
+                args.input.bumps.source.c_str(), info.seconds, context.renderer().c_str(),
                 args.out.c_str());
     return 0;
 }
@@ -305,14 +299,13 @@ const CommandRegistration registration{
         app.add_option("--scene", args->input.scene,
                        "Object: " + scene::scene_choices_text())
             ->capture_default_str();
-        app.add_option("--techniques", args->techniques,
-                       "Techniques to measure, comma-separated: " +
-                           technique_names(approximating_techniques(), "and"))
-            ->capture_default_str();
-        app.add_option("--distances", args->distances,
-                       "Camera distances in bounding radii: A:B:N (N log-spaced from A to B) or "
-                       "a comma list")
-            ->capture_default_str();
+        add_techniques_option(app, "--techniques", args->techniques,
+                              "Techniques to measure, comma-separated: " +
+                                  technique_names(approximating_techniques(), "and"));
+        add_distance_sweep_option(app, args->distances,
+                                  "Camera distances in bounding radii: A:B:N (N log-spaced from A "
+                                  "to B) or a comma list",
+                                  kDefaultDistances);
         app.add_option("--spp", args->spp,
                        "Reference samples per pixel (a square: k x k at LOD 0, docs/math.md §7)")
             ->capture_default_str();
@@ -324,9 +317,8 @@ const CommandRegistration registration{
         app.add_option("--motion", args->motion,
                        "Camera pan per frame of the flicker measurement, pixels")
             ->capture_default_str();
-        app.add_option("--size", args->size,
-                       "Frame WIDTHxHEIGHT pixels (only the object's square is rendered)")
-            ->capture_default_str();
+        add_size_option(app, "--size", args->size,
+                        "Frame WIDTHxHEIGHT pixels (only the object's square is rendered)");
         add_camera_options(app, args->fov, args->view_dir, "the object's centre");
         app.add_option("--out", args->out,
                        "Output folder: results.csv, results.json, plots, images/, index.html")
@@ -342,8 +334,12 @@ const CommandRegistration registration{
         add_shading_options(app, args->shading);
         // The sweep's list replaces the shading group's single --shininess.
         app.remove_option(app.get_option("--shininess"));
-        app.add_option("--shininess", args->shininess, "Blinn-Phong exponents, comma-separated")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--shininess", args->shininess,
+            [](const std::string& text) {
+                return eval::parse_shininess_list(text, "--shininess");
+            },
+            "Blinn-Phong exponents, comma-separated", "128,1024,13777");
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);
         add_gl_options(app, args->gl);

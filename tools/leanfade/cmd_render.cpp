@@ -31,24 +31,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The float files of --cells.
+enum class CellFormat { Pfm, Exr };
+const char* to_string(CellFormat format) { return format == CellFormat::Exr ? "exr" : "pfm"; }
+
 struct RenderArgs {
     // The papers' comparison: the baseline, LEAN and LEAN with fading.
-    std::string techniques =
-        join_technique_names(std::vector{Technique::Bump, Technique::Lean, Technique::Fade});
-    std::string distances = "3,24";
-    std::string size = "400x400";
+    std::vector<Technique> techniques{Technique::Bump, Technique::Lean, Technique::Fade};
+    std::vector<float> distances{3.0f, 24.0f};
+    FramebufferSize size{400, 400};
     std::string output = "teaser.png";
     bool zoom = false;
     std::string cells;
-    std::string cell_format = "pfm";
+    CellFormat cell_format = CellFormat::Pfm;
     int ref_samples = 8;
     float time = 0.0f;  // seconds, for moving bump layers
     MixingFigureArgs mixings;  // --mixings: the layer figures (cli_render_mixings.hpp)
     int frames = 1;     // a sequence of frames, `output` a %03d pattern (cli_ocean.hpp)
     float fps = 12.0f;  // frames per second of the sequence
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = vector_text(kDefaultViewDirection);  // from the target toward the eye
-    std::string target = "0,0,0";      // the point the camera looks at
+    glm::vec3 view_dir = kDefaultViewDirection;  // from the target toward the eye
+    glm::vec3 target{0.0f};                      // the point the camera looks at
     std::string preset;                // JSON preset of `leanfade view`: the defaults of the flags
     ShadingFlags shading;
     RenderSourceFlags input;  // --scene, --bumps and the layer flags
@@ -102,14 +105,15 @@ int run_render(const RenderArgs& args) {
     // Every flag is checked before anything is read or rendered.
     const ShadingSettings settings = resolve_shading(args.shading);
     gl::FigureRequest request;
-    request.techniques = gl::parse_techniques(args.techniques, "--techniques");
-    request.distances = parse_distances(args.distances, "--distances");
-    std::tie(request.cell_width, request.cell_height) = parse_size(args.size, "--size");
+    request.techniques = args.techniques;
+    request.distances = args.distances;
+    request.cell_width = args.size.width;
+    request.cell_height = args.size.height;
     request.settings = settings;
     request.zoom = args.zoom;
-    request.fov_y_degrees = checked_fov(args.fov);
-    request.view_direction = parse_view_direction(args.view_dir);
-    request.target = parse_vector(args.target, "--target");
+    request.fov_y_degrees = args.fov;
+    request.view_direction = args.view_dir;
+    request.target = args.target;
     request.reference_samples = checked_reference_samples(args.ref_samples);
     if (!std::isfinite(args.time) || std::abs(args.time) > 1e6f)
         throw Error("--time", "must be a finite number of seconds up to 1e6 in magnitude");
@@ -125,14 +129,14 @@ int run_render(const RenderArgs& args) {
     if (ocean) ocean_views(args.input.ocean.views, scene::OceanSettings{}, glm::mat4(1.0f));
     // The picture holds every cell (and a zoom row for each): bounded before any is rendered.
     {
-        const std::uint64_t rows = ocean ? split(args.input.ocean.views, ',').size()
-                                         : request.distances.size();
+        const std::uint64_t rows =
+            ocean ? args.input.ocean.views.size() : request.distances.size();
         const std::uint64_t cells = rows * request.techniques.size() * (args.zoom ? 2 : 1);
         const std::uint64_t pixels =
             cells * std::uint64_t(request.cell_width) * std::uint64_t(request.cell_height);
         if (pixels > kMaxFigurePixels)
             throw Error(ocean ? "--views" : "--distances",
-                        std::to_string(cells) + " cells of " + args.size + " make " +
+                        std::to_string(cells) + " cells of " + size_text(args.size) + " make " +
                             std::to_string(pixels) + " pixels, more than the limit of " +
                             std::to_string(kMaxFigurePixels) + " for one picture");
     }
@@ -148,8 +152,6 @@ int run_render(const RenderArgs& args) {
         return run_mixing_figure(mixing_args, args.input, request, args.gl,
                                  render_source_inputs(args.input, args.preset));
     }
-    if (args.cell_format != "pfm" && args.cell_format != "exr")
-        throw Error("--cell-format", "expected pfm or exr, got '" + args.cell_format + "'");
     // Every output is checked before anything is read or rendered: a regular file (or a new one)
     // in a writable folder, not an input, not another output (docs/robustness.md).
     auto cell_name = [](gl::Technique technique, float distance, const std::string& view) {
@@ -164,7 +166,7 @@ int run_render(const RenderArgs& args) {
         plan.add_output_folder(args.cells, true);
         std::vector<std::pair<float, std::string>> rows;
         if (ocean)
-            for (const std::string& view : split(args.input.ocean.views, ','))
+            for (const std::string& view : args.input.ocean.views)
                 rows.emplace_back(0.0f, view);
         else
             for (float distance : request.distances) rows.emplace_back(distance, "");
@@ -172,7 +174,7 @@ int run_render(const RenderArgs& args) {
             for (const auto& [distance, view] : rows) {
                 const fs::path base = fs::path(args.cells) / cell_name(technique, distance, view);
                 plan.add_output(base.string() + ".png", "--cells");
-                plan.add_output(base.string() + "." + args.cell_format, "--cells");
+                plan.add_output(base.string() + "." + to_string(args.cell_format), "--cells");
             }
     }
     plan.check();
@@ -181,7 +183,7 @@ int run_render(const RenderArgs& args) {
     auto status = [&](const std::string& text) {
         if (tty) std::fprintf(stderr, "\r%s\033[K", text.c_str());
     };
-    status("loading " + args.input.scene + " and " + args.input.bumps.bumps + "...");
+    status("loading " + args.input.scene + " and " + args.input.bumps.source + "...");
     const scene::Scene scene = load_render_scene(args.input, settings);
 
     gl::Context context(context_options(args.gl));
@@ -214,7 +216,7 @@ int run_render(const RenderArgs& args) {
             const std::string base =
                 (folder / cell_name(cell.technique, cell.distance, cell.view)).string();
             io::write_png(base + ".png", gl::encode_srgb(cell.radiance), 8);
-            if (args.cell_format == "exr")
+            if (args.cell_format == CellFormat::Exr)
                 io::write_exr(base + ".exr", cell.radiance);
             else
                 io::write_pfm(base + ".pfm", cell.radiance);
@@ -233,21 +235,16 @@ int run_render(const RenderArgs& args) {
     return 0;
 }
 
-// `--preset FILE`: the preset's values become the flags' defaults, then the flags given on the
-// command line are applied again on top.
-void apply_preset(RenderArgs& args, CLI::App& app) {
+// `--preset FILE`: the preset's values for every flag not given on the command line.
+void apply_preset(RenderArgs& args, const CLI::App& app) {
     const Preset preset = read_preset(args.preset);
-    check_preset_techniques(preset, args.preset);
-    args.input.scene = preset.scene;
-    args.techniques = join(preset.techniques);
-    args.distances = number_text(preset.camera.distance);
-    args.fov = preset.camera.fov_y_degrees;
-    args.view_dir = vector_text(preset.camera.direction);
-    args.target = vector_text(preset.camera.target);
-    args.ref_samples = preset.reference_samples;
-    set_shading_flags(preset.shading, args.shading);
-    set_source_flags(preset.bumps, args.input.bumps);
-    reapply_explicit_options(app);
+    set_source_defaults(preset, args.preset, app, args.input, args.shading);
+    set_unless_given(app, "--techniques", args.techniques, preset.techniques);
+    set_unless_given(app, "--distances", args.distances, std::vector{preset.camera.distance});
+    set_unless_given(app, "--fov", args.fov, preset.camera.fov_y_degrees);
+    set_unless_given(app, "--view-dir", args.view_dir, preset.camera.direction);
+    set_unless_given(app, "--target", args.target, preset.camera.target);
+    set_unless_given(app, "--ref-samples", args.ref_samples, preset.reference_samples);
 }
 
 const CommandRegistration registration{
@@ -259,15 +256,16 @@ const CommandRegistration registration{
         app.add_option("--scene", args->input.scene,
                        "Object: " + scene::scene_choices_text())
             ->capture_default_str();
-        app.add_option("--techniques", args->techniques,
-                       "Columns, comma-separated: " + technique_names(all_techniques(), "and"))
-            ->capture_default_str();
-        app.add_option("--distances", args->distances,
-                       "Rows: camera distances from the target (default the object's centre) in "
-                       "bounding radii, in (1, 1e4]")
-            ->capture_default_str();
-        app.add_option("--size", args->size, "Size of each cell, WIDTHxHEIGHT pixels")
-            ->capture_default_str();
+        add_techniques_option(app, "--techniques", args->techniques,
+                              "Columns, comma-separated: " +
+                                  technique_names(all_techniques(), "and"));
+        add_typed_option(
+            app, "--distances", args->distances,
+            [](const std::string& text) { return parse_distances(text, "--distances"); },
+            "Rows: camera distances from the target (default the object's centre) in bounding "
+            "radii, in (1, 1e4]",
+            "3,24");
+        add_size_option(app, "--size", args->size, "Size of each cell, WIDTHxHEIGHT pixels");
         app.add_option("-o,--output", args->output, "Output PNG (8-bit sRGB)")
             ->capture_default_str();
         app.add_flag("--zoom", args->zoom,
@@ -275,8 +273,14 @@ const CommandRegistration registration{
         app.add_option("--cells", args->cells,
                        "Also write each cell to this folder: <technique>_d<distance>.png and "
                        "linear radiance .pfm/.exr");
-        app.add_option("--cell-format", args->cell_format, "Float format of --cells: pfm or exr")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--cell-format", args->cell_format,
+            [](const std::string& text) {
+                if (text == "pfm") return CellFormat::Pfm;
+                if (text == "exr") return CellFormat::Exr;
+                throw Error("--cell-format", "expected pfm or exr, got '" + text + "'");
+            },
+            "Float format of --cells: pfm or exr", "pfm");
         add_reference_samples_option(app, args->ref_samples);
         app.add_option("--time", args->time,
                        "Seconds since the start: moving bump layers are offset by their "
@@ -294,10 +298,7 @@ const CommandRegistration registration{
         add_shading_options(app, args->shading);
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);
-        app.add_option("--mixings", args->mixings.mixings,
-                       "With --layers: a column per mixing method (comma-separated, the first is "
-                       "the reference of the printed relative RMSE and energy)")
-            ->group("Bump layers (docs/math.md §6)");
+        add_mixings_option(app, args->mixings);
         app.add_option("--table", args->mixings.table,
                        "With --mixings: also write the metrics as this CSV (and JSON beside it)")
             ->group("Bump layers (docs/math.md §6)");
@@ -308,10 +309,9 @@ const CommandRegistration registration{
             if (is_ocean_scene(args->input.scene)) {
                 // The ocean's defaults: 16:9 cells and its shading (docs/ocean.md); flags given
                 // on the command line win.
-                if (app.get_option("--size")->count() == 0) args->size = "480x270";
-                const auto [width, height] = parse_size(args->size, "--size");
+                set_unless_given(app, "--size", args->size, FramebufferSize{480, 270});
                 apply_ocean_shading(args->shading, app, scene::OceanSettings{},
-                                    float(width) / float(height));
+                                    float(args->size.width) / float(args->size.height));
             }
             return run_render(*args);
         };

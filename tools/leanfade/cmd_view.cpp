@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -32,19 +33,19 @@ namespace leanfade::cli {
 namespace {
 
 struct ViewArgs {
-    std::string technique = to_string(Technique::Lean);
-    std::string techniques;  // panes, comma-separated; overrides --technique
-    std::string layout;      // "" = single for one technique, side-by-side for more
+    std::vector<Technique> technique{Technique::Lean};  // --technique: one pane
+    std::vector<Technique> techniques;  // --techniques: panes; overrides --technique
+    std::optional<PaneLayout> layout;   // none: single for one technique, side-by-side for more
     float distance = 3.0f;
     float fov = gl::kDefaultFovYDegrees;
-    std::string view_dir = vector_text(kDefaultViewDirection);
-    std::string target = "0,0,0";
+    glm::vec3 view_dir = kDefaultViewDirection;
+    glm::vec3 target{0.0f};
     int ref_samples = 4;
     float divider = 0.5f;
-    std::string size = "1280x800";
+    FramebufferSize size{1280, 800};
     float scale = 1.0f;  // internal resolution / window; 0 = automatic (0.5 on software renderers)
     bool fly_away = false;
-    std::string timing = "auto";
+    viewer::TimingMode timing = viewer::TimingMode::Auto;
     int frames = 0;
     std::string screenshot;
     std::string preset;
@@ -53,26 +54,21 @@ struct ViewArgs {
     GlFlags gl;
 };
 
-void apply_preset(const Preset& preset, ViewArgs& args, CLI::App& app) {
-    check_preset_techniques(preset, args.preset);
-    args.input.scene = preset.scene;
-    args.techniques = join(preset.techniques);
-    args.layout = preset.layout;
-    args.divider = preset.divider;
-    args.distance = preset.camera.distance;
-    args.fov = preset.camera.fov_y_degrees;
-    args.view_dir = vector_text(preset.camera.direction);
-    args.target = vector_text(preset.camera.target);
-    args.ref_samples = preset.reference_samples;
-    args.scale = preset.resolution_scale;
-    set_shading_flags(preset.shading, args.shading);
-    set_source_flags(preset.bumps, args.input.bumps);
-    reapply_explicit_options(app);
+// The preset's values for every flag not given on the command line.
+void apply_preset(const Preset& preset, ViewArgs& args, const CLI::App& app) {
+    set_source_defaults(preset, args.preset, app, args.input, args.shading);
     // An explicit single --technique replaces the preset's panes.
-    if (app.count("--technique") > 0 && app.count("--techniques") == 0) {
-        args.techniques.clear();
-        if (app.count("--layout") == 0) args.layout.clear();
-    }
+    if (!given(app, "--technique")) set_unless_given(app, "--techniques", args.techniques,
+                                                     preset.techniques);
+    if (!given(app, "--layout") && (!given(app, "--technique") || given(app, "--techniques")))
+        args.layout = preset.layout;
+    set_unless_given(app, "--divider", args.divider, preset.divider);
+    set_unless_given(app, "--distance", args.distance, preset.camera.distance);
+    set_unless_given(app, "--fov", args.fov, preset.camera.fov_y_degrees);
+    set_unless_given(app, "--view-dir", args.view_dir, preset.camera.direction);
+    set_unless_given(app, "--target", args.target, preset.camera.target);
+    set_unless_given(app, "--ref-samples", args.ref_samples, preset.reference_samples);
+    set_unless_given(app, "--scale", args.scale, preset.resolution_scale);
 }
 
 viewer::TimingMode parse_timing(const std::string& text) {
@@ -91,30 +87,24 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     }
     // Every flag is checked before anything is loaded or a window opens.
     p.shading = resolve_shading(args.shading);
-    const std::vector<gl::Technique> techniques =
-        gl::parse_techniques(args.techniques.empty() ? args.technique : args.techniques,
-                             args.techniques.empty() ? "--technique" : "--techniques");
+    const std::vector<Technique>& techniques =
+        args.techniques.empty() ? args.technique : args.techniques;
     if (techniques.size() > 3)
         throw Error("--techniques", "at most 3 panes, got " + std::to_string(techniques.size()));
-    p.techniques.clear();
-    for (gl::Technique t : techniques) p.techniques.push_back(gl::to_string(t));
-    p.layout =
-        args.layout.empty() ? (techniques.size() == 1 ? "single" : "side-by-side") : args.layout;
-    const auto& layouts = preset_layouts();
-    if (std::find(layouts.begin(), layouts.end(), p.layout) == layouts.end())
-        throw Error("--layout", "expected " + name_list(layouts) + ", got '" + p.layout + "'");
-    if (p.layout == "single" && techniques.size() != 1)
+    p.techniques = techniques;
+    p.layout = args.layout.value_or(techniques.size() == 1 ? PaneLayout::Single
+                                                           : PaneLayout::SideBySide);
+    if (p.layout == PaneLayout::Single && techniques.size() != 1)
         throw Error("--layout", "single shows one technique; --techniques gives " +
                                     std::to_string(techniques.size()));
-    if (p.layout == "split" && techniques.size() != 2)
+    if (p.layout == PaneLayout::Split && techniques.size() != 2)
         throw Error("--layout", "split needs exactly two techniques (--techniques A,B)");
-    if (p.layout == "side-by-side" && techniques.size() < 2)
+    if (p.layout == PaneLayout::SideBySide && techniques.size() < 2)
         throw Error("--layout", "side-by-side needs two or three techniques (--techniques A,B)");
-    check_camera_distance(args.distance, "--distance");
     p.camera.distance = args.distance;
-    p.camera.fov_y_degrees = checked_fov(args.fov);
-    p.camera.direction = parse_view_direction(args.view_dir);
-    p.camera.target = parse_vector(args.target, "--target");
+    p.camera.fov_y_degrees = args.fov;
+    p.camera.direction = args.view_dir;
+    p.camera.target = args.target;
     p.reference_samples = checked_reference_samples(args.ref_samples);
     if (!(args.divider >= 0.0f && args.divider <= 1.0f))
         throw Error("--divider", "must be in [0, 1]");
@@ -123,8 +113,9 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         throw Error("--scale", "must be in [0.1, 1] (or 0 for automatic)");
     p.resolution_scale = args.scale == 0.0f ? 1.0f : args.scale;
     options.auto_scale = args.scale == 0.0f;
-    std::tie(options.width, options.height) = parse_size(args.size, "--size");
-    options.timing = parse_timing(args.timing);
+    options.width = args.size.width;
+    options.height = args.size.height;
+    options.timing = args.timing;
     if (args.frames < 0) throw Error("--frames", "must be >= 0");
     if (!args.screenshot.empty() && args.frames == 0)
         throw Error("--screenshot", "needs --frames N (the screenshot is taken after N frames)");
@@ -146,26 +137,22 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         std::fprintf(stderr,
                      "leanfade view: --egl-device is ignored: the viewer draws with its "
                      "window's OpenGL context\n");
-    p.scene = args.input.scene;
-    p.bumps = to_bump_source(args.input.bumps);
-    // The bump flags by their names (validate() would name the preset keys).
-    parse_bake_source(p.bumps.from);
-    on_the_fly_storage(args.input.bumps);
-    check_texture_size(p.bumps.texture_size, args.input.bumps.max_size,
-                       is_builtin_bumps(p.bumps.source));
+    set_preset_source(args.input, p);
+    const bool builtin =
+        is_builtin_bumps(p.bumps.source) ||
+        std::any_of(p.layers.sources.begin(), p.layers.sources.end(), is_builtin_bumps);
+    // The flags' ranges by their names first (validate(Preset) would name the preset keys).
+    check_texture_size(p.bumps.texture_size, args.input.bumps.max_size, builtin);
+    validate(p.layers);
     validate(p, "view");
 
-    const int max_size = args.input.bumps.max_size;
-    options.load_bumps = [max_size](const BumpSource& source, const ShadingSettings& settings) {
-        LeanSourceFlags flags;
-        set_source_flags(source, flags);
-        flags.max_size = max_size;
+    const LeanSourceFlags bake_flags = args.input.bumps;  // --max-size, --strict-normals, ...
+    options.load_bumps = [bake_flags](const BumpSource& source, const ShadingSettings& settings) {
+        LeanSourceFlags flags = bake_flags;
+        static_cast<BumpSource&>(flags) = source;
         return load_lean_map(flags, settings);
     };
-    RenderSourceFlags input = args.input;  // the preset's scene and bumps, the flags' layers
-    input.scene = p.scene;
-    set_source_flags(p.bumps, input.bumps);
-    input.bumps.max_size = max_size;
+    const RenderSourceFlags& input = args.input;
     options.scene = load_render_scene(input, p.shading);
     if (is_ocean_scene(input.scene)) {
         // The ocean moves (a time slider and pause) and is seen from its own cameras, in the
@@ -191,36 +178,51 @@ const CommandRegistration registration{
         app.add_option("--scene", args->input.scene,
                        "Object: " + scene::scene_choices_text())
             ->capture_default_str();
-        app.add_option("--technique", args->technique,
-                       "Technique of a single view: " + technique_names(all_techniques()))
-            ->capture_default_str();
-        app.add_option("--techniques", args->techniques,
-                       "Two or three techniques side by side (or split, see --layout), "
-                       "comma-separated: " +
-                           technique_names(all_techniques(), "and"));
-        app.add_option("--layout", args->layout,
-                       name_list(preset_layouts()) +
-                           " (split: a draggable divider); default: single for one technique, "
-                           "side-by-side for more");
+        add_typed_option(
+            app, "--technique", args->technique,
+            [](const std::string& text) {
+                return std::vector{parse_technique(text, "--technique")};
+            },
+            "Technique of a single view: " + technique_names(all_techniques()),
+            to_string(args->technique.front()));
+        add_techniques_option(app, "--techniques", args->techniques,
+                              "Two or three techniques side by side (or split, see --layout), "
+                              "comma-separated: " +
+                                  technique_names(all_techniques(), "and"));
+        add_typed_option(
+            app, "--layout", args->layout,
+            [](const std::string& text) {
+                return std::optional{parse_pane_layout(text, "--layout")};
+            },
+            name_list(preset_layouts()) +
+                " (split: a draggable divider); default: single for one technique, "
+                "side-by-side for more");
         app.add_option("--divider", args->divider, "Split view: divider position, 0..1")
             ->capture_default_str();
-        app.add_option("--distance", args->distance,
-                       "Camera distance from the target in bounding radii, in (1, 1e4]")
-            ->capture_default_str();
+        add_typed_option(
+            app, "--distance", args->distance,
+            [](const std::string& text) {
+                double distance = 0.0;
+                if (!parse_finite(text, distance))
+                    throw Error("--distance", "expected a finite number, got '" + text + "'");
+                check_camera_distance(distance, "--distance", text);
+                return float(distance);
+            },
+            "Camera distance from the target in bounding radii, in (1, 1e4]",
+            number_text(args->distance));
         add_camera_options(app, args->fov, args->view_dir, "the target", &args->target);
         add_reference_samples_option(app, args->ref_samples);
-        app.add_option("--size", args->size, "Window size, WIDTHxHEIGHT pixels")
-            ->capture_default_str();
+        add_size_option(app, "--size", args->size, "Window size, WIDTHxHEIGHT pixels");
         app.add_option("--scale", args->scale,
                        "Internal resolution / window, 0.1..1 (default: 1, full resolution; 0: "
                        "0.5 on software renderers such as llvmpipe, else 1)")
             ->capture_default_str();
         app.add_flag("--fly-away", args->fly_away,
                      "Start with the camera flying from near to far and back");
-        app.add_option("--timing", args->timing,
-                       "Frame time per pane: auto (GPU timer queries; CPU time on llvmpipe), "
-                       "gpu, cpu")
-            ->capture_default_str();
+        add_typed_option(app, "--timing", args->timing, parse_timing,
+                         "Frame time per pane: auto (GPU timer queries; CPU time on llvmpipe), "
+                         "gpu, cpu",
+                         "auto");
         app.add_option("--frames", args->frames,
                        "Render this many frames, then exit (automation; 0 = until closed)")
             ->capture_default_str();
@@ -243,12 +245,11 @@ const CommandRegistration registration{
             if (is_ocean_scene(args->input.scene)) {
                 // The ocean's shading (docs/ocean.md) for the panes' shape (the window less the
                 // panel, about 30%, shared by the techniques); flags given here win.
-                const auto [width, height] = parse_size(args->size, "--size");
-                const std::string& names =
-                    args->techniques.empty() ? args->technique : args->techniques;
-                const float panes = float(std::count(names.begin(), names.end(), ',') + 1);
+                const float panes = float(
+                    (args->techniques.empty() ? args->technique : args->techniques).size());
                 apply_ocean_shading(args->shading, app, scene::OceanSettings{},
-                                    0.7f * float(width) / (panes * float(height)));
+                                    0.7f * float(args->size.width) /
+                                        (panes * float(args->size.height)));
             }
             return run_view(*args, loaded);
         };

@@ -348,17 +348,18 @@ void App::panel_bumps() {
     ImGui::InputText("image / .ktx2", &bumps_field_.source);
     ImGui::SameLine();
     if (ImGui::Button("load##bumps")) session_->load_bumps(bumps_field_);
-    int from = bumps_field_.from == "height" ? 1 : bumps_field_.from == "normal" ? 2 : 0;
-    if (ImGui::RadioButton("auto", &from, 0)) bumps_field_.from = "auto";
+    int from = int(bumps_field_.from);  // BakeSource: auto, height, normal
+    if (ImGui::RadioButton("auto", &from, 0)) bumps_field_.from = BakeSource::Auto;
     ImGui::SameLine();
-    if (ImGui::RadioButton("height map", &from, 1)) bumps_field_.from = "height";
+    if (ImGui::RadioButton("height map", &from, 1)) bumps_field_.from = BakeSource::Height;
     ImGui::SameLine();
-    if (ImGui::RadioButton("normal map", &from, 2)) bumps_field_.from = "normal";
+    if (ImGui::RadioButton("normal map", &from, 2)) bumps_field_.from = BakeSource::Normal;
     ImGui::SameLine();
     ImGui::Checkbox("DirectX", &bumps_field_.directx);
     const std::vector<std::string>& bits = bake_storage_names();
-    int bit = index_of(bits, bumps_field_.bits);
-    if (combo("storage bits", bit, bits)) bumps_field_.bits = bits[std::size_t(bit)];
+    int bit = index_of(bits, to_string(bumps_field_.bits));
+    if (combo("storage bits", bit, bits))
+        bumps_field_.bits = parse_bake_storage_choice(bits[std::size_t(bit)]);
     int seed = int(bumps_field_.seed);
     if (ImGui::InputInt("seed", &seed)) bumps_field_.seed = std::uint32_t(std::max(0, seed));
     static const std::vector<std::string> sizes{"64", "128", "256", "512", "1024", "2048"};

@@ -82,7 +82,6 @@ Session::Session(gl::Context& context, gl::ShaderSources sources, BumpLoader loa
       camera_(preset_.camera),
       reloadable_(sources.origin() != "embedded"),
       shader_origin_(sources.origin()) {
-    for (const std::string& name : preset_.techniques) gl::parse_technique(name, "techniques");
     renderer_.set_scene(scene);
     scene_ = scene;
     mesh_description_ = describe_objects(scene_);
@@ -121,10 +120,7 @@ Preset Session::snapshot() const {
 }
 
 std::vector<gl::Technique> Session::techniques() const {
-    std::vector<gl::Technique> result;
-    for (const std::string& name : preset_.techniques)
-        result.push_back(gl::parse_technique(name, "techniques"));
-    return result;
+    return preset_.techniques;
 }
 
 void Session::report_error(const std::string& message) {
@@ -185,8 +181,6 @@ bool Session::rebake_bumps() {
 bool Session::load_preset(const std::string& path) {
     try {
         Preset p = read_preset(path);
-        for (const std::string& name : p.techniques)
-            gl::parse_technique(name, path + ": key 'view.techniques'");
         // Everything is read before anything is uploaded.
         const scene::Mesh mesh = scene::make_scene_mesh(p.scene);
         const PackedLeanMap map = loader_(p.bumps, p.shading);

@@ -159,21 +159,20 @@ int App::pane_count() const {
 void App::apply_layout() {
     Preset& p = session_->preset();
     const int n = pane_count();
-    p.techniques.clear();
-    for (int i = 0; i < n; ++i) p.techniques.push_back(gl::to_string(chosen_[std::size_t(i)]));
-    p.layout = layout_ == Layout::Single  ? "single"
-               : layout_ == Layout::Split ? "split"
-                                          : "side-by-side";
+    p.techniques.assign(chosen_.begin(), chosen_.begin() + n);
+    p.layout = layout_ == Layout::Single  ? PaneLayout::Single
+               : layout_ == Layout::Split ? PaneLayout::Split
+                                          : PaneLayout::SideBySide;
 }
 
 void App::sync_from_preset() {
     const Preset& p = session_->preset();
     const std::vector<gl::Technique> techniques = session_->techniques();
     const std::size_t n = techniques.size();
-    layout_ = p.layout == "single"  ? Layout::Single
-              : p.layout == "split" ? Layout::Split
-              : n == 3              ? Layout::SideBySide3
-                                    : Layout::SideBySide2;
+    layout_ = p.layout == PaneLayout::Single  ? Layout::Single
+              : p.layout == PaneLayout::Split ? Layout::Split
+              : n == 3                        ? Layout::SideBySide3
+                                              : Layout::SideBySide2;
     // The panes shown first, then the other techniques for panes shown later.
     std::vector<gl::Technique> order = techniques;
     for (gl::Technique t : gl::all_techniques())

@@ -190,12 +190,6 @@ json parse_strict(const std::string& text, const std::string& file) {
     return value;
 }
 
-const char* layout_requirement(const std::string& layout) {
-    if (layout == "single") return "exactly 1 technique";
-    if (layout == "split") return "exactly 2 techniques";
-    return "2 or 3 techniques";
-}
-
 // File names and technique names of a preset reach messages and the file system: no control
 // characters (a newline, a terminal escape sequence).
 void check_no_control_characters(const std::string& file, const std::string& key,
@@ -207,17 +201,47 @@ void check_no_control_characters(const std::string& file, const std::string& key
     }
 }
 
-bool layout_accepts(const std::string& layout, std::size_t count) {
-    if (layout == "single") return count == 1;
-    if (layout == "split") return count == 2;
-    return count == 2 || count == 3;
-}
-
 }  // namespace
 
 const std::vector<std::string>& preset_layouts() {
     static const std::vector<std::string> layouts{"single", "split", "side-by-side"};
     return layouts;
+}
+
+const char* to_string(PaneLayout layout) {
+    return preset_layouts()[std::size_t(layout)].c_str();
+}
+
+PaneLayout parse_pane_layout(std::string_view name, const std::string& setting) {
+    const auto& layouts = preset_layouts();
+    for (std::size_t i = 0; i < layouts.size(); ++i)
+        if (name == layouts[i]) return PaneLayout(i);
+    throw Error(setting,
+                "expected " + name_list(layouts) + ", got '" + std::string(name) + "'");
+}
+
+bool layout_accepts(PaneLayout layout, std::size_t panes) {
+    switch (layout) {
+        case PaneLayout::Single:
+            return panes == 1;
+        case PaneLayout::Split:
+            return panes == 2;
+        case PaneLayout::SideBySide:
+            return panes == 2 || panes == 3;
+    }
+    return false;
+}
+
+const char* layout_requirement(PaneLayout layout) {
+    switch (layout) {
+        case PaneLayout::Single:
+            return "exactly 1 technique";
+        case PaneLayout::Split:
+            return "exactly 2 techniques";
+        case PaneLayout::SideBySide:
+            return "2 or 3 techniques";
+    }
+    return "";
 }
 
 void validate(const Preset& p, const std::string& file) {
@@ -226,18 +250,33 @@ void validate(const Preset& p, const std::string& file) {
     const BumpSource& b = p.bumps;
     if (b.source.empty()) fail(file, "bumps.source", "must not be empty");
     check_no_control_characters(file, "bumps.source", b.source);
-    for (const std::string& name : p.techniques)
-        check_no_control_characters(file, "view.techniques", name);
     try {
-        parse_bake_source(b.from);
-        parse_bake_storage(b.bits);
+        check_texture_size(b.texture_size, kDefaultMaxImageDimension, false);
     } catch (const Error& e) {
-        fail(file, "bumps." + e.file(), e.cause());
+        fail(file, "bumps.texture_size", e.cause());
     }
-    if (b.texture_size < 4 || b.texture_size > kDefaultMaxImageDimension)
-        fail(file, "bumps.texture_size",
-             "must be in [4, " + std::to_string(kDefaultMaxImageDimension) + "], got " +
-                 std::to_string(b.texture_size));
+    const LayerSettings& l = p.layers;
+    for (const std::string& source : l.sources)
+        check_no_control_characters(file, "layers.sources", source);
+    check_no_control_characters(file, "layers.weight_map", l.weight_map);
+    try {
+        validate(l);
+    } catch (const Error& e) {
+        // The settings of the layers are the keys of "layers".
+        const std::string& setting = e.file();
+        const std::string key = setting == "layers" ? "sources"
+                                : setting.rfind("layer-", 0) == 0 ? setting.substr(6)
+                                                                  : setting;
+        fail(file, "layers." + key, e.cause());
+    }
+    for (std::size_t i = 0; i < p.maps.size(); ++i) {
+        const MapFile& map = p.maps[i];
+        check_no_control_characters(file, "maps", map.kind);
+        check_no_control_characters(file, "maps." + map.kind, map.path);
+        if (map.path.empty()) fail(file, "maps." + map.kind, "must not be empty");
+        for (std::size_t j = 0; j < i; ++j)
+            if (p.maps[j].kind == map.kind) fail(file, "maps." + map.kind, "given more than once");
+    }
     try {
         validate(p.shading);
     } catch (const Error& e) {
@@ -261,20 +300,15 @@ void validate(const Preset& p, const std::string& file) {
         fail(file, "camera.fov_y_degrees",
              "must be in (1, 170) degrees, got " + std::to_string(c.fov_y_degrees));
 
-    const auto& layouts = preset_layouts();
-    if (std::find(layouts.begin(), layouts.end(), p.layout) == layouts.end())
-        fail(file, "view.layout",
-             "expected \"single\", \"split\" or \"side-by-side\", got \"" + p.layout + "\"");
     if (!layout_accepts(p.layout, p.techniques.size()))
         fail(file, "view.techniques",
-             "layout \"" + p.layout + "\" needs " + layout_requirement(p.layout) + ", got " +
-                 std::to_string(p.techniques.size()));
-    for (std::size_t i = 0; i < p.techniques.size(); ++i) {
-        if (p.techniques[i].empty()) fail(file, "view.techniques", "a name is empty");
+             std::string("layout \"") + to_string(p.layout) + "\" needs " +
+                 layout_requirement(p.layout) + ", got " + std::to_string(p.techniques.size()));
+    for (std::size_t i = 0; i < p.techniques.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (p.techniques[j] == p.techniques[i])
-                fail(file, "view.techniques", "\"" + p.techniques[i] + "\" given twice");
-    }
+                fail(file, "view.techniques",
+                     std::string("\"") + to_string(p.techniques[i]) + "\" given twice");
     if (!(p.divider >= 0.0f && p.divider <= 1.0f))
         fail(file, "view.divider", "must be in [0, 1], got " + std::to_string(p.divider));
     if (p.reference_samples < 1 || p.reference_samples > kMaxReferenceSamples)
@@ -316,14 +350,73 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
         };
     };
 
+    // A name of one of the library's lists, parsed by `parse(name, setting)`.
+    auto named = [&](auto& target, auto parse) {
+        return [&r, &target, parse, &file](const json& v, const std::string& k) {
+            const std::string name = r.string(v, k);
+            try {
+                target = parse(name, k);
+            } catch (const Error& e) {
+                fail(file, k, e.cause());
+            }
+        };
+    };
+    auto numbers = [&](std::vector<float>& target) {
+        return [&r, &target, &file](const json& v, const std::string& k) {
+            if (!v.is_array())
+                fail(file, k, std::string("expected an array of numbers, got ") + v.type_name());
+            target.clear();
+            for (std::size_t i = 0; i < v.size(); ++i)
+                target.push_back(r.number(v[i], k + "[" + std::to_string(i) + "]"));
+        };
+    };
+    const Reader::Field layers = [&](const json& v, const std::string& key) {
+        LayerSettings& l = p.layers;
+        r.object(
+            v, key,
+            {{"sources",
+              [&](const json& x, const std::string& k) {
+                  if (!x.is_array())
+                      fail(file, k, std::string("expected an array of names, got ") + x.type_name());
+                  l.sources.clear();
+                  for (std::size_t i = 0; i < x.size(); ++i)
+                      l.sources.push_back(r.string(x[i], k + "[" + std::to_string(i) + "]"));
+              }},
+             {"weights", numbers(l.weights)},
+             {"strengths", numbers(l.strengths)},
+             {"tiling", numbers(l.tiling)},
+             {"velocity",
+              [&](const json& x, const std::string& k) {
+                  if (!x.is_array())
+                      fail(file, k,
+                           std::string("expected an array of [u, v] pairs, got ") + x.type_name());
+                  l.velocity.clear();
+                  for (std::size_t i = 0; i < x.size(); ++i) {
+                      const std::string item = k + "[" + std::to_string(i) + "]";
+                      if (!x[i].is_array() || x[i].size() != 2)
+                          fail(file, item, "expected an array of 2 numbers");
+                      l.velocity.emplace_back(r.number(x[i][0], item + "[0]"),
+                                              r.number(x[i][1], item + "[1]"));
+                  }
+              }},
+             {"weight_map", str(l.weight_map)},
+             {"mixing", named(l.mixing, parse_layer_mixing)}});
+    };
+    const Reader::Field maps = [&](const json& v, const std::string& key) {
+        if (!v.is_object())
+            fail(file, key, std::string("expected an object, got ") + v.type_name());
+        p.maps.clear();
+        for (const auto& item : v.items())
+            p.maps.push_back({item.key(), r.string(item.value(), join(key, item.key()))});
+    };
     const Reader::Field bumps = [&](const json& v, const std::string& key) {
         BumpSource& b = p.bumps;
         r.object(
             v, key,
             {{"source", str(b.source)},
-             {"from", str(b.from)},
+             {"from", named(b.from, parse_bake_source)},
              {"directx", [&](const json& x, const std::string& k) { b.directx = r.boolean(x, k); }},
-             {"bits", str(b.bits)},
+             {"bits", named(b.bits, parse_bake_storage_choice)},
              {"seed",
               [&](const json& x, const std::string& k) {
                   b.seed = std::uint32_t(r.integer(x, k, 0, 0xFFFFFFFFll));
@@ -386,10 +479,28 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
                       fail(file, k,
                            std::string("expected an array of names, got ") + x.type_name());
                   p.techniques.clear();
-                  for (std::size_t i = 0; i < x.size(); ++i)
-                      p.techniques.push_back(r.string(x[i], k + "[" + std::to_string(i) + "]"));
+                  for (std::size_t i = 0; i < x.size(); ++i) {
+                      const std::string name = r.string(x[i], k + "[" + std::to_string(i) + "]");
+                      check_no_control_characters(file, k, name);
+                      if (name.empty()) fail(file, k, "a name is empty");
+                      try {
+                          p.techniques.push_back(parse_technique(name, k));
+                      } catch (const Error& e) {
+                          fail(file, k, e.cause());
+                      }
+                  }
               }},
-             {"layout", str(p.layout)},
+             {"layout",
+              [&](const json& x, const std::string& k) {
+                  const std::string name = r.string(x, k);
+                  try {
+                      p.layout = parse_pane_layout(name, k);
+                  } catch (const Error&) {
+                      fail(file, k,
+                           "expected \"single\", \"split\" or \"side-by-side\", got \"" + name +
+                               "\"");
+                  }
+              }},
              {"divider", num(p.divider)},
              {"reference_samples", integer(p.reference_samples, 1, kMaxReferenceSamples)},
              {"resolution_scale", num(p.resolution_scale)},
@@ -407,6 +518,8 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
                }},
               {"scene", str(p.scene)},
               {"bumps", bumps},
+              {"layers", layers},
+              {"maps", maps},
               {"shading", shading},
               {"camera", camera},
               {"view", view}});
@@ -423,9 +536,29 @@ std::string preset_to_json(const Preset& p) {
     json root = json::object();
     root["leanfade_preset"] = 1;
     root["scene"] = p.scene;
-    root["bumps"] = {{"source", p.bumps.source},   {"from", p.bumps.from},
-                     {"directx", p.bumps.directx}, {"bits", p.bumps.bits},
-                     {"seed", p.bumps.seed},       {"texture_size", p.bumps.texture_size}};
+    root["bumps"] = {{"source", p.bumps.source},
+                     {"from", to_string(p.bumps.from)},
+                     {"directx", p.bumps.directx},
+                     {"bits", to_string(p.bumps.bits)},
+                     {"seed", p.bumps.seed},
+                     {"texture_size", p.bumps.texture_size}};
+    json weights = json::array(), strengths = json::array(), tiling = json::array(),
+         velocity = json::array();
+    for (float w : p.layers.weights) weights.push_back(exact(w));
+    for (float k : p.layers.strengths) strengths.push_back(exact(k));
+    for (float t : p.layers.tiling) tiling.push_back(exact(t));
+    for (const glm::vec2& v : p.layers.velocity)
+        velocity.push_back(json::array({exact(v.x), exact(v.y)}));
+    root["layers"] = {{"sources", p.layers.sources},
+                      {"weights", std::move(weights)},
+                      {"strengths", std::move(strengths)},
+                      {"tiling", std::move(tiling)},
+                      {"velocity", std::move(velocity)},
+                      {"weight_map", p.layers.weight_map},
+                      {"mixing", to_string(p.layers.mixing)}};
+    json maps = json::object();
+    for (const MapFile& map : p.maps) maps[map.kind] = map.path;
+    root["maps"] = std::move(maps);
     json shading = json::object();
     for (const ParameterInfo& row : shading_parameters()) {
         const std::string key(row.key);
@@ -450,8 +583,10 @@ std::string preset_to_json(const Preset& p) {
                       {"direction", exact(p.camera.direction)},
                       {"distance", exact(p.camera.distance)},
                       {"fov_y_degrees", exact(p.camera.fov_y_degrees)}};
-    root["view"] = {{"techniques", p.techniques},
-                    {"layout", p.layout},
+    std::vector<std::string> techniques;
+    for (Technique t : p.techniques) techniques.emplace_back(to_string(t));
+    root["view"] = {{"techniques", techniques},
+                    {"layout", to_string(p.layout)},
                     {"divider", exact(p.divider)},
                     {"reference_samples", p.reference_samples},
                     {"resolution_scale", exact(p.resolution_scale)},

@@ -33,11 +33,29 @@ namespace leanfade::eval {
 
 using namespace results_detail;
 
+namespace {
+
+std::vector<std::string> technique_name_list(const std::vector<Technique>& techniques) {
+    std::vector<std::string> names;
+    for (Technique t : techniques) names.emplace_back(to_string(t));
+    return names;
+}
+
+// A technique of results.json: one that a sweep measures (is_measured_technique).
+Technique measured_technique(const std::string& name, const std::string& path) {
+    for (Technique t : approximating_techniques())
+        if (name == to_string(t)) return t;
+    throw Error(path, "unknown technique '" + printable(name) + "' (expected " +
+                          technique_names(approximating_techniques()) + ")");
+}
+
+}  // namespace
+
 std::string results_csv(const std::vector<CaseResult>& cases) {
     std::string out = "technique,distance,shininess,energy,rmse,ssim,flicker,energy_total,seeds,"
                       "energy_spread,energy_total_spread\n";
     for (const CaseResult& c : cases)
-        out += c.technique + "," + number(c.distance) + "," + number(c.shininess) + "," +
+        out += std::string(to_string(c.technique)) + "," + number(c.distance) + "," + number(c.shininess) + "," +
                number(c.energy) + "," + number(c.rmse) + "," + number(c.ssim) + "," +
                number(c.flicker) + "," + number(c.energy_total) + "," + std::to_string(c.seeds) +
                "," + number(c.energy_spread) + "," + number(c.energy_total_spread) + "\n";
@@ -48,7 +66,7 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
     nlohmann::json sweep = {
         {"scene", info.scene},
         {"bumps", info.bumps},
-        {"techniques", info.techniques},
+        {"techniques", technique_name_list(info.techniques)},
         {"distances", info.distances},
         {"shininesses", info.shininesses},
         {"size", {info.width, info.height}},
@@ -103,7 +121,7 @@ std::string results_json(const SweepInfo& info, const std::vector<CaseResult>& c
     };
     nlohmann::json rows = nlohmann::json::array();
     for (const CaseResult& c : cases)
-        rows.push_back({{"technique", c.technique},
+        rows.push_back({{"technique", to_string(c.technique)},
                         {"distance", c.distance},
                         {"shininess", c.shininess},
                         {"energy", json_number(c.energy)},
@@ -166,7 +184,9 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
         info = SweepInfo{};
         info.scene = s.at("scene").get<std::string>();
         info.bumps = s.at("bumps").get<std::string>();
-        info.techniques = s.at("techniques").get<std::vector<std::string>>();
+        info.techniques.clear();
+        for (const std::string& name : s.at("techniques").get<std::vector<std::string>>())
+            info.techniques.push_back(measured_technique(name, path));
         info.distances = s.at("distances").get<std::vector<float>>();
         info.shininesses = s.at("shininesses").get<std::vector<float>>();
         info.width = s.at("size").at(0).get<int>();
@@ -194,7 +214,7 @@ void read_results_json(const std::string& path, SweepInfo& info, std::vector<Cas
         cases.clear();
         for (const nlohmann::json& c : root.at("cases")) {
             CaseResult r;
-            r.technique = c.at("technique").get<std::string>();
+            r.technique = measured_technique(c.at("technique").get<std::string>(), path);
             r.distance = c.at("distance").get<float>();
             r.shininess = c.at("shininess").get<float>();
             r.energy = number_or_nan(c.at("energy"));

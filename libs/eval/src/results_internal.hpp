@@ -30,11 +30,11 @@ nlohmann::json json_number(double v);
 std::string html_escape(const std::string& text);
 
 // Fixed colours per technique, the same in every plot.
-std::string technique_color(const std::string& name);
+std::string technique_color(Technique technique);
 
-std::vector<std::string> technique_order(const std::vector<CaseResult>& cases);
+std::vector<Technique> technique_order(const std::vector<CaseResult>& cases);
 
-const CaseResult* find_case(const std::vector<CaseResult>& cases, const std::string& technique,
+const CaseResult* find_case(const std::vector<CaseResult>& cases, Technique technique,
                             float distance, float shininess);
 
 struct Metric {
@@ -49,7 +49,7 @@ struct Metric {
 
 const std::vector<Metric>& metrics();
 
-std::string image_name(float shininess, float distance, const std::string& technique);
+std::string image_name(float shininess, float distance, Technique technique);
 
 bool executable_on_path(const std::string& name);
 

@@ -92,7 +92,7 @@ bool run_gnuplot(const std::string& script_path, std::string& note) {
 
 bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases,
                  const std::vector<float>& shininesses, std::string& note) {
-    const std::vector<std::string> techniques = technique_order(cases);
+    const std::vector<Technique> techniques = technique_order(cases);
     // plot_data.tsv: one block per (shininess, technique), blocks separated by two blank lines
     // (gnuplot's `index`), in that order.
     std::ostringstream data;
@@ -100,9 +100,8 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
     for (const Metric& metric : metrics()) data << " " << metric.key;
     data << " reference_noise; one block per (shininess, technique)\n";
     for (float s : shininesses)
-        for (const std::string& t : techniques) {
-            std::string name = t;  // a comment line: a newline would start a data row
-            std::replace_if(name.begin(), name.end(), is_control, '?');
+        for (Technique t : techniques) {
+            const std::string name = to_string(t);
             data << "# shininess " << short_number(s) << " technique " << name << "\n";
             std::vector<const CaseResult*> rows;
             for (const CaseResult& c : cases)
@@ -129,7 +128,7 @@ bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases
 
 std::string plots_script(const std::vector<CaseResult>& cases,
                          const std::vector<float>& shininesses) {
-    const std::vector<std::string> techniques = technique_order(cases);
+    const std::vector<Technique> techniques = technique_order(cases);
     const std::string data = gnuplot_file("plot_data.tsv");
     std::ostringstream gp;
     const int panels = int(shininesses.size());
@@ -172,7 +171,7 @@ std::string plots_script(const std::vector<CaseResult>& cases,
                 gp << (ti == 0 ? "" : ", ") << data << " index " << block << " using 1:" << m + 2
                    << " with linespoints lw 2 pt 7 ps 0.6 lc rgb "
                    << gnuplot_string(technique_color(techniques[ti])) << " title "
-                   << gnuplot_string(techniques[ti]);
+                   << gnuplot_string(to_string(techniques[ti]));
             }
             gp << "\n";
         }

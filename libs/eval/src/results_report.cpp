@@ -44,12 +44,12 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
     write_text_file((fs::path(folder) / "results.json").string(), results_json(info, cases));
     for (const CaseImages& ci : images) {
         io::write_png((fs::path(folder) / "images" /
-                       image_name(ci.shininess, ci.distance, to_string(Technique::Reference)))
+                       image_name(ci.shininess, ci.distance, Technique::Reference))
                           .string(),
                       encode_srgb(ci.reference), 8);
-        for (const auto& [name, image] : ci.techniques)
+        for (const auto& [technique, image] : ci.techniques)
             io::write_png(
-                (fs::path(folder) / "images" / image_name(ci.shininess, ci.distance, name))
+                (fs::path(folder) / "images" / image_name(ci.shininess, ci.distance, technique))
                     .string(),
                 encode_srgb(image), 8);
     }
@@ -58,7 +58,7 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
     const bool plotted = write_plots(folder, cases, info.shininesses, note);
     if (!plotted) notes.push_back(note);
 
-    const std::vector<std::string> techniques = technique_order(cases);
+    const std::vector<Technique> techniques = technique_order(cases);
     std::ostringstream h;
     h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
       << "<title>leanfade eval: " << html_escape(info.scene) << " / " << html_escape(info.bumps)
@@ -117,13 +117,13 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
         h << "<h3>s = " << short_number(s) << "</h3>\n";
         for (const Metric& m : metrics()) {
             h << "<table><tr><th>" << m.key << "<br>distance</th>";
-            for (const std::string& t : techniques) h << "<th>" << html_escape(t) << "</th>";
+            for (Technique t : techniques) h << "<th>" << html_escape(to_string(t)) << "</th>";
             h << "</tr>\n";
             for (float d : info.distances) {
                 const CaseResult* first = find_case(cases, techniques.front(), d, s);
                 h << "<tr><th>" << short_number(d) << "<br><small>"
                   << (first ? first->reference_spp : 0) << " spp</small></th>";
-                for (const std::string& t : techniques) {
+                for (Technique t : techniques) {
                     const CaseResult* c = find_case(cases, t, d, s);
                     const bool flagged =
                         c != nullptr && !(c->reference_energy_error <= kUnconvergedEnergyError);
@@ -140,14 +140,15 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
     for (float s : info.shininesses) {
         h << "<h3>s = " << short_number(s) << "</h3>\n<table class=\"grid\"><tr><th>distance"
           << "</th><th>reference</th>";
-        for (const std::string& t : techniques) h << "<th>" << html_escape(t) << "</th>";
+        for (Technique t : techniques) h << "<th>" << html_escape(to_string(t)) << "</th>";
         h << "</tr>\n";
         for (float d : info.distances) {
             h << "<tr><th>" << short_number(d) << "</th>";
-            std::vector<std::string> columns{to_string(Technique::Reference)};
+            std::vector<Technique> columns{Technique::Reference};
             columns.insert(columns.end(), techniques.begin(), techniques.end());
-            for (const std::string& name : columns) {
-                const std::string file = image_name(s, d, name);
+            for (Technique column : columns) {
+                const std::string name = to_string(column);
+                const std::string file = image_name(s, d, column);
                 if (fs::exists(fs::path(folder) / "images" / file, ec))
                     h << "<td><img class=\"cell\" src=\"images/" << file << "\" alt=\""
                       << html_escape(name) << "\"></td>";

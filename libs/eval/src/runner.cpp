@@ -78,7 +78,7 @@ void require_finite_case(const CaseResult& c) {
                   {c.flicker, "flicker ratio", c.reference_change == 0.0}};
     for (const auto& v : values)
         if (!std::isfinite(v.value) && !v.may_be_undefined)
-            throw Error("eval", c.technique + " at distance " + number_text(c.distance) +
+            throw Error("eval", std::string(to_string(c.technique)) + " at distance " + number_text(c.distance) +
                                     ", shininess " + number_text(c.shininess) + ": the " +
                                     v.name + " is " + number_text(v.value) +
                                     " (not a finite number)");
@@ -291,7 +291,7 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                     for (std::size_t t = 0; t < nt; ++t) {
                         s.technique = request.techniques[t];
                         CaseResult& c = cases[t];
-                        c.technique = gl::to_string(request.techniques[t]);
+                        c.technique = request.techniques[t];
                         c.distance = distance;
                         c.shininess = shininess;
                         const Image specular = renderer.render(s);

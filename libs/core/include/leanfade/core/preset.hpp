@@ -6,8 +6,11 @@
 //   {
 //     "leanfade_preset": 1,
 //     "scene": "teapot",
-//     "bumps": {"source": "bumps", "from": "auto", "directx": false, "bits": "16",
+//     "bumps": {"source": "bumps", "from": "auto", "directx": false, "bits": "auto",
 //               "seed": 1, "texture_size": 256},
+//     "layers": {"sources": [], "weights": [], "strengths": [], "tiling": [],
+//                "velocity": [], "weight_map": "", "mixing": "textures"},
+//     "maps": {"roughness_map": "rough.png"},
 //     "shading": {"light_direction": [-1, 1, 1], "light_color": [1, 1, 1], ...,
 //                 "fade_distance": "tangent-z", "fog": "none", ..., "msaa": 1},
 //     "camera": {"target": [0, 0, 0], "direction": [0, 0.3, 1], "distance": 3,
@@ -20,27 +23,22 @@
 // numbers; enums are the command line's names. Reading is strict: an unknown or repeated key, a
 // value of the wrong type (a string for a number, 2.5 for an integer), a number that is not
 // finite, or a value out of range throws leanfade::Error(file, "key 'shading.fade': cause").
-// Technique names are not checked here (the renderer knows them): callers check them.
+// Techniques, sources, storages, layouts and mixing methods are the command line's names; layer
+// velocities are [u, v] pairs. The keys of "maps" are checked by the callers (the map kinds are
+// the scene library's).
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
-#include "leanfade/core/settings.hpp"
+#include "leanfade/core/bump_source.hpp"
 #include "leanfade/core/camera.hpp"
+#include "leanfade/core/settings.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade {
-
-// Where the bumps come from (the "Bumps" flags of the command line).
-struct BumpSource {
-    std::string source = "bumps";  // built-in set name, height/normal map image, or .ktx2 map
-    std::string from = "auto";     // images: "auto" (by channel count) | "height" | "normal"
-    bool directx = false;          // normal maps in the DirectX convention
-    std::string bits = "16";  // storage of on-the-fly bakes: "auto" | "8" | "16" | "16f" | "32f"
-    std::uint32_t seed = 1;        // built-in sets
-    int texture_size = 256;        // built-in sets, texels per side, [4, 16384]
-};
 
 // An orbit camera in world space (units are object bounding radii, y up; see gl/renderer.hpp).
 struct CameraSettings {
@@ -57,21 +55,42 @@ struct FlyAwaySettings {
     float period = 8.0f;         // seconds for near -> far -> near, [0.5, 600]
 };
 
+// How the viewer shows its panes: one, two with a draggable divider, or two or three side by side.
+enum class PaneLayout { Single, Split, SideBySide };
+const char* to_string(PaneLayout layout);  // "single", "split", "side-by-side"
+// Throws leanfade::Error(setting, "expected single, split or side-by-side, got '...'").
+PaneLayout parse_pane_layout(std::string_view name, const std::string& setting = "layout");
+// Whether `layout` shows `panes` techniques (1; 2; 2 or 3), and what it needs, for messages
+// ("exactly 2 techniques").
+bool layout_accepts(PaneLayout layout, std::size_t panes);
+const char* layout_requirement(PaneLayout layout);
+
+// A surface map of the material given as a file (a `--roughness-map` of the rendering commands):
+// the setting of its map kind (scene::kMapKinds, "roughness_map") and the file. The kinds are the
+// scene library's: callers check `kind`.
+struct MapFile {
+    std::string kind;
+    std::string path;
+    bool operator==(const MapFile&) const = default;
+};
+
 struct Preset {
     std::string scene = "teapot";  // built-in name or an .obj path
     BumpSource bumps;
+    LayerSettings layers;        // bump layers instead of bumps.source when not empty
+    std::vector<MapFile> maps;   // surface maps of the material, one per kind at most
     ShadingSettings shading;
     CameraSettings camera;
-    // The panes, left to right: 1 for "single", 2 for "split", 2 or 3 for "side-by-side".
-    std::vector<std::string> techniques{"lean"};
-    std::string layout = "single";  // "single" | "split" (draggable divider) | "side-by-side"
+    // The panes, left to right: 1 for single, 2 for split, 2 or 3 for side-by-side.
+    std::vector<Technique> techniques{Technique::Lean};
+    PaneLayout layout = PaneLayout::Single;
     float divider = 0.5f;           // split: divider position, fraction of the width, [0, 1]
     int reference_samples = 4;      // k of the reference technique, [1, 16]
     float resolution_scale = 1.0f;  // viewer: internal resolution / window, [0.1, 1]
     FlyAwaySettings fly_away;
 };
 
-// Names of the layouts in the order of the viewer's list.
+// Names of the layouts in the order of the viewer's list (the enum's order).
 const std::vector<std::string>& preset_layouts();
 
 // Parses a preset from JSON text; `name` (the file) is named in errors. Throws leanfade::Error.

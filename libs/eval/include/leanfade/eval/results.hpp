@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "leanfade/core/image.hpp"
+#include "leanfade/core/technique.hpp"
 
 namespace leanfade::eval {
 
 // One measured case. The CSV holds the first seven fields; results.json all of them.
 struct CaseResult {
-    std::string technique;  // a name of the technique table (leanfade/core/technique.hpp)
+    Technique technique = Technique::Lean;  // one of approximating_techniques()
     float distance = 0.0f;  // camera distance, bounding radii
     float shininess = 0.0f;
     double energy = 0.0;   // specular_mean / reference_specular_mean
@@ -63,7 +64,7 @@ inline constexpr double kUnconvergedEnergyError = 0.1;
 struct SweepInfo {
     std::string scene;
     std::string bumps;
-    std::vector<std::string> techniques;
+    std::vector<Technique> techniques;
     std::vector<float> distances;
     std::vector<float> shininesses;
     int width = 0;  // the full frame; only the square around the object is rendered
@@ -84,15 +85,18 @@ struct CaseImages {
     float shininess = 0.0f;
     float distance = 0.0f;
     Image reference;
-    std::vector<std::pair<std::string, Image>> techniques;
+    std::vector<std::pair<Technique, Image>> techniques;
 };
 
-// "A:B:N" (N >= 2 log-spaced distances from A to B, 1 < A < B <= 1e4, rounded to 3 significant
-// digits or more where N needs them to differ; N = 1 gives A) or a comma list of distances in
-// (1, 1e4] (bounding radii). Throws leanfade::Error(flag, cause).
-std::vector<float> parse_distance_sweep(const std::string& text, const std::string& flag);
-// Comma list of Blinn-Phong exponents > 0. Throws leanfade::Error(flag, cause).
-std::vector<float> parse_shininess_list(const std::string& text, const std::string& flag);
+// The text of a distance sweep: "A:B:N" (N >= 2 log-spaced distances from A to B,
+// 1 < A < B <= 1e4, rounded to 3 significant digits or more where N needs them to differ; N = 1
+// gives A) or a comma list of distances in (1, 1e4] (bounding radii, check_camera_distance).
+// Throws leanfade::Error(setting, cause).
+std::vector<float> parse_distance_sweep(const std::string& text,
+                                        const std::string& setting = "distances");
+// Comma list of Blinn-Phong exponents > 0. Throws leanfade::Error(setting, cause).
+std::vector<float> parse_shininess_list(const std::string& text,
+                                        const std::string& setting = "shininess");
 
 // The header and one line per case (%.6g numbers; NaN as "nan").
 std::string results_csv(const std::vector<CaseResult>& cases);

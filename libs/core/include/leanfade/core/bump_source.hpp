@@ -1,0 +1,81 @@
+#pragma once
+// Where a surface's bumps come from, as typed settings shared by presets, the viewer and the
+// command line: one map (a built-in set, a height or normal image, or a .ktx2 LEAN map) with the
+// settings of its bake on the fly, or 2-4 bump layers mixed on one surface (docs/math.md §6).
+// Every range of these settings is checked here, once; errors name the settings
+// ("texture_size", "layer-tiling"), which the command line prints as its flags.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "leanfade/core/layers.hpp"
+#include "leanfade/core/lean_map.hpp"
+
+namespace leanfade {
+
+// The storage of a bake on the fly (`--bits`): a fixed storage, or automatic (first baked as
+// 16-bit UNORM, then again as 16f or 32f when auto_storage's rule picks them, as `leanfade bake`
+// does; docs/ktx2.md, "Choosing storage and sc").
+struct BakeStorage {
+    bool automatic = true;
+    Storage storage = Storage::Unorm16;  // the first bake's storage (Unorm16 when automatic)
+
+    static constexpr BakeStorage fixed(Storage storage) { return {false, storage}; }
+    bool operator==(const BakeStorage&) const = default;
+};
+// "auto", or the storage's name ("8", "16", "16f", "32f").
+const char* to_string(const BakeStorage& bits);
+// A name of bake_storage_names(); throws leanfade::Error(setting, cause) for another.
+BakeStorage parse_bake_storage_choice(std::string_view name, const std::string& setting = "bits");
+
+// Texels per side of a built-in bump set.
+inline constexpr int kMinTextureSize = 4;
+// The size of a built-in bump set: kMinTextureSize to kDefaultMaxImageDimension texels per side
+// and, when a built-in set is made at that size (`builtin`), at most `max_size` as an image's
+// size is. Throws leanfade::Error(setting, "must be in [4, N], got S"), with "('max_size')" after
+// the range when `max_size` is the bound.
+void check_texture_size(int texture_size, int max_size, bool builtin,
+                        const std::string& setting = "texture_size");
+
+// One map and the settings of its bake on the fly (the "Bumps" flags of the command line).
+struct BumpSource {
+    std::string source = "bumps";        // built-in set name, height/normal map image, or .ktx2 map
+    BakeSource from = BakeSource::Auto;  // images: by channel count, or height / normal
+    bool directx = false;                // normal maps in the DirectX convention
+    BakeStorage bits;                    // storage of on-the-fly bakes: auto
+    std::uint32_t seed = 1;              // built-in sets
+    int texture_size = 256;              // built-in sets, texels per side (check_texture_size)
+
+    bool operator==(const BumpSource&) const = default;
+};
+
+// Bump layers of a material (docs/math.md §6); empty `sources`: the one map of a BumpSource.
+// The per-layer lists are empty for their defaults or hold one value per layer.
+struct LayerSettings {
+    std::vector<std::string> sources;  // built-in sets, images or .ktx2 maps
+    std::vector<float> weights;        // t_i, sum 1 (default: equal)
+    std::vector<float> strengths;      // k_i, < 0 flips (default: 1)
+    std::vector<float> tiling;         // repeats per tiled uv, (0, kMaxTiling] (default: 1)
+    std::vector<glm::vec2> velocity;   // uv per second, each component within kMaxTiling
+    std::string weight_map;            // RGBA = t_0..t_3 per texel, instead of weights
+    LayerMixing mixing = LayerMixing::Textures;
+
+    bool empty() const { return sources.empty(); }
+    bool operator==(const LayerSettings&) const = default;
+};
+
+// The layers' weights and strengths with the defaults filled in (equal weights, strength 1).
+LayerBlend layer_blend(const LayerSettings& layers);
+// Each layer's tiling and velocity with the defaults filled in (1 and 0).
+std::vector<float> layer_tilings(const LayerSettings& layers);
+std::vector<glm::vec2> layer_velocities(const LayerSettings& layers);
+// Throws leanfade::Error(setting, cause) unless `layers` is empty or has 2 to kMaxLayers
+// non-empty sources, a value per layer in each list that is not empty, and values in range:
+// settings "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity".
+void validate(const LayerSettings& layers);
+
+}  // namespace leanfade
