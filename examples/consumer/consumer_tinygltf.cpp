@@ -1,6 +1,7 @@
 // A program that compiles its own tinygltf (with its file system callbacks, where leanfade's copy
 // has none) and links leanfade::scene, which reads glTF files with a tinygltf of its own: both
-// copies live in one program without duplicate definitions, and each keeps its configuration.
+// copies live in one program without duplicate definitions, and each keeps its configuration
+// (leanfade's symbols outside namespace leanfade are local: docs/integration.md, "Linking").
 // Built by examples/consumer/CMakeLists.txt; run by the test `package.InstallAndConsume`
 // (tests/package).
 //

@@ -95,6 +95,19 @@ if(NOT EXISTS ${WORK_DIR}/cmake/consumer_tinygltf)
 endif()
 step("run consumer_tinygltf" ${WORK_DIR}/cmake/consumer_tinygltf ${WORK_DIR}/out)
 message(STATUS "${step_output}")
+# Two copies of tinygltf in it: the program's (global) and leanfade's (local). With leanfade's
+# global, the linker would take the program's for leanfade's calls too and leave leanfade's out.
+if(SYMBOLS)
+  step("nm consumer_tinygltf" ${NM} ${WORK_DIR}/cmake/consumer_tinygltf)
+  set(load_from_string "_ZN8tinygltf8TinyGLTF14LoadFromString[A-Za-z0-9_]*")
+  foreach(binding T t)
+    if(NOT step_output MATCHES " ${binding} ${load_from_string}\n")
+      message(FATAL_ERROR "consumer_tinygltf has no ${binding} tinygltf::TinyGLTF::LoadFromString: "
+                          "the program's (T) and leanfade's (t) tinygltf should both be in it")
+    endif()
+  endforeach()
+  message(STATUS "consumer_tinygltf: its own tinygltf (global) and leanfade's (local)")
+endif()
 
 # A shared object linking the package: find_package(leanfade)
 step("configure the CMake plugin" ${CMAKE_COMMAND} -S ${PLUGIN_DIR} -B ${WORK_DIR}/plugin
