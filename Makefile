@@ -18,8 +18,11 @@ FUZZ_TARGETS ?= fuzz_image_bake fuzz_ktx2 fuzz_obj fuzz_gltf fuzz_cli fuzz_prese
 ASAN_CHECKS := detect_leaks=1:detect_stack_use_after_return=1
 ASAN_CHECKS := $(ASAN_CHECKS):check_initialization_order=1:strict_init_order=1
 SANITIZE_ENV := ASAN_OPTIONS=$(ASAN_CHECKS) UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+# `make test-portable`: the build folder of the portable platform layer (README, "Platforms").
+PORTABLE_BUILD_DIR ?= build-portable
 
-.PHONY: all deps configure build demo test bench sanitize fuzz fuzz-build fuzz-seeds clean format
+.PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds \
+	clean format
 
 all: build
 
@@ -43,6 +46,15 @@ test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(CTEST_ARGS)
 	@# The Vulkan consumer's figures (validation messages, RMSE against leanfade render).
 	@if [ -f $(BUILD_DIR)/test-tmp/vulkan_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/vulkan_figures.txt; fi
+
+# The portable platform layer (leanfade/core/platform.hpp) forced on Linux, in its own build
+# folder: only the libraries and test programs of core, io and scene are built, and their tests
+# run (labels core, io, scene: no OpenGL), with platform.PortableCallsNoLinuxFunction.
+test-portable: deps
+	cmake -S . -B $(PORTABLE_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+		-DLEANFADE_PORTABLE=ON -DLEANFADE_BUILD_VIEWER=OFF -DLEANFADE_BUILD_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build $(PORTABLE_BUILD_DIR) -j $(JOBS) --target leanfade_gl_free_tests
+	cd $(PORTABLE_BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L '^(core|io|scene)$$'
 
 bench: build
 	@LEANFADE_EXTRA_PACKAGES=libnvtt-bin scripts/install-deps.sh

@@ -1,7 +1,7 @@
 # Install rules and the package files of leanfade (docs/integration.md): `cmake --install`
-# puts the static libraries, their headers, the shaders, the `leanfade` executable, a CMake
-# package config (find_package(leanfade): leanfade::leanfade, and leanfade::gl with
-# COMPONENTS gl) and a pkg-config file (leanfade.pc) under the prefix.
+# puts the libraries (static, or shared with LEANFADE_SHARED_LIBS), their headers, the shaders,
+# the `leanfade` executable, a CMake package config (find_package(leanfade): leanfade::leanfade,
+# and leanfade::gl with COMPONENTS gl) and a pkg-config file (leanfade.pc) under the prefix.
 #
 # Included at the end of the top-level CMakeLists.txt, after every target is defined: the
 # dependencies the package config looks for are read from the exported targets' link interfaces
@@ -53,13 +53,15 @@ foreach(target leanfade_io leanfade_scene leanfade_gl)
 endforeach()
 
 # Every imported target the exported targets link (directly or through each other), as the
-# list variable `out`. A link item that is a target of this project but not exported is an error
-# (it could not be found by a consumer).
+# list variable `out`, and the plain library names and flags they link (dl, -pthread) as
+# `out`_PLAIN. A link item that is a target of this project but not exported is an error (it
+# could not be found by a consumer).
 function(leanfade_imported_dependencies out)
   set(exported ${LEANFADE_EXPORTED_CORE} ${LEANFADE_EXPORTED_GL})
   set(queue ${ARGN})
   set(seen "")
   set(found "")
+  set(plain "")
   while(queue)
     list(POP_FRONT queue target)
     if(target IN_LIST seen)
@@ -73,7 +75,10 @@ function(leanfade_imported_dependencies out)
     foreach(item IN LISTS items)
       string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" item "${item}")
       if(NOT TARGET ${item})
-        continue()  # a plain library name (-lm): the linker finds it
+        if(NOT item MATCHES "^\\$<")
+          list(APPEND plain ${item})  # a plain library name (dl) or flag: the linker finds it
+        endif()
+        continue()
       endif()
       get_target_property(aliased ${item} ALIASED_TARGET)
       if(aliased)
@@ -91,7 +96,9 @@ function(leanfade_imported_dependencies out)
     endforeach()
   endwhile()
   list(REMOVE_DUPLICATES found)
+  list(REMOVE_DUPLICATES plain)
   set(${out} ${found} PARENT_SCOPE)
+  set(${out}_PLAIN ${plain} PARENT_SCOPE)
 endfunction()
 
 # The find_dependency() lines (package config) for imported targets: the package is the target's
@@ -131,22 +138,39 @@ function(leanfade_find_dependency_lines out)
 endfunction()
 
 # The pkg-config Requires and Libs of imported targets: their pkg-config module where one is
-# known, else the library file itself.
+# known, else -l<name> for the library file (with -L<folder> only where the folder is not one
+# the compiler searches anyway); threads as -pthread (also where the C library has them built in:
+# the file is for any compiler and C library). Nothing names a file by its absolute path.
 set(LEANFADE_PC_MODULE_glm glm)
 set(LEANFADE_PC_MODULE_PNG libpng)
 set(LEANFADE_PC_MODULE_nlohmann_json nlohmann_json)
 set(LEANFADE_PC_MODULE_OpenImageIO OpenImageIO)
 set(LEANFADE_PC_MODULE_TinyGLTF tinygltf)
 set(LEANFADE_PC_MODULE_tinyobjloader tinyobjloader)
+function(leanfade_pc_library_flags file out)
+  get_filename_component(folder ${file} DIRECTORY)
+  get_filename_component(name ${file} NAME)
+  if(NOT name MATCHES "^lib(.+)\\.(so|a|dylib)(\\.[0-9.]+)?$")
+    message(FATAL_ERROR "leanfade.pc cannot name ${file} with -l: add its pkg-config module to "
+                        "cmake/LeanfadeInstall.cmake")
+  endif()
+  set(flags "")
+  if(NOT folder IN_LIST CMAKE_CXX_IMPLICIT_LINK_DIRECTORIES)
+    list(APPEND flags "-L${folder}")
+  endif()
+  list(APPEND flags "-l${CMAKE_MATCH_1}")
+  set(${out} ${flags} PARENT_SCOPE)
+endfunction()
 function(leanfade_pkg_config_fields requires_out libs_out)
+  cmake_parse_arguments(PC "" "" "TARGETS;PLAIN" ${ARGN})
   set(requires "")
   set(libs "")
-  foreach(target IN LISTS ARGN)
+  foreach(target IN LISTS PC_TARGETS)
     string(REGEX MATCH "^([A-Za-z0-9_]+)::(.+)$" match "${target}")
     set(package ${CMAKE_MATCH_1})
     set(name ${CMAKE_MATCH_2})
     if(target STREQUAL "Threads::Threads")
-      list(APPEND libs ${CMAKE_THREAD_LIBS_INIT})
+      list(APPEND libs -pthread)
     elseif(package STREQUAL "PkgConfig")
       list(APPEND requires ${${name}_MODULE_NAME})
     elseif(DEFINED LEANFADE_PC_MODULE_${package})
@@ -168,7 +192,18 @@ function(leanfade_pkg_config_fields requires_out libs_out)
         message(FATAL_ERROR "no library file for ${target} in leanfade.pc: add its pkg-config "
                             "module to cmake/LeanfadeInstall.cmake")
       endif()
-      list(APPEND libs ${location})
+      leanfade_pc_library_flags(${location} flags)
+      list(APPEND libs ${flags})
+    endif()
+  endforeach()
+  foreach(item IN LISTS PC_PLAIN)
+    if(item MATCHES "^-")
+      list(APPEND libs ${item})
+    elseif(IS_ABSOLUTE ${item})
+      leanfade_pc_library_flags(${item} flags)
+      list(APPEND libs ${flags})
+    else()
+      list(APPEND libs -l${item})
     endif()
   endforeach()
   list(REMOVE_DUPLICATES requires)
@@ -185,12 +220,22 @@ set(LEANFADE_GL_DEPENDENCIES ${LEANFADE_ALL_DEPENDENCIES})
 list(REMOVE_ITEM LEANFADE_GL_DEPENDENCIES ${LEANFADE_CORE_DEPENDENCIES})
 leanfade_find_dependency_lines(LEANFADE_CORE_FIND_DEPENDENCIES ${LEANFADE_CORE_DEPENDENCIES})
 leanfade_find_dependency_lines(LEANFADE_GL_FIND_DEPENDENCIES ${LEANFADE_GL_DEPENDENCIES})
-leanfade_pkg_config_fields(LEANFADE_PC_REQUIRES LEANFADE_PC_LIBS ${LEANFADE_CORE_DEPENDENCIES})
+leanfade_pkg_config_fields(LEANFADE_PC_REQUIRES LEANFADE_PC_DEPENDENCY_LIBS
+  TARGETS ${LEANFADE_CORE_DEPENDENCIES} PLAIN ${LEANFADE_CORE_DEPENDENCIES_PLAIN})
+# Static libraries: a program links their dependencies too (Libs); shared ones link them
+# themselves (Libs.private, for `pkg-config --static`).
+if(LEANFADE_SHARED_LIBS)
+  set(LEANFADE_PC_LIBS "")
+  set(LEANFADE_PC_LIBS_PRIVATE "${LEANFADE_PC_DEPENDENCY_LIBS}")
+else()
+  set(LEANFADE_PC_LIBS "${LEANFADE_PC_DEPENDENCY_LIBS}")
+  set(LEANFADE_PC_LIBS_PRIVATE "")
+endif()
 
 install(TARGETS ${LEANFADE_EXPORTED_CORE} EXPORT leanfadeTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS ${LEANFADE_EXPORTED_GL} EXPORT leanfadeGlTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 # The OpenImageIO module libs/io loads with dlopen (JPEG, TGA, TIFF, ...) where it looks in an
 # installed tree: <bin>/../lib/leanfade (libs/io/src/oiio_formats.cpp).
 if(TARGET leanfade_io_oiio)

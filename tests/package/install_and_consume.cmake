@@ -1,9 +1,13 @@
 # cmake -P script of the test package.InstallAndConsume (tests/package/CMakeLists.txt).
-# Installs BUILD_DIR into WORK_DIR/prefix, builds examples/consumer against that prefix with CMake
-# (find_package(leanfade COMPONENTS gl)) and with pkg-config (its Makefile), runs the programs, and
-# fails on the first step that fails. Nothing is downloaded; the package is found in the prefix
-# only (no user package registry, the prefix first on every search path).
-foreach(var BUILD_DIR WORK_DIR CONSUMER_DIR LIBDIR GENERATOR CXX MAKE PKG_CONFIG)
+# Installs BUILD_DIR into WORK_DIR/prefix; checks that the installed libraries define no global
+# symbol outside namespace leanfade (SYMBOLS=ON: bundled code made local, cmake/LeanfadeLibraries
+# .cmake); builds examples/consumer against that prefix with CMake (find_package(leanfade
+# COMPONENTS gl), a program with its own tinygltf among them) and with pkg-config (its Makefile),
+# and examples/plugin (a shared object linking the package, loaded by a host program) with both;
+# runs the programs, and fails on the first step that fails. Nothing is downloaded; the package
+# is found in the prefix only (no user package registry, the prefix first on every search path).
+foreach(var BUILD_DIR WORK_DIR CONSUMER_DIR PLUGIN_DIR LIBDIR GENERATOR CXX MAKE PKG_CONFIG NM
+            SYMBOLS)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "install_and_consume.cmake needs -D${var}=...")
   endif()
@@ -34,6 +38,45 @@ foreach(file IN LISTS expected)
   endif()
 endforeach()
 
+# Defined global symbols of the installed libraries: only those of namespace leanfade (functions,
+# variables, vtables, typeinfo, thunks, guard variables, function-local statics, as mangled).
+set(leanfade_symbol "^_Z(N[rVK]*[RO]?8leanfade|T[VTIS]N8leanfade|T[hvc].*_N[rVK]*[RO]?8leanfade")
+string(APPEND leanfade_symbol "|G[VR]Z?N[rVK]*8leanfade|ZN[rVK]*[RO]?8leanfade|T[HW]N8leanfade)")
+if(SYMBOLS)
+  foreach(library leanfade_core leanfade_io leanfade_scene leanfade_gl)
+    set(file ${prefix}/${LIBDIR}/lib${library}.a)
+    set(nm_flags -g --defined-only)
+    if(NOT EXISTS ${file})
+      set(file ${prefix}/${LIBDIR}/lib${library}.so)
+      set(nm_flags -D --defined-only)
+    endif()
+    step("nm ${library}" ${NM} ${nm_flags} ${file})
+    string(REPLACE "\n" ";" lines "${step_output}")
+    set(kept 0)
+    set(foreign "")
+    foreach(line IN LISTS lines)
+      if(NOT line MATCHES "^[0-9a-fA-F]* [A-Za-z] (.+)$")
+        continue()
+      endif()
+      set(symbol ${CMAKE_MATCH_1})
+      string(REGEX REPLACE "@.*$" "" symbol "${symbol}")  # a shared library's version
+      if(symbol MATCHES "${leanfade_symbol}")
+        math(EXPR kept "${kept} + 1")
+      elseif(NOT symbol STREQUAL "")
+        list(APPEND foreign "${symbol}")
+      endif()
+    endforeach()
+    list(LENGTH foreign foreign_count)
+    if(foreign_count GREATER 0)
+      list(SUBLIST foreign 0 20 shown)
+      list(JOIN shown "\n  " shown)
+      message(FATAL_ERROR "${file} defines ${foreign_count} global symbols outside namespace "
+                          "leanfade (bundled code not made local), e.g.\n  ${shown}")
+    endif()
+    message(STATUS "${library}: ${kept} global symbols, all of namespace leanfade")
+  endforeach()
+endif()
+
 # find_package(leanfade COMPONENTS gl)
 step("configure the CMake consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/cmake
      -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX}
@@ -47,6 +90,32 @@ step("run consumer" ${WORK_DIR}/cmake/consumer ${WORK_DIR}/out)
 message(STATUS "${step_output}")
 step("run consumer_gl" ${WORK_DIR}/cmake/consumer_gl ${prefix}/share/leanfade/shaders)
 message(STATUS "${step_output}")
+if(NOT EXISTS ${WORK_DIR}/cmake/consumer_tinygltf)
+  message(FATAL_ERROR "consumer_tinygltf was not built (tiny_gltf.h or nlohmann_json not found)")
+endif()
+step("run consumer_tinygltf" ${WORK_DIR}/cmake/consumer_tinygltf ${WORK_DIR}/out)
+message(STATUS "${step_output}")
+# Two copies of tinygltf in it: the program's (global) and leanfade's (local). With leanfade's
+# global, the linker would take the program's for leanfade's calls too and leave leanfade's out.
+if(SYMBOLS)
+  step("nm consumer_tinygltf" ${NM} ${WORK_DIR}/cmake/consumer_tinygltf)
+  set(load_from_string "_ZN8tinygltf8TinyGLTF14LoadFromString[A-Za-z0-9_]*")
+  foreach(binding T t)
+    if(NOT step_output MATCHES " ${binding} ${load_from_string}\n")
+      message(FATAL_ERROR "consumer_tinygltf has no ${binding} tinygltf::TinyGLTF::LoadFromString: "
+                          "the program's (T) and leanfade's (t) tinygltf should both be in it")
+    endif()
+  endforeach()
+  message(STATUS "consumer_tinygltf: its own tinygltf (global) and leanfade's (local)")
+endif()
+
+# A shared object linking the package: find_package(leanfade)
+step("configure the CMake plugin" ${CMAKE_COMMAND} -S ${PLUGIN_DIR} -B ${WORK_DIR}/plugin
+     -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX}
+     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+step("build the CMake plugin" ${CMAKE_COMMAND} --build ${WORK_DIR}/plugin -j 2)
+step("run plugin_host" ${WORK_DIR}/plugin/plugin_host ${WORK_DIR}/plugin/libleanfade_plugin.so)
+message(STATUS "${step_output}")
 
 # pkg-config leanfade
 file(MAKE_DIRECTORY ${WORK_DIR}/pkg-config)
@@ -55,4 +124,15 @@ step("build the pkg-config consumer" ${CMAKE_COMMAND} -E env
      ${MAKE} -f ${CONSUMER_DIR}/Makefile BUILD=${WORK_DIR}/pkg-config CXX=${CXX}
      PKG_CONFIG=${PKG_CONFIG})
 step("run consumer_pc" ${WORK_DIR}/pkg-config/consumer_pc ${WORK_DIR}/out)
+message(STATUS "${step_output}")
+
+# A shared object linking the package: g++ -shared -fPIC plugin.cpp $(pkg-config --cflags --libs
+# leanfade)
+file(MAKE_DIRECTORY ${WORK_DIR}/plugin-pc)
+step("build the pkg-config plugin" ${CMAKE_COMMAND} -E env
+     PKG_CONFIG_PATH=${prefix}/${LIBDIR}/pkgconfig
+     ${MAKE} -f ${PLUGIN_DIR}/Makefile BUILD=${WORK_DIR}/plugin-pc CXX=${CXX}
+     PKG_CONFIG=${PKG_CONFIG})
+step("run plugin_host on the pkg-config plugin" ${WORK_DIR}/plugin-pc/plugin_host
+     ${WORK_DIR}/plugin-pc/libleanfade_plugin_pc.so)
 message(STATUS "${step_output}")

@@ -1,7 +1,6 @@
 #include "leanfade/io/atomic_file.hpp"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -14,6 +13,7 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/platform.hpp"
 
 namespace leanfade::io {
 namespace {
@@ -60,7 +60,11 @@ AtomicFile::AtomicFile(std::string path, Durability durability)
 }
 
 AtomicFile::~AtomicFile() {
-    if (mapping_ != nullptr) ::munmap(mapping_, mapping_size_);
+    if (mapping_ != nullptr) {
+        platform::OutputMapping mapping;
+        mapping.bytes = mapping_;
+        platform::finish_output_mapping(descriptor_, mapping, mapping_size_, false);
+    }
     if (descriptor_ >= 0) ::close(descriptor_);
     if (!committed_) ::unlink(temporary_path_.c_str());
     registration_.release();
@@ -89,27 +93,33 @@ std::uint8_t* AtomicFile::map(std::size_t size) {
     if (size > std::size_t(std::numeric_limits<off_t>::max())) {
         throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (too large)");
     }
-    // Reserve the blocks first: a full disk must be an error here, not a SIGBUS while the caller
-    // fills the mapping.
-    const int reserve_error = ::posix_fallocate(descriptor_, 0, off_t(size));
-    if (reserve_error != 0) {
+    // Linux reserves the blocks first: a full disk must be an error here, not a SIGBUS while the
+    // caller fills the mapping (leanfade/core/platform.hpp).
+    const platform::OutputMapping mapping = platform::map_output_file(descriptor_, size);
+    if (mapping.reserve_failed) {
         throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (" +
-                               errno_text(reserve_error) + ")");
+                               errno_text(mapping.error_number) + ")");
     }
-    void* mapping = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, descriptor_, 0);
-    if (mapping == MAP_FAILED) {
-        throw Error(path_, "cannot map the output file (" + errno_text(errno) + ")");
+    if (mapping.bytes == nullptr) {
+        throw Error(path_, "cannot map the output file (" + errno_text(mapping.error_number) + ")");
     }
-    mapping_ = static_cast<std::uint8_t*>(mapping);
+    mapping_ = mapping.bytes;
     mapping_size_ = size;
     return mapping_;
 }
 
 void AtomicFile::commit() {
     if (descriptor_ < 0) throw Error(path_, "commit called twice");
-    if (mapping_ != nullptr) {  // the mapped pages are the file's page cache: fsync covers them
-        ::munmap(mapping_, mapping_size_);
+    // Linux: the mapped pages are the file's page cache, the fsync covers them; portable: the
+    // buffer is written here.
+    if (mapping_ != nullptr) {
+        platform::OutputMapping mapping;
+        mapping.bytes = mapping_;
         mapping_ = nullptr;
+        const int error_number =
+            platform::finish_output_mapping(descriptor_, mapping, mapping_size_, true);
+        if (error_number != 0)
+            throw Error(path_, "write failed (" + errno_text(error_number) + ")");
     }
     if (durability_ == Durability::Flush && ::fsync(descriptor_) != 0) {
         throw Error(path_, "fsync failed (" + errno_text(errno) + ")");

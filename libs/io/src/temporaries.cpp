@@ -1,9 +1,6 @@
 // The registry of live temporaries, its signal handler, and the removal of stale temporaries.
-#include <dirent.h>
-#include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
-#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -14,6 +11,7 @@
 #include <string>
 #include <system_error>
 
+#include "leanfade/core/platform.hpp"
 #include "leanfade/io/atomic_file.hpp"
 
 namespace leanfade::io {
@@ -57,58 +55,22 @@ Slot* claim_slot() {
     }
 }
 
-// getdents64 records (the kernel's layout).
-struct DirectoryEntry64 {
-    std::uint64_t inode;
-    std::int64_t offset;
-    unsigned short length;
-    unsigned char type;
-    char name[1];
-};
-
-bool is_dot_or_dot_dot(const char* name) {
-    return name[0] == '.' && (name[1] == '\0' || (name[1] == '.' && name[2] == '\0'));
-}
-
-// Removes `name` in `folder_fd` and, when it is a folder, what it holds (at most `depth` levels
-// down). Async-signal-safe: no allocation, only system calls.
-void remove_tree_at(int folder_fd, const char* name, int depth) {
-    if (::unlinkat(folder_fd, name, 0) == 0) return;
-    if (depth <= 0) return;
-    const int fd = ::openat(folder_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    if (fd < 0) return;
-    alignas(8) char buffer[4096];
-    // Entries removed while listing may hide others: list again until a pass removes nothing.
-    for (int pass = 0; pass < 64; ++pass) {
-        bool removed_any = false;
-        ::lseek(fd, 0, SEEK_SET);
-        for (;;) {
-            const long n = ::syscall(SYS_getdents64, fd, buffer, sizeof buffer);
-            if (n <= 0) break;
-            for (long at = 0; at < n;) {
-                const auto* entry = reinterpret_cast<const DirectoryEntry64*>(buffer + at);
-                at += entry->length;
-                if (is_dot_or_dot_dot(entry->name)) continue;
-                remove_tree_at(fd, entry->name, depth - 1);
-                removed_any = true;
-            }
-        }
-        if (!removed_any) break;
-    }
-    ::close(fd);
-    ::unlinkat(folder_fd, name, AT_REMOVEDIR);
-}
-
 constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
 
-extern "C" void remove_temporaries_and_reraise(int signal_number) {
+}  // namespace
+
+// The signal handler: C language linkage, as sigaction expects, and internal linkage (static: in
+// the unnamed namespace a function of C language linkage would still be a global symbol).
+extern "C" {
+
+static void remove_temporaries_and_reraise(int signal_number) {
     const int saved_errno = errno;
     for (Chunk* chunk = &first_chunk; chunk != nullptr;
          chunk = chunk->next.load(std::memory_order_acquire)) {
         for (Slot& slot : chunk->slots) {
             if (slot.state.load(std::memory_order_acquire) != 2) continue;
             if (slot.folder)
-                remove_tree_at(AT_FDCWD, slot.path, 8);
+                platform::remove_tree_signal_safe(slot.path, 8);
             else
                 ::unlink(slot.path);
         }
@@ -122,6 +84,10 @@ extern "C" void remove_temporaries_and_reraise(int signal_number) {
     // the signal is unblocked.
     ::raise(signal_number);
 }
+
+}  // extern "C"
+
+namespace {
 
 // "<pid>-<n>" optionally followed by more ".tmp-<pid>-<n>": the pid, or 0 when `rest` is not that.
 long temporary_pid(const std::string& rest) {

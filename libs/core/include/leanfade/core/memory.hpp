@@ -2,7 +2,8 @@
 // Large buffers. Touching a new buffer for the first time faults every 4 KiB page in; for the
 // hundreds of megabytes of a 4096² bake that is a large share of the time. Buffers of a few MiB
 // and more are therefore advised to use transparent huge pages (2 MiB, Linux) before their first
-// touch: 512 times fewer page faults (docs/perf.md). Elsewhere these are ordinary allocations.
+// touch: 512 times fewer page faults (docs/perf.md). Elsewhere, and in the portable build
+// (leanfade/core/platform.hpp), these are ordinary allocations.
 #include <cstddef>
 #include <vector>
 
@@ -12,7 +13,8 @@ namespace leanfade {
 inline constexpr std::size_t kHugePageAdviceBytes = std::size_t(4) << 20;
 
 // Advises [data, data + bytes) to use transparent huge pages (whole 4 KiB pages inside the range
-// only). Best effort: does nothing below kHugePageAdviceBytes, off Linux, or when refused.
+// only). Best effort: does nothing below kHugePageAdviceBytes, off Linux, in the portable build,
+// or when refused.
 void advise_huge_pages(void* data, std::size_t bytes);
 
 // v.assign(count, fill), with a new allocation advised for huge pages before it is filled when

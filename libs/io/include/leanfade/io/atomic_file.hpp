@@ -47,7 +47,9 @@ class TemporaryRegistration {
 // Installs handlers for SIGINT, SIGTERM and SIGHUP (those not ignored) that remove every
 // registered temporary, then restore the default action and raise the signal again, so that the
 // process ends as it would have without the handler. Async-signal-safe: unlink, openat, getdents64,
-// unlinkat, close, sigaction and raise on preallocated paths. Call once, early in main().
+// unlinkat, close, sigaction and raise on preallocated paths. The portable build
+// (leanfade/core/platform.hpp) removes a registered folder only when it is empty; what it holds
+// is left to remove_stale_temporaries. Call once, early in main().
 void remove_temporaries_on_signals();
 
 // Removes the temporaries `<name>.tmp-<pid>-<n>...` of `path` (name: its file name) left in its
