@@ -1,5 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/procedural.hpp"
@@ -54,4 +60,71 @@ TEST(Procedural, UnknownNameAndBadSizeAreErrors) {
     EXPECT_THROW(make_builtin_height("marble", 64), Error);
     EXPECT_THROW(make_builtin_height("bumps", 0), Error);
     EXPECT_THROW(make_builtin_height("bumps", 100000), Error);
+}
+
+namespace {
+
+std::uint64_t fnv1a(const leanfade::Image& image) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (float f : image.pixels) {
+        std::uint32_t u;
+        std::memcpy(&u, &f, 4);
+        for (int b = 0; b < 4; ++b) {
+            h ^= (u >> (8 * b)) & 255u;
+            h *= 1099511628211ull;
+        }
+    }
+    return h;
+}
+
+double correlation(const leanfade::Image& a, const leanfade::Image& b) {
+    double ma = 0, mb = 0;
+    const std::size_t n = a.pixels.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        ma += a.pixels[i];
+        mb += b.pixels[i];
+    }
+    ma /= double(n);
+    mb /= double(n);
+    double ab = 0, aa = 0, bb = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double x = a.pixels[i] - ma, y = b.pixels[i] - mb;
+        ab += x * y;
+        aa += x * x;
+        bb += y * y;
+    }
+    return ab / std::sqrt(aa * bb);
+}
+
+}  // namespace
+
+// The default seed's maps are those the goldens and the published figures were made from: their
+// bytes at 256 texels, hashed (FNV-1a) before seeds were made independent.
+TEST(Procedural, TheDefaultSeedKeepsItsMaps) {
+    const std::pair<const char*, std::uint64_t> expected[] = {
+        {"bumps", 0xa7967451860a362bull}, {"ridges", 0x571091a6c68c5983ull},
+        {"checker", 0x75db46d535255b83ull}, {"noise", 0xfafa582979031361ull},
+        {"waves", 0xd3d26a8cc8d0a8a2ull}, {"sine", 0xfbb83ee018845583ull},
+        {"flat", 0x2469b722f7cd0383ull}, {"gabor", 0x631ae12f75eed225ull}};
+    for (const auto& [name, hash] : expected)
+        EXPECT_EQ(fnv1a(make_builtin_height(name, 256, 1)), hash) << name;
+}
+
+// Different seeds give independent maps: seed k + j must not replay seed k's random stream j
+// steps later (with the seeding k G + stream it did: seeds 1..9 of "bumps" then correlated up to
+// 0.988). Measured with independent seeding: "bumps" at most 0.116 (mean 0.046) over the 36 pairs
+// of seeds 1..9; "noise" (fBm, whose few coarse octaves correlate by chance) mean 0.152.
+TEST(Procedural, DifferentSeedsGiveIndependentMaps) {
+    double worst_bumps = 0.0, mean_noise = 0.0;
+    int pairs = 0;
+    for (std::uint32_t s = 1; s <= 9; ++s)
+        for (std::uint32_t t = s + 1; t <= 9; ++t) {
+            worst_bumps = std::max(worst_bumps, std::abs(correlation(make_builtin_height("bumps", 256, s),
+                                                                     make_builtin_height("bumps", 256, t))));
+            mean_noise += std::abs(correlation(make_builtin_height("noise", 256, s),
+                                               make_builtin_height("noise", 256, t)));
+            ++pairs;
+        }
+    EXPECT_LT(worst_bumps, 0.2);
+    EXPECT_LT(mean_noise / pairs, 0.25);
 }
