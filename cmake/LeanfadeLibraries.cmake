@@ -75,6 +75,11 @@ macro(leanfade_configure_libraries)
     if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
       target_compile_options(${target} PRIVATE -fno-semantic-interposition)
     endif()
+    # Static data of inline functions and templates weak instead of STB_GNU_UNIQUE, which
+    # objcopy cannot make local (the same objects, static or shared).
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+      target_compile_options(${target} PRIVATE -fno-gnu-unique)
+    endif()
     get_target_property(_leanfade_type ${target} TYPE)
     if(_leanfade_type STREQUAL "SHARED_LIBRARY")
       if(CMAKE_EXECUTABLE_FORMAT STREQUAL "ELF")
@@ -85,10 +90,6 @@ macro(leanfade_configure_libraries)
       endif()
       set_target_properties(${target} PROPERTIES VERSION ${PROJECT_VERSION}
                             SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
-    elseif(DEFINED LEANFADE_SAVED_ARCHIVE_FINISH AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-      # Static data of inline functions and templates weak instead of STB_GNU_UNIQUE, which
-      # objcopy cannot make local.
-      target_compile_options(${target} PRIVATE -fno-gnu-unique)
     endif()
   endforeach()
 endmacro()

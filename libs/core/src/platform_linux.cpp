@@ -56,10 +56,6 @@ void remove_tree_at(int folder_fd, const char* name, int depth) {
 
 }  // namespace
 
-const char* name() noexcept {
-    return "linux";
-}
-
 void advise_huge_pages(void* data, std::size_t bytes) noexcept {
     ::madvise(data, bytes, MADV_HUGEPAGE);
 }

@@ -10,10 +10,6 @@
 
 namespace leanfade::platform {
 
-const char* name() noexcept {
-    return "portable";
-}
-
 void advise_huge_pages(void*, std::size_t) noexcept {}
 
 OutputMapping map_output_file(int, std::size_t size) noexcept {

@@ -14,9 +14,6 @@
 
 namespace leanfade::platform {
 
-// "linux" or "portable": the implementation compiled in.
-const char* name() noexcept;
-
 // Advises [data, data + bytes) (whole pages, page-aligned) to use transparent huge pages. Best
 // effort; nothing in the portable implementation.
 void advise_huge_pages(void* data, std::size_t bytes) noexcept;
