@@ -320,6 +320,46 @@ TEST(LeanMapCacheBounds, EntriesAreVerifiedAgainstTheirKey) {
     EXPECT_TRUE(cached);
 }
 
+TEST(LeanMapCacheBounds, EntriesKeepTheMapsMetadata) {
+    // Every field of the metadata comes back from an entry as stored, none at its default.
+    namespace fs = std::filesystem;
+    const fs::path folder = test::fresh_test_folder("gltf_hostile", "cache_metadata");
+    PackedLeanMap map;
+    map.storage = Storage::Unorm8;
+    map.scale = 3.5f;
+    map.roughness_baked = true;
+    map.baked_shininess = 40.0f;
+    map.source_convention = NormalConvention::DirectX;
+    map.normal_repairs = {3, 5};
+    map.source_looks_flipped = true;
+    map.generator = "leanfade test";
+    for (const int size : {2, 1}) {
+        const auto bytes = std::size_t(size * size * bytes_per_texel(map.storage));
+        map.levels.push_back({size, size, std::vector<std::uint8_t>(bytes, 0x40),
+                              std::vector<std::uint8_t>(bytes, 0x80)});
+    }
+    const LeanMapCache cache(folder.string());
+    const std::string key = lean_cache_key({1, 2, 3}, "metadata");
+    ASSERT_EQ(cache.store(key, map), "");
+    const std::optional<PackedLeanMap> found = cache.find(key, map.storage);
+    ASSERT_TRUE(found.has_value());
+    const PackedLeanMapMetadata& m = found->metadata();
+    EXPECT_EQ(m.storage, map.storage);
+    EXPECT_EQ(m.scale, map.scale);
+    EXPECT_EQ(m.roughness_baked, map.roughness_baked);
+    EXPECT_EQ(m.baked_shininess, map.baked_shininess);
+    EXPECT_EQ(m.source_convention, map.source_convention);
+    EXPECT_EQ(m.normal_repairs.padding_texels, 3u);
+    EXPECT_EQ(m.normal_repairs.raised_texels, 5u);
+    EXPECT_EQ(m.source_looks_flipped, map.source_looks_flipped);
+    EXPECT_EQ(m.generator, map.generator);
+    ASSERT_EQ(found->levels.size(), map.levels.size());
+    for (std::size_t l = 0; l < map.levels.size(); ++l) {
+        EXPECT_EQ(found->levels[l].lean1, map.levels[l].lean1) << l;
+        EXPECT_EQ(found->levels[l].lean2, map.levels[l].lean2) << l;
+    }
+}
+
 TEST(LeanMapCacheBounds, TheFolderIsBoundedOldestFirstAndStaleTemporariesGo) {
     namespace fs = std::filesystem;
     const fs::path folder = test::fresh_test_folder("gltf_hostile", "cache_bound");

@@ -197,17 +197,11 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
         std::error_code error;
         fs::create_directories(folder_, error);
         if (error) return folder_ + ": " + error.message();
-        // The map's levels written with the key recorded in the writer string (no copy of the
-        // map's layers).
+        // The map's metadata, with the key recorded in the writer string, and its level sizes;
+        // the layers are copied straight into the file (no copy of the map in between).
         PackedLeanMap layout;
-        layout.storage = map.storage;
-        layout.scale = map.scale;
-        layout.roughness_baked = map.roughness_baked;
-        layout.baked_shininess = map.baked_shininess;
-        layout.source_convention = map.source_convention;
-        layout.normal_repairs = map.normal_repairs;
-        layout.source_looks_flipped = map.source_looks_flipped;
-        layout.generator = map.generator + key_tag(key);
+        layout.metadata() = map.metadata();
+        layout.generator += key_tag(key);
         for (const PackedLevel& level : map.levels)
             layout.levels.push_back({level.width, level.height, {}, {}});
         io::Ktx2Writer writer(entry_path(key), layout);

@@ -84,7 +84,9 @@ struct PackedLevel {
     std::vector<std::uint8_t> lean2;  // (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
 };
 
-struct PackedLeanMap {
+// What a packed LEAN map records besides its levels: the storage, sc and how it was baked (what
+// a KTX2 file keeps in its key/value data, docs/ktx2.md).
+struct PackedLeanMapMetadata {
     Storage storage = Storage::Unorm16;
     float scale = 1.0f;
     bool roughness_baked = false;
@@ -95,7 +97,15 @@ struct PackedLeanMap {
     // (NormalConventionCheck::looks_flipped), as noted by a bake that checked it.
     bool source_looks_flipped = false;
     std::string generator;  // e.g. "leanfade 0.1.0"
+};
+
+// The metadata's fields are the map's own (map.scale, map.storage, ...); metadata() is all of
+// them as one value.
+struct PackedLeanMap : PackedLeanMapMetadata {
     std::vector<PackedLevel> levels;
+
+    PackedLeanMapMetadata& metadata() { return *this; }
+    const PackedLeanMapMetadata& metadata() const { return *this; }
 };
 
 // Unit of BakeOptions::strength (docs/math.md §2).
