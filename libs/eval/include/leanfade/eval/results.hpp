@@ -113,8 +113,8 @@ std::vector<std::string> write_report(const std::string& folder, const SweepInfo
                                       const std::vector<CaseImages>& images);
 
 // The plots of a sweep: energy.png, energy_total.png, rmse.png, ssim.png and flicker.png in
-// `folder`, each with a panel per shininess and a line per technique against log distance, drawn by gnuplot from
-// plot_data.tsv and plots.gp (both kept, so the plots can be redrawn by hand). Returns false and
+// `folder`, each with a panel per shininess and a line per technique against log distance, drawn
+// by gnuplot from plot_data.tsv and plots.gp (both kept, so the plots can be redrawn by hand). Returns false and
 // sets `note` when gnuplot is not installed (Debian: gnuplot-nox) or fails: the data and the
 // script are written anyway.
 bool write_plots(const std::string& folder, const std::vector<CaseResult>& cases,
