@@ -166,6 +166,35 @@ struct ContextDeleter {
     void operator()(spvc_context_s* c) const { spvc_context_destroy(c); }
 };
 
+// A SPIRV-Cross context holding one module's parsed IR and a compiler for `backend`; fail(what)
+// is the Error naming the file, what failed and SPIRV-Cross's last message. Shared by the
+// translation and the reflection.
+struct SpirvCross {
+    std::unique_ptr<spvc_context_s, ContextDeleter> context;
+    spvc_compiler compiler = nullptr;
+    std::string file;
+
+    SpirvCross(const std::vector<std::uint32_t>& words, const std::string& file_name,
+               spvc_backend backend)
+        : file(file_name) {
+        spvc_context raw = nullptr;
+        if (spvc_context_create(&raw) != SPVC_SUCCESS) throw Error(file, "SPIRV-Cross: no context");
+        context.reset(raw);
+        spvc_parsed_ir ir = nullptr;
+        if (spvc_context_parse_spirv(context.get(), words.data(), words.size(), &ir) !=
+            SPVC_SUCCESS)
+            throw fail("cannot parse the SPIR-V");
+        if (spvc_context_create_compiler(context.get(), backend, ir,
+                                         SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
+                                         &compiler) != SPVC_SUCCESS)
+            throw fail("has no compiler");
+    }
+    Error fail(const char* what) const {
+        return Error(file, std::string("SPIRV-Cross ") + what + ": " +
+                               one_line(spvc_context_get_last_error_string(context.get())));
+    }
+};
+
 // The resources of a stage, checked and numbered in the target language from their OpenGL
 // numbers: in SPIR-V a texture's binding is its unit and a uniform block's is
 // kSpirvUniformBlockBase + its block binding; HLSL gets t<unit>, s<unit> and b<block binding>, MSL
@@ -251,23 +280,12 @@ std::string fix_hlsl_lod_queries(std::string hlsl) {
 // (returns "").
 std::string cross_compile(const std::string& file, const std::vector<std::uint32_t>& words,
                           ShaderLanguage language) {
-    spvc_context raw = nullptr;
-    if (spvc_context_create(&raw) != SPVC_SUCCESS) throw Error(file, "SPIRV-Cross: no context");
-    std::unique_ptr<spvc_context_s, ContextDeleter> context(raw);
-    auto fail = [&](const char* what) {
-        return Error(file, std::string("SPIRV-Cross ") + what + ": " +
-                               one_line(spvc_context_get_last_error_string(context.get())));
-    };
-    spvc_parsed_ir ir = nullptr;
-    if (spvc_context_parse_spirv(context.get(), words.data(), words.size(), &ir) != SPVC_SUCCESS)
-        throw fail("cannot parse the SPIR-V");
     const spvc_backend backend = language == ShaderLanguage::Hlsl  ? SPVC_BACKEND_HLSL
                                  : language == ShaderLanguage::Msl ? SPVC_BACKEND_MSL
                                                                    : SPVC_BACKEND_NONE;
-    spvc_compiler compiler = nullptr;
-    if (spvc_context_create_compiler(context.get(), backend, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
-                                     &compiler) != SPVC_SUCCESS)
-        throw fail("has no compiler");
+    const SpirvCross cross(words, file, backend);
+    const spvc_compiler compiler = cross.compiler;
+    auto fail = [&](const char* what) { return cross.fail(what); };
     bind_resources(compiler, language, file, fail);
     if (backend == SPVC_BACKEND_NONE) return {};
     spvc_compiler_options options = nullptr;
@@ -479,20 +497,9 @@ class Reflector {
 }  // namespace
 
 ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const std::string& file) {
-    spvc_context raw = nullptr;
-    if (spvc_context_create(&raw) != SPVC_SUCCESS) throw Error(file, "SPIRV-Cross: no context");
-    std::unique_ptr<spvc_context_s, ContextDeleter> context(raw);
-    auto fail = [&](const char* what) {
-        return Error(file, std::string("SPIRV-Cross ") + what + ": " +
-                               one_line(spvc_context_get_last_error_string(context.get())));
-    };
-    spvc_parsed_ir ir = nullptr;
-    if (spvc_context_parse_spirv(context.get(), words.data(), words.size(), &ir) != SPVC_SUCCESS)
-        throw fail("cannot parse the SPIR-V");
-    spvc_compiler compiler = nullptr;
-    if (spvc_context_create_compiler(context.get(), SPVC_BACKEND_NONE, ir,
-                                     SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) != SPVC_SUCCESS)
-        throw fail("has no compiler");
+    const SpirvCross cross(words, file, SPVC_BACKEND_NONE);
+    const spvc_compiler compiler = cross.compiler;
+    auto fail = [&](const char* what) { return cross.fail(what); };
     // Only what the entry point uses: a resource declared and never read is no descriptor.
     spvc_set active = nullptr;
     spvc_resources resources = nullptr;
