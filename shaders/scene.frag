@@ -137,6 +137,16 @@ vec2 layer_uv(int i) {
     return v_in.uv * u_layers.tilings[i] + offset;
 }
 
+// Layer i's texel of `slice` at `uv`: the sampler array indexed with constants only, the one
+// index GLSL ES 3.00 (WebGL2) allows; i is a loop counter bounded by a uniform, so every fragment
+// takes the same branch and the implicit derivatives stay defined.
+vec4 layer_texel(int i, vec2 uv, float slice) {
+    if (i == 0) return LF_SAMPLE(u_layer_maps[0], vec3(uv, slice));
+    if (i == 1) return LF_SAMPLE(u_layer_maps[1], vec3(uv, slice));
+    if (i == 2) return LF_SAMPLE(u_layer_maps[2], vec3(uv, slice));
+    return LF_SAMPLE(u_layer_maps[3], vec3(uv, slice));
+}
+
 // The material's mixed moments: B = sum t_i k_i B_i, M = sum t_i^2 k_i^2 M_i + sum_{i<j} t_i t_j
 // C_ij (LEAN §3.5), with C_ij from the pair's texture or from the filtered B's (u_layers.mixing).
 LfMoments layered_moments() {
@@ -149,8 +159,8 @@ LfMoments layered_moments() {
     // spans, skipped iterations included.
     for (int i = 0; i < u_layers.count; ++i) {
         uvs[i] = layer_uv(i);
-        vec4 lean1 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN1));
-        vec4 lean2 = LF_SAMPLE(u_layer_maps[i], vec3(uvs[i], LF_SLICE_LEAN2));
+        vec4 lean1 = layer_texel(i, uvs[i], LF_SLICE_LEAN1);
+        vec4 lean2 = layer_texel(i, uvs[i], LF_SLICE_LEAN2);
         LfMoments m = lf_layer_strength(lf_unpack(lean1, lean2, u_layers.scales[i]),
                                         u_layers.strengths[i]);
         means[i] = m.mean;

@@ -1,5 +1,5 @@
-// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL and MSL, checked with the tools
-// Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
+// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL, MSL and GLSL ES, checked with
+// the tools Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
 // spirv-val validates every SPIR-V module (the exported ones, optimised, and the HLSL compiled
 // back), spirv-dis shows the bindings and names they keep, and the index's reflection of each
 // module agrees with the disassembly and the C++ mirrors of the blocks. Debian 12 has no Metal
@@ -386,6 +386,79 @@ TEST(ShadersCli, MslHasEntryPointsBlocksAndResourceIndicesStructuralCheckNotACom
     }
 }
 
+// GLSL ES 3.00 for WebGL2: every variant but those ES cannot express (the roughness MIPs' LOD
+// queries) has a file that glslangValidator compiles under OpenGL ES rules; the vertex outputs
+// and fragment inputs, matched by name in ES, carry one name; no layout bindings (ES 3.00 has
+// none), the reflection gives the OpenGL units and block bindings instead.
+TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflection) {
+    const fs::path scratch = scratch_dir("shaders_glsl_es");
+    const fs::path out = scratch / "out";
+    const RunResult r = run_leanfade("shaders --lang glsl-es -o " + shell_quote(out), scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json index = nlohmann::json::parse(read_text(out / "shaders.json"));
+    EXPECT_EQ(index["language"], "glsl-es");
+    const std::vector<const gl::ShaderVariant*> variants = scene_variants();
+    const auto& shaders = index["shaders"];
+    ASSERT_EQ(shaders.size(), 1 + variants.size());
+    std::set<std::string> vertex_outputs;
+    std::set<std::string> fragment_inputs;
+    std::size_t omitted = 0;
+    const std::regex interface_variable(R"((in|out) (highp |mediump )?\w+ (lf_vertex_\w+);)");
+    const fs::path log = scratch / "tool.txt";
+    for (std::size_t i = 0; i < shaders.size(); ++i) {
+        const auto& s = shaders[i];
+        const std::string variant = s["variant"];
+        // The roughness MIPs of one LEAN map (bump layers mix moments instead).
+        const bool roughness = i > 0 &&
+                               variants[i - 1]->key.technique == Technique::Roughness &&
+                               variant.find("_layered") == std::string::npos;
+        if (roughness) {
+            // The one construct ES 3.00 lacks, named.
+            EXPECT_NE(s.value("omitted", "").find("textureQueryLevels"), std::string::npos)
+                << variant;
+            EXPECT_FALSE(s.contains("file")) << variant;
+            ++omitted;
+            continue;
+        }
+        ASSERT_FALSE(s.contains("omitted")) << variant << ": " << s["omitted"];
+        const fs::path file = out / s["file"].get<std::string>();
+        EXPECT_EQ(s["file"], variant + "." + stage_of(s) + ".essl");
+        const std::string text = read_text(file);
+        EXPECT_EQ(text.rfind("#version 300 es\n", 0), 0u) << file;
+        EXPECT_EQ(text.find("binding"), std::string::npos) << file;
+        std::set<std::string>& names = stage_of(s) == "vert" ? vertex_outputs : fragment_inputs;
+        const std::string direction = stage_of(s) == "vert" ? "out" : "in";
+        std::set<std::string> mine;
+        for (std::sregex_iterator it(text.begin(), text.end(), interface_variable), end; it != end;
+             ++it)
+            if ((*it)[1] == direction) mine.insert((*it)[3]);
+        EXPECT_EQ(mine.size(), 4u) << file;  // uv, light_t, view_t, eye_depth
+        if (names.empty()) names = mine;
+        EXPECT_EQ(mine, names) << file;
+        // The reflection: OpenGL numbers (blocks below the SPIR-V offset), the blocks' layout.
+        bool shading_block = false;
+        for (const auto& res : s["reflection"]["resources"]) {
+            EXPECT_LT(res["binding"].get<int>(), 16) << file;
+            if (res["name"] == "LfShadingBlock") {
+                shading_block = true;
+                EXPECT_EQ(res["binding"], gl::bindings::LF_BINDING_SHADING_BLOCK);
+                EXPECT_EQ(res["block_size"], sizeof(gl::LfShadingUniforms));
+            }
+        }
+        EXPECT_EQ(shading_block, stage_of(s) == "frag") << file;
+        std::string output;
+        EXPECT_EQ(run_tool("glslangValidator -S " + stage_of(s) + " " + shell_quote(file), log,
+                           &output),
+                  0)
+            << file << ": " << output;
+    }
+    EXPECT_EQ(vertex_outputs, fragment_inputs);
+    EXPECT_GT(omitted, 0u);
+    EXPECT_NE(r.out.find(std::to_string(omitted) + " variants have no glsl-es form"),
+              std::string::npos)
+        << r.out;
+}
+
 TEST(ShadersCli, UnknownLanguageIsOneLineAndWritesNothing) {
     const fs::path scratch = scratch_dir("shaders_bad_lang");
     const RunResult r =
@@ -393,7 +466,7 @@ TEST(ShadersCli, UnknownLanguageIsOneLineAndWritesNothing) {
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_EQ(r.err,
               "leanfade shaders: --lang: unknown shader language 'cuda' (expected glsl, spirv, "
-              "hlsl or msl)\n");
+              "hlsl, msl or glsl-es)\n");
     EXPECT_FALSE(fs::exists(scratch / "out"));
 }
 

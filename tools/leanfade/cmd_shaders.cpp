@@ -81,14 +81,22 @@ nlohmann::json index_json(gl::ShaderLanguage language,
     nlohmann::json list = nlohmann::json::array();
     const bool spirv = language == gl::ShaderLanguage::Spirv;
     if (spirv) j["optimizer"] = "SPIRV-Tools performance passes (spirv-opt -O)";
+    const bool es = language == gl::ShaderLanguage::GlslEs;
+    if (es)
+        j["bindings"] =
+            "GLSL ES 3.00 has no layout bindings: set each sampler's unit (uniform1i) and each "
+            "block's binding (uniformBlockBinding) by name, as the reflection's binding gives";
     for (const gl::ExportedShader& s : shaders) {
-        nlohmann::json entry{{"file", s.file_name},  {"variant", s.variant},
-                             {"stage", s.stage},     {"source", s.source},
-                             {"defines", s.defines}, {"size", s.bytes.size()}};
-        if (spirv) {
-            entry["unoptimised_size"] = s.unoptimised_size;
-            entry["reflection"] = reflection_json(s.reflection);
+        nlohmann::json entry{{"variant", s.variant}, {"stage", s.stage},
+                             {"source", s.source},   {"defines", s.defines}};
+        if (!s.omitted.empty()) {
+            entry["omitted"] = s.omitted;  // no file
+        } else {
+            entry["file"] = s.file_name;
+            entry["size"] = s.bytes.size();
         }
+        if (spirv) entry["unoptimised_size"] = s.unoptimised_size;
+        if (spirv || es) entry["reflection"] = reflection_json(s.reflection);
         list.push_back(entry);
     }
     j["shaders"] = list;
@@ -108,8 +116,12 @@ int run_shaders(const ShadersArgs& args) {
     plan.add_output(index_path, "the index");
     // The output names do not depend on the compilation: checked first.
     const std::vector<gl::ExportedShader> shaders = gl::export_shaders(sources, language);
-    for (const gl::ExportedShader& s : shaders)
+    std::size_t written = 0;
+    for (const gl::ExportedShader& s : shaders) {
+        if (!s.omitted.empty()) continue;
         plan.add_output((fs::path(args.out_dir) / s.file_name).string(), s.variant);
+        ++written;
+    }
     plan.check();
 
     // Written into a staging folder beside the output folder, published together.
@@ -120,13 +132,16 @@ int run_shaders(const ShadersArgs& args) {
         file.write(data, size);
         file.commit();
     };
-    for (const gl::ExportedShader& s : shaders) write(s.file_name, s.bytes.data(), s.bytes.size());
+    for (const gl::ExportedShader& s : shaders)
+        if (s.omitted.empty()) write(s.file_name, s.bytes.data(), s.bytes.size());
     const std::string index = index_json(language, shaders).dump(2) + "\n";
     write(kIndexFile, index.data(), index.size());
     outputs.publish();
     std::printf("%zu %s shaders (the vertex stage and %zu fragment variants) and %s in %s\n",
-                shaders.size(), gl::to_string(language), shaders.size() - 1, kIndexFile,
-                args.out_dir.c_str());
+                written, gl::to_string(language), written - 1, kIndexFile, args.out_dir.c_str());
+    if (written < shaders.size())
+        std::printf("%zu variants have no %s form (shaders.json says why)\n",
+                    shaders.size() - written, gl::to_string(language));
     if (language == gl::ShaderLanguage::Spirv) {
         std::size_t before = 0, after = 0;
         for (const gl::ExportedShader& s : shaders) {
@@ -139,13 +154,13 @@ int run_shaders(const ShadersArgs& args) {
 }
 
 const CommandRegistration registration{
-    "shaders", "Write the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL)",
+    "shaders", "Write the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL, GLSL ES)",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ShadersArgs>();
         app.add_option("--lang", args->lang,
                        "glsl (OpenGL 4.5 source), spirv (Vulkan 1.0, by glslang, optimised, "
-                       "reflected in shaders.json), hlsl (shader model 5.0) or msl (Metal; both "
-                       "by SPIRV-Cross)")
+                       "reflected in shaders.json), hlsl (shader model 5.0), msl (Metal) or "
+                       "glsl-es (GLSL ES 3.00 for WebGL2, reflected; the three by SPIRV-Cross)")
             ->required();
         app.add_option("-o,--out-dir", args->out_dir,
                        "folder for one file per stage and variant and shaders.json (created when "

@@ -276,13 +276,63 @@ std::string fix_hlsl_lod_queries(std::string hlsl) {
     return hlsl;
 }
 
-// SPIR-V -> HLSL 5.0 or MSL by SPIRV-Cross; for SPIR-V itself, only the check of its bindings
-// (returns "").
+// GLSL ES 3.00 matches the vertex stage's outputs with the fragment stage's inputs by name, and
+// SPIRV-Cross flattens an interface block into <instance>_<member>: the instances (v_out, v_in)
+// are given one name in both stages.
+constexpr const char* kEsInterfaceName = "lf_vertex";
+// The start of the cause of an Error for a stage SPIRV-Cross does not translate.
+constexpr const char* kRefusedTranslation = "SPIRV-Cross cannot translate it";
+
+template <typename Fail>
+void name_es_interface_blocks(spvc_compiler compiler, const Fail& fail) {
+    spvc_resources resources = nullptr;
+    if (spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS)
+        throw fail("cannot list the resources");
+    for (const spvc_resource_type type :
+         {SPVC_RESOURCE_TYPE_STAGE_INPUT, SPVC_RESOURCE_TYPE_STAGE_OUTPUT}) {
+        const spvc_reflected_resource* list = nullptr;
+        std::size_t count = 0;
+        if (spvc_resources_get_resource_list_for_type(resources, type, &list, &count) !=
+            SPVC_SUCCESS)
+            throw fail("cannot list the resources");
+        for (std::size_t i = 0; i < count; ++i) {
+            const spvc_type t = spvc_compiler_get_type_handle(compiler, list[i].type_id);
+            if (spvc_type_get_basetype(t) == SPVC_BASETYPE_STRUCT)
+                spvc_compiler_set_name(compiler, list[i].id, kEsInterfaceName);
+        }
+    }
+}
+
+// glslang's verdict on a GLSL ES 3.00 stage (OpenGL ES rules, as WebGL2's compilers apply them):
+// "" when it compiles, else its log as one line.
+std::string check_glsl_es(const std::string& text, bool fragment) {
+    initialize_glslang();
+    glslang_input_t input{};
+    input.language = GLSLANG_SOURCE_GLSL;
+    input.stage = fragment ? GLSLANG_STAGE_FRAGMENT : GLSLANG_STAGE_VERTEX;
+    input.client = GLSLANG_CLIENT_NONE;
+    input.target_language = GLSLANG_TARGET_NONE;
+    input.code = text.c_str();
+    input.default_version = 300;
+    input.default_profile = GLSLANG_ES_PROFILE;
+    input.messages = GLSLANG_MSG_DEFAULT_BIT;
+    input.resource = glslang_default_resource();
+    std::unique_ptr<glslang_shader_t, ShaderDeleter> shader(glslang_shader_create(&input));
+    if (!shader) return "glslang could not create a shader";
+    if (!glslang_shader_preprocess(shader.get(), &input) ||
+        !glslang_shader_parse(shader.get(), &input))
+        return one_line(glslang_shader_get_info_log(shader.get()));
+    return "";
+}
+
+// SPIR-V -> HLSL 5.0, MSL or GLSL ES 3.00 by SPIRV-Cross; for SPIR-V itself, only the check of
+// its bindings (returns "").
 std::string cross_compile(const std::string& file, const std::vector<std::uint32_t>& words,
                           ShaderLanguage language) {
-    const spvc_backend backend = language == ShaderLanguage::Hlsl  ? SPVC_BACKEND_HLSL
-                                 : language == ShaderLanguage::Msl ? SPVC_BACKEND_MSL
-                                                                   : SPVC_BACKEND_NONE;
+    const spvc_backend backend = language == ShaderLanguage::Hlsl     ? SPVC_BACKEND_HLSL
+                                 : language == ShaderLanguage::Msl    ? SPVC_BACKEND_MSL
+                                 : language == ShaderLanguage::GlslEs ? SPVC_BACKEND_GLSL
+                                                                      : SPVC_BACKEND_NONE;
     const SpirvCross cross(words, file, backend);
     const spvc_compiler compiler = cross.compiler;
     auto fail = [&](const char* what) { return cross.fail(what); };
@@ -291,15 +341,24 @@ std::string cross_compile(const std::string& file, const std::vector<std::uint32
     spvc_compiler_options options = nullptr;
     if (spvc_compiler_create_compiler_options(compiler, &options) != SPVC_SUCCESS)
         throw fail("has no options");
-    if (language == ShaderLanguage::Hlsl)
+    if (language == ShaderLanguage::Hlsl) {
         spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_HLSL_SHADER_MODEL, 50);
-    else  // arrays of textures (bump layers) need MSL 2.0, textureQueryLod 2.2
+    } else if (language == ShaderLanguage::GlslEs) {
+        spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_GLSL_VERSION, 300);
+        spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_ES, SPVC_TRUE);
+        // The renderer computes in 32-bit floats and ints: highp unless said otherwise.
+        spvc_compiler_options_set_bool(
+            options, SPVC_COMPILER_OPTION_GLSL_ES_DEFAULT_FLOAT_PRECISION_HIGHP, SPVC_TRUE);
+        spvc_compiler_options_set_bool(
+            options, SPVC_COMPILER_OPTION_GLSL_ES_DEFAULT_INT_PRECISION_HIGHP, SPVC_TRUE);
+        name_es_interface_blocks(compiler, fail);
+    } else  // arrays of textures (bump layers) need MSL 2.0, textureQueryLod 2.2
         spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_MSL_VERSION,
                                        SPVC_MAKE_MSL_VERSION(2, 2, 0));
     spvc_compiler_install_compiler_options(compiler, options);
     const char* result = nullptr;
     if (spvc_compiler_compile(compiler, &result) != SPVC_SUCCESS || result == nullptr)
-        throw fail("cannot translate it");
+        throw fail(kRefusedTranslation + std::strlen("SPIRV-Cross "));
     return language == ShaderLanguage::Hlsl ? fix_hlsl_lod_queries(result) : std::string(result);
 }
 
@@ -590,6 +649,29 @@ ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* v
                 out.bytes.push_back(std::uint8_t(w >> shift));
         return out;
     }
+    if (language == ShaderLanguage::GlslEs) {
+        // What ES 3.00 cannot express is an omission with its reason, not an error: SPIRV-Cross
+        // refuses a construct (a LOD query), or glslang the translation (a sampler array indexed
+        // with a variable).
+        out.reflection = reflect_spirv(words, out.source);
+        for (ShaderResource& r : out.reflection.resources)
+            if (r.descriptor_type == "uniform_buffer") r.binding -= kSpirvUniformBlockBase;
+        std::string text;
+        try {
+            text = cross_compile(out.source, words, language);
+        } catch (const Error& e) {
+            if (e.cause().rfind(kRefusedTranslation, 0) != 0) throw;
+            out.omitted = e.cause();
+            return out;
+        }
+        const std::string verdict = check_glsl_es(text, fragment);
+        if (!verdict.empty()) {
+            out.omitted = "not GLSL ES 3.00: " + verdict;
+            return out;
+        }
+        out.bytes = text_bytes(text);
+        return out;
+    }
     out.bytes = text_bytes(cross_compile(out.source, words, language));
     return out;
 }
@@ -601,7 +683,7 @@ const char* to_string(ShaderLanguage language) {
 }
 
 const std::vector<std::string>& shader_language_names() {
-    static const std::vector<std::string> names{"glsl", "spirv", "hlsl", "msl"};
+    static const std::vector<std::string> names{"glsl", "spirv", "hlsl", "msl", "glsl-es"};
     return names;
 }
 
@@ -623,6 +705,8 @@ const char* file_extension(ShaderLanguage language) {
             return ".hlsl";
         case ShaderLanguage::Msl:
             return ".metal";
+        case ShaderLanguage::GlslEs:
+            return ".essl";
     }
     return "";
 }

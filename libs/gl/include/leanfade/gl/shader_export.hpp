@@ -18,6 +18,14 @@
 //   msl    Metal Shading Language 2.2 cross-compiled by SPIRV-Cross from the unoptimised SPIR-V:
 //          entry point main0 (Metal reserves main), [[texture(unit)]], [[sampler(unit)]] and
 //          [[buffer(block binding)]].
+//   glsl-es GLSL ES 3.00 for WebGL2 and OpenGL ES 3.0, cross-compiled by SPIRV-Cross from the
+//          unoptimised SPIR-V and checked by glslang as GLSL ES 3.00. ES 3.00 has no layout
+//          bindings: the application sets each sampler's unit (gl.uniform1i) and each block's
+//          binding (gl.uniformBlockBinding) by name, from the reflection (OpenGL units and block
+//          bindings). The vertex stage's outputs and the fragment stage's inputs, which ES matches
+//          by name, are named lf_vertex_<member> in both. A variant ES 3.00 cannot express (the
+//          roughness MIPs query the LOD and the level count) is listed with the reason
+//          (ExportedShader::omitted) and no file.
 // Block, struct, member and sampler names are those of the GLSL (LfShadingBlock, u_shading,
 // LfParams, u_lean, ...). GL-free: the tool's own library, not linked by the renderer.
 #include <cstddef>
@@ -30,14 +38,14 @@
 
 namespace leanfade::gl {
 
-enum class ShaderLanguage { Glsl, Spirv, Hlsl, Msl };
+enum class ShaderLanguage { Glsl, Spirv, Hlsl, Msl, GlslEs };
 
-const char* to_string(ShaderLanguage language);  // "glsl", "spirv", "hlsl", "msl"
+const char* to_string(ShaderLanguage language);  // "glsl", "spirv", "hlsl", "msl", "glsl-es"
 // Every language's name, in enum order.
 const std::vector<std::string>& shader_language_names();
 // Throws leanfade::Error(setting, cause) for a name that is not a language's.
 ShaderLanguage parse_shader_language(std::string_view name, const std::string& setting = "lang");
-// The file extension of a language's files: ".glsl", ".spv", ".hlsl", ".metal".
+// The file extension of a language's files: ".glsl", ".spv", ".hlsl", ".metal", ".essl".
 const char* file_extension(ShaderLanguage language);
 
 // A uniform block's SPIR-V binding is this + its OpenGL block binding: OpenGL numbers texture units
@@ -95,10 +103,14 @@ struct ExportedShader {
     std::vector<std::string> defines;  // the variant's ("LF_TECHNIQUE 1", ...)
     std::string file_name;             // <variant>.<stage><extension>: "scene_lean.frag.spv"
     std::vector<std::uint8_t> bytes;   // the text, or the SPIR-V words (little-endian)
-    // SPIR-V only: the bytes glslang wrote before optimisation, and the optimised module's
-    // reflection.
+    // SPIR-V only: the bytes glslang wrote before optimisation. SPIR-V and GLSL ES: the module's
+    // reflection (GLSL ES: of the unoptimised module, every resource the source declares, with
+    // OpenGL's texture units and block bindings).
     std::size_t unoptimised_size = 0;
     ShaderReflection reflection;
+    // GLSL ES only: why the variant has no GLSL ES 3.00 form ("" when it has one; then `bytes`
+    // is empty and no file is written).
+    std::string omitted;
 };
 
 // The reflection of a SPIR-V module (words in host order). Throws leanfade::Error(file, cause)
