@@ -195,6 +195,26 @@ struct SpirvCross {
     }
 };
 
+// The resources of `type` in SPIRV-Cross's `resources` (copied out of its context).
+template <typename Fail>
+std::vector<spvc_reflected_resource> resource_list(spvc_resources resources,
+                                                   spvc_resource_type type, const Fail& fail) {
+    const spvc_reflected_resource* items = nullptr;
+    std::size_t count = 0;
+    if (spvc_resources_get_resource_list_for_type(resources, type, &items, &count) != SPVC_SUCCESS)
+        throw fail("cannot list the resources");
+    return std::vector<spvc_reflected_resource>(items, items + count);
+}
+
+// Every resource the module declares.
+template <typename Fail>
+spvc_resources declared_resources(spvc_compiler compiler, const Fail& fail) {
+    spvc_resources resources = nullptr;
+    if (spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS)
+        throw fail("cannot list the resources");
+    return resources;
+}
+
 // The resources of a stage, checked and numbered in the target language from their OpenGL
 // numbers: in SPIR-V a texture's binding is its unit and a uniform block's is
 // kSpirvUniformBlockBase + its block binding; HLSL gets t<unit>, s<unit> and b<block binding>, MSL
@@ -205,18 +225,12 @@ struct SpirvCross {
 template <typename Fail>
 void bind_resources(spvc_compiler compiler, ShaderLanguage language, const std::string& file,
                     const Fail& fail) {
-    spvc_resources resources = nullptr;
-    if (spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS)
-        throw fail("cannot list the resources");
+    const spvc_resources resources = declared_resources(compiler, fail);
     const SpvExecutionModel model = spvc_compiler_get_execution_model(compiler);
     for (const spvc_resource_type type :
          {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE}) {
-        const spvc_reflected_resource* list = nullptr;
-        std::size_t count = 0;
-        if (spvc_resources_get_resource_list_for_type(resources, type, &list, &count) !=
-            SPVC_SUCCESS)
-            throw fail("cannot list the resources");
-        for (std::size_t i = 0; i < count; ++i) {
+        const std::vector<spvc_reflected_resource> list = resource_list(resources, type, fail);
+        for (std::size_t i = 0; i < list.size(); ++i) {
             const unsigned set =
                 spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet);
             const unsigned binding =
@@ -285,22 +299,14 @@ constexpr const char* kRefusedTranslation = "SPIRV-Cross cannot translate it";
 
 template <typename Fail>
 void name_es_interface_blocks(spvc_compiler compiler, const Fail& fail) {
-    spvc_resources resources = nullptr;
-    if (spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS)
-        throw fail("cannot list the resources");
+    const spvc_resources resources = declared_resources(compiler, fail);
     for (const spvc_resource_type type :
-         {SPVC_RESOURCE_TYPE_STAGE_INPUT, SPVC_RESOURCE_TYPE_STAGE_OUTPUT}) {
-        const spvc_reflected_resource* list = nullptr;
-        std::size_t count = 0;
-        if (spvc_resources_get_resource_list_for_type(resources, type, &list, &count) !=
-            SPVC_SUCCESS)
-            throw fail("cannot list the resources");
-        for (std::size_t i = 0; i < count; ++i) {
-            const spvc_type t = spvc_compiler_get_type_handle(compiler, list[i].type_id);
+         {SPVC_RESOURCE_TYPE_STAGE_INPUT, SPVC_RESOURCE_TYPE_STAGE_OUTPUT})
+        for (const spvc_reflected_resource& r : resource_list(resources, type, fail)) {
+            const spvc_type t = spvc_compiler_get_type_handle(compiler, r.type_id);
             if (spvc_type_get_basetype(t) == SPVC_BASETYPE_STRUCT)
-                spvc_compiler_set_name(compiler, list[i].id, kEsInterfaceName);
+                spvc_compiler_set_name(compiler, r.id, kEsInterfaceName);
         }
-    }
 }
 
 // glslang's verdict on a GLSL ES 3.00 stage (OpenGL ES rules, as WebGL2's compilers apply them):
@@ -566,14 +572,7 @@ ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const st
         spvc_compiler_create_shader_resources_for_active_variables(compiler, &resources, active) !=
             SPVC_SUCCESS)
         throw fail("cannot list the resources");
-    auto list = [&](spvc_resource_type type) {
-        const spvc_reflected_resource* items = nullptr;
-        std::size_t count = 0;
-        if (spvc_resources_get_resource_list_for_type(resources, type, &items, &count) !=
-            SPVC_SUCCESS)
-            throw fail("cannot list the resources");
-        return std::vector<spvc_reflected_resource>(items, items + count);
-    };
+    auto list = [&](spvc_resource_type type) { return resource_list(resources, type, fail); };
 
     ShaderReflection out;
     const SpvExecutionModel model = spvc_compiler_get_execution_model(compiler);

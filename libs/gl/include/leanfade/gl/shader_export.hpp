@@ -104,8 +104,8 @@ struct ExportedShader {
     std::string file_name;             // <variant>.<stage><extension>: "scene_lean.frag.spv"
     std::vector<std::uint8_t> bytes;   // the text, or the SPIR-V words (little-endian)
     // SPIR-V only: the bytes glslang wrote before optimisation. SPIR-V and GLSL ES: the module's
-    // reflection (GLSL ES: of the unoptimised module, every resource the source declares, with
-    // OpenGL's texture units and block bindings).
+    // reflection (GLSL ES: of the unoptimised module, with OpenGL's texture units and block
+    // bindings).
     std::size_t unoptimised_size = 0;
     ShaderReflection reflection;
     // GLSL ES only: why the variant has no GLSL ES 3.00 form ("" when it has one; then `bytes`
