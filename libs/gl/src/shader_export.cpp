@@ -88,23 +88,31 @@ struct ProgramDeleter {
     void operator()(glslang_program_t* p) const { glslang_program_delete(p); }
 };
 
-// GLSL 4.50 -> SPIR-V 1.0 for Vulkan 1.0 (see the header for bindings and locations). Errors are
-// given as the renderer gives a driver's (compile_error: file and line of the first error).
-std::vector<std::uint32_t> compile_spirv(const ShaderSources& sources, const std::string& file,
-                                         const ResolvedSource& resolved, bool fragment) {
+// glslang's input for one stage of GLSL source `text` (which must outlive it) of `version` and
+// `profile`, with glslang initialised; the caller sets the client and target.
+glslang_input_t glslang_input(const std::string& text, bool fragment, int version,
+                              glslang_profile_t profile) {
     initialize_glslang();
     glslang_input_t input{};
     input.language = GLSLANG_SOURCE_GLSL;
     input.stage = fragment ? GLSLANG_STAGE_FRAGMENT : GLSLANG_STAGE_VERTEX;
+    input.code = text.c_str();
+    input.default_version = version;
+    input.default_profile = profile;
+    input.messages = GLSLANG_MSG_DEFAULT_BIT;
+    input.resource = glslang_default_resource();
+    return input;
+}
+
+// GLSL 4.50 -> SPIR-V 1.0 for Vulkan 1.0 (see the header for bindings and locations). Errors are
+// given as the renderer gives a driver's (compile_error: file and line of the first error).
+std::vector<std::uint32_t> compile_spirv(const ShaderSources& sources, const std::string& file,
+                                         const ResolvedSource& resolved, bool fragment) {
+    glslang_input_t input = glslang_input(resolved.text, fragment, 450, GLSLANG_CORE_PROFILE);
     input.client = GLSLANG_CLIENT_VULKAN;
     input.client_version = GLSLANG_TARGET_VULKAN_1_0;
     input.target_language = GLSLANG_TARGET_SPV;
     input.target_language_version = GLSLANG_TARGET_SPV_1_0;
-    input.code = resolved.text.c_str();
-    input.default_version = 450;
-    input.default_profile = GLSLANG_CORE_PROFILE;
-    input.messages = GLSLANG_MSG_DEFAULT_BIT;
-    input.resource = glslang_default_resource();
     const GLenum stage = fragment ? GL_FRAGMENT_SHADER : GL_VERTEX_SHADER;
 
     std::unique_ptr<glslang_shader_t, ShaderDeleter> shader(glslang_shader_create(&input));
@@ -312,17 +320,9 @@ void name_es_interface_blocks(spvc_compiler compiler, const Fail& fail) {
 // glslang's verdict on a GLSL ES 3.00 stage (OpenGL ES rules, as WebGL2's compilers apply them):
 // "" when it compiles, else its log as one line.
 std::string check_glsl_es(const std::string& text, bool fragment) {
-    initialize_glslang();
-    glslang_input_t input{};
-    input.language = GLSLANG_SOURCE_GLSL;
-    input.stage = fragment ? GLSLANG_STAGE_FRAGMENT : GLSLANG_STAGE_VERTEX;
-    input.client = GLSLANG_CLIENT_NONE;
+    glslang_input_t input = glslang_input(text, fragment, 300, GLSLANG_ES_PROFILE);
+    input.client = GLSLANG_CLIENT_NONE;  // parse and check only: no SPIR-V
     input.target_language = GLSLANG_TARGET_NONE;
-    input.code = text.c_str();
-    input.default_version = 300;
-    input.default_profile = GLSLANG_ES_PROFILE;
-    input.messages = GLSLANG_MSG_DEFAULT_BIT;
-    input.resource = glslang_default_resource();
     std::unique_ptr<glslang_shader_t, ShaderDeleter> shader(glslang_shader_create(&input));
     if (!shader) return "glslang could not create a shader";
     if (!glslang_shader_preprocess(shader.get(), &input) ||
