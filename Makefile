@@ -21,7 +21,7 @@ SANITIZE_ENV := ASAN_OPTIONS=$(ASAN_CHECKS) UBSAN_OPTIONS=print_stacktrace=1:hal
 # `make test-portable`: the build folder of the portable platform layer (README, "Platforms").
 PORTABLE_BUILD_DIR ?= build-portable
 
-.PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds \
+.PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds web \
 	clean format
 
 all: build
@@ -46,6 +46,18 @@ test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) $(CTEST_ARGS)
 	@# The Vulkan consumer's figures (validation messages, RMSE against leanfade render).
 	@if [ -f $(BUILD_DIR)/test-tmp/vulkan_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/vulkan_figures.txt; fi
+	@# The WebGL2 page's figures (headless Chromium against leanfade render).
+	@if [ -f $(BUILD_DIR)/test-tmp/webgl_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/webgl_figures.txt; fi
+
+# The WebGL2 example (examples/web, docs/integration.md): its data baked and exported, then
+# served on http://127.0.0.1:$(WEB_PORT)/ until interrupted.
+WEB_PORT ?= 8080
+web: build
+	@mkdir -p examples/web/data
+	$(LEANFADE) bake --builtin bumps --size 512 --bits 16f -o examples/web/data/bumps.ktx2 \
+		--plateau-out examples/web/data/bumps.plateau.ktx2
+	$(LEANFADE) shaders --lang glsl-es -o examples/web/data/shaders
+	node examples/web/serve.mjs --data examples/web/data --port $(WEB_PORT)
 
 # The portable platform layer (leanfade/core/platform.hpp) forced on Linux, in its own build
 # folder: only the libraries and test programs of core, io and scene are built, and their tests

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages leanfade needs, only those missing. Idempotent.
+# Installs the Debian 12 packages leanfade needs, only those missing, and the web example's npm
+# packages from its lockfile (examples/web: three.js at the pinned version). Idempotent.
 # Uses sudo only when not root. Set LEANFADE_EXTRA_PACKAGES to add more.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build pkg-config git
@@ -11,7 +13,12 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev
   spirv-tools mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
+  chromium
 )
+# Node.js and npm for the WebGL2 example's server and its three.js, unless the machine already
+# has them (another Node.js installation conflicts with Debian's packages).
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 # shellcheck disable=SC2206
 packages+=(${LEANFADE_EXTRA_PACKAGES:-})
 
@@ -20,12 +27,20 @@ for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
   [[ "$status" == "install ok installed" ]] || missing+=("$p")
 done
-if ((${#missing[@]} == 0)); then
-  exit 0
+if ((${#missing[@]} > 0)); then
+  echo "install-deps: installing ${missing[*]}"
+  sudo_cmd=()
+  if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "install-deps: installing ${missing[*]}"
-sudo_cmd=()
-if [[ $(id -u) -ne 0 ]]; then sudo_cmd=(sudo); fi
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+
+# The web example's packages, exactly as its lockfile pins them, when missing or another version.
+web=examples/web
+wanted=$(node -p "require('./$web/package-lock.json').packages['node_modules/three'].version")
+have=$(node -p "try { require('./$web/node_modules/three/package.json').version } catch { '' }")
+if [[ "$have" != "$wanted" ]]; then
+  echo "install-deps: npm ci in $web (three $wanted)"
+  (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+fi

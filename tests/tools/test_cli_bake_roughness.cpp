@@ -9,12 +9,16 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include <glm/gtc/packing.hpp>
+
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/png_io.hpp"
 #include "tools_test_helpers.hpp"
 
 using namespace leanfade;
@@ -75,6 +79,14 @@ TEST(CliBakeRoughness, WritesKtx2AndPngLevelsOfTheCoreRoughnessMips) {
     EXPECT_EQ(info.vk_format, io::kVkFormatR8G8B8A8Unorm);
     EXPECT_EQ(info.layer_count, 0u);
     EXPECT_EQ(info.data_format.transfer_function, 1u);  // linear: data, not colour
+    // Each file says what it holds (docs/ktx2.md).
+    for (const auto& [file, content] :
+         {std::pair{rough, "roughness v1"}, std::pair{dir / "rough.normal.ktx2", "normal v1"},
+          std::pair{aniso, "anisotropy v1"}}) {
+        const std::string* value = io::inspect_ktx2(file.string()).find(io::kKeyTextureContent);
+        ASSERT_NE(value, nullptr) << file;
+        EXPECT_EQ(*value, content);
+    }
     double coarse_r = 0.0;
     for (std::size_t l = 0; l < want.size(); ++l) {
         ASSERT_EQ(mr[l].width, want[l].width);
@@ -183,3 +195,58 @@ TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
 }
 
 }  // namespace
+
+// `--plateau-out`: the plateau layer of two-lobe LEAN from the LEAN map as stored, every level, as
+// half floats: the values `leanfade render` computes when it loads the same map.
+TEST(CliBakePlateau, WritesThePlateauMipsOfTheStoredMapAsHalfFloats) {
+    const fs::path dir = test::scratch_dir("bake_plateau");
+    const fs::path height = write_height_map(dir);
+    for (const char* format : {"map.ktx2", "map.png"}) {
+        const fs::path plateau = dir / (std::string(format) + ".plateau.ktx2");
+        const auto r = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                        shell_quote((dir / format).string()) + " --plateau-out " +
+                                        shell_quote(plateau.string()),
+                                    dir);
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_THAT(r.out, HasSubstr(plateau.string())) << "bake names every file it wrote";
+        const PackedLeanMap stored =
+            std::string(format) == "map.ktx2"
+                ? io::read_ktx2((dir / format).string())
+                : io::read_lean_png_pair((dir / "map.lean1.png").string());
+        const std::vector<Image> want = plateau_mips(packed_top_slopes(stored));
+        const std::vector<Image> got = io::read_ktx2_rgba16f(plateau.string());
+        ASSERT_EQ(got.size(), want.size());
+        double plateau_fraction = 0.0;
+        for (std::size_t l = 0; l < want.size(); ++l) {
+            ASSERT_EQ(got[l].width, want[l].width);
+            for (std::size_t i = 0; i < want[l].pixels.size(); ++i)
+                ASSERT_EQ(got[l].pixels[i],
+                          glm::unpackHalf1x16(glm::packHalf1x16(want[l].pixels[i])))
+                    << format << " level " << l << " value " << i;
+        }
+        plateau_fraction = got.back().pixels[0];
+        // The bumps set has flat ground between its bumps: a plateau fraction strictly inside
+        // (0, 1) at the coarsest level.
+        EXPECT_GT(plateau_fraction, 0.05) << format;
+        EXPECT_LT(plateau_fraction, 0.95) << format;
+        const std::string* content = io::inspect_ktx2(plateau.string()).find(io::kKeyTextureContent);
+        ASSERT_NE(content, nullptr);
+        EXPECT_EQ(*content, "plateau v1");
+    }
+    // Refused before anything is written: not a .ktx2, or with a batch.
+    const auto png = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                      shell_quote((dir / "other.ktx2").string()) +
+                                      " --plateau-out " + shell_quote((dir / "p.png").string()),
+                                  dir);
+    EXPECT_NE(png.exit_code, 0);
+    EXPECT_THAT(png.err, HasSubstr(".ktx2"));
+    EXPECT_FALSE(fs::exists(dir / "other.ktx2"));
+    const auto batch = run_leanfade("bake " + shell_quote(height.string()) + " " +
+                                        shell_quote(height.string()) + " --out-dir " +
+                                        shell_quote((dir / "batch").string()) +
+                                        " --plateau-out " + shell_quote((dir / "b.ktx2").string()),
+                                    dir);
+    EXPECT_NE(batch.exit_code, 0);
+    EXPECT_THAT(batch.err, HasSubstr("--plateau-out"));
+    EXPECT_FALSE(fs::exists(dir / "b.ktx2"));
+}

@@ -37,6 +37,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/generators.hpp"
+#include "leanfade/test/cell_comparison.hpp"
 #include "leanfade/test/scratch.hpp"
 
 namespace leanfade::test {
@@ -119,13 +120,12 @@ VkFormat lean_format(Storage storage) {
     return VK_FORMAT_UNDEFINED;
 }
 
-// The variant the renderer draws a colour frame without fog with (Renderer's variant_for): the
-// technique's plain variant, fading with its defaults the fast one.
+// The variant the renderer draws a colour frame without fog with (gl::variant_for).
 std::string renderer_variant(Technique technique, const ShadingSettings& s) {
-    gl::VariantKey key = gl::VariantKey::scene(technique, gl::scene_variant_flags(technique, s))
-                             .with(gl::kPlainColor);
-    if (info(technique).fades) key = key.with(gl::kFadeFast);
-    return gl::variant_name(key);
+    gl::RenderRequest request;
+    request.technique = technique;
+    request.settings = s;
+    return gl::variant_name(gl::variant_for(request));
 }
 
 struct Buffer {
@@ -393,55 +393,6 @@ std::vector<std::uint8_t> flip_rows(const std::vector<std::uint8_t>& bytes, int 
         std::memcpy(out.data() + std::size_t(y) * row,
                     bytes.data() + std::size_t(height - 1 - y) * row, row);
     return out;
-}
-
-// The conversion of the figures (and PNG cells) of `leanfade render`: linear radiance to 8-bit
-// sRGB codes.
-std::vector<int> srgb_codes(const Image& linear) {
-    const Image encoded = eval::encode_srgb(linear);
-    std::vector<int> codes;
-    for (int y = 0; y < encoded.height; ++y)
-        for (int x = 0; x < encoded.width; ++x)
-            for (int c = 0; c < 3; ++c)
-                codes.push_back(int(std::lround(
-                    std::clamp(encoded.pixels[encoded.index(x, y, c)], 0.0f, 1.0f) * 255.0f)));
-    return codes;
-}
-
-struct Comparison {
-    double rmse = 0.0;         // over every pixel
-    double object_rmse = 0.0;  // over the pixels the object covers in either image
-    int max_difference = 0;
-    double covered = 0.0;  // fraction of the reference's pixels the object covers
-};
-
-Comparison compare(const Image& image, const Image& reference) {
-    const std::vector<int> a = srgb_codes(image), b = srgb_codes(reference);
-    // The background is the top-left pixel's code (the sphere never reaches the corners).
-    auto background = [](const std::vector<int>& codes, std::size_t i) {
-        return codes[i] == codes[0] && codes[i + 1] == codes[1] && codes[i + 2] == codes[2];
-    };
-    Comparison c;
-    double sum = 0.0, object_sum = 0.0;
-    std::size_t covered = 0, object_pixels = 0;
-    for (std::size_t i = 0; i < a.size(); i += 3) {
-        double pixel = 0.0;
-        for (std::size_t k = i; k < i + 3; ++k) {
-            const int d = a[k] - b[k];
-            pixel += double(d) * double(d);
-            c.max_difference = std::max(c.max_difference, std::abs(d));
-        }
-        sum += pixel;
-        covered += !background(b, i);
-        if (!background(a, i) || !background(b, i)) {
-            object_sum += pixel;
-            ++object_pixels;
-        }
-    }
-    c.rmse = std::sqrt(sum / double(a.size()));
-    c.object_rmse = object_pixels > 0 ? std::sqrt(object_sum / double(3 * object_pixels)) : 0.0;
-    c.covered = double(covered) / double(b.size() / 3);
-    return c;
 }
 
 // The modules' descriptors as one set: every binding either stage reads, with the stages that
@@ -856,16 +807,8 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
     object.eye_world = view.eye;
     object.tiling = settings.tiling;
     object.light_world = glm::normalize(settings.light_direction);
-    gl::LfShadingUniforms shading{};
-    shading.params = to_lf_params(settings, map.roughness_baked);
-    shading.scale = map.scale;
-    shading.output_mode = 0;
-    shading.fog_mode = to_shader_constant(settings.fog);
-    shading.fog_start = settings.fog_start;
-    shading.fog_color = settings.fog_color;
-    shading.fog_end = settings.fog_end;
-    shading.fog_density = settings.fog_density;
-    shading.maps = 0;
+    const gl::LfShadingUniforms shading =
+        gl::shading_uniforms(settings, map.roughness_baked, map.scale, gl::OutputMode::Color);
 
     struct Block {
         const void* data;
@@ -1006,7 +949,7 @@ TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidat
             const Image reference = cell(*scratch_ / "cells", technique, distance);
             ASSERT_EQ(reference.width, kSize);
             ASSERT_EQ(reference.height, kSize);
-            const Comparison c = compare(frame.image, reference);
+            const CellComparison c = compare_cells(frame.image, reference);
             // Beside the cells, for a look when the figures are off.
             io::write_png(
                 (*scratch_ / ("vulkan_" + variant + "_d" + gl::distance_text(distance) + ".png"))
@@ -1035,7 +978,7 @@ TEST_F(VulkanConsumer, ExportedSpirvDrawsTheSphereAsLeanfadeRenderWithoutValidat
     EXPECT_EQ(variant, "scene_lean_plain_ct");
     Frame frame;
     ASSERT_NO_FATAL_FAILURE(draw(variant, 3.0f, VK_FRONT_FACE_COUNTER_CLOCKWISE, frame, ct));
-    const Comparison c = compare(frame.image, cell(*scratch_ / "cells_ct", Technique::Lean, 3.0f));
+    const CellComparison c = compare_cells(frame.image, cell(*scratch_ / "cells_ct", Technique::Lean, 3.0f));
     char line[400];
     std::snprintf(line, sizeof line,
                   "vulkan %-22s d=%-3d on %s: %d validation messages; vs leanfade render: RMSE "
@@ -1061,7 +1004,7 @@ TEST_F(VulkanConsumer, ClockwiseFrontFacesShowTheInsideInstead) {
     const std::string variant = renderer_variant(Technique::Lean, settings);
     Frame frame;
     ASSERT_NO_FATAL_FAILURE(draw(variant, 3.0f, VK_FRONT_FACE_CLOCKWISE, frame));
-    const Comparison c = compare(frame.image, cell(*scratch_ / "cells", Technique::Lean, 3.0f));
+    const CellComparison c = compare_cells(frame.image, cell(*scratch_ / "cells", Technique::Lean, 3.0f));
     std::printf("vulkan %s with clockwise front faces: RMSE %.3f 8-bit codes\n", variant.c_str(),
                 c.rmse);
     EXPECT_GT(c.rmse, 5.0);

@@ -1,6 +1,8 @@
 // The plan of a `leanfade bake` run (cli_bake_plan.hpp).
 #include "cli_bake_plan.hpp"
 
+#include "cli_bake_plateau.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -133,6 +135,7 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan_roughness_outputs(args.roughness, job_count(args), args.bake_roughness, plan);
+    plan_plateau_output(args.plateau_out, job_count(args), plan);
     plan.check();
     return jobs;
 }

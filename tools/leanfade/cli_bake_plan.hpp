@@ -40,6 +40,7 @@ struct BakeArgs {
     int max_size = kDefaultMaxImageDimension;
     std::string json;
     RoughnessBakeArgs roughness;     // --roughness-out and its flags (cli_bake_roughness.hpp)
+    std::string plateau_out;         // --plateau-out FILE.ktx2 (cli_bake_plateau.hpp)
     std::vector<std::string> given;  // the options given on the command line, by long name
 };
 

@@ -81,6 +81,8 @@ void print_bake_report(const BakeReport& report) {
                             "and sc\")"
                           : "kept, beyond [0, 1], by the float storage");
     }
+    for (const std::string& file : report.also_written)
+        std::printf("  also wrote %s\n", terminal_text(file).c_str());
     std::printf("  %.3f s\n", report.seconds);
 }
 
@@ -107,7 +109,8 @@ nlohmann::json bake_report_json(const BakeReport& report) {
             {"storage", to_string(report.storage)},
             {"roughness_baked", report.roughness_baked},
             {"seconds", report.seconds},
-            {"looks_like_other_convention", report.looks_like_other_convention}};
+            {"looks_like_other_convention", report.looks_like_other_convention},
+            {"also_written", report.also_written}};
 }
 
 bool warn_if_other_convention(const std::string& name, const std::variant<Image, UnormImage>& input,

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +28,9 @@ struct BakeReport {
     Storage storage = Storage::Unorm16;  // as written (--bits auto: the storage chosen)
     double seconds = 0.0;
     bool looks_like_other_convention = false;
+    // The other files (and folders) the bake wrote for this input: roughness, normal and
+    // anisotropy MIPs, their PNG levels, the plateau layer.
+    std::vector<std::string> also_written;
 };
 
 BakeReport bake_report(const std::string& input, const std::string& output,

@@ -38,6 +38,11 @@ std::vector<io::Rgba8Level> to_rgba8(const std::vector<Image>& images) {
     return levels;
 }
 
+// The LEANFADEcontent key of a texture (docs/ktx2.md): what it holds, and the version of that.
+io::TextureKeyValues content(const std::string& what) {
+    return {{io::kKeyTextureContent, what + " v1"}};
+}
+
 std::string writer_string() {
     return std::string("leanfade ") + LEANFADE_VERSION;
 }
@@ -149,15 +154,16 @@ int write_roughness_outputs(const RoughnessBakeArgs& args,
     };
     if (!args.roughness_out.empty()) {
         io::write_ktx2_rgba8(outputs.stage(args.roughness_out),
-                             to_rgba8(textures.metallic_roughness), writer, write_options);
+                             to_rgba8(textures.metallic_roughness), writer, write_options,
+                             content("roughness"));
         io::write_ktx2_rgba8(outputs.stage(normal_output_path(args.roughness_out)),
-                             to_rgba8(textures.normal), writer, write_options);
+                             to_rgba8(textures.normal), writer, write_options, content("normal"));
         write_levels(textures.metallic_roughness, "roughness");
         write_levels(textures.normal, "normal");
     }
     if (!args.anisotropy_out.empty()) {
         io::write_ktx2_rgba8(outputs.stage(args.anisotropy_out), to_rgba8(textures.anisotropy),
-                             writer, write_options);
+                             writer, write_options, content("anisotropy"));
         write_levels(textures.anisotropy, "anisotropy");
     }
     return int(levels.size());

@@ -13,6 +13,7 @@
 #include "cli_bake_cross_terms.hpp"
 #include "cli_bake_gltf.hpp"
 #include "cli_bake_plan.hpp"
+#include "cli_bake_plateau.hpp"
 #include "cli_bake_report.hpp"
 #include "cli_bake_roughness.hpp"
 #include "command.hpp"
@@ -75,6 +76,7 @@ std::variant<Image, UnormImage> read_job_input(const BakeJob& job, const BakeArg
 struct StagedBake {
     PackedBakeResult baked;
     std::string output;  // as reported: the .ktx2, or NAME.lean{1,2}.png
+    std::string staged;  // a KTX2 bake: the staged file, complete, not yet published
 };
 
 // The fused fast path: the same bytes as pack_lean_map(bake_lean_map(...)), plus the summary,
@@ -97,13 +99,26 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
         return result;
     }
     result.output = job.outputs[0];
-    const std::string staged = outputs.stage(result.output);
+    const std::string staged = result.staged = outputs.stage(result.output);
     result.baked = bake_with_auto_storage(
         settings.storage.storage, settings.storage.automatic, [&](Storage s) {
             return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
                                     job.name, settings.write_options);
         });
     return result;
+}
+
+// The files and folders a bake writes besides the LEAN map (one input only).
+std::vector<std::string> engine_outputs(const BakeArgs& args) {
+    std::vector<std::string> files;
+    if (!args.roughness.roughness_out.empty()) {
+        files.push_back(args.roughness.roughness_out);
+        files.push_back(normal_output_path(args.roughness.roughness_out));
+    }
+    if (!args.roughness.anisotropy_out.empty()) files.push_back(args.roughness.anisotropy_out);
+    if (args.roughness.requested()) files.push_back(levels_folder_path(args.roughness) + "/");
+    if (!args.plateau_out.empty()) files.push_back(args.plateau_out);
+    return files;
 }
 
 // The jobs of one run, in order. One input: its outputs and --json are published together. A
@@ -170,6 +185,13 @@ class BakeRun {
         if (args_.roughness.requested())
             write_roughness_outputs(args_.roughness, input, kind, settings_.options,
                                     settings_.read_options, settings_.write_options, outputs);
+        if (!args_.plateau_out.empty()) {
+            // From the map as stored: a KTX2 bake keeps no copy of it in memory.
+            const PackedLeanMap stored =
+                args_.format == "png" ? baked.packed : io::read_ktx2(staged.staged);
+            write_plateau_output(args_.plateau_out, stored, settings_.options.threads,
+                                 settings_.write_options, outputs);
+        }
         if (!one_group_) outputs.publish();
         const bool other_convention =
             baked.source == BakeSource::Normal &&
@@ -179,8 +201,8 @@ class BakeRun {
         if (progress_) std::fprintf(stderr, "\r\033[K");
         // What stdout reports of an output is printed once it is published (a single input's
         // reports after the whole group, --json included).
-        const BakeReport report =
-            bake_report(name, staged.output, baked, seconds, other_convention);
+        BakeReport report = bake_report(name, staged.output, baked, seconds, other_convention);
+        report.also_written = engine_outputs(args_);
         if (one_group_)
             reports_.push_back(report);
         else
@@ -303,6 +325,7 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--json", args->json, "Also write the summaries as JSON");
         add_roughness_bake_options(app, args->roughness);
+        add_plateau_bake_option(app, args->plateau_out);
         return [args, strength, &app] {
             args->strength_given = strength->count() > 0;
             for (const CLI::Option* option : app.get_options())

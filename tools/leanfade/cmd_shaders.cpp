@@ -9,7 +9,11 @@
 
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/camera.hpp"
+#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_export.hpp"
+#include "leanfade/gl/shading_block.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/output_plan.hpp"
 
@@ -69,6 +73,65 @@ nlohmann::json reflection_json(const gl::ShaderReflection& r) {
             {"outputs", variables(r.outputs, false)}};
 }
 
+nlohmann::json values_json(const std::vector<gl::BlockValue>& values) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const gl::BlockValue& v : values) {
+        nlohmann::json j{{"name", v.name}, {"type", v.type}};
+        if (v.values.size() == 1)
+            j["value"] = v.values.front();
+        else
+            j["value"] = v.values;
+        out.push_back(j);
+    }
+    return out;
+}
+
+nlohmann::json vec3_json(glm::vec3 v) {
+    return nlohmann::json::array({v.x, v.y, v.z});
+}
+
+// What `leanfade render` draws with when given no flags (docs/integration.md, "shaders.json"),
+// so that another program draws the same picture: the variant per technique, the shading
+// block's members (its map's scale sc and the bits of the maps bound are the program's), the
+// object block's light and tiling (its matrices and eye follow the camera below) and the camera.
+nlohmann::json defaults_json() {
+    const ShadingSettings settings;
+    nlohmann::json variants;
+    for (const Technique technique : all_techniques()) {
+        gl::RenderRequest request;
+        request.technique = technique;
+        variants[std::string(info(technique).name)] = gl::variant_name(gl::variant_for(request));
+    }
+    const shading::LfShadingUniforms shading =
+        gl::shading_uniforms(settings, false, 1.0f, gl::OutputMode::Color);
+    gl::LfObjectUniforms object{};
+    object.tiling = settings.tiling;
+    object.light_world = glm::normalize(settings.light_direction);
+    std::vector<gl::BlockValue> object_values;
+    for (gl::BlockValue& v : gl::std140_block_values(gl::kObjectBlockFields, &object, ""))
+        if (v.name == "u_tiling" || v.name == "u_light_world") object_values.push_back(std::move(v));
+    const gl::FigureRequest figure;
+    return {
+        {"variants", variants},
+        {"blocks",
+         {{"LfShadingBlock",
+           values_json(gl::std140_block_values(gl::kShadingBlockFields, &shading, "u_shading."))},
+          {"LfObjectBlock", values_json(object_values)}}},
+        {"camera",
+         {{"fov_y_degrees", gl::kDefaultFovYDegrees},
+          {"view_direction", vec3_json(kDefaultViewDirection)},
+          {"target", vec3_json(glm::vec3(0.0f))},
+          {"up", "(0, 1, 0); (0, 0, -1) when the view direction is within 0.0001 of the y axis"},
+          {"near_plane", "max(0.01, 0.9 (d - 1)) for the eye d bounding radii from the centre"},
+          {"far_plane", "1.1 (d + 1)"},
+          {"model", "the object scaled by 1 / its bounding radius (half its box's diagonal) about "
+                    "its box's centre"},
+          {"background", vec3_json(figure.background)}}},
+        {"sampler",
+         "trilinear (LINEAR_MIPMAP_LINEAR), repeating, every MIP level; rows of the KTX2 levels "
+         "uploaded bottom first (+v up)"}};
+}
+
 nlohmann::json index_json(gl::ShaderLanguage language,
                           const std::vector<gl::ExportedShader>& shaders) {
     nlohmann::json j;
@@ -100,6 +163,7 @@ nlohmann::json index_json(gl::ShaderLanguage language,
         list.push_back(entry);
     }
     j["shaders"] = list;
+    j["defaults"] = defaults_json();
     return j;
 }
 

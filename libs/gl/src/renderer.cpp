@@ -36,6 +36,22 @@ float wrapped_offset(float velocity, float time) {
     return float(offset - std::floor(offset));
 }
 
+int output_constant(OutputMode mode) {
+    switch (mode) {
+        case OutputMode::Color:
+            return 0;
+        case OutputMode::Diffuse:
+            return 1;
+        case OutputMode::Specular:
+            return 2;
+        case OutputMode::FadeTerms:
+            return 3;
+    }
+    return 0;
+}
+
+}  // namespace
+
 // The program that draws `request`: for the colour output without fog, the technique's plain
 // variant when there is one (the same image without the output and fog branches, which llvmpipe
 // executes for every pixel; docs/perf.md). Fading with its defaults while it is on takes the fast
@@ -54,20 +70,22 @@ VariantKey variant_for(const RenderRequest& request) {
     return key;
 }
 
-int output_constant(OutputMode mode) {
-    switch (mode) {
-        case OutputMode::Color:
-            return 0;
-        case OutputMode::Diffuse:
-            return 1;
-        case OutputMode::Specular:
-            return 2;
-        case OutputMode::FadeTerms:
-            return 3;
-    }
-    return 0;
+LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_baked, float map_scale,
+                                   OutputMode output) {
+    LfShadingUniforms block{};
+    block.params = to_lf_params(s, roughness_baked);
+    block.scale = map_scale;
+    block.output_mode = output_constant(output);
+    block.fog_mode = to_shader_constant(s.fog);
+    block.fog_start = s.fog_start;
+    block.fog_color = s.fog_color;
+    block.fog_end = s.fog_end;
+    block.fog_density = s.fog_density;
+    block.geometric_aa_kappa = s.geometric_aa_kappa;
+    block.maps = 0;
+    return block;
 }
-}  // namespace
+
 
 Renderer::Renderer(Context& context, ShaderSources sources)
     : context_(context), sources_(std::move(sources)) {
@@ -197,17 +215,9 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         if (material.diffuse) s.kd = *material.diffuse;
         if (material.specular) s.ks = *material.specular;
         if (material.shininess) s.shininess = *material.shininess;
-        LfShadingUniforms block{};
         // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
-        block.params = to_lf_params(s, !layered && mixer == nullptr && map.info.roughness_baked);
-        block.scale = map_scale;
-        block.output_mode = output_constant(request.output);
-        block.fog_mode = to_shader_constant(s.fog);
-        block.fog_start = s.fog_start;
-        block.fog_color = s.fog_color;
-        block.fog_end = s.fog_end;
-        block.fog_density = s.fog_density;
-        block.geometric_aa_kappa = s.geometric_aa_kappa;
+        LfShadingUniforms block = shading_uniforms(
+            s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale, request.output);
         // The material's surface maps: each on its unit with its bit in the block's mask, or the
         // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
         block.maps = 0;

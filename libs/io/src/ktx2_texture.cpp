@@ -1,12 +1,15 @@
-// Plain 2D RGBA8 textures with MIPs as KTX 2.0 (leanfade/io/ktx2_texture.hpp).
+// Plain 2D textures with MIPs as KTX 2.0 (leanfade/io/ktx2_texture.hpp).
 #include "leanfade/io/ktx2_texture.hpp"
 
 #include <algorithm>
-#include <array>
+#include <cmath>
+#include <cstring>
 #include <fstream>
-#include <iterator>
+#include <span>
 
-#include "input_file.hpp"
+#include <glm/gtc/packing.hpp>
+
+#include "ktx2_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -14,62 +17,32 @@
 namespace leanfade::io {
 namespace {
 
-using detail::append_u32_le;
-using detail::append_u64_le;
+using namespace ktx2_detail;
 
-constexpr std::array<std::uint8_t, 12> kIdentifier = {0xAB, 'K',  'T',  'X',  ' ',  '2',
-                                                      '0',  0xBB, '\r', '\n', 0x1A, '\n'};
-constexpr std::size_t kHeaderSize = 80;
-constexpr std::size_t kLevelIndexEntrySize = 24;
+// One level's size and texel bytes, rows top first.
+struct LevelBytes {
+    int width = 0;
+    int height = 0;
+    std::span<const std::uint8_t> bytes;
+};
 
-// The Basic Data Format Descriptor of R8G8B8A8_UNORM, linear (KDFWG 1.3, as ktx2.cpp writes for
-// its 8-bit LEAN maps): 24-byte block header, 4 samples of 16 bytes.
-std::vector<std::uint8_t> rgba8_data_format() {
-    std::vector<std::uint8_t> bytes;
-    const std::uint32_t block_size = 24 + 4 * 16;
-    append_u32_le(bytes, 4 + block_size);            // dfdTotalSize
-    append_u32_le(bytes, 0);                         // vendorId 0, descriptorType 0
-    append_u32_le(bytes, 2u | (block_size << 16));   // versionNumber 2 (1.3), descriptorBlockSize
-    append_u32_le(bytes, 1u | (1u << 8) | (1u << 16));  // RGBSDA, BT709 primaries, LINEAR
-    append_u32_le(bytes, 0);                         // texel block 1x1x1x1 (stored minus 1)
-    append_u32_le(bytes, 4);                         // bytesPlane0 = 4
-    append_u32_le(bytes, 0);
-    for (std::uint32_t channel = 0; channel < 4; ++channel) {
-        const std::uint32_t id = channel < 3 ? channel : 15;  // R, G, B, A
-        append_u32_le(bytes, (channel * 8) | (7u << 16) | (id << 24));
-        append_u32_le(bytes, 0);    // sample position
-        append_u32_le(bytes, 0);    // sampleLower
-        append_u32_le(bytes, 255);  // sampleUpper
-    }
-    return bytes;
-}
-
-void append_key_value(std::vector<std::uint8_t>& out, const std::string& key,
-                      const std::string& value) {
-    const auto length = std::uint32_t(key.size() + 1 + value.size() + 1);
-    append_u32_le(out, length);
-    out.insert(out.end(), key.begin(), key.end());
-    out.push_back(0);
-    out.insert(out.end(), value.begin(), value.end());
-    out.push_back(0);
-    while (out.size() % 4 != 0) out.push_back(0);
-}
-
-void check_chain(const std::vector<Rgba8Level>& levels, const std::string& name) {
+void check_chain(const std::vector<LevelBytes>& levels, const FormatInfo& format,
+                 const std::string& name) {
     if (levels.empty()) throw Error(name, "a texture needs at least one level");
-    const Rgba8Level& top = levels.front();
+    const LevelBytes& top = levels.front();
     if (top.width < 1 || top.height < 1 || top.width > 65536 || top.height > 65536)
         throw Error(name, "level 0 must be 1 to 65536 texels on a side, got " +
                               std::to_string(top.width) + "x" + std::to_string(top.height));
     int w = top.width, h = top.height;
     for (std::size_t l = 0; l < levels.size(); ++l) {
-        const Rgba8Level& level = levels[l];
+        const LevelBytes& level = levels[l];
         if (level.width != w || level.height != h)
             throw Error(name, "level " + std::to_string(l) + " must be " + std::to_string(w) +
                                   "x" + std::to_string(h));
-        if (level.texels.size() != std::size_t(w) * std::size_t(h) * 4)
+        const std::size_t size = std::size_t(w) * std::size_t(h) * format.texel_bytes;
+        if (level.bytes.size() != size)
             throw Error(name, "level " + std::to_string(l) + " must hold " +
-                                  std::to_string(std::size_t(w) * std::size_t(h) * 4) + " bytes");
+                                  std::to_string(size) + " bytes");
         if (w == 1 && h == 1 && l + 1 != levels.size())
             throw Error(name, "levels after the 1x1 level");
         w = std::max(1, w / 2);
@@ -79,31 +52,50 @@ void check_chain(const std::vector<Rgba8Level>& levels, const std::string& name)
         throw Error(name, "the MIP chain must go down to 1x1");
 }
 
-}  // namespace
+// The key/value data: the two KTX keys and the caller's, sorted by key bytes (KTX2 §3.11).
+std::vector<std::uint8_t> key_value_data(const std::string& writer,
+                                         const TextureKeyValues& extra,
+                                         const std::string& name) {
+    TextureKeyValues all{{kKeyOrientation, "rd"}, {kKeyWriter, writer}};
+    for (const auto& [key, value] : extra) {
+        if (key.empty() || key.rfind("KTX", 0) == 0)
+            throw Error(name, "key '" + key + "' is reserved or empty");
+        if (key.find('\0') != std::string::npos || value.find('\0') != std::string::npos)
+            throw Error(name, "key '" + key + "' holds a NUL byte");
+        all.emplace_back(key, value);
+    }
+    std::sort(all.begin(), all.end());
+    for (std::size_t i = 1; i < all.size(); ++i)
+        if (all[i].first == all[i - 1].first)
+            throw Error(name, "key '" + all[i].first + "' given twice");
+    std::vector<std::uint8_t> bytes;
+    for (const auto& [key, value] : all) append_key_value(bytes, key, value);
+    return bytes;
+}
 
-std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& levels,
-                                            const std::string& writer, const std::string& name) {
-    check_chain(levels, name);
+std::vector<std::uint8_t> encode_2d(const FormatInfo& format, const std::vector<LevelBytes>& levels,
+                                    const std::string& writer, const std::string& name,
+                                    const TextureKeyValues& extra) {
+    check_chain(levels, format, name);
     const auto level_count = std::uint32_t(levels.size());
-    std::vector<std::uint8_t> key_values;
-    append_key_value(key_values, "KTXorientation", "rd");  // sorted by key bytes
-    append_key_value(key_values, "KTXwriter", writer);
-    const std::vector<std::uint8_t> dfd = rgba8_data_format();
+    const std::vector<std::uint8_t> key_values = key_value_data(writer, extra, name);
+    const std::vector<std::uint8_t> dfd = encode_data_format(expected_data_format(format));
     const std::uint64_t dfd_offset = kHeaderSize + kLevelIndexEntrySize * level_count;
     const std::uint64_t kvd_offset = dfd_offset + dfd.size();
 
-    // Level data from the smallest level to the largest, each 4-byte aligned (lcm(4, 4)).
+    // Level data from the smallest level to the largest, each aligned to lcm(texel size, 4).
+    const std::uint64_t alignment = level_alignment(format);
     std::vector<std::uint64_t> offsets(level_count);
     std::uint64_t end = kvd_offset + key_values.size();
     for (std::uint32_t l = level_count; l-- > 0;) {
-        end = (end + 3) / 4 * 4;
+        end = align_up(end, alignment);
         offsets[l] = end;
-        end += levels[l].texels.size();
+        end += levels[l].bytes.size();
     }
 
     std::vector<std::uint8_t> bytes(kIdentifier.begin(), kIdentifier.end());
-    append_u32_le(bytes, kVkFormatR8G8B8A8Unorm);
-    append_u32_le(bytes, 1);  // typeSize
+    append_u32_le(bytes, format.vk_format);
+    append_u32_le(bytes, format.type_size);
     append_u32_le(bytes, std::uint32_t(levels.front().width));
     append_u32_le(bytes, std::uint32_t(levels.front().height));
     append_u32_le(bytes, 0);  // pixelDepth: 2D
@@ -119,51 +111,130 @@ std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& level
     append_u64_le(bytes, 0);  // sgdByteLength
     for (std::uint32_t l = 0; l < level_count; ++l) {
         append_u64_le(bytes, offsets[l]);
-        append_u64_le(bytes, levels[l].texels.size());
-        append_u64_le(bytes, levels[l].texels.size());
+        append_u64_le(bytes, levels[l].bytes.size());
+        append_u64_le(bytes, levels[l].bytes.size());
     }
     bytes.insert(bytes.end(), dfd.begin(), dfd.end());
     bytes.insert(bytes.end(), key_values.begin(), key_values.end());
     bytes.resize(std::size_t(end), 0);
     for (std::uint32_t l = 0; l < level_count; ++l)
-        std::copy(levels[l].texels.begin(), levels[l].texels.end(),
+        std::copy(levels[l].bytes.begin(), levels[l].bytes.end(),
                   bytes.begin() + std::ptrdiff_t(offsets[l]));
     return bytes;
 }
 
-void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
-                      const std::string& writer, const WriteOptions& options) {
-    const std::vector<std::uint8_t> bytes = encode_ktx2_rgba8(levels, writer, path);
+void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                 const WriteOptions& options) {
     AtomicFile file(path, options.durability);
     file.write(bytes);
     file.commit();
 }
 
-std::vector<Rgba8Level> read_ktx2_rgba8(const std::string& path) {
+// Half floats of a 4-channel image, little-endian.
+std::vector<std::uint8_t> to_half_bytes(const Image& image, std::size_t level,
+                                        const std::string& name) {
+    if (image.channels != 4)
+        throw Error(name, "level " + std::to_string(level) + " must have 4 channels, got " +
+                              std::to_string(image.channels));
+    std::vector<std::uint8_t> bytes(image.pixels.size() * 2);
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        const float v = image.pixels[i];
+        if (!std::isfinite(v) || std::abs(v) > 65504.0f)
+            throw Error(name, "level " + std::to_string(level) +
+                                  " holds a value a half float cannot store");
+        const std::uint16_t h = glm::packHalf1x16(v);
+        bytes[2 * i] = std::uint8_t(h & 0xFFu);
+        bytes[2 * i + 1] = std::uint8_t(h >> 8);
+    }
+    return bytes;
+}
+
+// The checks of a read and each level's bytes.
+std::vector<std::vector<std::uint8_t>> read_2d(const std::string& path, const FormatInfo& format,
+                                               std::vector<glm::ivec2>& sizes) {
     const Ktx2Info info = inspect_ktx2(path);
-    if (info.vk_format != kVkFormatR8G8B8A8Unorm)
-        throw Error(path, std::string("expected VK_FORMAT_R8G8B8A8_UNORM, got ") +
+    if (info.vk_format != format.vk_format)
+        throw Error(path, std::string("expected ") + format.name + ", got " +
                               vk_format_name(info.vk_format));
     if (info.pixel_depth != 0 || info.layer_count > 1 || info.face_count != 1 ||
         info.supercompression_scheme != 0)
         throw Error(path, "expected a plain 2D texture (no depth, layers, faces or "
                           "supercompression)");
     std::ifstream in(path, std::ios::binary);
-    std::vector<Rgba8Level> levels;
+    std::vector<std::vector<std::uint8_t>> levels;
     for (const Ktx2Level& entry : info.levels) {
-        Rgba8Level level;
-        level.width = int(entry.width);
-        level.height = int(entry.height);
-        const std::uint64_t size = std::uint64_t(entry.width) * entry.height * 4;
+        const std::uint64_t size = std::uint64_t(entry.width) * entry.height * format.texel_bytes;
         if (entry.byte_length != size)
             throw Error(path, "a level of " + std::to_string(entry.width) + "x" +
                                   std::to_string(entry.height) + " texels must hold " +
                                   std::to_string(size) + " bytes");
-        level.texels.resize(std::size_t(size));
+        std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
         in.seekg(std::streamoff(entry.byte_offset));
-        in.read(reinterpret_cast<char*>(level.texels.data()), std::streamsize(size));
+        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
         if (!in) throw Error(path, "cannot read a level's texels");
-        levels.push_back(std::move(level));
+        sizes.emplace_back(int(entry.width), int(entry.height));
+        levels.push_back(std::move(bytes));
+    }
+    return levels;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& levels,
+                                            const std::string& writer, const std::string& name,
+                                            const TextureKeyValues& key_values) {
+    std::vector<LevelBytes> views;
+    for (const Rgba8Level& level : levels) views.push_back({level.width, level.height, level.texels});
+    return encode_2d(format_of(Storage::Unorm8), views, writer, name, key_values);
+}
+
+void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
+                      const std::string& writer, const WriteOptions& options,
+                      const TextureKeyValues& key_values) {
+    write_bytes(path, encode_ktx2_rgba8(levels, writer, path, key_values), options);
+}
+
+std::vector<std::uint8_t> encode_ktx2_rgba16f(const std::vector<Image>& levels,
+                                              const std::string& writer, const std::string& name,
+                                              const TextureKeyValues& key_values) {
+    std::vector<std::vector<std::uint8_t>> halves;
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        halves.push_back(to_half_bytes(levels[l], l, name));
+    std::vector<LevelBytes> views;
+    for (std::size_t l = 0; l < levels.size(); ++l)
+        views.push_back({levels[l].width, levels[l].height, halves[l]});
+    return encode_2d(format_of(Storage::Float16), views, writer, name, key_values);
+}
+
+void write_ktx2_rgba16f(const std::string& path, const std::vector<Image>& levels,
+                        const std::string& writer, const WriteOptions& options,
+                        const TextureKeyValues& key_values) {
+    write_bytes(path, encode_ktx2_rgba16f(levels, writer, path, key_values), options);
+}
+
+std::vector<Rgba8Level> read_ktx2_rgba8(const std::string& path) {
+    std::vector<glm::ivec2> sizes;
+    std::vector<std::vector<std::uint8_t>> bytes = read_2d(path, format_of(Storage::Unorm8), sizes);
+    std::vector<Rgba8Level> levels;
+    for (std::size_t l = 0; l < bytes.size(); ++l)
+        levels.push_back({sizes[l].x, sizes[l].y, std::move(bytes[l])});
+    return levels;
+}
+
+std::vector<Image> read_ktx2_rgba16f(const std::string& path) {
+    std::vector<glm::ivec2> sizes;
+    const std::vector<std::vector<std::uint8_t>> bytes =
+        read_2d(path, format_of(Storage::Float16), sizes);
+    std::vector<Image> levels;
+    for (std::size_t l = 0; l < bytes.size(); ++l) {
+        Image image(sizes[l].x, sizes[l].y, 4);
+        for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+            const auto h = std::uint16_t(bytes[l][2 * i] | (bytes[l][2 * i + 1] << 8));
+            image.pixels[i] = glm::unpackHalf1x16(h);
+            if (!std::isfinite(image.pixels[i]))
+                throw Error(path, "level " + std::to_string(l) + " holds a value that is not finite");
+        }
+        levels.push_back(std::move(image));
     }
     return levels;
 }

@@ -92,6 +92,18 @@ struct RenderRequest {
     float time = 0.0f;
 };
 
+// The fragment program that draws `request`: for the colour output without fog, the technique's
+// plain variant when there is one (the same image without the output and fog branches, which
+// llvmpipe executes for every pixel; docs/perf.md); fading with its defaults while it is on, the
+// fast variant (shader_library.hpp). `leanfade shaders` names it per technique in shaders.json.
+VariantKey variant_for(const RenderRequest& request);
+
+// The shading block of a draw with `settings` (what Renderer fills per object): the parameters
+// (the base roughness left out when the map has it baked), the map's scale sc, the output mode,
+// fog, and no surface maps (`maps` = 0: the caller sets the bits of the maps it binds).
+shading::LfShadingUniforms shading_uniforms(const ShadingSettings& settings, bool roughness_baked,
+                                             float map_scale, OutputMode output);
+
 // The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 slices (lean1, lean2) with every MIP
 // level of the map, rows flipped so that +v is up.
 struct LeanTextureInfo {

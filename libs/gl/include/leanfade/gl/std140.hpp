@@ -106,4 +106,19 @@ struct BlockMember {
 std::vector<BlockMember> std140_block_members(std::span<const Std140Field> fields,
                                               const std::string& prefix);
 
+// One member's value in a block's bytes: its name as std140_block_members gives it (an array's
+// without "[0]"), its GLSL type ("float", "int", "vec3", "mat4", ...) and its numbers (a matrix
+// column by column, an array element by element).
+struct BlockValue {
+    std::string name;
+    std::string type;
+    std::vector<double> values;
+};
+
+// The value of every member of the block `block` points at (a C++ mirror whose layout is
+// `fields`, std140_matches_cpp), for tools that hand a block's contents to another program
+// (`leanfade shaders` writes the defaults into shaders.json).
+std::vector<BlockValue> std140_block_values(std::span<const Std140Field> fields,
+                                            const void* block, const std::string& prefix);
+
 }  // namespace leanfade::gl

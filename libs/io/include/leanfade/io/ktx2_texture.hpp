@@ -1,18 +1,23 @@
 #pragma once
 // Plain 2D textures with their MIP chain as KTX 2.0 files (Khronos,
 // https://registry.khronos.org/KTX/specs/2.0/ktxspec.v2.html), in the form common loaders read:
-// VK_FORMAT_R8G8B8A8_UNORM, one layer, one face, no supercompression, linear transfer (the
-// textures are data: roughness, normals, anisotropy; docs/roughness.md). leanfade writes its
-// roughness MIPs with this (`leanfade bake --roughness-out`); LEAN maps have their own container
-// (ktx2.hpp).
+// one layer, one face, no supercompression, linear transfer (the textures are data: roughness,
+// normals, anisotropy, the plateau layer of two-lobe LEAN; docs/roughness.md, docs/ktx2.md).
+// Two formats: VK_FORMAT_R8G8B8A8_UNORM (`leanfade bake --roughness-out`, --anisotropy-out) and
+// VK_FORMAT_R16G16B16A16_SFLOAT (`--plateau-out`; WebGL2 filters half floats without
+// extensions). LEAN maps have their own container (ktx2.hpp).
 //
 // Rows are top row first (KTXorientation "rd"); level 0 (the largest) first in the level index,
-// level data from the smallest to the largest in the file, each level 4-byte aligned. Every
-// failure throws leanfade::Error(file, cause); the file is written atomically (AtomicFile).
+// level data from the smallest to the largest in the file, each level aligned to lcm(texel size,
+// 4). Key/value data: KTXorientation, KTXwriter and the caller's keys (LEANFADEcontent, ...),
+// sorted by key. Every failure throws leanfade::Error(file, cause); files are written atomically
+// (AtomicFile).
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "leanfade/core/image.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::io {
@@ -24,20 +29,42 @@ struct Rgba8Level {
     std::vector<std::uint8_t> texels;
 };
 
+// Key/value pairs a texture carries besides KTXorientation and KTXwriter (keys not starting with
+// "KTX", each once; written sorted by key).
+using TextureKeyValues = std::vector<std::pair<std::string, std::string>>;
+
+// The key naming what a leanfade texture holds (docs/ktx2.md): "roughness", "normal",
+// "anisotropy", "plateau", each followed by " v1".
+inline constexpr const char* kKeyTextureContent = "LEANFADEcontent";
+
 // The bytes of a KTX2 file of `levels` (level 0 first; sizes halving with floor down to 1 x 1,
 // the full chain), KTXwriter = `writer`. Throws leanfade::Error(name, cause) for an empty or
-// broken chain or wrong byte counts.
+// broken chain, wrong byte counts or a reserved or repeated key.
 std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& levels,
                                             const std::string& writer,
-                                            const std::string& name = "texture");
+                                            const std::string& name = "texture",
+                                            const TextureKeyValues& key_values = {});
 
 // encode_ktx2_rgba8 written atomically to `path`.
 void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
-                      const std::string& writer, const WriteOptions& options = {});
+                      const std::string& writer, const WriteOptions& options = {},
+                      const TextureKeyValues& key_values = {});
 
-// Reads the levels of a file in the form above back (for tests and tools): checks the structure
-// with inspect_ktx2 (ktx2.hpp), then that it is a 2D R8G8B8A8_UNORM texture with one layer and
+// The same for 4-channel float images stored as half floats (VK_FORMAT_R16G16B16A16_SFLOAT, each
+// value rounded to the nearest half). Throws also for images that are not 4 channels or hold a
+// value that is not finite or beyond the half range (65504).
+std::vector<std::uint8_t> encode_ktx2_rgba16f(const std::vector<Image>& levels,
+                                              const std::string& writer,
+                                              const std::string& name = "texture",
+                                              const TextureKeyValues& key_values = {});
+void write_ktx2_rgba16f(const std::string& path, const std::vector<Image>& levels,
+                        const std::string& writer, const WriteOptions& options = {},
+                        const TextureKeyValues& key_values = {});
+
+// Reads the levels of a file in the forms above back (for tests and tools): checks the structure
+// with inspect_ktx2 (ktx2.hpp), then that it is a 2D texture of the format with one layer and
 // one face, and copies each level. Throws leanfade::Error(path, cause).
 std::vector<Rgba8Level> read_ktx2_rgba8(const std::string& path);
+std::vector<Image> read_ktx2_rgba16f(const std::string& path);
 
 }  // namespace leanfade::io

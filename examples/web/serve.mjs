@@ -1,0 +1,142 @@
+// A static server for the example page: the page's own files from this folder, and a data folder
+// (the LEAN map, its plateau layer and the exported shaders) under /data/.
+//
+//   node serve.mjs --data DIR [--port N]
+//
+// With --capture OUT --browser CHROMIUM it opens the page in that browser, headless (SwiftShader's
+// WebGL2), with ?capture=CELLS, writes each cell's posted floats to OUT/NAME.f32 and the page's
+// report to OUT/done.json, and exits: 0 when the page reported no error, 1 otherwise, 2 on a
+// timeout. The browser is started with an argument list (no shell). Only GET of regular files
+// inside the two folders and POST of the capture names are served.
+import { spawn } from 'node:child_process';
+import { createServer } from 'node:http';
+import { mkdtempSync, readFileSync, realpathSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, extname, join, sep } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+
+function fail(message) {
+  process.stderr.write(`serve.mjs: ${message}\n`);
+  process.exit(1);
+}
+
+const options = { port: '0', timeout: '120', size: '128', cells: '' };
+const args = process.argv.slice(2);
+for (let i = 0; i < args.length; i += 2) {
+  const name = args[i].replace(/^--/, '');
+  if (!['data', 'port', 'capture', 'browser', 'timeout', 'size', 'cells', 'map'].includes(name) || args[i + 1] === undefined)
+    fail(`unknown option or missing value: ${args[i]}`);
+  options[name] = args[i + 1];
+}
+if (!options.data) fail('--data DIR is required (the folder of the LEAN map and the shaders)');
+const dataRoot = realpathSync(options.data);
+const port = Number(options.port);
+if (!Number.isInteger(port) || port < 0 || port > 65535) fail(`--port ${options.port} is not a port`);
+if (options.capture && !options.browser) fail('--capture needs --browser');
+
+const types = {
+  '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
+  '.essl': 'text/plain', '.ktx2': 'image/ktx2',
+};
+
+// The regular file `relative` names inside `root`, or null (no escape through .. or links).
+function fileInside(root, relative) {
+  let path;
+  try {
+    path = realpathSync(join(root, relative));
+  } catch {
+    return null;
+  }
+  if (path !== root && !path.startsWith(root + sep)) return null;
+  return statSync(path).isFile() ? path : null;
+}
+
+let browser = null;
+let timer = null;
+let profile = null;
+// The browser's profile folder, removed once the browser has exited (its helper processes may
+// still write for a moment: retried, and left behind rather than failing the run).
+function removeProfile() {
+  if (profile === null) return;
+  try {
+    rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 100 });
+  } catch {
+    // a temporary folder; the system's cleaning takes it
+  }
+  profile = null;
+}
+
+function finish(code, message) {
+  if (message) process.stderr.write(`serve.mjs: ${message}\n`);
+  if (timer) clearTimeout(timer);
+  server.close();
+  process.exitCode = code;
+  const exit = () => {
+    removeProfile();
+    process.exit(code);
+  };
+  if (browser === null || browser.exitCode !== null) return exit();
+  browser.once('exit', exit);
+  browser.kill('SIGTERM');
+  setTimeout(() => browser.kill('SIGKILL'), 5000).unref();
+}
+
+const server = createServer((request, response) => {
+  const url = new URL(request.url, 'http://localhost');
+  const path = decodeURIComponent(url.pathname);
+  if (request.method === 'POST' && options.capture && path.startsWith('/capture/')) {
+    const name = path.slice('/capture/'.length);
+    const chunks = [];
+    request.on('data', (chunk) => chunks.push(chunk));
+    request.on('end', () => {
+      response.end('ok');
+      const body = Buffer.concat(chunks);
+      if (name === 'done') {
+        writeFileSync(join(options.capture, 'done.json'), body);
+        let report = {};
+        try { report = JSON.parse(body.toString()); } catch { report = { errors: ['unreadable report'] }; }
+        const errors = report.errors ?? [];
+        finish(errors.length === 0 ? 0 : 1, errors.length ? `the page reported: ${errors.join('; ')}` : '');
+      } else if (/^[a-z0-9.-]+_d[0-9.]+\.f32$/.test(name)) {
+        writeFileSync(join(options.capture, name), body);
+      }
+    });
+    return;
+  }
+  if (request.method !== 'GET') {
+    response.writeHead(405).end();
+    return;
+  }
+  const file = path.startsWith('/data/')
+    ? fileInside(dataRoot, path.slice('/data/'.length))
+    : fileInside(here, path === '/' ? 'index.html' : path.slice(1));
+  if (file === null) {
+    response.writeHead(404).end();
+    return;
+  }
+  response.writeHead(200, { 'Content-Type': types[extname(file)] ?? 'application/octet-stream' });
+  response.end(readFileSync(file));
+});
+
+server.listen(port, '127.0.0.1', () => {
+  const address = `http://127.0.0.1:${server.address().port}/`;
+  if (!options.capture) {
+    process.stdout.write(`serving ${address} (data: ${dataRoot})\n`);
+    return;
+  }
+  const query = new URLSearchParams({ data: 'data', capture: options.cells, size: options.size });
+  if (options.map) query.set('map', options.map);
+  profile = mkdtempSync(join(tmpdir(), 'leanfade-chromium-'));
+  browser = spawn(options.browser, [
+    '--headless=new', '--no-sandbox', '--no-first-run', '--disable-extensions',
+    '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+    `--user-data-dir=${profile}`, `${address}index.html?${query}`,
+  ], { stdio: ['ignore', 'ignore', 'pipe'] });
+  let log = '';
+  browser.stderr.on('data', (chunk) => { log = (log + chunk).slice(-4000); });
+  browser.on('error', (error) => finish(1, `cannot start ${options.browser}: ${error.message}`));
+  timer = setTimeout(() => finish(2, `no report from the page after ${options.timeout} s; the browser said:\n${log}`),
+                     Number(options.timeout) * 1000);
+});

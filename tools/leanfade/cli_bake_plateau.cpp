@@ -1,0 +1,40 @@
+// The plateau layer output of `leanfade bake` (cli_bake_plateau.hpp).
+#include "cli_bake_plateau.hpp"
+
+#include <filesystem>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/text.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
+
+namespace leanfade::cli {
+
+void add_plateau_bake_option(CLI::App& app, std::string& plateau_out) {
+    app.add_option("--plateau-out", plateau_out,
+                   "Also write the plateau layer of two-lobe LEAN (f, f Bs, f |Bs|^2 per texel, "
+                   "every MIP level) as a 2D half-float FILE.ktx2, computed from the LEAN map "
+                   "as stored (docs/ktx2.md)");
+}
+
+void plan_plateau_output(const std::string& plateau_out, std::size_t job_count,
+                         io::OutputPlan& plan) {
+    if (plateau_out.empty()) return;
+    if (job_count != 1) throw Error("--plateau-out", "needs exactly one input");
+    if (std::filesystem::path(plateau_out).extension() != ".ktx2")
+        throw Error(plateau_out, "the plateau layer is a .ktx2 file");
+    plan.add_output(plateau_out, "--plateau-out");
+}
+
+int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, int threads,
+                         const io::WriteOptions& write_options, io::OutputTransaction& outputs) {
+    const std::vector<Image> levels =
+        plateau_mips(packed_top_slopes(map, threads), kDefaultPlateauEpsilon, threads);
+    const io::TextureKeyValues keys{{io::kKeyTextureContent, "plateau v1"},
+                                    {"LEANFADEplateauEpsilon", shortest_text(kDefaultPlateauEpsilon)}};
+    io::write_ktx2_rgba16f(outputs.stage(plateau_out), levels,
+                           std::string("leanfade ") + LEANFADE_VERSION, write_options, keys);
+    return int(levels.size());
+}
+
+}  // namespace leanfade::cli
