@@ -1,32 +1,66 @@
-// leanfade info: a LEAN map's KTX2 header, levels, metadata and moment statistics.
+// leanfade info: any KTX2 file's header, levels, format descriptor and key/values, and what it is:
+// a LEAN map (with its moment statistics), one of leanfade's other textures, or another writer's.
 #include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include "command.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
 
 namespace leanfade::cli {
 namespace {
 
-// Every check first (inspect_ktx2's structure, then read_ktx2's: the checks of `--bumps`), then
-// the output: a refused file prints its one-line error and nothing else.
+// Every check first, then the output: a refused file prints its one-line error and nothing
+// else. Any KTX 2.0 file passes inspect_ktx2's structural checks or is refused; a file that says
+// it is one of leanfade's (LEANFADElayout, LEANFADEcontent) must also pass the checks of its
+// reader (for a LEAN map, those of `--bumps`).
 int run_info(const std::string& path) {
     const io::Ktx2Info info = io::inspect_ktx2(path);
-    const LeanMapSummary s = summarize(unpack_lean_map(io::read_ktx2(path)));
+    const std::string* layout = info.find(io::kLayoutKey);
+    const std::string* content = info.find(io::kKeyTextureContent);
+    std::string kind, moments;
+    if (layout != nullptr && *layout == io::kLeanLayoutName) {
+        const LeanMapSummary s = summarize(unpack_lean_map(io::read_ktx2(path)));
+        kind = "a LEAN map (LEANFADElayout '" + *layout + "')";
+        char line[300];
+        std::snprintf(line, sizeof line,
+                      "moments: slope |B| mean %.4f, max %.4f; coarsest covariance (xx %.5f, yy "
+                      "%.5f, xy %.5f), anisotropy %.3g\n",
+                      s.mean_slope, s.max_slope, s.coarsest_covariance.x,
+                      s.coarsest_covariance.y, s.coarsest_covariance.z, s.coarsest_anisotropy);
+        moments = line;
+    } else if (layout != nullptr && *layout == io::kCrossTermLayoutName) {
+        io::read_cross_term_ktx2(path);
+        kind = "not a LEAN map: a cross-term texture of two bump layers (bake --cross-terms)";
+    } else if (layout != nullptr) {
+        kind = "not a LEAN map this version reads: LEANFADElayout '" + escape_text(*layout) +
+               "' (this version reads '" + io::kLeanLayoutName + "')";
+    } else if (content != nullptr) {
+        if (*content == "plateau v1")
+            io::read_ktx2_rgba16f(path);
+        else if (*content == "roughness v1" || *content == "normal v1" ||
+                 *content == "anisotropy v1")
+            io::read_ktx2_rgba8(path);
+        kind = "not a LEAN map: a leanfade texture for engines, LEANFADEcontent '" +
+               escape_text(*content) + "' (docs/ktx2.md)";
+    } else {
+        kind = "not a LEAN map (no LEANFADElayout key): a texture of another writer";
+    }
     std::printf("%s", io::describe(info).c_str());
-    std::printf("moments: slope |B| mean %.4f, max %.4f; coarsest covariance (xx %.5f, yy %.5f, "
-                "xy %.5f), anisotropy %.3g\n",
-                s.mean_slope, s.max_slope, s.coarsest_covariance.x, s.coarsest_covariance.y,
-                s.coarsest_covariance.z, s.coarsest_anisotropy);
+    std::printf("kind: %s\n", kind.c_str());
+    std::printf("%s", moments.c_str());
     return 0;
 }
 
 const CommandRegistration registration{
-    "info", "Print a LEAN map's (.ktx2) header, levels and metadata", [](CLI::App& app) -> Runner {
+    "info", "Describe any KTX2 file (header, levels, format, key/values) and say whether it is a LEAN map",
+    [](CLI::App& app) -> Runner {
         auto path = std::make_shared<std::string>();
-        app.add_option("file", *path, "LEAN map written by leanfade bake")->required();
+        app.add_option("file", *path, "a KTX 2.0 file (a LEAN map of leanfade bake, or any other)")
+            ->required();
         return [path] { return run_info(*path); };
     }};
 

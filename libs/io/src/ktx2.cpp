@@ -292,7 +292,55 @@ std::uint32_t vk_format_of(Storage storage) {
 
 const char* vk_format_name(std::uint32_t vk_format) {
     const FormatInfo* format = find_format(vk_format);
-    return format != nullptr ? format->name : "unknown";
+    if (format != nullptr) return format->name;
+    // Formats other writers' files commonly hold (`leanfade info` names them; only the four
+    // above are LEAN maps).
+    struct Named {
+        std::uint32_t number;
+        const char* name;
+    };
+    static constexpr Named kOthers[] = {
+        {0, "VK_FORMAT_UNDEFINED (supercompressed: see the DFD)"},
+        {9, "VK_FORMAT_R8_UNORM"},
+        {16, "VK_FORMAT_R8G8_UNORM"},
+        {23, "VK_FORMAT_R8G8B8_UNORM"},
+        {29, "VK_FORMAT_R8G8B8_SRGB"},
+        {43, "VK_FORMAT_R8G8B8A8_SRGB"},
+        {70, "VK_FORMAT_R16_UNORM"},
+        {76, "VK_FORMAT_R16_SFLOAT"},
+        {77, "VK_FORMAT_R16G16_UNORM"},
+        {83, "VK_FORMAT_R16G16_SFLOAT"},
+        {100, "VK_FORMAT_R32_SFLOAT"},
+        {103, "VK_FORMAT_R32G32_SFLOAT"},
+        {106, "VK_FORMAT_R32G32B32_SFLOAT"},
+        {122, "VK_FORMAT_B10G11R11_UFLOAT_PACK32"},
+        {123, "VK_FORMAT_E5B9G9R9_UFLOAT_PACK32"},
+        {131, "VK_FORMAT_BC1_RGB_UNORM_BLOCK"},
+        {133, "VK_FORMAT_BC1_RGBA_UNORM_BLOCK"},
+        {137, "VK_FORMAT_BC3_UNORM_BLOCK"},
+        {139, "VK_FORMAT_BC4_UNORM_BLOCK"},
+        {141, "VK_FORMAT_BC5_UNORM_BLOCK"},
+        {143, "VK_FORMAT_BC6H_UFLOAT_BLOCK"},
+        {145, "VK_FORMAT_BC7_UNORM_BLOCK"},
+        {146, "VK_FORMAT_BC7_SRGB_BLOCK"},
+        {147, "VK_FORMAT_ETC2_R8G8B8_UNORM_BLOCK"},
+        {151, "VK_FORMAT_ETC2_R8G8B8A8_UNORM_BLOCK"},
+        {157, "VK_FORMAT_ASTC_4x4_UNORM_BLOCK"},
+        {158, "VK_FORMAT_ASTC_4x4_SRGB_BLOCK"},
+    };
+    for (const Named& other : kOthers)
+        if (other.number == vk_format) return other.name;
+    return "unknown";
+}
+
+const char* supercompression_name(std::uint32_t scheme) {
+    switch (scheme) {
+        case 0: return "none";
+        case 1: return "BasisLZ";
+        case 2: return "Zstandard";
+        case 3: return "ZLIB";
+    }
+    return "unknown";
 }
 
 const std::string* Ktx2Info::find(const std::string& key) const {

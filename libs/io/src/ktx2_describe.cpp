@@ -31,7 +31,8 @@ std::string describe(const Ktx2Info& info) {
     out << "size: " << info.pixel_width << " x " << info.pixel_height << ", pixelDepth "
         << info.pixel_depth << ", layerCount " << info.layer_count << ", faceCount "
         << info.face_count << ", levelCount " << info.level_count << ", supercompressionScheme "
-        << info.supercompression_scheme << "\n";
+        << info.supercompression_scheme << " (" << supercompression_name(info.supercompression_scheme)
+        << ")\n";
     out << "index: dfd " << info.dfd_byte_offset << " +" << info.dfd_byte_length << ", kvd "
         << info.kvd_byte_offset << " +" << info.kvd_byte_length << ", sgd " << info.sgd_byte_offset
         << " +" << info.sgd_byte_length << "\n";

@@ -51,6 +51,8 @@ inline constexpr const char* kCrossTermLayoutName = "cross terms v1";
 // vkFormat of a storage, and its Vulkan name ("VK_FORMAT_R16G16B16A16_UNORM").
 std::uint32_t vk_format_of(Storage storage);
 const char* vk_format_name(std::uint32_t vk_format);  // "unknown" for others
+// A KTX2 supercompressionScheme's name ("none", "BasisLZ", "Zstandard", "ZLIB"; else "unknown").
+const char* supercompression_name(std::uint32_t scheme);
 
 // Writes `map` (the full chain of levels, sizes halving with floor down to 1x1; both layers
 // of every level width * height * bytes_per_texel(storage) bytes, rows top first). Throws on an
