@@ -68,6 +68,17 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
             prim["attributes"]["POSITION"] = add_accessor(
                 root, bin, p.positions.data(), p.positions.size() * 12, p.positions.size(), 5126,
                 "VEC3");
+            // The bounds glTF 2.0 requires of POSITION accessors (§3.6.2.4).
+            if (!p.positions.empty()) {
+                glm::vec3 lo(p.positions[0]), hi(p.positions[0]);
+                for (const glm::vec3& v : p.positions) {
+                    lo = glm::min(lo, v);
+                    hi = glm::max(hi, v);
+                }
+                json& accessor = root["accessors"][prim["attributes"]["POSITION"].get<std::size_t>()];
+                accessor["min"] = {lo.x, lo.y, lo.z};
+                accessor["max"] = {hi.x, hi.y, hi.z};
+            }
             if (!p.normals.empty())
                 prim["attributes"]["NORMAL"] = add_accessor(
                     root, bin, p.normals.data(), p.normals.size() * 12, p.normals.size(), 5126,
@@ -101,6 +112,11 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
                     {"index", m.base_color_image}};
             if (m.normal_image >= 0)
                 material["normalTexture"] = {{"index", m.normal_image}, {"scale", m.normal_scale}};
+            if (m.roughness) material["pbrMetallicRoughness"]["roughnessFactor"] = *m.roughness;
+            if (m.metallic) material["pbrMetallicRoughness"]["metallicFactor"] = *m.metallic;
+            if (m.metallic_roughness_image >= 0)
+                material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {
+                    {"index", m.metallic_roughness_image}};
             root["materials"].push_back(material);
         }
     }

@@ -3,6 +3,7 @@
 // a .gltf with external .bin and image files, a .gltf with everything in data: URIs, or a .glb.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct GltfTestMaterial {
     int base_color_image = -1;  // index into images (one texture per image)
     int normal_image = -1;
     float normal_scale = 1.0f;
+    std::optional<float> roughness;     // roughnessFactor; none: not written (1 by glTF)
+    std::optional<float> metallic;      // metallicFactor; none: not written (1 by glTF)
+    int metallic_roughness_image = -1;  // metallicRoughnessTexture
 };
 
 struct GltfTestNode {

@@ -1,7 +1,10 @@
 // glTF scenes on the command line: `leanfade bake FILE.gltf|.glb` bakes every normal texture
 // through the LEAN-map cache; broken scenes are one-line errors with no output.
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -9,6 +12,7 @@
 
 #include "cli_runner.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
 #include "test_gltf_builder.hpp"
 #include "leanfade/test/scratch.hpp"
 
@@ -121,98 +125,134 @@ TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
     EXPECT_NE(r.err.find("missing.glb"), std::string::npos) << r.err;
 }
 
-}  // namespace
-// A bumpy normal map written in the DirectX convention (green = -v): the convention warning of
-// `bake IMAGE` also comes for the same image as a glTF normal texture (baked, and from the
-// cache), in `bake SCENE.gltf --json` and in the batch --json of `bake`.
-TEST(CliGltf, NormalTexturesThatLookDirectXAreWarnedAbout) {
-    const fs::path dir = scratch("convention");
-    const int size = 64;
+
+namespace gltf_out {
+
+// A normal texture with bumps that differ along u and v (anisotropic), 32 x 32.
+std::vector<std::uint8_t> bumpy_normal_png() {
     std::vector<float> pixels;
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            // h = 3 sin(2 pi x / 32) sin(2 pi y / 16) texels; OpenGL B = (-dh/dx, +dh/drow),
-            // DirectX flips the second.
-            const double a = 2.0 * M_PI / 32.0, b = 2.0 * M_PI / 16.0;
-            const double dhdx = 3.0 * a * std::cos(a * x) * std::sin(b * y);
-            const double dhdy = 3.0 * b * std::sin(a * x) * std::cos(b * y);
-            const glm::vec3 n = glm::normalize(glm::vec3(float(-dhdx), float(-dhdy), 1.0f));
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const float a = 0.6f * std::sin(6.2831853f * float(x) / 4.0f);
+            const glm::vec3 n = glm::normalize(glm::vec3(a, 0.05f * std::sin(float(y)), 1.0f));
             for (int c = 0; c < 3; ++c) pixels.push_back(0.5f * n[c] + 0.5f);
         }
-    const std::vector<std::uint8_t> png = scene::test::png_bytes(size, size, 3, pixels);
-    scene::test::write_bytes((dir / "dx.png").string(), png);
-    scene::test::write_bytes((dir / "dx2.png").string(), png);
-    // `bake` of the images, as a batch with --json.
-    const test::RunResult batch = test::run_leanfade_in(
-        "bake dx.png dx2.png --json batch.json", dir, dir, env(dir));
-    ASSERT_EQ(batch.exit_code, 0) << batch.err;
-    EXPECT_NE(batch.err.find("dx.png looks like a DirectX (-Y) normal map"), std::string::npos)
-        << batch.err;
-    const nlohmann::json summaries = nlohmann::json::parse(test::read_text(dir / "batch.json"));
-    ASSERT_EQ(summaries.size(), 2u);
-    for (const nlohmann::json& s : summaries) EXPECT_TRUE(s["looks_like_other_convention"]);
-    // As a glTF normal texture: bake (twice: the second from the cache) and render.
-    GltfTestFile file;
-    file.images = {png};
-    file.materials = {{"wall", glm::vec4(1.0f), -1, 0, 1.0f}};
-    file.meshes.push_back({scene::test::unit_quad(0)});
-    scene::test::write_gltf(file, (dir / "scene.gltf").string(), GltfStorage::External);
-    for (int run = 0; run < 2; ++run) {
-        SCOPED_TRACE(run);
-        const test::RunResult r =
-            test::run_leanfade_in("bake scene.gltf --json scene.json", dir, dir, env(dir));
-        ASSERT_EQ(r.exit_code, 0) << r.err;
-        EXPECT_NE(r.out.find(run == 0 ? "baked" : "from the cache"), std::string::npos) << r.out;
-        EXPECT_NE(r.err.find("looks like a DirectX (-Y) normal map"), std::string::npos) << r.err;
-        EXPECT_NE(r.err.find("glTF normal textures are OpenGL (+Y)"), std::string::npos) << r.err;
-        const nlohmann::json json = nlohmann::json::parse(test::read_text(dir / "scene.json"));
-        EXPECT_TRUE(json[0]["looks_like_other_convention"]);
-    }
-    const test::RunResult render = test::run_leanfade_in(
-        "render --scene scene.gltf --techniques lean --distances 3 --size 16x16 -o r.png", dir,
-        dir, env(dir));
-    ASSERT_EQ(render.exit_code, 0) << render.err;
-    EXPECT_NE(render.err.find("looks like a DirectX (-Y) normal map"), std::string::npos)
-        << render.err;
-    // An OpenGL map gives no warning.
-    for (std::size_t i = 1; i < pixels.size(); i += 3) pixels[i] = 1.0f - pixels[i];
-    scene::test::write_bytes((dir / "gl.png").string(), scene::test::png_bytes(size, size, 3,
-                                                                              pixels));
-    const test::RunResult opengl = test::run_leanfade_in("bake gl.png", dir, dir, env(dir));
-    ASSERT_EQ(opengl.exit_code, 0) << opengl.err;
-    EXPECT_EQ(opengl.err, "");
+    return scene::test::png_bytes(32, 32, 3, pixels);
 }
 
-// A normal texture with (0, 0, 0) padding outside its island bakes (the padding taken as flat),
-// counted in the summary, its --json and the KTX2; --strict-normals refuses it.
-TEST(CliGltf, PaddedNormalTexturesAreRepairedUnlessStrict) {
-    const fs::path dir = scratch("padded");
-    std::vector<float> pixels;
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x) {
-            const bool padding = x >= 12;
-            const glm::vec3 n = glm::normalize(glm::vec3(0.2f * float(y % 3), 0.1f, 1.0f));
-            for (int c = 0; c < 3; ++c) pixels.push_back(padding ? 0.0f : 0.5f * n[c] + 0.5f);
+// The file's bytes as its JSON (a .gltf) or the JSON chunk of a .glb.
+nlohmann::json gltf_json(const fs::path& path) {
+    const std::string bytes = test::read_text(path);
+    if (bytes.rfind("glTF", 0) != 0) return nlohmann::json::parse(bytes);
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    return nlohmann::json::parse(bytes.substr(20, length));
+}
+
+}  // namespace gltf_out
+
+// `bake SCENE -o OUT`: the materials point at filtered roughness and normal MIPs (KTX2 under
+// KHR_texture_basisu with a PNG fallback), an anisotropy texture where the bumps are
+// anisotropic, and the LEAN map (LEANFADE_lean_map); the rest of the file passes through; every
+// file referenced exists and is what it says; nothing of the input is replaced.
+TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
+    for (const char* in_name : {"scene.gltf", "scene.glb"})
+        for (const char* out_name : {"out/filtered.gltf", "out/filtered.glb"}) {
+            const fs::path dir = scratch(std::string("out_") + fs::path(in_name).extension().string().substr(1) +
+                                         "_" + fs::path(out_name).extension().string().substr(1));
+            GltfTestFile file = scene_file();
+            file.images.push_back(gltf_out::bumpy_normal_png());
+            // Smooth (r = 0.2) and metallic, its bumps anisotropic; "metal" with a
+            // metallic-roughness texture of another size than its normal texture.
+            file.materials.push_back({"ribbed", glm::vec4(1.0f), -1, 2, 1.0f, 0.2f, 1.0f});
+            file.materials[1].roughness = 0.5f;
+            file.materials[1].metallic_roughness_image = 3;
+            std::vector<float> mr;
+            for (int t = 0; t < 8 * 8; ++t) mr.insert(mr.end(), {1.0f, 0.25f + 0.5f * float(t % 2), 0.8f});
+            file.images.push_back(scene::test::png_bytes(8, 8, 3, mr));
+            file.meshes.push_back({scene::test::unit_quad(4)});
+            const fs::path input = dir / in_name;
+            scene::test::write_gltf(file, input.string(),
+                                    std::string(in_name).ends_with(".glb") ? GltfStorage::Binary
+                                                                           : GltfStorage::External);
+            fs::create_directories(dir / "out");
+            std::map<fs::path, std::string> before;
+            for (const auto& e : fs::directory_iterator(dir))
+                if (e.is_regular_file()) before[e.path()] = test::read_text(e.path());
+            const fs::path output = dir / out_name;
+            const test::RunResult r = test::run_leanfade_in(
+                "bake " + test::shell_quote(input.string()) + " -o " +
+                    test::shell_quote(output.string()),
+                dir, {}, env(dir));
+            ASSERT_EQ(r.exit_code, 0) << r.err;
+            for (const auto& [path, bytes] : before) EXPECT_EQ(test::read_text(path), bytes) << path;
+            EXPECT_NE(r.out.find("wrote " + output.string()), std::string::npos) << r.out;
+
+            const nlohmann::json j = gltf_out::gltf_json(output);
+            const auto& used = j["extensionsUsed"];
+            for (const char* ext : {"KHR_texture_basisu", "LEANFADE_lean_map", "KHR_materials_anisotropy"})
+                EXPECT_NE(std::find(used.begin(), used.end(), ext), used.end()) << ext;
+            EXPECT_FALSE(j.contains("extensionsRequired")) << "every extension is optional";
+            ASSERT_EQ(j["materials"].size(), 5u);
+            int anisotropic = 0;
+            for (std::size_t m = 0; m < 5; ++m) {
+                const auto& material = j["materials"][m];
+                if (m == 3) {  // "plain": no normal texture, untouched
+                    EXPECT_FALSE(material.contains("normalTexture"));
+                    continue;
+                }
+                const auto& pbr = material["pbrMetallicRoughness"];
+                EXPECT_EQ(pbr["roughnessFactor"], 1.0);
+                for (const nlohmann::json* info :
+                     {&pbr["metallicRoughnessTexture"], &material["normalTexture"]}) {
+                    const auto& texture = j["textures"][(*info)["index"].get<std::size_t>()];
+                    const auto& png = j["images"][texture["source"].get<std::size_t>()];
+                    const auto& ktx2 = j["images"][texture["extensions"]["KHR_texture_basisu"]
+                                                          ["source"]
+                                                              .get<std::size_t>()];
+                    EXPECT_EQ(png["mimeType"], "image/png");
+                    EXPECT_EQ(ktx2["mimeType"], "image/ktx2");
+                    const fs::path ktx2_file = output.parent_path() / ktx2["uri"].get<std::string>();
+                    const io::Ktx2Info info_ktx2 = io::inspect_ktx2(ktx2_file.string());
+                    EXPECT_EQ(info_ktx2.vk_format, io::kVkFormatR8G8B8A8Unorm);
+                    EXPECT_EQ(info_ktx2.level_count, m == 4 ? 6u : 5u) << ktx2_file;
+                    EXPECT_TRUE(fs::exists(output.parent_path() / png["uri"].get<std::string>()));
+                    const auto& sampler = j["samplers"][texture["sampler"].get<std::size_t>()];
+                    EXPECT_EQ(sampler["minFilter"], 9987);  // every level is used
+                }
+                const auto& lean = material["extensions"]["LEANFADE_lean_map"];
+                const PackedLeanMap map =
+                    io::read_ktx2((output.parent_path() / lean["uri"].get<std::string>()).string());
+                EXPECT_EQ(map.levels.size(), m == 4 ? 6u : 5u);
+                anisotropic += material["extensions"].contains("KHR_materials_anisotropy");
+            }
+            // Metallic kept in B: "metal"'s texture's 0.8, resampled to its normal texture's
+            // size; 1 where the material had no texture (metallicFactor applies as before).
+            for (const auto& [m, blue] : {std::pair{1, 204}, std::pair{4, 255}}) {
+                const auto& info = j["materials"][std::size_t(m)]["pbrMetallicRoughness"]
+                                    ["metallicRoughnessTexture"];
+                const auto& texture = j["textures"][info["index"].get<std::size_t>()];
+                const auto& ktx2 = j["images"][texture["extensions"]["KHR_texture_basisu"]["source"]
+                                                   .get<std::size_t>()];
+                const auto levels = io::read_ktx2_rgba8(
+                    (output.parent_path() / ktx2["uri"].get<std::string>()).string());
+                for (std::size_t t = 0; t < levels[0].texels.size(); t += 4)
+                    ASSERT_NEAR(int(levels[0].texels[t + 2]), blue, 1) << "material " << m;
+            }
+            // Only "ribbed" has anisotropic bumps.
+            EXPECT_EQ(anisotropic, 1);
+            EXPECT_TRUE(j["materials"][4]["extensions"].contains("KHR_materials_anisotropy"));
+            // Geometry passes through: every buffer the file names exists and holds its views.
+            for (const auto& buffer : j["buffers"]) {
+                if (!buffer.contains("uri")) continue;  // the GLB's binary chunk
+                const fs::path bin = output.parent_path() / buffer["uri"].get<std::string>();
+                ASSERT_TRUE(fs::exists(bin)) << bin;
+                EXPECT_EQ(fs::file_size(bin), buffer["byteLength"].get<std::uintmax_t>());
+            }
+            EXPECT_EQ(j["meshes"].size(), 5u);
+            EXPECT_EQ(j["accessors"].size(), gltf_out::gltf_json(input)["accessors"].size());
         }
-    GltfTestFile file;
-    file.images = {scene::test::png_bytes(16, 16, 3, pixels)};
-    file.materials = {{"wall", glm::vec4(1.0f), -1, 0, 1.0f}};
-    file.meshes.push_back({scene::test::unit_quad(0)});
-    scene::test::write_gltf(file, (dir / "scene.gltf").string(), GltfStorage::External);
-    const test::RunResult r =
-        test::run_leanfade_in("bake scene.gltf --json scene.json", dir, dir, env(dir));
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find("64 (0, 0, 0) padding texels taken as flat"), std::string::npos) << r.out;
-    const nlohmann::json json = nlohmann::json::parse(test::read_text(dir / "scene.json"));
-    EXPECT_EQ(json[0]["padding_texels"].get<int>(), 64);
-    const PackedLeanMap map = io::read_ktx2((dir / "scene.wall.ktx2").string());
-    EXPECT_EQ(map.normal_repairs.padding_texels, 64u);
-    const test::RunResult strict =
-        test::run_leanfade_in("bake scene.gltf --strict-normals --out-dir " +
-                                  test::shell_quote(dir.string()),
-                              dir, dir, env(dir));
-    EXPECT_EQ(strict.exit_code, 1);
-    EXPECT_NE(strict.err.find("refused by --strict-normals"), std::string::npos) << strict.err;
 }
 
+}  // namespace
 }  // namespace leanfade

@@ -12,6 +12,7 @@
 
 #include "cli_bake_cross_terms.hpp"
 #include "cli_bake_gltf.hpp"
+#include "cli_bake_gltf_out.hpp"
 #include "cli_bake_plan.hpp"
 #include "cli_bake_plateau.hpp"
 #include "cli_bake_report.hpp"
@@ -59,9 +60,11 @@ int run_gltf_bake(const BakeArgs& given) {
                       given.threads,   given.max_size,       given.json,
                       given.fsync,     given.strict_normals, {}};
     const std::string refused =
-        first_inapplicable(given, {"inputs", "--out-dir", "--bits", "--threads", "--max-size",
-                                   "--json", "--fsync", "--strict-normals"});
+        first_inapplicable(given, {"inputs", "--out-dir", "--output", "--bits", "--threads",
+                                   "--max-size", "--json", "--fsync", "--strict-normals"});
     if (!refused.empty()) gltf.refused_flags.push_back(refused);
+    // -o OUT.gltf|OUT.glb: a filtered copy of the scene (cli_bake_gltf_out.hpp).
+    if (!given.output.empty()) return run_bake_gltf_out(gltf, given.output);
     return run_bake_gltf(gltf);
 }
 

@@ -57,7 +57,10 @@ std::vector<bool> images_used_by_materials(const json& root) {
             mark(*normal);
         if (const auto pbr = material.find("pbrMetallicRoughness");
             pbr != material.end() && pbr->is_object())
+        {
             if (const auto base = pbr->find("baseColorTexture"); base != pbr->end()) mark(*base);
+            if (const auto mr = pbr->find("metallicRoughnessTexture"); mr != pbr->end()) mark(*mr);
+        }
     }
     return used;
 }

@@ -21,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <tuple>
 #include <map>
 #include <string>
 #include <vector>
@@ -255,8 +256,9 @@ int component_count(int type) {
 class Converter {
   public:
     // The encoded images move out of `model` into the scene.
-    Converter(tinygltf::Model& model, const GltfLoadOptions& options, GltfScene& out)
-        : model_(model), options_(options), out_(out) {}
+    Converter(tinygltf::Model& model, const GltfLoadOptions& options, GltfScene& out,
+              FileAccess& access)
+        : model_(model), options_(options), out_(out), access_(access) {}
 
     void run();
 
@@ -270,6 +272,7 @@ class Converter {
     tinygltf::Model& model_;
     const GltfLoadOptions& options_;
     GltfScene& out_;
+    FileAccess& access_;  // where external files may be read
     std::map<std::pair<int, int>, Mesh> meshes_;  // converted (mesh, primitive)
     std::map<int, int> materials_;                // glTF material (-1: default) -> ours
     std::map<int, int> images_;                   // glTF image -> ours
@@ -603,7 +606,34 @@ int Converter::material_index(int gltf_material) {
                                      std::to_string(model_.materials.size()) + " materials)");
         const tinygltf::Material& gm = model_.materials[std::size_t(gltf_material)];
         m.name = gm.name.empty() ? "material " + std::to_string(gltf_material) : gm.name;
+        m.gltf_index = gltf_material;
         const std::string where = "material '" + escape_text(m.name, 64) + "'";
+        const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
+        for (const auto& [value, name, out] :
+             {std::tuple{pbr.metallicFactor, "metallicFactor", &m.metallic_factor},
+              std::tuple{pbr.roughnessFactor, "roughnessFactor", &m.roughness_factor}}) {
+            if (!(value >= 0.0 && value <= 1.0))
+                throw std::runtime_error(where + ": " + name + " is not in [0, 1]");
+            *out = float(value);
+        }
+        if (pbr.metallicRoughnessTexture.index >= 0)
+            m.metallic_roughness_image =
+                image_of_texture(pbr.metallicRoughnessTexture.index, where + " metallicRoughnessTexture");
+        if (const auto ext = gm.extensions.find(kGltfLeanMapExtension); ext != gm.extensions.end()) {
+            const tinygltf::Value& uri = ext->second.Get("uri");
+            if (!uri.IsString())
+                throw std::runtime_error(where + ": " + kGltfLeanMapExtension + " has no uri");
+            const std::string& text = uri.Get<std::string>();
+            const std::string named =
+                where + ": " + kGltfLeanMapExtension + " uri '" + escape_text(text, 80) + "'";
+            std::string refusal = uri_refusal(text, access_.external_allowed);
+            if (refusal.empty() && text.rfind("data:", 0) == 0)
+                refusal = "embeds the map (it must name a KTX2 file beside the glTF)";
+            if (!refusal.empty()) throw std::runtime_error(named + " " + refusal);
+            m.lean_map_file = confined((access_.folder / percent_decode(text)).string(), access_);
+            if (m.lean_map_file.empty())
+                throw std::runtime_error(named + " leaves the glTF's folder");
+        }
         const std::vector<double>& factor = gm.pbrMetallicRoughness.baseColorFactor;
         if (factor.size() != 4)
             throw std::runtime_error(where + ": baseColorFactor has " +
@@ -815,7 +845,7 @@ GltfScene load(const std::vector<std::uint8_t>& bytes, const std::string& name,
         if (!keeping.refused.empty()) throw std::runtime_error(keeping.refused);
         if (!ok)
             throw std::runtime_error(first_line(error.empty() ? "not a valid glTF file" : error));
-        Converter(model, options, scene).run();
+        Converter(model, options, scene, access).run();
     } catch (const Error& e) {
         throw Error(name, e.file() + ": " + e.cause());
     } catch (const std::bad_alloc&) {

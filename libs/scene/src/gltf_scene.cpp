@@ -8,6 +8,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
 #include "mesh_internal.hpp"
@@ -134,13 +135,28 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     Scene scene;
     std::map<std::pair<int, float>, int> maps;  // (normal image, scale) -> lean map
     std::map<int, int> textures;                // base colour image -> texture
+    std::map<std::string, int> files;           // a LEAN map file the glTF names -> lean map
     int flat_map = -1;
     std::uint64_t map_bytes = 0;  // of the LEAN maps held
     for (const GltfMaterial& gm : gltf.materials) {
         Material m;
         m.name = gm.name;
         m.diffuse.emplace(gm.base_color_factor.x, gm.base_color_factor.y, gm.base_color_factor.z);
-        if (gm.normal_image >= 0) {
+        if (!gm.lean_map_file.empty()) {
+            // The map the file names (`bake SCENE -o OUT`): drawn as written.
+            auto found = files.find(gm.lean_map_file);
+            if (found == files.end()) {
+                scene.lean_maps.push_back(io::read_ktx2(gm.lean_map_file));
+                for (const PackedLevel& level : scene.lean_maps.back().levels)
+                    map_bytes += level.lean1.size() + level.lean2.size();
+                if (map_bytes > settings.max_lean_map_bytes)
+                    throw Error(gltf.path, "the LEAN maps of its materials exceed " +
+                                               std::to_string(settings.max_lean_map_bytes) +
+                                               " bytes");
+                found = files.emplace(gm.lean_map_file, int(scene.lean_maps.size()) - 1).first;
+            }
+            m.lean_map = found->second;
+        } else if (gm.normal_image >= 0) {
             const auto key = std::make_pair(gm.normal_image, gm.normal_scale);
             auto found = maps.find(key);
             if (found == maps.end()) {

@@ -41,13 +41,25 @@ struct GltfImage {
     std::vector<std::uint8_t> bytes;  // encoded file bytes
 };
 
-// A material's part that leanfade shades (the metallic-roughness part is not used).
+// The vendor extension of the glTF files `leanfade bake SCENE -o OUT.gltf` writes: a material's
+// LEAN map as a KTX2 file beside the glTF, {"uri": "..."} (docs/gltf.md).
+inline constexpr const char* kGltfLeanMapExtension = "LEANFADE_lean_map";
+
+// A material's part that leanfade reads: what it shades (base colour, normal texture) and what
+// `bake SCENE -o OUT` filters (the metallic-roughness part).
 struct GltfMaterial {
     std::string name;                           // the file's name, else "material N"
+    int gltf_index = -1;                        // its index in the file's materials, -1: the default
     glm::vec4 base_color_factor{1.0f};          // linear RGBA
     int base_color_image = -1;                  // index into GltfScene::images, -1: none
     int normal_image = -1;                      // index into GltfScene::images, -1: none
     float normal_scale = 1.0f;                  // normalTexture.scale, finite
+    float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
+    float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
+    int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none
+    // The LEAN map the material's kGltfLeanMapExtension names (a path beside the glTF file,
+    // checked as every URI is), drawn instead of a bake of its normal texture; "" when none.
+    std::string lean_map_file;
 };
 
 struct GltfObject {
@@ -201,7 +213,8 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image, float scale,
 // material per GltfMaterial with Kd = the base colour factor's RGB, its base colour texture
 // decoded to linear RGBA (sRGB transfer function inverted; alpha kept, not used for blending),
 // and its normal texture baked to a LEAN map (bake_normal_texture); materials without a normal
-// texture share one flat LEAN map. Throws leanfade::Error(gltf.path, cause).
+// texture share one flat LEAN map; a material whose file names its LEAN map (lean_map_file) draws
+// that map (read with read_ktx2's checks). Throws leanfade::Error(gltf.path, cause).
 Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                         GltfBakeReport* report = nullptr);
 

@@ -1,0 +1,499 @@
+// A filtered copy of a glTF scene (cli_bake_gltf_out.hpp, docs/gltf.md).
+#include "cli_bake_gltf_out.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_flags.hpp"
+#include "command.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/roughness.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/output_plan.hpp"
+#include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
+
+namespace leanfade::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
+constexpr std::uint32_t kGlbChunkJson = 0x4E4F534A;  // "JSON"
+constexpr std::uint32_t kGlbChunkBin = 0x004E4942;   // "BIN\0"
+constexpr std::uint64_t kMaxGltfFileBytes = std::uint64_t(1) << 30;
+// A material's bumps count as anisotropic, and get a KHR_materials_anisotropy texture, when the
+// mean anisotropy strength of one of its levels reaches this.
+constexpr float kAnisotropyThreshold = 0.1f;
+
+std::uint32_t load_u32(const std::string& bytes, std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | std::uint8_t(bytes[at + std::size_t(i)]);
+    return v;
+}
+
+void append_u32(std::string& out, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out += char((v >> (8 * i)) & 0xFFu);
+}
+
+// The file as its JSON and, for a .glb, its binary chunk (load_gltf has checked the file).
+struct Container {
+    json root;
+    std::string bin;
+    bool has_bin = false;
+};
+
+Container read_container(const std::string& path) {
+    const std::string bytes = read_regular_file(path, kMaxGltfFileBytes, "glTF file");
+    Container c;
+    std::string text = bytes;
+    if (bytes.size() >= 12 && load_u32(bytes, 0) == kGlbMagic) {
+        std::size_t at = 12;
+        text.clear();
+        while (at + 8 <= bytes.size()) {
+            const std::uint32_t length = load_u32(bytes, at), type = load_u32(bytes, at + 4);
+            if (length > bytes.size() - at - 8) throw Error(path, "a GLB chunk runs past the end");
+            if (type == kGlbChunkJson && text.empty()) text = bytes.substr(at + 8, length);
+            if (type == kGlbChunkBin && !c.has_bin) {
+                c.bin = bytes.substr(at + 8, length);
+                c.has_bin = true;
+            }
+            at += 8 + std::size_t(length);
+        }
+    }
+    try {
+        c.root = json::parse(text);
+    } catch (const json::exception&) {
+        throw Error(path, "not valid glTF JSON");
+    }
+    if (!c.root.is_object()) throw Error(path, "not a glTF JSON object");
+    return c;
+}
+
+// A URI for a relative path: unreserved characters and '/' kept, the rest percent-encoded.
+std::string uri_of(const fs::path& relative) {
+    std::string out;
+    for (const char c : relative.generic_string()) {
+        const auto u = static_cast<unsigned char>(c);
+        if (std::isalnum(u) || c == '-' || c == '_' || c == '.' || c == '~' || c == '/') {
+            out += c;
+        } else {
+            char hex[4];
+            std::snprintf(hex, sizeof hex, "%%%02X", u);
+            out += hex;
+        }
+    }
+    return out;
+}
+
+std::string percent_decoded(const std::string& uri) {
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+// A material's name as part of a file name: letters, digits, '-' and '_' kept, the rest '_'.
+std::string file_name_part(const std::string& name) {
+    std::string out;
+    for (char c : name.substr(0, 64))
+        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    return out.empty() ? "material" : out;
+}
+
+// An external file of the scene (a buffer or an image named by a URI) that the output needs
+// beside it: the output's folder is another, so a copy is written there.
+struct CopiedFile {
+    std::string source;  // the input's file
+    std::string target;  // its copy beside the output
+};
+
+// Each external URI of buffers and images, for an output in `output_folder`: kept when that is
+// the input's folder; otherwise the file is copied beside the output (named after the output's
+// stem and the file's own name, each name once) and the URI names the copy, so that the output
+// folder holds everything the file names (leanfade, as many loaders, reads only inside it).
+std::vector<CopiedFile> relocate_external_files(json& root, const fs::path& input_folder,
+                                                const fs::path& output_folder,
+                                                const std::string& stem) {
+    std::vector<CopiedFile> copies;
+    if (fs::weakly_canonical(input_folder) == fs::weakly_canonical(output_folder)) return copies;
+    std::map<std::string, std::string> copied;  // source -> copy's name
+    std::set<std::string> names;
+    for (const char* key : {"buffers", "images"}) {
+        const auto list = root.find(key);
+        if (list == root.end() || !list->is_array()) continue;
+        for (json& entry : *list) {
+            const auto uri = entry.find("uri");
+            if (uri == entry.end() || !uri->is_string()) continue;
+            const std::string text = uri->get<std::string>();
+            if (text.rfind("data:", 0) == 0) continue;
+            const std::string source = (input_folder / percent_decoded(text)).lexically_normal().string();
+            auto found = copied.find(source);
+            if (found == copied.end()) {
+                const std::string base = stem + "." + file_name_part(fs::path(source).stem().string());
+                const std::string extension = file_name_part(fs::path(source).extension().string().substr(
+                    std::min<std::size_t>(1, fs::path(source).extension().string().size())));
+                std::string name = base + "." + extension;
+                for (int n = 2; names.count(name) != 0; ++n)
+                    name = base + "-" + std::to_string(n) + "." + extension;
+                names.insert(name);
+                copies.push_back({source, (output_folder / name).string()});
+                found = copied.emplace(source, name).first;
+            }
+            *uri = uri_of(found->second);
+        }
+    }
+    return copies;
+}
+
+// `image` resampled to w x h (bilinear, repeating, texel centres aligned): a metallic-roughness
+// texture of another size than the normal texture.
+Image resampled(const Image& image, int w, int h) {
+    if (image.width == w && image.height == h) return image;
+    Image out(w, h, image.channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float fx = (float(x) + 0.5f) * float(image.width) / float(w) - 0.5f;
+            const float fy = (float(y) + 0.5f) * float(image.height) / float(h) - 0.5f;
+            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+            const float tx = fx - float(x0), ty = fy - float(y0);
+            const auto wrap = [](int v, int n) { return ((v % n) + n) % n; };
+            for (int c = 0; c < image.channels; ++c) {
+                const auto at = [&](int xi, int yi) {
+                    return image.pixels[image.index(wrap(xi, image.width), wrap(yi, image.height), c)];
+                };
+                out.pixels[out.index(x, y, c)] =
+                    (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
+                    ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
+            }
+        }
+    return out;
+}
+
+io::Rgba8Level to_rgba8(const Image& image) {
+    io::Rgba8Level level;
+    level.width = image.width;
+    level.height = image.height;
+    level.texels.resize(image.pixels.size());
+    for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        level.texels[i] = std::uint8_t(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f));
+    return level;
+}
+
+// The files of one material's filtered textures.
+struct MaterialFiles {
+    int material = -1;  // index into GltfScene::materials
+    std::string part;   // its name's file-name part, unique
+    std::string lean, roughness, roughness_png, normal, normal_png, anisotropy, anisotropy_png;
+};
+
+std::string json_text(const json& root) {
+    return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+// The GLB container of `root` and `bin` (chunks padded to 4 bytes: the JSON with spaces, the
+// binary chunk with zeros; glTF 2.0 §4.4).
+std::string glb_bytes(const json& root, const std::string* bin) {
+    std::string text = root.dump(-1, ' ', false, json::error_handler_t::replace);
+    while (text.size() % 4 != 0) text += ' ';
+    std::string body;
+    append_u32(body, std::uint32_t(text.size()));
+    append_u32(body, kGlbChunkJson);
+    body += text;
+    if (bin != nullptr) {
+        std::string padded = *bin;
+        while (padded.size() % 4 != 0) padded += '\0';
+        append_u32(body, std::uint32_t(padded.size()));
+        append_u32(body, kGlbChunkBin);
+        body += padded;
+    }
+    std::string out;
+    append_u32(out, kGlbMagic);
+    append_u32(out, 2);
+    append_u32(out, std::uint32_t(12 + body.size()));
+    return out + body;
+}
+
+void add_extension_used(json& root, const std::string& name) {
+    json& used = root["extensionsUsed"];
+    if (!used.is_array()) used = json::array();
+    if (std::find(used.begin(), used.end(), name) == used.end()) used.push_back(name);
+}
+
+// A texture of the PNG level 0 `png` with the KTX2 `ktx2` (every level) under
+// KHR_texture_basisu; returns its index.
+int add_texture(json& root, const std::string& png, const std::string& ktx2, int sampler) {
+    json& images = root["images"];
+    if (!images.is_array()) images = json::array();
+    images.push_back({{"uri", png}, {"mimeType", "image/png"}});
+    const int png_index = int(images.size()) - 1;
+    images.push_back({{"uri", ktx2}, {"mimeType", "image/ktx2"}});
+    const int ktx2_index = int(images.size()) - 1;
+    json& textures = root["textures"];
+    if (!textures.is_array()) textures = json::array();
+    textures.push_back({{"sampler", sampler},
+                        {"source", png_index},
+                        {"extensions", {{"KHR_texture_basisu", {{"source", ktx2_index}}}}}});
+    return int(textures.size()) - 1;
+}
+
+// A textureInfo of `texture` with the normal texture's texCoord and extensions (its
+// KHR_texture_transform: the filtered textures share the normal texture's mapping).
+json texture_info(int texture, const json& normal_info) {
+    json info{{"index", texture}};
+    if (normal_info.contains("texCoord")) info["texCoord"] = normal_info["texCoord"];
+    if (normal_info.contains("extensions")) info["extensions"] = normal_info["extensions"];
+    return info;
+}
+
+}  // namespace
+
+int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
+    if (!args.refused_flags.empty())
+        throw Error(args.refused_flags.front(),
+                    "does not apply to a glTF scene (its normal textures are OpenGL-convention "
+                    "normal maps baked to KTX2)");
+    if (!args.out_dir.empty()) throw Error("--out-dir", "give -o OUT.gltf|OUT.glb or --out-dir, not both");
+    const std::string extension = fs::path(output).extension().string();
+    if (extension != ".gltf" && extension != ".glb")
+        throw Error(output, "a glTF output is a .gltf or .glb file");
+    const bool binary_out = extension == ".glb";
+
+    const scene::GltfScene gltf = scene::load_gltf(args.input);
+    for (const std::string& w : gltf.warnings)
+        std::fprintf(stderr, "leanfade: %s\n", terminal_text(args.input + ": " + w).c_str());
+    Container container = read_container(args.input);
+    json& root = container.root;
+
+    const fs::path out_path = fs::absolute(output).lexically_normal();
+    const fs::path out_folder = out_path.parent_path();
+    const fs::path in_folder = fs::absolute(args.input).lexically_normal().parent_path();
+    const std::string stem = out_path.stem().string();
+    const auto beside = [&](const std::string& name) { return (out_folder / name).string(); };
+
+    // The materials to filter: those with a normal texture, each file name once.
+    std::vector<MaterialFiles> jobs;
+    std::set<std::string> parts;
+    for (std::size_t i = 0; i < gltf.materials.size(); ++i) {
+        const scene::GltfMaterial& m = gltf.materials[i];
+        if (m.normal_image < 0 || m.gltf_index < 0) continue;
+        const std::string base = file_name_part(m.name);
+        std::string part = base;
+        for (int n = 2; parts.count(part) != 0; ++n) part = base + "-" + std::to_string(n);
+        parts.insert(part);
+        MaterialFiles f;
+        f.material = int(i);
+        f.part = part;
+        const std::string prefix = stem + "." + part;
+        f.lean = prefix + ".lean.ktx2";
+        f.roughness = prefix + ".roughness.ktx2";
+        f.roughness_png = prefix + ".roughness.png";
+        f.normal = prefix + ".normal.ktx2";
+        f.normal_png = prefix + ".normal.png";
+        f.anisotropy = prefix + ".anisotropy.ktx2";
+        f.anisotropy_png = prefix + ".anisotropy.png";
+        jobs.push_back(f);
+    }
+    if (jobs.empty()) throw Error(args.input, "no material of the scene has a normal texture");
+    // A .gltf out of a .glb: its binary chunk becomes a file beside the output.
+    const bool writes_bin = !binary_out && container.has_bin;
+    const std::string bin_name = stem + ".bin";
+
+    const std::vector<CopiedFile> copies = relocate_external_files(root, in_folder, out_folder, stem);
+    io::OutputPlan plan;
+    plan.add_input(args.input);
+    for (const CopiedFile& c : copies) plan.add_output(c.target, "a copy of " + c.source);
+    for (const std::string& file : scene::gltf_referenced_files(args.input)) plan.add_input(file);
+    plan.add_output(output, "-o");
+    if (writes_bin) plan.add_output(beside(bin_name), "-o (the binary chunk)");
+    for (const MaterialFiles& f : jobs)
+        for (const std::string* file : {&f.lean, &f.roughness, &f.roughness_png, &f.normal,
+                                        &f.normal_png, &f.anisotropy, &f.anisotropy_png})
+            plan.add_output(beside(*file), "material '" + gltf.materials[std::size_t(f.material)].name + "'");
+    if (!args.json.empty()) plan.add_output(args.json, "--json");
+    plan.check();
+
+    scene::GltfBakeSettings settings;
+    settings.storage = parse_bake_storage(args.bits, "--bits");
+    if (args.max_size > 0) settings.max_image_size = args.max_size;
+    settings.threads = args.threads;
+    settings.strict_normals = args.strict_normals;
+    settings.cache_folder = scene::default_lean_cache_folder();
+    io::ReadOptions read_options;
+    if (args.max_size > 0) read_options.max_dimension = args.max_size;
+
+    const io::Durability durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
+    io::OutputTransaction outputs(durability);
+    io::WriteOptions write_options;
+    write_options.durability = durability;
+    const std::string writer = std::string("leanfade ") + LEANFADE_VERSION;
+    std::vector<std::string> written;
+    nlohmann::json summaries = nlohmann::json::array();
+    const bool progress = stderr_is_terminal();
+
+    // One trilinear, repeating sampler for the filtered textures (every level is used).
+    json& samplers = root["samplers"];
+    if (!samplers.is_array()) samplers = json::array();
+    samplers.push_back({{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}});
+    const int sampler = int(samplers.size()) - 1;
+    if (writes_bin) root["buffers"][0]["uri"] = uri_of(bin_name);
+
+    try {
+        for (std::size_t j = 0; j < jobs.size(); ++j) {
+            const MaterialFiles& f = jobs[j];
+            const scene::GltfMaterial& m = gltf.materials[std::size_t(f.material)];
+            if (progress)
+                std::fprintf(stderr, "\r[%zu/%zu] filtering %s...\033[K", j + 1, jobs.size(),
+                             terminal_text(m.name).c_str());
+            const auto start = std::chrono::steady_clock::now();
+            const PackedLeanMap packed =
+                scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
+            io::write_ktx2(outputs.stage(beside(f.lean)), packed, write_options);
+            const LeanMap lean = unpack_lean_map(packed);
+            const int w = lean.levels.front().width, h = lean.levels.front().height;
+
+            // The material's own roughness, r = roughnessFactor x G of its texture; its R, B
+            // (occlusion, metallic) kept. Without a texture, B = 1 keeps metallicFactor as it was.
+            Image metallic_roughness(w, h, 3, 1.0f);
+            if (m.metallic_roughness_image >= 0) {
+                const scene::GltfImage& image = gltf.images[std::size_t(m.metallic_roughness_image)];
+                Image decoded = io::read_image_from_memory(image.bytes, image.name, read_options);
+                if (decoded.channels < 3)
+                    throw Error(args.input, image.name + ": a metallic-roughness texture has 3 or 4 channels");
+                metallic_roughness = resampled(decoded, w, h);
+            }
+            Image base = base_roughness_channel(metallic_roughness);
+            for (float& r : base.pixels) r *= m.metallic_roughness_image >= 0 ? m.roughness_factor : 0.0f;
+            RoughnessOptions ro;
+            ro.base_roughness = m.roughness_factor;
+            ro.threads = args.threads;
+            if (m.metallic_roughness_image >= 0) ro.roughness_map = &base;
+            const RoughnessTextures textures =
+                roughness_textures(roughness_mips(lean, ro), &metallic_roughness, args.threads);
+            float strength = 0.0f;
+            for (const Image& level : textures.anisotropy) {
+                double sum = 0.0;
+                for (std::size_t t = 0; t < level.texel_count(); ++t) sum += level.pixels[t * 4 + 2];
+                strength = std::max(strength, float(sum / double(level.texel_count())));
+            }
+            const bool anisotropic = strength >= kAnisotropyThreshold;
+
+            const auto write_texture = [&](const std::vector<Image>& levels, const std::string& ktx2,
+                                           const std::string& png, const char* content) {
+                std::vector<io::Rgba8Level> bytes;
+                for (const Image& level : levels) bytes.push_back(to_rgba8(level));
+                io::write_ktx2_rgba8(outputs.stage(beside(ktx2)), bytes, writer, write_options,
+                                     {{io::kKeyTextureContent, std::string(content) + " v1"}});
+                io::write_png(outputs.stage(beside(png)), levels.front(), 8, write_options);
+                written.push_back(beside(ktx2));
+                written.push_back(beside(png));
+            };
+            written.push_back(beside(f.lean));
+            write_texture(textures.metallic_roughness, f.roughness, f.roughness_png, "roughness");
+            write_texture(textures.normal, f.normal, f.normal_png, "normal");
+            if (anisotropic)
+                write_texture(textures.anisotropy, f.anisotropy, f.anisotropy_png, "anisotropy");
+
+            // The material, pointed at the filtered textures.
+            json& material = root["materials"][std::size_t(m.gltf_index)];
+            const json normal_info = material["normalTexture"];
+            json& pbr = material["pbrMetallicRoughness"];
+            if (!pbr.is_object()) pbr = json::object();
+            pbr["metallicRoughnessTexture"] =
+                texture_info(add_texture(root, uri_of(f.roughness_png), uri_of(f.roughness), sampler),
+                             normal_info);
+            pbr["roughnessFactor"] = 1.0;  // G holds the whole roughness now
+            json normal = texture_info(
+                add_texture(root, uri_of(f.normal_png), uri_of(f.normal), sampler), normal_info);
+            material["normalTexture"] = normal;  // scale 1: the normals hold the scaled slopes
+            json& extensions = material["extensions"];
+            if (!extensions.is_object()) extensions = json::object();
+            if (anisotropic && !extensions.contains("KHR_materials_anisotropy")) {
+                extensions["KHR_materials_anisotropy"] = {
+                    {"anisotropyStrength", 1.0},
+                    {"anisotropyTexture",
+                     texture_info(add_texture(root, uri_of(f.anisotropy_png), uri_of(f.anisotropy),
+                                              sampler),
+                                  normal_info)}};
+                add_extension_used(root, "KHR_materials_anisotropy");
+            }
+            extensions[scene::kGltfLeanMapExtension] = {{"uri", uri_of(f.lean)}};
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            summaries.push_back({{"input", args.input},
+                                 {"material", m.name},
+                                 {"lean_map", beside(f.lean)},
+                                 {"roughness", beside(f.roughness)},
+                                 {"normal", beside(f.normal)},
+                                 {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
+                                 {"anisotropy_strength", strength},
+                                 {"levels", packed.levels.size()},
+                                 {"width", w},
+                                 {"height", h},
+                                 {"seconds", seconds}});
+        }
+        if (progress) std::fprintf(stderr, "\r\033[K");
+        add_extension_used(root, "KHR_texture_basisu");
+        add_extension_used(root, scene::kGltfLeanMapExtension);
+
+        const std::string bytes =
+            binary_out ? glb_bytes(root, container.has_bin ? &container.bin : nullptr)
+                       : json_text(root);
+        {
+            io::AtomicFile file(outputs.stage(output), durability);
+            file.write(bytes.data(), bytes.size());
+            file.commit();
+        }
+        written.insert(written.begin(), output);
+        if (writes_bin) {
+            io::AtomicFile file(outputs.stage(beside(bin_name)), durability);
+            file.write(container.bin.data(), container.bin.size());
+            file.commit();
+            written.insert(written.begin() + 1, beside(bin_name));
+        }
+        for (const CopiedFile& c : copies) {
+            const std::string bytes = read_regular_file(c.source, kMaxGltfFileBytes, "glTF file");
+            io::AtomicFile file(outputs.stage(c.target), durability);
+            file.write(bytes.data(), bytes.size());
+            file.commit();
+            written.push_back(c.target);
+        }
+        if (!args.json.empty()) {
+            const std::string text = json_text(summaries);
+            io::AtomicFile file(outputs.stage(args.json), durability);
+            file.write(text.data(), text.size());
+            file.commit();
+            written.push_back(args.json);
+        }
+    } catch (const Error& e) {
+        throw outputs.named(e);
+    }
+    outputs.publish();
+    std::printf("%s -> %s: %zu materials filtered\n", terminal_text(args.input).c_str(),
+                terminal_text(output).c_str(), jobs.size());
+    for (const std::string& file : written) std::printf("  wrote %s\n", terminal_text(file).c_str());
+    return 0;
+}
+
+}  // namespace leanfade::cli
