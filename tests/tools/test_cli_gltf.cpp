@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 
@@ -252,6 +253,93 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
             EXPECT_EQ(j["meshes"].size(), 5u);
             EXPECT_EQ(j["accessors"].size(), gltf_out::gltf_json(input)["accessors"].size());
         }
+}
+
+// The round trip: `render --scene OUT` draws the LEAN maps the file names (LEANFADE_lean_map),
+// the same pixels as the original scene, and every technique reads them.
+TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {
+    const fs::path dir = scratch("out_round_trip");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    fs::create_directories(dir / "out");
+    const fs::path output = dir / "out" / "filtered.gltf";
+    ASSERT_EQ(test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
+                                        test::shell_quote(output.string()),
+                                    dir, {}, env(dir))
+                  .exit_code,
+              0);
+    const auto render = [&](const fs::path& scene, const std::string& png) {
+        return test::run_leanfade_in("render --scene " + test::shell_quote(scene.string()) +
+                                         " --techniques bump,lean,two-lobe --distances 3,12 "
+                                         "--size 64x64 -o " +
+                                         test::shell_quote((dir / png).string()),
+                                     dir, {}, env(dir));
+    };
+    const test::RunResult a = render(input, "scene.png");
+    const test::RunResult b = render(output, "filtered.png");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    EXPECT_EQ(test::read_text(dir / "scene.png"), test::read_text(dir / "filtered.png"));
+    // A LEAN map the file names that is missing is an error naming it, not a silent bake.
+    fs::remove(dir / "out" / "filtered.metal.lean.ktx2");
+    const test::RunResult missing = render(output, "missing.png");
+    EXPECT_NE(missing.exit_code, 0);
+    EXPECT_NE(missing.err.find("filtered.metal.lean.ktx2"), std::string::npos) << missing.err;
+    EXPECT_FALSE(fs::exists(dir / "missing.png"));
+}
+
+// Safety: names derived from material names stay inside the output's folder and are unique; an
+// output that would replace an input (the scene, its buffer, its images) is refused before
+// anything is written.
+TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
+    const fs::path dir = scratch("out_safety");
+    GltfTestFile file = scene_file();
+    file.materials[0].name = "../../etc/passwd";
+    file.materials[1].name = "../../etc/passwd";  // the same file name part: numbered
+    const fs::path input = dir / "scene.gltf";
+    scene::test::write_gltf(file, input.string(), GltfStorage::External);
+    const test::RunResult ok = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " -o " +
+            test::shell_quote((dir / "out.gltf").string()),
+        dir, {}, env(dir));
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_TRUE(fs::exists(dir / "out.______etc_passwd.lean.ktx2")) << ok.out;
+    EXPECT_TRUE(fs::exists(dir / "out.______etc_passwd-2.lean.ktx2")) << ok.out;
+    for (const auto& e : fs::recursive_directory_iterator(dir.parent_path()))
+        EXPECT_EQ(e.path().string().find("passwd/"), std::string::npos) << e.path();
+
+    // An output named like one of the scene's own images, and -o the scene itself.
+    const fs::path image = dir / "scene_image0.png";
+    ASSERT_TRUE(fs::exists(image));
+    const std::string image_before = test::read_text(image);
+    fs::copy_file(image, dir / "x.______etc_passwd.roughness.png");
+    nlohmann::json j = nlohmann::json::parse(test::read_text(input));
+    j["images"][0]["uri"] = "x.______etc_passwd.roughness.png";
+    std::ofstream(dir / "x_scene.gltf") << j.dump();
+    const std::string x_before = test::read_text(dir / "x.______etc_passwd.roughness.png");
+    for (const auto& [scene_file_name, out] :
+         {std::pair{"x_scene.gltf", "x.gltf"}, std::pair{"scene.gltf", "scene.gltf"}}) {
+        const test::RunResult r = test::run_leanfade_in(
+            "bake " + test::shell_quote((dir / scene_file_name).string()) + " -o " +
+                test::shell_quote((dir / out).string()),
+            dir, {}, env(dir));
+        EXPECT_NE(r.exit_code, 0) << out;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "x.gltf"));
+    EXPECT_FALSE(fs::exists(dir / "x.______etc_passwd.lean.ktx2"));
+    EXPECT_EQ(test::read_text(dir / "x.______etc_passwd.roughness.png"), x_before);
+    EXPECT_EQ(test::read_text(image), image_before);
+    // Not a glTF output name, and --out-dir with -o.
+    for (const std::string& flags : {std::string("-o ") + test::shell_quote((dir / "o.ktx2").string()),
+                                     "-o " + test::shell_quote((dir / "o.gltf").string()) +
+                                         " --out-dir " + test::shell_quote(dir.string())}) {
+        const test::RunResult r = test::run_leanfade_in(
+            "bake " + test::shell_quote(input.string()) + " " + flags, dir, {}, env(dir));
+        EXPECT_NE(r.exit_code, 0) << flags;
+        EXPECT_FALSE(fs::exists(dir / "o.gltf"));
+    }
 }
 
 }  // namespace
