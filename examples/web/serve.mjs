@@ -3,9 +3,9 @@
 //
 //   node serve.mjs --data DIR [--port N]
 //
-// With --capture OUT --browser CHROMIUM it opens the page in that browser, headless (SwiftShader's
-// WebGL2), with ?capture=CELLS, writes each cell's posted floats to OUT/NAME.f32 and the page's
-// report to OUT/done.json, and exits: 0 when the page reported no error, 1 otherwise, 2 on a
+// With --capture OUT --browser CHROMIUM it opens the page (--page, index.html by default; --scene
+// for gltf.html) in that browser, headless (SwiftShader's WebGL2), with ?capture=CELLS, writes
+// each cell's posted floats to OUT/NAME.f32 and the page's report to OUT/done.json, and exits: 0 when the page reported no error, 1 otherwise, 2 on a
 // timeout. The browser is started with an argument list (no shell). Only GET of regular files
 // inside the two folders and POST of the capture names are served.
 import { spawn } from 'node:child_process';
@@ -22,11 +22,11 @@ function fail(message) {
   process.exit(1);
 }
 
-const options = { port: '0', timeout: '120', size: '128', cells: '' };
+const options = { port: '0', timeout: '120', size: '128', cells: '', page: 'index.html' };
 const args = process.argv.slice(2);
 for (let i = 0; i < args.length; i += 2) {
   const name = args[i].replace(/^--/, '');
-  if (!['data', 'port', 'capture', 'browser', 'timeout', 'size', 'cells', 'map'].includes(name) || args[i + 1] === undefined)
+  if (!['data', 'port', 'capture', 'browser', 'timeout', 'size', 'cells', 'map', 'page', 'scene'].includes(name) || args[i + 1] === undefined)
     fail(`unknown option or missing value: ${args[i]}`);
   options[name] = args[i + 1];
 }
@@ -35,6 +35,7 @@ const dataRoot = realpathSync(options.data);
 const port = Number(options.port);
 if (!Number.isInteger(port) || port < 0 || port > 65535) fail(`--port ${options.port} is not a port`);
 if (options.capture && !options.browser) fail('--capture needs --browser');
+if (!/^[a-z_]+\.html$/.test(options.page)) fail(`--page ${options.page} is not a page of this folder`);
 
 const types = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
@@ -126,13 +127,14 @@ server.listen(port, '127.0.0.1', () => {
     process.stdout.write(`serving ${address} (data: ${dataRoot})\n`);
     return;
   }
-  const query = new URLSearchParams({ data: 'data', capture: options.cells, size: options.size });
+  const query = new URLSearchParams({ data: 'data', capture: options.cells || '1', size: options.size });
   if (options.map) query.set('map', options.map);
+  if (options.scene) query.set('scene', options.scene);
   profile = mkdtempSync(join(tmpdir(), 'leanfade-chromium-'));
   browser = spawn(options.browser, [
     '--headless=new', '--no-sandbox', '--no-first-run', '--disable-extensions',
     '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-    `--user-data-dir=${profile}`, `${address}index.html?${query}`,
+    `--user-data-dir=${profile}`, `${address}${options.page}?${query}`,
   ], { stdio: ['ignore', 'ignore', 'pipe'] });
   let log = '';
   browser.stderr.on('data', (chunk) => { log = (log + chunk).slice(-4000); });

@@ -3,12 +3,14 @@
 // layer (`--plateau-out`) and the GLSL ES shaders (`shaders --lang glsl-es`); the page draws
 // bump, LEAN and two-lobe LEAN with plain WebGL2 and LEAN through its three.js material into a
 // float target and posts the linear floats back (examples/web/serve.mjs --capture). Each is
-// compared with `leanfade render`'s cell of the same view, as the figures are converted.
+// compared with `leanfade render`'s cell of the same view, as the figures are converted. And
+// the filtered glTF of `bake SCENE -o OUT.glb` in three.js's GLTFLoader (examples/web/gltf.html).
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -161,6 +163,100 @@ TEST_F(WebGlPage, TheTechniquesDrawDifferentPictures) {
     ASSERT_FALSE(lean.empty());
     const CellComparison c = compare_cells(bump, lean);
     EXPECT_GT(c.object_rmse, 2.0);
+}
+
+// A glTF plane of 8 x 8 world units, its uv tiled 24 times, with a normal texture (a normal map
+// of the built-in bumps), smooth (roughnessFactor 0.1) and not metallic.
+void write_plane_gltf(const fs::path& gltf, const std::string& normal_png) {
+    const float s = 4.0f, t = 24.0f;
+    const float positions[] = {-s, 0, s, s, 0, s, s, 0, -s, -s, 0, -s};
+    const float normals[] = {0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
+    const float uvs[] = {0, t, t, t, t, 0, 0, 0};
+    const std::uint32_t indices[] = {0, 1, 2, 0, 2, 3};
+    std::string bytes;
+    for (const auto& [data, size] : {std::pair{static_cast<const void*>(positions), sizeof positions},
+                                     std::pair{static_cast<const void*>(normals), sizeof normals},
+                                     std::pair{static_cast<const void*>(uvs), sizeof uvs},
+                                     std::pair{static_cast<const void*>(indices), sizeof indices}})
+        bytes.append(static_cast<const char*>(data), size);
+    std::ofstream(gltf.parent_path() / "plane.bin", std::ios::binary) << bytes;
+    const nlohmann::json j = {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}, {"name", "plane"}}}},
+        {"meshes",
+         {{{"primitives",
+            {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}},
+              {"indices", 3},
+              {"material", 0}}}}}}},
+        {"materials",
+         {{{"name", "bumps"},
+           {"pbrMetallicRoughness",
+            {{"baseColorFactor", {0.6, 0.6, 0.65, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.1}}},
+           {"normalTexture", {{"index", 0}}}}}},
+        {"textures", {{{"source", 0}, {"sampler", 0}}}},
+        {"samplers", {{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}}}},
+        {"images", {{{"uri", normal_png}}}},
+        {"buffers", {{{"byteLength", bytes.size()}, {"uri", "plane.bin"}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+          {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 48}},
+          {{"buffer", 0}, {"byteOffset", 96}, {"byteLength", 32}},
+          {{"buffer", 0}, {"byteOffset", 128}, {"byteLength", 24}}}},
+        {"accessors",
+         {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
+           {"min", {-s, 0.0f, -s}}, {"max", {s, 0.0f, s}}},
+          {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+          {{"bufferView", 2}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
+          {{"bufferView", 3}, {"componentType", 5125}, {"count", 6}, {"type", "SCALAR"}}}}};
+    std::ofstream(gltf) << j.dump(1);
+}
+
+// The filtered glTF of `bake SCENE -o OUT.glb` in three.js (examples/web/gltf.html): GLTFLoader
+// with KTX2Loader takes every level of leanfade's roughness and normal KTX2 files (and makes no
+// MIPs of its own); without KTX2Loader it takes the PNG fallbacks and makes its MIPs.
+TEST(WebGltf, ThreeJsLoadsEveryLevelOfTheFilteredGltf) {
+    const fs::path s = fresh_scratch_folder(".", "webgl_gltf");
+    const fs::path site = s / "site";
+    fs::create_directories(site);
+    fs::create_directories(s / "capture");
+    ASSERT_NE(std::string(LEANFADE_CHROMIUM).find('/'), std::string::npos) << "Chromium is missing";
+    // The normal map: level 0 of the normal MIPs of the built-in bumps.
+    const RunResult normal = run_leanfade(
+        "bake --builtin bumps --size 128 -o " + shell_quote(s / "b.ktx2") + " --roughness-out " +
+            shell_quote(s / "r.ktx2"),
+        s);
+    ASSERT_EQ(normal.exit_code, 0) << normal.err;
+    fs::copy_file(s / "r.levels" / "normal_mip0.png", s / "normal.png");
+    write_plane_gltf(s / "plane.gltf", "normal.png");
+    const RunResult bake = run_leanfade(
+        "bake " + shell_quote(s / "plane.gltf") + " -o " + shell_quote(site / "plane.glb"), s);
+    ASSERT_EQ(bake.exit_code, 0) << bake.err;
+    const std::string command =
+        shell_quote(LEANFADE_NODE) + " " +
+        shell_quote((fs::path(LEANFADE_WEB_EXAMPLE) / "serve.mjs").string()) + " --data " +
+        shell_quote(site.string()) + " --capture " + shell_quote((s / "capture").string()) +
+        " --browser " + shell_quote(LEANFADE_CHROMIUM) +
+        " --page gltf.html --scene plane.glb --size 128 --timeout 240 >" +
+        shell_quote((s / "serve.log").string()) + " 2>&1 </dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << read_text(s / "serve.log");
+    const nlohmann::json report = nlohmann::json::parse(read_text(s / "capture" / "done.json"));
+    EXPECT_TRUE(report["errors"].empty()) << report.dump();
+    ASSERT_EQ(report["report"].size(), 1u) << report.dump();
+    const nlohmann::json& m = report["report"][0];
+    for (const char* map : {"roughness", "normal"}) {
+        const nlohmann::json& ktx2 = m["ktx2"][map];
+        EXPECT_EQ(ktx2["kind"], "data") << map;  // KTX2Loader's uncompressed texture
+        EXPECT_EQ(ktx2["width"], 128) << map;
+        EXPECT_EQ(ktx2["levels"], 8) << map << ": every level of the file";
+        EXPECT_EQ(ktx2["generateMipmaps"], false) << map;
+        const nlohmann::json& png = m["png"][map];
+        EXPECT_EQ(png["kind"], "image") << map;
+        EXPECT_EQ(png["levels"], 0) << map;
+        EXPECT_EQ(png["generateMipmaps"], true) << map;
+    }
+    EXPECT_TRUE(m["ktx2"]["anisotropy"].is_null()) << "the bumps are isotropic";
 }
 
 }  // namespace

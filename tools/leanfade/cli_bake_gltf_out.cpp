@@ -37,8 +37,10 @@ constexpr std::uint32_t kGlbChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kGlbChunkBin = 0x004E4942;   // "BIN\0"
 constexpr std::uint64_t kMaxGltfFileBytes = std::uint64_t(1) << 30;
 // A material's bumps count as anisotropic, and get a KHR_materials_anisotropy texture, when the
-// mean anisotropy strength of one of its levels reaches this.
-constexpr float kAnisotropyThreshold = 0.1f;
+// slope covariance of the whole map (its 1 x 1 level) has axes this far apart (the larger
+// variance over the smaller): a small footprint's covariance is anisotropic by chance even for
+// isotropic bumps, the whole map's is not.
+constexpr float kAnisotropyThreshold = 1.5f;
 
 std::uint32_t load_u32(const std::string& bytes, std::size_t at) {
     std::uint32_t v = 0;
@@ -126,7 +128,7 @@ std::string file_name_part(const std::string& name) {
 // beside it: the output's folder is another, so a copy is written there.
 struct CopiedFile {
     std::string source;  // the input's file
-    std::string target;  // its copy beside the output
+    std::string target;  // its copy's name, beside the output
 };
 
 // Each external URI of buffers and images, for an output in `output_folder`: kept when that is
@@ -158,7 +160,7 @@ std::vector<CopiedFile> relocate_external_files(json& root, const fs::path& inpu
                 for (int n = 2; names.count(name) != 0; ++n)
                     name = base + "-" + std::to_string(n) + "." + extension;
                 names.insert(name);
-                copies.push_back({source, (output_folder / name).string()});
+                copies.push_back({source, name});
                 found = copied.emplace(source, name).first;
             }
             *uri = uri_of(found->second);
@@ -290,7 +292,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const fs::path out_folder = out_path.parent_path();
     const fs::path in_folder = fs::absolute(args.input).lexically_normal().parent_path();
     const std::string stem = out_path.stem().string();
-    const auto beside = [&](const std::string& name) { return (out_folder / name).string(); };
+    // Files beside the output, named as the output is (relative when it is).
+    const auto beside = [&](const std::string& name) {
+        return (fs::path(output).parent_path() / name).string();
+    };
 
     // The materials to filter: those with a normal texture, each file name once.
     std::vector<MaterialFiles> jobs;
@@ -323,7 +328,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const std::vector<CopiedFile> copies = relocate_external_files(root, in_folder, out_folder, stem);
     io::OutputPlan plan;
     plan.add_input(args.input);
-    for (const CopiedFile& c : copies) plan.add_output(c.target, "a copy of " + c.source);
+    for (const CopiedFile& c : copies) plan.add_output(beside(c.target), "a copy of " + c.source);
     for (const std::string& file : scene::gltf_referenced_files(args.input)) plan.add_input(file);
     plan.add_output(output, "-o");
     if (writes_bin) plan.add_output(beside(bin_name), "-o (the binary chunk)");
@@ -391,13 +396,14 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             if (m.metallic_roughness_image >= 0) ro.roughness_map = &base;
             const RoughnessTextures textures =
                 roughness_textures(roughness_mips(lean, ro), &metallic_roughness, args.threads);
-            float strength = 0.0f;
-            for (const Image& level : textures.anisotropy) {
-                double sum = 0.0;
-                for (std::size_t t = 0; t < level.texel_count(); ++t) sum += level.pixels[t * 4 + 2];
-                strength = std::max(strength, float(sum / double(level.texel_count())));
-            }
-            const bool anisotropic = strength >= kAnisotropyThreshold;
+            // The whole map's covariance: its axes' variances (eigenvalues) and their ratio; a map
+            // without slope variance (flat, or one constant tilt) is not anisotropic.
+            const glm::vec3 c = summarize(lean).coarsest_covariance;  // xx, yy, xy
+            const float mean = 0.5f * (c.x + c.y);
+            const float half_gap = std::sqrt(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z);
+            const float larger = mean + half_gap, smaller = std::max(mean - half_gap, 0.0f);
+            const float anisotropy = larger > 1e-8f ? larger / std::max(smaller, 1e-12f) : 1.0f;
+            const bool anisotropic = larger > 1e-8f && anisotropy >= kAnisotropyThreshold;
 
             const auto write_texture = [&](const std::vector<Image>& levels, const std::string& ktx2,
                                            const std::string& png, const char* content) {
@@ -447,7 +453,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                  {"roughness", beside(f.roughness)},
                                  {"normal", beside(f.normal)},
                                  {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
-                                 {"anisotropy_strength", strength},
+                                 {"anisotropy_ratio", anisotropy},
                                  {"levels", packed.levels.size()},
                                  {"width", w},
                                  {"height", h},
@@ -474,10 +480,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
         }
         for (const CopiedFile& c : copies) {
             const std::string bytes = read_regular_file(c.source, kMaxGltfFileBytes, "glTF file");
-            io::AtomicFile file(outputs.stage(c.target), durability);
+            io::AtomicFile file(outputs.stage(beside(c.target)), durability);
             file.write(bytes.data(), bytes.size());
             file.commit();
-            written.push_back(c.target);
+            written.push_back(beside(c.target));
         }
         if (!args.json.empty()) {
             const std::string text = json_text(summaries);
