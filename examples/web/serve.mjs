@@ -5,8 +5,8 @@
 //
 // With --capture OUT --browser CHROMIUM it opens the page (--page, index.html by default; --scene
 // for gltf.html) in that browser, headless (SwiftShader's WebGL2), with ?capture=CELLS, writes
-// each cell's posted floats to OUT/NAME.f32 and the page's report to OUT/done.json, and exits: 0 when the page reported no error, 1 otherwise, 2 on a
-// timeout. The browser is started with an argument list (no shell). Only GET of regular files
+// each cell's posted floats to OUT/NAME.f32 and the page's report to OUT/done.json, and exits:
+// 0 when the page reported no error, 1 otherwise, 2 on a timeout. The browser is started with an argument list (no shell). Only GET of regular files
 // inside the two folders and POST of the capture names are served.
 import { spawn } from 'node:child_process';
 import { createServer } from 'node:http';

@@ -1,6 +1,7 @@
 // Roughness MIPs (leanfade/core/roughness.hpp): the Beckmann α of every level folds the slopes'
 // covariance over the texel's footprint into the base roughness, computed here independently
 // from the top-level slopes.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,6 +33,41 @@ glm::dvec3 slope_covariance(const Image& slopes) {
         mxy += x * y / n;
     }
     return {mxx - mx * mx, myy - my * my, mxy - mx * my};
+}
+
+// The one-pass 8-bit textures are the float textures rounded as write_png rounds, byte for byte,
+// with a base roughness map and a metallic-roughness input, and without; each texture only when
+// asked for.
+TEST(Roughness, EightBitTexturesAreTheFloatTexturesRounded) {
+    const LeanMap map = build_lean_map(slopes_of("ridges", 37), BakeOptions{});
+    Image mr(37, 37, 3);
+    for (std::size_t i = 0; i < mr.pixels.size(); ++i) mr.pixels[i] = float((i * 7919) % 101) / 100.0f;
+    const Image r = base_roughness_channel(mr);
+    for (const bool with_map : {false, true}) {
+        RoughnessOptions options;
+        options.base_roughness = 0.35f;
+        if (with_map) options.roughness_map = &r;
+        const Image* input = with_map ? &mr : nullptr;
+        const RoughnessTextures floats = roughness_textures(roughness_mips(map, options), input);
+        const RoughnessTexturesRgba8 bytes = roughness_textures_rgba8(map, options, input);
+        const auto expect_rounded = [](const std::vector<Image>& f, const std::vector<Rgba8Image>& b) {
+            ASSERT_EQ(f.size(), b.size());
+            for (std::size_t l = 0; l < f.size(); ++l) {
+                ASSERT_EQ(b[l].width, f[l].width);
+                for (std::size_t i = 0; i < f[l].pixels.size(); ++i)
+                    ASSERT_EQ(int(b[l].texels[i]),
+                              int(std::lround(std::clamp(f[l].pixels[i], 0.0f, 1.0f) * 255.0f)))
+                        << "level " << l << " value " << i;
+            }
+        };
+        expect_rounded(floats.metallic_roughness, bytes.metallic_roughness);
+        expect_rounded(floats.normal, bytes.normal);
+        expect_rounded(floats.anisotropy, bytes.anisotropy);
+        const RoughnessTexturesRgba8 only = roughness_textures_rgba8(map, options, input, {false, false});
+        EXPECT_TRUE(only.normal.empty());
+        EXPECT_TRUE(only.anisotropy.empty());
+        EXPECT_EQ(only.metallic_roughness.size(), map.levels.size());
+    }
 }
 
 TEST(Roughness, FlatMapGivesTheBaseRoughnessAtEveryLevel) {

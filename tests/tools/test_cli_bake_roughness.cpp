@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 #include <glm/gtc/packing.hpp>
 
@@ -60,7 +61,7 @@ TEST(CliBakeRoughness, WritesKtx2AndPngLevelsOfTheCoreRoughnessMips) {
     const auto r = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
                                     shell_quote((dir / "map.ktx2").string()) +
                                     " --roughness-out " + shell_quote(rough.string()) +
-                                    " --roughness 0.3 --anisotropy-out " +
+                                    " --roughness 0.3 --roughness-levels --anisotropy-out " +
                                     shell_quote(aniso.string()),
                                 dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -249,4 +250,30 @@ TEST(CliBakePlateau, WritesThePlateauMipsOfTheStoredMapAsHalfFloats) {
     EXPECT_NE(batch.exit_code, 0);
     EXPECT_THAT(batch.err, HasSubstr("--plateau-out"));
     EXPECT_FALSE(fs::exists(dir / "b.ktx2"));
+}
+
+// Engine outputs alone: --roughness-out without -o or --out-dir writes the KTX2 files and nothing
+// else (no LEAN map, no PNG levels unless --roughness-levels), the same bytes as with a LEAN map.
+TEST(CliBakeRoughness, WithoutALeanMapAskedOnlyTheEngineFilesAreWritten) {
+    const fs::path dir = test::scratch_dir("bake_roughness_alone");
+    const fs::path height = write_height_map(dir);
+    fs::create_directories(dir / "alone");
+    const auto alone = run_leanfade("bake " + shell_quote(height.string()) + " --roughness-out " +
+                                        shell_quote((dir / "alone" / "r.ktx2").string()) +
+                                        " --roughness 0.3",
+                                    dir);
+    ASSERT_EQ(alone.exit_code, 0) << alone.err;
+    std::set<std::string> files;
+    for (const auto& e : fs::directory_iterator(dir / "alone")) files.insert(e.path().filename().string());
+    EXPECT_EQ(files, (std::set<std::string>{"r.ktx2", "r.normal.ktx2"}));
+    EXPECT_FALSE(fs::exists(dir / "height.ktx2")) << "no LEAN map beside the input";
+    EXPECT_THAT(alone.out, HasSubstr("wrote " + (dir / "alone" / "r.ktx2").string()));
+    const auto with_map = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                           shell_quote((dir / "m.ktx2").string()) +
+                                           " --roughness-out " +
+                                           shell_quote((dir / "r.ktx2").string()) + " --roughness 0.3",
+                                       dir);
+    ASSERT_EQ(with_map.exit_code, 0) << with_map.err;
+    EXPECT_EQ(test::read_text(dir / "alone" / "r.ktx2"), test::read_text(dir / "r.ktx2"));
+    EXPECT_FALSE(fs::exists(dir / "r.levels"));
 }

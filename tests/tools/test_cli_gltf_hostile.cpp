@@ -380,7 +380,7 @@ TEST(CliHostileFlags, OptionsABakeWouldIgnoreAreRefusedByName) {
         {"--strength-unit uv", "--strength-unit"},
         {"--size 64", "--size"},
         {"--seed 3", "--seed"},
-        {"-o x.ktx2", "--output"},
+        {"--plateau-out p.ktx2", "--plateau-out"},
     };
     for (const auto& [option, name] : gltf) {
         const test::RunResult r = test::run_leanfade_in("bake s.glb " + option, dir, dir, env(dir));
@@ -388,6 +388,10 @@ TEST(CliHostileFlags, OptionsABakeWouldIgnoreAreRefusedByName) {
         for (const char* file : {"s.m.ktx2", "r.ktx2", "a.ktx2", "x.ktx2"})
             EXPECT_FALSE(fs::exists(dir / file)) << option << ": " << file;
     }
+    // -o names a glTF output (bake SCENE -o OUT.gltf|OUT.glb), nothing else.
+    const test::RunResult ktx2 = test::run_leanfade_in("bake s.glb -o x.ktx2", dir, dir, env(dir));
+    expect_one_line_error(ktx2, {"x.ktx2: a glTF output is a .gltf or .glb file"});
+    EXPECT_FALSE(fs::exists(dir / "x.ktx2"));
     // What applies is honoured: --json is written.
     const test::RunResult r =
         test::run_leanfade_in("bake s.glb --json j.json --bits 8", dir, dir, env(dir));
@@ -602,7 +606,8 @@ TEST(CliHostileFlags, ShaderFoldersHoldRegularFilesOfBoundedSize) {
 TEST(CliHostileFlags, InputsInsideOutputFoldersAreNotReplaced) {
     const fs::path dir = scratch("inputs_in_folders");
     test::RunResult r = test::run_leanfade_in(
-        "bake --builtin bumps --size 16 -o map.ktx2 --roughness-out X.ktx2", dir, dir);
+        "bake --builtin bumps --size 16 -o map.ktx2 --roughness-out X.ktx2 --roughness-levels", dir,
+        dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ASSERT_TRUE(fs::is_directory(dir / "X.levels")) << r.out;
     std::string level;
@@ -610,8 +615,8 @@ TEST(CliHostileFlags, InputsInsideOutputFoldersAreNotReplaced) {
         if (entry.path().extension() == ".png") level = entry.path().filename().string();
     ASSERT_FALSE(level.empty());
     const std::string before = test::read_text(dir / "X.levels" / level);
-    r = test::run_leanfade_in("bake X.levels/" + level + " -o y.ktx2 --roughness-out X.ktx2", dir,
-                              dir);
+    r = test::run_leanfade_in(
+        "bake X.levels/" + level + " -o y.ktx2 --roughness-out X.ktx2 --roughness-levels", dir, dir);
     expect_one_line_error(r, {"X.levels", "holds the input X.levels/" + level});
     EXPECT_EQ(test::read_text(dir / "X.levels" / level), before);
     EXPECT_FALSE(fs::exists(dir / "y.ktx2"));

@@ -225,7 +225,7 @@ TEST(WebGltf, ThreeJsLoadsEveryLevelOfTheFilteredGltf) {
     // The normal map: level 0 of the normal MIPs of the built-in bumps.
     const RunResult normal = run_leanfade(
         "bake --builtin bumps --size 128 -o " + shell_quote(s / "b.ktx2") + " --roughness-out " +
-            shell_quote(s / "r.ktx2"),
+            shell_quote(s / "r.ktx2") + " --roughness-levels",
         s);
     ASSERT_EQ(normal.exit_code, 0) << normal.err;
     fs::copy_file(s / "r.levels" / "normal_mip0.png", s / "normal.png");

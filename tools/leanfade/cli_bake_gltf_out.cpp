@@ -193,16 +193,6 @@ Image resampled(const Image& image, int w, int h) {
     return out;
 }
 
-io::Rgba8Level to_rgba8(const Image& image) {
-    io::Rgba8Level level;
-    level.width = image.width;
-    level.height = image.height;
-    level.texels.resize(image.pixels.size());
-    for (std::size_t i = 0; i < image.pixels.size(); ++i)
-        level.texels[i] = std::uint8_t(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f));
-    return level;
-}
-
 // The files of one material's filtered textures.
 struct MaterialFiles {
     int material = -1;  // index into GltfScene::materials
@@ -394,8 +384,6 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             ro.base_roughness = m.roughness_factor;
             ro.threads = args.threads;
             if (m.metallic_roughness_image >= 0) ro.roughness_map = &base;
-            const RoughnessTextures textures =
-                roughness_textures(roughness_mips(lean, ro), &metallic_roughness, args.threads);
             // The whole map's covariance: its axes' variances (eigenvalues) and their ratio; a map
             // without slope variance (flat, or one constant tilt) is not anisotropic.
             const glm::vec3 c = summarize(lean).coarsest_covariance;  // xx, yy, xy
@@ -404,14 +392,15 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             const float larger = mean + half_gap, smaller = std::max(mean - half_gap, 0.0f);
             const float anisotropy = larger > 1e-8f ? larger / std::max(smaller, 1e-12f) : 1.0f;
             const bool anisotropic = larger > 1e-8f && anisotropy >= kAnisotropyThreshold;
+            const RoughnessTexturesRgba8 textures =
+                roughness_textures_rgba8(lean, ro, &metallic_roughness, {true, anisotropic});
 
-            const auto write_texture = [&](const std::vector<Image>& levels, const std::string& ktx2,
-                                           const std::string& png, const char* content) {
-                std::vector<io::Rgba8Level> bytes;
-                for (const Image& level : levels) bytes.push_back(to_rgba8(level));
-                io::write_ktx2_rgba8(outputs.stage(beside(ktx2)), bytes, writer, write_options,
+            const auto write_texture = [&](const std::vector<Rgba8Image>& levels,
+                                           const std::string& ktx2, const std::string& png,
+                                           const char* content) {
+                io::write_ktx2_rgba8(outputs.stage(beside(ktx2)), levels, writer, write_options,
                                      {{io::kKeyTextureContent, std::string(content) + " v1"}});
-                io::write_png(outputs.stage(beside(png)), levels.front(), 8, write_options);
+                io::write_png_rgba8(outputs.stage(beside(png)), levels.front(), write_options);
                 written.push_back(beside(ktx2));
                 written.push_back(beside(png));
             };

@@ -79,6 +79,9 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
     if (!args.output.empty() && jobs > 1)
         throw Error(
             "-o", "one output for " + std::to_string(jobs) + " inputs; use --out-dir for a batch");
+    args.writes_lean_map = !(args.roughness.requested() && args.output.empty() &&
+                             args.out_dir.empty() && args.plateau_out.empty() &&
+                             args.format != "png");
     return args;
 }
 
@@ -122,6 +125,7 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
             j.outputs = {base + ".lean1.png", base + ".lean2.png"};
         else
             j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
+        if (!args.writes_lean_map) j.outputs.clear();
         for (const std::string& output : j.outputs) {
             // An output that is its own input (`bake map.ktx2`) fails that input alone, once it is
             // read, so that a file that is not an image is named as such; nothing is written.

@@ -41,6 +41,9 @@ struct BakeArgs {
     std::string json;
     RoughnessBakeArgs roughness;     // --roughness-out and its flags (cli_bake_roughness.hpp)
     std::string plateau_out;         // --plateau-out FILE.ktx2 (cli_bake_plateau.hpp)
+    // Whether the LEAN map itself is written: not when only engine outputs are asked
+    // (--roughness-out / --anisotropy-out without -o, --out-dir or --plateau-out).
+    bool writes_lean_map = true;
     std::vector<std::string> given;  // the options given on the command line, by long name
 };
 

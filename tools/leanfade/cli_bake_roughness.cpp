@@ -19,25 +19,6 @@ std::string stem_of(const std::string& path) {
     return p.string();
 }
 
-// Values in [0, 1] to bytes, rounded as write_png rounds its 8-bit output.
-io::Rgba8Level to_rgba8(const Image& image) {
-    io::Rgba8Level level;
-    level.width = image.width;
-    level.height = image.height;
-    level.texels.resize(image.pixels.size());
-    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-        const float v = std::min(1.0f, std::max(0.0f, image.pixels[i]));
-        level.texels[i] = std::uint8_t(std::lround(v * 255.0f));
-    }
-    return level;
-}
-
-std::vector<io::Rgba8Level> to_rgba8(const std::vector<Image>& images) {
-    std::vector<io::Rgba8Level> levels;
-    for (const Image& image : images) levels.push_back(to_rgba8(image));
-    return levels;
-}
-
 // The LEANFADEcontent key of a texture (docs/ktx2.md): what it holds, and the version of that.
 io::TextureKeyValues content(const std::string& what) {
     return {{io::kKeyTextureContent, what + " v1"}};
@@ -58,9 +39,12 @@ Image read_roughness_map(const std::string& path, const io::ReadOptions& read_op
 void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
     app.add_option("--roughness-out", args.roughness_out,
                    "Also write roughness MIPs for engines: FILE.ktx2 (glTF metallic-roughness, "
-                   "G = sqrt(alpha) with alpha^2 = alpha0^2 + Sxx + Syy per level), "
-                   "FILE.normal.ktx2 (the normal of the mean slope per level) and PNGs of every "
-                   "level in FILE.levels/ (docs/roughness.md)");
+                   "G = sqrt(alpha) with alpha^2 = alpha0^2 + Sxx + Syy per level) and "
+                   "FILE.normal.ktx2 (the normal of the mean slope per level); without -o or "
+                   "--out-dir, no LEAN map is written (docs/roughness.md)");
+    app.add_flag("--roughness-levels", args.png_levels,
+                 "Also write every level of the roughness, normal and anisotropy MIPs as a PNG "
+                 "in FILE.levels/");
     app.add_option("--anisotropy-out", args.anisotropy_out,
                    "Also write the KHR_materials_anisotropy texture (direction and strength from "
                    "the slope covariance) with every level, as FILE.ktx2");
@@ -85,8 +69,10 @@ std::string levels_folder_path(const RoughnessBakeArgs& args) {
 void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
                             float bake_roughness, io::OutputPlan& plan) {
     if (!args.requested()) {
-        if (args.roughness_given || !args.roughness_map.empty())
-            throw Error(args.roughness_given ? "--roughness" : "--roughness-map",
+        if (args.roughness_given || !args.roughness_map.empty() || args.png_levels)
+            throw Error(args.roughness_given ? "--roughness"
+                        : args.png_levels    ? "--roughness-levels"
+                                             : "--roughness-map",
                         "applies to --roughness-out and --anisotropy-out");
         return;
     }
@@ -108,7 +94,7 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
         plan.add_output(normal_output_path(args.roughness_out), "--roughness-out");
     }
     if (!args.anisotropy_out.empty()) plan.add_output(args.anisotropy_out, "--anisotropy-out");
-    plan.add_output_folder(levels_folder_path(args));
+    if (args.png_levels) plan.add_output_folder(levels_folder_path(args));
 }
 
 int write_roughness_outputs(const RoughnessBakeArgs& args,
@@ -133,11 +119,10 @@ int write_roughness_outputs(const RoughnessBakeArgs& args,
         roughness.roughness_map = &base;
         if (map_image.channels >= 3) metallic_roughness = &map_image;
     }
-    std::vector<RoughnessLevel> levels;
-    RoughnessTextures textures;
+    RoughnessTexturesRgba8 textures;
     try {
-        levels = roughness_mips(map, roughness);
-        textures = roughness_textures(levels, metallic_roughness, options.threads);
+        textures = roughness_textures_rgba8(map, roughness, metallic_roughness,
+                                            {!args.roughness_out.empty(), !args.anisotropy_out.empty()});
     } catch (const Error& e) {
         // Name the file for the map's errors.
         if (e.file() == "roughness map") throw Error(args.roughness_map, e.cause());
@@ -145,28 +130,27 @@ int write_roughness_outputs(const RoughnessBakeArgs& args,
     }
 
     const std::string writer = writer_string();
-    const std::string folder = outputs.stage_folder(levels_folder_path(args));
-    const auto write_levels = [&](const std::vector<Image>& images, const std::string& name) {
-        for (std::size_t l = 0; l < images.size(); ++l)
-            io::write_png(
+    const std::string folder = args.png_levels ? outputs.stage_folder(levels_folder_path(args)) : "";
+    const auto write_levels = [&](const std::vector<Rgba8Image>& images, const std::string& name) {
+        for (std::size_t l = 0; l < images.size() && args.png_levels; ++l)
+            io::write_png_rgba8(
                 (fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
-                images[l], 8, write_options);
+                images[l], write_options);
     };
     if (!args.roughness_out.empty()) {
-        io::write_ktx2_rgba8(outputs.stage(args.roughness_out),
-                             to_rgba8(textures.metallic_roughness), writer, write_options,
-                             content("roughness"));
+        io::write_ktx2_rgba8(outputs.stage(args.roughness_out), textures.metallic_roughness,
+                             writer, write_options, content("roughness"));
         io::write_ktx2_rgba8(outputs.stage(normal_output_path(args.roughness_out)),
-                             to_rgba8(textures.normal), writer, write_options, content("normal"));
+                             textures.normal, writer, write_options, content("normal"));
         write_levels(textures.metallic_roughness, "roughness");
         write_levels(textures.normal, "normal");
     }
     if (!args.anisotropy_out.empty()) {
-        io::write_ktx2_rgba8(outputs.stage(args.anisotropy_out), to_rgba8(textures.anisotropy),
-                             writer, write_options, content("anisotropy"));
+        io::write_ktx2_rgba8(outputs.stage(args.anisotropy_out), textures.anisotropy, writer,
+                             write_options, content("anisotropy"));
         write_levels(textures.anisotropy, "anisotropy");
     }
-    return int(levels.size());
+    return int(textures.metallic_roughness.size());
 }
 
 }  // namespace leanfade::cli

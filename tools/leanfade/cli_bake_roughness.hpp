@@ -21,6 +21,7 @@ struct RoughnessBakeArgs {
     float roughness = 0.0f;      // base perceptual roughness r0 where no map is given
     bool roughness_given = false;
     std::string roughness_map;   // a grey roughness map or a glTF metallic-roughness texture
+    bool png_levels = false;     // --roughness-levels: every level as a PNG in FILE.levels/
 
     bool requested() const { return !roughness_out.empty() || !anisotropy_out.empty(); }
 };
@@ -38,9 +39,9 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args);
 void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
                             float bake_roughness, io::OutputPlan& plan);
 
-// The files of the outputs: for --roughness-out R.ktx2, R.ktx2, R.normal.ktx2 and the folder
-// R.levels/ of PNGs per level (roughness_mipN.png, normal_mipN.png, anisotropy_mipN.png); for
-// --anisotropy-out A.ktx2, A.ktx2.
+// The files of the outputs: for --roughness-out R.ktx2, R.ktx2 and R.normal.ktx2; for
+// --anisotropy-out A.ktx2, A.ktx2; with --roughness-levels, the folder R.levels/ of PNGs per
+// level (roughness_mipN.png, normal_mipN.png, anisotropy_mipN.png).
 std::string normal_output_path(const std::string& roughness_out);
 std::string levels_folder_path(const RoughnessBakeArgs& args);
 

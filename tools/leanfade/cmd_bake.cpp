@@ -119,7 +119,7 @@ std::vector<std::string> engine_outputs(const BakeArgs& args) {
         files.push_back(normal_output_path(args.roughness.roughness_out));
     }
     if (!args.roughness.anisotropy_out.empty()) files.push_back(args.roughness.anisotropy_out);
-    if (args.roughness.requested()) files.push_back(levels_folder_path(args.roughness) + "/");
+    if (args.roughness.png_levels) files.push_back(levels_folder_path(args.roughness) + "/");
     if (!args.plateau_out.empty()) files.push_back(args.plateau_out);
     return files;
 }
@@ -143,6 +143,7 @@ class BakeRun {
         if (!args_.json.empty()) write_json();
         run_outputs_.publish();
         for (const BakeReport& report : reports_) print_bake_report(report);
+        std::fputs(roughness_only_report_.c_str(), stdout);
         if (failures_ > 0) {
             std::fprintf(stderr, "leanfade bake: %d of %zu inputs failed\n", failures_,
                          jobs_.size());
@@ -179,6 +180,17 @@ class BakeRun {
         if (!job.output_is_input.empty())
             throw Error(name, "is the same file as its output " + job.output_is_input +
                                   "; an output may not replace an input");
+        if (!args_.writes_lean_map) {
+            // Only the engine outputs (cli_bake_roughness.hpp).
+            const int levels = write_roughness_outputs(args_.roughness, input, kind,
+                                                       settings_.options, settings_.read_options,
+                                                       settings_.write_options, outputs);
+            roughness_only_report_ = terminal_text(name) + ": " + std::to_string(levels) +
+                                     " levels, no LEAN map (none asked: -o, --out-dir)\n";
+            for (const std::string& file : engine_outputs(args_))
+                roughness_only_report_ += "  wrote " + terminal_text(file) + "\n";
+            return;
+        }
         const StagedBake staged =
             bake_to_staged_outputs(job, input, kind, args_, settings_, outputs);
         const PackedBakeResult& baked = staged.baked;
@@ -233,6 +245,7 @@ class BakeRun {
     io::OutputTransaction run_outputs_;
     nlohmann::json summaries_ = nlohmann::json::array();
     std::vector<BakeReport> reports_;
+    std::string roughness_only_report_;  // the engine outputs of a bake without a LEAN map
     std::size_t done_ = 0;
     int failures_ = 0;
 };

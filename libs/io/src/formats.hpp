@@ -18,6 +18,8 @@ Image decode_png(const InputFile& file, const ReadOptions& options);
 // The same values as integer samples (8- or 16-bit, as stored).
 UnormImage decode_png_unorm(const InputFile& file, const ReadOptions& options);
 std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image, int bits);
+// An 8-bit RGBA PNG of `image`'s bytes as they are.
+std::vector<std::uint8_t> encode_png_rgba8(const std::string& path, const Rgba8Image& image);
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);

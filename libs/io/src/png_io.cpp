@@ -491,6 +491,27 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image& image
     return encode_png_text(path, image, bits, {});
 }
 
+std::vector<std::uint8_t> encode_png_rgba8(const std::string& path, const Rgba8Image& image) {
+    if (image.width < 1 || image.height < 1 ||
+        image.texels.size() != std::size_t(image.width) * std::size_t(image.height) * 4)
+        throw Error(path, "an RGBA8 image of " + std::to_string(image.width) + "x" +
+                              std::to_string(image.height) + " texels must hold " +
+                              std::to_string(std::size_t(image.width) * std::size_t(image.height) * 4) +
+                              " bytes");
+    std::vector<png_bytep> rows(std::size_t(image.height));
+    for (int y = 0; y < image.height; ++y)
+        rows[std::size_t(y)] = const_cast<png_bytep>(image.texels.data()) +
+                               std::size_t(y) * std::size_t(image.width) * 4;
+    const PngImageLayout layout{png_uint_32(image.width), png_uint_32(image.height), 8,
+                                PNG_COLOR_TYPE_RGBA};
+    PngContext context{};
+    PngWriteStruct writer(context);
+    if (!writer.valid()) throw Error(path, "cannot initialise libpng");
+    if (!write_png_rows(writer.png(), writer.info(), context, layout, rows.data(), nullptr, 0))
+        throw Error(path, std::string("cannot encode PNG (") + context.message + ")");
+    return std::vector<std::uint8_t>(context.output, context.output + context.output_size);
+}
+
 }  // namespace leanfade::io::detail
 
 // ---- Public: PNGs with text, LEAN maps as a PNG pair ------------------------------------------

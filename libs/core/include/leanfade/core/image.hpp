@@ -29,6 +29,13 @@ struct Image {
     const float* row(int y) const { return pixels.data() + index(0, y); }
 };
 
+// 8-bit RGBA texels, rows top first: width * height * 4 bytes (a texture level for engines).
+struct Rgba8Image {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> texels;
+};
+
 // Integer samples as stored in 8- and 16-bit image files (PNG), interleaved and row-major like
 // Image; a sample's value is float(sample) / float(max_value) in [0, 1], exactly the float that
 // Image holds for it after io::read_image. Half the memory of the float Image, for the bake of

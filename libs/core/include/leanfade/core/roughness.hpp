@@ -10,6 +10,7 @@
 //   α_t² = α0² + 2 λmax, α_b² = α0² + 2 λmin, direction = eigenvector of λmax   anisotropic
 //   r = √α (glTF perceptual roughness), normal = normalize(B.x, B.y, 1)
 // With a roughness map, α0² is MIP-filtered linearly with the moments' own filter.
+#include <cstdint>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -57,6 +58,28 @@ struct RoughnessTextures {
     std::vector<Image> normal;
     std::vector<Image> anisotropy;
 };
+
+// Which of the textures roughness_textures_rgba8 makes (the metallic-roughness one always).
+struct RoughnessTextureSet {
+    bool normal = true;
+    bool anisotropy = true;
+};
+
+// The textures engines read, quantised to 8 bits.
+struct RoughnessTexturesRgba8 {
+    std::vector<Rgba8Image> metallic_roughness;
+    std::vector<Rgba8Image> normal;      // empty unless asked for
+    std::vector<Rgba8Image> anisotropy;  // empty unless asked for
+};
+
+// roughness_textures(roughness_mips(map, options), metallic_roughness_input) with every value
+// rounded to 8 bits as write_png rounds (round(255 v), v clamped to [0, 1]), the same bytes, made
+// in one pass over each level's texels (rows in parallel, options.threads) without the float
+// levels and images in between: what `leanfade bake --roughness-out` and the glTF output write.
+// Throws as roughness_mips and roughness_textures do.
+RoughnessTexturesRgba8 roughness_textures_rgba8(const LeanMap& map, const RoughnessOptions& options,
+                                                const Image* metallic_roughness_input,
+                                                RoughnessTextureSet which = {});
 
 // `metallic_roughness_input`: the glTF texture the base roughness came from (3 or 4 channels, the
 // size of level 0), or nullptr. Throws leanfade::Error("roughness map", cause) for another size.

@@ -72,6 +72,10 @@ Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::
 void write_png(const std::string& path, const Image& image, int bits,
                const WriteOptions& options = {});
 
+// An 8-bit RGBA PNG of `image`'s bytes as they are (what write_png writes for the same values).
+void write_png_rgba8(const std::string& path, const Rgba8Image& image,
+                     const WriteOptions& options = {});
+
 // Writes a little-endian PFM of linear float values: 1 channel -> "Pf"; 3 channels -> "PF";
 // 2 channels -> "PF" with blue 0; 4 channels -> "PF", alpha dropped. NaN/infinity are refused.
 void write_pfm(const std::string& path, const Image& image);

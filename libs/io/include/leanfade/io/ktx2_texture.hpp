@@ -23,11 +23,7 @@
 namespace leanfade::io {
 
 // One MIP level of 8-bit RGBA texels, rows top first: width * height * 4 bytes.
-struct Rgba8Level {
-    int width = 0;
-    int height = 0;
-    std::vector<std::uint8_t> texels;
-};
+using Rgba8Level = ::leanfade::Rgba8Image;
 
 // Key/value pairs a texture carries besides KTXorientation and KTXwriter (keys not starting with
 // "KTX", each once; written sorted by key).
