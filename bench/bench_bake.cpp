@@ -12,6 +12,9 @@
 // does; BM_BakeCoreReference is the reference path (bake_lean_map + pack_lean_map) that the
 // fast path replaced, for the before / after comparison in one run. LEANFADE_BENCH_SIZE
 // changes the size.
+#include <map>
+#include <sys/wait.h>
+#include <sys/resource.h>
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
@@ -404,6 +407,93 @@ BENCHMARK(BM_CliAgainstNvcompress)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(5);
+
+// A command run as a user runs it (/bin/sh -c, no stdin, output discarded): wall seconds and the
+// peak resident memory of the process (and of what it waited for), KiB; seconds < 0 on failure.
+struct CommandRun {
+    double seconds = -1.0;
+    long max_rss_kib = 0;
+};
+
+CommandRun run_command(const std::string& command) {
+    CommandRun run;
+    const auto start = std::chrono::steady_clock::now();
+    const pid_t pid = fork();
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", (command + " >/dev/null 2>&1 </dev/null").c_str(),
+              static_cast<char*>(nullptr));
+        _exit(127);
+    }
+    int status = 0;
+    struct rusage usage {};
+    if (pid < 0 || wait4(pid, &status, 0, &usage) != pid) return run;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return run;
+    run.seconds = seconds;
+    run.max_rss_kib = usage.ru_maxrss;
+    return run;
+}
+
+std::string quoted(const std::string& s) {
+    return "'" + s + "'";
+}
+
+// The engine outputs against Filament's `roughness-prefilter` (Debian libfilament-tools) on the
+// same PNG, a fresh process each, alternating within each iteration: roughness MIPs alone
+// (`bake PNG --roughness-out R.ktx2 --roughness 0.3`: the metallic-roughness and normal KTX2
+// files, no LEAN map), `roughness-prefilter -r 0.3 PNG OUT.png` (a PNG per level), the LEAN bake
+// alone and the LEAN bake with the export (`-o M.ktx2 --roughness-out R.ktx2`). Counters: mean
+// wall time and peak memory of each, and the ratios of docs/perf.md.
+void BM_EngineOutputsAgainstFilament(benchmark::State& state) {
+    if (std::system("command -v roughness-prefilter >/dev/null 2>&1") != 0) {
+        state.SkipWithError("roughness-prefilter not installed (Debian libfilament-tools)");
+        return;
+    }
+    const std::string png = quoted(input_png());
+    const std::string tool = quoted(LEANFADE_TOOL);
+    const std::string rough = quoted((work_dir() / "engine.ktx2").string());
+    const std::string lean = quoted((work_dir() / "engine_lean.ktx2").string());
+    const std::string filament_out = quoted((work_dir() / "filament.png").string());
+    const std::string threads = " --threads " + std::to_string(state.range(0));
+    const std::vector<std::pair<std::string, std::string>> commands = {
+        {"roughness", tool + " bake " + png + " --roughness-out " + rough + " --roughness 0.3" + threads},
+        {"filament", "roughness-prefilter -r 0.3 " + png + " " + filament_out},
+        {"lean", tool + " bake " + png + " -o " + lean + threads},
+        {"lean_export", tool + " bake " + png + " -o " + lean + " --roughness-out " + rough +
+                            " --roughness 0.3" + threads},
+    };
+    std::map<std::string, double> seconds;
+    std::map<std::string, long> memory;
+    for (auto _ : state) {
+        double ours = 0.0;
+        for (const auto& [name, command] : commands) {
+            const CommandRun run = run_command(command);
+            if (run.seconds < 0.0) {
+                state.SkipWithError((name + " failed: " + command).c_str());
+                return;
+            }
+            seconds[name] += run.seconds;
+            memory[name] = std::max(memory[name], run.max_rss_kib);
+            if (name == "roughness") ours = run.seconds;
+        }
+        state.SetIterationTime(ours);
+    }
+    const double n = double(state.iterations());
+    for (const auto& [name, total] : seconds) {
+        state.counters[name + "_ms"] = 1e3 * total / n;
+        state.counters[name + "_peak_mib"] = double(memory[name]) / 1024.0;
+    }
+    state.counters["roughness_over_filament_time"] = seconds["roughness"] / seconds["filament"];
+    state.counters["roughness_over_filament_memory"] =
+        double(memory["roughness"]) / double(memory["filament"]);
+    state.counters["lean_export_over_lean_time"] = seconds["lean_export"] / seconds["lean"];
+}
+BENCHMARK(BM_EngineOutputsAgainstFilament)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(3);
 
 }  // namespace
 
