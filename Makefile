@@ -69,7 +69,7 @@ test-portable: deps
 	cd $(PORTABLE_BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L '^(core|io|scene)$$'
 
 bench: build
-	@LEANFADE_EXTRA_PACKAGES=libnvtt-bin scripts/install-deps.sh
+	@LEANFADE_EXTRA_PACKAGES="libnvtt-bin libfilament-tools" scripts/install-deps.sh
 	@mkdir -p out/bench
 	$(BUILD_DIR)/bench/leanfade_bench_bake --benchmark_out=out/bench/bake.json --benchmark_out_format=json
 	@echo "bake benchmark written to out/bench/bake.json"
