@@ -122,6 +122,39 @@ TEST(GltfScene, MaterialsGetBaseColourFactorAndLinearTexture) {
     EXPECT_NEAR(glm::length(flat.levels[0].mean[0]), 0.0f, 1e-6f);
 }
 
+// The metallic-roughness part: Cook-Torrance's base roughness map per material, α0² = r⁴ with r
+// the roughnessFactor times the texture's G (filtered as the moments), or the factor alone.
+TEST(GltfScene, RoughnessFactorAndTextureBecomeTheBaseRoughnessMap) {
+    const fs::path dir = scratch("roughness");
+    test::GltfTestFile file;
+    std::vector<float> mr;
+    for (int t = 0; t < 4; ++t) mr.insert(mr.end(), {1.0f, t < 2 ? 0.2f : 0.6f, 0.5f});
+    file.images = {test::png_bytes(2, 2, 3, mr)};
+    file.materials = {{"factor", glm::vec4(1.0f), -1, -1, 1.0f, 0.5f},
+                      {"texture", glm::vec4(1.0f), -1, -1, 1.0f, 0.5f, std::nullopt, 0},
+                      {"default", glm::vec4(1.0f), -1, -1, 1.0f}};
+    for (int m = 0; m < 3; ++m) file.meshes.push_back({test::unit_quad(m)});
+    const std::string path = (dir / "r.glb").string();
+    test::write_gltf(file, path, GltfStorage::Binary);
+    const Scene scene = make_render_scene(load_gltf(path), GltfBakeSettings{});
+    ASSERT_EQ(scene.materials.size(), 3u);
+    const auto& maps = scene.maps_of(MapKind::BaseRoughness);
+    const auto level0 = [&](int material) -> const Image& {
+        const int slot = scene.materials[std::size_t(material)].map(MapKind::BaseRoughness);
+        EXPECT_GE(slot, 0);
+        return maps[std::size_t(slot)].front();
+    };
+    EXPECT_NEAR(level0(0).pixels[0], std::pow(0.5f, 4.0f), 1e-6f);
+    // Texture: r = 0.5 x G (8-bit 0.2 and 0.6), rows top first.
+    const Image& t = level0(1);
+    ASSERT_EQ(t.width, 2);
+    const float g_top = std::round(0.2f * 255.0f) / 255.0f, g_bottom = std::round(0.6f * 255.0f) / 255.0f;
+    EXPECT_NEAR(t.at(0, 0), std::pow(0.5f * g_top, 4.0f), 1e-6f);
+    EXPECT_NEAR(t.at(1, 1), std::pow(0.5f * g_bottom, 4.0f), 1e-6f);
+    // No factor in the file: glTF's default roughness, 1.
+    EXPECT_NEAR(level0(2).pixels[0], 1.0f, 1e-6f);
+}
+
 bool same_map(const PackedLeanMap& a, const PackedLeanMap& b) {
     if (a.levels.size() != b.levels.size() || a.scale != b.scale || a.storage != b.storage)
         return false;

@@ -9,6 +9,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/core/roughness.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
 #include "mesh_internal.hpp"
@@ -136,6 +137,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     std::map<std::pair<int, float>, int> maps;  // (normal image, scale) -> lean map
     std::map<int, int> textures;                // base colour image -> texture
     std::map<std::string, int> files;           // a LEAN map file the glTF names -> lean map
+    std::map<std::pair<int, float>, int> roughness;  // (metallic-roughness image, factor) -> map
     int flat_map = -1;
     std::uint64_t map_bytes = 0;  // of the LEAN maps held
     for (const GltfMaterial& gm : gltf.materials) {
@@ -209,6 +211,31 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                             .first;
             }
             m.map(MapKind::BaseColor) = found->second;
+        }
+        // The metallic-roughness part's roughness is Cook-Torrance's base roughness per texel:
+        // r = roughnessFactor x G of the texture, or the factor alone (docs/gltf.md); α0² = r⁴
+        // filtered as the moments are (roughness.hpp), combined with the bumps' covariance at
+        // shading time as a roughness map is.
+        {
+            const auto key = std::make_pair(gm.metallic_roughness_image, gm.roughness_factor);
+            auto found = roughness.find(key);
+            if (found == roughness.end()) {
+                Image r(1, 1, 1, gm.roughness_factor);
+                if (gm.metallic_roughness_image >= 0) {
+                    const Image texture = decode(
+                        gltf, gltf.images[std::size_t(gm.metallic_roughness_image)], settings, false);
+                    if (texture.channels < 3)
+                        throw Error(gltf.path, gltf.images[std::size_t(gm.metallic_roughness_image)].name +
+                                                   ": a metallic-roughness texture has 3 or 4 channels");
+                    r = base_roughness_channel(texture);
+                    for (float& v : r.pixels) v *= gm.roughness_factor;
+                }
+                found = roughness
+                            .emplace(key, scene.add_map(MapKind::BaseRoughness,
+                                                        base_alpha_squared_mips(r)))
+                            .first;
+            }
+            m.map(MapKind::BaseRoughness) = found->second;
         }
         scene.materials.push_back(std::move(m));
     }

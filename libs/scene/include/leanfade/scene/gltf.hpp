@@ -214,7 +214,10 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image, float scale,
 // decoded to linear RGBA (sRGB transfer function inverted; alpha kept, not used for blending),
 // and its normal texture baked to a LEAN map (bake_normal_texture); materials without a normal
 // texture share one flat LEAN map; a material whose file names its LEAN map (lean_map_file) draws
-// that map (read with read_ktx2's checks). Throws leanfade::Error(gltf.path, cause).
+// that map (read with read_ktx2's checks). Every material gets a base roughness map
+// (MapKind::BaseRoughness, read with Cook-Torrance): r = roughness_factor times the G of its
+// metallic-roughness texture, or the factor alone (1 x 1). Throws leanfade::Error(gltf.path,
+// cause).
 Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                         GltfBakeReport* report = nullptr);
 
