@@ -36,8 +36,8 @@ struct GltfTestMaterial {
     int base_color_image = -1;  // index into images (one texture per image)
     int normal_image = -1;
     float normal_scale = 1.0f;
-    std::optional<float> roughness;     // roughnessFactor; none: not written (1 by glTF)
-    std::optional<float> metallic;      // metallicFactor; none: not written (1 by glTF)
+    std::optional<float> roughness{};   // roughnessFactor; none: not written (1 by glTF)
+    std::optional<float> metallic{};    // metallicFactor; none: not written (1 by glTF)
     int metallic_roughness_image = -1;  // metallicRoughnessTexture
 };
 

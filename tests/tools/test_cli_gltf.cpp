@@ -342,5 +342,44 @@ TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
     }
 }
 
+// A second run over the same scene takes the engine textures from the cache (the same bytes),
+// and a damaged cache entry is made again.
+TEST(CliGltfOut, ASecondRunTakesTheEngineTexturesFromTheCache) {
+    const fs::path dir = scratch("out_cache");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    const auto run = [&](const std::string& out) {
+        const test::RunResult r = test::run_leanfade_in(
+            "bake " + test::shell_quote(input.string()) + " -o " +
+                test::shell_quote((dir / (out + ".glb")).string()) + " --json " +
+                test::shell_quote((dir / (out + ".json")).string()),
+            dir, {}, env(dir));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(test::read_text(dir / (out + ".json")));
+    };
+    const nlohmann::json first = run("a");
+    const nlohmann::json second = run("b");
+    ASSERT_EQ(first.size(), 3u);  // the materials with a normal texture
+    // "brick again" has the textures and factors of "brick wall": its entry already, in the
+    // first run too.
+    const bool first_expected[] = {false, false, true};
+    for (std::size_t i = 0; i < first.size(); ++i) {
+        EXPECT_EQ(first[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
+        EXPECT_TRUE(second[i]["textures_from_cache"].get<bool>()) << i;
+    }
+    for (const char* file : {".brick_wall.roughness.ktx2", ".brick_wall.normal.png", ".metal.normal.ktx2"})
+        EXPECT_EQ(test::read_text(dir / (std::string("a") + file)),
+                  test::read_text(dir / (std::string("b") + file)))
+            << file;
+    // Damaged entries (every manifest cut short) are not found: made again, the same bytes.
+    for (const auto& e : fs::directory_iterator(dir / "cache" / "leanfade"))
+        if (e.path().string().ends_with(".engine.json")) std::ofstream(e.path()) << "{";
+    const nlohmann::json third = run("c");
+    for (std::size_t i = 0; i < third.size(); ++i)
+        EXPECT_EQ(third[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
+    EXPECT_EQ(test::read_text(dir / "a.brick_wall.roughness.ktx2"),
+              test::read_text(dir / "c.brick_wall.roughness.ktx2"));
+}
+
 }  // namespace
 }  // namespace leanfade

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -259,6 +260,119 @@ json texture_info(int texture, const json& normal_info) {
     return info;
 }
 
+// The files of one material's engine textures, in a fixed order: roughness KTX2, PNG, normal
+// KTX2, PNG, and, when anisotropic, the anisotropy KTX2 and PNG.
+struct EngineTextures {
+    std::vector<std::vector<std::uint8_t>> files;
+    bool anisotropic = false;
+    float anisotropy_ratio = 1.0f;  // the whole map's covariance, larger axis over smaller
+};
+
+constexpr const char* kEngineFileSuffixes[] = {".roughness.ktx2", ".roughness.png",
+                                               ".normal.ktx2",    ".normal.png",
+                                               ".anisotropy.ktx2", ".anisotropy.png"};
+constexpr const char* kEngineManifestSuffix = ".engine.json";
+
+// The cache key of a material's engine textures: its normal texture's and metallic-roughness
+// texture's bytes, the normal scale, the roughness factor, the storage and this code's version.
+std::string engine_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
+                             Storage storage) {
+    std::vector<std::uint8_t> source;
+    const auto append = [&](const std::vector<std::uint8_t>& bytes) {
+        const std::string size = std::to_string(bytes.size()) + ":";
+        source.insert(source.end(), size.begin(), size.end());
+        source.insert(source.end(), bytes.begin(), bytes.end());
+    };
+    append(gltf.images[std::size_t(m.normal_image)].bytes);
+    append(m.metallic_roughness_image >= 0 ? gltf.images[std::size_t(m.metallic_roughness_image)].bytes
+                                           : std::vector<std::uint8_t>{});
+    std::uint32_t scale = 0, roughness = 0;
+    std::memcpy(&scale, &m.normal_scale, 4);
+    std::memcpy(&roughness, &m.roughness_factor, 4);
+    return scene::lean_cache_key(source, "gltf engine textures v1 scale=" + std::to_string(scale) +
+                                             " roughness=" + std::to_string(roughness) +
+                                             " storage=" + to_string(storage) + " version=" +
+                                             std::to_string(scene::kLeanBakeVersion));
+}
+
+std::optional<EngineTextures> find_engine_textures(const scene::LeanMapCache& cache,
+                                                   const std::string& key) {
+    const auto manifest = cache.find_file(key, kEngineManifestSuffix);
+    if (!manifest) return std::nullopt;
+    EngineTextures t;
+    try {
+        const json j = json::parse(manifest->begin(), manifest->end());
+        t.anisotropic = j.at("anisotropic").get<bool>();
+        t.anisotropy_ratio = j.at("anisotropy_ratio").get<float>();
+    } catch (const json::exception&) {
+        return std::nullopt;
+    }
+    for (int i = 0; i < (t.anisotropic ? 6 : 4); ++i) {
+        auto bytes = cache.find_file(key, kEngineFileSuffixes[i]);
+        if (!bytes) return std::nullopt;
+        t.files.push_back(std::move(*bytes));
+    }
+    return t;
+}
+
+// Every file first, the manifest last: an entry without its manifest is not found.
+std::string store_engine_textures(const scene::LeanMapCache& cache, const std::string& key,
+                                  const EngineTextures& t) {
+    for (std::size_t i = 0; i < t.files.size(); ++i) {
+        const std::string warning = cache.store_file(key, kEngineFileSuffixes[i], t.files[i]);
+        if (!warning.empty()) return warning;
+    }
+    const std::string manifest =
+        json{{"anisotropic", t.anisotropic}, {"anisotropy_ratio", t.anisotropy_ratio}}.dump();
+    return cache.store_file(key, kEngineManifestSuffix,
+                            std::vector<std::uint8_t>(manifest.begin(), manifest.end()));
+}
+
+// A material's engine textures from its LEAN map (the map as stored) and its own roughness.
+EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
+                                    const PackedLeanMap& packed, const io::ReadOptions& read_options,
+                                    int threads, const std::string& writer,
+                                    const std::string& input) {
+    const LeanMap lean = unpack_lean_map(packed);
+    const int w = lean.levels.front().width, h = lean.levels.front().height;
+    // The material's own roughness, r = roughnessFactor x G of its texture; its R, B
+    // (occlusion, metallic) kept. Without a texture, B = 1 keeps metallicFactor as it was.
+    Image metallic_roughness(w, h, 3, 1.0f);
+    if (m.metallic_roughness_image >= 0) {
+        const scene::GltfImage& image = gltf.images[std::size_t(m.metallic_roughness_image)];
+        Image decoded = io::read_image_from_memory(image.bytes, image.name, read_options);
+        if (decoded.channels < 3)
+            throw Error(input, image.name + ": a metallic-roughness texture has 3 or 4 channels");
+        metallic_roughness = resampled(decoded, w, h);
+    }
+    Image base = base_roughness_channel(metallic_roughness);
+    for (float& r : base.pixels) r *= m.roughness_factor;
+    RoughnessOptions ro;
+    ro.base_roughness = m.roughness_factor;
+    ro.threads = threads;
+    if (m.metallic_roughness_image >= 0) ro.roughness_map = &base;
+    // The whole map's covariance: its axes' variances (eigenvalues) and their ratio; a map
+    // without slope variance (flat, or one constant tilt) is not anisotropic.
+    const glm::vec3 c = summarize(lean).coarsest_covariance;  // xx, yy, xy
+    const float mean = 0.5f * (c.x + c.y);
+    const float half_gap = std::sqrt(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z);
+    const float larger = mean + half_gap, smaller = std::max(mean - half_gap, 0.0f);
+    EngineTextures t;
+    t.anisotropy_ratio = larger > 1e-8f ? larger / std::max(smaller, 1e-12f) : 1.0f;
+    t.anisotropic = larger > 1e-8f && t.anisotropy_ratio >= kAnisotropyThreshold;
+    const RoughnessTexturesRgba8 textures =
+        roughness_textures_rgba8(lean, ro, &metallic_roughness, {true, t.anisotropic});
+    const auto add = [&](const std::vector<Rgba8Image>& levels, const char* content) {
+        t.files.push_back(io::encode_ktx2_rgba8(levels, writer, content,
+                                                {{io::kKeyTextureContent, std::string(content) + " v1"}}));
+        t.files.push_back(io::encode_png_rgba8(levels.front(), content));
+    };
+    add(textures.metallic_roughness, "roughness");
+    add(textures.normal, "normal");
+    if (t.anisotropic) add(textures.anisotropy, "anisotropy");
+    return t;
+}
+
 }  // namespace
 
 int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
@@ -346,6 +460,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     std::vector<std::string> written;
     nlohmann::json summaries = nlohmann::json::array();
     const bool progress = stderr_is_terminal();
+    const scene::LeanMapCache cache(settings.cache_folder);
 
     // One trilinear, repeating sampler for the filtered textures (every level is used).
     json& samplers = root["samplers"];
@@ -365,50 +480,38 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             const PackedLeanMap packed =
                 scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
             io::write_ktx2(outputs.stage(beside(f.lean)), packed, write_options);
-            const LeanMap lean = unpack_lean_map(packed);
-            const int w = lean.levels.front().width, h = lean.levels.front().height;
-
-            // The material's own roughness, r = roughnessFactor x G of its texture; its R, B
-            // (occlusion, metallic) kept. Without a texture, B = 1 keeps metallicFactor as it was.
-            Image metallic_roughness(w, h, 3, 1.0f);
-            if (m.metallic_roughness_image >= 0) {
-                const scene::GltfImage& image = gltf.images[std::size_t(m.metallic_roughness_image)];
-                Image decoded = io::read_image_from_memory(image.bytes, image.name, read_options);
-                if (decoded.channels < 3)
-                    throw Error(args.input, image.name + ": a metallic-roughness texture has 3 or 4 channels");
-                metallic_roughness = resampled(decoded, w, h);
+            // The engine textures, from the cache when an earlier run made them for the same
+            // textures and factors.
+            const std::string cache_key = engine_cache_key(gltf, m, settings.storage);
+            std::optional<EngineTextures> cached = find_engine_textures(cache, cache_key);
+            const EngineTextures textures =
+                cached ? std::move(*cached)
+                       : make_engine_textures(gltf, m, packed, read_options, args.threads, writer,
+                                              args.input);
+            if (!cached) {
+                const std::string warning = store_engine_textures(cache, cache_key, textures);
+                if (!warning.empty())
+                    std::fprintf(stderr, "leanfade: %s\n",
+                                 terminal_text(args.input + ": cache: " + warning).c_str());
             }
-            Image base = base_roughness_channel(metallic_roughness);
-            for (float& r : base.pixels) r *= m.metallic_roughness_image >= 0 ? m.roughness_factor : 0.0f;
-            RoughnessOptions ro;
-            ro.base_roughness = m.roughness_factor;
-            ro.threads = args.threads;
-            if (m.metallic_roughness_image >= 0) ro.roughness_map = &base;
-            // The whole map's covariance: its axes' variances (eigenvalues) and their ratio; a map
-            // without slope variance (flat, or one constant tilt) is not anisotropic.
-            const glm::vec3 c = summarize(lean).coarsest_covariance;  // xx, yy, xy
-            const float mean = 0.5f * (c.x + c.y);
-            const float half_gap = std::sqrt(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z);
-            const float larger = mean + half_gap, smaller = std::max(mean - half_gap, 0.0f);
-            const float anisotropy = larger > 1e-8f ? larger / std::max(smaller, 1e-12f) : 1.0f;
-            const bool anisotropic = larger > 1e-8f && anisotropy >= kAnisotropyThreshold;
-            const RoughnessTexturesRgba8 textures =
-                roughness_textures_rgba8(lean, ro, &metallic_roughness, {true, anisotropic});
-
-            const auto write_texture = [&](const std::vector<Rgba8Image>& levels,
-                                           const std::string& ktx2, const std::string& png,
-                                           const char* content) {
-                io::write_ktx2_rgba8(outputs.stage(beside(ktx2)), levels, writer, write_options,
-                                     {{io::kKeyTextureContent, std::string(content) + " v1"}});
-                io::write_png_rgba8(outputs.stage(beside(png)), levels.front(), write_options);
-                written.push_back(beside(ktx2));
-                written.push_back(beside(png));
+            const bool anisotropic = textures.anisotropic;
+            const float anisotropy = textures.anisotropy_ratio;
+            const int w = packed.levels.front().width, h = packed.levels.front().height;
+            const auto write_file = [&](const std::vector<std::uint8_t>& bytes, const std::string& name) {
+                io::AtomicFile file(outputs.stage(beside(name)), durability);
+                file.write(bytes.data(), bytes.size());
+                file.commit();
+                written.push_back(beside(name));
             };
             written.push_back(beside(f.lean));
-            write_texture(textures.metallic_roughness, f.roughness, f.roughness_png, "roughness");
-            write_texture(textures.normal, f.normal, f.normal_png, "normal");
-            if (anisotropic)
-                write_texture(textures.anisotropy, f.anisotropy, f.anisotropy_png, "anisotropy");
+            write_file(textures.files[0], f.roughness);
+            write_file(textures.files[1], f.roughness_png);
+            write_file(textures.files[2], f.normal);
+            write_file(textures.files[3], f.normal_png);
+            if (anisotropic) {
+                write_file(textures.files[4], f.anisotropy);
+                write_file(textures.files[5], f.anisotropy_png);
+            }
 
             // The material, pointed at the filtered textures.
             json& material = root["materials"][std::size_t(m.gltf_index)];
@@ -443,6 +546,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                  {"normal", beside(f.normal)},
                                  {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
                                  {"anisotropy_ratio", anisotropy},
+                                 {"textures_from_cache", cached.has_value()},
                                  {"levels", packed.levels.size()},
                                  {"width", w},
                                  {"height", h},

@@ -120,6 +120,10 @@ void write_png(const std::string& path, const Image& image, int bits, const Writ
     write_all(path, detail::encode_png(path, image, bits), options.durability);
 }
 
+std::vector<std::uint8_t> encode_png_rgba8(const Rgba8Image& image, const std::string& name) {
+    return detail::encode_png_rgba8(name, image);
+}
+
 void write_png_rgba8(const std::string& path, const Rgba8Image& image, const WriteOptions& options) {
     write_all(path, detail::encode_png_rgba8(path, image), options.durability);
 }

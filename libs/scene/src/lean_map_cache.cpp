@@ -2,6 +2,7 @@
 #include "leanfade/scene/lean_map_cache.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <chrono>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 
@@ -191,6 +193,55 @@ std::optional<PackedLeanMap> LeanMapCache::find(const std::string& key,
     }
 }
 
+namespace {
+
+bool safe_suffix(const std::string& suffix) {
+    if (suffix.empty() || suffix.size() > 64) return false;
+    for (const char c : suffix)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_'))
+            return false;
+    return true;
+}
+
+}  // namespace
+
+std::optional<std::vector<std::uint8_t>> LeanMapCache::find_file(const std::string& key,
+                                                                 const std::string& suffix) const {
+    if (!enabled() || !safe_suffix(suffix)) return std::nullopt;
+    if (!cleaned_) {
+        cleaned_ = true;
+        clean({});
+    }
+    try {
+        const std::string text = read_regular_file((fs::path(folder_) / (key + suffix)).string(),
+                                                   std::uint64_t(1) << 32, "cache entry");
+        return std::vector<std::uint8_t>(text.begin(), text.end());
+    } catch (const Error&) {
+        return std::nullopt;
+    } catch (const std::bad_alloc&) {
+        return std::nullopt;
+    }
+}
+
+std::string LeanMapCache::store_file(const std::string& key, const std::string& suffix,
+                                     const std::vector<std::uint8_t>& bytes) const {
+    if (!enabled()) return {};
+    if (!safe_suffix(suffix)) return "cache entry suffix '" + suffix + "' is not a plain name";
+    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    try {
+        std::error_code error;
+        fs::create_directories(folder_, error);
+        if (error) return folder_ + ": " + error.message();
+        io::AtomicFile file(path);
+        file.write(bytes.data(), bytes.size());
+        file.commit();
+        clean(path);
+        return {};
+    } catch (const Error& e) {
+        return e.what();
+    }
+}
+
 std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map) const {
     if (!enabled()) return {};
     try {
@@ -248,7 +299,6 @@ void LeanMapCache::clean(const std::string& kept) const {
             if (now - time > std::chrono::seconds(kStaleCacheTemporarySeconds)) fs::remove(path, e);
             continue;
         }
-        if (path.extension() != ".ktx2") continue;
         const std::uint64_t bytes = it->file_size(e);
         if (e) continue;
         total += bytes;

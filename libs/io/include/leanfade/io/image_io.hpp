@@ -75,6 +75,8 @@ void write_png(const std::string& path, const Image& image, int bits,
 // An 8-bit RGBA PNG of `image`'s bytes as they are (what write_png writes for the same values).
 void write_png_rgba8(const std::string& path, const Rgba8Image& image,
                      const WriteOptions& options = {});
+// The bytes write_png_rgba8 writes; `name` names the image in errors.
+std::vector<std::uint8_t> encode_png_rgba8(const Rgba8Image& image, const std::string& name);
 
 // Writes a little-endian PFM of linear float values: 1 channel -> "Pf"; 3 channels -> "PF";
 // 2 channels -> "PF" with blue 0; 4 channels -> "PF", alpha dropped. NaN/infinity are refused.

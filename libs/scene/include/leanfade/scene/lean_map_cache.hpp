@@ -61,6 +61,17 @@ class LeanMapCache {
     // good to use).
     std::string store(const std::string& key, const PackedLeanMap& map) const;
 
+    // Other results cached beside the maps (the engine textures of `bake SCENE -o OUT`): the
+    // bytes of the entry `<folder>/<key><suffix>` (suffix: letters, digits, '.', '-', '_'), or
+    // nothing when it is missing or unreadable. store_file writes one atomically and then bounds
+    // the folder as store() does (every entry counts); it returns "" or the one-line reason it
+    // could not store (the bytes are still good to use). An entry of several files is complete
+    // when the caller's last file (a manifest) is there.
+    std::optional<std::vector<std::uint8_t>> find_file(const std::string& key,
+                                                       const std::string& suffix) const;
+    std::string store_file(const std::string& key, const std::string& suffix,
+                           const std::vector<std::uint8_t>& bytes) const;
+
   private:
     void clean(const std::string& kept) const;
 
