@@ -2,8 +2,8 @@
 // A cache of baked LEAN maps on disk, keyed by the content of what was baked: a second run over
 // the same normal textures with the same settings reads the maps instead of baking them again.
 //
-// Each entry is one KTX2 file (leanfade/io/ktx2.hpp) named `<key>.ktx2` in the cache folder,
-// written atomically (AtomicFile through write_ktx2), so a reader never sees half an entry. An
+// Each map entry is one KTX2 file (leanfade/io/ktx2.hpp) named `<key>.ktx2` in the cache folder
+// (other results are file entries `<key><suffix>`, find_file/store_file), written atomically (AtomicFile through write_ktx2), so a reader never sees half an entry. An
 // entry that cannot be read back (truncated, corrupt, another version's layout) or does not hold
 // what its key describes (the key recorded in the entry, its storage) is ignored and replaced by
 // the next store. The folder is bounded: after each store the oldest entries (by the time they
