@@ -451,13 +451,7 @@ struct Frame {
 class VulkanConsumer : public testing::Test {
   protected:
     static void SetUpTestSuite() {
-        // One folder per selection of tests: ctest runs each test in a process of its own, in
-        // parallel.
-        std::string selection;
-        for (const char c : std::string(GTEST_FLAG_GET(filter)))
-            if (std::isalnum(static_cast<unsigned char>(c)) && selection.size() < 80)
-                selection += c;
-        scratch_ = new fs::path(fresh_scratch_folder(".", "vulkan_consumer_" + selection));
+        scratch_ = new fs::path(scratch_folder_for_this_selection("vulkan_consumer"));
         const fs::path& s = *scratch_;
         // The loader sees lavapipe only (a machine may have other ICDs installed).
         const fs::path icd = lavapipe_icd();

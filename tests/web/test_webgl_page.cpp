@@ -49,13 +49,7 @@ Image read_capture(const fs::path& file) {
 class WebGlPage : public testing::Test {
   protected:
     static void SetUpTestSuite() {
-        // One folder per selection of tests: ctest runs each test in a process of its own, in
-        // parallel.
-        std::string selection;
-        for (const char c : std::string(GTEST_FLAG_GET(filter)))
-            if (std::isalnum(static_cast<unsigned char>(c)) && selection.size() < 80)
-                selection += c;
-        scratch_ = new fs::path(fresh_scratch_folder(".", "webgl_page_" + selection));
+        scratch_ = new fs::path(scratch_folder_for_this_selection("webgl_page"));
         setup_ = new std::string;
         const fs::path& s = *scratch_;
         const fs::path data = s / "data";

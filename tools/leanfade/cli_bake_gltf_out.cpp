@@ -103,19 +103,6 @@ std::string uri_of(const fs::path& relative) {
     return out;
 }
 
-std::string percent_decoded(const std::string& uri) {
-    std::string out;
-    for (std::size_t i = 0; i < uri.size(); ++i) {
-        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
-            std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
-            out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
-            i += 2;
-        } else {
-            out += uri[i];
-        }
-    }
-    return out;
-}
 
 // A material's name as part of a file name: letters, digits, '-' and '_' kept, the rest '_'.
 std::string file_name_part(const std::string& name) {
@@ -151,7 +138,7 @@ std::vector<CopiedFile> relocate_external_files(json& root, const fs::path& inpu
             if (uri == entry.end() || !uri->is_string()) continue;
             const std::string text = uri->get<std::string>();
             if (text.rfind("data:", 0) == 0) continue;
-            const std::string source = (input_folder / percent_decoded(text)).lexically_normal().string();
+            const std::string source = (input_folder / scene::gltf_uri_path(text)).lexically_normal().string();
             auto found = copied.find(source);
             if (found == copied.end()) {
                 const std::string base = stem + "." + file_name_part(fs::path(source).stem().string());

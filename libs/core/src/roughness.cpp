@@ -48,6 +48,18 @@ std::vector<Image> base_alpha_squared(const LeanMap& map, const RoughnessOptions
     return levels;
 }
 
+// What roughness MIPs need of their inputs: levels, no baked roughness, r0 in [0, 1].
+void check_roughness_inputs(const LeanMap& map, const RoughnessOptions& options) {
+    if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
+    if (map.roughness_baked)
+        throw Error("LEAN map",
+                    "its second moments hold a baked roughness (1/s); bake it "
+                    "without one for roughness MIPs, the base roughness is added here");
+    if (!unit_interval(options.base_roughness))
+        throw Error("roughness",
+                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+}
+
 // One texel's roughness from its moments and base α0² (docs/roughness.md).
 struct TexelRoughness {
     float alpha = 0.0f;                 // isotropic α = √(α0² + Σxx + Σyy)
@@ -163,14 +175,7 @@ float anisotropy_strength(float alpha_t, float alpha_b) {
 }
 
 std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOptions& options) {
-    if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
-    if (map.roughness_baked)
-        throw Error("LEAN map",
-                    "its second moments hold a baked roughness (1/s); bake it "
-                    "without one for roughness MIPs, the base roughness is added here");
-    if (!unit_interval(options.base_roughness))
-        throw Error("roughness",
-                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+    check_roughness_inputs(map, options);
     const std::vector<Image> base = base_alpha_squared(map, options);
 
     std::vector<RoughnessLevel> out;
@@ -230,14 +235,7 @@ RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,
 RoughnessTexturesRgba8 roughness_textures_rgba8(const LeanMap& map, const RoughnessOptions& options,
                                                 const Image* metallic_roughness_input,
                                                 RoughnessTextureSet which) {
-    if (map.levels.empty()) throw Error("LEAN map", "the map has no levels");
-    if (map.roughness_baked)
-        throw Error("LEAN map",
-                    "its second moments hold a baked roughness (1/s); bake it "
-                    "without one for roughness MIPs, the base roughness is added here");
-    if (!unit_interval(options.base_roughness))
-        throw Error("roughness",
-                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+    check_roughness_inputs(map, options);
     // α0² per level: one constant, or the map's chain.
     const bool constant_base = options.roughness_map == nullptr;
     const float constant_a2 = std::pow(options.base_roughness, 4.0f);

@@ -86,9 +86,10 @@ std::string read_file(const std::string& path, std::uint64_t max_bytes,
     return {};
 }
 
-// Percent-decoding of a URI (glTF URIs are RFC 3986 references); invalid escapes stay as they are.
-std::string percent_decode(const std::string& uri) {
-    std::string out;
+}  // namespace
+
+std::string gltf_uri_path(const std::string& uri) {
+    std::string out;  // percent-decoded: invalid escapes stay as they are
     for (std::size_t i = 0; i < uri.size(); ++i) {
         if (uri[i] == '%' && i + 2 < uri.size() &&
             std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
@@ -102,14 +103,12 @@ std::string percent_decode(const std::string& uri) {
     return out;
 }
 
-}  // namespace
-
 // Why an external URI may not be read ("" when it may): leanfade reads only files inside the
 // glTF's folder, named by relative paths.
 std::string gltf_detail::uri_refusal(const std::string& uri, bool external_allowed) {
     if (uri.rfind("data:", 0) == 0) return {};
     if (!external_allowed) return "refers to an external file, which is not read here";
-    const std::string path = percent_decode(uri);
+    const std::string path = gltf_uri_path(uri);
     if (path.empty()) return "is empty";
     if (path.find('\0') != std::string::npos) return "contains a NUL character";
     if (path.front() == '/' || path.front() == '\\') return "is an absolute path";
@@ -630,7 +629,7 @@ int Converter::material_index(int gltf_material) {
             if (refusal.empty() && text.rfind("data:", 0) == 0)
                 refusal = "embeds the map (it must name a KTX2 file beside the glTF)";
             if (!refusal.empty()) throw std::runtime_error(named + " " + refusal);
-            m.lean_map_file = confined((access_.folder / percent_decode(text)).string(), access_);
+            m.lean_map_file = confined((access_.folder / gltf_uri_path(text)).string(), access_);
             if (m.lean_map_file.empty())
                 throw std::runtime_error(named + " leaves the glTF's folder");
         }
@@ -917,7 +916,7 @@ std::vector<std::string> gltf_referenced_files(const std::string& path,
                 if (uri == entry.end() || !uri->is_string()) continue;
                 const std::string name = uri->get<std::string>();
                 if (name.rfind("data:", 0) == 0 || !uri_refusal(name, true).empty()) continue;
-                files.push_back((folder / percent_decode(name)).string());
+                files.push_back((folder / gltf_uri_path(name)).string());
             }
         }
     } catch (const std::exception&) {

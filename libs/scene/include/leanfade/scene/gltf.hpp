@@ -154,6 +154,10 @@ GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options = {}
 std::vector<std::string> gltf_referenced_files(const std::string& path,
                                                const GltfLoadOptions& options = {});
 
+// The relative path a glTF URI names: percent-decoded (glTF URIs are RFC 3986 references; an
+// invalid escape stays as it is). Not checked: see load_gltf for what is read.
+std::string gltf_uri_path(const std::string& uri);
+
 // load_gltf on a file's bytes in memory (same checks and messages); `name` names it in errors.
 // Only embedded data (data: URIs, the GLB binary chunk) is read: an external URI is refused.
 GltfScene load_gltf_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
