@@ -85,6 +85,10 @@ struct LfShadingUniforms {
     // footprint's alpha^2 (lf_footprint_covariance), read by the shaders compiled with
     // LF_GEOMETRIC_AA.
     float geometric_aa_kappa;
+    // glTF alphaMode MASK: a fragment whose base colour alpha times base_alpha is below
+    // alpha_cutoff is discarded; alpha_cutoff < 0: opaque (every other material).
+    float alpha_cutoff;
+    float base_alpha;  // the material's base colour factor's alpha
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows

@@ -214,6 +214,8 @@ void main() {
 #endif
     // The surface maps' texels, then the material's parameters and the shade (lf_shade_material).
     vec4 base_color = LF_SAMPLE(u_base_color, v_in.uv);
+    // glTF alphaMode MASK (alpha_cutoff < 0 for every other material).
+    if (base_color.w * u_shading.base_alpha < u_shading.alpha_cutoff) discard;
     float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, v_in.uv).r : 0.0;
     LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out

@@ -117,6 +117,8 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
             if (m.metallic_roughness_image >= 0)
                 material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {
                     {"index", m.metallic_roughness_image}};
+            if (!m.alpha_mode.empty()) material["alphaMode"] = m.alpha_mode;
+            if (m.alpha_mode == "MASK") material["alphaCutoff"] = m.alpha_cutoff;
             root["materials"].push_back(material);
         }
     }

@@ -39,6 +39,8 @@ struct GltfTestMaterial {
     std::optional<float> roughness{};   // roughnessFactor; none: not written (1 by glTF)
     std::optional<float> metallic{};    // metallicFactor; none: not written (1 by glTF)
     int metallic_roughness_image = -1;  // metallicRoughnessTexture
+    std::string alpha_mode{};           // alphaMode; empty: not written (OPAQUE)
+    float alpha_cutoff = 0.5f;          // alphaCutoff, written with alphaMode MASK
 };
 
 struct GltfTestNode {

@@ -90,4 +90,50 @@ TEST_F(GltfRender, BaseColourTextureMultipliesKd) {
     EXPECT_LT(red.z, 0.1 * white.z);
 }
 
+// alphaMode MASK: texels whose base colour alpha (texture times factor) is below alphaCutoff are
+// cut out; the same quad OPAQUE covers them.
+TEST_F(GltfRender, AlphaMaskCutsOutTexelsBelowTheCutoff) {
+    // A 4 x 4 RGBA base colour: the left half (u < 0.5) alpha 0.2, the right half 0.9.
+    std::vector<float> rgba;
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) rgba.insert(rgba.end(), {1.0f, 1.0f, 1.0f, x < 2 ? 0.2f : 0.9f});
+    const std::vector<std::uint8_t> texture = scene::test::png_bytes(4, 4, 4, rgba);
+    const auto covered = [&](const std::string& name, const std::string& mode, float factor_alpha) {
+        scene::test::GltfTestFile file;
+        file.images = {texture};
+        file.materials = {{"m", glm::vec4(1.0f, 1.0f, 1.0f, factor_alpha), 0, -1, 1.0f}};
+        file.materials[0].alpha_mode = mode;
+        file.meshes = {{scene::test::unit_quad(0)}};
+        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+        fs::create_directories(dir);
+        const std::string path = (dir / (name + ".glb")).string();
+        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+        gl::Renderer renderer(context());
+        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        const Image image = render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
+        // Lit pixels in the middle of each half (away from where the texture's filtering blends
+        // the halves, and from the repeat's seam): {right, left}.
+        std::size_t lit_right = 0, lit_left = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                if (!(image.at(x, y, 0) > 0.0f)) continue;
+                const int eighth = 8 * x / image.width;
+                lit_left += eighth >= 1 && eighth <= 2;
+                lit_right += eighth >= 5 && eighth <= 6;
+            }
+        return std::pair{lit_right, lit_left};
+    };
+    const auto [opaque_right, opaque_left] = covered("opaque", "", 1.0f);
+    const auto [mask_right, mask_left] = covered("mask", "MASK", 1.0f);
+    const auto [faint_right, faint_left] = covered("mask_faint", "MASK", 0.5f);
+    ASSERT_GT(opaque_left, 200u);
+    ASSERT_EQ(opaque_right, opaque_left);
+    // MASK at 0.5: the left half (alpha 0.2) goes, the right (0.9) stays.
+    EXPECT_EQ(mask_left, 0u);
+    EXPECT_EQ(mask_right, opaque_right);
+    // The factor's alpha multiplies: 0.9 x 0.5 < 0.5, nothing is left.
+    EXPECT_EQ(faint_right, 0u);
+    EXPECT_EQ(faint_left, 0u);
+}
+
 }  // namespace

@@ -83,6 +83,8 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.fog_density = s.fog_density;
     block.geometric_aa_kappa = s.geometric_aa_kappa;
     block.maps = 0;
+    block.alpha_cutoff = -1.0f;  // opaque
+    block.base_alpha = 1.0f;
     return block;
 }
 
@@ -218,6 +220,8 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
         LfShadingUniforms block = shading_uniforms(
             s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale, request.output);
+        if (material.alpha_cutoff) block.alpha_cutoff = *material.alpha_cutoff;
+        block.base_alpha = material.base_alpha;
         // The material's surface maps: each on its unit with its bit in the block's mask, or the
         // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
         block.maps = 0;

@@ -607,6 +607,13 @@ int Converter::material_index(int gltf_material) {
         m.name = gm.name.empty() ? "material " + std::to_string(gltf_material) : gm.name;
         m.gltf_index = gltf_material;
         const std::string where = "material '" + escape_text(m.name, 64) + "'";
+        if (gm.alphaMode == "MASK") {
+            if (!(gm.alphaCutoff >= 0.0) || !std::isfinite(gm.alphaCutoff))
+                throw std::runtime_error(where + ": alphaCutoff is not finite and >= 0");
+            m.alpha_cutoff = float(gm.alphaCutoff);
+        } else if (gm.alphaMode == "BLEND") {
+            out_.warnings.push_back(where + ": alphaMode BLEND is drawn as OPAQUE");
+        }
         const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
         for (const auto& [value, name, out] :
              {std::tuple{pbr.metallicFactor, "metallicFactor", &m.metallic_factor},

@@ -51,6 +51,8 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, fog_density, Float),
     LF_STD140(LfShadingUniforms, maps, Int),
     LF_STD140(LfShadingUniforms, geometric_aa_kappa, Float),
+    LF_STD140(LfShadingUniforms, alpha_cutoff, Float),
+    LF_STD140(LfShadingUniforms, base_alpha, Float),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,8 @@ struct GltfMaterial {
     int base_color_image = -1;                  // index into GltfScene::images, -1: none
     int normal_image = -1;                      // index into GltfScene::images, -1: none
     float normal_scale = 1.0f;                  // normalTexture.scale, finite
+    // alphaMode MASK: alphaCutoff (>= 0); none for OPAQUE and BLEND (drawn opaque).
+    std::optional<float> alpha_cutoff;
     float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
     float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
     int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none
@@ -220,8 +223,9 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image, float scale,
 // texture share one flat LEAN map; a material whose file names its LEAN map (lean_map_file) draws
 // that map (read with read_ktx2's checks). Every material gets a base roughness map
 // (MapKind::BaseRoughness, read with Cook-Torrance): r = roughness_factor times the G of its
-// metallic-roughness texture, or the factor alone (1 x 1). Throws leanfade::Error(gltf.path,
-// cause).
+// metallic-roughness texture, or the factor alone (1 x 1). alphaMode MASK cuts out the texels
+// whose base colour alpha (texture times factor) is below alphaCutoff (Material::alpha_cutoff).
+// Throws leanfade::Error(gltf.path, cause).
 Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                         GltfBakeReport* report = nullptr);
 

@@ -61,6 +61,10 @@ struct Material {
     // roughness comes per texel from the map (α0², docs/math.md §9) instead of the frame's
     // uniform roughness; Blinn-Phong, whose base roughness is 1/s, ignores it.
     std::array<int, kMapKindCount> maps = filled_map_slots(-1);
+    // glTF alphaMode MASK: the base colour's alpha (texture alpha times base_alpha) below the
+    // cutoff is cut out (not drawn); none: opaque.
+    std::optional<float> alpha_cutoff{};
+    float base_alpha = 1.0f;  // the base colour factor's alpha, [0, 1]
     int& map(MapKind kind) { return maps[std::size_t(kind)]; }
     int map(MapKind kind) const { return maps[std::size_t(kind)]; }
 };
