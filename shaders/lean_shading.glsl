@@ -89,6 +89,9 @@ struct LfShadingUniforms {
     // alpha_cutoff is discarded; alpha_cutoff < 0: opaque (every other material).
     float alpha_cutoff;
     float base_alpha;  // the material's base colour factor's alpha
+    // glTF alphaMode BLEND: 1 makes the output's alpha the base colour's (texture times
+    // base_alpha), blended over what is behind; 0: alpha 1 (opaque).
+    float blend;
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows

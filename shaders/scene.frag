@@ -240,5 +240,6 @@ void main() {
         color = lf_apply_fog(shade.diffuse + shade.specular, u_shading.fog_color, f);
     }
 #endif
-    o_color = vec4(color, 1.0);
+    // Alpha 1 (opaque and MASK), or the base colour's for a BLEND material.
+    o_color = vec4(color, mix(1.0, base_color.w * u_shading.base_alpha, u_shading.blend));
 }

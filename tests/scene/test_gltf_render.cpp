@@ -136,4 +136,54 @@ TEST_F(GltfRender, AlphaMaskCutsOutTexelsBelowTheCutoff) {
     EXPECT_EQ(faint_left, 0u);
 }
 
+// alphaMode BLEND: drawn after the opaque objects whatever their order in the file, over them:
+// with alpha a the pixel is a times the front's colour plus 1 - a times what is behind (straight
+// alpha, linear radiance), here measured against the same scene with the front quad opaque and
+// with it fully transparent.
+TEST_F(GltfRender, AlphaBlendIsDrawnOverTheOpaqueObjectsBehind) {
+    const auto render_scene = [&](const std::string& name, const std::string& mode, float alpha) {
+        scene::test::GltfTestFile file;
+        // The front quad first in the file: the renderer must still draw it last.
+        file.materials = {{"front", glm::vec4(1.0f, 0.1f, 0.1f, alpha), -1, -1, 1.0f},
+                          {"back", glm::vec4(0.1f, 0.1f, 1.0f, 1.0f), -1, -1, 1.0f}};
+        file.materials[0].alpha_mode = mode;
+        file.meshes = {{scene::test::unit_quad(0)}, {scene::test::unit_quad(1)}};
+        file.nodes = {{0, {}, {}, {-0.25, -0.25, 0.5}, {}}, {1, {}, {}, {-0.5, -0.5, 0.0}, {}}};
+        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+        fs::create_directories(dir);
+        const std::string path = (dir / (name + ".glb")).string();
+        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+        gl::Renderer renderer(context());
+        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        return render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
+    };
+    const Image half = render_scene("blend_half", "BLEND", 0.5f);
+    const Image opaque = render_scene("blend_opaque", "", 1.0f);
+    const Image clear = render_scene("blend_clear", "BLEND", 0.0f);
+    ASSERT_EQ(half.width, opaque.width);
+    double worst = 0.0;
+    std::size_t front = 0;
+    for (int y = 0; y < half.height; ++y)
+        for (int x = 0; x < half.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                const double expected = 0.5 * opaque.at(x, y, c) + 0.5 * clear.at(x, y, c);
+                worst = std::max(worst, std::abs(double(half.at(x, y, c)) - expected));
+            }
+            // Where the front quad is: red in the opaque render, blue behind it.
+            front += opaque.at(x, y, 0) > 2.0f * opaque.at(x, y, 2);
+        }
+    EXPECT_GT(front, 200u) << "the front quad covers part of the view";
+    EXPECT_LT(worst, 2e-3) << "0.5 front + 0.5 behind, per pixel and channel";
+    // Fully transparent: no trace of the front quad, and the back quad shows through it.
+    std::size_t red = 0, blue_behind = 0;
+    for (int y = 0; y < clear.height; ++y)
+        for (int x = 0; x < clear.width; ++x) {
+            red += clear.at(x, y, 0) > 2.0f * clear.at(x, y, 2);
+            blue_behind += opaque.at(x, y, 0) > 2.0f * opaque.at(x, y, 2) &&
+                           clear.at(x, y, 2) > 2.0f * clear.at(x, y, 0);
+        }
+    EXPECT_EQ(red, 0u);
+    EXPECT_GT(blue_behind, 100u);
+}
+
 }  // namespace

@@ -85,6 +85,7 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.maps = 0;
     block.alpha_cutoff = -1.0f;  // opaque
     block.base_alpha = 1.0f;
+    block.blend = 0.0f;
     return block;
 }
 
@@ -194,7 +195,30 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
     object_block.eye_world = request.view.eye;
     object_block.light_world = glm::normalize(frame.light_direction);
     object_block.tiling = frame.tiling;
-    for (const GpuObject& object : objects_) {
+    // The opaque objects first, in order; then the blended ones (glTF alphaMode BLEND) from the
+    // farthest to the nearest (by their bounds' centre in eye space), over what is drawn, with
+    // depth tested but not written (straight alpha: RGB by alpha over 1 - alpha).
+    std::vector<std::pair<float, std::size_t>> blended;
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+        if (!materials_[std::size_t(objects_[i].material)].blend) {
+            order.push_back(i);
+            continue;
+        }
+        const glm::vec4 eye = view * (model_ * objects_[i].transform) * glm::vec4(objects_[i].centre, 1.0f);
+        blended.emplace_back(eye.z, i);  // more negative: farther
+    }
+    std::stable_sort(blended.begin(), blended.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t opaque_count = order.size();
+    for (const auto& [depth, i] : blended) order.push_back(i);
+    for (std::size_t n = 0; n < order.size(); ++n) {
+        const GpuObject& object = objects_[order[n]];
+        if (n == opaque_count) {
+            glEnable(GL_BLEND);
+            glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            glDepthMask(GL_FALSE);
+        }
         const scene::Material& material = materials_[std::size_t(object.material)];
         const GpuMap& map = maps_[std::size_t(material.lean_map)];
         // The "height" method draws its generated map (update_mixed_layers) like a single map.
@@ -222,6 +246,7 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
             s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale, request.output);
         if (material.alpha_cutoff) block.alpha_cutoff = *material.alpha_cutoff;
         block.base_alpha = material.base_alpha;
+        block.blend = material.blend ? 1.0f : 0.0f;
         // The material's surface maps: each on its unit with its bit in the block's mask, or the
         // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
         block.maps = 0;
@@ -247,6 +272,10 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         glBindTextureUnit(GLuint(bindings::LF_BINDING_LEAN_MAP), map_texture);
         glBindVertexArray(object.vertex_array.get());
         glDrawElements(GL_TRIANGLES, object.index_count, GL_UNSIGNED_INT, nullptr);
+    }
+    if (order.size() > opaque_count) {
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
     }
     glBindVertexArray(0);
 }

@@ -142,6 +142,7 @@ Renderer::GpuObject Renderer::upload_object(const scene::Mesh& mesh, int materia
     GpuObject object;
     object.material = material;
     object.transform = transform;
+    object.centre = mesh.bounds.center();
     object.vertices = create_buffer();
     glNamedBufferStorage(object.vertices.get(),
                          GLsizeiptr(mesh.vertices.size() * sizeof(scene::Vertex)),

@@ -612,7 +612,7 @@ int Converter::material_index(int gltf_material) {
                 throw std::runtime_error(where + ": alphaCutoff is not finite and >= 0");
             m.alpha_cutoff = float(gm.alphaCutoff);
         } else if (gm.alphaMode == "BLEND") {
-            out_.warnings.push_back(where + ": alphaMode BLEND is drawn as OPAQUE");
+            m.blend = true;
         }
         const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
         for (const auto& [value, name, out] :

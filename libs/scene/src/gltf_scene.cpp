@@ -146,6 +146,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         m.diffuse.emplace(gm.base_color_factor.x, gm.base_color_factor.y, gm.base_color_factor.z);
         m.base_alpha = gm.base_color_factor.w;
         m.alpha_cutoff = gm.alpha_cutoff;
+        m.blend = gm.blend;
         if (!gm.lean_map_file.empty()) {
             // The map the file names (`bake SCENE -o OUT`): drawn as written.
             auto found = files.find(gm.lean_map_file);

@@ -196,6 +196,7 @@ class Renderer {
         GLsizei index_count = 0;
         int material = 0;
         glm::mat4 transform{1.0f};
+        glm::vec3 centre{0.0f};  // of the mesh's bounds, object space: blended objects' order
     };
     struct GpuMap {
         Texture texture;  // GL_TEXTURE_2D_ARRAY: slice 0 lean1, slice 1 lean2, every level

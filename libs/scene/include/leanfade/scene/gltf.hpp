@@ -55,8 +55,9 @@ struct GltfMaterial {
     int base_color_image = -1;                  // index into GltfScene::images, -1: none
     int normal_image = -1;                      // index into GltfScene::images, -1: none
     float normal_scale = 1.0f;                  // normalTexture.scale, finite
-    // alphaMode MASK: alphaCutoff (>= 0); none for OPAQUE and BLEND (drawn opaque).
+    // alphaMode MASK: alphaCutoff (>= 0); none for OPAQUE and BLEND.
     std::optional<float> alpha_cutoff;
+    bool blend = false;  // alphaMode BLEND
     float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
     float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
     int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none

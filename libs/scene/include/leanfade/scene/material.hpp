@@ -65,6 +65,9 @@ struct Material {
     // cutoff is cut out (not drawn); none: opaque.
     std::optional<float> alpha_cutoff{};
     float base_alpha = 1.0f;  // the base colour factor's alpha, [0, 1]
+    // glTF alphaMode BLEND: drawn after the opaque objects, back to front, over what is behind
+    // (its alpha the base colour's, texture times base_alpha), without writing depth.
+    bool blend = false;
     int& map(MapKind kind) { return maps[std::size_t(kind)]; }
     int map(MapKind kind) const { return maps[std::size_t(kind)]; }
 };
