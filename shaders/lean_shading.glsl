@@ -92,6 +92,8 @@ struct LfShadingUniforms {
     // glTF alphaMode BLEND: 1 makes the output's alpha the base colour's (texture times
     // base_alpha), blended over what is behind; 0: alpha 1 (opaque).
     float blend;
+    // glTF doubleSided: 1 shades back faces with the reversed frame; 0: as front faces.
+    float double_sided;
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows

@@ -185,7 +185,11 @@ LfMoments layered_moments() {
 #endif
 
 void main() {
-    vec3 light_dir = normalize(v_in.light_t);
+    // glTF doubleSided: a back face is shaded with its tangent frame reversed (glTF 2.0 §3.9.2:
+    // its normal flipped), so that both sides light alike.
+    float side = (u_shading.double_sided > 0.5 && !gl_FrontFacing) ? -1.0 : 1.0;
+    vec3 light_dir = normalize(side * v_in.light_t);
+    vec3 view_t = side * v_in.view_t;
 #if defined(LF_LAYERED)
     LfMoments moments = layered_moments();
     vec4 lean1 = vec4(0.5 * moments.normal + vec3(0.5), 0.5);  // for the fade terms' NdotL
@@ -207,7 +211,7 @@ void main() {
 #endif
 #if defined(LF_GEOMETRIC_AA)
     // The half vector's slope and its change to the neighbouring pixels (docs/math.md §11).
-    vec3 half_t = normalize(light_dir + normalize(v_in.view_t));
+    vec3 half_t = normalize(light_dir + normalize(view_t));
     vec2 half_slope = half_t.xy / max(half_t.z, 1e-3);
     moments.footprint = lf_footprint_covariance(dFdx(half_slope), dFdy(half_slope),
                                                 u_shading.geometric_aa_kappa);
@@ -220,7 +224,7 @@ void main() {
     LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade_material(LF_TECHNIQUE, moments, base_color, has_roughness_map(),
-                                      alpha0_squared, light_dir, v_in.view_t, params);
+                                      alpha0_squared, light_dir, view_t, params);
 #if defined(LF_PLAIN_COLOR)
     // The renderer's ordinary frames (OUTPUT_COLOR, no fog): the colour of the general path below,
     // bit for bit, without its uniform branches, which a SIMD rasteriser such as llvmpipe executes
@@ -233,7 +237,7 @@ void main() {
     } else if (u_shading.output_mode == OUTPUT_SPECULAR) {
         color = shade.specular;
     } else if (u_shading.output_mode == OUTPUT_FADE_TERMS) {
-        color = vec3(lf_fade_terms(lean1, light_dir, v_in.view_t, params.fade_distance), 0.0);
+        color = vec3(lf_fade_terms(lean1, light_dir, view_t, params.fade_distance), 0.0);
     } else {
         float f = lf_fog_factor(v_in.eye_depth, u_shading.fog_mode, u_shading.fog_start,
                                 u_shading.fog_end, u_shading.fog_density);

@@ -71,7 +71,7 @@ TEST(Std140, TheRealBlocksListEveryMemberOnce) {
     const std::vector<BlockMember> shading = shading_block_members();
     EXPECT_EQ(shading.size(), std::size(kLfParamsFields) + std::size(kShadingBlockFields) - 1);
     EXPECT_EQ(shading.front().name, "u_shading.params.light_color");
-    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, blend));
+    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, double_sided));
     EXPECT_EQ(kShadingBlockStd140Size, 160u);
     const std::vector<BlockMember> layers = layer_block_members();
     EXPECT_EQ(layers[4].name, "u_layers.offsets[0]");

@@ -119,6 +119,7 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
                     {"index", m.metallic_roughness_image}};
             if (!m.alpha_mode.empty()) material["alphaMode"] = m.alpha_mode;
             if (m.alpha_mode == "MASK") material["alphaCutoff"] = m.alpha_cutoff;
+            if (m.double_sided) material["doubleSided"] = true;
             root["materials"].push_back(material);
         }
     }

@@ -41,6 +41,7 @@ struct GltfTestMaterial {
     int metallic_roughness_image = -1;  // metallicRoughnessTexture
     std::string alpha_mode{};           // alphaMode; empty: not written (OPAQUE)
     float alpha_cutoff = 0.5f;          // alphaCutoff, written with alphaMode MASK
+    bool double_sided = false;          // doubleSided (written when true)
 };
 
 struct GltfTestNode {

@@ -186,4 +186,39 @@ TEST_F(GltfRender, AlphaBlendIsDrawnOverTheOpaqueObjectsBehind) {
     EXPECT_GT(blue_behind, 100u);
 }
 
+// doubleSided: a single-sided material's back faces are culled; a double-sided one's are drawn and
+// shaded with the reversed frame: from behind, lit from behind, the quad looks as it does from the
+// front lit from the front.
+TEST_F(GltfRender, DoubleSidedShadesBackFacesAndSingleSidedCullsThem) {
+    const auto render_quad = [&](const std::string& name, bool double_sided, float side) {
+        scene::test::GltfTestFile file;
+        file.materials = {{"m", glm::vec4(1.0f), -1, -1, 1.0f}};
+        file.materials[0].double_sided = double_sided;
+        file.meshes = {{scene::test::unit_quad(0)}};
+        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+        fs::create_directories(dir);
+        const std::string path = (dir / (name + ".glb")).string();
+        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+        gl::Renderer renderer(context());
+        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        gl::RenderRequest r;
+        r.technique = Technique::Lean;
+        r.width = r.height = 64;
+        r.view = gl::view_at_distance(2.5f, gl::kDefaultFovYDegrees, glm::vec3(0.2f, 0.1f, side));
+        r.settings.light_direction = glm::vec3(0.3f, 0.2f, side);
+        r.output = gl::OutputMode::Color;
+        return channel_sums(renderer.render(r));
+    };
+    const glm::dvec3 front = render_quad("single_front", false, 1.0f);
+    const glm::dvec3 back_culled = render_quad("single_back", false, -1.0f);
+    const glm::dvec3 back_double = render_quad("double_back", true, -1.0f);
+    const glm::dvec3 front_double = render_quad("double_front", true, 1.0f);
+    EXPECT_GT(front.x, 100.0);
+    EXPECT_EQ(back_culled.x, 0.0) << "culled: the background only";
+    EXPECT_NEAR(front_double.x / front.x, 1.0, 1e-6);
+    // The mirror view of a flat quad: the same picture mirrored, the same sums.
+    EXPECT_NEAR(back_double.x / front.x, 1.0, 0.02);
+    EXPECT_NEAR(back_double.z / front.z, 1.0, 0.02);
+}
+
 }  // namespace

@@ -86,6 +86,7 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.alpha_cutoff = -1.0f;  // opaque
     block.base_alpha = 1.0f;
     block.blend = 0.0f;
+    block.double_sided = 0.0f;
     return block;
 }
 
@@ -247,6 +248,15 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         if (material.alpha_cutoff) block.alpha_cutoff = *material.alpha_cutoff;
         block.base_alpha = material.base_alpha;
         block.blend = material.blend ? 1.0f : 0.0f;
+        block.double_sided = material.double_sided.value_or(false) ? 1.0f : 0.0f;
+        // A single-sided glTF material's back faces are culled (counter-clockwise front faces).
+        if (material.double_sided.has_value() && !*material.double_sided) {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(GL_CCW);
+        } else {
+            glDisable(GL_CULL_FACE);
+        }
         // The material's surface maps: each on its unit with its bit in the block's mask, or the
         // kind's fallback (docs/math.md §9: Cook-Torrance's base roughness per texel).
         block.maps = 0;
@@ -277,6 +287,7 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         glDisable(GL_BLEND);
         glDepthMask(GL_TRUE);
     }
+    glDisable(GL_CULL_FACE);
     glBindVertexArray(0);
 }
 

@@ -614,6 +614,7 @@ int Converter::material_index(int gltf_material) {
         } else if (gm.alphaMode == "BLEND") {
             m.blend = true;
         }
+        m.double_sided = gm.doubleSided;
         const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
         for (const auto& [value, name, out] :
              {std::tuple{pbr.metallicFactor, "metallicFactor", &m.metallic_factor},

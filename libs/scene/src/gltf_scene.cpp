@@ -147,6 +147,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         m.base_alpha = gm.base_color_factor.w;
         m.alpha_cutoff = gm.alpha_cutoff;
         m.blend = gm.blend;
+        m.double_sided = gm.double_sided;
         if (!gm.lean_map_file.empty()) {
             // The map the file names (`bake SCENE -o OUT`): drawn as written.
             auto found = files.find(gm.lean_map_file);

@@ -54,6 +54,7 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, alpha_cutoff, Float),
     LF_STD140(LfShadingUniforms, base_alpha, Float),
     LF_STD140(LfShadingUniforms, blend, Float),
+    LF_STD140(LfShadingUniforms, double_sided, Float),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

@@ -58,6 +58,7 @@ struct GltfMaterial {
     // alphaMode MASK: alphaCutoff (>= 0); none for OPAQUE and BLEND.
     std::optional<float> alpha_cutoff;
     bool blend = false;  // alphaMode BLEND
+    bool double_sided = false;  // doubleSided
     float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
     float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
     int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none

@@ -68,6 +68,9 @@ struct Material {
     // glTF alphaMode BLEND: drawn after the opaque objects, back to front, over what is behind
     // (its alpha the base colour's, texture times base_alpha), without writing depth.
     bool blend = false;
+    // glTF doubleSided: false culls back faces; true draws them, shaded with the reversed frame;
+    // none (built-in and OBJ scenes): back faces drawn, shaded as front faces.
+    std::optional<bool> double_sided{};
     int& map(MapKind kind) { return maps[std::size_t(kind)]; }
     int map(MapKind kind) const { return maps[std::size_t(kind)]; }
 };
