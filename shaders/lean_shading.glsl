@@ -94,6 +94,11 @@ struct LfShadingUniforms {
     float blend;
     // glTF doubleSided: 1 shades back faces with the reversed frame; 0: as front faces.
     float double_sided;
+    float uv_transform_padding;  // keeps uv_transforms at a 16-byte offset in C++, as in std140
+    // Texture coordinate transforms (glTF KHR_texture_transform) of the LEAN map (and its plateau
+    // layer), the base colour and the base roughness: two rows each, uv' = (dot(r0.xy, uv) +
+    // r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up); the identity for other materials.
+    vec4 uv_transforms[6];
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows

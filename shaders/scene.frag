@@ -66,8 +66,16 @@ layout(location = 0) out vec4 o_color;
 #define LF_SAMPLE(sampler, coord) texture(sampler, coord)  // trilinear / anisotropic
 #endif
 
+// The texture coordinates of a map through its transform (u_shading.uv_transforms: 0 the LEAN
+// map and its plateau layer, 1 the base colour, 2 the base roughness).
+vec2 map_uv(int which) {
+    vec4 r0 = u_shading.uv_transforms[2 * which];
+    vec4 r1 = u_shading.uv_transforms[2 * which + 1];
+    return vec2(dot(r0.xy, v_in.uv) + r0.z, dot(r1.xy, v_in.uv) + r1.z);
+}
+
 vec4 lean_texel(float slice) {
-    return LF_SAMPLE(u_lean, vec3(v_in.uv, slice));
+    return LF_SAMPLE(u_lean, vec3(map_uv(0), slice));
 }
 
 // Cook-Torrance with a base roughness map: the map's filtered alpha0^2 here.
@@ -202,11 +210,11 @@ void main() {
 #endif
     vec4 plateau = vec4(0.0);  // f = 0 without the layer (docs/math.md §10)
 #if defined(LF_READS_PLATEAU)
-    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) plateau = LF_SAMPLE(u_plateau, v_in.uv);
+    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) plateau = LF_SAMPLE(u_plateau, map_uv(0));
 #endif
     LfMoments moments = lf_map_moments(lean1, lean2, u_shading.scale, plateau);
 #if defined(LF_ROUGHNESS_MIPS)
-    moments = lf_roughness_mips_moments(roughness_mip_trilinear(v_in.uv));
+    moments = lf_roughness_mips_moments(roughness_mip_trilinear(map_uv(0)));
 #endif
 #endif
 #if defined(LF_GEOMETRIC_AA)
@@ -217,10 +225,10 @@ void main() {
                                                 u_shading.geometric_aa_kappa);
 #endif
     // The surface maps' texels, then the material's parameters and the shade (lf_shade_material).
-    vec4 base_color = LF_SAMPLE(u_base_color, v_in.uv);
+    vec4 base_color = LF_SAMPLE(u_base_color, map_uv(1));
     // glTF alphaMode MASK (alpha_cutoff < 0 for every other material).
     if (base_color.w * u_shading.base_alpha < u_shading.alpha_cutoff) discard;
-    float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, v_in.uv).r : 0.0;
+    float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, map_uv(2)).r : 0.0;
     LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade_material(LF_TECHNIQUE, moments, base_color, has_roughness_map(),

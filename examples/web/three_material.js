@@ -52,8 +52,11 @@ export function meshGeometry(mesh) {
   return geometry;
 }
 
-// A three.js value of a reflected block member (numbers for int and float).
+// A three.js value of a reflected block member (numbers for int and float; an array member, a list
+// of its elements' values).
 function memberValue(member) {
+  if (member.array_size > 0)
+    return Array.from({ length: member.array_size }, () => memberValue({ ...member, array_size: 0 }));
   switch (member.type) {
     case 'mat4': return new THREE.Matrix4();
     case 'mat3': return new THREE.Matrix3();
@@ -65,10 +68,14 @@ function memberValue(member) {
   }
 }
 
-// A number, or a list of numbers (vectors component by component, matrices column by column).
+// A number, or a list of numbers (vectors component by component, matrices column by column, an
+// array element by element).
 function assign(uniform, value) {
   if (typeof uniform.value === 'number') uniform.value = value;
-  else uniform.value.fromArray(value);
+  else if (Array.isArray(uniform.value)) {
+    const n = value.length / uniform.value.length;
+    uniform.value.forEach((element, i) => element.fromArray(value.slice(i * n, (i + 1) * n)));
+  } else uniform.value.fromArray(value);
 }
 
 // One UniformsGroup per uniform block, its uniforms in the reflection's order (std140 gives

@@ -71,8 +71,9 @@ TEST(Std140, TheRealBlocksListEveryMemberOnce) {
     const std::vector<BlockMember> shading = shading_block_members();
     EXPECT_EQ(shading.size(), std::size(kLfParamsFields) + std::size(kShadingBlockFields) - 1);
     EXPECT_EQ(shading.front().name, "u_shading.params.light_color");
-    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, double_sided));
-    EXPECT_EQ(kShadingBlockStd140Size, 160u);
+    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, uv_transforms));
+    EXPECT_EQ(shading.back().name, "u_shading.uv_transforms[0]");
+    EXPECT_EQ(kShadingBlockStd140Size, 256u);
     const std::vector<BlockMember> layers = layer_block_members();
     EXPECT_EQ(layers[4].name, "u_layers.offsets[0]");
 }

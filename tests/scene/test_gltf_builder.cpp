@@ -110,6 +110,9 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
             if (m.base_color_image >= 0)
                 material["pbrMetallicRoughness"]["baseColorTexture"] = {
                     {"index", m.base_color_image}};
+            if (m.base_color_image >= 0 && !m.base_color_transform.is_null())
+                material["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+                    {"KHR_texture_transform", m.base_color_transform}};
             if (m.normal_image >= 0)
                 material["normalTexture"] = {{"index", m.normal_image}, {"scale", m.normal_scale}};
             if (m.roughness) material["pbrMetallicRoughness"]["roughnessFactor"] = *m.roughness;

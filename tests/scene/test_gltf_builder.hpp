@@ -42,6 +42,7 @@ struct GltfTestMaterial {
     std::string alpha_mode{};           // alphaMode; empty: not written (OPAQUE)
     float alpha_cutoff = 0.5f;          // alphaCutoff, written with alphaMode MASK
     bool double_sided = false;          // doubleSided (written when true)
+    nlohmann::json base_color_transform{};  // KHR_texture_transform of baseColorTexture, or null
 };
 
 struct GltfTestNode {

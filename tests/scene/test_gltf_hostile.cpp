@@ -64,7 +64,7 @@ std::string refusal(const json& root, const GltfLoadOptions& options = {}) {
 }
 
 TEST(GltfHostile, RequiredExtensionsLeanfadeDoesNotSupportAreRefusedByName) {
-    for (const std::string extension : {"KHR_texture_transform", "KHR_mesh_quantization",
+    for (const std::string extension : {"KHR_materials_clearcoat", "KHR_mesh_quantization",
                                         "KHR_draco_mesh_compression", "EXT_never_heard_of"}) {
         json root = test::build_gltf(quad_file(), GltfStorage::Embedded, "").json;
         root["extensionsUsed"] = {extension};
@@ -82,6 +82,10 @@ TEST(GltfHostile, RequiredExtensionsLeanfadeDoesNotSupportAreRefusedByName) {
     root["extensionsRequired"] = {1};
     EXPECT_NE(refusal(root).find("not a name"), std::string::npos);
     root["extensionsRequired"] = json::array();
+    EXPECT_EQ(refusal(root), "");
+    // What leanfade draws may be required (kSupportedGltfExtensions).
+    root["extensionsUsed"] = {"KHR_texture_transform"};
+    root["extensionsRequired"] = {"KHR_texture_transform"};
     EXPECT_EQ(refusal(root), "");
 }
 

@@ -2,6 +2,7 @@
 // tilted toward +u shades the quad brighter under a light at +u (object space +x) than under the
 // mirror light, as the uv flip and the tangents promise, and the base colour texture multiplies
 // Kd (a red texture leaves the diffuse term red).
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -219,6 +220,74 @@ TEST_F(GltfRender, DoubleSidedShadesBackFacesAndSingleSidedCullsThem) {
     // The mirror view of a flat quad: the same picture mirrored, the same sums.
     EXPECT_NEAR(back_double.x / front.x, 1.0, 0.02);
     EXPECT_NEAR(back_double.z / front.z, 1.0, 0.02);
+}
+
+// KHR_texture_transform in leanfade's uv: the glTF matrix T R S conjugated by the v flip, checked
+// on points against the extension's formula in glTF's uv.
+TEST(GltfTextureTransform, ConjugatesTheExtensionsMatrixByTheVFlip) {
+    scene::GltfTextureTransform t;
+    t.offset = {0.25f, 0.5f};
+    t.rotation = 0.7f;
+    t.scale = {2.0f, 0.5f};
+    const scene::UvTransform m = scene::leanfade_uv_transform(t);
+    for (const glm::vec2 g : {glm::vec2(0.0f), glm::vec2(0.3f, 0.8f), glm::vec2(-1.0f, 2.0f)}) {
+        // glTF: uv' = T R S uv, R = [cos sin; -sin cos].
+        const glm::vec2 s = g * t.scale;
+        const float c = std::cos(t.rotation), n = std::sin(t.rotation);
+        const glm::vec2 expected_g = glm::vec2(c * s.x + n * s.y, -n * s.x + c * s.y) + t.offset;
+        const glm::vec2 l(g.x, 1.0f - g.y);  // the same point in leanfade's uv
+        const glm::vec2 got(glm::dot(glm::vec2(m.row0), l) + m.row0.z,
+                            glm::dot(glm::vec2(m.row1), l) + m.row1.z);
+        EXPECT_NEAR(got.x, expected_g.x, 1e-5f);
+        EXPECT_NEAR(got.y, 1.0f - expected_g.y, 1e-5f);
+    }
+}
+
+// A base colour texture's KHR_texture_transform moves what the quad shows: red on the left, blue
+// on the right; offset by half a texture in u, the two swap.
+TEST_F(GltfRender, TextureTransformMovesTheBaseColourTexture) {
+    std::vector<float> rgb;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            rgb.insert(rgb.end(), {x < 4 ? 1.0f : 0.0f, 0.0f, x < 4 ? 0.0f : 1.0f});
+    const std::vector<std::uint8_t> texture = scene::test::png_bytes(8, 8, 3, rgb);
+    const auto red_on_the_left = [&](const std::string& name, const nlohmann::json& transform) -> int {
+        scene::test::GltfTestFile file;
+        file.images = {texture};
+        file.materials = {{"m", glm::vec4(1.0f), 0, -1, 1.0f}};
+        file.materials[0].base_color_transform = transform;
+        file.meshes = {{scene::test::unit_quad(0)}};
+        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+        fs::create_directories(dir);
+        const std::string path = (dir / (name + ".glb")).string();
+        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+        gl::Renderer renderer(context());
+        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        const Image image = render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
+        double left_red = 0, left_blue = 0, right_red = 0, right_blue = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                const int eighth = 8 * x / image.width;
+                if (eighth == 2) {
+                    left_red += image.at(x, y, 0);
+                    left_blue += image.at(x, y, 2);
+                } else if (eighth == 5) {
+                    right_red += image.at(x, y, 0);
+                    right_blue += image.at(x, y, 2);
+                }
+            }
+        // +1: red left and blue right; -1: swapped; 0: neither.
+        if (left_red > 5.0 * left_blue && right_blue > 5.0 * right_red) return 1;
+        if (left_blue > 5.0 * left_red && right_red > 5.0 * right_blue) return -1;
+        return 0;
+    };
+    EXPECT_EQ(red_on_the_left("transform_none", nullptr), 1);
+    EXPECT_EQ(red_on_the_left("transform_half", nlohmann::json{{"offset", {0.5, 0.0}}}), -1);
+    EXPECT_EQ(red_on_the_left("transform_whole", nlohmann::json{{"offset", {1.0, 0.0}}}), 1);
+    // A half turn about the origin with a whole offset maps u to 1 - u: swapped.
+    EXPECT_EQ(red_on_the_left("transform_turn",
+                              nlohmann::json{{"rotation", 3.14159265}, {"offset", {1.0, 1.0}}}),
+              -1);
 }
 
 }  // namespace

@@ -87,6 +87,10 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.base_alpha = 1.0f;
     block.blend = 0.0f;
     block.double_sided = 0.0f;
+    for (int t = 0; t < 3; ++t) {  // identity transforms
+        block.uv_transforms[2 * t] = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+        block.uv_transforms[2 * t + 1] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+    }
     return block;
 }
 
@@ -249,6 +253,13 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.base_alpha = material.base_alpha;
         block.blend = material.blend ? 1.0f : 0.0f;
         block.double_sided = material.double_sided.value_or(false) ? 1.0f : 0.0f;
+        const scene::UvTransform* transforms[3] = {
+            &material.lean_uv, &material.map_uv[std::size_t(scene::MapKind::BaseColor)],
+            &material.map_uv[std::size_t(scene::MapKind::BaseRoughness)]};
+        for (int t = 0; t < 3; ++t) {
+            block.uv_transforms[2 * t] = glm::vec4(transforms[t]->row0, 0.0f);
+            block.uv_transforms[2 * t + 1] = glm::vec4(transforms[t]->row1, 0.0f);
+        }
         // A single-sided glTF material's back faces are culled (counter-clockwise front faces).
         if (material.double_sided.has_value() && !*material.double_sided) {
             glEnable(GL_CULL_FACE);

@@ -88,6 +88,21 @@ std::string read_file(const std::string& path, std::uint64_t max_bytes,
 
 }  // namespace
 
+UvTransform leanfade_uv_transform(const GltfTextureTransform& t) {
+    // glTF's M = T R S (R = [cos sin; -sin cos]), conjugated by the flip F(u, v) = (u, 1 - v):
+    // uv'_leanfade = F(M F(uv)).
+    const double c = std::cos(double(t.rotation)), s = std::sin(double(t.rotation));
+    const glm::dmat3 translation(1, 0, 0, 0, 1, 0, t.offset.x, t.offset.y, 1);  // columns
+    const glm::dmat3 rotation(c, -s, 0, s, c, 0, 0, 0, 1);
+    const glm::dmat3 scale(t.scale.x, 0, 0, 0, t.scale.y, 0, 0, 0, 1);
+    const glm::dmat3 flip(1, 0, 0, 0, -1, 0, 0, 1, 1);
+    const glm::dmat3 m = flip * translation * rotation * scale * flip;
+    UvTransform out;
+    out.row0 = glm::vec3(float(m[0][0]), float(m[1][0]), float(m[2][0]));
+    out.row1 = glm::vec3(float(m[0][1]), float(m[1][1]), float(m[2][1]));
+    return out;
+}
+
 std::string gltf_uri_path(const std::string& uri) {
     std::string out;  // percent-decoded: invalid escapes stay as they are
     for (std::size_t i = 0; i < uri.size(); ++i) {
@@ -250,6 +265,33 @@ int component_count(int type) {
         case TINYGLTF_TYPE_VEC4: return 4;
         default: return 0;
     }
+}
+
+// A texture reference's KHR_texture_transform (offset, rotation, scale; texCoord other than 0 is
+// warned about with the reference's own texCoord), checked finite.
+GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions,
+                                       const std::string& where) {
+    GltfTextureTransform t;
+    const auto found = extensions.find("KHR_texture_transform");
+    if (found == extensions.end()) return t;
+    const tinygltf::Value& e = found->second;
+    const auto number = [&](const tinygltf::Value& v, const char* what) {
+        if (!v.IsNumber()) throw std::runtime_error(where + ": KHR_texture_transform " + what + " is not a number");
+        const double d = v.GetNumberAsDouble();
+        if (!std::isfinite(d)) throw std::runtime_error(where + ": KHR_texture_transform " + what + " is not finite");
+        return float(d);
+    };
+    const auto pair = [&](const char* key, glm::vec2& out) {
+        if (!e.Has(key)) return;
+        const tinygltf::Value& v = e.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != 2)
+            throw std::runtime_error(where + ": KHR_texture_transform " + key + " is not 2 numbers");
+        out = glm::vec2(number(v.Get(0), key), number(v.Get(1), key));
+    };
+    pair("offset", t.offset);
+    pair("scale", t.scale);
+    if (e.Has("rotation")) t.rotation = number(e.Get("rotation"), "rotation");
+    return t;
 }
 
 class Converter {
@@ -616,6 +658,11 @@ int Converter::material_index(int gltf_material) {
         }
         m.double_sided = gm.doubleSided;
         const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
+        m.normal_transform = texture_transform(gm.normalTexture.extensions, where + " normalTexture");
+        m.base_color_transform =
+            texture_transform(pbr.baseColorTexture.extensions, where + " baseColorTexture");
+        m.metallic_roughness_transform = texture_transform(
+            pbr.metallicRoughnessTexture.extensions, where + " metallicRoughnessTexture");
         for (const auto& [value, name, out] :
              {std::tuple{pbr.metallicFactor, "metallicFactor", &m.metallic_factor},
               std::tuple{pbr.roughnessFactor, "roughnessFactor", &m.roughness_factor}}) {

@@ -148,6 +148,10 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         m.alpha_cutoff = gm.alpha_cutoff;
         m.blend = gm.blend;
         m.double_sided = gm.double_sided;
+        m.lean_uv = leanfade_uv_transform(gm.normal_transform);
+        m.map_uv[std::size_t(MapKind::BaseColor)] = leanfade_uv_transform(gm.base_color_transform);
+        m.map_uv[std::size_t(MapKind::BaseRoughness)] =
+            leanfade_uv_transform(gm.metallic_roughness_transform);
         if (!gm.lean_map_file.empty()) {
             // The map the file names (`bake SCENE -o OUT`): drawn as written.
             auto found = files.find(gm.lean_map_file);

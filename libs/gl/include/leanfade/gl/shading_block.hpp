@@ -55,6 +55,8 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, base_alpha, Float),
     LF_STD140(LfShadingUniforms, blend, Float),
     LF_STD140(LfShadingUniforms, double_sided, Float),
+    LF_STD140(LfShadingUniforms, uv_transform_padding, Float),
+    LF_STD140(LfShadingUniforms, uv_transforms, Vec4, 6),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

@@ -46,6 +46,18 @@ struct GltfImage {
 // LEAN map as a KTX2 file beside the glTF, {"uri": "..."} (docs/gltf.md).
 inline constexpr const char* kGltfLeanMapExtension = "LEANFADE_lean_map";
 
+// KHR_texture_transform of a texture reference, in glTF's uv (v down): uv' = T R S uv with T
+// the offset, R the rotation (radians, counter-clockwise) and S the scale (the extension's
+// matrices). The identity when the reference has none.
+struct GltfTextureTransform {
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f;
+    glm::vec2 scale{1.0f};
+};
+
+// The transform in leanfade's uv (v up, uv = (u, 1 - v) of glTF's) for a material's maps.
+UvTransform leanfade_uv_transform(const GltfTextureTransform& t);
+
 // A material's part that leanfade reads: what it shades (base colour, normal texture) and what
 // `bake SCENE -o OUT` filters (the metallic-roughness part).
 struct GltfMaterial {
@@ -62,6 +74,8 @@ struct GltfMaterial {
     float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
     float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
     int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none
+    // KHR_texture_transform of the normal, base colour and metallic-roughness textures.
+    GltfTextureTransform normal_transform, base_color_transform, metallic_roughness_transform;
     // The LEAN map the material's kGltfLeanMapExtension names (a path beside the glTF file,
     // checked as every URI is), drawn instead of a bake of its normal texture; "" when none.
     std::string lean_map_file;
@@ -85,7 +99,7 @@ struct GltfScene {
 
 // The glTF extensions leanfade implements: a file that lists any other in `extensionsRequired`
 // is refused, naming it (glTF 2.0 §3.12); extensions that are only used are ignored.
-inline constexpr std::array<std::string_view, 0> kSupportedGltfExtensions{};
+inline constexpr std::array<std::string_view, 1> kSupportedGltfExtensions{"KHR_texture_transform"};
 
 // Deepest nesting of arrays and objects in a glTF file's JSON, checked on the text before it is
 // parsed (a scan without recursion that skips strings): deeper files are refused.

@@ -48,6 +48,13 @@ constexpr std::array<int, kMapKindCount> filled_map_slots(int value) {
     return slots;
 }
 
+// An affine map of texture coordinates in leanfade's uv (v up): uv' = (dot(row0.xy, uv) +
+// row0.z, dot(row1.xy, uv) + row1.z); the identity by default (glTF KHR_texture_transform).
+struct UvTransform {
+    glm::vec3 row0{1.0f, 0.0f, 0.0f};
+    glm::vec3 row1{0.0f, 1.0f, 0.0f};
+};
+
 struct Material {
     std::string name;
     int lean_map = 0;                   // index into Scene::lean_maps (the single-map case)
@@ -71,6 +78,10 @@ struct Material {
     // glTF doubleSided: false culls back faces; true draws them, shaded with the reversed frame;
     // none (built-in and OBJ scenes): back faces drawn, shaded as front faces.
     std::optional<bool> double_sided{};
+    // Texture coordinate transforms: of the LEAN map (its plateau layer alike) and of each surface
+    // map kind (the plateau's entry unused).
+    UvTransform lean_uv{};
+    std::array<UvTransform, kMapKindCount> map_uv{};
     int& map(MapKind kind) { return maps[std::size_t(kind)]; }
     int map(MapKind kind) const { return maps[std::size_t(kind)]; }
 };
