@@ -27,6 +27,15 @@ std::vector<std::uint8_t> uniform_png(glm::vec3 rgb) {
     return scene::test::png_bytes(4, 4, 3, pixels);
 }
 
+// The renderer's scene of `file`, written as NAME.glb and read back as a user's file is.
+scene::Scene scene_of(const scene::test::GltfTestFile& file, const std::string& name) {
+    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
+    fs::create_directories(dir);
+    const std::string path = (dir / (name + ".glb")).string();
+    scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
+    return scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{});
+}
+
 // The quad (object xy plane, facing +z; the image's top row at y = 1) with one material.
 scene::Scene quad_scene(const std::string& name, int normal_image, int base_color_image,
                         const std::vector<std::vector<std::uint8_t>>& images) {
@@ -34,11 +43,7 @@ scene::Scene quad_scene(const std::string& name, int normal_image, int base_colo
     file.images = images;
     file.materials = {{"m", glm::vec4(1.0f), base_color_image, normal_image, 1.0f}};
     file.meshes = {{scene::test::unit_quad(0)}};
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-    fs::create_directories(dir);
-    const std::string path = (dir / (name + ".glb")).string();
-    scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
-    return scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{});
+    return scene_of(file, name);
 }
 
 Image render(gl::Renderer& renderer, glm::vec3 light, gl::OutputMode output) {
@@ -105,12 +110,8 @@ TEST_F(GltfRender, AlphaMaskCutsOutTexelsBelowTheCutoff) {
         file.materials = {{"m", glm::vec4(1.0f, 1.0f, 1.0f, factor_alpha), 0, -1, 1.0f}};
         file.materials[0].alpha_mode = mode;
         file.meshes = {{scene::test::unit_quad(0)}};
-        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-        fs::create_directories(dir);
-        const std::string path = (dir / (name + ".glb")).string();
-        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
         gl::Renderer renderer(context());
-        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        renderer.set_scene(scene_of(file, name));
         const Image image = render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
         // Lit pixels in the middle of each half (away from where the texture's filtering blends
         // the halves, and from the repeat's seam): {right, left}.
@@ -150,12 +151,8 @@ TEST_F(GltfRender, AlphaBlendIsDrawnOverTheOpaqueObjectsBehind) {
         file.materials[0].alpha_mode = mode;
         file.meshes = {{scene::test::unit_quad(0)}, {scene::test::unit_quad(1)}};
         file.nodes = {{0, {}, {}, {-0.25, -0.25, 0.5}, {}}, {1, {}, {}, {-0.5, -0.5, 0.0}, {}}};
-        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-        fs::create_directories(dir);
-        const std::string path = (dir / (name + ".glb")).string();
-        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
         gl::Renderer renderer(context());
-        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        renderer.set_scene(scene_of(file, name));
         return render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
     };
     const Image half = render_scene("blend_half", "BLEND", 0.5f);
@@ -196,12 +193,8 @@ TEST_F(GltfRender, DoubleSidedShadesBackFacesAndSingleSidedCullsThem) {
         file.materials = {{"m", glm::vec4(1.0f), -1, -1, 1.0f}};
         file.materials[0].double_sided = double_sided;
         file.meshes = {{scene::test::unit_quad(0)}};
-        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-        fs::create_directories(dir);
-        const std::string path = (dir / (name + ".glb")).string();
-        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
         gl::Renderer renderer(context());
-        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        renderer.set_scene(scene_of(file, name));
         gl::RenderRequest r;
         r.technique = Technique::Lean;
         r.width = r.height = 64;
@@ -257,12 +250,8 @@ TEST_F(GltfRender, TextureTransformMovesTheBaseColourTexture) {
         file.materials = {{"m", glm::vec4(1.0f), 0, -1, 1.0f}};
         file.materials[0].base_color_transform = transform;
         file.meshes = {{scene::test::unit_quad(0)}};
-        const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-        fs::create_directories(dir);
-        const std::string path = (dir / (name + ".glb")).string();
-        scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
         gl::Renderer renderer(context());
-        renderer.set_scene(scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{}));
+        renderer.set_scene(scene_of(file, name));
         const Image image = render(renderer, {0, 0, 1}, gl::OutputMode::Diffuse);
         double left_red = 0, left_blue = 0, right_red = 0, right_blue = 0;
         for (int y = 0; y < image.height; ++y)
