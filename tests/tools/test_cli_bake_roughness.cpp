@@ -277,3 +277,42 @@ TEST(CliBakeRoughness, WithoutALeanMapAskedOnlyTheEngineFilesAreWritten) {
     EXPECT_EQ(test::read_text(dir / "alone" / "r.ktx2"), test::read_text(dir / "r.ktx2"));
     EXPECT_FALSE(fs::exists(dir / "r.levels"));
 }
+
+// --ktx2-2d: the LEAN map's layers as plain 2D KTX2 files, the same bytes as the array's layers
+// with the map's keys; refused where there is no single KTX2 LEAN map.
+TEST(CliBakeLayers2d, WritesEachLayerAsA2dTextureOfTheSameBytes) {
+    const fs::path dir = test::scratch_dir("bake_layers_2d");
+    const fs::path height = write_height_map(dir);
+    const auto r = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                    shell_quote((dir / "m.ktx2").string()) + " --bits 16f --ktx2-2d",
+                                dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("also wrote " + (dir / "m.lean1.ktx2").string()));
+    const PackedLeanMap map = io::read_ktx2((dir / "m.ktx2").string());
+    for (int layer = 0; layer < 2; ++layer) {
+        const fs::path file = dir / (layer == 0 ? "m.lean1.ktx2" : "m.lean2.ktx2");
+        const io::Ktx2Info info = io::inspect_ktx2(file.string());
+        EXPECT_EQ(info.vk_format, io::kVkFormatR16G16B16A16Sfloat);
+        EXPECT_EQ(info.layer_count, 0u);
+        ASSERT_EQ(info.levels.size(), map.levels.size());
+        EXPECT_EQ(*info.find(io::kScaleKey), *io::inspect_ktx2((dir / "m.ktx2").string()).find(io::kScaleKey));
+        EXPECT_EQ(*info.find(io::kKeyTextureContent), layer == 0 ? "lean1 v1" : "lean2 v1");
+        EXPECT_EQ(info.find(io::kLayoutKey), nullptr) << "not a LEAN map container";
+        const std::string bytes = test::read_text(file);
+        for (std::size_t l = 0; l < map.levels.size(); ++l) {
+            const std::vector<std::uint8_t>& expected =
+                layer == 0 ? map.levels[l].lean1 : map.levels[l].lean2;
+            ASSERT_EQ(info.levels[l].byte_length, expected.size());
+            EXPECT_EQ(bytes.compare(std::size_t(info.levels[l].byte_offset), expected.size(),
+                                    reinterpret_cast<const char*>(expected.data()), expected.size()),
+                      0)
+                << file << " level " << l;
+        }
+    }
+    const auto png = run_leanfade("bake " + shell_quote(height.string()) + " -o " +
+                                      shell_quote((dir / "p.png").string()) + " --ktx2-2d",
+                                  dir);
+    EXPECT_NE(png.exit_code, 0);
+    EXPECT_THAT(png.err, HasSubstr("--ktx2-2d"));
+    EXPECT_FALSE(fs::exists(dir / "p.lean1.png"));
+}

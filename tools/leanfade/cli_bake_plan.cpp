@@ -112,6 +112,12 @@ BakeSettings bake_settings(const BakeArgs& args) {
     return settings;
 }
 
+std::pair<std::string, std::string> layer_texture_paths(const std::string& ktx2_output) {
+    fs::path stem(ktx2_output);
+    stem.replace_extension();
+    return {stem.string() + ".lean1.ktx2", stem.string() + ".lean2.ktx2"};
+}
+
 std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
     std::vector<BakeJob> jobs;
     if (!args.builtin.empty()) jobs.push_back({"builtin:" + args.builtin, false, {}, {}});
@@ -140,6 +146,13 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan_roughness_outputs(args.roughness, job_count(args), args.bake_roughness, plan);
     plan_plateau_output(args.plateau_out, job_count(args), plan);
+    if (args.ktx2_2d) {
+        if (job_count(args) != 1 || args.format != "ktx2" || !args.writes_lean_map)
+            throw Error("--ktx2-2d", "needs one input baked to a .ktx2 LEAN map");
+        const auto [lean1, lean2] = layer_texture_paths(jobs.front().outputs.front());
+        plan.add_output(lean1, "--ktx2-2d");
+        plan.add_output(lean2, "--ktx2-2d");
+    }
     plan.check();
     return jobs;
 }

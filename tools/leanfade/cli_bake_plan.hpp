@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -41,11 +42,16 @@ struct BakeArgs {
     std::string json;
     RoughnessBakeArgs roughness;     // --roughness-out and its flags (cli_bake_roughness.hpp)
     std::string plateau_out;         // --plateau-out FILE.ktx2 (cli_bake_plateau.hpp)
+    bool ktx2_2d = false;            // --ktx2-2d: the layers also as 2D KTX2 files
     // Whether the LEAN map itself is written: not when only engine outputs are asked
     // (--roughness-out / --anisotropy-out without -o, --out-dir or --plateau-out).
     bool writes_lean_map = true;
     std::vector<std::string> given;  // the options given on the command line, by long name
 };
+
+// The 2D KTX2 files of a LEAN map's layers beside OUT.ktx2 (--ktx2-2d): OUT.lean1.ktx2 and
+// OUT.lean2.ktx2.
+std::pair<std::string, std::string> layer_texture_paths(const std::string& ktx2_output);
 
 // The first option given that is not one of `applicable` ("" when all are).
 std::string first_inapplicable(const BakeArgs& args,

@@ -26,6 +26,7 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/io/png_io.hpp"
 #include "leanfade/scene/gltf.hpp"
@@ -200,12 +201,18 @@ class BakeRun {
         if (args_.roughness.requested())
             write_roughness_outputs(args_.roughness, input, kind, settings_.options,
                                     settings_.read_options, settings_.write_options, outputs);
-        if (!args_.plateau_out.empty()) {
+        if (!args_.plateau_out.empty() || args_.ktx2_2d) {
             // From the map as stored: a KTX2 bake keeps no copy of it in memory.
             const PackedLeanMap stored =
                 args_.format == "png" ? baked.packed : io::read_ktx2(staged.staged);
-            write_plateau_output(args_.plateau_out, stored, settings_.options.threads,
-                                 settings_.write_options, outputs);
+            if (!args_.plateau_out.empty())
+                write_plateau_output(args_.plateau_out, stored, settings_.options.threads,
+                                     settings_.write_options, outputs);
+            if (args_.ktx2_2d) {
+                const auto [lean1, lean2] = layer_texture_paths(staged.output);
+                io::write_ktx2_layer_textures(outputs.stage(lean1), outputs.stage(lean2), stored,
+                                              settings_.write_options);
+            }
         }
         if (!one_group_) outputs.publish();
         const bool other_convention =
@@ -218,6 +225,11 @@ class BakeRun {
         // reports after the whole group, --json included).
         BakeReport report = bake_report(name, staged.output, baked, seconds, other_convention);
         report.also_written = engine_outputs(args_);
+        if (args_.ktx2_2d) {
+            const auto [lean1, lean2] = layer_texture_paths(staged.output);
+            report.also_written.push_back(lean1);
+            report.also_written.push_back(lean2);
+        }
         if (one_group_)
             reports_.push_back(report);
         else
@@ -342,6 +354,10 @@ const CommandRegistration registration{
         app.add_option("--json", args->json, "Also write the summaries as JSON");
         add_roughness_bake_options(app, args->roughness);
         add_plateau_bake_option(app, args->plateau_out);
+        app.add_flag("--ktx2-2d", args->ktx2_2d,
+                     "Also write the LEAN map's two layers as plain 2D KTX2 textures, "
+                     "OUT.lean1.ktx2 and OUT.lean2.ktx2, every level, for loaders that read no "
+                     "array layers (docs/ktx2.md)");
         return [args, strength, &app] {
             args->strength_given = strength->count() > 0;
             for (const CLI::Option* option : app.get_options())

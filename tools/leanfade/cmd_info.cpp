@@ -44,8 +44,11 @@ int run_info(const std::string& path) {
         else if (*content == "roughness v1" || *content == "normal v1" ||
                  *content == "anisotropy v1")
             io::read_ktx2_rgba8(path);
-        kind = "not a LEAN map: a leanfade texture for engines, LEANFADEcontent '" +
-               escape_text(*content) + "' (docs/ktx2.md)";
+        kind = content->rfind("lean", 0) == 0
+                   ? "not a LEAN map: one of its layers as a 2D texture (bake --ktx2-2d), "
+                     "LEANFADEcontent '" + escape_text(*content) + "'"
+                   : "not a LEAN map: a leanfade texture for engines, LEANFADEcontent '" +
+                         escape_text(*content) + "' (docs/ktx2.md)";
     } else {
         kind = "not a LEAN map (no LEANFADElayout key): a texture of another writer";
     }

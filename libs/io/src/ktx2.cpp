@@ -236,6 +236,21 @@ void append_key_value(std::vector<std::uint8_t>& out, const std::string& key,
     while (out.size() % 4 != 0) out.push_back(0);
 }
 
+std::vector<std::pair<std::string, std::string>> lean_metadata_keys(const PackedLeanMap& map) {
+    std::vector<std::pair<std::string, std::string>> keys = {
+        {kScaleKey, format_float(map.scale)},
+        {kRoughnessBakedKey, map.roughness_baked ? "1" : "0"},
+        {kBakedShininessKey, format_float(map.baked_shininess)},
+        {kNormalConventionKey, normal_convention_name(map.source_convention)},
+    };
+    if (map.normal_repairs.padding_texels > 0)
+        keys.emplace_back(kPaddingTexelsKey, std::to_string(map.normal_repairs.padding_texels));
+    if (map.normal_repairs.raised_texels > 0)
+        keys.emplace_back(kRaisedTexelsKey, std::to_string(map.normal_repairs.raised_texels));
+    if (map.source_looks_flipped) keys.emplace_back(kConventionWarningKey, "other");
+    return keys;
+}
+
 void validate_for_write(const std::string& path, const PackedLeanMap& map, const FormatInfo& format,
                         bool check_layers) {
     if (map.levels.empty()) throw Error(path, "LEAN map without levels");

@@ -108,6 +108,10 @@ float parse_float(const std::string& path, const std::string& key, const std::st
 void append_key_value(std::vector<std::uint8_t>& out, const std::string& key,
                       const std::string& value);
 
+// The LEANFADE keys of a map's metadata (scale, roughness baking, normal convention, repairs,
+// the convention warning), unsorted; the layout key is the caller's.
+std::vector<std::pair<std::string, std::string>> lean_metadata_keys(const PackedLeanMap& map);
+
 // check_layers: the layers' byte counts too (not for a layout whose layers are written later).
 void validate_for_write(const std::string& path, const PackedLeanMap& map, const FormatInfo& format,
                         bool check_layers);

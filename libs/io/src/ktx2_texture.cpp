@@ -212,6 +212,23 @@ void write_ktx2_rgba16f(const std::string& path, const std::vector<Image>& level
     write_bytes(path, encode_ktx2_rgba16f(levels, writer, path, key_values), options);
 }
 
+void write_ktx2_layer_textures(const std::string& lean1_path, const std::string& lean2_path,
+                               const PackedLeanMap& map, const WriteOptions& options) {
+    const FormatInfo& format = format_of(map.storage);
+    validate_for_write(lean1_path, map, format, true);
+    const std::string writer =
+        map.generator.empty() ? std::string("leanfade ") + LEANFADE_VERSION : map.generator;
+    for (int layer = 0; layer < 2; ++layer) {
+        const std::string& path = layer == 0 ? lean1_path : lean2_path;
+        std::vector<LevelBytes> views;
+        for (const PackedLevel& level : map.levels)
+            views.push_back({level.width, level.height, layer == 0 ? level.lean1 : level.lean2});
+        TextureKeyValues keys = lean_metadata_keys(map);
+        keys.emplace_back(kKeyTextureContent, layer == 0 ? "lean1 v1" : "lean2 v1");
+        write_bytes(path, encode_2d(format, views, writer, path, keys), options);
+    }
+}
+
 std::vector<Rgba8Level> read_ktx2_rgba8(const std::string& path) {
     std::vector<glm::ivec2> sizes;
     std::vector<std::vector<std::uint8_t>> bytes = read_2d(path, format_of(Storage::Unorm8), sizes);

@@ -42,23 +42,12 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     const auto level_count = std::uint32_t(layout.levels.size());
     const PackedLevel& top = layout.levels.front();
 
-    std::vector<std::pair<std::string, std::string>> key_values = {
-        {kKeyOrientation, "rd"},
-        {kKeyWriter,
-         layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator},
-        {kScaleKey, format_float(layout.scale)},
-        {kRoughnessBakedKey, layout.roughness_baked ? "1" : "0"},
-        {kBakedShininessKey, format_float(layout.baked_shininess)},
-        {kNormalConventionKey, normal_convention_name(layout.source_convention)},
-        {kLayoutKey, layout_name},
-    };
-    if (layout.normal_repairs.padding_texels > 0)
-        key_values.emplace_back(kPaddingTexelsKey,
-                                std::to_string(layout.normal_repairs.padding_texels));
-    if (layout.normal_repairs.raised_texels > 0)
-        key_values.emplace_back(kRaisedTexelsKey,
-                                std::to_string(layout.normal_repairs.raised_texels));
-    if (layout.source_looks_flipped) key_values.emplace_back(kConventionWarningKey, "other");
+    std::vector<std::pair<std::string, std::string>> key_values = lean_metadata_keys(layout);
+    key_values.emplace_back(kKeyOrientation, "rd");
+    key_values.emplace_back(
+        kKeyWriter,
+        layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator);
+    key_values.emplace_back(kLayoutKey, layout_name);
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
     for (const auto& [key, value] : key_values) append_key_value(key_value_bytes, key, value);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::io {
@@ -56,6 +57,15 @@ std::vector<std::uint8_t> encode_ktx2_rgba16f(const std::vector<Image>& levels,
 void write_ktx2_rgba16f(const std::string& path, const std::vector<Image>& levels,
                         const std::string& writer, const WriteOptions& options = {},
                         const TextureKeyValues& key_values = {});
+
+// A LEAN map's two layers as plain 2D textures (`bake --ktx2-2d`), for loaders that read no array
+// layers (three.js's KTX2Loader among them): `lean1_path` holds layer 0 (lean1) and `lean2_path`
+// layer 1 (lean2), every level, in the map's own format (R8G8B8A8_UNORM, R16G16B16A16_UNORM,
+// _SFLOAT or R32G32B32A32_SFLOAT), the same bytes as the array's layers, with the map's LEANFADE
+// keys (sc and the rest, docs/ktx2.md) and LEANFADEcontent "lean1 v1" / "lean2 v1" in place of
+// LEANFADElayout. Each file written atomically; throws leanfade::Error(file, cause).
+void write_ktx2_layer_textures(const std::string& lean1_path, const std::string& lean2_path,
+                               const PackedLeanMap& map, const WriteOptions& options = {});
 
 // Reads the levels of a file in the forms above back (for tests and tools): checks the structure
 // with inspect_ktx2 (ktx2.hpp), then that it is a 2D texture of the format with one layer and
