@@ -24,7 +24,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A material's name as part of a file name: letters, digits, '-' and '_' kept, the rest '_'.
+// glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
+std::string gltf_convention_warning(const std::string& image) {
+    return "warning: " + image +
+           " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
+           "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
+           "from the wrong side, flip the texture's green channel";
+}
+
+}  // namespace
+
 std::string file_name_part(const std::string& name) {
     std::string out;
     for (char c : name.substr(0, 64))
@@ -32,8 +41,16 @@ std::string file_name_part(const std::string& name) {
     return out.empty() ? "material" : out;
 }
 
-scene::GltfBakeSettings bake_settings(const std::string& bits, int max_size, int threads,
-                                      bool strict_normals) {
+std::string unique_name(const std::string& base, const std::string& suffix,
+                        std::set<std::string>& taken) {
+    std::string name = base + suffix;
+    for (int n = 2; taken.count(name) != 0; ++n) name = base + "-" + std::to_string(n) + suffix;
+    taken.insert(name);
+    return name;
+}
+
+scene::GltfBakeSettings gltf_bake_settings(const std::string& bits, int max_size, int threads,
+                                           bool strict_normals) {
     scene::GltfBakeSettings settings;
     settings.strict_normals = strict_normals;
     // "auto" (bake's choice per map) is 16-bit UNORM here: normal textures have bounded slopes.
@@ -49,23 +66,13 @@ void print_warnings(const std::string& path, const std::vector<std::string>& war
         std::fprintf(stderr, "leanfade: %s\n", terminal_text(path + ": " + w).c_str());
 }
 
-// glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
-std::string gltf_convention_warning(const std::string& image) {
-    return "warning: " + image +
-           " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
-           "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
-           "from the wrong side, flip the texture's green channel";
-}
-
-}  // namespace
-
 int run_bake_gltf(const GltfBakeArgs& args) {
     if (!args.refused_flags.empty())
         throw Error(args.refused_flags.front(),
                     "does not apply to a glTF scene (its normal textures are OpenGL-convention "
                     "normal maps baked to KTX2)");
     const scene::GltfBakeSettings settings =
-        bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
+        gltf_bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
     // A missing --out-dir is created, and removed again if the run writes nothing into it.
     const io::CreatedFolders out_folder(args.out_dir);
     const scene::GltfScene gltf = scene::load_gltf(args.input);
@@ -91,10 +98,7 @@ int run_bake_gltf(const GltfBakeArgs& args) {
         if (m.normal_image < 0) continue;
         if (seen.count({m.normal_image, m.normal_scale}) != 0) continue;
         seen[{m.normal_image, m.normal_scale}] = jobs.size();
-        const std::string part = file_name_part(m.name);
-        std::string name = part;
-        for (int n = 2; names.count(name) != 0; ++n) name = part + "-" + std::to_string(n);
-        names.insert(name);
+        const std::string name = unique_name(file_name_part(m.name), "", names);
         jobs.push_back({m.normal_image, m.normal_scale, m.name,
                         (folder / (stem + "." + name + ".ktx2")).string()});
     }
@@ -180,7 +184,7 @@ scene::Scene load_gltf_render_scene(const std::string& path, const std::string& 
     print_warnings(path, gltf.warnings);
     scene::GltfBakeReport report;
     scene::Scene result =
-        scene::make_render_scene(gltf, bake_settings(storage_bits, max_size, 0, strict_normals),
+        scene::make_render_scene(gltf, gltf_bake_settings(storage_bits, max_size, 0, strict_normals),
                                  &report);
     print_warnings(path, report.warnings);
     for (const std::string& image : report.other_convention)

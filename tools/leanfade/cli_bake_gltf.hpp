@@ -2,9 +2,11 @@
 // glTF scenes on the command line: `leanfade bake FILE.gltf|FILE.glb` (every normal texture of
 // the scene baked to a LEAN map, through the LEAN-map cache) and the scene that `--scene
 // FILE.gltf` draws in render, view, eval, calibrate and bench.
+#include <set>
 #include <string>
 #include <vector>
 
+#include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/material.hpp"
 
 namespace leanfade::cli {
@@ -21,6 +23,20 @@ struct GltfBakeArgs {
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;
 };
+
+// What the glTF commands share (cli_bake_gltf.cpp, cli_bake_gltf_out.cpp):
+// A material's (or file's) name as part of a file name: letters, digits, '-' and '_' kept, the
+// rest '_', at most 64 characters, "material" when nothing is left.
+std::string file_name_part(const std::string& name);
+// `base` + `suffix`, or `base`-2 + `suffix`, -3, ...: the first not in `taken`, which it joins.
+std::string unique_name(const std::string& base, const std::string& suffix,
+                        std::set<std::string>& taken);
+// The bake settings of --bits (8, 16, 16f, 32f), --max-size (0: the default), --threads and
+// --strict-normals, through the LEAN-map cache.
+scene::GltfBakeSettings gltf_bake_settings(const std::string& bits, int max_size, int threads,
+                                           bool strict_normals);
+// Each of `warnings` as a "leanfade: PATH: ..." line on stderr.
+void print_warnings(const std::string& path, const std::vector<std::string>& warnings);
 
 // Bakes every normal texture of the scene (one per material and normal scale) to
 // `<out>/<stem>.<material>.ktx2`, all published together (nothing is written on an error), and

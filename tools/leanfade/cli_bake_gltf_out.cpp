@@ -104,13 +104,6 @@ std::string uri_of(const fs::path& relative) {
 }
 
 
-// A material's name as part of a file name: letters, digits, '-' and '_' kept, the rest '_'.
-std::string file_name_part(const std::string& name) {
-    std::string out;
-    for (char c : name.substr(0, 64))
-        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-    return out.empty() ? "material" : out;
-}
 
 // An external file of the scene (a buffer or an image named by a URI) that the output needs
 // beside it: the output's folder is another, so a copy is written there.
@@ -144,10 +137,7 @@ std::vector<CopiedFile> relocate_external_files(json& root, const fs::path& inpu
                 const std::string base = stem + "." + file_name_part(fs::path(source).stem().string());
                 const std::string extension = file_name_part(fs::path(source).extension().string().substr(
                     std::min<std::size_t>(1, fs::path(source).extension().string().size())));
-                std::string name = base + "." + extension;
-                for (int n = 2; names.count(name) != 0; ++n)
-                    name = base + "-" + std::to_string(n) + "." + extension;
-                names.insert(name);
+                const std::string name = unique_name(base, "." + extension, names);
                 copies.push_back({source, name});
                 found = copied.emplace(source, name).first;
             }
@@ -374,8 +364,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const bool binary_out = extension == ".glb";
 
     const scene::GltfScene gltf = scene::load_gltf(args.input);
-    for (const std::string& w : gltf.warnings)
-        std::fprintf(stderr, "leanfade: %s\n", terminal_text(args.input + ": " + w).c_str());
+    print_warnings(args.input, gltf.warnings);
     Container container = read_container(args.input);
     json& root = container.root;
 
@@ -394,10 +383,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     for (std::size_t i = 0; i < gltf.materials.size(); ++i) {
         const scene::GltfMaterial& m = gltf.materials[i];
         if (m.normal_image < 0 || m.gltf_index < 0) continue;
-        const std::string base = file_name_part(m.name);
-        std::string part = base;
-        for (int n = 2; parts.count(part) != 0; ++n) part = base + "-" + std::to_string(n);
-        parts.insert(part);
+        const std::string part = unique_name(file_name_part(m.name), "", parts);
         MaterialFiles f;
         f.material = int(i);
         f.part = part;
@@ -430,12 +416,8 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan.check();
 
-    scene::GltfBakeSettings settings;
-    settings.storage = parse_bake_storage(args.bits, "--bits");
-    if (args.max_size > 0) settings.max_image_size = args.max_size;
-    settings.threads = args.threads;
-    settings.strict_normals = args.strict_normals;
-    settings.cache_folder = scene::default_lean_cache_folder();
+    const scene::GltfBakeSettings settings =
+        gltf_bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
     io::ReadOptions read_options;
     if (args.max_size > 0) read_options.max_dimension = args.max_size;
 
@@ -477,9 +459,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                               args.input);
             if (!cached) {
                 const std::string warning = store_engine_textures(cache, cache_key, textures);
-                if (!warning.empty())
-                    std::fprintf(stderr, "leanfade: %s\n",
-                                 terminal_text(args.input + ": cache: " + warning).c_str());
+                if (!warning.empty()) print_warnings(args.input, {"cache: " + warning});
             }
             const bool anisotropic = textures.anisotropic;
             const float anisotropy = textures.anisotropy_ratio;
