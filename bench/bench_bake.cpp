@@ -82,7 +82,7 @@ const Image& decoded_input() {
 
 std::size_t packed_bytes(const PackedLeanMap& map) {
     std::size_t total = 0;
-    for (const auto& l : map.levels) total += l.lean1.size() + l.lean2.size();
+    for (const auto& l : map.levels) total += l.lean1.size() + l.lean2.size() + l.plateau.size();
     return total;
 }
 
@@ -129,10 +129,13 @@ std::size_t floor_bytes(const Image& input, std::size_t packed) {
     return input.pixels.size() * sizeof(float) + packed;
 }
 
-// One bake of the core benchmarks: `input` into `result`, 16-bit, reusing its buffers.
-void bake_core(PackedBakeResult& result, const Image& input, int threads) {
+// One bake of the core benchmarks: `input` into `result`, 16-bit, reusing its buffers; with the
+// plateau layer of two-lobe LEAN unless plateau_epsilon is 0 (the bake's default has it).
+void bake_core(PackedBakeResult& result, const Image& input, int threads,
+               float plateau_epsilon = kDefaultPlateauEpsilon) {
     BakeOptions options;
     options.threads = threads;
+    options.plateau_epsilon = plateau_epsilon;
     bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
     benchmark::DoNotOptimize(result.packed.levels.data());
 }
@@ -155,16 +158,31 @@ void BM_BakeCore(benchmark::State& state) {
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
-// Two-lobe LEAN's plateau layer (docs/math.md §10) of the same map: made from the packed map's
-// finest level when a scene is loaded (packed_top_slopes, then plateau_mips), its cost next to
-// BM_BakeCore's.
+// The same bake without two-lobe LEAN's plateau layer (docs/math.md §10, `--plateau-epsilon 0`):
+// BM_BakeCore / BM_BakeCoreWithoutPlateau is the time the layer adds to a bake.
+void BM_BakeCoreWithoutPlateau(benchmark::State& state) {
+    const Image& input = decoded_input();
+    PackedBakeResult result;
+    bake_core(result, input, int(state.range(0)), 0.0f);
+    for (auto _ : state) bake_core(result, input, int(state.range(0)), 0.0f);
+    set_core_counters(state, input, packed_bytes(result.packed));
+}
+BENCHMARK(BM_BakeCoreWithoutPlateau)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+// The plateau layer's reference path (add_plateau_layer: packed_top_slopes, plateau_mips, then
+// packed), the float images the fused bake does without.
 void BM_PlateauLayer(benchmark::State& state) {
     const Image& input = decoded_input();
     PackedBakeResult result;
     bake_core(result, input, 0);
     for (auto _ : state) {
-        const std::vector<Image> chain = plateau_mips(packed_top_slopes(result.packed));
-        benchmark::DoNotOptimize(chain.data());
+        add_plateau_layer(result.packed);
+        benchmark::DoNotOptimize(result.packed.levels.data());
     }
     state.counters["texels_per_s"] = benchmark::Counter(
         double(input.texel_count()) * double(state.iterations()), benchmark::Counter::kIsRate);

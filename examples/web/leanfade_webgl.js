@@ -42,11 +42,14 @@ function halfFloatLevels(container, name) {
   });
 }
 
-// A LEAN map written by `leanfade bake --bits 16f`: a 2D array of two layers (lean1, lean2) with
-// every level, and its slope scale sc (LEANFADEscale).
+// A LEAN map written by `leanfade bake --bits 16f`: a 2D array of two layers (lean1, lean2), or
+// three with the plateau layer, with every level, and its slope scale sc (LEANFADEscale).
 export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
   const container = readKtx2(new Uint8Array(arrayBuffer));
-  if (container.layerCount !== 2) throw new LeanfadeError(name, 'a LEAN map has two layers');
+  // Two layers, or three with two-lobe LEAN's plateau layer, whose decoded form the page reads
+  // from `bake --plateau-out` instead: only lean1 and lean2 are kept here.
+  if (container.layerCount !== 2 && container.layerCount !== 3)
+    throw new LeanfadeError(name, 'a LEAN map has two layers (three with the plateau layer)');
   const scale = Number(keyValueText(container, 'LEANFADEscale'));
   if (!(scale > 0) || !Number.isFinite(scale)) throw new LeanfadeError(name, 'no LEANFADEscale key');
   return {
@@ -55,7 +58,10 @@ export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
     layers: 2,
     scale,
     roughnessBaked: keyValueText(container, 'LEANFADEroughnessBaked') === '1',
-    levels: halfFloatLevels(container, name),
+    levels: halfFloatLevels(container, name).map((level) => ({
+      ...level,
+      data: level.data.subarray(0, level.width * level.height * 4 * 2),
+    })),
   };
 }
 
@@ -69,7 +75,10 @@ export function parseTexture(arrayBuffer, name = 'texture') {
     height: container.pixelHeight,
     layers: 1,
     content: keyValueText(container, 'LEANFADEcontent'),
-    levels: halfFloatLevels(container, name),
+    levels: halfFloatLevels(container, name).map((level) => ({
+      ...level,
+      data: level.data.subarray(0, level.width * level.height * 4 * 2),
+    })),
   };
 }
 

@@ -8,6 +8,7 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/gl/generate.hpp"
@@ -201,6 +202,64 @@ TEST_F(Generate, BadInputsAreErrors) {
     EXPECT_THROW(generator.write_top_level(options), Error);
 }
 
+// The plateau layer of two-lobe LEAN (shaders/generate_plateau.comp) follows the CPU's rule
+// (plateau_texels) on the generated map's own stored slopes, and its MIP levels are the layer's
+// box filter (glGenerateMipmap), within half-float rounding.
+TEST_F(Generate, PlateauLayerFollowsTheCpuRuleOnTheGeneratedMap) {
+    gl::LeanGenerator generator(context());
+    generator.set_source(bumps_height(64, 64), gl::GenerateInput::Height);
+    gl::GenerateOptions options;
+    options.strength = 4.0f;
+    options.scale = 3.0f;
+    generator.generate(options);
+    ASSERT_NE(generator.plateau_texture(), 0u);
+    const std::vector<Image> gpu = generator.read_back_plateau();
+    const std::vector<Image> cpu = plateau_mips(packed_top_slopes(generator.read_back()),
+                                                options.plateau_epsilon);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    // Level 0: the same texels on a plateau (a texel whose neighbour's slope lies within a float
+    // rounding of epsilon may go either way), their values within half-float rounding.
+    std::size_t differing = 0, on_plateau = 0;
+    for (std::size_t t = 0; t < cpu[0].texel_count(); ++t) {
+        const float* a = &gpu[0].pixels[4 * t];
+        const float* b = &cpu[0].pixels[4 * t];
+        if (b[0] > 0.0f) ++on_plateau;
+        if (a[0] != b[0]) {
+            ++differing;
+            continue;
+        }
+        for (int c = 1; c < 4; ++c) EXPECT_NEAR(a[c], b[c], 1e-3f * (std::abs(b[c]) + 1e-3f));
+    }
+    EXPECT_GT(on_plateau, cpu[0].texel_count() / 5) << "the bumps set is mostly flat ground";
+    EXPECT_LE(differing, cpu[0].texel_count() / 200);
+    // Below: the box filter of the level above (power-of-two sizes), half floats.
+    for (std::size_t l = 1; l < gpu.size(); ++l)
+        for (std::size_t i = 0; i < gpu[l].pixels.size(); ++i)
+            EXPECT_NEAR(gpu[l].pixels[i], cpu[l].pixels[i],
+                        2e-3f * (std::abs(cpu[l].pixels[i]) + 0.01f) +
+                            float(differing) / float(cpu[l].texel_count()) * 4.0f)
+                << "level " << l << " value " << i;
+    // Without the layer: no texture.
+    options.plateau_epsilon = 0.0f;
+    generator.generate(options);
+    EXPECT_EQ(generator.plateau_texture(), 0u);
+    EXPECT_TRUE(generator.read_back_plateau().empty());
+    options.plateau_epsilon = -1.0f;
+    EXPECT_THROW(generator.generate(options), Error);
+}
+
+// glslangValidator's exit status and output for one shader file (paths are the test's own).
+std::pair<int, std::string> run_validator(const std::string& validator, const fs::path& file) {
+    const std::string command = "'" + validator + "' '" + file.string() + "' 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) return {-1, "popen failed"};
+    std::string output;
+    char buffer[1024];
+    for (std::size_t n = 0; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;)
+        output.append(buffer, n);
+    return {::pclose(pipe), output};
+}
+
 // The compute shader's variants pass the reference compiler (tests/gl does the same for the
 // vertex and fragment variants).
 TEST(GenerateShader, EveryVariantPassesGlslangValidator) {
@@ -215,16 +274,13 @@ TEST(GenerateShader, EveryVariantPassesGlslangValidator) {
                 "generate_lean.comp", {input, std::string("SLICE_FORMAT ") + format});
             const fs::path file = dir / (std::string(input) + "_" + format + ".comp");
             std::ofstream(file) << resolved.text;
-            const std::string command = "'" + validator + "' '" + file.string() + "' 2>&1";
-            FILE* pipe = ::popen(command.c_str(), "r");
-            ASSERT_NE(pipe, nullptr);
-            std::string output;
-            char buffer[1024];
-            std::size_t n = 0;
-            while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
-            const int status = ::pclose(pipe);
+            const auto [status, output] = run_validator(validator, file);
             EXPECT_EQ(status, 0) << input << " " << format << ":\n" << output;
         }
+    const fs::path plateau = dir / "generate_plateau.comp";
+    std::ofstream(plateau) << sources.resolve("generate_plateau.comp", {}).text;
+    const auto [status, output] = run_validator(validator, plateau);
+    EXPECT_EQ(status, 0) << "generate_plateau.comp:\n" << output;
 }
 
 }  // namespace

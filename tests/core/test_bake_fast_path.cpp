@@ -12,6 +12,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "test_helpers.hpp"
 
@@ -71,6 +72,7 @@ void expect_same_packed(const PackedLeanMap& fast, const PackedLeanMap& ref,
     EXPECT_EQ(fast.baked_shininess, ref.baked_shininess) << what;
     EXPECT_EQ(fast.source_convention, ref.source_convention) << what;
     EXPECT_EQ(fast.generator, ref.generator) << what;
+    EXPECT_EQ(fast.plateau_epsilon, ref.plateau_epsilon) << what;
     ASSERT_EQ(fast.levels.size(), ref.levels.size()) << what;
     for (std::size_t l = 0; l < ref.levels.size(); ++l) {
         const PackedLevel& a = fast.levels[l];
@@ -78,13 +80,13 @@ void expect_same_packed(const PackedLeanMap& fast, const PackedLeanMap& ref,
         EXPECT_EQ(a.width, b.width) << what << " level " << l;
         EXPECT_EQ(a.height, b.height) << what << " level " << l;
         // Byte-identical: report the first differing byte rather than two huge vectors.
-        for (int slice = 0; slice < 2; ++slice) {
-            const auto& x = slice == 0 ? a.lean1 : a.lean2;
-            const auto& y = slice == 0 ? b.lean1 : b.lean2;
+        for (int slice = 0; slice < 3; ++slice) {
+            const auto& x = slice == 0 ? a.lean1 : slice == 1 ? a.lean2 : a.plateau;
+            const auto& y = slice == 0 ? b.lean1 : slice == 1 ? b.lean2 : b.plateau;
             ASSERT_EQ(x.size(), y.size()) << what << " level " << l;
             for (std::size_t i = 0; i < x.size(); ++i)
                 if (x[i] != y[i]) {
-                    ADD_FAILURE() << what << ": level " << l << " lean" << slice + 1
+                    ADD_FAILURE() << what << ": level " << l << " slice " << slice
                                   << " differs first at byte " << i << " (" << int(x[i]) << " vs "
                                   << int(y[i]) << ")";
                     break;
@@ -135,7 +137,10 @@ void check_case(const Case& c, const std::vector<Storage>& storages) {
     const BakeResult ref = bake_lean_map(c.input, c.source, c.options, "in");
     const LeanMapSummary ref_summary = summarize(ref.map);
     for (Storage storage : storages) {
-        const PackedLeanMap ref_packed = pack_lean_map(ref.map, storage, "gen");
+        // The reference packing, with the plateau layer the packed bake adds (plateau.hpp).
+        PackedLeanMap ref_packed = pack_lean_map(ref.map, storage, "gen");
+        if (c.options.plateau_epsilon > 0.0f)
+            add_plateau_layer(ref_packed, c.options.plateau_epsilon);
         for_each_kernel_set([&] {
             const std::string what = c.name + " storage " + to_string(storage) +
                                      (bake_simd_active() ? " avx2" : " scalar");
@@ -337,7 +342,8 @@ PackedBakeResult bake_to_buffers(const Input& input, BakeSource source, const Ba
                                           std::size_t(bytes_per_texel(storage));
                 level.lean1.assign(bytes, 0xAB);  // not zero: every byte must be written
                 level.lean2.assign(bytes, 0xCD);
-                targets.push_back({level.lean1.data(), level.lean2.data()});
+                if (layout.has_plateau()) level.plateau.assign(bytes, 0xEF);
+                targets.push_back({level.lean1.data(), level.lean2.data(), level.plateau.data()});
             }
             return targets;
         },

@@ -52,7 +52,8 @@ PackedBakeResult bake_unorm(const UnormImage& input, BakeSource source,
                                           std::size_t(bytes_per_texel(Storage::Unorm16));
                 level.lean1.assign(bytes, 0);
                 level.lean2.assign(bytes, 0);
-                targets.push_back({level.lean1.data(), level.lean2.data()});
+                if (layout.has_plateau()) level.plateau.assign(bytes, 0);
+                targets.push_back({level.lean1.data(), level.lean2.data(), level.plateau.data()});
             }
             return targets;
         },

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 
 namespace leanfade::test {
@@ -74,7 +75,10 @@ PackedLeanMap make_bumps_map(int size, float strength) {
     options.strength = strength;
     const BakeResult baked =
         bake_lean_map(make_builtin_height("bumps", size, 1), BakeSource::Height, options, "bumps");
-    return pack_lean_map(baked.map, Storage::Unorm16, "leanfade tests");
+    // With the plateau layer, as `leanfade bake` writes it (bake_packed adds it by default).
+    PackedLeanMap packed = pack_lean_map(baked.map, Storage::Unorm16, "leanfade tests");
+    add_plateau_layer(packed);
+    return packed;
 }
 
 double image_sum(const Image& image) {

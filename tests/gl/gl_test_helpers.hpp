@@ -38,7 +38,8 @@ scene::Mesh make_test_quad(float uv_scale = 1.0f);
 PackedLeanMap make_constant_lean_map(glm::vec2 mean, glm::vec3 covariance, float normal_length,
                                      Storage storage, int size = 4);
 
-// The built-in "bumps" set of `size` texels (seed 1), baked at `strength` and packed to 16 bits.
+// The built-in "bumps" set of `size` texels (seed 1), baked at `strength` and packed to 16 bits,
+// with its plateau layer (add_plateau_layer).
 PackedLeanMap make_bumps_map(int size, float strength = 1.0f);
 
 // Sum of all channels of all pixels.

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "gl_test_helpers.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/scene/material.hpp"
 #include "leanfade/scene/scene.hpp"
@@ -131,6 +132,24 @@ TEST_F(Techniques, TwoLobeWithoutPlateauIsBitIdenticalToLean) {
             EXPECT_TRUE(lean.pixels == two.pixels) << "distance " << distance;
         }
     }
+}
+
+// A LEAN map without its stored plateau layer (a file of an earlier version, or `bake
+// --plateau-epsilon 0`) gets no plateau map: two-lobe draws it as LEAN, bit for bit.
+TEST_F(Techniques, AMapWithoutAStoredPlateauLayerDrawsTwoLobeAsLean) {
+    scene::Scene scene;
+    scene.objects.push_back(scene::Object{scene::make_scene_mesh("sphere"), 0, glm::mat4(1.0f)});
+    scene.materials.push_back(scene::Material{});
+    scene.lean_maps.push_back(make_bumps_map(256));
+    remove_plateau_layer(scene.lean_maps.back());
+    scene::add_plateau_maps(scene);
+    ASSERT_EQ(scene.materials[0].map(scene::MapKind::Plateau), -1);
+    renderer_->set_scene(scene);
+    ShadingSettings off;
+    off.geometric_aa = GeometricAa::Off;
+    const Image lean = render(gl::Technique::Lean, 24.0f, off, gl::OutputMode::Specular);
+    const Image two = render(gl::Technique::TwoLobe, 24.0f, off, gl::OutputMode::Specular);
+    EXPECT_TRUE(lean.pixels == two.pixels);
 }
 
 // With the plateau layer the far sphere's two-lobe highlight differs from LEAN's (the spike of

@@ -416,6 +416,7 @@ TEST(CliBakeOutputs, APngNameWritesThePngPairAndOtherNamesAreRefused) {
     ASSERT_EQ(png.exit_code, 0) << png.err;
     EXPECT_TRUE(fs::exists(dir / "m.lean1.png"));
     EXPECT_TRUE(fs::exists(dir / "m.lean2.png"));
+    EXPECT_TRUE(fs::exists(dir / "m.plateau.png")) << "the plateau layer's file";
     EXPECT_FALSE(fs::exists(dir / "m.png")) << "a KTX2 file named .png";
     const auto ktx2 = run_leanfade("bake --builtin bumps --size 32 -o " + q(dir / "m.ktx2"), dir);
     ASSERT_EQ(ktx2.exit_code, 0) << ktx2.err;
@@ -429,7 +430,7 @@ TEST(CliBakeOutputs, APngNameWritesThePngPairAndOtherNamesAreRefused) {
         EXPECT_THAT(r.err, HasSubstr("-o")) << args;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
-    EXPECT_EQ(file_count(dir), 3u) << "a refused run wrote something";
+    EXPECT_EQ(file_count(dir), 4u) << "a refused run wrote something";
 }
 
 TEST(CliBakeOutputs, PngPairHasTheBitDepthOfBitsAndRefusesFloatStorages) {
@@ -475,6 +476,8 @@ TEST(CliBakeOutputs, PngPairCarriesScAndLoadsBackAsTheKtx2Map) {
             ASSERT_EQ(loaded.levels.size(), expected.levels.size());
             EXPECT_EQ(loaded.levels[0].lean1, expected.levels[0].lean1);
             EXPECT_EQ(loaded.levels[0].lean2, expected.levels[0].lean2);
+            EXPECT_EQ(loaded.plateau_epsilon, expected.plateau_epsilon);
+            EXPECT_EQ(loaded.levels[0].plateau, expected.levels[0].plateau);
             // Coarser levels: rebuilt from the quantised top level, within one code or two.
             const float code = std::string(bits) == "8" ? 1.0f / 255.0f : 1.0f / 65535.0f;
             for (int l = 1; l < int(loaded.levels.size()); ++l)
@@ -832,4 +835,42 @@ TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfPlanksWithSteepGaps) {
     const double on_the_fly =
         psnr(lean_cells(dir, input, "on_the_fly", "--strength 128"), truth);
     EXPECT_GE(on_the_fly, 50.0) << "render --bumps planks.png against the 32f bake";
+}
+
+// The plateau layer of two-lobe LEAN is part of every bake unless --plateau-epsilon 0; `info`
+// says which a map is, and a map without the layer renders two-lobe as LEAN, bit for bit.
+TEST(CliBakePlateauLayer, DefaultBakesTheLayerAndEpsilonZeroBakesNone) {
+    const fs::path dir = test::scratch_dir("bake_plateau_layer");
+    const fs::path with = dir / "with.ktx2", without = dir / "without.ktx2";
+    ASSERT_EQ(run_leanfade("bake --builtin bumps --size 64 -o " + q(with), dir).exit_code, 0);
+    const auto r = run_leanfade(
+        "bake --builtin bumps --size 64 --plateau-epsilon 0 -o " + q(without), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(io::inspect_ktx2(with.string()).layer_count, 3u);
+    EXPECT_EQ(io::inspect_ktx2(without.string()).layer_count, 2u);
+    EXPECT_EQ(io::read_ktx2(with.string()).plateau_epsilon, kDefaultPlateauEpsilon);
+    EXPECT_THAT(run_leanfade("info " + q(with), dir).out, HasSubstr("with two-lobe LEAN's plateau"));
+    EXPECT_THAT(run_leanfade("info " + q(without), dir).out, HasSubstr("without a plateau layer"));
+    // The moments are the same either way.
+    const PackedLeanMap a = io::read_ktx2(with.string()), b = io::read_ktx2(without.string());
+    ASSERT_EQ(a.levels.size(), b.levels.size());
+    for (std::size_t l = 0; l < a.levels.size(); ++l) {
+        EXPECT_EQ(a.levels[l].lean1, b.levels[l].lean1);
+        EXPECT_EQ(a.levels[l].lean2, b.levels[l].lean2);
+    }
+    for (const char* bad : {"-1", "nan", "inf"}) {
+        const auto refused = run_leanfade(
+            std::string("bake --builtin bumps --size 16 --plateau-epsilon ") + bad + " -o " +
+                q(dir / "bad.ktx2"),
+            dir);
+        EXPECT_NE(refused.exit_code, 0) << bad;
+        EXPECT_THAT(refused.err, HasSubstr("--plateau-epsilon")) << bad;
+        EXPECT_FALSE(fs::exists(dir / "bad.ktx2"));
+    }
+    const auto no_layer_out = run_leanfade("bake --builtin bumps --size 16 --plateau-epsilon 0 -o " +
+                                               q(dir / "x.ktx2") + " --plateau-out " +
+                                               q(dir / "x.plateau.ktx2"),
+                                           dir);
+    EXPECT_NE(no_layer_out.exit_code, 0);
+    EXPECT_THAT(no_layer_out.err, HasSubstr("--plateau-out"));
 }

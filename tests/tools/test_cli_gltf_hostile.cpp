@@ -240,7 +240,7 @@ TEST(CliGltfHostile, ScaleBeyondAnyBakeIsRefusedNamingTheFile) {
         io::write_ktx2((dir / "sc.ktx2").string(), map);
         pair.scale = sc;
         io::write_lean_png_pair((dir / "sc.lean1.png").string(), (dir / "sc.lean2.png").string(),
-                                pair);
+                                pair, {}, (dir / "sc.plateau.png").string());
         for (const std::string& command :
              {std::string("info sc.ktx2"),
               std::string("render --bumps sc.ktx2 --size 16x16 -o o.png"),
@@ -464,7 +464,8 @@ TEST(CliHostileFlags, OutputsAreReportedOncePublishedAndNamedNotTheirTemporaries
     const test::RunResult ok = test::run_leanfade_in(
         "bake --builtin bumps --size 4 --bits 8 --format png -o s.png --json s.json", dir, dir);
     ASSERT_EQ(ok.exit_code, 0) << ok.err;
-    EXPECT_NE(ok.out.find("builtin:bumps -> s.lean{1,2}.png"), std::string::npos) << ok.out;
+    EXPECT_NE(ok.out.find("builtin:bumps -> s.{lean1,lean2,plateau}.png"), std::string::npos)
+        << ok.out;
 }
 
 // ---- The files a glTF names are inputs -------------------------------------------------------

@@ -31,6 +31,7 @@
 #include "tools_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -449,11 +450,17 @@ const HostileCase kCases[] = {
          });
      },
      "runs past the end of the file", "wrap.ktx2"},
-    {"ktx2_three_layers",
+    {"ktx2_four_layers",
      [](const fs::path& d) {
-         return hostile_ktx2(d, "layers.ktx2", [](Bytes& b) { store_le32(b, kLayerCount, 3); });
+         return hostile_ktx2(d, "layers.ktx2", [](Bytes& b) { store_le32(b, kLayerCount, 4); });
      },
-     "layerCount 3 (a LEAN map has 2 layers", "layers.ktx2"},
+     "layerCount 4 (a LEAN map has 2 layers", "layers.ktx2"},
+    {"ktx2_plateau_layer_missing",
+     [](const fs::path& d) {
+         // A two-layer map that says it has the plateau layer: its levels are too short.
+         return hostile_ktx2(d, "three.ktx2", [](Bytes& b) { store_le32(b, kLayerCount, 3); });
+     },
+     "byteLength", "three.ktx2"},
     {"ktx2_wrong_vk_format",
      [](const fs::path& d) {
          return hostile_ktx2(d, "srgb.ktx2", [](Bytes& b) { store_le32(b, kVkFormat, 43); });
@@ -559,8 +566,11 @@ TEST_P(Determinism, SameBytesForAnyThreadCountAndRunAndAsTheLibrary) {
     const BakeResult baked =
         bake_lean_map(io::read_image(input.string()), BakeSource::Auto, options);
     const fs::path reference = dir / "reference.ktx2";
-    io::write_ktx2(reference.string(),
-                   pack_lean_map(baked.map, storage, std::string("leanfade ") + LEANFADE_VERSION));
+    // With the plateau layer the packed bake adds (leanfade/core/plateau.hpp).
+    PackedLeanMap packed =
+        pack_lean_map(baked.map, storage, std::string("leanfade ") + LEANFADE_VERSION);
+    add_plateau_layer(packed, options.plateau_epsilon);
+    io::write_ktx2(reference.string(), packed);
     EXPECT_EQ(read_bytes(reference), outputs[0]);
 }
 

@@ -11,6 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/png_io.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -73,6 +74,10 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
         throw Error("--strength", "applies to height maps; --from normal bakes normal maps");
     if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
         throw Error("--bake-roughness", "must be a positive shininess");
+    if (!(args.plateau_epsilon >= 0.0f) || !std::isfinite(args.plateau_epsilon))
+        throw Error("--plateau-epsilon", "must be a finite number >= 0 (0: no plateau layer)");
+    if (args.plateau_epsilon == 0.0f && !args.plateau_out.empty())
+        throw Error("--plateau-out", "needs the plateau layer; --plateau-epsilon 0 bakes none");
     if (args.inputs.empty() && args.builtin.empty())
         throw Error("bake", "no input: give image files or --builtin NAME");
     const std::size_t jobs = job_count(args);
@@ -99,6 +104,7 @@ BakeSettings bake_settings(const BakeArgs& args) {
     options.bake_roughness_shininess = args.bake_roughness;
     options.threads = args.threads;
     options.strict_normals = args.strict_normals;
+    options.plateau_epsilon = args.plateau_epsilon;
     settings.source = parse_bake_source(args.from);
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float
@@ -129,6 +135,8 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
             output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
         if (args.format == "png")
             j.outputs = {base + ".lean1.png", base + ".lean2.png"};
+        if (args.format == "png" && args.plateau_epsilon > 0.0f)
+            j.outputs.push_back(base + io::kPlateauPngSuffix);
         else
             j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
         if (!args.writes_lean_map) j.outputs.clear();

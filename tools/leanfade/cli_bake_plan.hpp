@@ -30,6 +30,8 @@ struct BakeArgs {
     bool strict_normals = false;
     std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
     float bake_roughness = 0.0f;
+    // The plateau layer's epsilon (slope units; 0 = no layer): BakeOptions::plateau_epsilon.
+    float plateau_epsilon = kDefaultPlateauEpsilon;
     std::string wrap = "repeat";
     std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
     int threads = 0;
@@ -85,7 +87,8 @@ BakeSettings bake_settings(const BakeArgs& args);
 struct BakeJob {
     std::string name;  // the file, or builtin:NAME
     bool from_file = false;
-    std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png and .lean2.png
+    std::vector<std::string> outputs;  // the .ktx2, or the .lean1.png, .lean2.png (and
+                                       // .plateau.png with the plateau layer)
     std::string output_is_input;       // an output that is this job's own input
 };
 

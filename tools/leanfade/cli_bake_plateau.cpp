@@ -6,6 +6,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/text.hpp"
+#include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 
 namespace leanfade::cli {
@@ -13,8 +14,8 @@ namespace leanfade::cli {
 void add_plateau_bake_option(CLI::App& app, std::string& plateau_out) {
     app.add_option("--plateau-out", plateau_out,
                    "Also write the plateau layer of two-lobe LEAN (f, f Bs, f |Bs|^2 per texel, "
-                   "every MIP level) as a 2D half-float FILE.ktx2, computed from the LEAN map "
-                   "as stored (docs/ktx2.md)");
+                   "every MIP level) as a 2D half-float FILE.ktx2, decoded from the LEAN map's "
+                   "plateau layer (docs/ktx2.md)");
 }
 
 void plan_plateau_output(const std::string& plateau_out, std::size_t job_count,
@@ -28,10 +29,12 @@ void plan_plateau_output(const std::string& plateau_out, std::size_t job_count,
 
 int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, int threads,
                          const io::WriteOptions& write_options, io::OutputTransaction& outputs) {
-    const std::vector<Image> levels =
-        plateau_mips(packed_top_slopes(map, threads), kDefaultPlateauEpsilon, threads);
+    if (!map.has_plateau())
+        throw Error("--plateau-out", "the LEAN map has no plateau layer (--plateau-epsilon 0)");
+    // The layer as the LEAN map stores it, decoded to (f, f Bs, f |Bs|^2).
+    const std::vector<Image> levels = unpack_plateau_layer(map, threads);
     const io::TextureKeyValues keys{{io::kKeyTextureContent, "plateau v1"},
-                                    {"LEANFADEplateauEpsilon", shortest_text(kDefaultPlateauEpsilon)}};
+                                    {io::kPlateauEpsilonKey, shortest_text(map.plateau_epsilon)}};
     io::write_ktx2_rgba16f(outputs.stage(plateau_out), levels,
                            std::string("leanfade ") + LEANFADE_VERSION, write_options, keys);
     return int(levels.size());

@@ -15,6 +15,7 @@
 #include "cli_preset.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/text.hpp"
@@ -180,6 +181,9 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         const LeanMap mixed = build_lean_map(mix_slopes(slopes, blend), options);
         material.lean_map = int(result.lean_maps.size());
         result.lean_maps.push_back(pack_lean_map(mixed, storage_of(mixed), generator));
+        // The mixed map's own plateau layer, as a bake of it would store it (docs/math.md §10:
+        // exact for the height method, which mixes the slopes themselves).
+        add_plateau_layer(result.lean_maps.back(), options.plateau_epsilon);
         result.materials.push_back(std::move(material));
         return;
     }

@@ -97,9 +97,11 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
         if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
         result.baked = bake_packed(*floats, kind, settings.options, settings.storage.storage,
                                    generator_string(), job.name);
-        io::write_lean_png_pair(outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]),
-                                result.baked.packed, settings.write_options);
-        result.output = job.outputs[0].substr(0, job.outputs[0].size() - 10) + ".lean{1,2}.png";
+        io::write_lean_png_pair(
+            outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]), result.baked.packed,
+            settings.write_options, job.outputs.size() > 2 ? outputs.stage(job.outputs[2]) : "");
+        result.output = job.outputs[0].substr(0, job.outputs[0].size() - 10) +
+                        (job.outputs.size() > 2 ? ".{lean1,lean2,plateau}.png" : ".lean{1,2}.png");
         return result;
     }
     result.output = job.outputs[0];
@@ -316,6 +318,11 @@ const CommandRegistration registration{
         app.add_option("--bake-roughness", args->bake_roughness,
                        "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")
             ->check(CLI::PositiveNumber);
+        app.add_option("--plateau-epsilon", args->plateau_epsilon,
+                       "Two-lobe LEAN's plateau layer (docs/math.md §10): a texel whose slope "
+                       "differs from each neighbour's by less than this per component is on a "
+                       "plateau; 0 bakes no layer (two-lobe then shades as LEAN)")
+            ->capture_default_str();
         app.add_option("--sc", args->sc,
                        "Scale sc of the slopes: auto (the steepest slope except outliers, "
                        "texels at least twice as steep as the 99.9th percentile: counted, and "
@@ -327,8 +334,9 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--format", args->format,
                        "ktx2 (GPU-ready, every MIP level) or png (the top level as two RGBA PNGs "
-                       "of --bits 8 or 16 with sc; loads back with --bumps NAME.lean1.png); "
-                       "default: from -o's extension, else ktx2")
+                       "of --bits 8 or 16 with sc, and NAME.plateau.png with the plateau layer; "
+                       "loads back with --bumps NAME.lean1.png); default: from -o's extension, "
+                       "else ktx2")
             ->check(CLI::IsMember({"ktx2", "png"}));
         app.get_option("--output")
             ->description("Output (one input only): NAME.ktx2, or NAME.png for the PNG pair "

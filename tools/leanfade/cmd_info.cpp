@@ -7,6 +7,7 @@
 #include "command.hpp"
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 
@@ -22,9 +23,14 @@ int run_info(const std::string& path) {
     const std::string* layout = info.find(io::kLayoutKey);
     const std::string* content = info.find(io::kKeyTextureContent);
     std::string kind, moments;
-    if (layout != nullptr && *layout == io::kLeanLayoutName) {
-        const LeanMapSummary s = summarize(unpack_lean_map(io::read_ktx2(path)));
-        kind = "a LEAN map (LEANFADElayout '" + *layout + "')";
+    if (layout != nullptr &&
+        (*layout == io::kLeanLayoutName || *layout == io::kLeanPlateauLayoutName)) {
+        const PackedLeanMap map = io::read_ktx2(path);
+        const LeanMapSummary s = summarize(unpack_lean_map(map));
+        kind = "a LEAN map (LEANFADElayout '" + *layout + "')" +
+               (map.has_plateau() ? ", with two-lobe LEAN's plateau layer (epsilon " +
+                                        shortest_text(map.plateau_epsilon) + ")"
+                                  : ", without a plateau layer (two-lobe LEAN shades it as LEAN)");
         char line[300];
         std::snprintf(line, sizeof line,
                       "moments: slope |B| mean %.4f, max %.4f; coarsest covariance (xx %.5f, yy "
@@ -37,7 +43,8 @@ int run_info(const std::string& path) {
         kind = "not a LEAN map: a cross-term texture of two bump layers (bake --cross-terms)";
     } else if (layout != nullptr) {
         kind = "not a LEAN map this version reads: LEANFADElayout '" + escape_text(*layout) +
-               "' (this version reads '" + io::kLeanLayoutName + "')";
+               "' (this version reads '" + io::kLeanLayoutName + "' and '" +
+               io::kLeanPlateauLayoutName + "')";
     } else if (content != nullptr) {
         if (*content == "plateau v1")
             io::read_ktx2_rgba16f(path);

@@ -29,9 +29,11 @@
 
 #include "bake_packed_kernels.hpp"
 #include "lean_map_internal.hpp"
+#include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
+#include "plateau_internal.hpp"
 
 namespace leanfade {
 namespace {
@@ -347,17 +349,23 @@ void size_slice(std::vector<std::uint8_t>& slice, std::size_t bytes) {
     slice.resize(bytes);
 }
 
-// Sizes the slices of the output levels (whose width and height are set); lean1 and lean2 by
-// different threads, sharing the first touch.
+// Sizes the slices of the output levels (whose width and height are set); lean1, lean2 and the
+// plateau layer (when the map has one; else it is emptied) by different threads, sharing the
+// first touch.
 void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
     const std::size_t count = packed.levels.size();
-    parallel_for_rows(int(2 * count), std::min(threads, 2), [&](int first, int end) {
+    const int slices = packed.has_plateau() ? 3 : 2;
+    if (!packed.has_plateau())
+        for (PackedLevel& level : packed.levels) level.plateau = {};
+    parallel_for_rows(int(std::size_t(slices) * count), std::min(threads, slices),
+                      [&](int first, int end) {
         for (int job = first; job < end; ++job) {
             const std::size_t l = std::size_t(job) % count;
+            const std::size_t slice = std::size_t(job) / count;
             PackedLevel& out = packed.levels[l];
             const std::size_t bytes =
                 std::size_t(out.width) * std::size_t(out.height) * std::size_t(texel_bytes);
-            size_slice(std::size_t(job) < count ? out.lean1 : out.lean2, bytes);
+            size_slice(slice == 0 ? out.lean1 : slice == 1 ? out.lean2 : out.plateau, bytes);
         }
     });
 }
@@ -404,6 +412,8 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     result.source = source;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
+    if (!std::isfinite(options.plateau_epsilon) || options.plateau_epsilon < 0.0f)
+        throw Error("plateau_epsilon", "must be finite and >= 0 (0: no plateau layer)");
 
     Plan plan;
     plan.top.green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
@@ -466,6 +476,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     packed.scale = sc;
     packed.roughness_baked = plan.top.inv_s > 0.0f;
     packed.baked_shininess = packed.roughness_baked ? options.bake_roughness_shininess : 0.0f;
+    packed.plateau_epsilon = options.plateau_epsilon;
     packed.source_convention = options.convention;
     packed.normal_repairs = repairs;
     packed.generator = generator;
@@ -477,6 +488,10 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     plan.targets = provide_targets(packed, resolve_thread_count(options.threads));
     if (plan.targets.size() != plan.levels.size())
         throw std::invalid_argument("bake_packed_to: one output target per level expected");
+    if (packed.has_plateau())
+        for (const PackedLevelTarget& target : plan.targets)
+            if (target.plateau == nullptr)
+                throw std::invalid_argument("bake_packed_to: a plateau target per level expected");
 
     // Pass 1: the store level's rows (and everything above them), one at a time to whichever
     // thread is free. Which thread makes a row changes nothing in it.
@@ -502,6 +517,11 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     s.mean_slope = float(totals.sum_slope / (double(width) * double(height)));
     detail::summarize_coarsest(s, {coarsest[kBx][0], coarsest[kBy][0]},
                                {coarsest[kMxx][0], coarsest[kMyy][0], coarsest[kMxy][0]});
+
+    // Two-lobe LEAN's plateau layer from the packed finest level (add_plateau_layer's bytes).
+    if (packed.has_plateau())
+        detail::pack_plateau_layer_to(packed, plan.targets.front().lean2, plan.targets,
+                                      packed.plateau_epsilon, options.threads);
 }
 
 // The bake of a normal map's repaired copy where it has texels to repair (NormalRepairs), else of
@@ -541,11 +561,13 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
              for (std::size_t l = 0; l < std::min(previous.size(), packed.levels.size()); ++l) {
                  packed.levels[l].lean1 = std::move(previous[l].lean1);
                  packed.levels[l].lean2 = std::move(previous[l].lean2);
+                 packed.levels[l].plateau = std::move(previous[l].plateau);
              }
              size_output(packed, bytes_per_texel(storage), threads);
              std::vector<PackedLevelTarget> targets;
              for (PackedLevel& level : packed.levels)
-                 targets.push_back({level.lean1.data(), level.lean2.data()});
+                 targets.push_back({level.lean1.data(), level.lean2.data(),
+                                    level.plateau.empty() ? nullptr : level.plateau.data()});
              return targets;
          });
 }

@@ -345,42 +345,6 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
     return result;
 }
 
-namespace {
-
-// One channel of a float-storage texel (UNORM storages are packed by detail::unorm_texel).
-void store_float_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
-    switch (storage) {
-        case Storage::Unorm8:
-        case Storage::Unorm16: break;
-        case Storage::Float16: {
-            const std::uint16_t q = glm::packHalf1x16(value);
-            texel[2 * channel] = std::uint8_t(q & 0xFF);
-            texel[2 * channel + 1] = std::uint8_t(q >> 8);
-            break;
-        }
-        case Storage::Float32: std::memcpy(texel + 4 * channel, &value, 4); break;
-    }
-}
-
-float load_channel(const std::uint8_t* texel, int channel, Storage storage) {
-    switch (storage) {
-        case Storage::Unorm8: return float(texel[channel]) / 255.0f;
-        case Storage::Unorm16:
-            return float(std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8))) /
-                   65535.0f;
-        case Storage::Float16:
-            return glm::unpackHalf1x16(
-                std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8)));
-        case Storage::Float32: {
-            float v;
-            std::memcpy(&v, texel + 4 * channel, 4);
-            return v;
-        }
-    }
-    return 0.0f;
-}
-
-}  // namespace
 
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator) {
     PackedLeanMap packed;
@@ -424,8 +388,8 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
                 const float l2[4] = {0.5f * b.x / sc + 0.5f, 0.5f * b.y / sc + 0.5f, m.x / sc2,
                                      m.y / sc2};
                 for (int c = 0; c < 4; ++c) {
-                    store_float_channel(t1, c, l1[c], storage);
-                    store_float_channel(t2, c, l2[c], storage);
+                    detail::store_float_channel(t1, c, l1[c], storage);
+                    detail::store_float_channel(t2, c, l2[c], storage);
                 }
             }
         });
@@ -436,12 +400,12 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
 
 glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int slice, int x, int y) {
     const PackedLevel& l = map.levels.at(std::size_t(level));
-    const auto& bytes = slice == 0 ? l.lean1 : l.lean2;
+    const auto& bytes = slice == 0 ? l.lean1 : slice == 1 ? l.lean2 : l.plateau;
     const int bpt = bytes_per_texel(map.storage);
     const std::uint8_t* t =
         &bytes.at((std::size_t(y) * std::size_t(l.width) + std::size_t(x)) * std::size_t(bpt));
-    return {load_channel(t, 0, map.storage), load_channel(t, 1, map.storage),
-            load_channel(t, 2, map.storage), load_channel(t, 3, map.storage)};
+    return {detail::load_channel(t, 0, map.storage), detail::load_channel(t, 1, map.storage),
+            detail::load_channel(t, 2, map.storage), detail::load_channel(t, 3, map.storage)};
 }
 
 LeanMap unpack_lean_map(const PackedLeanMap& packed) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/vec3.hpp>
 
 #include "leanfade/core/image.hpp"
@@ -88,6 +89,42 @@ inline void store_unorm_texel(std::uint8_t* texel, const std::uint16_t* codes, S
         }
     }
 }
+
+// One channel of a float-storage texel (UNORM storages are packed by unorm_texel), IEEE
+// little-endian.
+inline void store_float_channel(std::uint8_t* texel, int channel, float value, Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8:
+        case Storage::Unorm16: break;
+        case Storage::Float16: {
+            const std::uint16_t q = glm::packHalf1x16(value);
+            texel[2 * channel] = std::uint8_t(q & 0xFF);
+            texel[2 * channel + 1] = std::uint8_t(q >> 8);
+            break;
+        }
+        case Storage::Float32: std::memcpy(texel + 4 * channel, &value, 4); break;
+    }
+}
+
+// One channel of a texel of any storage, decoded (UNORM codes / Q).
+inline float load_channel(const std::uint8_t* texel, int channel, Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8: return float(texel[channel]) / 255.0f;
+        case Storage::Unorm16:
+            return float(std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8))) /
+                   65535.0f;
+        case Storage::Float16:
+            return glm::unpackHalf1x16(
+                std::uint16_t(texel[2 * channel] | (texel[2 * channel + 1] << 8)));
+        case Storage::Float32: {
+            float v;
+            std::memcpy(&v, texel + 4 * channel, 4);
+            return v;
+        }
+    }
+    return 0.0f;
+}
+
 
 // sc (docs/math.md §3, LEAN §5) from the top level's max |Bx|, |By| and max Mxx, Myy: the smallest
 // float with |B| <= sc and M.xx, M.yy <= sc^2, with a floor that avoids a zero scale for a flat

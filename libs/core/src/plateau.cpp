@@ -1,50 +1,63 @@
 // The plateau layer of two-lobe LEAN (leanfade/core/plateau.hpp, docs/math.md §10).
 #include "leanfade/core/plateau.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
+#include <string>
 
+#include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parallel.hpp"
+#include "plateau_internal.hpp"
 
 namespace leanfade {
-
-Image plateau_texels(const Image& slopes, float epsilon, int threads) {
-    if (!std::isfinite(epsilon) || epsilon <= 0.0f)
-        throw Error("plateau_epsilon", "must be finite and > 0");
-    if (slopes.channels != 2 || slopes.empty())
-        throw Error("plateau", "needs a non-empty map of 2-channel slopes");
-    const int w = slopes.width, h = slopes.height;
-    Image layer(w, h, 4, 0.0f);
-    parallel_for_rows(h, threads, [&](int first, int end) {
-        for (int y = first; y < end; ++y) {
-            // The rows above and below, and the columns left and right, of a repeating map.
-            const float* row = slopes.row(y);
-            const float* up = slopes.row((y + h - 1) % h);
-            const float* down = slopes.row((y + 1) % h);
-            float* out = layer.row(y);
-            for (int x = 0; x < w; ++x) {
-                const float bx = row[2 * x], by = row[2 * x + 1];
-                const int left = x == 0 ? w - 1 : x - 1, right = x == w - 1 ? 0 : x + 1;
-                auto near = [&](const float* r, int at) {
-                    return std::abs(r[2 * at] - bx) < epsilon && std::abs(r[2 * at + 1] - by) < epsilon;
-                };
-                if (!(near(row, left) && near(row, right) && near(up, x) && near(down, x))) continue;
-                out[4 * x] = 1.0f;
-                out[4 * x + 1] = bx;
-                out[4 * x + 2] = by;
-                out[4 * x + 3] = bx * bx + by * by;
-            }
-        }
-    });
-    return layer;
-}
-
 namespace {
 
-// The next level of an even-sized level: each texel the mean of its 2 x 2 children, which is
-// build_mip_chain's area filter for even sizes.
+void check_epsilon(float epsilon) {
+    if (!std::isfinite(epsilon) || epsilon <= 0.0f)
+        throw Error("plateau_epsilon", "must be finite and > 0");
+}
+
+// The slope of texel x of a finest-level lean2 row (docs/math.md §3: lean2 = (0.5 B / sc + 0.5,
+// ...)), in slope units.
+inline void decode_slope(const std::uint8_t* lean2_row, int x, Storage storage, int texel_bytes,
+                         float sc, float& bx, float& by) {
+    const std::uint8_t* texel = lean2_row + std::size_t(x) * std::size_t(texel_bytes);
+    bx = (2.0f * detail::load_channel(texel, 0, storage) - 1.0f) * sc;
+    by = (2.0f * detail::load_channel(texel, 1, storage) - 1.0f) * sc;
+}
+
+// One row of plateau texels (plateau_texels' rule) from the 2-channel slopes of the row, the rows
+// above and below (the map repeats) into 4 floats per texel.
+void plateau_row(const float* row, const float* up, const float* down, int w, float epsilon,
+                 float* out) {
+    for (int x = 0; x < w; ++x) {
+        const float bx = row[2 * x], by = row[2 * x + 1];
+        const int left = x == 0 ? w - 1 : x - 1, right = x == w - 1 ? 0 : x + 1;
+        auto near = [&](const float* r, int at) {
+            return std::abs(r[2 * at] - bx) < epsilon && std::abs(r[2 * at + 1] - by) < epsilon;
+        };
+        float* texel = out + 4 * x;
+        if (!(near(row, left) && near(row, right) && near(up, x) && near(down, x))) {
+            texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
+            continue;
+        }
+        texel[0] = 1.0f;
+        texel[1] = bx;
+        texel[2] = by;
+        texel[3] = bx * bx + by * by;
+    }
+}
+
+// One texel of the next level of an even-sized level from its 2 x 2 children (rows a, b, texel
+// x): build_mip_chain's area filter for even sizes.
+inline void box_texel(const float* a, const float* b, int x, float* out) {
+    for (int c = 0; c < 4; ++c)
+        out[c] = 0.25f * ((a[8 * x + c] + a[8 * x + 4 + c]) + (b[8 * x + c] + b[8 * x + 4 + c]));
+}
+
 Image halved(const Image& level, int threads) {
     Image next(level.width / 2, level.height / 2, 4);
     parallel_for_rows(next.height, threads, [&](int first, int end) {
@@ -52,21 +65,15 @@ Image halved(const Image& level, int threads) {
             const float* a = level.row(2 * y);
             const float* b = level.row(2 * y + 1);
             float* out = next.row(y);
-            for (int x = 0; x < next.width; ++x)
-                for (int c = 0; c < 4; ++c)
-                    out[4 * x + c] = 0.25f * ((a[8 * x + c] + a[8 * x + 4 + c]) +
-                                              (b[8 * x + c] + b[8 * x + 4 + c]));
+            for (int x = 0; x < next.width; ++x) box_texel(a, b, x, out + 4 * x);
         }
     });
     return next;
 }
 
-}  // namespace
-
-std::vector<Image> plateau_mips(const Image& slopes, float epsilon, int threads) {
-    std::vector<Image> chain{plateau_texels(slopes, epsilon, threads)};
-    // Halve while both sides are even (any power-of-two map down to 1 x 1); an odd side goes to
-    // build_mip_chain's area filter for the rest of the chain.
+// Appends the levels below chain.back() down to 1 x 1: halved while both sides are even (any
+// power-of-two map), then build_mip_chain's area filter for the rest.
+void extend_chain(std::vector<Image>& chain, int threads) {
     while (chain.back().width % 2 == 0 && chain.back().height % 2 == 0)
         chain.push_back(halved(chain.back(), threads));
     if (chain.back().width > 1 || chain.back().height > 1) {
@@ -74,24 +81,210 @@ std::vector<Image> plateau_mips(const Image& slopes, float epsilon, int threads)
         chain.insert(chain.end(), std::make_move_iterator(rest.begin() + 1),
                      std::make_move_iterator(rest.end()));
     }
+}
+
+// The stored form of `count` float plateau texels (f, f Bs, f |Bs|^2) in `storage` at `out`
+// (PackedLevel::plateau): UNORM codes are one multiply(-add) each, rounded and clamped as the
+// moments' (lean_map_internal.hpp, unorm_code), with
+//   f * Q,  f Bs * (Q/2)/sc + Q/2,  f |Bs|^2 * (Q/2)/sc^2.
+void pack_plateau_texels(const float* values, std::size_t count, Storage storage, float sc,
+                         std::uint8_t* out) {
+    const float sc2 = sc * sc;
+    const int texel_bytes = bytes_per_texel(storage);
+    if (storage == Storage::Unorm8 || storage == Storage::Unorm16) {
+        const detail::UnormPacking k = detail::unorm_packing(storage, sc, sc2);
+        for (std::size_t i = 0; i < count; ++i) {
+            const float* v = values + 4 * i;
+            const std::uint16_t codes[4] = {
+                detail::unorm_code(v[0] * k.max, k.max),
+                detail::unorm_code(v[1] * k.b_factor + k.half, k.max),
+                detail::unorm_code(v[2] * k.b_factor + k.half, k.max),
+                detail::unorm_code(v[3] * k.mxy_factor, k.max)};
+            detail::store_unorm_texel(out + i * std::size_t(texel_bytes), codes, storage);
+        }
+        return;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        const float* v = values + 4 * i;
+        const float stored[4] = {v[0], 0.5f * v[1] / sc + 0.5f, 0.5f * v[2] / sc + 0.5f,
+                                 0.5f * v[3] / sc2};
+        for (int c = 0; c < 4; ++c)
+            detail::store_float_channel(out + i * std::size_t(texel_bytes), c, stored[c], storage);
+    }
+}
+
+void pack_plateau_level(const Image& level, Storage storage, float sc, std::uint8_t* out,
+                        int threads) {
+    const int texel_bytes = bytes_per_texel(storage);
+    parallel_for_rows(level.height, threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y)
+            pack_plateau_texels(level.row(y), std::size_t(level.width), storage, sc,
+                                out + std::size_t(y) * std::size_t(level.width) *
+                                          std::size_t(texel_bytes));
+    });
+}
+
+Image slopes_of_lean2(const std::uint8_t* lean2, int width, int height, Storage storage, float sc,
+                      int threads) {
+    Image slopes(width, height, 2);
+    const int texel_bytes = bytes_per_texel(storage);
+    parallel_for_rows(height, threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y) {
+            const std::uint8_t* row =
+                lean2 + std::size_t(y) * std::size_t(width) * std::size_t(texel_bytes);
+            float* out = slopes.row(y);
+            for (int x = 0; x < width; ++x)
+                decode_slope(row, x, storage, texel_bytes, sc, out[2 * x], out[2 * x + 1]);
+        }
+    });
+    return slopes;
+}
+
+}  // namespace
+
+Image plateau_texels(const Image& slopes, float epsilon, int threads) {
+    check_epsilon(epsilon);
+    if (slopes.channels != 2 || slopes.empty())
+        throw Error("plateau", "needs a non-empty map of 2-channel slopes");
+    const int w = slopes.width, h = slopes.height;
+    Image layer(w, h, 4, 0.0f);
+    parallel_for_rows(h, threads, [&](int first, int end) {
+        for (int y = first; y < end; ++y)
+            plateau_row(slopes.row(y), slopes.row((y + h - 1) % h), slopes.row((y + 1) % h), w,
+                        epsilon, layer.row(y));
+    });
+    return layer;
+}
+
+std::vector<Image> plateau_mips(const Image& slopes, float epsilon, int threads) {
+    std::vector<Image> chain{plateau_texels(slopes, epsilon, threads)};
+    extend_chain(chain, threads);
     return chain;
 }
 
 Image packed_top_slopes(const PackedLeanMap& map, int threads) {
     if (map.levels.empty()) throw Error("plateau", "the LEAN map has no levels");
     const PackedLevel& top = map.levels.front();
-    Image slopes(top.width, top.height, 2);
-    parallel_for_rows(top.height, threads, [&](int first, int end) {
-        for (int y = first; y < end; ++y) {
-            for (int x = 0; x < top.width; ++x) {
-                // lean2 = (0.5 B / sc + 0.5, ...) (docs/math.md §3).
-                const glm::vec4 lean2 = fetch_packed_texel(map, 0, 1, x, y);
-                slopes.at(x, y, 0) = (2.0f * lean2.x - 1.0f) * map.scale;
-                slopes.at(x, y, 1) = (2.0f * lean2.y - 1.0f) * map.scale;
+    const std::size_t bytes =
+        std::size_t(top.width) * std::size_t(top.height) * std::size_t(bytes_per_texel(map.storage));
+    if (top.lean2.size() != bytes) throw Error("plateau", "the LEAN map's finest level is not packed");
+    return slopes_of_lean2(top.lean2.data(), top.width, top.height, map.storage, map.scale,
+                           threads);
+}
+
+void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads) {
+    check_epsilon(epsilon);
+    const std::vector<Image> chain = plateau_mips(packed_top_slopes(map, threads), epsilon, threads);
+    if (chain.size() != map.levels.size())
+        throw Error("plateau", "the LEAN map's MIP chain is not complete");
+    const int texel_bytes = bytes_per_texel(map.storage);
+    for (std::size_t l = 0; l < chain.size(); ++l) {
+        PackedLevel& level = map.levels[l];
+        level.plateau.assign(std::size_t(level.width) * std::size_t(level.height) *
+                                 std::size_t(texel_bytes),
+                             0);
+        pack_plateau_level(chain[l], map.storage, map.scale, level.plateau.data(), threads);
+    }
+    map.plateau_epsilon = epsilon;
+}
+
+void remove_plateau_layer(PackedLeanMap& map) {
+    for (PackedLevel& level : map.levels) level.plateau = {};
+    map.plateau_epsilon = 0.0f;
+}
+
+std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
+    std::vector<Image> chain;
+    if (!map.has_plateau()) return chain;
+    const int texel_bytes = bytes_per_texel(map.storage);
+    const float sc = map.scale, sc2 = map.scale * map.scale;
+    for (const PackedLevel& level : map.levels) {
+        if (level.plateau.size() !=
+            std::size_t(level.width) * std::size_t(level.height) * std::size_t(texel_bytes))
+            throw Error("plateau", "the plateau layer's levels do not match the LEAN map's");
+        Image out(level.width, level.height, 4, 0.0f);
+        parallel_for_rows(level.height, threads, [&](int first, int end) {
+            for (int y = first; y < end; ++y) {
+                float* row = out.row(y);
+                for (int x = 0; x < level.width; ++x) {
+                    const std::uint8_t* texel =
+                        level.plateau.data() +
+                        (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) *
+                            std::size_t(texel_bytes);
+                    const float f = detail::load_channel(texel, 0, map.storage);
+                    if (!(f > 0.0f)) continue;  // off every plateau: exactly 0
+                    float* v = row + 4 * x;
+                    v[0] = std::min(f, 1.0f);
+                    v[1] = (2.0f * detail::load_channel(texel, 1, map.storage) - 1.0f) * sc;
+                    v[2] = (2.0f * detail::load_channel(texel, 2, map.storage) - 1.0f) * sc;
+                    v[3] = 2.0f * detail::load_channel(texel, 3, map.storage) * sc2;
+                }
             }
+        });
+        chain.push_back(std::move(out));
+    }
+    return chain;
+}
+
+void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
+                                   const std::vector<PackedLevelTarget>& targets, float epsilon,
+                                   int threads) {
+    check_epsilon(epsilon);
+    const PackedLevel& top = layout.levels.front();
+    const int w = top.width, h = top.height;
+    const Storage storage = layout.storage;
+    const float sc = layout.scale;
+    const int texel_bytes = bytes_per_texel(storage);
+    const std::size_t row_bytes = std::size_t(w) * std::size_t(texel_bytes);
+    std::vector<Image> chain;
+    if (w % 2 != 0 || h % 2 != 0) {
+        // Odd sizes: the reference's chain (area filter of odd sizes from the finest level).
+        chain = plateau_mips(slopes_of_lean2(lean2_top, w, h, storage, sc, threads), epsilon,
+                             threads);
+        for (std::size_t l = 0; l < chain.size(); ++l)
+            pack_plateau_level(chain[l], storage, sc, targets[l].plateau, threads);
+        return;
+    }
+    // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
+    // into level 1 (no float image of the finest level), then the reference's chain below.
+    chain.emplace_back(w / 2, h / 2, 4);
+    Image& level1 = chain.front();
+    parallel_for_rows(h / 2, threads, [&](int first, int end) {
+        // Slopes of the rows 2y - 1 .. 2y + 2 (the map repeats), and the pair's plateau texels.
+        std::vector<float> slopes[4], texels[2];
+        for (auto& s : slopes) s.resize(2 * std::size_t(w));
+        for (auto& t : texels) t.resize(4 * std::size_t(w));
+        auto decode_row = [&](int y, std::vector<float>& out) {
+            const std::uint8_t* row = lean2_top + std::size_t((y + h) % h) * row_bytes;
+            for (int x = 0; x < w; ++x)
+                decode_slope(row, x, storage, texel_bytes, sc, out[2 * std::size_t(x)],
+                             out[2 * std::size_t(x) + 1]);
+        };
+        for (int pair = first; pair < end; ++pair) {
+            const int y0 = 2 * pair;
+            if (pair == first) {
+                decode_row(y0 - 1, slopes[0]);
+                decode_row(y0, slopes[1]);
+            } else {
+                std::swap(slopes[0], slopes[2]);  // rows 2y - 1, 2y: the last pair's 2y + 1, 2y + 2
+                std::swap(slopes[1], slopes[3]);
+            }
+            decode_row(y0 + 1, slopes[2]);
+            decode_row(y0 + 2, slopes[3]);
+            for (int r = 0; r < 2; ++r) {
+                plateau_row(slopes[1 + r].data(), slopes[r].data(), slopes[2 + r].data(), w,
+                            epsilon, texels[r].data());
+                pack_plateau_texels(texels[r].data(), std::size_t(w), storage, sc,
+                                    targets[0].plateau + std::size_t(y0 + r) * row_bytes);
+            }
+            float* out = level1.row(pair);
+            for (int x = 0; x < w / 2; ++x)
+                box_texel(texels[0].data(), texels[1].data(), x, out + 4 * x);
         }
     });
-    return slopes;
+    extend_chain(chain, threads);
+    for (std::size_t l = 0; l < chain.size(); ++l)
+        pack_plateau_level(chain[l], storage, sc, targets[l + 1].plateau, threads);
 }
 
 }  // namespace leanfade

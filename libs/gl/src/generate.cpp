@@ -114,6 +114,8 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
     if (!std::isfinite(options.strength) || !std::isfinite(options.bake_roughness_shininess) ||
         options.bake_roughness_shininess < 0.0f)
         throw Error("generate", "strength and the baked shininess must be finite (shininess >= 0)");
+    if (!std::isfinite(options.plateau_epsilon) || options.plateau_epsilon < 0.0f)
+        throw Error("generate", "the plateau epsilon must be finite and >= 0");
     const SliceFormat format = slice_format(options.storage);
     if (!texture_ || options.storage != storage_) {
         levels_ = mip_level_count(width_, height_);
@@ -126,6 +128,7 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
         glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
         texture_ = std::move(texture);
         storage_ = options.storage;
+        plateau_.reset();
     }
     const GLuint p = program(options.storage);
     const float inv_s =
@@ -150,11 +153,41 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
     scale_ = options.scale;
     baked_shininess_ = inv_s > 0.0f ? options.bake_roughness_shininess : 0.0f;
     convention_ = options.convention;
+    plateau_epsilon_ = options.plateau_epsilon;
+    if (plateau_epsilon_ > 0.0f) write_plateau_top_level();
+}
+
+void LeanGenerator::write_plateau_top_level() {
+    if (!plateau_) {
+        Texture texture = create_texture(GL_TEXTURE_2D);
+        glTextureStorage2D(texture.get(), levels_, GL_RGBA16F, width_, height_);
+        glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
+                            levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+        glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+        plateau_ = std::move(texture);
+    }
+    if (!plateau_program_) plateau_program_ = build_compute_program(sources_, "generate_plateau.comp", {});
+    const GLuint p = plateau_program_.get();
+    glProgramUniform1f(p, location(p, "u_scale"), scale_);
+    glProgramUniform1f(p, location(p, "u_epsilon"), plateau_epsilon_);
+    glUseProgram(p);
+    glBindTextureUnit(0, texture_.get());
+    glBindImageTexture(0, plateau_.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glDispatchCompute(GLuint((width_ + kGroupSize - 1) / kGroupSize),
+                      GLuint((height_ + kGroupSize - 1) / kGroupSize), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
+                    GL_FRAMEBUFFER_BARRIER_BIT);
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindTextureUnit(0, 0);
+    glUseProgram(0);
 }
 
 void LeanGenerator::generate_mipmaps() {
     if (!texture_) throw Error("generate", "no top level was written");
     if (levels_ > 1) glGenerateTextureMipmap(texture_.get());
+    if (levels_ > 1 && plateau_texture() != 0) glGenerateTextureMipmap(plateau_.get());
 }
 
 void LeanGenerator::generate(const GenerateOptions& options) {
@@ -198,6 +231,25 @@ PackedLeanMap LeanGenerator::read_back() const {
     }
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     return map;
+}
+
+std::vector<Image> LeanGenerator::read_back_plateau() const {
+    std::vector<Image> chain;
+    if (plateau_texture() == 0) return chain;
+    int w = width_, h = height_;
+    for (int level = 0; level < levels_; ++level) {
+        std::vector<float> rows(std::size_t(w) * std::size_t(h) * 4);
+        glGetTextureImage(plateau_.get(), level, GL_RGBA, GL_FLOAT,
+                          GLsizei(rows.size() * sizeof(float)), rows.data());
+        Image out(w, h, 4);
+        for (int y = 0; y < h; ++y)  // GL's row 0 is the bottom row
+            std::memcpy(out.row(y), &rows[std::size_t(h - 1 - y) * std::size_t(w) * 4],
+                        std::size_t(w) * 4 * sizeof(float));
+        chain.push_back(std::move(out));
+        w = std::max(1, w / 2);
+        h = std::max(1, h / 2);
+    }
+    return chain;
 }
 
 GenerationTimes time_generation(LeanGenerator& generator, const GenerateOptions& options,

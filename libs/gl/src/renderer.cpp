@@ -273,11 +273,17 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.maps = 0;
         for (const scene::MapKindInfo& kind : scene::kMapKinds) {
             const int slot = material.map(kind.kind);
-            const bool read =
-                slot >= 0 && (!kind.cook_torrance_only || s.brdf == Brdf::CookTorrance);
+            // The "height" method's generated map brings its own plateau layer.
+            const GLuint generated_plateau =
+                kind.kind == scene::MapKind::Plateau && mixer != nullptr ? mixer->plateau_texture()
+                                                                         : 0;
+            const bool read = generated_plateau != 0 ||
+                              (slot >= 0 && (!kind.cook_torrance_only || s.brdf == Brdf::CookTorrance));
             if (read) block.maps |= kind.mask_bit;
             GLuint texture = 0;
-            if (read) {
+            if (generated_plateau != 0) {
+                texture = generated_plateau;
+            } else if (read) {
                 texture = surface_maps_[std::size_t(kind.kind)][std::size_t(slot)].get();
             } else if (kind.fallback == scene::MapFallback::White) {
                 if (white_.get() == 0)
@@ -406,6 +412,8 @@ void Renderer::apply_sampler_state(const ShadingSettings& s) {
             if (t->get() != 0) textures.push_back(t->get());
         if (layers.mixer && layers.mixer->texture() != 0)
             textures.push_back(layers.mixer->texture());
+        if (layers.mixer && layers.mixer->plateau_texture() != 0)
+            textures.push_back(layers.mixer->plateau_texture());
     }
     for (const scene::MapKindInfo& kind : scene::kMapKinds)
         if (kind.lean_sampler_state)

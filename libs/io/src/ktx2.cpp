@@ -248,6 +248,7 @@ std::vector<std::pair<std::string, std::string>> lean_metadata_keys(const Packed
     if (map.normal_repairs.raised_texels > 0)
         keys.emplace_back(kRaisedTexelsKey, std::to_string(map.normal_repairs.raised_texels));
     if (map.source_looks_flipped) keys.emplace_back(kConventionWarningKey, "other");
+    if (map.has_plateau()) keys.emplace_back(kPlateauEpsilonKey, format_float(map.plateau_epsilon));
     return keys;
 }
 
@@ -277,6 +278,11 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
                                   std::to_string(width) + "x" + std::to_string(height));
         }
         const std::uint64_t expected = layer_bytes(format, width, height);
+        if (check_layers && map.has_plateau() && level.plateau.size() != expected) {
+            throw Error(path, "level " + std::to_string(i) + " plateau layer holds " +
+                                  std::to_string(level.plateau.size()) + " bytes, expected " +
+                                  std::to_string(expected));
+        }
         if (check_layers && (level.lean1.size() != expected || level.lean2.size() != expected)) {
             throw Error(path, "level " + std::to_string(i) + " layers hold " +
                                   std::to_string(level.lean1.size()) + " and " +
@@ -286,6 +292,10 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
     }
     if (!(std::isfinite(map.scale) && map.scale > 0.0f)) {
         throw Error(path, "LEAN scale " + format_float(map.scale) + " is not finite and > 0");
+    }
+    if (!(std::isfinite(map.plateau_epsilon) && map.plateau_epsilon >= 0.0f)) {
+        throw Error(path, "plateau epsilon " + format_float(map.plateau_epsilon) +
+                              " is not finite and >= 0");
     }
     if (!(std::isfinite(map.baked_shininess) && map.baked_shininess >= 0.0f)) {
         throw Error(path, "baked shininess " + format_float(map.baked_shininess) +

@@ -26,7 +26,8 @@ constexpr std::size_t kHeaderSize = 80;  // identifier + 9 uint32 + 4 uint32 + 2
 constexpr std::size_t kLevelIndexEntrySize = 24;
 
 constexpr std::uint32_t kMaxLevelCount = 32;  // a uint32 size has at most 32 levels
-constexpr std::uint32_t kLayerCount = 2;      // lean1, lean2
+constexpr std::uint32_t kLayerCount = 2;         // lean1, lean2
+constexpr std::uint32_t kPlateauLayerCount = 3;  // lean1, lean2, plateau
 
 // Khronos Data Format (KDFWG) constants used by the basic descriptor block.
 constexpr std::uint32_t kDfdVersion13 = 2;

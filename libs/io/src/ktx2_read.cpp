@@ -43,9 +43,10 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
     if (info.pixel_depth != 0) {
         throw Error(path, "pixelDepth " + std::to_string(info.pixel_depth) + " (a LEAN map is 2D)");
     }
-    if (info.layer_count != kLayerCount) {
+    if (info.layer_count != kLayerCount && info.layer_count != kPlateauLayerCount) {
         throw Error(path, "layerCount " + std::to_string(info.layer_count) +
-                              " (a LEAN map has 2 layers: lean1, lean2)");
+                              " (a LEAN map has 2 layers, lean1 and lean2, or 3 with the plateau "
+                              "layer)");
     }
     if (info.face_count != 1) {
         throw Error(path, "faceCount " + std::to_string(info.face_count) + " (expected 1)");
@@ -78,8 +79,8 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
 void check_finite_texels(const std::string& path, const FormatInfo& format,
                          const PackedLevel& level, std::uint32_t level_number) {
     if (!format.is_float) return;
-    const std::vector<std::uint8_t>* layers[2] = {&level.lean1, &level.lean2};
-    for (int layer = 0; layer < 2; ++layer) {
+    const std::vector<std::uint8_t>* layers[3] = {&level.lean1, &level.lean2, &level.plateau};
+    for (int layer = 0; layer < 3; ++layer) {
         const std::vector<std::uint8_t>& bytes = *layers[layer];
         const std::size_t values = bytes.size() / format.type_size;
         for (std::size_t i = 0; i < values; ++i) {
@@ -96,8 +97,10 @@ void check_finite_texels(const std::string& path, const FormatInfo& format,
             if (finite) continue;
             const std::size_t texel = i / 4;
             throw Error(path, std::string(nan ? "NaN" : "infinity") + " in level " +
-                                  std::to_string(level_number) + " of lean" +
-                                  std::to_string(layer + 1) + " at texel (" +
+                                  std::to_string(level_number) + " of " +
+                                  (layer == 2 ? std::string("the plateau layer")
+                                              : "lean" + std::to_string(layer + 1)) +
+                                  " at texel (" +
                                   std::to_string(texel % std::size_t(level.width)) + ", " +
                                   std::to_string(texel / std::size_t(level.width)) + ")");
         }
@@ -270,7 +273,8 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     const FormatInfo* format = find_format(info.vk_format);
     for (std::uint32_t level = 0; level < info.level_count; ++level) {
         const Ktx2Level& entry = info.levels[level];
-        const std::uint64_t expected = 2 * layer_bytes(*format, entry.width, entry.height);
+        const std::uint64_t expected =
+            info.layer_count * layer_bytes(*format, entry.width, entry.height);
         if (entry.byte_length != expected || entry.uncompressed_byte_length != expected) {
             throw Error(path, "level " + std::to_string(level) + " byteLength " +
                                   std::to_string(entry.byte_length) + " / uncompressed " +
@@ -290,12 +294,18 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     const std::string& layout = required_key(path, info, kLayoutKey);
     if (layout == kCrossTermLayoutName && layout != layout_name)
         throw Error(path, "is a cross-term texture (bake --cross-terms), not a LEAN map");
-    if (layout == kLeanLayoutName && layout != layout_name)
+    const bool lean_layout = layout == kLeanLayoutName || layout == kLeanPlateauLayoutName;
+    if (lean_layout && std::string(layout_name) != kLeanLayoutName)
         throw Error(path, "is a LEAN map, not a cross-term texture");
-    if (layout != layout_name) {
+    if (!lean_layout && layout != layout_name) {
         throw Error(path, "unsupported " + std::string(kLayoutKey) + " '" + escape_text(layout) +
                               "' (expected '" + layout_name + "')");
     }
+    const std::uint32_t layers = layout == kLeanPlateauLayoutName ? kPlateauLayerCount : kLayerCount;
+    if (info.layer_count != layers)
+        throw Error(path, "layerCount " + std::to_string(info.layer_count) + " does not match " +
+                              kLayoutKey + " '" + layout + "' (" + std::to_string(layers) +
+                              " layers)");
     map.scale = parse_float(path, kScaleKey, required_key(path, info, kScaleKey));
     if (!(map.scale > 0.0f)) throw Error(path, std::string(kScaleKey) + " must be > 0");
     if (map.scale > kMaxLeanScale)
@@ -342,12 +352,18 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     if (const std::string* writer = info.find(kKeyWriter); writer != nullptr) {
         map.generator = *writer;
     }
+    if (layers == kPlateauLayerCount) {
+        map.plateau_epsilon =
+            parse_float(path, kPlateauEpsilonKey, required_key(path, info, kPlateauEpsilonKey));
+        if (!(map.plateau_epsilon > 0.0f))
+            throw Error(path, std::string(kPlateauEpsilonKey) + " must be > 0");
+    }
 
     // Every level was checked to lie inside the file with its exact size: the allocations
     // below are bounded by the file size.
     for (std::uint32_t level = 0; level < info.level_count; ++level) {
         const Ktx2Level& entry = info.levels[level];
-        const std::uint64_t layer_size = entry.byte_length / 2;
+        const std::uint64_t layer_size = entry.byte_length / layers;
         PackedLevel packed;
         packed.width = int(entry.width);
         packed.height = int(entry.height);
@@ -357,6 +373,11 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
                      "truncated level data");
         file.read_at(entry.byte_offset + layer_size, packed.lean2.data(), packed.lean2.size(),
                      "truncated level data");
+        if (layers == kPlateauLayerCount) {
+            packed.plateau.resize(std::size_t(layer_size));
+            file.read_at(entry.byte_offset + 2 * layer_size, packed.plateau.data(),
+                         packed.plateau.size(), "truncated level data");
+        }
         check_finite_texels(path, *format, packed, level);
         map.levels.push_back(std::move(packed));
     }

@@ -27,7 +27,7 @@ using namespace ktx2_detail;
 namespace {
 
 // Where everything goes in a KTX2 file of `layout`: the bytes of its header, level index, DFD and
-// key/value data, and each level's offset and length (both layers) in a file of `size` bytes.
+// key/value data, and each level's offset and length (all layers) in a file of `size` bytes.
 struct Ktx2FilePlan {
     std::vector<std::uint8_t> head;
     std::vector<std::uint64_t> level_offsets;
@@ -47,7 +47,11 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     key_values.emplace_back(
         kKeyWriter,
         layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator);
-    key_values.emplace_back(kLayoutKey, layout_name);
+    const bool plateau = layout.has_plateau();
+    key_values.emplace_back(kLayoutKey, plateau && std::strcmp(layout_name, kLeanLayoutName) == 0
+                                            ? kLeanPlateauLayoutName
+                                            : layout_name);
+    const std::uint32_t layer_count = plateau ? kPlateauLayerCount : kLayerCount;
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     std::vector<std::uint8_t> key_value_bytes;
     for (const auto& [key, value] : key_values) append_key_value(key_value_bytes, key, value);
@@ -62,7 +66,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     for (std::uint32_t level = level_count; level-- > 0;) {
         end = align_up(end, level_alignment(format));
         level_offsets[level] = end;
-        level_lengths[level] = 2 * layer_bytes(format, std::uint32_t(layout.levels[level].width),
+        level_lengths[level] = layer_count * layer_bytes(format, std::uint32_t(layout.levels[level].width),
                                                std::uint32_t(layout.levels[level].height));
         end += level_lengths[level];
     }
@@ -75,7 +79,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     append_u32_le(bytes, std::uint32_t(top.width));
     append_u32_le(bytes, std::uint32_t(top.height));
     append_u32_le(bytes, 0);  // pixelDepth: 2D
-    append_u32_le(bytes, kLayerCount);
+    append_u32_le(bytes, layer_count);
     append_u32_le(bytes, 1);  // faceCount
     append_u32_le(bytes, level_count);
     append_u32_le(bytes, 0);  // supercompressionScheme: none
@@ -106,9 +110,12 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
     // as the zeros a newly reserved file reads as.
     std::uint8_t* output = file_.map(std::size_t(plan.size));
     std::memcpy(output, plan.head.data(), plan.head.size());
+    const std::uint64_t layers = layout.has_plateau() ? kPlateauLayerCount : kLayerCount;
     for (std::size_t level = 0; level < plan.level_offsets.size(); ++level) {
         std::uint8_t* lean1 = output + plan.level_offsets[level];
-        targets_.push_back({lean1, lean1 + plan.level_lengths[level] / 2});
+        const std::uint64_t layer = plan.level_lengths[level] / layers;
+        targets_.push_back({lean1, lean1 + layer, layers == kPlateauLayerCount ? lean1 + 2 * layer
+                                                                               : nullptr});
     }
 }
 
@@ -143,9 +150,11 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const s
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
         const PackedLevel& packed = map.levels[level];
         const auto lean1 = file.begin() + std::ptrdiff_t(plan.level_offsets[level]);
+        const auto layer = std::ptrdiff_t(packed.lean1.size());
         std::copy(packed.lean1.begin(), packed.lean1.end(), lean1);
-        std::copy(packed.lean2.begin(), packed.lean2.end(),
-                  lean1 + std::ptrdiff_t(plan.level_lengths[level] / 2));
+        std::copy(packed.lean2.begin(), packed.lean2.end(), lean1 + layer);
+        if (map.has_plateau())
+            std::copy(packed.plateau.begin(), packed.plateau.end(), lean1 + 2 * layer);
     }
     return file;
 }
@@ -166,9 +175,12 @@ void write_ktx2_as(const std::string& path, const PackedLeanMap& map, const Writ
     std::vector<Chunk> chunks;
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
         const PackedLevel& packed = map.levels[level];
-        for (int layer = 0; layer < 2; ++layer) {
-            const std::vector<std::uint8_t>& source = layer == 0 ? packed.lean1 : packed.lean2;
-            std::uint8_t* destination = layer == 0 ? targets[level].lean1 : targets[level].lean2;
+        for (int layer = 0; layer < (map.has_plateau() ? 3 : 2); ++layer) {
+            const std::vector<std::uint8_t>& source =
+                layer == 0 ? packed.lean1 : layer == 1 ? packed.lean2 : packed.plateau;
+            std::uint8_t* destination = layer == 0   ? targets[level].lean1
+                                        : layer == 1 ? targets[level].lean2
+                                                     : targets[level].plateau;
             for (std::size_t first = 0; first < source.size(); first += kChunkBytes) {
                 chunks.push_back({source.data() + first, destination + first,
                                   std::min(kChunkBytes, source.size() - first)});

@@ -522,7 +522,7 @@ namespace {
 // The keys of the KTX2 file's metadata (ktx2.hpp, docs/ktx2.md), plus the layer of this file.
 constexpr const char* kLayerKey = "LEANFADElayer";
 constexpr const char* kSoftwareKey = "Software";  // a PNG's standard keyword
-constexpr const char* kLayerNames[2] = {"lean1", "lean2"};
+constexpr const char* kLayerNames[3] = {"lean1", "lean2", "plateau"};
 
 // Shortest decimal that reads back as the same float.
 std::string exact_text(float value) {
@@ -586,30 +586,34 @@ UnormImage read_png_with_text(const std::string& path, std::vector<PngText>& tex
 }
 
 std::string lean_png_pair_base(const std::string& path) {
-    for (const char* suffix : kLeanPngSuffixes)
+    for (const char* suffix : {kLeanPngSuffixes[0], kLeanPngSuffixes[1], kPlateauPngSuffix})
         if (ends_with_lower(path, suffix))
             return path.substr(0, path.size() - std::strlen(suffix));
     return {};
 }
 
 void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2_path,
-                         const PackedLeanMap& packed, const WriteOptions& options) {
-    const std::string paths[2] = {lean1_path, lean2_path};
+                         const PackedLeanMap& packed, const WriteOptions& options,
+                         const std::string& plateau_path) {
+    const std::string paths[3] = {lean1_path, lean2_path, plateau_path};
+    if (packed.has_plateau() && plateau_path.empty())
+        throw Error(lean1_path, "the LEAN map's plateau layer needs a third file");
     if (packed.storage != Storage::Unorm8 && packed.storage != Storage::Unorm16)
         throw Error(lean1_path, std::string("a PNG holds 8- or 16-bit UNORM values, not storage ") +
                                     to_string(packed.storage) + "; write a KTX2 file");
     if (packed.levels.empty()) throw Error(lean1_path, "the LEAN map has no level");
     const int bits = packed.storage == Storage::Unorm8 ? 8 : 16;
     const PackedLevel& top = packed.levels.front();
-    for (int layer = 0; layer < 2; ++layer) {
+    const int layer_count = packed.has_plateau() ? 3 : 2;
+    for (int layer = 0; layer < layer_count; ++layer) {
         Image image(top.width, top.height, 4);
         for (int y = 0; y < top.height; ++y)
             for (int x = 0; x < top.width; ++x) {
                 const glm::vec4 t = fetch_packed_texel(packed, 0, layer, x, y);
                 for (int c = 0; c < 4; ++c) image.at(x, y, c) = t[c];
             }
-        const std::vector<PngText> text = {
-            {kLayoutKey, kLeanLayoutName},
+        std::vector<PngText> text = {
+            {kLayoutKey, packed.has_plateau() ? kLeanPlateauLayoutName : kLeanLayoutName},
             {kLayerKey, kLayerNames[layer]},
             {kScaleKey, exact_text(packed.scale)},
             {kRoughnessBakedKey, packed.roughness_baked ? "1" : "0"},
@@ -617,6 +621,8 @@ void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2
              exact_text(packed.roughness_baked ? packed.baked_shininess : 0.0f)},
             {kNormalConventionKey, to_string(packed.source_convention)},
             {kSoftwareKey, packed.generator}};
+        if (packed.has_plateau())
+            text.push_back({kPlateauEpsilonKey, exact_text(packed.plateau_epsilon)});
         write_png_with_text(paths[layer], image, bits, text, options);
     }
 }
@@ -625,18 +631,20 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
     const std::string base = lean_png_pair_base(path);
     if (base.empty())
         throw Error(path, "a LEAN map PNG pair is named NAME.lean1.png and NAME.lean2.png");
-    std::string paths[2];
-    UnormImage layers[2];
-    std::vector<PngText> text[2];
+    std::string paths[3];
+    UnormImage layers[3];
+    std::vector<PngText> text[3];
     float scale = 0.0f;
-    for (int layer = 0; layer < 2; ++layer) {
-        paths[layer] = base + kLeanPngSuffixes[layer];
+    int layer_count = 2;  // 3 when lean1's layout names the plateau layer
+    for (int layer = 0; layer < layer_count; ++layer) {
+        paths[layer] = base + (layer < 2 ? kLeanPngSuffixes[layer] : kPlateauPngSuffix);
         const std::string& p = paths[layer];
         layers[layer] = read_png_with_text(p, text[layer], options);
-        if (require_text(p, text[layer], kLayoutKey) != kLeanLayoutName)
-            throw Error(p, std::string("layout '") +
-                               escape_text(*find_text(text[layer], kLayoutKey)) + "' is not '" +
-                               kLeanLayoutName + "'");
+        const std::string& layout = require_text(p, text[layer], kLayoutKey);
+        if (layer == 0 && layout == kLeanPlateauLayoutName) layer_count = 3;
+        const char* expected = layer_count == 3 ? kLeanPlateauLayoutName : kLeanLayoutName;
+        if (layout != expected)
+            throw Error(p, "layout '" + escape_text(layout) + "' is not '" + expected + "'");
         if (require_text(p, text[layer], kLayerKey) != kLayerNames[layer])
             throw Error(p, std::string("holds layer '") +
                                escape_text(*find_text(text[layer], kLayerKey)) + "', expected " +
@@ -649,14 +657,22 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         if (sc > kMaxLeanScale)
             throw Error(p, "sc " + exact_text(sc) + " exceeds the largest sc a bake writes (" +
                                exact_text(kMaxLeanScale) + ": slopes are at most 1e6)");
-        if (layer == 1 && sc != scale)
+        if (layer > 0 && sc != scale)
             throw Error(p, "sc " + exact_text(sc) + " differs from " + paths[0] + "'s " +
                                exact_text(scale));
         scale = sc;
+        if (layer > 0 && (layers[0].width != layers[layer].width ||
+                          layers[0].height != layers[layer].height ||
+                          layers[0].max_value != layers[layer].max_value))
+            throw Error(p, "size or bit depth differs from " + paths[0] + "'s");
     }
-    if (layers[0].width != layers[1].width || layers[0].height != layers[1].height ||
-        layers[0].max_value != layers[1].max_value)
-        throw Error(paths[1], "size or bit depth differs from " + paths[0] + "'s");
+    float plateau_epsilon = 0.0f;
+    if (layer_count == 3) {
+        plateau_epsilon = parse_float_text(paths[2], kPlateauEpsilonKey,
+                                           require_text(paths[2], text[2], kPlateauEpsilonKey));
+        if (!(plateau_epsilon > 0.0f))
+            throw Error(paths[2], std::string(kPlateauEpsilonKey) + " must be > 0");
+    }
 
     LeanMap map;
     map.scale = scale;
@@ -698,9 +714,39 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         map.levels.push_back(std::move(level));
     }
     const std::string* software = find_text(meta, kSoftwareKey);
-    return pack_lean_map(map,
-                         layers[0].max_value == 255 ? Storage::Unorm8 : Storage::Unorm16,
-                         software != nullptr ? *software : std::string());
+    PackedLeanMap packed =
+        pack_lean_map(map, layers[0].max_value == 255 ? Storage::Unorm8 : Storage::Unorm16,
+                      software != nullptr ? *software : std::string());
+    if (layer_count == 3) {
+        // The plateau layer's stored values are affine in (f, f Bs, f |Bs|^2) as well: its chain
+        // is the filtered stored values, rounded to the storage's codes.
+        const std::vector<Image> chain = build_mip_chain(layers[2].to_float());
+        const float max_code = float(layers[2].max_value);
+        for (std::size_t l = 0; l < chain.size(); ++l) {
+            PackedLevel& level = packed.levels[l];
+            const Image& values = chain[l];
+            const int texel_bytes = bytes_per_texel(packed.storage);
+            level.plateau.resize(values.texel_count() * std::size_t(texel_bytes));
+            for (std::size_t i = 0; i < values.texel_count(); ++i) {
+                std::uint16_t codes[4];
+                for (int c = 0; c < 4; ++c)
+                    codes[c] = std::uint16_t(
+                        std::min(std::nearbyint(std::max(values.pixels[4 * i + c], 0.0f) * max_code),
+                                 max_code));
+                for (int c = 0; c < 4; ++c) {
+                    std::uint8_t* texel = &level.plateau[i * std::size_t(texel_bytes)];
+                    if (packed.storage == Storage::Unorm8) {
+                        texel[c] = std::uint8_t(codes[c]);
+                    } else {
+                        texel[2 * c] = std::uint8_t(codes[c] & 0xFF);
+                        texel[2 * c + 1] = std::uint8_t(codes[c] >> 8);
+                    }
+                }
+            }
+        }
+        packed.plateau_epsilon = plateau_epsilon;
+    }
+    return packed;
 }
 
 }  // namespace leanfade::io

@@ -10,6 +10,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/core/text.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
 #include "mesh_internal.hpp"
@@ -43,6 +44,7 @@ std::string settings_text(float scale, Storage storage, bool strict_normals) {
     std::memcpy(&bits, &scale, sizeof bits);
     return "source=normal convention=opengl wrap=repeat roughness=none storage=" +
            std::string(to_string(storage)) + " scale=" + std::to_string(bits) +
+           " plateau_epsilon=" + shortest_text(BakeOptions{}.plateau_epsilon) +
            (strict_normals ? " strict_normals" : "");
 }
 

@@ -254,7 +254,7 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
         layout.metadata() = map.metadata();
         layout.generator += key_tag(key);
         for (const PackedLevel& level : map.levels)
-            layout.levels.push_back({level.width, level.height, {}, {}});
+            layout.levels.push_back({level.width, level.height, {}, {}, {}});
         io::Ktx2Writer writer(entry_path(key), layout);
         const std::vector<PackedLevelTarget>& targets = writer.targets();
         for (std::size_t l = 0; l < map.levels.size(); ++l) {
@@ -264,6 +264,12 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
                             "level " + std::to_string(l) + " does not have the size of its layers");
             std::memcpy(targets[l].lean1, map.levels[l].lean1.data(), layer);
             std::memcpy(targets[l].lean2, map.levels[l].lean2.data(), layer);
+            if (map.has_plateau()) {
+                if (map.levels[l].plateau.size() != layer)
+                    throw Error(entry_path(key), "level " + std::to_string(l) +
+                                                     " does not have the size of its plateau layer");
+                std::memcpy(targets[l].plateau, map.levels[l].plateau.data(), layer);
+            }
         }
         writer.commit();
         clean(entry_path(key));

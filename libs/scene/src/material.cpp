@@ -97,18 +97,16 @@ void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& cha
 
 }  // namespace
 
-void add_plateau_maps(Scene& scene, float epsilon) {
+void add_plateau_maps(Scene& scene) {
     std::vector<int> slot_of_map(scene.lean_maps.size(), -1);
     for (Material& material : scene.materials) {
         if (!material.layered.layers.empty() || material.map(MapKind::Plateau) >= 0) continue;
         if (material.lean_map < 0 || std::size_t(material.lean_map) >= scene.lean_maps.size())
             continue;  // validate() reports it
+        const PackedLeanMap& lean_map = scene.lean_maps[std::size_t(material.lean_map)];
+        if (!lean_map.has_plateau()) continue;
         int& slot = slot_of_map[std::size_t(material.lean_map)];
-        if (slot < 0)
-            slot = scene.add_map(
-                MapKind::Plateau,
-                plateau_mips(packed_top_slopes(scene.lean_maps[std::size_t(material.lean_map)]),
-                             epsilon));
+        if (slot < 0) slot = scene.add_map(MapKind::Plateau, unpack_plateau_layer(lean_map));
         material.map(MapKind::Plateau) = slot;
     }
 }

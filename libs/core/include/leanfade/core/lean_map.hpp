@@ -82,7 +82,18 @@ struct PackedLevel {
     int height = 0;
     std::vector<std::uint8_t> lean1;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
     std::vector<std::uint8_t> lean2;  // (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
+    // Two-lobe LEAN's plateau layer (docs/math.md §10), empty when the map has none
+    // (PackedLeanMapMetadata::plateau_epsilon = 0): the same storage and size as lean1, holding
+    // (f, 0.5 f Bs / sc + 0.5, 0.5 f |Bs|^2 / sc^2) with f the fraction of the texel's footprint
+    // on a plateau and Bs its slope; every channel affine in (f, f Bs, f |Bs|^2), so filtering
+    // the stored values filters the layer (leanfade/core/plateau.hpp).
+    std::vector<std::uint8_t> plateau;
 };
+
+// The plateau rule's threshold a bake uses unless told otherwise (leanfade/core/plateau.hpp): a
+// texel is on a plateau when its slope differs from each of its four neighbours' by less than this
+// per component, in slope units.
+inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 
 // What a packed LEAN map records besides its levels: the storage, sc and how it was baked (what
 // a KTX2 file keeps in its key/value data, docs/ktx2.md).
@@ -97,6 +108,11 @@ struct PackedLeanMapMetadata {
     // (NormalConventionCheck::looks_flipped), as noted by a bake that checked it.
     bool source_looks_flipped = false;
     std::string generator;  // e.g. "leanfade 0.1.0"
+    // The plateau rule's epsilon (slope units) the map's plateau layer was made with, or 0 when
+    // the map has no plateau layer (maps of older versions: two-lobe LEAN shades them with f = 0,
+    // as LEAN).
+    float plateau_epsilon = 0.0f;
+    bool has_plateau() const { return plateau_epsilon > 0.0f; }
 };
 
 // The metadata's fields are the map's own (map.scale, map.storage, ...); metadata() is all of
@@ -130,6 +146,9 @@ struct BakeOptions {
     // Normal maps: refuse texels with z <= -kNormalZRejectEpsilon, (0, 0, 0) padding included,
     // instead of repairing them (NormalRepairs).
     bool strict_normals = false;
+    // The packed bakes (bake_packed*) add the plateau layer of two-lobe LEAN with this epsilon
+    // (slope units, finite, >= 0; 0 = no layer). The float LeanMap has no such layer.
+    float plateau_epsilon = kDefaultPlateauEpsilon;
 };
 
 // Normals with z below this (after decoding 2*rgb-1) are raised to it, and counted; normals with
@@ -235,8 +254,8 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
 // Inverse of pack_lean_map within the storage's quantisation.
 LeanMap unpack_lean_map(const PackedLeanMap& packed);
 
-// Decoded RGBA floats of one packed texel of one slice, 0 = lean1, 1 = lean2 (for tests and the
-// CPU reference).
+// Decoded RGBA floats of one packed texel of one slice, 0 = lean1, 1 = lean2, 2 = the plateau
+// layer's stored values (for tests and the CPU reference).
 glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int slice, int x, int y);
 
 // Statistics for the bake summary. Slopes are dimensionless; covariance in slope^2.
@@ -305,11 +324,15 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
                       const BakeOptions& options, Storage storage, const std::string& generator,
                       const std::string& source_name = "");
 
-// Where bake_packed_to writes each level's packed texels: the first byte of lean1 and of lean2,
-// each width * height * bytes_per_texel(storage) bytes, rows top first, tightly packed.
+// Where bake_packed_to writes each level's packed texels: the first byte of lean1, of lean2 and
+// of the plateau layer, each width * height * bytes_per_texel(storage) bytes, rows top first,
+// tightly packed.
 struct PackedLevelTarget {
     std::uint8_t* lean1 = nullptr;
     std::uint8_t* lean2 = nullptr;
+    // The plateau layer's texels (as many bytes as lean1) when the layout has a plateau layer,
+    // else unused (may be nullptr).
+    std::uint8_t* plateau = nullptr;
 };
 // Called by bake_packed_to once sc is known (the input has been read and validated) and before
 // the first texel is packed, with the map's metadata and every level's width and height (its

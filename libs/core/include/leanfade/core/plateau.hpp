@@ -11,12 +11,12 @@
 
 namespace leanfade {
 
-// A texel lies on a plateau when each component of its slope B differs from each of its four
-// neighbours' (the map repeats) by less than this, in slope units (height per texel spacing
-// along the surface). Small against the base roughness of the shininess the maps are shaded
-// with (sqrt(1/s) = 0.0085 at s = 13777): the plateau lobe's own width comes from the plateau
-// texels' measured spread, so the threshold only decides which texels form the spike.
-inline constexpr float kDefaultPlateauEpsilon = 0.005f;
+// The rule (kDefaultPlateauEpsilon, lean_map.hpp): a texel lies on a plateau when each
+// component of its slope B differs from each of its four neighbours' (the map repeats) by less
+// than epsilon, in slope units (height per texel spacing along the surface). The default 0.005
+// is small against the base roughness of the shininess the maps are shaded with (sqrt(1/s) =
+// 0.0085 at s = 13777): the plateau lobe's own width comes from the plateau texels' measured
+// spread, so the threshold only decides which texels form the spike.
 
 // The plateau layer's finest level for 2-channel slopes B: RGBA = (1, Bx, By, Bx^2 + By^2) at a
 // plateau texel and 0 elsewhere, so that filtered texels hold (f, f Bs, f |Bs|^2) with f the
@@ -34,5 +34,24 @@ std::vector<Image> plateau_mips(const Image& slopes, float epsilon = kDefaultPla
 // The 2-channel slopes B of a packed LEAN map's finest level, in slope units. threads: as
 // BakeOptions::threads.
 Image packed_top_slopes(const PackedLeanMap& map, int threads = 0);
+
+// The plateau layer stored in a packed LEAN map (PackedLevel::plateau, docs/ktx2.md): every level
+// of plateau_mips(packed_top_slopes(map), epsilon) in the map's storage, per texel
+//   (f, 0.5 f Bs.x / sc + 0.5, 0.5 f Bs.y / sc + 0.5, 0.5 f |Bs|^2 / sc^2),
+// UNORM codes rounded as the moments are (lean_map_internal.hpp). Each channel is affine in the
+// filtered quantities, so a trilinear fetch of the stored layer decodes to the layer of the
+// filtered map. Replaces any layer the map had and sets map.plateau_epsilon. epsilon: slope
+// units, finite and > 0 (else Error("plateau_epsilon", ...)). The packed bakes
+// (BakeOptions::plateau_epsilon) write exactly these bytes.
+void add_plateau_layer(PackedLeanMap& map, float epsilon = kDefaultPlateauEpsilon,
+                       int threads = 0);
+// The map without its plateau layer (as maps of older versions are).
+void remove_plateau_layer(PackedLeanMap& map);
+
+// The stored plateau layer decoded to the renderer's floats (f, f Bs.x, f Bs.y, f |Bs|^2) (slope
+// units), one image per level, finest first; texels with f = 0 decode to exactly 0 (two-lobe LEAN
+// shades them as LEAN). Empty when the map has no plateau layer. Throws Error("plateau", ...) when
+// the layer's byte counts do not match the levels.
+std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads = 0);
 
 }  // namespace leanfade

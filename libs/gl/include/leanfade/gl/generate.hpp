@@ -9,6 +9,7 @@
 // The texture has the layout Renderer::set_lean_map uploads: a GL_TEXTURE_2D_ARRAY of two slices
 // (lean1, lean2) with every MIP level, texel row 0 at v = 0 (the bottom row of an image file).
 #include <string>
+#include <vector>
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -34,6 +35,10 @@ struct GenerateOptions {
     float scale = 1.0f;                     // sc the slices are packed with (docs/math.md §3), > 0
     float bake_roughness_shininess = 0.0f;  // s > 0: 1/s added to Mxx, Myy (LEAN eq. 6)
     Storage storage = Storage::Unorm16;     // texel format of both slices
+    // Two-lobe LEAN's plateau layer (docs/math.md §10) of the generated map, with this epsilon
+    // (slope units; 0 = none): a second pass (shaders/generate_plateau.comp) from the generated
+    // top level, as plateau_texels of leanfade/core/plateau.hpp.
+    float plateau_epsilon = kDefaultPlateauEpsilon;
 };
 
 class LeanGenerator {
@@ -59,17 +64,22 @@ class LeanGenerator {
     // Throws leanfade::Error("generate", cause) for a size outside [1, GL_MAX_TEXTURE_SIZE].
     void set_layer_source(int width, int height);
 
-    // The compute pass: level 0 of both slices. (Re)allocates the texture, with every MIP level,
-    // when the source size or the storage changed. Throws leanfade::Error("generate", cause)
-    // without a source, for sc <= 0 or a non-finite option.
+    // The compute pass: level 0 of both slices, and of the plateau texture with
+    // options.plateau_epsilon > 0. (Re)allocates the textures, with every MIP level, when the
+    // source size or the storage changed. Throws leanfade::Error("generate", cause) without a
+    // source, for sc <= 0 or a non-finite or negative option.
     void write_top_level(const GenerateOptions& options);
-    // glGenerateTextureMipmap: levels 1.. from level 0.
+    // glGenerateTextureMipmap: levels 1.. from level 0, of both textures.
     void generate_mipmaps();
     // Both of the above.
     void generate(const GenerateOptions& options);
 
     // The generated texture (0 before the first write_top_level).
     GLuint texture() const { return texture_.get(); }
+    // The generated plateau layer: a GL_TEXTURE_2D, RGBA16F, every MIP level, texel
+    // (f, f Bs.x, f Bs.y, f |Bs|^2) as MapKind::Plateau holds it; 0 when the last
+    // write_top_level had plateau_epsilon 0.
+    GLuint plateau_texture() const { return plateau_epsilon_ > 0.0f ? plateau_.get() : 0; }
     int width() const { return width_; }
     int height() const { return height_; }
     int levels() const { return levels_; }
@@ -77,9 +87,13 @@ class LeanGenerator {
     // Every level read back in the CPU baker's layout (rows top first), with sc, storage and the
     // baked-roughness flag of the last pass; generator "leanfade GPU". Waits for the GPU.
     PackedLeanMap read_back() const;
+    // Every level of the plateau texture read back as floats, rows top first (empty when there
+    // is none). Waits for the GPU.
+    std::vector<Image> read_back_plateau() const;
 
   private:
     GLuint program(Storage storage);
+    void write_plateau_top_level();
 
     Context& context_;
     ShaderSources sources_;
@@ -87,6 +101,9 @@ class LeanGenerator {
     Texture source_;
     Texture texture_;
     Program programs_[3][4];  // [input][storage], built on first use
+    Texture plateau_;
+    Program plateau_program_;
+    float plateau_epsilon_ = 0.0f;
     int width_ = 0, height_ = 0, levels_ = 0;
     Storage storage_ = Storage::Unorm16;
     float scale_ = 1.0f;

@@ -1,6 +1,7 @@
 #pragma once
 // The LEAN map container: a Khronos KTX 2.0 file holding a 2D array texture of two layers
-// (layer 0 = lean1, layer 1 = lean2, docs/math.md §3) with its MIP chain. See docs/ktx2.md.
+// (layer 0 = lean1, layer 1 = lean2, docs/math.md §3), or three with two-lobe LEAN's plateau layer
+// (layer 2, docs/math.md §10), with its MIP chain. See docs/ktx2.md.
 //
 // - vkFormat from the storage: Unorm8 -> VK_FORMAT_R8G8B8A8_UNORM (37), Unorm16 ->
 //   R16G16B16A16_UNORM (91), Float16 -> R16G16B16A16_SFLOAT (97), Float32 -> R32G32B32A32_SFLOAT
@@ -42,8 +43,13 @@ inline constexpr const char* kRaisedTexelsKey = "LEANFADEraisedTexels";
 // (PackedLeanMap::source_looks_flipped): the value "other".
 inline constexpr const char* kConventionWarningKey = "LEANFADEconventionWarning";
 
-// The value of the LEANFADElayout key this version writes and accepts.
+// The value of the LEANFADElayout key of a LEAN map of two layers (lean1, lean2) ...
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
+// ... and of one with two-lobe LEAN's plateau layer as a third (PackedLevel::plateau,
+// leanfade/core/plateau.hpp), made with the epsilon of LEANFADEplateauEpsilon. A reader that
+// takes only the first two layers reads it as the two-layer map.
+inline constexpr const char* kLeanPlateauLayoutName = "lean1,lean2,plateau v1";
+inline constexpr const char* kPlateauEpsilonKey = "LEANFADEplateauEpsilon";
 // The LEANFADElayout of a cross-term texture (`bake --cross-terms`, docs/ktx2.md): the same
 // container, other layers; read_ktx2 refuses it by name.
 inline constexpr const char* kCrossTermLayoutName = "cross terms v1";
@@ -104,11 +110,14 @@ PackedBakeResult bake_to_ktx2(const std::string& path,
 
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
-// height in [1, max_dimension], depth 0, layerCount 2, faceCount 1, levelCount the full MIP
-// chain, no supercompression), that every offset + length lies inside the file (overflow-safe),
+// height in [1, max_dimension], depth 0, layerCount 2, or 3 with the plateau layer, faceCount 1,
+// levelCount the full MIP chain, no supercompression), that every offset + length lies inside
+// the file (overflow-safe),
 // that no two parts of the file (header and level index, DFD, key/value data, each level)
 // overlap, that level data is aligned and exactly sized, the data format descriptor, the key/value
-// data (no key twice) and the LEANFADE keys (LEANFADEscale finite and > 0), and that every texel
+// data (no key twice) and the LEANFADE keys (LEANFADEscale finite and > 0; LEANFADElayout naming
+// the plateau layer exactly when there are 3 layers, with LEANFADEplateauEpsilon > 0), and that
+// every texel
 // of a float map is finite. Sizes are checked before any level memory is allocated. inspect_ktx2
 // runs the structural part of these checks; `leanfade info` runs both before printing anything.
 PackedLeanMap read_ktx2(const std::string& path, const ReadOptions& options = {});

@@ -124,11 +124,12 @@ struct Scene {
 // The size of the map the "height" method generates for `material`'s layers (mixed_map_size of
 // leanfade/core/layers.hpp over the top levels of their LEAN maps and their tilings). Throws
 // mixed_map_size's errors, and Error("scene", cause) for a layer map without levels.
-// Gives every material drawn from one LEAN map (not from bump layers) that has no plateau layer
-// the plateau layer of its map (MapKind::Plateau, leanfade/core/plateau.hpp: two-lobe LEAN's
-// spike, docs/math.md §10), made once per map from its finest level. epsilon: slope units, as
-// plateau_texels. Materials of bump layers keep none: two-lobe shades them as LEAN.
-void add_plateau_maps(Scene& scene, float epsilon = kDefaultPlateauEpsilon);
+// Gives every material drawn from one LEAN map (not from bump layers) that has no plateau map
+// the plateau layer its LEAN map stores (MapKind::Plateau, unpack_plateau_layer of
+// leanfade/core/plateau.hpp: two-lobe LEAN's spike, docs/math.md §10), decoded once per map. A
+// LEAN map without the layer (a file of an older version, a bake with plateau_epsilon 0) gives
+// none, and neither do materials of bump layers: two-lobe shades them as LEAN (f = 0).
+void add_plateau_maps(Scene& scene);
 
 glm::ivec2 mixed_map_size(const Scene& scene, const Material& material);
 

@@ -1,0 +1,18 @@
+#pragma once
+// The plateau layer written by the packed bakes (bake_packed.cpp) straight into their output, the
+// bytes of add_plateau_layer (leanfade/core/plateau.hpp) without its float images of the finest
+// level.
+#include <cstdint>
+#include <vector>
+
+#include "leanfade/core/lean_map.hpp"
+
+namespace leanfade::detail {
+
+// Fills targets[l].plateau of every level of `layout` (its storage, sc and level sizes) from the
+// finest level's packed lean2 texels at `lean2_top`. epsilon: slope units, finite and > 0.
+void pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
+                           const std::vector<PackedLevelTarget>& targets, float epsilon,
+                           int threads);
+
+}  // namespace leanfade::detail
