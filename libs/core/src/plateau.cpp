@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <iterator>
 #include <string>
+#include <type_traits>
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
@@ -20,13 +22,40 @@ void check_epsilon(float epsilon) {
         throw Error("plateau_epsilon", "must be finite and > 0");
 }
 
-// The slope of texel x of a finest-level lean2 row (docs/math.md §3: lean2 = (0.5 B / sc + 0.5,
-// ...)), in slope units.
-inline void decode_slope(const std::uint8_t* lean2_row, int x, Storage storage, int texel_bytes,
-                         float sc, float& bx, float& by) {
-    const std::uint8_t* texel = lean2_row + std::size_t(x) * std::size_t(texel_bytes);
-    bx = (2.0f * detail::load_channel(texel, 0, storage) - 1.0f) * sc;
-    by = (2.0f * detail::load_channel(texel, 1, storage) - 1.0f) * sc;
+// Calls body(std::integral_constant<Storage, S>) for the storage S = `storage`, so that the
+// per-channel loads and stores below are resolved at compile time.
+template <typename Body>
+void with_storage(Storage storage, Body&& body) {
+    switch (storage) {
+        case Storage::Unorm8: return body(std::integral_constant<Storage, Storage::Unorm8>{});
+        case Storage::Unorm16: return body(std::integral_constant<Storage, Storage::Unorm16>{});
+        case Storage::Float16: return body(std::integral_constant<Storage, Storage::Float16>{});
+        case Storage::Float32: return body(std::integral_constant<Storage, Storage::Float32>{});
+    }
+}
+
+// The slopes (2 floats per texel, slope units) of a finest-level lean2 row of w texels
+// (docs/math.md §3: lean2 = (0.5 B / sc + 0.5, ...)).
+void decode_slope_row(const std::uint8_t* lean2_row, int w, Storage storage, float sc,
+                      float* out) {
+    with_storage(storage, [&](auto s) {
+        constexpr Storage S = decltype(s)::value;
+        const std::size_t texel_bytes = std::size_t(bytes_per_texel(S));
+        for (int x = 0; x < w; ++x) {
+            const std::uint8_t* texel = lean2_row + std::size_t(x) * texel_bytes;
+            out[2 * x] = (2.0f * detail::load_channel(texel, 0, S) - 1.0f) * sc;
+            out[2 * x + 1] = (2.0f * detail::load_channel(texel, 1, S) - 1.0f) * sc;
+        }
+    });
+}
+
+// unorm_code (lean_map_internal.hpp) without a call to the C library's rounding: a value in
+// (0, Q] plus 2^23 lies where floats are the integers, so the sum rounds it to the nearest
+// integer, ties to even, as nearbyint does in the default rounding mode.
+inline std::uint16_t plateau_code(float value, float max_code) {
+    if (!(value > 0.0f)) return 0;
+    constexpr float kIntegers = 8388608.0f;  // 2^23
+    return std::uint16_t((std::min(value, max_code) + kIntegers) - kIntegers);
 }
 
 // One row of plateau texels (plateau_texels' rule) from the 2-channel slopes of the row, the rows
@@ -90,27 +119,40 @@ void extend_chain(std::vector<Image>& chain, int threads) {
 void pack_plateau_texels(const float* values, std::size_t count, Storage storage, float sc,
                          std::uint8_t* out) {
     const float sc2 = sc * sc;
-    const int texel_bytes = bytes_per_texel(storage);
-    if (storage == Storage::Unorm8 || storage == Storage::Unorm16) {
-        const detail::UnormPacking k = detail::unorm_packing(storage, sc, sc2);
-        for (std::size_t i = 0; i < count; ++i) {
-            const float* v = values + 4 * i;
-            const std::uint16_t codes[4] = {
-                detail::unorm_code(v[0] * k.max, k.max),
-                detail::unorm_code(v[1] * k.b_factor + k.half, k.max),
-                detail::unorm_code(v[2] * k.b_factor + k.half, k.max),
-                detail::unorm_code(v[3] * k.mxy_factor, k.max)};
-            detail::store_unorm_texel(out + i * std::size_t(texel_bytes), codes, storage);
+    with_storage(storage, [&](auto s) {
+        constexpr Storage S = decltype(s)::value;
+        const std::size_t texel_bytes = std::size_t(bytes_per_texel(S));
+        if constexpr (S == Storage::Unorm8 || S == Storage::Unorm16) {
+            const detail::UnormPacking k = detail::unorm_packing(S, sc, sc2);
+            // Per channel value * factor + offset (a + 0 changes no code: -0 and +0 are code 0).
+            const float factor[4] = {k.max, k.b_factor, k.b_factor, k.mxy_factor};
+            const float offset[4] = {0.0f, k.half, k.half, 0.0f};
+            // A texel off every plateau (f = 0, all four values 0) always packs to these bytes.
+            std::uint8_t off_plateau[8];
+            std::uint16_t off_codes[4];
+            for (int c = 0; c < 4; ++c) off_codes[c] = plateau_code(offset[c], k.max);
+            detail::store_unorm_texel(off_plateau, off_codes, S);
+            for (std::size_t i = 0; i < count; ++i) {
+                const float* v = values + 4 * i;
+                std::uint8_t* texel = out + i * texel_bytes;
+                if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f) {
+                    std::memcpy(texel, off_plateau, texel_bytes);
+                    continue;
+                }
+                std::uint16_t codes[4];
+                for (int c = 0; c < 4; ++c) codes[c] = plateau_code(v[c] * factor[c] + offset[c], k.max);
+                detail::store_unorm_texel(texel, codes, S);
+            }
+        } else {
+            for (std::size_t i = 0; i < count; ++i) {
+                const float* v = values + 4 * i;
+                const float stored[4] = {v[0], 0.5f * v[1] / sc + 0.5f, 0.5f * v[2] / sc + 0.5f,
+                                         0.5f * v[3] / sc2};
+                for (int c = 0; c < 4; ++c)
+                    detail::store_float_channel(out + i * texel_bytes, c, stored[c], S);
+            }
         }
-        return;
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-        const float* v = values + 4 * i;
-        const float stored[4] = {v[0], 0.5f * v[1] / sc + 0.5f, 0.5f * v[2] / sc + 0.5f,
-                                 0.5f * v[3] / sc2};
-        for (int c = 0; c < 4; ++c)
-            detail::store_float_channel(out + i * std::size_t(texel_bytes), c, stored[c], storage);
-    }
+    });
 }
 
 void pack_plateau_level(const Image& level, Storage storage, float sc, std::uint8_t* out,
@@ -132,9 +174,7 @@ Image slopes_of_lean2(const std::uint8_t* lean2, int width, int height, Storage 
         for (int y = first; y < end; ++y) {
             const std::uint8_t* row =
                 lean2 + std::size_t(y) * std::size_t(width) * std::size_t(texel_bytes);
-            float* out = slopes.row(y);
-            for (int x = 0; x < width; ++x)
-                decode_slope(row, x, storage, texel_bytes, sc, out[2 * x], out[2 * x + 1]);
+            decode_slope_row(row, width, storage, sc, slopes.row(y));
         }
     });
     return slopes;
@@ -246,7 +286,8 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
         return;
     }
     // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
-    // into level 1 (no float image of the finest level), then the reference's chain below.
+    // into level 1 (no float image of the finest level), which is packed row by row too; then
+    // the reference's chain below.
     chain.emplace_back(w / 2, h / 2, 4);
     Image& level1 = chain.front();
     parallel_for_rows(h / 2, threads, [&](int first, int end) {
@@ -255,10 +296,8 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
         for (auto& s : slopes) s.resize(2 * std::size_t(w));
         for (auto& t : texels) t.resize(4 * std::size_t(w));
         auto decode_row = [&](int y, std::vector<float>& out) {
-            const std::uint8_t* row = lean2_top + std::size_t((y + h) % h) * row_bytes;
-            for (int x = 0; x < w; ++x)
-                decode_slope(row, x, storage, texel_bytes, sc, out[2 * std::size_t(x)],
-                             out[2 * std::size_t(x) + 1]);
+            decode_slope_row(lean2_top + std::size_t((y + h) % h) * row_bytes, w, storage, sc,
+                             out.data());
         };
         for (int pair = first; pair < end; ++pair) {
             const int y0 = 2 * pair;
@@ -280,10 +319,13 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
             float* out = level1.row(pair);
             for (int x = 0; x < w / 2; ++x)
                 box_texel(texels[0].data(), texels[1].data(), x, out + 4 * x);
+            // Level 1's row packed while it is in the cache.
+            pack_plateau_texels(out, std::size_t(w / 2), storage, sc,
+                                targets[1].plateau + std::size_t(pair) * (row_bytes / 2));
         }
     });
     extend_chain(chain, threads);
-    for (std::size_t l = 0; l < chain.size(); ++l)
+    for (std::size_t l = 1; l < chain.size(); ++l)
         pack_plateau_level(chain[l], storage, sc, targets[l + 1].plateau, threads);
 }
 
