@@ -11,6 +11,7 @@
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "plateau_internal.hpp"
 
@@ -288,8 +289,13 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
     // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
     // into level 1 (no float image of the finest level), which is packed row by row too; then
     // the reference's chain below.
-    chain.emplace_back(w / 2, h / 2, 4);
+    chain.emplace_back();
     Image& level1 = chain.front();
+    level1.width = w / 2;
+    level1.height = h / 2;
+    level1.channels = 4;
+    // Huge pages where the system has them: level 1 of a 4096^2 map is 64 MiB of floats.
+    assign_large(level1.pixels, level1.texel_count() * 4, 0.0f);
     parallel_for_rows(h / 2, threads, [&](int first, int end) {
         // Slopes of the rows 2y - 1 .. 2y + 2 (the map repeats), and the pair's plateau texels.
         std::vector<float> slopes[4], texels[2];
