@@ -433,3 +433,59 @@ TEST_F(MovingLayersAtTimeZero, RenderLikeTheMapBakedOnceOnTheCpu) {
 
 }  // namespace
 }  // namespace leanfade::test
+
+namespace leanfade::test {
+namespace {
+
+// Two-lobe LEAN on moving bump layers mixed by the "height" method reads the plateau layer the
+// GPU generates with the mixed map (shaders/generate_plateau.comp): bumps on flat ground under
+// bumps on flat ground leave flat ground, so two-lobe differs from LEAN; layers mixed at shading
+// time have no plateau and draw two-lobe as LEAN, bit for bit.
+class GeneratedPlateau : public GlTest {};
+
+TEST_F(GeneratedPlateau, HeightMixingGetsTheLayerAndTheOtherMethodsShadeAsLean) {
+    auto scene_of = [](LayerMixing mixing) {
+        scene::Scene s;
+        s.objects.push_back(scene::Object{scene::make_scene_mesh("sphere"), 0, glm::mat4(1.0f)});
+        scene::Material material;
+        material.name = "moving bumps";
+        material.layered.mixing = mixing;
+        material.layered.weights = {0.5f, 0.5f};
+        for (int i = 0; i < 2; ++i) {
+            const LeanMap map = bake_lean_map(make_builtin_height("bumps", 64, 3 + i),
+                                              BakeSource::Height, BakeOptions{}, "bumps")
+                                    .map;
+            s.lean_maps.push_back(pack_lean_map(map, Storage::Float32, "tests"));
+            material.layered.layers.push_back(scene::MaterialLayer{
+                i, 1.0f, 1.0f, glm::vec2(0.011f * float(i + 1), -0.007f)});
+        }
+        s.materials.push_back(material);
+        return s;
+    };
+    auto render = [&](const scene::Scene& s, gl::Technique technique) {
+        gl::Renderer renderer(context());
+        renderer.set_scene(s);
+        gl::RenderRequest request;
+        request.technique = technique;
+        request.width = request.height = 96;
+        request.view = gl::view_at_distance(16.0f);
+        request.settings.shininess = 4096.0f;
+        request.settings.tiling = 4.0f;
+        request.settings.geometric_aa = GeometricAa::Off;
+        request.output = gl::OutputMode::Specular;
+        request.time = 1.7f;
+        return renderer.render(request);
+    };
+    const scene::Scene height = scene_of(LayerMixing::Height);
+    const Image lean = render(height, gl::Technique::Lean);
+    const Image two = render(height, gl::Technique::TwoLobe);
+    ASSERT_GT(image_sum(lean), 0.0);
+    EXPECT_GT(relative_l1(two, lean), 0.02) << "the generated plateau's spike must show";
+    // Mixed at shading time ("approx"; "textures" alike): no plateau.
+    const scene::Scene approx = scene_of(LayerMixing::Approx);
+    EXPECT_TRUE(render(approx, gl::Technique::Lean).pixels ==
+                render(approx, gl::Technique::TwoLobe).pixels);
+}
+
+}  // namespace
+}  // namespace leanfade::test
