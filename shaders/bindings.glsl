@@ -21,6 +21,8 @@ const int LF_MAP_BASE_ROUGHNESS = 2;
 // set; without it f = 0 and two-lobe shades as LEAN.
 const int LF_BINDING_PLATEAU = 3;
 const int LF_MAP_PLATEAU = 4;
+const int LF_BINDING_ROUGHNESS_MIPS = 9;
+const int LF_MAP_ROUGHNESS_MIPS = 128;
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

@@ -84,17 +84,25 @@ bool has_roughness_map() {
 }
 
 #if defined(LF_ROUGHNESS_MIPS)
+// Another tool's roughness MIPs (bit LF_MAP_ROUGHNESS_MIPS, `--roughness-mips`): perceptual r per
+// level, read in place of the r the engine texel derives from the LEAN map.
+layout(binding = LF_BINDING_ROUGHNESS_MIPS) uniform sampler2D u_roughness_mips;
+
+// The texel of `map` (a full MIP chain) under the LEAN map's texel p of `level`: the same texel
+// when both are of one size, else the map's level of the same footprint at the texel's centre.
+float texel_under_lean_texel(sampler2D map, ivec2 p, int level) {
+    ivec2 size = textureSize(map, 0);
+    ivec2 lean_size = textureSize(u_lean, 0).xy;
+    if (size == lean_size) return texelFetch(map, p, level).r;
+    vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(u_lean, level).xy);
+    return textureLod(map, uv, float(level) + log2(float(size.x) / float(lean_size.x))).r;
+}
+
 // alpha0^2 of the LEAN map's texel p of `level` for the engine texel: the uniform roughness's, or
-// the map's texel at that level (the bake's pairing, `bake --roughness-out --roughness-map`); a
-// map of another size is read at the texel's centre from its level of the same footprint.
+// the map's texel at that level (the bake's pairing, `bake --roughness-out --roughness-map`).
 float roughness_mip_alpha0_squared(ivec2 p, int level) {
     if (!has_roughness_map()) return 2.0 * u_shading.params.inv_s_shading;
-    ivec2 size = textureSize(u_base_roughness, 0);
-    ivec2 lean_size = textureSize(u_lean, 0).xy;
-    if (size == lean_size) return texelFetch(u_base_roughness, p, level).r;
-    vec2 uv = (vec2(p) + 0.5) / vec2(textureSize(u_lean, level).xy);
-    return textureLod(u_base_roughness, uv,
-                      float(level) + log2(float(size.x) / float(lean_size.x))).r;
+    return texel_under_lean_texel(u_base_roughness, p, level);
 }
 
 // Roughness MIPs (docs/roughness.md): every LEAN texel of a level becomes the texel the baked
@@ -104,9 +112,12 @@ float roughness_mip_alpha0_squared(ivec2 p, int level) {
 vec4 roughness_mip_texel(ivec2 xy, int level) {
     ivec2 size = textureSize(u_lean, level).xy;
     ivec2 p = ((xy % size) + size) % size;
-    return lf_roughness_mip_texel(texelFetch(u_lean, ivec3(p, 0), level),
-                                  texelFetch(u_lean, ivec3(p, 1), level), u_shading.scale,
-                                  roughness_mip_alpha0_squared(p, level));
+    vec4 texel = lf_roughness_mip_texel(texelFetch(u_lean, ivec3(p, 0), level),
+                                        texelFetch(u_lean, ivec3(p, 1), level), u_shading.scale,
+                                        roughness_mip_alpha0_squared(p, level));
+    if ((u_shading.maps & LF_MAP_ROUGHNESS_MIPS) != 0)
+        texel.w = texel_under_lean_texel(u_roughness_mips, p, level);
+    return texel;
 }
 
 vec4 roughness_mip_bilinear(vec2 uv, int level) {

@@ -13,15 +13,29 @@ bool given(const CLI::App& app, const std::string& flag) { return app.count(flag
 
 namespace {
 
-// The preset key of the map kind that the rendering commands take as a flag: its row's setting
-// with '_' for '-' ("roughness_map"), as the other keys of a preset.
-const std::string& roughness_map_setting() {
-    static const std::string key = [] {
-        std::string setting(scene::info(scene::MapKind::BaseRoughness).setting);
-        std::replace(setting.begin(), setting.end(), '-', '_');
-        return setting;
-    }();
-    return key;
+// The preset key of a map kind that the rendering commands take as a flag: its row's setting with
+// '_' for '-' ("roughness_map"), as the other keys of a preset.
+std::string map_setting_key(scene::MapKind kind) {
+    std::string setting(scene::info(kind).setting);
+    std::replace(setting.begin(), setting.end(), '-', '_');
+    return setting;
+}
+
+// The flags' file of each map kind given as a flag (the rows with a setting).
+struct MapFlagFile {
+    scene::MapKind kind;
+    std::string LeanSourceFlags::*path;
+};
+constexpr MapFlagFile kMapFlagFiles[] = {
+    {scene::MapKind::BaseRoughness, &LeanSourceFlags::roughness_map},
+    {scene::MapKind::RoughnessMips, &LeanSourceFlags::roughness_mips},
+};
+
+std::string map_setting_keys() {
+    std::string keys;
+    for (const MapFlagFile& m : kMapFlagFiles)
+        keys += (keys.empty() ? "" : ", ") + map_setting_key(m.kind);
+    return keys;
 }
 
 }  // namespace
@@ -49,11 +63,13 @@ void set_source_defaults(const Preset& preset, const std::string& file, const CL
         set_unless_given(app, "--mixing", l.mixing, preset.layers.mixing);
     }
     for (const MapFile& map : preset.maps) {
-        if (map.kind != roughness_map_setting())
+        const MapFlagFile* known = nullptr;
+        for (const MapFlagFile& m : kMapFlagFiles)
+            if (map.kind == map_setting_key(m.kind)) known = &m;
+        if (known == nullptr)
             throw Error(file, "key 'maps." + escape_text(map.kind) + "': unknown map (expected " +
-                                  roughness_map_setting() + ")");
-        set_unless_given(app, map_flag(scene::MapKind::BaseRoughness), b.roughness_map,
-                         map.path);
+                                  map_setting_keys() + ")");
+        set_unless_given(app, map_flag(known->kind), b.*(known->path), map.path);
     }
     set_shading_defaults(preset.shading, app, shading);
 }
@@ -63,8 +79,9 @@ void set_preset_source(const RenderSourceFlags& flags, Preset& preset) {
     preset.bumps = flags.bumps;  // the BumpSource part of the flags
     preset.layers = flags.layers;
     preset.maps.clear();
-    if (!flags.bumps.roughness_map.empty())
-        preset.maps.push_back({roughness_map_setting(), flags.bumps.roughness_map});
+    for (const MapFlagFile& m : kMapFlagFiles)
+        if (!(flags.bumps.*(m.path)).empty())
+            preset.maps.push_back({map_setting_key(m.kind), flags.bumps.*(m.path)});
 }
 
 }  // namespace leanfade::cli

@@ -188,6 +188,12 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
                    "in G), at the bumps' uv; alpha0^2 = r^4 is MIP-filtered linearly, as the "
                    "moments (docs/roughness.md)")
         ->group(group);
+    app.add_option(map_flag(scene::MapKind::RoughnessMips), f.roughness_mips,
+                   "Another tool's roughness MIPs for the roughness technique, NAME_0.png with "
+                   "NAME_1.png ... down to 1 x 1 (Filament's roughness-prefilter --linear "
+                   "writes them): linear perceptual r (grey, or G of RGB), read in place of the "
+                   "r the technique derives from the LEAN map (docs/roughness.md)")
+        ->group(group);
 }
 
 bool is_builtin_bumps(const std::string& source) {

@@ -55,10 +55,14 @@ struct LeanSourceFlags : BumpSource {
     // [0, 1] or a glTF metallic-roughness texture (r in G), on the material of --bumps or
     // --layers (load_render_scene); empty: the uniform --roughness.
     std::string roughness_map;
+    // --roughness-mips NAME_0.png: another tool's roughness MIPs (one file per level, perceptual r
+    // linear in the first channel or in G), read by the roughness technique in place of its own
+    // r (scene::MapKind::RoughnessMips); empty: none.
+    std::string roughness_mips;
 };
 
 // --bumps --from --directx --strict-normals --bits --strength-unit --seed --texture-size --max-size, in the
-// "Bumps" group, and --roughness-map.
+// "Bumps" group, and --roughness-map and --roughness-mips.
 void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
 // True for the name of a built-in bump set.
 bool is_builtin_bumps(const std::string& source);

@@ -134,6 +134,35 @@ void add_roughness_map(scene::Scene& result, const RenderSourceFlags& flags) {
         material.map(scene::MapKind::BaseRoughness) = slot;
 }
 
+// --roughness-mips: another tool's roughness MIP chain on every material of --bumps (the
+// roughness technique reads it, docs/roughness.md). Checked before anything is baked.
+void check_roughness_mips(const RenderSourceFlags& flags) {
+    if (flags.bumps.roughness_mips.empty()) return;
+    if (is_ocean_scene(flags.scene) || scene::is_gltf_path(flags.scene) || !flags.layers.empty())
+        throw Error(map_flag(scene::MapKind::RoughnessMips),
+                    "applies to the material of --bumps, not to layers, the ocean or a glTF "
+                    "scene's own materials");
+}
+
+void add_roughness_mips(scene::Scene& result, const RenderSourceFlags& flags) {
+    const std::string& path = flags.bumps.roughness_mips;
+    if (path.empty()) return;
+    io::ReadOptions read_options;
+    read_options.max_dimension = flags.bumps.max_size;
+    std::vector<Image> chain;
+    for (const Image& level : io::read_mip_series(path, read_options))
+        chain.push_back(base_roughness_channel(level));
+    int slot = -1;
+    try {
+        slot = result.add_map(scene::MapKind::RoughnessMips, std::move(chain));
+        scene::validate(result);
+    } catch (const Error& e) {
+        throw Error(path, e.cause());  // the series names the file
+    }
+    for (scene::Material& material : result.materials)
+        material.map(scene::MapKind::RoughnessMips) = slot;
+}
+
 bool is_obj_path(const std::string& path) {
     std::string extension = std::filesystem::path(path).extension().string();
     for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -269,6 +298,7 @@ namespace {
 
 scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSettings& settings) {
     check_roughness_map(flags, settings);
+    check_roughness_mips(flags);
     // The built-in ocean: a water plane with moving Gabor wave layers (cli_ocean.hpp).
     if (is_ocean_scene(flags.scene))
         return scene::make_ocean_scene(ocean_settings(flags.ocean, flags.bumps));
@@ -292,6 +322,7 @@ scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSet
         for (const auto& [file, repairs] : report.repaired)
             std::fprintf(stderr, "leanfade: %s\n", normal_repairs_note(file, repairs).c_str());
         add_roughness_map(result, flags);
+        add_roughness_mips(result, flags);
         scene::validate(result);
         return result;
     }
@@ -318,6 +349,7 @@ scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSet
         add_layered_material(result, flags, settings);
     }
     add_roughness_map(result, flags);
+    add_roughness_mips(result, flags);
     scene::validate(result);
     return result;
 }

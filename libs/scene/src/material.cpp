@@ -89,6 +89,8 @@ void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& cha
             if (!std::isfinite(v)) throw Error(setting, what + " has a value that is not finite");
             if (kind.kind == MapKind::BaseRoughness && !(v >= 0.0f))
                 throw Error(setting, what + "'s alpha0^2 must be finite and >= 0");
+            if (kind.kind == MapKind::RoughnessMips && !(v >= 0.0f && v <= 1.0f))
+                throw Error(setting, what + "' perceptual roughness must be in [0, 1]");
         }
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);

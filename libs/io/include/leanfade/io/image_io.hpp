@@ -66,6 +66,13 @@ std::variant<Image, UnormImage> read_image_compact_from_memory(const std::vector
 Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& name,
                              const ReadOptions& options = {});
 
+// A MIP chain stored one file per level, as Filament's roughness-prefilter writes it:
+// `first_level` is NAME_0.EXT, the others NAME_1.EXT, NAME_2.EXT, ... in the same folder, each
+// read by read_image (the same checks), sizes halving with floor down to 1 x 1, all of one
+// channel count. Throws leanfade::Error naming the file for another name, a missing level or a
+// level of another size.
+std::vector<Image> read_mip_series(const std::string& first_level, const ReadOptions& options = {});
+
 // Writes an 8- or 16-bit PNG of 1-4 channels. Values are clamped to [0,1] and quantised with
 // rounding (v * 255 or v * 65535); they are written as-is, with no colour-space conversion. NaN
 // is refused.

@@ -17,8 +17,8 @@ namespace leanfade::scene {
 
 namespace map_bindings = ::leanfade::bindings;
 
-enum class MapKind { BaseColor, BaseRoughness, Plateau };
-inline constexpr std::size_t kMapKindCount = 3;
+enum class MapKind { BaseColor, BaseRoughness, Plateau, RoughnessMips };
+inline constexpr std::size_t kMapKindCount = 4;
 
 // The texture's storage on the GPU.
 enum class MapFormat {
@@ -70,6 +70,12 @@ inline constexpr std::array<MapKindInfo, kMapKindCount> kMapKinds{{
      false, true, "",
      "two-lobe LEAN's (f, f Bs.x, f Bs.y, f |Bs|^2): the fraction of texels on a plateau and "
      "their slopes (slope units), filtered linearly like the moments (docs/math.md §10)"},
+    {MapKind::RoughnessMips, "engine roughness MIPs", "roughness-mips",
+     map_bindings::LF_BINDING_ROUGHNESS_MIPS, map_bindings::LF_MAP_ROUGHNESS_MIPS, 1,
+     MapFormat::R32f, MapMips::Given, MapFallback::None, false, true, "",
+     "another tool's glTF perceptual roughness r in [0, 1] per MIP level (Filament's "
+     "roughness-prefilter, for one): the roughness technique reads it in place of the r it "
+     "derives from the LEAN map (docs/roughness.md)"},
 }};
 
 // Every row sits at the position of its enum value, and each has its own bit.
