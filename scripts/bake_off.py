@@ -7,6 +7,13 @@ table of docs/results.md (OUT/bake_off.md): per configuration, technique and shi
 energy over every covered pixel and over the eroded mask (seed-summed where --seeds > 1), the
 relative RMSE and the flicker against the truth's, at each distance.
 
+The peer rows "roughness (Filament)" run Filament's `roughness-prefilter` (Debian
+libfilament-tools) on the same normal map, once per shininess with the base roughness
+r0 = (2/s)^(1/4) of that shininess, `--linear`, and evaluate its MIP files as the roughness
+technique's input (`leanfade eval --roughness-mips NAME_0.png`). roughness-prefilter reads PNG, not
+JPEG: a JPEG map is converted first with ImageMagick's `convert` (Debian imagemagick). The real
+normal maps are those of Debian's assimp-testmodels.
+
 Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out/bake_off]
                            [--seeds 8] [--frames 4] [--only NAME,...]
 """
@@ -14,6 +21,7 @@ import argparse
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 
@@ -43,6 +51,53 @@ def configurations(seeds):
     return runs
 
 
+def filament_configurations():
+    """(name, eval arguments, normal map) of the Filament peer runs: one per real map."""
+    runs = []
+    for aa in ("off", "on"):
+        for path, tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
+            if os.path.exists(path):
+                runs.append((f"teapot_{tag}_bp_aa{aa}", ["--scene", "teapot", "--bumps", path,
+                                                         "--geometric-aa", aa], path))
+    return runs
+
+
+def filament_chain(normal_map, shininess, folder):
+    """Runs roughness-prefilter on `normal_map` with the base roughness of `shininess`; returns
+    the path of its level 0 (NAME_0.png)."""
+    os.makedirs(folder, exist_ok=True)
+    source = normal_map
+    if not normal_map.lower().endswith(".png"):
+        source = os.path.join(folder, "normal.png")
+        if not os.path.exists(source):
+            subprocess.run(["convert", normal_map, source], check=True)
+    r0 = (2.0 / shininess) ** 0.25
+    out = os.path.join(folder, f"roughness_s{shininess:g}.png")
+    subprocess.run(["roughness-prefilter", "--roughness", f"{r0:.6f}", "--linear", source, out],
+                   check=True, stdout=subprocess.DEVNULL)
+    return os.path.join(folder, f"roughness_s{shininess:g}_0.png")
+
+
+def result_rows(name, folder, technique=None):
+    with open(os.path.join(folder, "results.json")) as f:
+        results = json.load(f)
+    rows = []
+    for c in results["cases"]:
+        rows.append({"configuration": name, "technique": technique or c["technique"],
+                     "shininess": c["shininess"], "distance": c["distance"],
+                     "seeds": c.get("seeds", 1), "energy_total": c.get("energy_total"),
+                     "energy": c["energy"], "energy_total_spread": c.get("energy_total_spread"),
+                     "rmse": c["rmse"], "flicker": c["flicker"],
+                     "reference_energy_error": c.get("reference_energy_error")})
+    return rows
+
+
+def run_eval(command):
+    print(" ".join(command), file=sys.stderr, flush=True)
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL,
+                   env=dict(os.environ, EGL_PLATFORM="surfaceless"))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--leanfade", default="build/tools/leanfade/leanfade")
@@ -58,20 +113,21 @@ def main():
         if only and name not in only:
             continue
         folder = os.path.join(args.out, name)
-        command = [args.leanfade, "eval", "--techniques", TECHNIQUES, "--frames", str(args.frames),
-                   "--seeds", str(seeds), "--out", folder] + flags
-        print(" ".join(command), file=sys.stderr, flush=True)
-        subprocess.run(command, check=True, stdout=subprocess.DEVNULL,
-                       env=dict(os.environ, EGL_PLATFORM="surfaceless"))
-        with open(os.path.join(folder, "results.json")) as f:
-            results = json.load(f)
-        for c in results["cases"]:
-            rows.append({"configuration": name, "technique": c["technique"],
-                         "shininess": c["shininess"], "distance": c["distance"],
-                         "seeds": c.get("seeds", 1), "energy_total": c.get("energy_total"),
-                         "energy": c["energy"], "energy_total_spread": c.get("energy_total_spread"),
-                         "rmse": c["rmse"], "flicker": c["flicker"],
-                         "reference_energy_error": c.get("reference_energy_error")})
+        run_eval([args.leanfade, "eval", "--techniques", TECHNIQUES, "--frames", str(args.frames),
+                  "--seeds", str(seeds), "--out", folder] + flags)
+        rows += result_rows(name, folder)
+    # The peer: Filament's roughness MIPs as the roughness technique's input, per shininess.
+    if shutil.which("roughness-prefilter"):
+        for name, flags, normal_map in filament_configurations():
+            if only and name not in only:
+                continue
+            for shininess in (128, 1024, 13777):
+                chain = filament_chain(normal_map, shininess, os.path.join(args.out, "filament", name))
+                folder = os.path.join(args.out, name, f"filament_s{shininess}")
+                run_eval([args.leanfade, "eval", "--techniques", "roughness", "--frames",
+                          str(args.frames), "--shininess", str(shininess), "--roughness-mips",
+                          chain, "--out", folder] + flags)
+                rows += result_rows(name, folder, "roughness (Filament)")
     if not rows:
         sys.exit("bake_off.py: no configuration selected")
     with open(os.path.join(args.out, "bake_off.json"), "w") as f:
