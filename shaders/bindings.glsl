@@ -21,6 +21,25 @@ const int LF_MAP_BASE_ROUGHNESS = 2;
 // set; without it f = 0 and two-lobe shades as LEAN.
 const int LF_BINDING_PLATEAU = 3;
 const int LF_MAP_PLATEAU = 4;
+// Metalness (2D, R32F: the glTF metallic-roughness texture's B), times the material's metallic
+// factor (LfMaterialFactors::metallic); a 1x1 white texture for materials without one.
+const int LF_BINDING_METALLIC = 4;
+const int LF_MAP_METALLIC = 8;
+// Ambient occlusion (2D, R32F: the glTF occlusion texture's R), weighed by the material's
+// occlusion strength (LfMaterialFactors::occlusion_strength); white for materials without one.
+const int LF_BINDING_OCCLUSION = 5;
+const int LF_MAP_OCCLUSION = 16;
+// Emission (2D, linear RGBA, sRGB decoded), times the material's emissive factor
+// (LfMaterialFactors::emissive); white for materials without one.
+const int LF_BINDING_EMISSIVE = 6;
+const int LF_MAP_EMISSIVE = 32;
+// Anisotropy of the base roughness (2D, RGBA16F: KHR_materials_anisotropy's texture, RG the
+// direction in [0, 1] encoding, B the strength), read with Cook-Torrance when its bit is set;
+// without it the direction is the tangent's and the strength the material's.
+const int LF_BINDING_ANISOTROPY = 7;
+const int LF_MAP_ANISOTROPY = 64;
+// Another tool's roughness MIPs (2D, R32F, every level: perceptual r), read by the roughness
+// technique in place of its own r when its bit is set (`--roughness-mips`, docs/roughness.md).
 const int LF_BINDING_ROUGHNESS_MIPS = 9;
 const int LF_MAP_ROUGHNESS_MIPS = 128;
 

@@ -66,6 +66,29 @@ struct LfParams {
     int brdf LF_DEFAULT(LF_BRDF_BLINN_PHONG);  // LF_BRDF_*
 };
 
+// Texture coordinate transforms of LfShadingUniforms::uv_transforms (two rows each): the LEAN
+// map's (its plateau layer's too) and each surface map kind's (leanfade/scene/map_kinds.hpp,
+// MapKindInfo::uv_transform).
+const int LF_UV_LEAN_MAP = 0;
+const int LF_UV_BASE_COLOR = 1;
+const int LF_UV_BASE_ROUGHNESS = 2;
+const int LF_UV_METALLIC = 3;
+const int LF_UV_OCCLUSION = 4;
+const int LF_UV_EMISSIVE = 5;
+const int LF_UV_ANISOTROPY = 6;
+const int LF_UV_TRANSFORM_COUNT = 7;
+
+// A glTF material's factors, which multiply its surface maps' texels (lf_surface; glTF 2.0
+// §3.9.2-3.9.5 and KHR_materials_anisotropy). All 0 for other materials: no metalness beyond the
+// frame's (in LfParams already), no occlusion, no emission, no anisotropy.
+struct LfMaterialFactors {
+    vec3 emissive;              // emissiveFactor, linear RGB radiance
+    float metallic;             // metallicFactor in [0, 1]
+    vec2 anisotropy_rotation;   // (cos, sin) of anisotropyRotation (counter-clockwise from +u)
+    float anisotropy_strength;  // anisotropyStrength in [0, 1]
+    float occlusion_strength;   // occlusionTexture.strength in [0, 1]
+};
+
 // Everything the fragment stage of the renderer reads per draw, as one std140 uniform block
 // (binding LF_BINDING_SHADING_BLOCK, shaders/bindings.glsl).
 struct LfShadingUniforms {
@@ -96,9 +119,11 @@ struct LfShadingUniforms {
     float double_sided;
     float uv_transform_padding;  // keeps uv_transforms at a 16-byte offset in C++, as in std140
     // Texture coordinate transforms (glTF KHR_texture_transform) of the LEAN map (and its plateau
-    // layer), the base colour and the base roughness: two rows each, uv' = (dot(r0.xy, uv) +
-    // r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up); the identity for other materials.
-    vec4 uv_transforms[6];
+    // layer) and of each surface map kind, at LF_UV_* (above): two rows each,
+    // uv' = (dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up); the identity
+    // for other materials.
+    vec4 uv_transforms[2 * LF_UV_TRANSFORM_COUNT];
+    LfMaterialFactors material;  // the glTF material's factors (zero for other materials)
 };
 
 // Moments unpacked from the two LEAN textures (docs/math.md §3-4), with what else a pixel knows
@@ -111,8 +136,9 @@ struct LfMoments {
     // fraction f of the footprint on a plateau and the plateau texels' first and (isotropic)
     // second moments; 0 without one.
     vec4 plateau LF_DEFAULT(vec4(0.0f));
-    // The pixel footprint's slope covariance of geometric specular antialiasing (docs/math.md
-    // §11), (Sxx, Syy, Sxy), added to the lobe's; 0 without it.
+    // A slope covariance (Sxx, Syy, Sxy) added to the lobe's: the pixel footprint's of geometric
+    // specular antialiasing (docs/math.md §11) and the anisotropic part of the base roughness
+    // (lf_anisotropy_covariance); 0 without them.
     vec3 footprint LF_DEFAULT(vec3(0.0f));
 };
 
@@ -759,6 +785,102 @@ LF_FN LfShade lf_shade_material(int technique, LfMoments m, vec4 base_color,
                                 vec3 view_unnormalised, LfParams p) {
     LfParams params = lf_material_params(p, base_color, has_base_roughness, alpha0_squared);
     return lf_shade(technique, m, light_dir, view_unnormalised, params);
+}
+
+// A material's surface at one fragment, from its surface maps' texels and its factors
+// (lf_surface): what lf_surface_params and lf_shade_surface read besides LfParams.
+struct LfSurface {
+    vec4 base_color;           // the base colour texture's linear RGBA (white without one)
+    bool has_base_roughness;   // Cook-Torrance's base roughness from the roughness map
+    float alpha0_squared;      // the roughness map's alpha0^2 (with has_base_roughness)
+    float metallic;            // metalness in [0, 1]
+    float occlusion;           // the ambient term's factor, 1 + strength (occlusion - 1)
+    vec3 emission;             // linear RGB radiance added to the colour
+    vec2 anisotropy_direction;  // unit, tangent space: where the base roughness stretches
+    float anisotropy;          // its strength in [0, 1]
+};
+
+// The surface from the texels the caller fetched (shaders/scene.frag: filtered reads at each
+// map's uv; white for a map the material lacks, (1, 0.5, 1, 1) for a missing anisotropy
+// texture) and the material's factors:
+// - metalness = metallicFactor x the metallic-roughness texture's B (glTF 2.0 §3.9.2);
+// - occlusion: the ambient term becomes lerp(c, c occ, strength) = c (1 + strength (occ - 1))
+//   (glTF 2.0 §3.9.4, occlusionTexture.strength);
+// - emission = emissiveFactor x the emissive texture's RGB (glTF 2.0 §3.9.5);
+// - anisotropy (KHR_materials_anisotropy): direction = R(rotation) (2 texel.rg - 1), normalised
+//   (the tangent +u where it is 0), strength = texel.b x anisotropyStrength.
+LF_FN LfSurface lf_surface(vec4 base_color, bool has_base_roughness, float alpha0_squared,
+                           float metallic_texel, float occlusion_texel, vec4 emissive_texel,
+                           vec4 anisotropy_texel, LfMaterialFactors f) {
+    LfSurface s;
+    s.base_color = base_color;
+    s.has_base_roughness = has_base_roughness;
+    s.alpha0_squared = alpha0_squared;
+    s.metallic = clamp(f.metallic * metallic_texel, 0.0f, 1.0f);
+    s.occlusion = 1.0f + f.occlusion_strength * (occlusion_texel - 1.0f);
+    s.emission = f.emissive * vec3(emissive_texel.x, emissive_texel.y, emissive_texel.z);
+    vec2 d = 2.0f * vec2(anisotropy_texel.x, anisotropy_texel.y) - vec2(1.0f);
+    vec2 r = f.anisotropy_rotation;
+    vec2 rotated = vec2(r.x * d.x - r.y * d.y, r.y * d.x + r.x * d.y);
+    float length_rotated = length(rotated);
+    s.anisotropy_direction = (length_rotated > 0.0f) ? rotated / length_rotated : vec2(1.0f, 0.0f);
+    s.anisotropy = clamp(anisotropy_texel.z * f.anisotropy_strength, 0.0f, 1.0f);
+    return s;
+}
+
+// The material's parameters on the surface: lf_material_params (Kd times the base colour, the
+// roughness map's alpha0^2), then the metal-roughness model of glTF 2.0 Appendix B with the base
+// colour c = Kd x texture: the diffuse Kd = c (1 - metallic), and the specular colour metals
+// reflect, F0 = mix(f0, c, metallic) with Cook-Torrance (f0 the dielectric's, 0.04 by default);
+// Blinn-Phong, which has no F0, takes the same rule on Ks: Ks = mix(Ks, c, metallic). The ambient
+// term Ka is multiplied by the occlusion factor (the renderer's one indirect term).
+LF_FN LfParams lf_surface_params(LfParams p, LfSurface s) {
+    LfParams r = lf_material_params(p, s.base_color, s.has_base_roughness, s.alpha0_squared);
+    vec3 base = r.kd;
+    r.kd = base * (1.0f - s.metallic);
+    if (p.brdf == LF_BRDF_COOK_TORRANCE) {
+        r.f0 = mix(p.f0, base, s.metallic);
+    } else {
+        r.ks = mix(p.ks, base, s.metallic);
+    }
+    r.ambient = p.ambient * s.occlusion;
+    return r;
+}
+
+// KHR_materials_anisotropy on Cook-Torrance's base roughness alpha (Beckmann, alpha^2 = alpha0^2,
+// docs/math.md §9): alpha_t = mix(alpha, 1, strength^2) along the direction d, alpha_b = alpha
+// across it (the extension's "Implementation" section). As a slope covariance (per-axis variance
+// alpha^2 / 2) that is the isotropic base (alpha^2 / 2) I plus (alpha_t^2 - alpha^2) / 2 d d^T;
+// this returns the second part, (Sxx, Syy, Sxy), added to the lobe's covariance as the pixel
+// footprint's is (lf_with_footprint: exact for the Gaussian lobes, the trace for the isotropic
+// ones).
+LF_FN vec3 lf_anisotropy_covariance(vec2 direction, float strength, float alpha_squared) {
+    float alpha = sqrt(max(alpha_squared, 0.0f));
+    float alpha_t = mix(alpha, 1.0f, strength * strength);
+    float stretch = 0.5f * max(alpha_t * alpha_t - alpha * alpha, 0.0f);
+    return stretch * vec3(direction.x * direction.x, direction.y * direction.y,
+                          direction.x * direction.y);
+}
+
+// Stages 3-4 on a material's surface (scene.frag's pipeline): lf_surface_params, the anisotropic
+// base roughness with Cook-Torrance (Blinn-Phong ignores it), and lf_shade. The emission is not
+// part of the shade: lf_surface_color adds it.
+LF_FN LfShade lf_shade_surface(int technique, LfMoments m, LfSurface s, vec3 light_dir,
+                               vec3 view_unnormalised, LfParams p) {
+    LfParams params = lf_surface_params(p, s);
+    LfMoments moments = m;
+    if (p.brdf == LF_BRDF_COOK_TORRANCE && s.anisotropy > 0.0f) {
+        moments.footprint = m.footprint + lf_anisotropy_covariance(s.anisotropy_direction,
+                                                                   s.anisotropy,
+                                                                   2.0f * params.inv_s_shading);
+    }
+    return lf_shade(technique, moments, light_dir, view_unnormalised, params);
+}
+
+// The colour of a shaded surface before fog: (Ka + Kd NdotL) light + specular + emission (glTF
+// 2.0 §3.9.5: the emission is added to the reflected light).
+LF_FN vec3 lf_surface_color(LfShade shade, LfSurface s) {
+    return shade.diffuse + shade.specular + s.emission;
 }
 
 // Inputs of specular fading at a LEAN texel, for calibration: (NdotL, d) with NdotL as

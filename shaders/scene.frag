@@ -23,7 +23,7 @@
 #error "the renderer defines LF_BRDF (one of LF_BRDF_*)"
 #endif
 
-const int OUTPUT_COLOR = 0;       // (Ka + Kd NdotL + specular) light, then fog
+const int OUTPUT_COLOR = 0;       // (Ka + Kd NdotL + specular) light + emission, then fog
 const int OUTPUT_DIFFUSE = 1;     // (Ka + Kd NdotL) light, no fog
 const int OUTPUT_SPECULAR = 2;    // Ks NdotL^sf D F light, no fog
 const int OUTPUT_FADE_TERMS = 3;  // (NdotL, d, 0) of fading from lean1 (lf_fade_terms), no fog
@@ -48,6 +48,17 @@ layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
 // uv with the same sampler state.
 layout(binding = LF_BINDING_BASE_ROUGHNESS) uniform sampler2D u_base_roughness;
 
+// A glTF material's metalness (the metallic-roughness texture's B), ambient occlusion (the
+// occlusion texture's R) and emission (linear RGB): each times the material's factor
+// (u_shading.material, lf_surface); white for a material without the map.
+layout(binding = LF_BINDING_METALLIC) uniform sampler2D u_metallic;
+layout(binding = LF_BINDING_OCCLUSION) uniform sampler2D u_occlusion;
+layout(binding = LF_BINDING_EMISSIVE) uniform sampler2D u_emissive;
+
+// KHR_materials_anisotropy's texture (Cook-Torrance, bit LF_MAP_ANISOTROPY): RG the direction,
+// B the strength of the base roughness's stretch.
+layout(binding = LF_BINDING_ANISOTROPY) uniform sampler2D u_anisotropy;
+
 #if defined(LF_READS_PLATEAU)
 // Two-lobe LEAN's plateau layer (bit LF_MAP_PLATEAU): (f, f Bs, f |Bs|^2), filtered as the
 // moments are, at the LEAN map's uv with the same sampler state (docs/math.md §10).
@@ -66,8 +77,8 @@ layout(location = 0) out vec4 o_color;
 #define LF_SAMPLE(sampler, coord) texture(sampler, coord)  // trilinear / anisotropic
 #endif
 
-// The texture coordinates of a map through its transform (u_shading.uv_transforms: 0 the LEAN
-// map and its plateau layer, 1 the base colour, 2 the base roughness).
+// The texture coordinates of a map through its transform (u_shading.uv_transforms at LF_UV_*: the
+// LEAN map and its plateau layer, then each surface map kind's).
 vec2 map_uv(int which) {
     vec4 r0 = u_shading.uv_transforms[2 * which];
     vec4 r1 = u_shading.uv_transforms[2 * which + 1];
@@ -75,7 +86,7 @@ vec2 map_uv(int which) {
 }
 
 vec4 lean_texel(float slice) {
-    return LF_SAMPLE(u_lean, vec3(map_uv(0), slice));
+    return LF_SAMPLE(u_lean, vec3(map_uv(LF_UV_LEAN_MAP), slice));
 }
 
 // Cook-Torrance with a base roughness map: the map's filtered alpha0^2 here.
@@ -221,11 +232,12 @@ void main() {
 #endif
     vec4 plateau = vec4(0.0);  // f = 0 without the layer (docs/math.md §10)
 #if defined(LF_READS_PLATEAU)
-    if ((u_shading.maps & LF_MAP_PLATEAU) != 0) plateau = LF_SAMPLE(u_plateau, map_uv(0));
+    if ((u_shading.maps & LF_MAP_PLATEAU) != 0)
+        plateau = LF_SAMPLE(u_plateau, map_uv(LF_UV_LEAN_MAP));
 #endif
     LfMoments moments = lf_map_moments(lean1, lean2, u_shading.scale, plateau);
 #if defined(LF_ROUGHNESS_MIPS)
-    moments = lf_roughness_mips_moments(roughness_mip_trilinear(map_uv(0)));
+    moments = lf_roughness_mips_moments(roughness_mip_trilinear(map_uv(LF_UV_LEAN_MAP)));
 #endif
 #endif
 #if defined(LF_GEOMETRIC_AA)
@@ -235,20 +247,30 @@ void main() {
     moments.footprint = lf_footprint_covariance(dFdx(half_slope), dFdy(half_slope),
                                                 u_shading.geometric_aa_kappa);
 #endif
-    // The surface maps' texels, then the material's parameters and the shade (lf_shade_material).
-    vec4 base_color = LF_SAMPLE(u_base_color, map_uv(1));
+    // The surface maps' texels, then the material's surface, its parameters and the shade
+    // (lf_surface, lf_shade_surface).
+    vec4 base_color = LF_SAMPLE(u_base_color, map_uv(LF_UV_BASE_COLOR));
     // glTF alphaMode MASK (alpha_cutoff < 0 for every other material).
     if (base_color.w * u_shading.base_alpha < u_shading.alpha_cutoff) discard;
-    float alpha0_squared = has_roughness_map() ? LF_SAMPLE(u_base_roughness, map_uv(2)).r : 0.0;
+    float alpha0_squared =
+        has_roughness_map() ? LF_SAMPLE(u_base_roughness, map_uv(LF_UV_BASE_ROUGHNESS)).r : 0.0;
+    // Without the anisotropy texture: the direction +u (2 rg - 1 = (1, 0)) at full strength.
+    vec4 anisotropy = vec4(1.0, 0.5, 1.0, 1.0);
+    if (LF_BRDF == LF_BRDF_COOK_TORRANCE && (u_shading.maps & LF_MAP_ANISOTROPY) != 0)
+        anisotropy = LF_SAMPLE(u_anisotropy, map_uv(LF_UV_ANISOTROPY));
+    LfSurface surface = lf_surface(base_color, has_roughness_map(), alpha0_squared,
+                                   LF_SAMPLE(u_metallic, map_uv(LF_UV_METALLIC)).r,
+                                   LF_SAMPLE(u_occlusion, map_uv(LF_UV_OCCLUSION)).r,
+                                   LF_SAMPLE(u_emissive, map_uv(LF_UV_EMISSIVE)), anisotropy,
+                                   u_shading.material);
     LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
-    LfShade shade = lf_shade_material(LF_TECHNIQUE, moments, base_color, has_roughness_map(),
-                                      alpha0_squared, light_dir, view_t, params);
+    LfShade shade = lf_shade_surface(LF_TECHNIQUE, moments, surface, light_dir, view_t, params);
 #if defined(LF_PLAIN_COLOR)
     // The renderer's ordinary frames (OUTPUT_COLOR, no fog): the colour of the general path below,
     // bit for bit, without its uniform branches, which a SIMD rasteriser such as llvmpipe executes
     // in full for every pixel (docs/perf.md).
-    vec3 color = shade.diffuse + shade.specular;
+    vec3 color = lf_surface_color(shade, surface);
 #else
     vec3 color;
     if (u_shading.output_mode == OUTPUT_DIFFUSE) {
@@ -260,7 +282,7 @@ void main() {
     } else {
         float f = lf_fog_factor(v_in.eye_depth, u_shading.fog_mode, u_shading.fog_start,
                                 u_shading.fog_end, u_shading.fog_density);
-        color = lf_apply_fog(shade.diffuse + shade.specular, u_shading.fog_color, f);
+        color = lf_apply_fog(lf_surface_color(shade, surface), u_shading.fog_color, f);
     }
 #endif
     // Alpha 1 (opaque and MASK), or the base colour's for a BLEND material.

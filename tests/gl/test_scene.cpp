@@ -1,6 +1,8 @@
 // Scenes of several objects and materials (Renderer::set_scene, leanfade/scene/material.hpp):
 // each object is shaded with its own material's LEAN map and parameters, a one-object scene is
 // the single-mesh renderer bit for bit, and bad scenes are refused before anything changes.
+#include <cmath>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl_test_helpers.hpp"
@@ -119,6 +121,24 @@ TEST_F(SceneRendering, BadScenesAreRefusedAndKeepThePreviousOne) {
     bad = two_quads(0, 1);
     bad.materials[0].shininess = -1.0f;
     EXPECT_THROW(renderer.set_scene(bad), Error);
+    // The glTF material factors outside their ranges (glTF 2.0 §3.9, KHR_materials_anisotropy).
+    const auto refused = [&](void (*spoil)(scene::Material&), const char* named) {
+        scene::Scene spoiled = two_quads(0, 1);
+        spoil(spoiled.materials[1]);
+        try {
+            renderer.set_scene(spoiled);
+            ADD_FAILURE() << named << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), "scene");
+            EXPECT_NE(e.cause().find(named), std::string::npos) << e.what();
+        }
+    };
+    refused([](scene::Material& m) { m.metallic = 1.5f; }, "metallic");
+    refused([](scene::Material& m) { m.occlusion_strength = -0.1f; }, "occlusion strength");
+    refused([](scene::Material& m) { m.emissive.y = std::nanf(""); }, "emissive");
+    refused([](scene::Material& m) { m.emissive.x = -1.0f; }, "emissive");
+    refused([](scene::Material& m) { m.anisotropy_strength = 2.0f; }, "anisotropy strength");
+    refused([](scene::Material& m) { m.anisotropy_rotation = INFINITY; }, "anisotropy rotation");
     EXPECT_THROW(renderer.set_scene(scene::Scene{}), Error);
     EXPECT_EQ(renderer.render(diffuse_request()).pixels, before.pixels);
 }

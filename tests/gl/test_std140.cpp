@@ -69,11 +69,17 @@ TEST(Std140, AWrongCppOffsetIsCaught) {
 
 TEST(Std140, TheRealBlocksListEveryMemberOnce) {
     const std::vector<BlockMember> shading = shading_block_members();
-    EXPECT_EQ(shading.size(), std::size(kLfParamsFields) + std::size(kShadingBlockFields) - 1);
+    // The two structs' entries become their members.
+    EXPECT_EQ(shading.size(), std::size(kLfParamsFields) + std::size(kMaterialFactorsFields) +
+                                  std::size(kShadingBlockFields) - 2);
     EXPECT_EQ(shading.front().name, "u_shading.params.light_color");
-    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, uv_transforms));
-    EXPECT_EQ(shading.back().name, "u_shading.uv_transforms[0]");
-    EXPECT_EQ(kShadingBlockStd140Size, 256u);
+    EXPECT_EQ(shading[shading.size() - 6].offset, offsetof(LfShadingUniforms, uv_transforms));
+    EXPECT_EQ(shading[shading.size() - 6].name, "u_shading.uv_transforms[0]");
+    EXPECT_EQ(shading.back().offset, offsetof(LfShadingUniforms, material) +
+                                         offsetof(shading::LfMaterialFactors, occlusion_strength));
+    EXPECT_EQ(shading.back().name, "u_shading.material.occlusion_strength");
+    // 160 bytes before the transforms, 7 transforms of two vec4s, the factors' 32 bytes.
+    EXPECT_EQ(kShadingBlockStd140Size, 160u + 7u * 32u + 32u);
     const std::vector<BlockMember> layers = layer_block_members();
     EXPECT_EQ(layers[4].name, "u_layers.offsets[0]");
 }

@@ -123,6 +123,7 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
             if (!m.alpha_mode.empty()) material["alphaMode"] = m.alpha_mode;
             if (m.alpha_mode == "MASK") material["alphaCutoff"] = m.alpha_cutoff;
             if (m.double_sided) material["doubleSided"] = true;
+            if (!m.patch.is_null()) material.merge_patch(m.patch);
             root["materials"].push_back(material);
         }
     }
@@ -177,6 +178,7 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
     if (storage == GltfStorage::Embedded)
         buffer["uri"] = "data:application/octet-stream;base64," + base64(bin);
     root["buffers"] = json::array({buffer});
+    if (!file.patch.is_null()) root.merge_patch(file.patch);
     return out;
 }
 

@@ -43,6 +43,9 @@ struct GltfTestMaterial {
     float alpha_cutoff = 0.5f;          // alphaCutoff, written with alphaMode MASK
     bool double_sided = false;          // doubleSided (written when true)
     nlohmann::json base_color_transform{};  // KHR_texture_transform of baseColorTexture, or null
+    // Merged into the material's JSON last (an RFC 7386 merge patch: occlusionTexture,
+    // emissiveFactor, extensions, ...), or null.
+    nlohmann::json patch{};
 };
 
 struct GltfTestNode {
@@ -58,6 +61,7 @@ struct GltfTestFile {
     std::vector<GltfTestMaterial> materials;
     std::vector<std::vector<std::uint8_t>> images;  // encoded PNG bytes
     std::vector<GltfTestNode> nodes;                // empty: one node per mesh
+    nlohmann::json patch{};  // merged into the file's JSON last (extensionsUsed, ...), or null
 };
 
 enum class GltfStorage { External, Embedded, Binary };

@@ -42,6 +42,7 @@ scene::Scene quad_scene(const std::string& name, int normal_image, int base_colo
     scene::test::GltfTestFile file;
     file.images = images;
     file.materials = {{"m", glm::vec4(1.0f), base_color_image, normal_image, 1.0f}};
+    file.materials[0].metallic = 0.0f;  // a dielectric: glTF's default metalness is 1
     file.meshes = {{scene::test::unit_quad(0)}};
     return scene_of(file, name);
 }
@@ -109,6 +110,7 @@ TEST_F(GltfRender, AlphaMaskCutsOutTexelsBelowTheCutoff) {
         file.images = {texture};
         file.materials = {{"m", glm::vec4(1.0f, 1.0f, 1.0f, factor_alpha), 0, -1, 1.0f}};
         file.materials[0].alpha_mode = mode;
+        file.materials[0].metallic = 0.0f;
         file.meshes = {{scene::test::unit_quad(0)}};
         gl::Renderer renderer(context());
         renderer.set_scene(scene_of(file, name));
@@ -149,6 +151,7 @@ TEST_F(GltfRender, AlphaBlendIsDrawnOverTheOpaqueObjectsBehind) {
         file.materials = {{"front", glm::vec4(1.0f, 0.1f, 0.1f, alpha), -1, -1, 1.0f},
                           {"back", glm::vec4(0.1f, 0.1f, 1.0f, 1.0f), -1, -1, 1.0f}};
         file.materials[0].alpha_mode = mode;
+        for (auto& material : file.materials) material.metallic = 0.0f;
         file.meshes = {{scene::test::unit_quad(0)}, {scene::test::unit_quad(1)}};
         file.nodes = {{0, {}, {}, {-0.25, -0.25, 0.5}, {}}, {1, {}, {}, {-0.5, -0.5, 0.0}, {}}};
         gl::Renderer renderer(context());
@@ -192,6 +195,7 @@ TEST_F(GltfRender, DoubleSidedShadesBackFacesAndSingleSidedCullsThem) {
         scene::test::GltfTestFile file;
         file.materials = {{"m", glm::vec4(1.0f), -1, -1, 1.0f}};
         file.materials[0].double_sided = double_sided;
+        file.materials[0].metallic = 0.0f;
         file.meshes = {{scene::test::unit_quad(0)}};
         gl::Renderer renderer(context());
         renderer.set_scene(scene_of(file, name));
@@ -249,6 +253,7 @@ TEST_F(GltfRender, TextureTransformMovesTheBaseColourTexture) {
         file.images = {texture};
         file.materials = {{"m", glm::vec4(1.0f), 0, -1, 1.0f}};
         file.materials[0].base_color_transform = transform;
+        file.materials[0].metallic = 0.0f;
         file.meshes = {{scene::test::unit_quad(0)}};
         gl::Renderer renderer(context());
         renderer.set_scene(scene_of(file, name));

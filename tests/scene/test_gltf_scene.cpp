@@ -155,6 +155,119 @@ TEST(GltfScene, RoughnessFactorAndTextureBecomeTheBaseRoughnessMap) {
     EXPECT_NEAR(level0(2).pixels[0], 1.0f, 1e-6f);
 }
 
+// The other glTF material terms: metalness (factor, texture B), occlusion (texture R, strength),
+// emission (factor, texture sRGB decoded) and KHR_materials_anisotropy (strength, rotation,
+// texture kept linear), each a map of its kind with its own texture transform.
+TEST(GltfScene, MetalnessOcclusionEmissionAndAnisotropyBecomeMapsOfTheirKinds) {
+    const fs::path dir = scratch("material_maps");
+    test::GltfTestFile file;
+    // One 2 x 1 RGB image for every texture: (0.2, 0.4, 0.6) and (1, 0.5, 0).
+    file.images = {test::png_bytes(2, 1, 3, {0.2f, 0.4f, 0.6f, 1.0f, 0.5f, 0.0f})};
+    file.materials = {{"all", glm::vec4(1.0f), -1, -1, 1.0f, 0.5f, 0.25f, 0},
+                      {"factors", glm::vec4(1.0f), -1, -1, 1.0f}};
+    const nlohmann::json offset = {{"KHR_texture_transform", {{"offset", {0.5, 0.0}}}}};
+    file.materials[0].patch = {
+        {"occlusionTexture", {{"index", 0}, {"strength", 0.6}, {"extensions", offset}}},
+        {"emissiveTexture", {{"index", 0}}},
+        {"emissiveFactor", {1.0, 0.5, 0.25}},
+        {"extensions",
+         {{"KHR_materials_anisotropy",
+           {{"anisotropyStrength", 0.3},
+            {"anisotropyRotation", -0.5},
+            {"anisotropyTexture", {{"index", 0}}}}}}}};
+    file.materials[1].patch = {{"emissiveFactor", {0.1, 0.2, 0.3}}};
+    file.meshes = {{test::unit_quad(0)}, {test::unit_quad(1)}};
+    file.patch = {{"extensionsUsed", {"KHR_materials_anisotropy", "KHR_texture_transform"}},
+                  {"extensionsRequired", {"KHR_materials_anisotropy"}}};
+    const std::string path = (dir / "m.glb").string();
+    test::write_gltf(file, path, GltfStorage::Binary);
+    const GltfScene gltf = load_gltf(path);
+    ASSERT_EQ(gltf.materials.size(), 2u);
+    const GltfMaterial& g = gltf.materials[0];
+    EXPECT_FLOAT_EQ(g.occlusion_strength, 0.6f);
+    EXPECT_EQ(g.emissive_factor, glm::vec3(1.0f, 0.5f, 0.25f));
+    EXPECT_FLOAT_EQ(g.anisotropy_strength, 0.3f);
+    EXPECT_FLOAT_EQ(g.anisotropy_rotation, -0.5f);
+    EXPECT_GE(g.anisotropy_image, 0);
+    EXPECT_EQ(g.occlusion_transform.offset, glm::vec2(0.5f, 0.0f));
+    EXPECT_TRUE(gltf.warnings.empty()) << gltf.warnings.front();
+
+    const Scene scene = make_render_scene(gltf, GltfBakeSettings{});
+    const Material& all = scene.materials[0];
+    const Material& factors = scene.materials[1];
+    const auto level0 = [&](const Material& m, MapKind kind) -> const Image& {
+        return scene.maps_of(kind)[std::size_t(m.map(kind))].front();
+    };
+    const float b8 = std::round(0.6f * 255.0f) / 255.0f, r8 = std::round(0.2f * 255.0f) / 255.0f;
+    EXPECT_FLOAT_EQ(*all.metallic, 0.25f);
+    ASSERT_GE(all.map(MapKind::Metallic), 0);
+    EXPECT_EQ(level0(all, MapKind::Metallic).channels, 1);
+    EXPECT_NEAR(level0(all, MapKind::Metallic).at(0, 0), b8, 1e-6f);  // B
+    EXPECT_NEAR(level0(all, MapKind::Metallic).at(1, 0), 0.0f, 1e-6f);
+    ASSERT_GE(all.map(MapKind::Occlusion), 0);
+    EXPECT_NEAR(level0(all, MapKind::Occlusion).at(0, 0), r8, 1e-6f);  // R
+    EXPECT_NEAR(level0(all, MapKind::Occlusion).at(1, 0), 1.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(all.occlusion_strength, 0.6f);
+    EXPECT_EQ(all.map_uv[std::size_t(MapKind::Occlusion)].row0.z, 0.5f);  // u + 0.5
+    ASSERT_GE(all.map(MapKind::Emissive), 0);
+    const Image& emissive = level0(all, MapKind::Emissive);
+    EXPECT_EQ(emissive.channels, 4);
+    // sRGB decoded (IEC 61966-2-1): 0.2 -> 0.0331 (8-bit 51/255).
+    const float c = 51.0f / 255.0f;
+    EXPECT_NEAR(emissive.at(0, 0, 0), std::pow((c + 0.055f) / 1.055f, 2.4f), 1e-5f);
+    EXPECT_NEAR(emissive.at(1, 0, 1), std::pow((128.0f / 255.0f + 0.055f) / 1.055f, 2.4f), 1e-5f);
+    EXPECT_EQ(all.emissive, glm::vec3(1.0f, 0.5f, 0.25f));
+    ASSERT_GE(all.map(MapKind::Anisotropy), 0);
+    const Image& anisotropy = level0(all, MapKind::Anisotropy);
+    EXPECT_NEAR(anisotropy.at(0, 0, 0), r8, 1e-6f);  // linear: as stored
+    EXPECT_NEAR(anisotropy.at(0, 0, 2), b8, 1e-6f);
+    EXPECT_EQ(anisotropy.at(0, 0, 3), 1.0f);
+    EXPECT_FLOAT_EQ(all.anisotropy_strength, 0.3f);
+    EXPECT_FLOAT_EQ(all.anisotropy_rotation, -0.5f);
+    // The factors alone: no maps, glTF's default metalness 1.
+    for (const MapKind kind :
+         {MapKind::Metallic, MapKind::Occlusion, MapKind::Emissive, MapKind::Anisotropy})
+        EXPECT_EQ(factors.map(kind), -1);
+    EXPECT_FLOAT_EQ(*factors.metallic, 1.0f);
+    EXPECT_EQ(factors.emissive, glm::vec3(0.1f, 0.2f, 0.3f));
+    EXPECT_FLOAT_EQ(factors.anisotropy_strength, 0.0f);
+}
+
+// Values outside the specification's ranges are errors naming the material and the value.
+TEST(GltfScene, MaterialFactorsOutsideTheirRangesAreRefused) {
+    const fs::path dir = scratch("material_ranges");
+    const struct {
+        nlohmann::json patch;
+        const char* named;
+    } cases[] = {
+        {{{"occlusionTexture", {{"index", 0}, {"strength", 1.5}}}}, "strength"},
+        {{{"emissiveFactor", {1.0, -0.5, 0.0}}}, "emissiveFactor"},
+        {{{"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 2.0}}}}}},
+         "anisotropyStrength"},
+        {{{"extensions", {{"KHR_materials_anisotropy", {{"anisotropyRotation", "up"}}}}}},
+         "anisotropyRotation"},
+        {{{"extensions", {{"KHR_materials_anisotropy", {{"anisotropyTexture", {{"index", 7}}}}}}}},
+         "texture 7"},
+    };
+    for (const auto& c : cases) {
+        test::GltfTestFile file;
+        file.images = {test::png_bytes(1, 1, 3, {0.5f, 0.5f, 0.5f})};
+        file.materials = {{"m", glm::vec4(1.0f), -1, -1, 1.0f}};
+        file.materials[0].patch = c.patch;
+        file.meshes = {{test::unit_quad(0)}};
+        const std::string path = (dir / "bad.glb").string();
+        test::write_gltf(file, path, GltfStorage::Binary);
+        try {
+            (void)load_gltf(path);
+            ADD_FAILURE() << c.patch.dump() << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), path);
+            EXPECT_NE(e.cause().find(c.named), std::string::npos) << e.what();
+            EXPECT_NE(e.cause().find("material 'm'"), std::string::npos) << e.what();
+        }
+    }
+}
+
 bool same_map(const PackedLeanMap& a, const PackedLeanMap& b) {
     if (a.levels.size() != b.levels.size() || a.scale != b.scale || a.storage != b.storage)
         return false;

@@ -253,11 +253,11 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
             } else {
                 EXPECT_EQ(res["descriptor_type"], "combined_image_sampler") << name;
                 EXPECT_EQ(res["array_size"], name == "u_layer_maps" ? 4 : 1) << name;
-                EXPECT_EQ(res["type"], name == "u_base_color" || name == "u_base_roughness" ||
-                                               name == "u_layer_weights" || name == "u_plateau"
-                                           ? "sampler2D"
-                                           : "sampler2DArray")
-                    << name;
+                const bool two_d = name == "u_base_color" || name == "u_base_roughness" ||
+                                   name == "u_layer_weights" || name == "u_plateau" ||
+                                   name == "u_metallic" || name == "u_occlusion" ||
+                                   name == "u_emissive" || name == "u_anisotropy";
+                EXPECT_EQ(res["type"], two_d ? "sampler2D" : "sampler2DArray") << name;
             }
         }
         EXPECT_EQ(reflected, std::multiset<int>(declared.begin(), declared.end())) << file;

@@ -861,8 +861,14 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
             buffer_infos[slot] = {uniform_buffers[slot].buffer, 0, block.size};
             w.pBufferInfo = &buffer_infos[slot];
         } else {
+            // The glTF material maps: the renderer's white fallback (metallic, occlusion and
+            // emissive times factors of 0) or, for the anisotropy texture whose bit is clear,
+            // any valid texture.
+            const bool white_fallback = b.name == "u_base_color" || b.name == "u_metallic" ||
+                                        b.name == "u_occlusion" || b.name == "u_emissive" ||
+                                        b.name == "u_anisotropy";
             const Texture* texture = b.name == "u_lean"             ? &lean
-                                     : b.name == "u_base_color"     ? &white
+                                     : white_fallback               ? &white
                                      : b.name == "u_base_roughness" ? &roughness
                                                                     : nullptr;
             ASSERT_NE(texture, nullptr) << "a texture the test does not have: " << b.name;

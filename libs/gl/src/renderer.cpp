@@ -87,10 +87,16 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.base_alpha = 1.0f;
     block.blend = 0.0f;
     block.double_sided = 0.0f;
-    for (int t = 0; t < 3; ++t) {  // identity transforms
+    for (int t = 0; t < shading::LF_UV_TRANSFORM_COUNT; ++t) {  // identity transforms
         block.uv_transforms[2 * t] = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
         block.uv_transforms[2 * t + 1] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
     }
+    // No glTF factors: no metalness beyond the frame's, no occlusion, emission or anisotropy.
+    block.material.emissive = glm::vec3(0.0f);
+    block.material.metallic = 0.0f;
+    block.material.anisotropy_rotation = glm::vec2(1.0f, 0.0f);
+    block.material.anisotropy_strength = 0.0f;
+    block.material.occlusion_strength = 0.0f;
     return block;
 }
 
@@ -246,6 +252,9 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         if (material.diffuse) s.kd = *material.diffuse;
         if (material.specular) s.ks = *material.specular;
         if (material.shininess) s.shininess = *material.shininess;
+        // A glTF material's metalness replaces the frame's and is applied per texel, with the
+        // base colour texture, by the shader (lf_surface_params).
+        if (material.metallic) s.metallic = 0.0f;
         // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
         LfShadingUniforms block = shading_uniforms(
             s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale, request.output);
@@ -253,13 +262,21 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.base_alpha = material.base_alpha;
         block.blend = material.blend ? 1.0f : 0.0f;
         block.double_sided = material.double_sided.value_or(false) ? 1.0f : 0.0f;
-        const scene::UvTransform* transforms[3] = {
-            &material.lean_uv, &material.map_uv[std::size_t(scene::MapKind::BaseColor)],
-            &material.map_uv[std::size_t(scene::MapKind::BaseRoughness)]};
-        for (int t = 0; t < 3; ++t) {
-            block.uv_transforms[2 * t] = glm::vec4(transforms[t]->row0, 0.0f);
-            block.uv_transforms[2 * t + 1] = glm::vec4(transforms[t]->row1, 0.0f);
-        }
+        const auto set_uv_transform = [&](int slot, const scene::UvTransform& t) {
+            block.uv_transforms[2 * slot] = glm::vec4(t.row0, 0.0f);
+            block.uv_transforms[2 * slot + 1] = glm::vec4(t.row1, 0.0f);
+        };
+        set_uv_transform(shading::LF_UV_LEAN_MAP, material.lean_uv);
+        for (const scene::MapKindInfo& kind : scene::kMapKinds)
+            if (kind.uv_transform != shading::LF_UV_LEAN_MAP)
+                set_uv_transform(kind.uv_transform, material.map_uv[std::size_t(kind.kind)]);
+        block.material.metallic = material.metallic.value_or(0.0f);
+        block.material.occlusion_strength =
+            material.map(scene::MapKind::Occlusion) >= 0 ? material.occlusion_strength : 0.0f;
+        block.material.emissive = material.emissive;
+        block.material.anisotropy_strength = material.anisotropy_strength;
+        block.material.anisotropy_rotation = glm::vec2(std::cos(material.anisotropy_rotation),
+                                                       std::sin(material.anisotropy_rotation));
         // A single-sided glTF material's back faces are culled (counter-clockwise front faces).
         if (material.double_sided.has_value() && !*material.double_sided) {
             glEnable(GL_CULL_FACE);

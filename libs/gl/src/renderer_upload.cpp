@@ -188,8 +188,30 @@ void Renderer::set_mesh(const scene::Mesh& mesh) {
     for (std::vector<Texture>& textures : surface_maps_) textures.clear();
 }
 
+namespace {
+
+// A glTF material's factors in their ranges (glTF 2.0 §3.9.2-3.9.5, KHR_materials_anisotropy):
+// metalness, occlusion strength and anisotropy strength in [0, 1], the emission finite and >= 0,
+// the rotation finite.
+void check_material_factors(const scene::Material& m) {
+    const auto in_unit_range = [](float v) { return v >= 0.0f && v <= 1.0f; };
+    const auto refuse = [&](const std::string& what) {
+        throw Error("scene", "material '" + m.name + "': its " + what);
+    };
+    if (m.metallic && !in_unit_range(*m.metallic)) refuse("metallic factor is not in [0, 1]");
+    if (!in_unit_range(m.occlusion_strength)) refuse("occlusion strength is not in [0, 1]");
+    for (int c = 0; c < 3; ++c)
+        if (!(std::isfinite(m.emissive[c]) && m.emissive[c] >= 0.0f))
+            refuse("emissive factor is not finite and >= 0");
+    if (!in_unit_range(m.anisotropy_strength)) refuse("anisotropy strength is not in [0, 1]");
+    if (!std::isfinite(m.anisotropy_rotation)) refuse("anisotropy rotation is not finite");
+}
+
+}  // namespace
+
 void Renderer::set_scene(const scene::Scene& scene) {
     scene::validate(scene);
+    for (const scene::Material& m : scene.materials) check_material_factors(m);
     for (const scene::Object& o : scene.objects) check_triangles(o.mesh);
     const glm::mat4 model = unit_sphere_matrix(scene::scene_bounds(scene), "scene");
     std::vector<GpuMap> maps;

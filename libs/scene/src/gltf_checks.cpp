@@ -31,7 +31,8 @@ std::uint64_t json_uint(const json& object, const char* key, std::uint64_t fallb
 
 }  // namespace
 
-// The images that some material's normal or base colour texture names (through `textures`).
+// The images that some material's texture names (through `textures`): its normal, occlusion,
+// emissive, base colour, metallic-roughness and KHR_materials_anisotropy textures.
 std::vector<bool> images_used_by_materials(const json& root) {
     const auto images = root.find("images");
     std::vector<bool> used(images != root.end() && images->is_array() ? images->size() : 0, false);
@@ -53,8 +54,15 @@ std::vector<bool> images_used_by_materials(const json& root) {
     };
     for (const json& material : *materials) {
         if (!material.is_object()) continue;
-        if (const auto normal = material.find("normalTexture"); normal != material.end())
-            mark(*normal);
+        for (const char* key : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+            if (const auto texture = material.find(key); texture != material.end()) mark(*texture);
+        if (const auto extensions = material.find("extensions");
+            extensions != material.end() && extensions->is_object())
+            if (const auto anisotropy = extensions->find(kGltfAnisotropyExtension);
+                anisotropy != extensions->end() && anisotropy->is_object())
+                if (const auto texture = anisotropy->find("anisotropyTexture");
+                    texture != anisotropy->end())
+                    mark(*texture);
         if (const auto pbr = material.find("pbrMetallicRoughness");
             pbr != material.end() && pbr->is_object())
         {

@@ -269,12 +269,9 @@ int component_count(int type) {
 
 // A texture reference's KHR_texture_transform (offset, rotation, scale; texCoord other than 0 is
 // warned about with the reference's own texCoord), checked finite.
-GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions,
-                                       const std::string& where) {
+GltfTextureTransform texture_transform_of(const tinygltf::Value& e, const std::string& where) {
     GltfTextureTransform t;
-    const auto found = extensions.find("KHR_texture_transform");
-    if (found == extensions.end()) return t;
-    const tinygltf::Value& e = found->second;
+    if (!e.IsObject()) throw std::runtime_error(where + ": KHR_texture_transform is not an object");
     const auto number = [&](const tinygltf::Value& v, const char* what) {
         if (!v.IsNumber()) throw std::runtime_error(where + ": KHR_texture_transform " + what + " is not a number");
         const double d = v.GetNumberAsDouble();
@@ -292,6 +289,40 @@ GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions,
     pair("scale", t.scale);
     if (e.Has("rotation")) t.rotation = number(e.Get("rotation"), "rotation");
     return t;
+}
+
+GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions,
+                                       const std::string& where) {
+    const auto found = extensions.find("KHR_texture_transform");
+    if (found == extensions.end()) return GltfTextureTransform{};
+    return texture_transform_of(found->second, where);
+}
+
+// A texture reference inside an extension's object (tinygltf leaves those as JSON values): its
+// texture index (-1: none), texCoord and KHR_texture_transform.
+struct ExtensionTextureInfo {
+    int index = -1;
+    int tex_coord = 0;
+    GltfTextureTransform transform;
+};
+
+ExtensionTextureInfo extension_texture_info(const tinygltf::Value& info, const std::string& where) {
+    ExtensionTextureInfo out;
+    if (!info.IsObject()) throw std::runtime_error(where + " is not an object");
+    const tinygltf::Value& index = info.Get("index");
+    if (!index.IsInt() || index.Get<int>() < 0)
+        throw std::runtime_error(where + ": index is not a texture index");
+    out.index = index.Get<int>();
+    if (info.Has("texCoord")) {
+        const tinygltf::Value& set = info.Get("texCoord");
+        if (!set.IsInt() || set.Get<int>() < 0)
+            throw std::runtime_error(where + ": texCoord is not a texture coordinate set");
+        out.tex_coord = set.Get<int>();
+    }
+    const tinygltf::Value& extensions = info.Get("extensions");
+    if (extensions.IsObject() && extensions.Has("KHR_texture_transform"))
+        out.transform = texture_transform_of(extensions.Get("KHR_texture_transform"), where);
+    return out;
 }
 
 class Converter {
@@ -649,6 +680,11 @@ int Converter::material_index(int gltf_material) {
         m.name = gm.name.empty() ? "material " + std::to_string(gltf_material) : gm.name;
         m.gltf_index = gltf_material;
         const std::string where = "material '" + escape_text(m.name, 64) + "'";
+        const auto warn_tex_coord = [&](const std::string& what, int set) {
+            if (set != 0)
+                out_.warnings.push_back(what + " uses TEXCOORD_" + std::to_string(set) +
+                                        "; leanfade reads TEXCOORD_0");
+        };
         if (gm.alphaMode == "MASK") {
             if (!(gm.alphaCutoff >= 0.0) || !std::isfinite(gm.alphaCutoff))
                 throw std::runtime_error(where + ": alphaCutoff is not finite and >= 0");
@@ -670,9 +706,12 @@ int Converter::material_index(int gltf_material) {
                 throw std::runtime_error(where + ": " + name + " is not in [0, 1]");
             *out = float(value);
         }
-        if (pbr.metallicRoughnessTexture.index >= 0)
+        if (pbr.metallicRoughnessTexture.index >= 0) {
             m.metallic_roughness_image =
                 image_of_texture(pbr.metallicRoughnessTexture.index, where + " metallicRoughnessTexture");
+            warn_tex_coord(where + ": metallicRoughnessTexture",
+                           pbr.metallicRoughnessTexture.texCoord);
+        }
         if (const auto ext = gm.extensions.find(kGltfLeanMapExtension); ext != gm.extensions.end()) {
             const tinygltf::Value& uri = ext->second.Get("uri");
             if (!uri.IsString())
@@ -700,10 +739,59 @@ int Converter::material_index(int gltf_material) {
         const tinygltf::TextureInfo& base = gm.pbrMetallicRoughness.baseColorTexture;
         if (base.index >= 0) {
             m.base_color_image = image_of_texture(base.index, where + " baseColorTexture");
-            if (base.texCoord != 0)
-                out_.warnings.push_back(where + ": baseColorTexture uses TEXCOORD_" +
-                                        std::to_string(base.texCoord) +
-                                        "; leanfade reads TEXCOORD_0");
+            warn_tex_coord(where + ": baseColorTexture", base.texCoord);
+        }
+        // glTF 2.0 §3.9.4: occlusionTexture's R with its strength.
+        const tinygltf::OcclusionTextureInfo& occlusion = gm.occlusionTexture;
+        if (occlusion.index >= 0) {
+            if (!(occlusion.strength >= 0.0 && occlusion.strength <= 1.0))
+                throw std::runtime_error(where + ": occlusionTexture strength is not in [0, 1]");
+            m.occlusion_image = image_of_texture(occlusion.index, where + " occlusionTexture");
+            m.occlusion_strength = float(occlusion.strength);
+            m.occlusion_transform =
+                texture_transform(occlusion.extensions, where + " occlusionTexture");
+            warn_tex_coord(where + ": occlusionTexture", occlusion.texCoord);
+        }
+        // glTF 2.0 §3.9.5: emissiveFactor times emissiveTexture (sRGB).
+        const std::vector<double>& emissive = gm.emissiveFactor;
+        if (emissive.size() != 3)
+            throw std::runtime_error(where + ": emissiveFactor has " +
+                                     std::to_string(emissive.size()) + " values (expected 3)");
+        for (int c = 0; c < 3; ++c) {
+            if (!std::isfinite(emissive[std::size_t(c)]) || emissive[std::size_t(c)] < 0.0)
+                throw std::runtime_error(where + ": emissiveFactor is not finite and >= 0");
+            m.emissive_factor[c] = float(emissive[std::size_t(c)]);
+        }
+        if (gm.emissiveTexture.index >= 0) {
+            m.emissive_image =
+                image_of_texture(gm.emissiveTexture.index, where + " emissiveTexture");
+            m.emissive_transform =
+                texture_transform(gm.emissiveTexture.extensions, where + " emissiveTexture");
+            warn_tex_coord(where + ": emissiveTexture", gm.emissiveTexture.texCoord);
+        }
+        if (const auto ext = gm.extensions.find(kGltfAnisotropyExtension);
+            ext != gm.extensions.end()) {
+            const std::string named = where + ": " + kGltfAnisotropyExtension;
+            const tinygltf::Value& e = ext->second;
+            if (!e.IsObject()) throw std::runtime_error(named + " is not an object");
+            const auto number = [&](const char* key, float fallback) {
+                if (!e.Has(key)) return fallback;
+                const tinygltf::Value& v = e.Get(key);
+                if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+                    throw std::runtime_error(named + " " + key + " is not a finite number");
+                return float(v.GetNumberAsDouble());
+            };
+            m.anisotropy_strength = number("anisotropyStrength", 0.0f);
+            if (!(m.anisotropy_strength >= 0.0f && m.anisotropy_strength <= 1.0f))
+                throw std::runtime_error(named + " anisotropyStrength is not in [0, 1]");
+            m.anisotropy_rotation = number("anisotropyRotation", 0.0f);
+            if (e.Has("anisotropyTexture")) {
+                const ExtensionTextureInfo info = extension_texture_info(
+                    e.Get("anisotropyTexture"), named + " anisotropyTexture");
+                m.anisotropy_image = image_of_texture(info.index, named + " anisotropyTexture");
+                m.anisotropy_transform = info.transform;
+                warn_tex_coord(named + " anisotropyTexture", info.tex_coord);
+            }
         }
         const tinygltf::NormalTextureInfo& normal = gm.normalTexture;
         if (normal.index >= 0) {
@@ -711,10 +799,7 @@ int Converter::material_index(int gltf_material) {
                 throw std::runtime_error(where + ": normalTexture scale is not finite");
             m.normal_image = image_of_texture(normal.index, where + " normalTexture");
             m.normal_scale = float(normal.scale);
-            if (normal.texCoord != 0)
-                out_.warnings.push_back(where + ": normalTexture uses TEXCOORD_" +
-                                        std::to_string(normal.texCoord) +
-                                        "; leanfade reads TEXCOORD_0");
+            warn_tex_coord(where + ": normalTexture", normal.texCoord);
         }
     }
     out_.materials.push_back(std::move(m));

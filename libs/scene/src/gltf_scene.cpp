@@ -76,6 +76,24 @@ Image linear_base_colour(const Image& decoded) {
     return rgba;
 }
 
+// Channel `channel` of `image` as a 1-channel image.
+Image image_channel(const Image& image, int channel) {
+    Image out(image.width, image.height, 1);
+    for (std::size_t i = 0; i < image.texel_count(); ++i)
+        out.pixels[i] = image.pixels[i * std::size_t(image.channels) + std::size_t(channel)];
+    return out;
+}
+
+// The first three channels of `image` with alpha 1 (values kept: a linear texture).
+Image linear_rgb(const Image& image) {
+    Image out(image.width, image.height, 4, 1.0f);
+    for (std::size_t i = 0; i < image.texel_count(); ++i)
+        for (int c = 0; c < 3; ++c)
+            out.pixels[i * 4 + std::size_t(c)] =
+                image.pixels[i * std::size_t(image.channels) + std::size_t(c)];
+    return out;
+}
+
 }  // namespace detail
 
 bool is_gltf_path(const std::string& path) {
@@ -140,6 +158,23 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     std::map<int, int> textures;                // base colour image -> texture
     std::map<std::string, int> files;           // a LEAN map file the glTF names -> lean map
     std::map<std::pair<int, float>, int> roughness;  // (metallic-roughness image, factor) -> map
+    // image -> texture of each kind made from one image's channels, decoded once per kind.
+    std::map<std::pair<MapKind, int>, int> image_maps;
+    const auto image_map = [&](MapKind kind, int image_index, const char* what, int min_channels,
+                               Image (*convert)(const Image&)) {
+        const auto key = std::make_pair(kind, image_index);
+        auto found = image_maps.find(key);
+        if (found == image_maps.end()) {
+            const GltfImage& image = gltf.images[std::size_t(image_index)];
+            const Image decoded = decode(gltf, image, settings, false);
+            if (decoded.channels < min_channels)
+                throw Error(gltf.path, image.name + ": " + what + " needs " +
+                                           std::to_string(min_channels) + " channels, it has " +
+                                           std::to_string(decoded.channels));
+            found = image_maps.emplace(key, scene.add_map(kind, {convert(decoded)})).first;
+        }
+        return found->second;
+    };
     int flat_map = -1;
     std::uint64_t map_bytes = 0;  // of the LEAN maps held
     for (const GltfMaterial& gm : gltf.materials) {
@@ -154,6 +189,35 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         m.map_uv[std::size_t(MapKind::BaseColor)] = leanfade_uv_transform(gm.base_color_transform);
         m.map_uv[std::size_t(MapKind::BaseRoughness)] =
             leanfade_uv_transform(gm.metallic_roughness_transform);
+        m.map_uv[std::size_t(MapKind::Metallic)] =
+            leanfade_uv_transform(gm.metallic_roughness_transform);
+        m.map_uv[std::size_t(MapKind::Occlusion)] = leanfade_uv_transform(gm.occlusion_transform);
+        m.map_uv[std::size_t(MapKind::Emissive)] = leanfade_uv_transform(gm.emissive_transform);
+        m.map_uv[std::size_t(MapKind::Anisotropy)] = leanfade_uv_transform(gm.anisotropy_transform);
+        // glTF 2.0 §3.9.2: metalness = metallicFactor x the metallic-roughness texture's B.
+        m.metallic = gm.metallic_factor;
+        if (gm.metallic_roughness_image >= 0)
+            m.map(MapKind::Metallic) = image_map(
+                MapKind::Metallic, gm.metallic_roughness_image, "a metallic-roughness texture", 3,
+                [](const Image& decoded) { return detail::image_channel(decoded, 2); });
+        // glTF 2.0 §3.9.4: the occlusion texture's R, weighed by its strength.
+        m.occlusion_strength = gm.occlusion_strength;
+        if (gm.occlusion_image >= 0)
+            m.map(MapKind::Occlusion) =
+                image_map(MapKind::Occlusion, gm.occlusion_image, "an occlusion texture", 1,
+                          [](const Image& decoded) { return detail::image_channel(decoded, 0); });
+        // glTF 2.0 §3.9.5: emissiveFactor x the emissive texture, sRGB decoded.
+        m.emissive = gm.emissive_factor;
+        if (gm.emissive_image >= 0)
+            m.map(MapKind::Emissive) =
+                image_map(MapKind::Emissive, gm.emissive_image, "an emissive texture", 1,
+                          detail::linear_base_colour);
+        // KHR_materials_anisotropy: its texture is linear (RG direction, B strength).
+        m.anisotropy_strength = gm.anisotropy_strength;
+        m.anisotropy_rotation = gm.anisotropy_rotation;
+        if (gm.anisotropy_image >= 0)
+            m.map(MapKind::Anisotropy) = image_map(MapKind::Anisotropy, gm.anisotropy_image,
+                                                   "an anisotropy texture", 3, detail::linear_rgb);
         if (!gm.lean_map_file.empty()) {
             // The map the file names (`bake SCENE -o OUT`): drawn as written.
             auto found = files.find(gm.lean_map_file);

@@ -131,9 +131,9 @@ class Renderer {
     // leanfade::Error("LEAN map", cause) for a map without levels, inconsistent level sizes or
     // byte counts, or one larger than the GL limit.
     void set_lean_map(const PackedLeanMap& map);
-    // Draws a scene of several objects and materials instead (scene::validate's errors, and
-    // set_lean_map's for each map); the model matrix maps the whole scene to the unit bounding
-    // sphere. All or nothing: on an error the previous scene stays.
+    // Draws a scene of several objects and materials instead (scene::validate's errors, a glTF
+    // material factor out of range: Error("scene", cause), set_lean_map's for each map); the model
+    // matrix maps the scene to the unit bounding sphere. All or nothing: an error keeps the old.
     void set_scene(const scene::Scene& scene);
 
     // Renders one image (linear RGB, top row first). Requires a mesh and a LEAN map. Throws

@@ -40,6 +40,17 @@ inline constexpr Std140Field kLfParamsFields[] = {
 static_assert(std140_matches_cpp(kLfParamsFields));
 static_assert(std140_struct_size(kLfParamsFields) == sizeof(LfParams));
 
+using shading::LfMaterialFactors;
+inline constexpr Std140Field kMaterialFactorsFields[] = {
+    LF_STD140(LfMaterialFactors, emissive, Vec3),
+    LF_STD140(LfMaterialFactors, metallic, Float),
+    LF_STD140(LfMaterialFactors, anisotropy_rotation, Vec2),
+    LF_STD140(LfMaterialFactors, anisotropy_strength, Float),
+    LF_STD140(LfMaterialFactors, occlusion_strength, Float),
+};
+static_assert(std140_matches_cpp(kMaterialFactorsFields));
+static_assert(std140_struct_size(kMaterialFactorsFields) == sizeof(LfMaterialFactors));
+
 inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, params, Struct, 0, kLfParamsFields),
     LF_STD140(LfShadingUniforms, scale, Float),
@@ -56,7 +67,8 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, blend, Float),
     LF_STD140(LfShadingUniforms, double_sided, Float),
     LF_STD140(LfShadingUniforms, uv_transform_padding, Float),
-    LF_STD140(LfShadingUniforms, uv_transforms, Vec4, 6),
+    LF_STD140(LfShadingUniforms, uv_transforms, Vec4, 2 * shading::LF_UV_TRANSFORM_COUNT),
+    LF_STD140(LfShadingUniforms, material, Struct, 0, kMaterialFactorsFields),
 };
 static_assert(std140_matches_cpp(kShadingBlockFields));
 static_assert(std140_end(kShadingBlockFields) == sizeof(LfShadingUniforms));

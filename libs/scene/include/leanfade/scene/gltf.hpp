@@ -74,8 +74,19 @@ struct GltfMaterial {
     float metallic_factor = 1.0f;               // pbrMetallicRoughness.metallicFactor, [0, 1]
     float roughness_factor = 1.0f;              // pbrMetallicRoughness.roughnessFactor, [0, 1]
     int metallic_roughness_image = -1;          // metallicRoughnessTexture's image, -1: none
-    // KHR_texture_transform of the normal, base colour and metallic-roughness textures.
-    GltfTextureTransform normal_transform, base_color_transform, metallic_roughness_transform;
+    int occlusion_image = -1;                   // occlusionTexture's image, -1: none
+    float occlusion_strength = 1.0f;            // occlusionTexture.strength, [0, 1]
+    glm::vec3 emissive_factor{0.0f};            // emissiveFactor, linear RGB, >= 0
+    int emissive_image = -1;                    // emissiveTexture's image (sRGB), -1: none
+    // KHR_materials_anisotropy: anisotropyStrength [0, 1], anisotropyRotation (radians, finite)
+    // and anisotropyTexture's image (linear RG direction, B strength), -1: none.
+    float anisotropy_strength = 0.0f;
+    float anisotropy_rotation = 0.0f;
+    int anisotropy_image = -1;
+    // KHR_texture_transform of the normal, base colour, metallic-roughness, occlusion, emissive
+    // and anisotropy textures.
+    GltfTextureTransform normal_transform, base_color_transform, metallic_roughness_transform,
+        occlusion_transform, emissive_transform, anisotropy_transform;
     // The LEAN map the material's kGltfLeanMapExtension names (a path beside the glTF file,
     // checked as every URI is), drawn instead of a bake of its normal texture; "" when none.
     std::string lean_map_file;
@@ -99,7 +110,9 @@ struct GltfScene {
 
 // The glTF extensions leanfade implements: a file that lists any other in `extensionsRequired`
 // is refused, naming it (glTF 2.0 §3.12); extensions that are only used are ignored.
-inline constexpr std::array<std::string_view, 1> kSupportedGltfExtensions{"KHR_texture_transform"};
+inline constexpr std::array<std::string_view, 2> kSupportedGltfExtensions{
+    "KHR_texture_transform", "KHR_materials_anisotropy"};
+inline constexpr const char* kGltfAnisotropyExtension = "KHR_materials_anisotropy";
 
 // Deepest nesting of arrays and objects in a glTF file's JSON, checked on the text before it is
 // parsed (a scan without recursion that skips strings): deeper files are refused.
@@ -239,9 +252,13 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image, float scale,
 // texture share one flat LEAN map; a material whose file names its LEAN map (lean_map_file) draws
 // that map (read with read_ktx2's checks). Every material gets a base roughness map
 // (MapKind::BaseRoughness, read with Cook-Torrance): r = roughness_factor times the G of its
-// metallic-roughness texture, or the factor alone (1 x 1). alphaMode MASK cuts out the texels
-// whose base colour alpha (texture times factor) is below alphaCutoff (Material::alpha_cutoff).
-// Throws leanfade::Error(gltf.path, cause).
+// metallic-roughness texture, or the factor alone (1 x 1); its metalness is metallic_factor
+// (Material::metallic) times the texture's B (MapKind::Metallic). The occlusion texture's R
+// (MapKind::Occlusion, with its strength), the emissive texture decoded to linear RGB
+// (MapKind::Emissive, times emissive_factor) and KHR_materials_anisotropy's texture
+// (MapKind::Anisotropy, linear, with its strength and rotation) become maps of their kinds.
+// alphaMode MASK cuts out the texels whose base colour alpha (texture times factor) is below
+// alphaCutoff (Material::alpha_cutoff). Throws leanfade::Error(gltf.path, cause).
 Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                         GltfBakeReport* report = nullptr);
 

@@ -12,13 +12,23 @@
 #include <string_view>
 
 #include "leanfade/core/bindings.hpp"
+#include "leanfade/core/shading.hpp"
 
 namespace leanfade::scene {
 
 namespace map_bindings = ::leanfade::bindings;
 
-enum class MapKind { BaseColor, BaseRoughness, Plateau, RoughnessMips };
-inline constexpr std::size_t kMapKindCount = 4;
+enum class MapKind {
+    BaseColor,
+    BaseRoughness,
+    Plateau,
+    Metallic,
+    Occlusion,
+    Emissive,
+    Anisotropy,
+    RoughnessMips,
+};
+inline constexpr std::size_t kMapKindCount = 8;
 
 // The texture's storage on the GPU.
 enum class MapFormat {
@@ -44,6 +54,9 @@ struct MapKindInfo {
                                // the bump source's material, or "" when none does
     int binding;               // texture unit (shaders/bindings.glsl)
     int mask_bit;              // its bit in LfShadingUniforms::maps (shaders/bindings.glsl)
+    int uv_transform;          // its texture coordinate transform in
+                               // LfShadingUniforms::uv_transforms (LF_UV_* of
+                               // shaders/lean_shading.glsl)
     int channels;              // of each level's image
     MapFormat format;
     MapMips mips;
@@ -57,31 +70,58 @@ struct MapKindInfo {
 
 inline constexpr std::array<MapKindInfo, kMapKindCount> kMapKinds{{
     {MapKind::BaseColor, "base colour texture", "", map_bindings::LF_BINDING_BASE_COLOR,
-     map_bindings::LF_MAP_BASE_COLOR, 4, MapFormat::Rgba16f, MapMips::Generated,
-     MapFallback::White, false, false, "pbrMetallicRoughness.baseColorTexture",
+     map_bindings::LF_MAP_BASE_COLOR, shading::LF_UV_BASE_COLOR, 4, MapFormat::Rgba16f,
+     MapMips::Generated, MapFallback::White, false, false, "pbrMetallicRoughness.baseColorTexture",
      "linear RGB (sRGB decoded) and alpha; Kd is multiplied by its RGB"},
     {MapKind::BaseRoughness, "roughness map", "roughness-map",
-     map_bindings::LF_BINDING_BASE_ROUGHNESS, map_bindings::LF_MAP_BASE_ROUGHNESS, 1,
-     MapFormat::R32f, MapMips::Given, MapFallback::None, true, true, "",
+     map_bindings::LF_BINDING_BASE_ROUGHNESS, map_bindings::LF_MAP_BASE_ROUGHNESS,
+     shading::LF_UV_BASE_ROUGHNESS, 1, MapFormat::R32f, MapMips::Given, MapFallback::None, true,
+     true, "",
      "Cook-Torrance's alpha0^2 = r^4 (dimensionless), filtered linearly like the moments "
      "(docs/math.md §9)"},
     {MapKind::Plateau, "plateau layer", "", map_bindings::LF_BINDING_PLATEAU,
-     map_bindings::LF_MAP_PLATEAU, 4, MapFormat::Rgba16f, MapMips::Given, MapFallback::None,
-     false, true, "",
+     map_bindings::LF_MAP_PLATEAU, shading::LF_UV_LEAN_MAP, 4, MapFormat::Rgba16f,
+     MapMips::Given, MapFallback::None, false, true, "",
      "two-lobe LEAN's (f, f Bs.x, f Bs.y, f |Bs|^2): the fraction of texels on a plateau and "
      "their slopes (slope units), filtered linearly like the moments (docs/math.md §10)"},
+    {MapKind::Metallic, "metallic map", "", map_bindings::LF_BINDING_METALLIC,
+     map_bindings::LF_MAP_METALLIC, shading::LF_UV_METALLIC, 1, MapFormat::R32f,
+     MapMips::Generated, MapFallback::White, false, false,
+     "pbrMetallicRoughness.metallicRoughnessTexture (B)",
+     "metalness in [0, 1], times the material's metallic factor: F0 = mix(f0, base colour, m) "
+     "and Kd (1 - m) with Cook-Torrance, Ks = mix(Ks, base colour, m) with Blinn-Phong"},
+    {MapKind::Occlusion, "occlusion map", "", map_bindings::LF_BINDING_OCCLUSION,
+     map_bindings::LF_MAP_OCCLUSION, shading::LF_UV_OCCLUSION, 1, MapFormat::R32f,
+     MapMips::Generated, MapFallback::White, false, false, "occlusionTexture (R)",
+     "ambient occlusion in [0, 1]: the ambient term Ka times 1 + strength (occlusion - 1)"},
+    {MapKind::Emissive, "emissive texture", "", map_bindings::LF_BINDING_EMISSIVE,
+     map_bindings::LF_MAP_EMISSIVE, shading::LF_UV_EMISSIVE, 4, MapFormat::Rgba16f,
+     MapMips::Generated, MapFallback::White, false, false, "emissiveTexture",
+     "linear RGB (sRGB decoded) times the material's emissive factor: radiance added to the "
+     "colour"},
+    {MapKind::Anisotropy, "anisotropy texture", "", map_bindings::LF_BINDING_ANISOTROPY,
+     map_bindings::LF_MAP_ANISOTROPY, shading::LF_UV_ANISOTROPY, 4, MapFormat::Rgba16f,
+     MapMips::Generated, MapFallback::None, true, false,
+     "KHR_materials_anisotropy.anisotropyTexture",
+     "RG: the direction of the base roughness's stretch in tangent space (2 RG - 1, rotated by "
+     "the material's anisotropy rotation), B: its strength (times the material's); alpha 1"},
     {MapKind::RoughnessMips, "engine roughness MIPs", "roughness-mips",
-     map_bindings::LF_BINDING_ROUGHNESS_MIPS, map_bindings::LF_MAP_ROUGHNESS_MIPS, 1,
-     MapFormat::R32f, MapMips::Given, MapFallback::None, false, true, "",
+     map_bindings::LF_BINDING_ROUGHNESS_MIPS, map_bindings::LF_MAP_ROUGHNESS_MIPS,
+     shading::LF_UV_LEAN_MAP, 1, MapFormat::R32f, MapMips::Given, MapFallback::None, false, true, "",
      "another tool's glTF perceptual roughness r in [0, 1] per MIP level (Filament's "
      "roughness-prefilter, for one): the roughness technique reads it in place of the r it "
      "derives from the LEAN map (docs/roughness.md)"},
 }};
 
-// Every row sits at the position of its enum value, and each has its own bit.
+// Every row sits at the position of its enum value, and each has its own bit, unit and texture
+// coordinate transform within the uniform block's (the plateau layer and the roughness MIPs take
+// the LEAN map's).
 constexpr bool map_kind_table_is_ordered() {
     for (std::size_t i = 0; i < kMapKinds.size(); ++i) {
         if (std::size_t(kMapKinds[i].kind) != i) return false;
+        if (kMapKinds[i].uv_transform < 0 ||
+            kMapKinds[i].uv_transform >= shading::LF_UV_TRANSFORM_COUNT)
+            return false;
         for (std::size_t j = 0; j < i; ++j)
             if ((kMapKinds[i].mask_bit & kMapKinds[j].mask_bit) != 0 ||
                 kMapKinds[i].binding == kMapKinds[j].binding)

@@ -78,6 +78,21 @@ struct Material {
     // glTF doubleSided: false culls back faces; true draws them, shaded with the reversed frame;
     // none (built-in and OBJ scenes): back faces drawn, shaded as front faces.
     std::optional<bool> double_sided{};
+    // glTF metallic-roughness (glTF 2.0 §3.9.2): the metalness is `metallic` times the metallic
+    // map's texel (MapKind::Metallic, 1 without one), applied per texel with the base colour
+    // (lf_surface_params); it replaces the frame's `metallic`. None: the frame's.
+    std::optional<float> metallic{};
+    // glTF occlusionTexture.strength, [0, 1]: with an occlusion map (MapKind::Occlusion) the
+    // ambient term is multiplied by 1 + strength (occlusion - 1) (glTF 2.0 §3.9.4).
+    float occlusion_strength = 1.0f;
+    // glTF emissiveFactor, linear RGB radiance >= 0, times the emissive texture
+    // (MapKind::Emissive, white without one), added to the colour (glTF 2.0 §3.9.5).
+    glm::vec3 emissive{0.0f};
+    // KHR_materials_anisotropy (Cook-Torrance): the strength in [0, 1] (times the anisotropy
+    // texture's B, MapKind::Anisotropy) and the rotation (radians, counter-clockwise from the
+    // tangent +u) of the base roughness's stretch along the direction (the texture's RG).
+    float anisotropy_strength = 0.0f;
+    float anisotropy_rotation = 0.0f;
     // Texture coordinate transforms: of the LEAN map (its plateau layer alike) and of each surface
     // map kind (the plateau's entry unused).
     UvTransform lean_uv{};
