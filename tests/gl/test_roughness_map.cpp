@@ -119,17 +119,10 @@ class RoughnessMips : public GlTest {};
 TEST_F(RoughnessMips, TheTechniqueReadsTheGivenChainInPlaceOfItsOwn) {
     const float roughness = 0.35f;
     auto scene_with = [&](const std::vector<Image>* chain) {
-        scene::Scene scene;
-        scene::Object object;
-        object.mesh = scene::make_scene_mesh("sphere");
-        scene.objects.push_back(std::move(object));
-        scene::Material material;
-        material.name = "bumps";
+        scene::Scene scene = bumpy_sphere(-1.0f, 0);
         if (chain != nullptr)
-            material.map(scene::MapKind::RoughnessMips) =
+            scene.materials[0].map(scene::MapKind::RoughnessMips) =
                 scene.add_map(scene::MapKind::RoughnessMips, *chain);
-        scene.materials.push_back(material);
-        scene.lean_maps.push_back(make_bumps_map(64, 1.5f));
         return scene;
     };
     const scene::Scene plain = scene_with(nullptr);

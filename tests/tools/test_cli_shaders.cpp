@@ -256,7 +256,8 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                 const bool two_d = name == "u_base_color" || name == "u_base_roughness" ||
                                    name == "u_layer_weights" || name == "u_plateau" ||
                                    name == "u_metallic" || name == "u_occlusion" ||
-                                   name == "u_emissive" || name == "u_anisotropy";
+                                   name == "u_emissive" || name == "u_anisotropy" ||
+                                   name == "u_roughness_mips";
                 EXPECT_EQ(res["type"], two_d ? "sampler2D" : "sampler2DArray") << name;
             }
         }

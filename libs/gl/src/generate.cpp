@@ -121,11 +121,7 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
         levels_ = mip_level_count(width_, height_);
         Texture texture = create_texture(GL_TEXTURE_2D_ARRAY);
         glTextureStorage3D(texture.get(), levels_, format.internal_format, width_, height_, 2);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
-                            levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+        set_repeat_trilinear(texture.get(), levels_);
         texture_ = std::move(texture);
         storage_ = options.storage;
         plateau_.reset();
@@ -161,14 +157,11 @@ void LeanGenerator::write_plateau_top_level() {
     if (!plateau_) {
         Texture texture = create_texture(GL_TEXTURE_2D);
         glTextureStorage2D(texture.get(), levels_, GL_RGBA16F, width_, height_);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MIN_FILTER,
-                            levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-        glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+        set_repeat_trilinear(texture.get(), levels_);
         plateau_ = std::move(texture);
     }
-    if (!plateau_program_) plateau_program_ = build_compute_program(sources_, "generate_plateau.comp", {});
+    if (!plateau_program_)
+        plateau_program_ = build_compute_program(sources_, "generate_plateau.comp", {});
     const GLuint p = plateau_program_.get();
     glProgramUniform1f(p, location(p, "u_scale"), scale_);
     glProgramUniform1f(p, location(p, "u_epsilon"), plateau_epsilon_);

@@ -72,16 +72,6 @@ std::vector<float> flipped_rows(const Image& image) {
     return out;
 }
 
-void set_repeat_trilinear(GLuint texture, int levels) {
-    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
-    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER,
-                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
-}
-
 GLenum gl_internal_format(scene::MapFormat format) {
     switch (format) {
         case scene::MapFormat::Rgba16f:

@@ -85,6 +85,17 @@ inline Texture create_texture(GLenum target) {
     glCreateTextures(target, 1, &n);
     return Texture(n);
 }
+// A texture of `levels` MIP levels sampled trilinearly (bilinearly with one level), repeating:
+// how the renderer samples its maps.
+inline void set_repeat_trilinear(GLuint texture, int levels) {
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels - 1);
+    glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER,
+                        levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
 inline Framebuffer create_framebuffer() {
     GLuint n = 0;
     glCreateFramebuffers(1, &n);
