@@ -45,20 +45,27 @@ def configurations(seeds):
         runs.append((f"teapot_noise_bp_aa{aa}", ["--scene", "teapot", "--bumps", "noise"] + common, seeds))
         runs.append((f"teapot_ridges_bp_aa{aa}", ["--scene", "teapot", "--bumps", "ridges"] + common, seeds))
         runs.append((f"sphere_flat_bp_aa{aa}", ["--scene", "sphere", "--bumps", "flat"] + common, 1))
-        for path, tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
-            if os.path.exists(path):
-                runs.append((f"teapot_{tag}_bp_aa{aa}", ["--scene", "teapot", "--bumps", path] + common, 1))
+    for brdf, tag in (("blinn-phong", "bp"), ("cook-torrance", "ct")):
+        for aa in ("off", "on"):
+            common = ["--brdf", brdf, "--geometric-aa", aa]
+            if tag == "ct":
+                runs.append((f"teapot_ridges_ct_aa{aa}", ["--scene", "teapot", "--bumps", "ridges"] + common, seeds))
+            for path, map_tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
+                if os.path.exists(path):
+                    runs.append((f"teapot_{map_tag}_{tag}_aa{aa}", ["--scene", "teapot", "--bumps", path] + common, 1))
     return runs
 
 
 def filament_configurations():
     """(name, eval arguments, normal map) of the Filament peer runs: one per real map."""
     runs = []
-    for aa in ("off", "on"):
-        for path, tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
-            if os.path.exists(path):
-                runs.append((f"teapot_{tag}_bp_aa{aa}", ["--scene", "teapot", "--bumps", path,
-                                                         "--geometric-aa", aa], path))
+    for brdf, brdf_tag in (("blinn-phong", "bp"), ("cook-torrance", "ct")):
+        for aa in ("off", "on"):
+            for path, tag in ((RIBS, "ribs"), (WRAP, "plasticwrap")):
+                if os.path.exists(path):
+                    runs.append((f"teapot_{tag}_{brdf_tag}_aa{aa}",
+                                 ["--scene", "teapot", "--bumps", path, "--brdf", brdf,
+                                  "--geometric-aa", aa], path))
     return runs
 
 
