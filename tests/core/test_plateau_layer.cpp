@@ -26,7 +26,7 @@ Image bumps_height(int w, int h) {
 }
 
 TEST(PlateauLayer, PackedBakeWritesTheReferenceBytesForEverySizeAndStorage) {
-    for (const auto [w, h] : {std::pair{64, 64}, std::pair{48, 32}, std::pair{37, 20},
+    for (const auto& [w, h] : {std::pair{64, 64}, std::pair{48, 32}, std::pair{37, 20},
                               std::pair{64, 3}, std::pair{1, 1}}) {
         for (Storage storage :
              {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {

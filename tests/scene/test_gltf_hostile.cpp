@@ -342,7 +342,7 @@ TEST(LeanMapCacheBounds, EntriesKeepTheMapsMetadata) {
     for (const int size : {2, 1}) {
         const auto bytes = std::size_t(size * size * bytes_per_texel(map.storage));
         map.levels.push_back({size, size, std::vector<std::uint8_t>(bytes, 0x40),
-                              std::vector<std::uint8_t>(bytes, 0x80)});
+                              std::vector<std::uint8_t>(bytes, 0x80), {}});
     }
     const LeanMapCache cache(folder.string());
     const std::string key = lean_cache_key({1, 2, 3}, "metadata");

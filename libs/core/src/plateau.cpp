@@ -215,18 +215,33 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads) {
 
 void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads) {
     check_epsilon(epsilon);
-    const std::vector<Image> chain = plateau_mips(packed_top_slopes(map, threads), epsilon, threads);
+    set_plateau_layer(map, plateau_mips(packed_top_slopes(map, threads), epsilon, threads),
+                      epsilon, threads);
+}
+
+void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, float epsilon,
+                       int threads) {
+    check_epsilon(epsilon);
     if (chain.size() != map.levels.size())
         throw Error("plateau", "the LEAN map's MIP chain is not complete");
     const int texel_bytes = bytes_per_texel(map.storage);
     for (std::size_t l = 0; l < chain.size(); ++l) {
         PackedLevel& level = map.levels[l];
+        if (chain[l].width != level.width || chain[l].height != level.height ||
+            chain[l].channels != 4)
+            throw Error("plateau", "the plateau layer's levels do not match the LEAN map's");
         level.plateau.assign(std::size_t(level.width) * std::size_t(level.height) *
                                  std::size_t(texel_bytes),
                              0);
         pack_plateau_level(chain[l], map.storage, map.scale, level.plateau.data(), threads);
     }
     map.plateau_epsilon = epsilon;
+}
+
+glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc) {
+    if (!(stored.x > 0.0f)) return glm::vec4(0.0f);  // off every plateau: exactly 0
+    return {std::min(stored.x, 1.0f), (2.0f * stored.y - 1.0f) * sc,
+            (2.0f * stored.z - 1.0f) * sc, 2.0f * stored.w * (sc * sc)};
 }
 
 void remove_plateau_layer(PackedLeanMap& map) {
@@ -238,7 +253,6 @@ std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
     std::vector<Image> chain;
     if (!map.has_plateau()) return chain;
     const int texel_bytes = bytes_per_texel(map.storage);
-    const float sc = map.scale, sc2 = map.scale * map.scale;
     for (const PackedLevel& level : map.levels) {
         if (level.plateau.size() !=
             std::size_t(level.width) * std::size_t(level.height) * std::size_t(texel_bytes))
@@ -252,13 +266,11 @@ std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
                         level.plateau.data() +
                         (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) *
                             std::size_t(texel_bytes);
-                    const float f = detail::load_channel(texel, 0, map.storage);
-                    if (!(f > 0.0f)) continue;  // off every plateau: exactly 0
-                    float* v = row + 4 * x;
-                    v[0] = std::min(f, 1.0f);
-                    v[1] = (2.0f * detail::load_channel(texel, 1, map.storage) - 1.0f) * sc;
-                    v[2] = (2.0f * detail::load_channel(texel, 2, map.storage) - 1.0f) * sc;
-                    v[3] = 2.0f * detail::load_channel(texel, 3, map.storage) * sc2;
+                    glm::vec4 stored;
+                    for (int c = 0; c < 4; ++c)
+                        stored[c] = detail::load_channel(texel, c, map.storage);
+                    const glm::vec4 v = decode_plateau_texel(stored, map.scale);
+                    for (int c = 0; c < 4; ++c) row[4 * x + c] = v[c];
                 }
             }
         });

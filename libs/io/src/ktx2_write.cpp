@@ -33,6 +33,7 @@ struct Ktx2FilePlan {
     std::vector<std::uint64_t> level_offsets;
     std::vector<std::uint64_t> level_lengths;
     std::uint64_t size = 0;
+    std::uint32_t layer_count = kLayerCount;  // kPlateauLayerCount with the plateau layer
 };
 
 Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout, bool check_layers,
@@ -97,7 +98,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     bytes.insert(bytes.end(), dfd_bytes.begin(), dfd_bytes.end());
     bytes.insert(bytes.end(), key_value_bytes.begin(), key_value_bytes.end());
 
-    return {std::move(bytes), std::move(level_offsets), std::move(level_lengths), end};
+    return {std::move(bytes), std::move(level_offsets), std::move(level_lengths), end, layer_count};
 }
 
 }  // namespace
@@ -110,12 +111,11 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
     // as the zeros a newly reserved file reads as.
     std::uint8_t* output = file_.map(std::size_t(plan.size));
     std::memcpy(output, plan.head.data(), plan.head.size());
-    const std::uint64_t layers = layout.has_plateau() ? kPlateauLayerCount : kLayerCount;
     for (std::size_t level = 0; level < plan.level_offsets.size(); ++level) {
         std::uint8_t* lean1 = output + plan.level_offsets[level];
-        const std::uint64_t layer = plan.level_lengths[level] / layers;
-        targets_.push_back({lean1, lean1 + layer, layers == kPlateauLayerCount ? lean1 + 2 * layer
-                                                                               : nullptr});
+        const std::uint64_t layer = plan.level_lengths[level] / plan.layer_count;
+        targets_.push_back({lean1, lean1 + layer,
+                            plan.layer_count == kPlateauLayerCount ? lean1 + 2 * layer : nullptr});
     }
 }
 

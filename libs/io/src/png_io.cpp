@@ -18,6 +18,7 @@
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -718,33 +719,15 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         pack_lean_map(map, layers[0].max_value == 255 ? Storage::Unorm8 : Storage::Unorm16,
                       software != nullptr ? *software : std::string());
     if (layer_count == 3) {
-        // The plateau layer's stored values are affine in (f, f Bs, f |Bs|^2) as well: its chain
-        // is the filtered stored values, rounded to the storage's codes.
-        const std::vector<Image> chain = build_mip_chain(layers[2].to_float());
-        const float max_code = float(layers[2].max_value);
-        for (std::size_t l = 0; l < chain.size(); ++l) {
-            PackedLevel& level = packed.levels[l];
-            const Image& values = chain[l];
-            const int texel_bytes = bytes_per_texel(packed.storage);
-            level.plateau.resize(values.texel_count() * std::size_t(texel_bytes));
-            for (std::size_t i = 0; i < values.texel_count(); ++i) {
-                std::uint16_t codes[4];
-                for (int c = 0; c < 4; ++c)
-                    codes[c] = std::uint16_t(
-                        std::min(std::nearbyint(std::max(values.pixels[4 * i + c], 0.0f) * max_code),
-                                 max_code));
-                for (int c = 0; c < 4; ++c) {
-                    std::uint8_t* texel = &level.plateau[i * std::size_t(texel_bytes)];
-                    if (packed.storage == Storage::Unorm8) {
-                        texel[c] = std::uint8_t(codes[c]);
-                    } else {
-                        texel[2 * c] = std::uint8_t(codes[c] & 0xFF);
-                        texel[2 * c + 1] = std::uint8_t(codes[c] >> 8);
-                    }
-                }
-            }
+        // The stored values are affine in (f, f Bs, f |Bs|^2): the layer's chain is the finest
+        // level decoded, filtered, and packed again (the finest level to its own codes).
+        Image decoded = layers[2].to_float();
+        for (std::size_t t = 0; t < decoded.texel_count(); ++t) {
+            float* v = &decoded.pixels[4 * t];
+            const glm::vec4 d = decode_plateau_texel(glm::vec4(v[0], v[1], v[2], v[3]), scale);
+            for (int c = 0; c < 4; ++c) v[c] = d[c];
         }
-        packed.plateau_epsilon = plateau_epsilon;
+        set_plateau_layer(packed, build_mip_chain(decoded), plateau_epsilon);
     }
     return packed;
 }

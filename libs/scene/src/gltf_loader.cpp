@@ -144,6 +144,19 @@ namespace {
 
 using gltf_detail::uri_refusal;
 
+// A glTF colour factor of `count` values (baseColorFactor, emissiveFactor; glTF 2.0 §5.19), each
+// finite and >= 0, into out[0 .. count - 1]; `what` names it in the errors.
+void read_color_factor(const std::vector<double>& factor, std::size_t count,
+                       const std::string& what, float* out) {
+    if (factor.size() != count)
+        throw std::runtime_error(what + " has " + std::to_string(factor.size()) +
+                                 " values (expected " + std::to_string(count) + ")");
+    for (std::size_t c = 0; c < count; ++c) {
+        if (!std::isfinite(factor[c]) || factor[c] < 0.0)
+            throw std::runtime_error(what + " is not finite and >= 0");
+        out[c] = float(factor[c]);
+    }
+}
 
 // What tinygltf may read: files in `folder` only (its file system callbacks below).
 struct FileAccess {
@@ -727,15 +740,8 @@ int Converter::material_index(int gltf_material) {
             if (m.lean_map_file.empty())
                 throw std::runtime_error(named + " leaves the glTF's folder");
         }
-        const std::vector<double>& factor = gm.pbrMetallicRoughness.baseColorFactor;
-        if (factor.size() != 4)
-            throw std::runtime_error(where + ": baseColorFactor has " +
-                                     std::to_string(factor.size()) + " values (expected 4)");
-        for (int c = 0; c < 4; ++c) {
-            if (!std::isfinite(factor[std::size_t(c)]) || factor[std::size_t(c)] < 0.0)
-                throw std::runtime_error(where + ": baseColorFactor is not finite and >= 0");
-            m.base_color_factor[c] = float(factor[std::size_t(c)]);
-        }
+        read_color_factor(gm.pbrMetallicRoughness.baseColorFactor, 4,
+                          where + ": baseColorFactor", &m.base_color_factor[0]);
         const tinygltf::TextureInfo& base = gm.pbrMetallicRoughness.baseColorTexture;
         if (base.index >= 0) {
             m.base_color_image = image_of_texture(base.index, where + " baseColorTexture");
@@ -753,15 +759,8 @@ int Converter::material_index(int gltf_material) {
             warn_tex_coord(where + ": occlusionTexture", occlusion.texCoord);
         }
         // glTF 2.0 §3.9.5: emissiveFactor times emissiveTexture (sRGB).
-        const std::vector<double>& emissive = gm.emissiveFactor;
-        if (emissive.size() != 3)
-            throw std::runtime_error(where + ": emissiveFactor has " +
-                                     std::to_string(emissive.size()) + " values (expected 3)");
-        for (int c = 0; c < 3; ++c) {
-            if (!std::isfinite(emissive[std::size_t(c)]) || emissive[std::size_t(c)] < 0.0)
-                throw std::runtime_error(where + ": emissiveFactor is not finite and >= 0");
-            m.emissive_factor[c] = float(emissive[std::size_t(c)]);
-        }
+        read_color_factor(gm.emissiveFactor, 3, where + ": emissiveFactor",
+                          &m.emissive_factor[0]);
         if (gm.emissiveTexture.index >= 0) {
             m.emissive_image =
                 image_of_texture(gm.emissiveTexture.index, where + " emissiveTexture");

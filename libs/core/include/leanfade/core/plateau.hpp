@@ -45,6 +45,12 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads = 0);
 // (BakeOptions::plateau_epsilon) write exactly these bytes.
 void add_plateau_layer(PackedLeanMap& map, float epsilon = kDefaultPlateauEpsilon,
                        int threads = 0);
+// The plateau layer of `map` from its float chain (f, f Bs, f |Bs|^2), one 4-channel image per
+// level of the map's sizes, finest first, packed as add_plateau_layer packs it; sets
+// map.plateau_epsilon (the epsilon the chain was made with). Throws Error("plateau", ...) for a
+// chain that does not match the levels, Error("plateau_epsilon", ...) as add_plateau_layer.
+void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, float epsilon,
+                       int threads = 0);
 // The map without its plateau layer (as maps of older versions are).
 void remove_plateau_layer(PackedLeanMap& map);
 
@@ -53,5 +59,8 @@ void remove_plateau_layer(PackedLeanMap& map);
 // shades them as LEAN). Empty when the map has no plateau layer. Throws Error("plateau", ...) when
 // the layer's byte counts do not match the levels.
 std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads = 0);
+// One stored texel (its four channels decoded to [0, 1], or the float storages' values) as
+// (f, f Bs.x, f Bs.y, f |Bs|^2) for a map of slope scale sc: exactly 0 where f = 0.
+glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc);
 
 }  // namespace leanfade
