@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <glm/gtc/packing.hpp>
 
@@ -81,6 +83,43 @@ TEST(Ktx2Texture, Rgba8KeysAreWrittenSortedAfterTheKtxKeys) {
     ASSERT_EQ(info.key_values.size(), 4u);
     EXPECT_EQ(info.key_values[2].first, kKeyTextureContent);
     EXPECT_EQ(info.key_values[3].first, "LEANFADEz");
+}
+
+// The in-place writer (the engine textures of `leanfade bake`) writes the bytes of
+// write_ktx2_rgba8 once every level is filled, for square, wide and one-texel chains, and leaves
+// nothing behind without commit().
+TEST(Ktx2Texture, InPlaceRgba8WriterWritesTheSameFile) {
+    const fs::path dir = test::fresh_scratch_folder("io", "ktx2_texture_in_place");
+    for (const auto& [w, h] : {std::pair{8, 8}, std::pair{13, 3}, std::pair{1, 1}}) {
+        std::vector<Rgba8Level> levels;
+        for (int lw = w, lh = h;; lw = std::max(1, lw / 2), lh = std::max(1, lh / 2)) {
+            Rgba8Level level{lw, lh, std::vector<std::uint8_t>(std::size_t(lw * lh * 4))};
+            for (std::size_t i = 0; i < level.texels.size(); ++i)
+                level.texels[i] = std::uint8_t(i * 31 + std::size_t(lw));
+            levels.push_back(std::move(level));
+            if (lw == 1 && lh == 1) break;
+        }
+        const TextureKeyValues keys{{kKeyTextureContent, "roughness v1"}};
+        const std::string whole = (dir / "whole.ktx2").string();
+        const std::string in_place = (dir / "in_place.ktx2").string();
+        write_ktx2_rgba8(whole, levels, "w", {}, keys);
+        {
+            Ktx2Rgba8Writer abandoned((dir / "abandoned.ktx2").string(), w, h, "w", keys);
+        }
+        Ktx2Rgba8Writer writer(in_place, w, h, "w", keys);
+        ASSERT_EQ(writer.levels().size(), levels.size());
+        for (std::size_t l = 0; l < levels.size(); ++l)
+            std::copy(levels[l].texels.begin(), levels[l].texels.end(), writer.levels()[l]);
+        writer.commit();
+        const auto bytes_of = [](const std::string& path) {
+            std::ifstream in(path, std::ios::binary);
+            return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+        };
+        EXPECT_EQ(bytes_of(in_place), bytes_of(whole)) << w << "x" << h;
+        EXPECT_FALSE(fs::exists(dir / "abandoned.ktx2"));
+    }
+    EXPECT_THROW(Ktx2Rgba8Writer((dir / "zero.ktx2").string(), 0, 4, "w"), Error);
+    EXPECT_FALSE(fs::exists(dir / "zero.ktx2"));
 }
 
 TEST(Ktx2Texture, RefusesWhatItCannotWriteNamingTheFile) {

@@ -97,60 +97,78 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
     if (args.png_levels) plan.add_output_folder(levels_folder_path(args));
 }
 
-int write_roughness_outputs(const RoughnessBakeArgs& args,
-                            const std::variant<Image, UnormImage>& input, BakeSource source,
-                            const BakeOptions& options, const io::ReadOptions& read_options,
-                            const io::WriteOptions& write_options,
-                            io::OutputTransaction& outputs) {
-    // The float LEAN map of the input (the moments the roughness is computed from).
-    Image converted;
-    const Image* floats = std::get_if<Image>(&input);
-    if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
-    const LeanMap map = bake_lean_map(*floats, source, options).map;
-
+RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int height,
+                                 const BakeOptions& options, const io::ReadOptions& read_options,
+                                 const io::WriteOptions& write_options,
+                                 io::OutputTransaction& outputs)
+    : args_(args), write_options_(write_options), outputs_(outputs) {
     RoughnessOptions roughness;
     roughness.base_roughness = args.roughness;
     roughness.threads = options.threads;
-    Image map_image, base;
     const Image* metallic_roughness = nullptr;
     if (!args.roughness_map.empty()) {
-        map_image = read_roughness_map(args.roughness_map, read_options);
-        base = base_roughness_channel(map_image);
-        roughness.roughness_map = &base;
-        if (map_image.channels >= 3) metallic_roughness = &map_image;
+        map_image_ = read_roughness_map(args.roughness_map, read_options);
+        base_ = base_roughness_channel(map_image_);
+        roughness.roughness_map = &base_;
+        if (map_image_.channels >= 3) metallic_roughness = &map_image_;
     }
-    RoughnessTexturesRgba8 textures;
+    // Without PNG levels the bake writes the KTX2 files' texels in place.
+    RoughnessTextureTargets targets;
+    const auto mapped = [&](const std::string& path, const char* what,
+                            std::unique_ptr<io::Ktx2Rgba8Writer>& file,
+                            std::vector<std::uint8_t*>& levels) {
+        if (path.empty() || args.png_levels) return;
+        file = std::make_unique<io::Ktx2Rgba8Writer>(outputs.stage(path), width, height,
+                                                     writer_string(), content(what),
+                                                     write_options);
+        levels = file->levels();
+    };
+    if (!args.roughness_out.empty()) {
+        mapped(args.roughness_out, "roughness", roughness_file_, targets.metallic_roughness);
+        mapped(normal_output_path(args.roughness_out), "normal", normal_file_, targets.normal);
+    }
+    mapped(args.anisotropy_out, "anisotropy", anisotropy_file_, targets.anisotropy);
     try {
-        textures = roughness_textures_rgba8(map, roughness, metallic_roughness,
-                                            {!args.roughness_out.empty(), !args.anisotropy_out.empty()});
+        builder_ = std::make_unique<RoughnessTextureBuilder>(
+            width, height, roughness, metallic_roughness,
+            RoughnessTextureSet{!args.roughness_out.empty(), !args.anisotropy_out.empty()},
+            targets);
     } catch (const Error& e) {
         // Name the file for the map's errors.
         if (e.file() == "roughness map") throw Error(args.roughness_map, e.cause());
         throw;
     }
+}
 
+void RoughnessExport::bake_alone(const std::variant<Image, UnormImage>& input, BakeSource source,
+                                 const BakeOptions& options, const std::string& source_name) {
+    std::visit([&](const auto& image) { bake_moments(image, source, options, source_name, sink()); },
+               input);
+}
+
+int RoughnessExport::write() {
+    const int levels = mip_level_count(builder_->width(), builder_->height());
+    for (auto* file : {&roughness_file_, &normal_file_, &anisotropy_file_})
+        if (*file) (*file)->commit();
+    if (!args_.png_levels) return levels;
+    // In memory: each KTX2 file and the PNG of every level.
+    const RoughnessTexturesRgba8 textures = builder_->take();
     const std::string writer = writer_string();
-    const std::string folder = args.png_levels ? outputs.stage_folder(levels_folder_path(args)) : "";
-    const auto write_levels = [&](const std::vector<Rgba8Image>& images, const std::string& name) {
-        for (std::size_t l = 0; l < images.size() && args.png_levels; ++l)
+    const std::string folder = outputs_.stage_folder(levels_folder_path(args_));
+    const auto write_all = [&](const std::string& path, const std::vector<Rgba8Image>& images,
+                               const std::string& name) {
+        io::write_ktx2_rgba8(outputs_.stage(path), images, writer, write_options_, content(name));
+        for (std::size_t l = 0; l < images.size(); ++l)
             io::write_png_rgba8(
                 (fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
-                images[l], write_options);
+                images[l], write_options_);
     };
-    if (!args.roughness_out.empty()) {
-        io::write_ktx2_rgba8(outputs.stage(args.roughness_out), textures.metallic_roughness,
-                             writer, write_options, content("roughness"));
-        io::write_ktx2_rgba8(outputs.stage(normal_output_path(args.roughness_out)),
-                             textures.normal, writer, write_options, content("normal"));
-        write_levels(textures.metallic_roughness, "roughness");
-        write_levels(textures.normal, "normal");
+    if (!args_.roughness_out.empty()) {
+        write_all(args_.roughness_out, textures.metallic_roughness, "roughness");
+        write_all(normal_output_path(args_.roughness_out), textures.normal, "normal");
     }
-    if (!args.anisotropy_out.empty()) {
-        io::write_ktx2_rgba8(outputs.stage(args.anisotropy_out), textures.anisotropy, writer,
-                             write_options, content("anisotropy"));
-        write_levels(textures.anisotropy, "anisotropy");
-    }
-    return int(textures.metallic_roughness.size());
+    if (!args_.anisotropy_out.empty()) write_all(args_.anisotropy_out, textures.anisotropy, "anisotropy");
+    return levels;
 }
 
 }  // namespace leanfade::cli

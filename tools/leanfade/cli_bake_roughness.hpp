@@ -2,7 +2,8 @@
 // `leanfade bake --roughness-out FILE [--roughness R | --roughness-map MAP] [--anisotropy-out
 // FILE]`: roughness MIPs for engines from the LEAN moments of the baked input (docs/roughness.md,
 // docs/math.md §9, leanfade/core/roughness.hpp). cmd_bake.cpp adds the flags, plans the outputs
-// and calls write_roughness_outputs once the input is read.
+// and runs a RoughnessExport with the bake once the input is read.
+#include <memory>
 #include <string>
 #include <variant>
 
@@ -10,7 +11,9 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/roughness.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/io/output_plan.hpp"
 
 namespace leanfade::cli {
@@ -45,11 +48,38 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
 std::string normal_output_path(const std::string& roughness_out);
 std::string levels_folder_path(const RoughnessBakeArgs& args);
 
-// Bakes the input's float LEAN map, computes the roughness MIPs and stages every output in
-// `outputs` (published by the caller with the LEAN map). Returns the number of levels written.
-int write_roughness_outputs(const RoughnessBakeArgs& args,
-                            const std::variant<Image, UnormImage>& input, BakeSource source,
-                            const BakeOptions& options, const io::ReadOptions& read_options,
-                            const io::WriteOptions& write_options, io::OutputTransaction& outputs);
+// The engine textures of one bake (--roughness-out, --anisotropy-out), made inside the fused bake
+// from its float moments (RoughnessTextureBuilder): given to the LEAN bake as its moment sink, or
+// baked alone when no LEAN map is asked for.
+class RoughnessExport {
+  public:
+    // Reads the roughness map (--roughness-map) and sizes the textures for an input of
+    // width x height texels: the KTX2 files are staged in `outputs` and mapped, so that the bake
+    // writes their texels in place (with --roughness-levels the levels are kept in memory for
+    // the PNGs too). Throws leanfade::Error naming the map or the file for their errors.
+    RoughnessExport(const RoughnessBakeArgs& args, int width, int height, const BakeOptions& options,
+                    const io::ReadOptions& read_options, const io::WriteOptions& write_options,
+                    io::OutputTransaction& outputs);
+    RoughnessExport(const RoughnessExport&) = delete;
+    RoughnessExport& operator=(const RoughnessExport&) = delete;
+
+    // What the LEAN bake hands its moments to (bake_packed_to's `moments`).
+    MomentRunSink sink() { return builder_->sink(); }
+    // Only the engine textures: the fused bake of `input` with nothing packed (bake_moments).
+    void bake_alone(const std::variant<Image, UnormImage>& input, BakeSource source,
+                    const BakeOptions& options, const std::string& source_name);
+    // Completes every output staged in the transaction (published by the caller, with the LEAN
+    // map if any). Returns the number of levels written.
+    int write();
+
+  private:
+    const RoughnessBakeArgs& args_;
+    const io::WriteOptions& write_options_;
+    io::OutputTransaction& outputs_;
+    Image map_image_, base_;
+    // The mapped KTX2 files (none with --roughness-levels): roughness, normal, anisotropy.
+    std::unique_ptr<io::Ktx2Rgba8Writer> roughness_file_, normal_file_, anisotropy_file_;
+    std::unique_ptr<RoughnessTextureBuilder> builder_;
+};
 
 }  // namespace leanfade::cli

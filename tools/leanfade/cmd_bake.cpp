@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -87,16 +88,18 @@ struct StagedBake {
 // without the float MIP chain (docs/perf.md). A PNG pair in the storage asked for; a KTX2 file
 // baked straight into the mapped output file, which appears only when complete, by the storage
 // policy.
+// `moments`: the engine textures' sink, or empty.
 StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, UnormImage>& input,
                                   BakeSource kind, const BakeArgs& args,
-                                  const BakeSettings& settings, io::OutputTransaction& outputs) {
+                                  const BakeSettings& settings, io::OutputTransaction& outputs,
+                                  const MomentRunSink& moments) {
     StagedBake result;
     if (args.format == "png") {
         Image converted;
         const Image* floats = std::get_if<Image>(&input);
         if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
         result.baked = bake_packed(*floats, kind, settings.options, settings.storage.storage,
-                                   generator_string(), job.name);
+                                   generator_string(), job.name, moments);
         io::write_lean_png_pair(
             outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]), result.baked.packed,
             settings.write_options, job.outputs.size() > 2 ? outputs.stage(job.outputs[2]) : "");
@@ -109,7 +112,7 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
     result.baked = bake_with_auto_storage(
         settings.storage.storage, settings.storage.automatic, [&](Storage s) {
             return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
-                                    job.name, settings.write_options);
+                                    job.name, settings.write_options, moments);
         });
     return result;
 }
@@ -183,26 +186,31 @@ class BakeRun {
         if (!job.output_is_input.empty())
             throw Error(name, "is the same file as its output " + job.output_is_input +
                                   "; an output may not replace an input");
+        // The engine textures, made inside the bake from its moments (cli_bake_roughness.hpp).
+        std::optional<RoughnessExport> engine;
+        if (args_.roughness.requested()) {
+            const auto [width, height] = std::visit(
+                [](const auto& image) { return std::pair{image.width, image.height}; }, input);
+            engine.emplace(args_.roughness, width, height, settings_.options,
+                           settings_.read_options, settings_.write_options, outputs);
+        }
         if (!args_.writes_lean_map) {
-            // Only the engine outputs (cli_bake_roughness.hpp).
-            const int levels = write_roughness_outputs(args_.roughness, input, kind,
-                                                       settings_.options, settings_.read_options,
-                                                       settings_.write_options, outputs);
+            // Only the engine outputs.
+            engine->bake_alone(input, kind, settings_.options, name);
+            const int levels = engine->write();
             roughness_only_report_ = terminal_text(name) + ": " + std::to_string(levels) +
                                      " levels, no LEAN map (none asked: -o, --out-dir)\n";
             for (const std::string& file : engine_outputs(args_))
                 roughness_only_report_ += "  wrote " + terminal_text(file) + "\n";
             return;
         }
-        const StagedBake staged =
-            bake_to_staged_outputs(job, input, kind, args_, settings_, outputs);
+        const StagedBake staged = bake_to_staged_outputs(job, input, kind, args_, settings_, outputs,
+                                                         engine ? engine->sink() : MomentRunSink{});
         const PackedBakeResult& baked = staged.baked;
         // Checked before anything is published: the staged outputs are dropped.
         if (args_.strength_given && baked.source == BakeSource::Normal)
             throw Error(name, "is a normal map: --strength applies to height maps only");
-        if (args_.roughness.requested())
-            write_roughness_outputs(args_.roughness, input, kind, settings_.options,
-                                    settings_.read_options, settings_.write_options, outputs);
+        if (engine) engine->write();
         if (!args_.plateau_out.empty() || args_.ktx2_2d) {
             // From the map as stored: a KTX2 bake keeps no copy of it in memory.
             const PackedLeanMap stored =

@@ -97,7 +97,15 @@ struct Plan {
     Kernels kernels;
     int texel_bytes = 0;
     std::vector<PackedLevelTarget> targets;  // where each level's rows are packed
+    bool pack = true;                        // false: targets are null, nothing is packed
+    const MomentRunSink* moments = nullptr;  // sees every texel's float moments once
     std::vector<float> stored;  // the planes of every row of the store level
+
+    // A made row's texels [x, x + count) (planes indexed from x) to the moment sink.
+    void emit(int level, int y, int x, int count, Planes p) const {
+        if (moments == nullptr) return;
+        (*moments)(MomentRun{level, y, x, count, p[kBx], p[kBy], p[kMxx], p[kMyy], p[kMxy]});
+    }
 
     Planes stored_row(int y) {
         const std::size_t stride = levels[std::size_t(store_level)].stride;
@@ -178,8 +186,8 @@ class RowMaker {
             }
         }
         if (owned) {
-            const RowDest d = plan_.dest(level, y);
-            plan_.kernels.pack_range(out, 0, lp.width, d, plan_.scale);
+            if (plan_.pack) plan_.kernels.pack_range(out, 0, lp.width, plan_.dest(level, y), plan_.scale);
+            plan_.emit(level, y, 0, lp.width, out);
         }
     }
 
@@ -192,7 +200,9 @@ class RowMaker {
     // Top-level texels [x0, x1) of row y into planes indexed from x0.
     void make_top(int y, int x0, int x1, Planes out, bool owned) {
         plan_.kernels.top_range(plan_.top, y, x0, x1, out);
-        if (owned) {
+        if (!owned) return;
+        plan_.emit(0, y, x0, x1 - x0, out);
+        if (plan_.pack) {
             const RowDest row = plan_.dest(0, y);
             const std::size_t offset = std::size_t(x0) * std::size_t(plan_.texel_bytes);
             plan_.kernels.pack_range(out, 0, x1 - x0,
@@ -215,8 +225,9 @@ class RowMaker {
                 plan_.kernels.reduce_box(a[m], c[m], out[m] + x0 / 2, 0, (x1 - x0) / 2);
         }
         if (owned) {
-            const RowDest d = plan_.dest(1, y);
-            plan_.kernels.pack_range(out, 0, plan_.levels[1].width, d, plan_.scale);
+            const int w1 = plan_.levels[1].width;
+            if (plan_.pack) plan_.kernels.pack_range(out, 0, w1, plan_.dest(1, y), plan_.scale);
+            plan_.emit(1, y, 0, w1, out);
         }
     }
 
@@ -408,7 +419,7 @@ Image first_channel(const UnormImage& input) {
 void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                    const BakeOptions& options, Storage storage, const std::string& generator,
                    const std::string& source_name, const TargetProvider& provide_targets,
-                   const NormalRepairs& repairs) {
+                   const NormalRepairs& repairs, const MomentRunSink& moments) {
     result.source = source;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
@@ -488,10 +499,17 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     plan.targets = provide_targets(packed, resolve_thread_count(options.threads));
     if (plan.targets.size() != plan.levels.size())
         throw std::invalid_argument("bake_packed_to: one output target per level expected");
+    const auto unpacked = [](const PackedLevelTarget& t) { return t.lean1 == nullptr; };
+    plan.pack = !std::all_of(plan.targets.begin(), plan.targets.end(), unpacked);
+    if (plan.pack && std::any_of(plan.targets.begin(), plan.targets.end(), unpacked))
+        throw std::invalid_argument("bake_packed_to: every level's target or none expected");
+    if (!plan.pack && packed.has_plateau())
+        throw std::invalid_argument("bake_packed_to: a plateau layer needs packed targets");
     if (packed.has_plateau())
         for (const PackedLevelTarget& target : plan.targets)
             if (target.plateau == nullptr)
                 throw std::invalid_argument("bake_packed_to: a plateau target per level expected");
+    plan.moments = moments ? &moments : nullptr;
 
     // Pass 1: the store level's rows (and everything above them), one at a time to whichever
     // thread is free. Which thread makes a row changes nothing in it.
@@ -528,7 +546,8 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
 // the input as it is.
 void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
           const BakeOptions& options, Storage storage, const std::string& generator,
-          const std::string& source_name, const TargetProvider& provide_targets) {
+          const std::string& source_name, const TargetProvider& provide_targets,
+          const MomentRunSink& moments) {
     const BakeSource resolved = input.floats != nullptr
                                     ? resolve_bake_source(source, *input.floats)
                                     : resolve_bake_source(source, *input.unorm);
@@ -539,20 +558,20 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     }
     if (!repairs.any()) {
         bake_repaired(result, input, resolved, options, storage, generator, source_name,
-                      provide_targets, repairs);
+                      provide_targets, repairs, moments);
         return;
     }
     const Image repaired = repair_normal_map(input.floats != nullptr ? *input.floats
                                                                      : input.unorm->to_float());
     bake_repaired(result, BakeInput{&repaired, nullptr}, resolved, options, storage, generator,
-                  source_name, provide_targets, repairs);
+                  source_name, provide_targets, repairs, moments);
 }
 
 }  // namespace
 
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
                       const BakeOptions& options, Storage storage, const std::string& generator,
-                      const std::string& source_name) {
+                      const std::string& source_name, const MomentRunSink& moments) {
     // Keep the buffers of a previous result: baking a map of the same size and storage again
     // allocates nothing.
     std::vector<PackedLevel> previous = std::move(result.packed.levels);
@@ -569,32 +588,35 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
                  targets.push_back({level.lean1.data(), level.lean2.data(),
                                     level.plateau.empty() ? nullptr : level.plateau.data()});
              return targets;
-         });
+         },
+         moments);
 }
 
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name) {
+                                const std::string& generator, const std::string& source_name,
+                                const MomentRunSink& moments) {
     PackedBakeResult result;
     bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
-         [&](PackedLeanMap& packed, int) { return open_output(packed); });
+         [&](PackedLeanMap& packed, int) { return open_output(packed); }, moments);
     return result;
 }
 
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name) {
+                                const std::string& generator, const std::string& source_name,
+                                const MomentRunSink& moments) {
     PackedBakeResult result;
     bake(result, BakeInput{nullptr, &input}, source, options, storage, generator, source_name,
-         [&](PackedLeanMap& packed, int) { return open_output(packed); });
+         [&](PackedLeanMap& packed, int) { return open_output(packed); }, moments);
     return result;
 }
 
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
-                             const std::string& source_name) {
+                             const std::string& source_name, const MomentRunSink& moments) {
     PackedBakeResult result;
-    bake_packed_into(result, input, source, options, storage, generator, source_name);
+    bake_packed_into(result, input, source, options, storage, generator, source_name, moments);
     return result;
 }
 

@@ -120,7 +120,25 @@ NormalRepairs count_normal_repairs(const Image& normals) {
 
 NormalRepairs count_normal_repairs(const UnormImage& normals) {
     if (normals.channels < 3) return {};
-    return count_repairs(normals.samples, normals.channels, float(normals.max_value));
+    // The same counts in integers: a sample decodes to 0 exactly when it is 0, and needs_raising
+    // of float(s) / max only grows false as s grows (2 v - 1 is monotonic in v, v in s), so it
+    // holds exactly for the samples below the first one where it fails.
+    const float max_value = float(normals.max_value);
+    std::uint32_t raise_below = 0;
+    while (raise_below <= normals.max_value && needs_raising(float(raise_below) / max_value))
+        ++raise_below;
+    NormalRepairs repairs;
+    const auto step = std::size_t(normals.channels);
+    const std::vector<std::uint16_t>& samples = normals.samples;
+    std::uint64_t padding = 0, raised = 0;
+    for (std::size_t i = 0; i + 2 < samples.size(); i += step) {
+        const bool pad = (samples[i] | samples[i + 1] | samples[i + 2]) == 0;
+        padding += pad;
+        raised += !pad && samples[i + 2] < raise_below;
+    }
+    repairs.padding_texels = padding;
+    repairs.raised_texels = raised;
+    return repairs;
 }
 
 Image repair_normal_map(const Image& normals) {

@@ -26,21 +26,34 @@ struct LevelBytes {
     std::span<const std::uint8_t> bytes;
 };
 
-void check_chain(const std::vector<LevelBytes>& levels, const FormatInfo& format,
+// One level's size and byte count (the file's layout needs no texels).
+struct LevelSize {
+    int width = 0;
+    int height = 0;
+    std::size_t bytes = 0;
+};
+
+std::vector<LevelSize> sizes_of(const std::vector<LevelBytes>& levels) {
+    std::vector<LevelSize> sizes;
+    for (const LevelBytes& l : levels) sizes.push_back({l.width, l.height, l.bytes.size()});
+    return sizes;
+}
+
+void check_chain(const std::vector<LevelSize>& levels, const FormatInfo& format,
                  const std::string& name) {
     if (levels.empty()) throw Error(name, "a texture needs at least one level");
-    const LevelBytes& top = levels.front();
+    const LevelSize& top = levels.front();
     if (top.width < 1 || top.height < 1 || top.width > 65536 || top.height > 65536)
         throw Error(name, "level 0 must be 1 to 65536 texels on a side, got " +
                               std::to_string(top.width) + "x" + std::to_string(top.height));
     int w = top.width, h = top.height;
     for (std::size_t l = 0; l < levels.size(); ++l) {
-        const LevelBytes& level = levels[l];
+        const LevelSize& level = levels[l];
         if (level.width != w || level.height != h)
             throw Error(name, "level " + std::to_string(l) + " must be " + std::to_string(w) +
                                   "x" + std::to_string(h));
         const std::size_t size = std::size_t(w) * std::size_t(h) * format.texel_bytes;
-        if (level.bytes.size() != size)
+        if (level.bytes != size)
             throw Error(name, "level " + std::to_string(l) + " must hold " +
                                   std::to_string(size) + " bytes");
         if (w == 1 && h == 1 && l + 1 != levels.size())
@@ -73,11 +86,19 @@ std::vector<std::uint8_t> key_value_data(const std::string& writer,
     return bytes;
 }
 
-std::vector<std::uint8_t> encode_2d(const FormatInfo& format, const std::vector<LevelBytes>& levels,
-                                    const std::string& writer, const std::string& name,
-                                    const TextureKeyValues& extra) {
-    check_chain(levels, format, name);
-    const auto level_count = std::uint32_t(levels.size());
+// The layout of a 2D texture file: its head (header, level index, data format descriptor and
+// key/value data, padded to the first level) and where each level's texels go.
+struct File2d {
+    std::vector<std::uint8_t> head;
+    std::vector<std::uint64_t> offsets;  // per level, level 0 first
+    std::uint64_t size = 0;              // of the whole file
+};
+
+// `sizes`: the chain's levels, level 0 first (checked by check_chain).
+File2d plan_2d(const FormatInfo& format, const std::vector<LevelSize>& sizes,
+               const std::string& writer, const std::string& name, const TextureKeyValues& extra) {
+    check_chain(sizes, format, name);
+    const auto level_count = std::uint32_t(sizes.size());
     const std::vector<std::uint8_t> key_values = key_value_data(writer, extra, name);
     const std::vector<std::uint8_t> dfd = encode_data_format(expected_data_format(format));
     const std::uint64_t dfd_offset = kHeaderSize + kLevelIndexEntrySize * level_count;
@@ -85,19 +106,22 @@ std::vector<std::uint8_t> encode_2d(const FormatInfo& format, const std::vector<
 
     // Level data from the smallest level to the largest, each aligned to lcm(texel size, 4).
     const std::uint64_t alignment = level_alignment(format);
-    std::vector<std::uint64_t> offsets(level_count);
+    File2d file;
+    file.offsets.resize(level_count);
     std::uint64_t end = kvd_offset + key_values.size();
     for (std::uint32_t l = level_count; l-- > 0;) {
         end = align_up(end, alignment);
-        offsets[l] = end;
-        end += levels[l].bytes.size();
+        file.offsets[l] = end;
+        end += sizes[l].bytes;
     }
+    file.size = end;
 
-    std::vector<std::uint8_t> bytes(kIdentifier.begin(), kIdentifier.end());
+    std::vector<std::uint8_t>& bytes = file.head;
+    bytes.assign(kIdentifier.begin(), kIdentifier.end());
     append_u32_le(bytes, format.vk_format);
     append_u32_le(bytes, format.type_size);
-    append_u32_le(bytes, std::uint32_t(levels.front().width));
-    append_u32_le(bytes, std::uint32_t(levels.front().height));
+    append_u32_le(bytes, std::uint32_t(sizes.front().width));
+    append_u32_le(bytes, std::uint32_t(sizes.front().height));
     append_u32_le(bytes, 0);  // pixelDepth: 2D
     append_u32_le(bytes, 0);  // layerCount: not an array
     append_u32_le(bytes, 1);  // faceCount
@@ -110,17 +134,40 @@ std::vector<std::uint8_t> encode_2d(const FormatInfo& format, const std::vector<
     append_u64_le(bytes, 0);  // sgdByteOffset
     append_u64_le(bytes, 0);  // sgdByteLength
     for (std::uint32_t l = 0; l < level_count; ++l) {
-        append_u64_le(bytes, offsets[l]);
-        append_u64_le(bytes, levels[l].bytes.size());
-        append_u64_le(bytes, levels[l].bytes.size());
+        append_u64_le(bytes, file.offsets[l]);
+        append_u64_le(bytes, sizes[l].bytes);
+        append_u64_le(bytes, sizes[l].bytes);
     }
     bytes.insert(bytes.end(), dfd.begin(), dfd.end());
     bytes.insert(bytes.end(), key_values.begin(), key_values.end());
-    bytes.resize(std::size_t(end), 0);
-    for (std::uint32_t l = 0; l < level_count; ++l)
+    bytes.resize(std::size_t(file.offsets.back()), 0);  // padding up to the smallest level
+    return file;
+}
+
+std::vector<std::uint8_t> encode_2d(const FormatInfo& format, const std::vector<LevelBytes>& levels,
+                                    const std::string& writer, const std::string& name,
+                                    const TextureKeyValues& extra) {
+    File2d file = plan_2d(format, sizes_of(levels), writer, name, extra);
+    std::vector<std::uint8_t>& bytes = file.head;
+    bytes.resize(std::size_t(file.size), 0);
+    for (std::size_t l = 0; l < levels.size(); ++l)
         std::copy(levels[l].bytes.begin(), levels[l].bytes.end(),
-                  bytes.begin() + std::ptrdiff_t(offsets[l]));
+                  bytes.begin() + std::ptrdiff_t(file.offsets[l]));
     return bytes;
+}
+
+// The sizes of a full chain from width x height down to 1 x 1.
+std::vector<LevelSize> chain_sizes(int width, int height, std::size_t texel_bytes,
+                                   const std::string& name) {
+    if (width < 1 || height < 1 || width > 65536 || height > 65536)
+        throw Error(name, "level 0 must be 1 to 65536 texels on a side, got " +
+                              std::to_string(width) + "x" + std::to_string(height));
+    std::vector<LevelSize> sizes;
+    for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+        sizes.push_back({w, h, std::size_t(w) * std::size_t(h) * texel_bytes});
+        if (w == 1 && h == 1) break;
+    }
+    return sizes;
 }
 
 void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -192,6 +239,23 @@ void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& le
                       const std::string& writer, const WriteOptions& options,
                       const TextureKeyValues& key_values) {
     write_bytes(path, encode_ktx2_rgba8(levels, writer, path, key_values), options);
+}
+
+Ktx2Rgba8Writer::Ktx2Rgba8Writer(const std::string& path, int width, int height,
+                                 const std::string& writer, const TextureKeyValues& key_values,
+                                 const WriteOptions& options)
+    : file_(path, options.durability) {
+    const FormatInfo& format = format_of(Storage::Unorm8);
+    const std::vector<LevelSize> sizes = chain_sizes(width, height, format.texel_bytes, path);
+    const File2d plan = plan_2d(format, sizes, writer, path, key_values);
+    std::uint8_t* bytes = file_.map(std::size_t(plan.size));
+    std::copy(plan.head.begin(), plan.head.end(), bytes);
+    for (std::uint64_t offset : plan.offsets) levels_.push_back(bytes + offset);
+}
+
+void Ktx2Rgba8Writer::commit() {
+    levels_.clear();
+    file_.commit();
 }
 
 std::vector<std::uint8_t> encode_ktx2_rgba16f(const std::vector<Image>& levels,

@@ -127,7 +127,7 @@ void Ktx2Writer::commit() {
 PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image, UnormImage>& input,
                               BakeSource source, const BakeOptions& options, Storage storage,
                               const std::string& generator, const std::string& source_name,
-                              const WriteOptions& write_options) {
+                              const WriteOptions& write_options, const MomentRunSink& moments) {
     std::optional<Ktx2Writer> writer;
     const auto open_output = [&](const PackedLeanMap& layout) {
         writer.emplace(path, layout, write_options);
@@ -136,7 +136,7 @@ PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image,
     PackedBakeResult baked = std::visit(
         [&](const auto& image) {
             return bake_packed_to(open_output, image, source, options, storage, generator,
-                                  source_name);
+                                  source_name, moments);
         },
         input);
     writer->commit();

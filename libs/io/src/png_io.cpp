@@ -207,6 +207,12 @@ class PngReadStruct {
         png_ =
             png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
         if (png_ != nullptr) info_ = png_create_info_struct(png_);
+#ifdef PNG_IGNORE_ADLER32
+        // zlib's Adler-32 of the image data is a second checksum of bytes the CRC-32 of every
+        // IDAT chunk already covers (libpng still refuses a chunk whose CRC is wrong); skipping
+        // it saves a pass over the decompressed data.
+        if (png_ != nullptr) png_set_option(png_, PNG_IGNORE_ADLER32, PNG_OPTION_ON);
+#endif
     }
     ~PngReadStruct() {
         png_destroy_read_struct(&png_, info_ != nullptr ? &info_ : nullptr, nullptr);

@@ -269,6 +269,22 @@ struct LeanMapSummary {
 };
 LeanMapSummary summarize(const LeanMap& map);
 
+// Texels [x, x + count) of row y of one level of the fused bake's float moments (slopes, tangent
+// space, dimensionless): exactly bake_lean_map's MomentLevel values there, bit for bit. Each
+// pointer holds `count` floats, valid during the call only.
+struct MomentRun {
+    int level = 0, y = 0, x = 0, count = 0;
+    const float* bx = nullptr;  // B = E[(Bx, By)]
+    const float* by = nullptr;
+    const float* mxx = nullptr;  // M = E[(Bx Bx, By By, Bx By)]
+    const float* myy = nullptr;
+    const float* mxy = nullptr;
+};
+// Sees every texel of every level once, in runs, from the bake's threads (runs of different rows
+// at the same time, in no fixed order): what computes the engine textures in the same pass
+// (RoughnessTextureBuilder, leanfade/core/roughness.hpp).
+using MomentRunSink = std::function<void(const MomentRun&)>;
+
 // Fast path (bake_packed.cpp): bake_lean_map, pack_lean_map and summarize fused row by row, with
 // no float MIP chain in memory. The packed bytes, sc and the flags are exactly those of
 // pack_lean_map(bake_lean_map(input, source, options).map, storage, generator), for any thread
@@ -307,7 +323,8 @@ double float16_slope_error(float scale);
 Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness);
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
-                             const std::string& source_name = "");
+                             const std::string& source_name = "",
+                             const MomentRunSink& moments = {});
 // The storage rule of `--bits auto` around any bake: `bake(storage)` first; with `automatic`, a
 // second `bake(auto_storage(...))` when the rule picks another storage for what the first found.
 template <typename Bake>
@@ -322,7 +339,7 @@ PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, Bake&& 
 // allocates no output memory.
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
                       const BakeOptions& options, Storage storage, const std::string& generator,
-                      const std::string& source_name = "");
+                      const std::string& source_name = "", const MomentRunSink& moments = {});
 
 // Where bake_packed_to writes each level's packed texels: the first byte of lean1, of lean2 and
 // of the plateau layer, each width * height * bytes_per_texel(storage) bytes, rows top first,
@@ -341,14 +358,32 @@ using PackedOutputOpener = std::function<std::vector<PackedLevelTarget>(const Pa
 // The same bake, written straight into memory the caller provides (e.g. a mapped output file:
 // `leanfade bake` writes the KTX2 file this way, with no copy of the map in between). The
 // returned result's packed map holds the metadata and the level sizes; its slices are empty.
+// `moments`, when set, sees the float moments of every level as they are made. Targets with a
+// null lean1 at every level pack nothing: the bake then only feeds `moments` (and needs
+// plateau_epsilon = 0).
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name = "");
+                                const std::string& generator, const std::string& source_name = "",
+                                const MomentRunSink& moments = {});
 // The same from integer samples (an 8- or 16-bit file's, half the memory of the float image):
 // exactly the bytes and summary of bake_packed_to(open_output, input.to_float(), ...).
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name = "");
+                                const std::string& generator, const std::string& source_name = "",
+                                const MomentRunSink& moments = {});
+// Only the float moments: the fused bake of `input` (Image or UnormImage) with nothing packed,
+// every run given to `moments` (plateau_epsilon is ignored). Validates and throws as
+// bake_lean_map; returns the summary and the source as bake_packed_to does.
+template <typename Input>
+PackedBakeResult bake_moments(const Input& input, BakeSource source, BakeOptions options,
+                              const std::string& source_name, const MomentRunSink& moments) {
+    options.plateau_epsilon = 0.0f;
+    return bake_packed_to(
+        [](const PackedLeanMap& layout) {
+            return std::vector<PackedLevelTarget>(layout.levels.size());
+        },
+        input, source, options, Storage::Float32, "", source_name, moments);
+}
 
 // bake_packed uses AVX2 kernels where the CPU has them (checked at run time), else portable C++;
 // both give the same bytes. For tests and benchmarks: switch AVX2 off or on again (returns the

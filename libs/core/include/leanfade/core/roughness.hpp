@@ -81,6 +81,54 @@ RoughnessTexturesRgba8 roughness_textures_rgba8(const LeanMap& map, const Roughn
                                                 const Image* metallic_roughness_input,
                                                 RoughnessTextureSet which = {});
 
+// The same textures made as a bake's moments arrive (its MomentRunSink), with no float MIP chain in
+// memory: add() of every texel of every level of a LEAN map gives the bytes of
+// roughness_textures_rgba8 of that map. `leanfade bake` runs it inside the fused bake
+// (bake_packed_to, bake_moments). The map's level 0 is width x height texels; the roughness map
+// and metallic-roughness input (as roughness_textures_rgba8) must be of that size. The caller
+// refuses maps with baked roughness (roughness_textures_rgba8 does). Throws as
+// roughness_textures_rgba8 for the options and inputs.
+// Where a RoughnessTextureBuilder writes a texture's levels (level 0 first, width * height * 4
+// bytes each, rows top first), e.g. mapped output files (io::Ktx2Rgba8Writer); an empty vector:
+// the builder keeps that texture's levels itself, for take().
+struct RoughnessTextureTargets {
+    std::vector<std::uint8_t*> metallic_roughness, normal, anisotropy;
+};
+
+class RoughnessTextureBuilder {
+  public:
+    RoughnessTextureBuilder(int width, int height, const RoughnessOptions& options,
+                            const Image* metallic_roughness_input, RoughnessTextureSet which = {},
+                            const RoughnessTextureTargets& targets = {});
+    // One run's texels; runs that do not overlap may come from several threads at once.
+    void add(const MomentRun& run);
+    // A sink calling add (the builder must outlive the bake it is given to).
+    MomentRunSink sink();
+    // The textures kept by the builder (those without targets), once every texel has been added.
+    RoughnessTexturesRgba8 take();
+    // Level 0's size.
+    int width() const { return levels_.front().width; }
+    int height() const { return levels_.front().height; }
+
+  private:
+    void add_isotropic(const MomentRun& run, const float* base, const float* kept,
+                       std::uint8_t* mr_out, std::uint8_t* normal_out) const;
+
+    struct LevelDestination {
+        int width, height;
+        std::uint8_t* metallic_roughness;
+        std::uint8_t* normal;      // nullptr: not made
+        std::uint8_t* anisotropy;  // nullptr: not made
+    };
+
+    bool constant_base_;
+    float constant_a2_;
+    std::vector<Image> base_;  // α0² per level (first channel), with a roughness map
+    std::vector<Image> kept_;  // R, B, A of the metallic-roughness input per level
+    std::vector<LevelDestination> levels_;
+    RoughnessTexturesRgba8 out_;  // the levels without targets
+};
+
 // `metallic_roughness_input`: the glTF texture the base roughness came from (3 or 4 channels, the
 // size of level 0), or nullptr. Throws leanfade::Error("roughness map", cause) for another size.
 RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,

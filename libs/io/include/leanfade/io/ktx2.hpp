@@ -101,12 +101,13 @@ class Ktx2Writer {
 // Bakes `input` (bake_packed_to) straight into the KTX2 file `path` through a Ktx2Writer, opened
 // once sc is known and committed when the bake is done: what `leanfade bake` does, with no copy of
 // the map in memory. Returns the bake's result (metadata, level sizes and summary; layers empty).
-// Nothing appears at `path` when it throws.
+// Nothing appears at `path` when it throws. `moments`: as bake_packed_to's.
 PackedBakeResult bake_to_ktx2(const std::string& path,
                               const std::variant<Image, UnormImage>& input, BakeSource source,
                               const BakeOptions& options, Storage storage,
                               const std::string& generator, const std::string& source_name,
-                              const WriteOptions& write_options = {});
+                              const WriteOptions& write_options = {},
+                              const MomentRunSink& moments = {});
 
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and

@@ -19,6 +19,7 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::io {
@@ -46,6 +47,24 @@ std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& level
 void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
                       const std::string& writer, const WriteOptions& options = {},
                       const TextureKeyValues& key_values = {});
+
+// The same file written in place: sized (disk space reserved) and mapped when constructed, with
+// the head written; the caller fills every level's texels (level 0 first, width * height * 4
+// bytes, rows top first; from several threads if it likes; e.g. a RoughnessTextureBuilder's
+// targets), then commit() publishes it atomically. Nothing appears at `path` without commit().
+// The same bytes as write_ktx2_rgba8 of those levels. Throws leanfade::Error(path, cause).
+class Ktx2Rgba8Writer {
+  public:
+    Ktx2Rgba8Writer(const std::string& path, int width, int height, const std::string& writer,
+                    const TextureKeyValues& key_values = {}, const WriteOptions& options = {});
+    // Each level's first texel, level 0 first (the full chain down to 1 x 1). Valid until commit().
+    const std::vector<std::uint8_t*>& levels() const noexcept { return levels_; }
+    void commit();
+
+  private:
+    AtomicFile file_;
+    std::vector<std::uint8_t*> levels_;
+};
 
 // The same for 4-channel float images stored as half floats (VK_FORMAT_R16G16B16A16_SFLOAT, each
 // value rounded to the nearest half). Throws also for images that are not 4 channels or hold a
