@@ -11,6 +11,7 @@
 //                    occlusion texture (strength 0.7) and its own texture transforms;
 //   "lamp"           an emissive texture (sRGB) times an emissive factor;
 //   "glass"          alphaMode BLEND over the background, with an emissive factor alone.
+// A second scene (two_set_file) puts each map on the texture coordinate set its reference names.
 // Every texture is 8 x 8 texels of 2 x 2 blocks, magnified (level 0 only): a pixel is compared
 // where every map's bilinear footprint (and a margin of 0.05 texel around it, for the
 // rasteriser's interpolation of uv) lies on equal texels, so that the filter returns that texel
