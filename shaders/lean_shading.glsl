@@ -120,8 +120,9 @@ struct LfShadingUniforms {
     float uv_transform_padding;  // keeps uv_transforms at a 16-byte offset in C++, as in std140
     // Texture coordinate transforms (glTF KHR_texture_transform) of the LEAN map (and its plateau
     // layer) and of each surface map kind, at LF_UV_* (above): two rows each,
-    // uv' = (dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up); the identity
-    // for other materials.
+    // uv' = (dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up), uv the
+    // texture coordinate set r0.w names (0: the mesh's set 0, 1: its set 1, a glTF texture
+    // reference's texCoord); the identity of set 0 for other materials.
     vec4 uv_transforms[2 * LF_UV_TRANSFORM_COUNT];
     LfMaterialFactors material;  // the glTF material's factors (zero for other materials)
 };

@@ -33,6 +33,7 @@ in VertexData {
     vec3 light_t;
     vec3 view_t;
     float eye_depth;
+    vec2 uv1;
 } v_in;
 
 // Slice 0: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5); slice 1: lean2 = (0.5 B / sc + 0.5,
@@ -78,11 +79,13 @@ layout(location = 0) out vec4 o_color;
 #endif
 
 // The texture coordinates of a map through its transform (u_shading.uv_transforms at LF_UV_*: the
-// LEAN map and its plateau layer, then each surface map kind's).
+// LEAN map and its plateau layer, then each surface map kind's): the set row 0's w names (0: uv,
+// 1: uv1; a glTF texture reference's texCoord), then the affine map of its rows.
 vec2 map_uv(int which) {
     vec4 r0 = u_shading.uv_transforms[2 * which];
     vec4 r1 = u_shading.uv_transforms[2 * which + 1];
-    return vec2(dot(r0.xy, v_in.uv) + r0.z, dot(r1.xy, v_in.uv) + r1.z);
+    vec2 uv = r0.w > 0.5 ? v_in.uv1 : v_in.uv;  // a select, not a mix: the other set is unread
+    return vec2(dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z);
 }
 
 vec4 lean_texel(float slice) {

@@ -10,8 +10,10 @@
 
 layout(location = 0) in vec3 a_position;  // object space
 layout(location = 1) in vec3 a_normal;    // object space, unit
-layout(location = 2) in vec2 a_uv;        // mesh texture coordinates
-layout(location = 3) in vec4 a_tangent;   // object space xyz (unit, along +u), w = handedness
+layout(location = 2) in vec2 a_uv;        // mesh texture coordinates, set 0
+layout(location = 3) in vec4 a_tangent;   // object space xyz (unit, along +u of the normal
+                                          // texture's set), w = handedness
+layout(location = 4) in vec2 a_uv1;       // mesh texture coordinates, set 1 (glTF TEXCOORD_1)
 
 // Everything the vertex stage reads per draw, as one std140 block (mirrored in C++ by
 // LfObjectUniforms, libs/gl/include/leanfade/gl/shading_block.hpp).
@@ -26,10 +28,11 @@ layout(std140, binding = LF_BINDING_OBJECT_BLOCK) uniform LfObjectBlock {
 };
 
 out VertexData {
-    vec2 uv;          // tiled texture coordinates
+    vec2 uv;          // tiled texture coordinates, set 0
     vec3 light_t;     // direction toward the light, tangent space (normalised per fragment)
     vec3 view_t;      // Vt: vector to the eye, tangent space, world units (not normalised)
     float eye_depth;  // distance along the view axis, world units
+    vec2 uv1;         // tiled texture coordinates, set 1
 } v_out;
 
 void main() {
@@ -40,6 +43,7 @@ void main() {
     vec3 b = a_tangent.w * cross(n, t);
     vec3 to_eye = u_eye_world - world.xyz;
     v_out.uv = a_uv * u_tiling;
+    v_out.uv1 = a_uv1 * u_tiling;
     v_out.light_t = vec3(dot(t, u_light_world), dot(b, u_light_world), dot(n, u_light_world));
     v_out.view_t = vec3(dot(t, to_eye), dot(b, to_eye), dot(n, to_eye));
     v_out.eye_depth = -(u_view * world).z;

@@ -139,9 +139,10 @@ export function uploadConstant(gl, rgba) {
 }
 
 // --- The mesh: leanfade's built-in sphere (scene::make_sphere), its vertices as the renderer
-// uploads them: position, normal, uv, tangent (xyz, handedness w), 12 floats each.
+// uploads them: position, normal, uv, tangent (xyz, handedness w), uv1 (the second texture
+// coordinate set, a copy of uv: the sphere has one), 14 floats each.
 export function makeSphere(segments = 32, stacks = 32) {
-  const floatsPerVertex = 12;
+  const floatsPerVertex = 14;
   const positions = [];
   const normals = [];
   const uvs = [];
@@ -182,7 +183,7 @@ export function makeSphere(segments = 32, stacks = 32) {
   const P = positions.map(f32), N = normals.map(f32);
   const tangents = tangentFrames(P, N, uvs, indices);
   const vertices = new Float32Array(P.length * floatsPerVertex);
-  P.forEach((p, k) => vertices.set([...p, ...N[k], ...uvs[k], ...tangents[k]], k * floatsPerVertex));
+  P.forEach((p, k) => vertices.set([...p, ...N[k], ...uvs[k], ...tangents[k], ...uvs[k]], k * floatsPerVertex));
   const used = new Set(indices);
   const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
   for (const k of used) for (let c = 0; c < 3; ++c) {
@@ -420,7 +421,7 @@ export function createVertexArray(gl, mesh, inputs) {
   const buffer = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
   gl.bufferData(gl.ARRAY_BUFFER, mesh.vertices, gl.STATIC_DRAW);
-  const offsets = { a_position: 0, a_normal: 3, a_uv: 6, a_tangent: 8 };
+  const offsets = { a_position: 0, a_normal: 3, a_uv: 6, a_tangent: 8, a_uv1: 12 };
   const sizes = { vec2: 2, vec3: 3, vec4: 4 };
   for (const input of inputs) {
     if (!(input.name in offsets)) throw new LeanfadeError('vertex stage', `unknown input ${input.name}`);

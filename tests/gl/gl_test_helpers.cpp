@@ -38,6 +38,7 @@ scene::Mesh make_test_quad(float uv_scale) {
         v.normal = glm::vec3(0, 0, 1);
         v.uv = (c + 1.0f) * 0.5f * uv_scale;
         v.tangent = glm::vec4(1, 0, 0, 1);
+        v.uv1 = v.uv;
         mesh.vertices.push_back(v);
     }
     mesh.indices = {0, 1, 2, 0, 2, 3};

@@ -87,6 +87,9 @@ GltfTestOutput build_gltf(const GltfTestFile& file, GltfStorage storage,
                 prim["attributes"]["TEXCOORD_0"] =
                     add_accessor(root, bin, p.uvs.data(), p.uvs.size() * 8, p.uvs.size(), 5126,
                                  "VEC2");
+            if (!p.uvs1.empty())
+                prim["attributes"]["TEXCOORD_1"] = add_accessor(
+                    root, bin, p.uvs1.data(), p.uvs1.size() * 8, p.uvs1.size(), 5126, "VEC2");
             if (!p.tangents.empty())
                 prim["attributes"]["TANGENT"] = add_accessor(
                     root, bin, p.tangents.data(), p.tangents.size() * 16, p.tangents.size(), 5126,

@@ -24,6 +24,7 @@ struct GltfTestPrimitive {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;   // empty: no NORMAL
     std::vector<glm::vec2> uvs;       // glTF convention (v down); empty: no TEXCOORD_0
+    std::vector<glm::vec2> uvs1;      // glTF convention (v down); empty: no TEXCOORD_1
     std::vector<glm::vec4> tangents;  // empty: no TANGENT
     std::vector<std::uint32_t> indices;  // empty: not indexed
     int material = -1;

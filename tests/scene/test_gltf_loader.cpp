@@ -53,6 +53,7 @@ void expect_same_meshes(const GltfScene& x, const GltfScene& y) {
         for (std::size_t i = 0; i < a.vertices.size(); ++i) {
             EXPECT_EQ(a.vertices[i].position, b.vertices[i].position);
             EXPECT_EQ(a.vertices[i].uv, b.vertices[i].uv);
+            EXPECT_EQ(a.vertices[i].uv1, b.vertices[i].uv1);
             EXPECT_EQ(a.vertices[i].tangent, b.vertices[i].tangent);
         }
         EXPECT_EQ(x.objects[o].material, y.objects[o].material);
@@ -250,6 +251,116 @@ GltfTestFile one_quad() {
     return file;
 }
 
+// A quad whose TEXCOORD_1 is its TEXCOORD_0 turned by 90 degrees: leanfade uv = (x, y), uv1 =
+// (y, 1 - x) (glTF's (y, x)), so +u1 runs along +y and +v1 along -x (orientation kept).
+test::GltfTestPrimitive two_set_quad(int material) {
+    test::GltfTestPrimitive p = test::unit_quad(material);
+    for (const glm::vec3& q : p.positions) p.uvs1.push_back(glm::vec2(q.y, q.x));
+    return p;
+}
+
+bool any_warning_has(const GltfScene& scene, const std::string& a, const std::string& b) {
+    for (const std::string& w : scene.warnings)
+        if (w.find(a) != std::string::npos && w.find(b) != std::string::npos) return true;
+    return false;
+}
+
+TEST(GltfLoader, EachTextureSamplesTheSetItsReferenceNames) {
+    GltfTestFile file;
+    file.images.push_back(test::png_bytes(2, 2, 3, std::vector<float>(12, 0.75f)));
+    std::vector<float> normal;
+    for (int i = 0; i < 16; ++i) normal.insert(normal.end(), {0.6f, 0.45f, 0.9f});
+    file.images.push_back(test::png_bytes(4, 4, 3, normal));
+    const auto transform = [](nlohmann::json value) {
+        return nlohmann::json{{"KHR_texture_transform", value}};
+    };
+    // "mixed": base colour on set 1, normal on set 0; the emissive texture's transform overrides
+    // its texCoord 0 with 1, the occlusion texture's its texCoord 1 with 0; the
+    // metallic-roughness texture names set 3, which leanfade does not read.
+    test::GltfTestMaterial mixed{"mixed", glm::vec4(1.0f), 0, 1, 1.0f};
+    mixed.metallic_roughness_image = 0;
+    mixed.patch = {{"pbrMetallicRoughness",
+                    {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}},
+                     {"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 3}}}}},
+                   {"emissiveTexture",
+                    {{"index", 0}, {"texCoord", 0}, {"extensions", transform({{"texCoord", 1}})}}},
+                   {"occlusionTexture",
+                    {{"index", 0},
+                     {"texCoord", 1},
+                     {"extensions", transform({{"offset", {0.5, 0.0}}, {"texCoord", 0}})}}}};
+    // "second set": the normal texture on set 1 (and the base colour on set 0).
+    test::GltfTestMaterial second{"second set", glm::vec4(1.0f), 0, 1, 1.0f};
+    second.patch = {{"normalTexture", {{"texCoord", 1}}}};
+    // "missing": the base colour on set 1 of a primitive without TEXCOORD_1.
+    test::GltfTestMaterial missing{"missing", glm::vec4(1.0f), 0, -1, 1.0f};
+    missing.patch = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"texCoord", 1}}}}}};
+    file.materials = {mixed, second, missing};
+    file.meshes = {{two_set_quad(0)}, {two_set_quad(1)}, {test::unit_quad(2)}};
+    file.patch = {{"extensionsUsed", {"KHR_texture_transform"}}};
+    const test::GltfTestOutput out = test::build_gltf(file, GltfStorage::Binary, "");
+    const GltfScene scene = load_gltf_from_memory(test::pack_glb(out.json, out.bin), "sets.glb");
+    ASSERT_EQ(scene.objects.size(), 3u);
+    ASSERT_EQ(scene.materials.size(), 3u);
+
+    // The sets each reference samples, overrides applied, set 3 read as 0.
+    const GltfMaterial& m0 = scene.materials[0];
+    EXPECT_EQ(m0.base_color_transform.tex_coord, 1);
+    EXPECT_EQ(m0.normal_transform.tex_coord, 0);
+    EXPECT_EQ(m0.emissive_transform.tex_coord, 1);
+    EXPECT_EQ(m0.occlusion_transform.tex_coord, 0);
+    EXPECT_FLOAT_EQ(m0.occlusion_transform.offset.x, 0.5f);
+    EXPECT_EQ(m0.metallic_roughness_transform.tex_coord, 0);
+    EXPECT_EQ(scene.materials[1].normal_transform.tex_coord, 1);
+    EXPECT_EQ(scene.materials[1].base_color_transform.tex_coord, 0);
+    EXPECT_EQ(scene.materials[2].base_color_transform.tex_coord, 1);
+    // Warnings: set 3, and set 1 on the primitive without it; nothing else names a set.
+    EXPECT_TRUE(any_warning_has(scene, "metallicRoughnessTexture", "TEXCOORD_3"));
+    EXPECT_TRUE(any_warning_has(scene, "'missing'", "TEXCOORD_1, which the primitive lacks"));
+    int set_warnings = 0;
+    for (const std::string& w : scene.warnings)
+        if (w.find("TEXCOORD") != std::string::npos) ++set_warnings;
+    EXPECT_EQ(set_warnings, 2) << ::testing::PrintToString(scene.warnings);
+
+    // uv1 holds TEXCOORD_1 flipped to v up, or a copy of uv without it; the tangents follow the
+    // normal texture's set: +x (along +u) for "mixed", +y (along +u1) for "second set", w = +1.
+    for (std::size_t o = 0; o < 3; ++o) {
+        ASSERT_EQ(scene.objects[o].mesh.vertices.size(), 4u) << o;
+        for (const Vertex& v : scene.objects[o].mesh.vertices) {
+            EXPECT_EQ(v.uv, glm::vec2(v.position.x, v.position.y));
+            const glm::vec2 uv1 = o < 2 ? glm::vec2(v.position.y, 1.0f - v.position.x) : v.uv;
+            EXPECT_EQ(v.uv1, uv1) << o;
+            const glm::vec3 along = o == 1 ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+            EXPECT_NEAR(glm::length(glm::vec3(v.tangent) - along), 0.0f, 1e-6f) << o;
+            EXPECT_EQ(v.tangent.w, 1.0f) << o;
+        }
+    }
+
+    // The render scene's materials carry the sets into their UvTransforms (the renderer's
+    // uv_transforms row 0 w).
+    const Scene render = make_render_scene(scene, GltfBakeSettings{});
+    ASSERT_EQ(render.materials.size(), 3u);
+    const Material& r0 = render.materials[0];
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::BaseColor)].set, 1);
+    EXPECT_EQ(r0.lean_uv.set, 0);
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::Emissive)].set, 1);
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::Occlusion)].set, 0);
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::Occlusion)].row0.z, 0.5f);
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::Metallic)].set, 0);
+    EXPECT_EQ(r0.map_uv[std::size_t(MapKind::BaseRoughness)].set, 0);
+    EXPECT_EQ(render.materials[1].lean_uv.set, 1);
+    EXPECT_EQ(render.materials[1].map_uv[std::size_t(MapKind::BaseColor)].set, 0);
+    // A set the meshes do not have is refused by the scene's validation.
+    Scene broken = render;
+    broken.materials[0].map_uv[std::size_t(MapKind::Emissive)].set = 2;
+    try {
+        validate(broken);
+        ADD_FAILURE() << "set 2 accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("texture coordinate set 2"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(GltfLoaderErrors, MissingUnreadableAndNotGltf) {
     const fs::path dir = scratch("errors");
     expect_load_error((dir / "missing.gltf").string(), "No such file");
@@ -303,6 +414,38 @@ TEST(GltfLoaderErrors, IndicesAndAccessorsOutOfRange) {
                             j["meshes"][0]["primitives"][0]["material"] = 3;
                         }),
                         "material 3 does not exist");
+}
+
+TEST(GltfLoaderErrors, TextureCoordinateSetsThatAreNotSets) {
+    GltfTestFile file = one_quad();
+    file.images.push_back(test::png_bytes(2, 2, 3, std::vector<float>(12, 0.75f)));
+    file.materials.push_back({"m", glm::vec4(1.0f), 0, -1, 1.0f});
+    file.meshes[0][0].material = 0;
+    file.materials[0].base_color_transform = {{"texCoord", -1}};
+    {
+        const test::GltfTestOutput out = test::build_gltf(file, GltfStorage::Binary, "");
+        expect_memory_error(test::pack_glb(out.json, out.bin),
+                            "baseColorTexture: KHR_texture_transform texCoord is not a texture "
+                            "coordinate set");
+    }
+    file.materials[0].base_color_transform = {{"texCoord", 0.5}};
+    {
+        const test::GltfTestOutput out = test::build_gltf(file, GltfStorage::Binary, "");
+        expect_memory_error(test::pack_glb(out.json, out.bin), "texCoord is not a texture");
+    }
+    file = one_quad();
+    file.meshes[0][0].uvs1 = file.meshes[0][0].uvs;
+    file.meshes[0][0].uvs1[2].y = NAN;
+    {
+        const test::GltfTestOutput out = test::build_gltf(file, GltfStorage::Binary, "");
+        expect_memory_error(test::pack_glb(out.json, out.bin), "TEXCOORD_1 2 is not finite");
+    }
+    file.meshes[0][0].uvs1.pop_back();
+    {
+        const test::GltfTestOutput out = test::build_gltf(file, GltfStorage::Binary, "");
+        expect_memory_error(test::pack_glb(out.json, out.bin),
+                            "TEXCOORD_1 has 3 elements for 4 positions");
+    }
 }
 
 TEST(GltfLoaderErrors, NonFiniteValues) {

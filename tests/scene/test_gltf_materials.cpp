@@ -11,6 +11,7 @@
 //                    occlusion texture (strength 0.7) and its own texture transforms;
 //   "lamp"           an emissive texture (sRGB) times an emissive factor;
 //   "glass"          alphaMode BLEND over the background, with an emissive factor alone.
+// A second scene (two_set_file) puts each map on the texture coordinate set its reference names.
 // Every texture is 8 x 8 texels of 2 x 2 blocks, magnified (level 0 only): a pixel is compared
 // where every map's bilinear footprint (and a margin of 0.05 texel around it, for the
 // rasteriser's interpolation of uv) lies on equal texels, so that the filter returns that texel
@@ -23,10 +24,13 @@
 // rounding of texels to half floats (measured on llvmpipe: at most 5e-4). A dropped or doubled term
 // (the emission, the occlusion, the metalness, a texture transform, the anisotropy) changes pixels
 // by percents.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -209,26 +213,44 @@ std::optional<glm::vec4> uniform_lean_read(const PackedLeanMap& map, int slice, 
     return first;
 }
 
-TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
-    const Brdf brdf = GetParam();
-    const scene::Scene scene = scene_of(acceptance_file(), "acceptance");
-    ASSERT_EQ(scene.objects.size(), 4u);
-    ASSERT_EQ(scene.materials.size(), 4u);
-    // What the loader made of the file: the maps each material names.
-    const scene::Material& metal = scene.materials[0];
-    const scene::Material& stone = scene.materials[1];
-    const scene::Material& lamp = scene.materials[2];
-    EXPECT_GE(metal.map(scene::MapKind::Metallic), 0);
-    EXPECT_GE(metal.map(scene::MapKind::Anisotropy), 0);
-    EXPECT_FLOAT_EQ(metal.anisotropy_strength, 0.7f);
-    EXPECT_GE(stone.map(scene::MapKind::Occlusion), 0);
-    EXPECT_FLOAT_EQ(stone.occlusion_strength, 0.7f);
-    EXPECT_FLOAT_EQ(*stone.metallic, 0.5f);
-    EXPECT_GE(lamp.map(scene::MapKind::Emissive), 0);
-    EXPECT_EQ(scene.materials[3].map(scene::MapKind::Emissive), -1);
-    EXPECT_TRUE(scene.materials[3].blend);
+// How a test quad maps onto its textures and its tangent frame, for the CPU side: leanfade's uv
+// is the quad's (x, y) (unit_quad); uv1 is either a copy of it (no TEXCOORD_1) or the turned set
+// (y, 1 - x) of two_set_quad; the tangent frame is the world axes (T = +x, B = +y) or, for tangents
+// of the turned set, T = +y (along +u1), B = -x (along +v1). The quads are translated and
+// uniformly scaled only, so object and world directions agree.
+struct QuadMapping {
+    bool turned_uv1 = false;
+    bool frame_of_uv1 = false;
+};
 
-    gl::Renderer renderer(context());
+// A quad with TEXCOORD_1 = its TEXCOORD_0 turned by 90 degrees: leanfade's uv1 = (y, 1 - x),
+// glTF's (y, x); orientation preserving (the tangents of set 1 keep w = +1).
+scene::test::GltfTestPrimitive two_set_quad(int material) {
+    scene::test::GltfTestPrimitive p = scene::test::unit_quad(material);
+    for (const glm::vec3& q : p.positions) p.uvs1.push_back(glm::vec2(q.y, q.x));
+    return p;
+}
+
+// Where a map with transform `t` samples at a point of texture coordinates uv and uv1.
+glm::vec2 sampled_at(const scene::UvTransform& t, glm::vec2 uv, glm::vec2 uv1) {
+    return transformed(t, t.set == 1 ? uv1 : uv);
+}
+
+// The pixels of each object of a comparison, those skipped on texel edges, and the worst error.
+struct Comparison {
+    std::vector<int> compared;
+    int skipped = 0;
+    double worst = 0.0;
+};
+
+// Draws `scene` (quads in the world's z = 0 plane, `mappings` one per object) with the lean
+// technique and compares every pixel whose maps' reads are each one texel with the shared header
+// on the CPU (the tolerance of the file's comment).
+void compare_with_cpu(gl::Context& context, const scene::Scene& scene, Brdf brdf,
+                      const std::vector<QuadMapping>& mappings, Comparison& out) {
+    ASSERT_EQ(mappings.size(), scene.objects.size());
+    out.compared.assign(scene.objects.size(), 0);
+    gl::Renderer renderer(context);
     renderer.set_scene(scene);
     gl::RenderRequest request;
     request.technique = Technique::Lean;
@@ -252,10 +274,7 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
     const glm::mat4 view = request.view.view_matrix();
     const glm::mat4 inverse = glm::inverse(
         request.view.projection_matrix(float(request.width) / float(request.height)) * view);
-    const glm::vec3 light = glm::normalize(s.light_direction);
-    int compared[4] = {0, 0, 0, 0};
-    int skipped = 0;
-    double worst = 0.0;
+    const glm::vec3 light_world = glm::normalize(s.light_direction);
     for (int y = 0; y < gpu.height; ++y) {
         for (int x = 0; x < gpu.width; ++x) {
             // The pixel centre's ray on the quads' plane (world z = 0).
@@ -276,13 +295,15 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
                 }
             }
             if (object < 0) continue;
+            const QuadMapping& mapping = mappings[std::size_t(object)];
+            const glm::vec2 uv1 = mapping.turned_uv1 ? glm::vec2(uv.y, 1.0f - uv.x) : uv;
             const scene::Material& m =
                 scene.materials[std::size_t(scene.objects[std::size_t(object)].material)];
             const PackedLeanMap& lean = scene.lean_maps[std::size_t(m.lean_map)];
             const std::optional<glm::vec4> lean1 =
-                uniform_lean_read(lean, 0, transformed(m.lean_uv, uv));
+                uniform_lean_read(lean, 0, sampled_at(m.lean_uv, uv, uv1));
             const std::optional<glm::vec4> lean2 =
-                uniform_lean_read(lean, 1, transformed(m.lean_uv, uv));
+                uniform_lean_read(lean, 1, sampled_at(m.lean_uv, uv, uv1));
             // Each surface map's texel: the map's where the material has it (and the BRDF reads
             // it), else the shader's value without it.
             bool uniform = lean1 && lean2;
@@ -298,7 +319,7 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
                 if (!read[std::size_t(kind.kind)]) continue;
                 const std::optional<glm::vec4> got =
                     uniform_read(scene.maps_of(kind.kind)[std::size_t(slot)][0],
-                                 transformed(m.map_uv[std::size_t(kind.kind)], uv),
+                                 sampled_at(m.map_uv[std::size_t(kind.kind)], uv, uv1),
                                  kind.format == scene::MapFormat::Rgba16f);
                 if (!got)
                     uniform = false;
@@ -306,7 +327,7 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
                     t = *got;
             }
             if (!uniform) {
-                ++skipped;
+                ++out.skipped;
                 continue;
             }
             const auto texel = [&](scene::MapKind kind) { return texels[std::size_t(kind)]; };
@@ -330,7 +351,14 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
                 texel(scene::MapKind::Anisotropy), factors);
             const shading::LfMoments moments =
                 shading::lf_map_moments(*lean1, *lean2, lean.scale, glm::vec4(0.0f));
-            const glm::vec3 view_t = request.view.eye - p;  // tangent frame = world axes
+            // The light and the eye in the quad's tangent frame (docs/math.md §1).
+            const glm::mat3 frame =
+                mapping.frame_of_uv1
+                    ? glm::mat3(glm::vec3(0, 1, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 0, 1))
+                    : glm::mat3(1.0f);  // columns T, B, N
+            const glm::mat3 to_tangent = glm::transpose(frame);
+            const glm::vec3 light = to_tangent * light_world;
+            const glm::vec3 view_t = to_tangent * (request.view.eye - p);
             const shading::LfShade shade = shading::lf_shade_surface(
                 info(Technique::Lean).shader_technique, moments, surface, light, view_t, params);
             glm::vec3 expected = shading::lf_surface_color(shade, surface);
@@ -341,21 +369,137 @@ TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
             for (int ch = 0; ch < 3; ++ch) {
                 const double want = expected[ch], got = gpu.at(x, y, ch);
                 const double error = std::abs(got - want);
-                worst = std::max(worst, error / (std::abs(want) + 1e-3));
+                out.worst = std::max(out.worst, error / (std::abs(want) + 1e-3));
                 ASSERT_LE(error, 2e-3 * std::abs(want) + 2e-4)
                     << m.name << " pixel " << x << "," << y << " channel " << ch << ": gpu " << got
                     << " cpu " << want;
             }
-            ++compared[object];
+            ++out.compared[std::size_t(object)];
         }
     }
+}
+
+TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
+    const Brdf brdf = GetParam();
+    const scene::Scene scene = scene_of(acceptance_file(), "acceptance");
+    ASSERT_EQ(scene.objects.size(), 4u);
+    ASSERT_EQ(scene.materials.size(), 4u);
+    // What the loader made of the file: the maps each material names.
+    const scene::Material& metal = scene.materials[0];
+    const scene::Material& stone = scene.materials[1];
+    const scene::Material& lamp = scene.materials[2];
+    EXPECT_GE(metal.map(scene::MapKind::Metallic), 0);
+    EXPECT_GE(metal.map(scene::MapKind::Anisotropy), 0);
+    EXPECT_FLOAT_EQ(metal.anisotropy_strength, 0.7f);
+    EXPECT_GE(stone.map(scene::MapKind::Occlusion), 0);
+    EXPECT_FLOAT_EQ(stone.occlusion_strength, 0.7f);
+    EXPECT_FLOAT_EQ(*stone.metallic, 0.5f);
+    EXPECT_GE(lamp.map(scene::MapKind::Emissive), 0);
+    EXPECT_EQ(scene.materials[3].map(scene::MapKind::Emissive), -1);
+    EXPECT_TRUE(scene.materials[3].blend);
+
+    Comparison result;
+    compare_with_cpu(context(), scene, brdf, std::vector<QuadMapping>(4), result);
+    if (HasFatalFailure()) return;
     for (int o = 0; o < 4; ++o)
-        EXPECT_GT(compared[o], 400) << scene.materials[std::size_t(o)].name << ": pixels compared";
-    RecordProperty("worst_relative_error", std::to_string(worst));
+        EXPECT_GT(result.compared[std::size_t(o)], 400)
+            << scene.materials[std::size_t(o)].name << ": pixels compared";
+    RecordProperty("worst_relative_error", std::to_string(result.worst));
     std::printf(
         "%s: %d + %d + %d + %d pixels compared, %d on texel edges skipped, worst relative "
         "error %.3g\n",
-        to_string(brdf), compared[0], compared[1], compared[2], compared[3], skipped, worst);
+        to_string(brdf), result.compared[0], result.compared[1], result.compared[2],
+        result.compared[3], result.skipped, result.worst);
+}
+
+// Two quads whose TEXCOORD_1 is their TEXCOORD_0 turned by 90 degrees (two_set_quad), each map
+// on the set its reference names:
+//   "base colour on set 1"  base colour and metallic-roughness textures on TEXCOORD_1, a normal
+//                           texture of four tilts and an occlusion texture on TEXCOORD_0, an
+//                           emissive texture whose KHR_texture_transform overrides its texCoord 0
+//                           with 1;
+//   "normal on set 1"       the normal texture (so the LEAN map and the generated tangents) and
+//                           an anisotropy texture on TEXCOORD_1, base colour on TEXCOORD_0.
+// The CPU samples each map at the set the loader gave it and shades in the frame of the normal
+// texture's set (T = +y, B = -x for the second quad): a shader that ignored the set, or
+// tangents generated from TEXCOORD_0, differ by percents.
+scene::test::GltfTestFile two_set_file() {
+    scene::test::GltfTestFile file = acceptance_file();  // its images
+    const glm::vec3 tilts[4] = {
+        {0.25f, -0.15f, 1.0f}, {-0.3f, 0.1f, 1.0f}, {0.05f, 0.35f, 1.0f}, {-0.2f, -0.25f, 1.0f}};
+    std::array<glm::vec4, 4> normal_blocks;
+    for (int b = 0; b < 4; ++b)
+        normal_blocks[b] = glm::vec4(0.5f * glm::normalize(tilts[b]) + 0.5f, 1.0f);
+    file.images[kNormal] = block_png(3, normal_blocks);
+    const auto transform = [](json value) { return json{{"KHR_texture_transform", value}}; };
+    file.materials.assign(2, {});
+    scene::test::GltfTestMaterial& first = file.materials[0];
+    first.name = "base colour on set 1";
+    first.base_color = {0.9f, 0.85f, 0.8f, 1.0f};
+    first.base_color_image = kBaseColor;
+    first.normal_image = kNormal;
+    first.metallic = 0.6f;
+    first.roughness = 0.8f;
+    first.metallic_roughness_image = kMetallicRoughness;
+    first.patch = {{"pbrMetallicRoughness",
+                    {{"baseColorTexture", {{"texCoord", 1}}},
+                     {"metallicRoughnessTexture", {{"texCoord", 1}}}}},
+                   {"occlusionTexture", {{"index", kOcclusion}, {"strength", 0.8}}},
+                   {"emissiveFactor", {0.5, 0.4, 0.3}},
+                   {"emissiveTexture",
+                    {{"index", kEmissive},
+                     {"texCoord", 0},
+                     {"extensions", transform({{"offset", {0.25, 0.0}}, {"texCoord", 1}})}}}};
+    scene::test::GltfTestMaterial& second = file.materials[1];
+    second.name = "normal on set 1";
+    second.base_color = {0.8f, 0.8f, 0.85f, 1.0f};
+    second.base_color_image = kBaseColor;
+    second.normal_image = kNormal;
+    second.metallic = 0.3f;
+    second.roughness = 0.6f;
+    second.patch = {{"normalTexture", {{"texCoord", 1}}},
+                    {"extensions",
+                     {{"KHR_materials_anisotropy",
+                       {{"anisotropyStrength", 0.6},
+                        {"anisotropyTexture", {{"index", kAnisotropy}, {"texCoord", 1}}}}}}}};
+    file.meshes = {{two_set_quad(0)}, {two_set_quad(1)}};
+    file.nodes = {{0, {}, {}, {-1.0, -0.5, 0.0}, {}}, {1, {}, {}, {0.0, -0.5, 0.0}, {}}};
+    file.patch = {{"extensionsUsed", {"KHR_texture_transform", "KHR_materials_anisotropy"}}};
+    return file;
+}
+
+TEST_P(GltfMaterials, EachMapSamplesTheTextureCoordinateSetItsReferenceNames) {
+    const Brdf brdf = GetParam();
+    const scene::Scene scene = scene_of(two_set_file(), "two_sets");
+    ASSERT_EQ(scene.objects.size(), 2u);
+    ASSERT_EQ(scene.materials.size(), 2u);
+    // The sets as the file names them (the loader's test checks them one by one).
+    const scene::Material& first = scene.materials[0];
+    const scene::Material& second = scene.materials[1];
+    const auto set = [](const scene::Material& m, scene::MapKind kind) {
+        return m.map_uv[std::size_t(kind)].set;
+    };
+    EXPECT_EQ(set(first, scene::MapKind::BaseColor), 1);
+    EXPECT_EQ(set(first, scene::MapKind::Metallic), 1);
+    EXPECT_EQ(set(first, scene::MapKind::Occlusion), 0);
+    EXPECT_EQ(set(first, scene::MapKind::Emissive), 1);
+    EXPECT_EQ(first.lean_uv.set, 0);
+    EXPECT_EQ(second.lean_uv.set, 1);
+    EXPECT_EQ(set(second, scene::MapKind::BaseColor), 0);
+    EXPECT_EQ(set(second, scene::MapKind::Anisotropy), 1);
+    EXPECT_GE(second.map(scene::MapKind::Anisotropy), 0);
+    const std::vector<QuadMapping> mappings = {{true, false}, {true, true}};
+    Comparison result;
+    compare_with_cpu(context(), scene, brdf, mappings, result);
+    if (HasFatalFailure()) return;
+    for (int o = 0; o < 2; ++o)
+        EXPECT_GT(result.compared[std::size_t(o)], 1000)
+            << scene.materials[std::size_t(o)].name << ": pixels compared";
+    RecordProperty("worst_relative_error", std::to_string(result.worst));
+    std::printf(
+        "%s: %d + %d pixels compared, %d on texel edges skipped, worst relative error "
+        "%.3g\n",
+        to_string(brdf), result.compared[0], result.compared[1], result.skipped, result.worst);
 }
 
 INSTANTIATE_TEST_SUITE_P(Brdfs, GltfMaterials,

@@ -255,6 +255,49 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
         }
 }
 
+// `bake SCENE -o OUT` keeps where every texture reference samples: the references it leaves
+// alone (base colour, occlusion, emissive) as they were, texCoord and KHR_texture_transform
+// (its texCoord override included); the filtered textures it adds (metallic-roughness, normal)
+// with the normal texture's texCoord and transform, the set and mapping they were filtered in.
+TEST(CliGltfOut, TextureCoordinateSetsAndTransformsAreKept) {
+    const fs::path dir = scratch("out_tex_coords");
+    GltfTestFile file;
+    file.images = {normal_png({0.3f, 0.0f, 1.0f}), normal_png({0.0f, 0.0f, 1.0f})};
+    const nlohmann::json turned = {{"KHR_texture_transform", {{"rotation", 0.5}}}};
+    const nlohmann::json override_to_0 = {
+        {"KHR_texture_transform", {{"offset", {0.25, 0.0}}, {"texCoord", 0}}}};
+    file.materials = {{"two sets", glm::vec4(1.0f), 1, 0, 1.0f}};
+    file.materials[0].patch = {
+        {"normalTexture", {{"texCoord", 1}, {"extensions", turned}}},
+        {"pbrMetallicRoughness",
+         {{"baseColorTexture", {{"texCoord", 1}, {"extensions", override_to_0}}}}},
+        {"occlusionTexture", {{"index", 1}, {"texCoord", 1}}},
+        {"emissiveTexture", {{"index", 1}, {"extensions", turned}}}};
+    file.meshes = {{scene::test::unit_quad(0)}};
+    for (const glm::vec3& q : file.meshes[0][0].positions)
+        file.meshes[0][0].uvs1.push_back(glm::vec2(q.y, q.x));
+    file.patch = {{"extensionsUsed", {"KHR_texture_transform"}}};
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(file, input.string(), GltfStorage::Binary);
+    const fs::path output = dir / "filtered.glb";
+    const test::RunResult r = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " -o " + test::shell_quote(output.string()),
+        dir, {}, env(dir));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json before = gltf_out::gltf_json(input)["materials"][0];
+    const nlohmann::json after = gltf_out::gltf_json(output)["materials"][0];
+    for (const char* key : {"occlusionTexture", "emissiveTexture"})
+        EXPECT_EQ(after[key], before[key]) << key;
+    EXPECT_EQ(after["pbrMetallicRoughness"]["baseColorTexture"],
+              before["pbrMetallicRoughness"]["baseColorTexture"]);
+    for (const nlohmann::json& info :
+         {after["normalTexture"], after["pbrMetallicRoughness"]["metallicRoughnessTexture"]}) {
+        EXPECT_EQ(info["texCoord"], 1) << info.dump();
+        EXPECT_EQ(info["extensions"], turned) << info.dump();
+        EXPECT_NE(info["index"], before["normalTexture"]["index"]) << "a filtered texture";
+    }
+}
+
 // The round trip: `render --scene OUT` draws the LEAN maps the file names (LEANFADE_lean_map),
 // the same pixels as the original scene, and every technique reads them.
 TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {

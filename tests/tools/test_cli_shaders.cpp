@@ -265,17 +265,17 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
         const std::set<int> numbers(declared.begin(), declared.end());
         if (stage_of(s) == "vert") {
             const auto& inputs = r["inputs"];
-            ASSERT_EQ(inputs.size(), 4u);
-            const char* names[] = {"a_position", "a_normal", "a_uv", "a_tangent"};
+            ASSERT_EQ(inputs.size(), 5u);
+            const char* names[] = {"a_position", "a_normal", "a_uv", "a_tangent", "a_uv1"};
             const char* formats[] = {"R32G32B32_SFLOAT", "R32G32B32_SFLOAT", "R32G32_SFLOAT",
-                                     "R32G32B32A32_SFLOAT"};
-            for (int i = 0; i < 4; ++i) {
+                                     "R32G32B32A32_SFLOAT", "R32G32_SFLOAT"};
+            for (int i = 0; i < 5; ++i) {
                 EXPECT_EQ(inputs[i]["name"], names[i]);
                 EXPECT_EQ(inputs[i]["location"], i);
                 EXPECT_EQ(inputs[i]["format"], formats[i]);
             }
             vertex_outputs = r["outputs"];
-            EXPECT_EQ(vertex_outputs.size(), 4u);  // VertexData; gl_Position is a built-in
+            EXPECT_EQ(vertex_outputs.size(), 5u);  // VertexData; gl_Position is a built-in
             continue;
         }
         EXPECT_EQ(r["inputs"], vertex_outputs) << file;

@@ -631,7 +631,8 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
         {"a_position", offsetof(scene::Vertex, position)},
         {"a_normal", offsetof(scene::Vertex, normal)},
         {"a_uv", offsetof(scene::Vertex, uv)},
-        {"a_tangent", offsetof(scene::Vertex, tangent)}};
+        {"a_tangent", offsetof(scene::Vertex, tangent)},
+        {"a_uv1", offsetof(scene::Vertex, uv1)}};
     std::vector<VkVertexInputAttributeDescription> attributes;
     for (const json& input : vert["reflection"]["inputs"]) {
         const std::string name = input["name"];
@@ -640,7 +641,7 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
         ASSERT_NE(format, VK_FORMAT_UNDEFINED) << input.dump();
         attributes.push_back({input["location"], 0, format, vertex_offsets[name]});
     }
-    ASSERT_EQ(attributes.size(), 4u);
+    ASSERT_EQ(attributes.size(), 5u);
     const VkVertexInputBindingDescription vertex_binding{0, sizeof(scene::Vertex),
                                                          VK_VERTEX_INPUT_RATE_VERTEX};
     auto vertex_input = vk_info<VkPipelineVertexInputStateCreateInfo>(

@@ -336,7 +336,10 @@ scene::Scene load_scene_objects(const RenderSourceFlags& flags, const ShadingSet
     // map of one's own (an image or a .ktx2) would be too fine to see: it repeats 5 times
     // across (uv 0..5, a repeat per 4 world units), before --tiling.
     if (flags.scene == "plane" && flags.layers.empty() && !is_builtin_bumps(flags.bumps.source))
-        for (scene::Vertex& v : object.mesh.vertices) v.uv *= kUserMapPlaneUvScale;
+        for (scene::Vertex& v : object.mesh.vertices) {
+            v.uv *= kUserMapPlaneUvScale;
+            v.uv1 = v.uv;
+        }
     object.material = 0;
     result.objects.push_back(std::move(object));
     if (flags.layers.empty()) {

@@ -87,7 +87,7 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.base_alpha = 1.0f;
     block.blend = 0.0f;
     block.double_sided = 0.0f;
-    for (int t = 0; t < shading::LF_UV_TRANSFORM_COUNT; ++t) {  // identity transforms
+    for (int t = 0; t < shading::LF_UV_TRANSFORM_COUNT; ++t) {  // identity transforms of set 0
         block.uv_transforms[2 * t] = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
         block.uv_transforms[2 * t + 1] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
     }
@@ -262,8 +262,9 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         block.base_alpha = material.base_alpha;
         block.blend = material.blend ? 1.0f : 0.0f;
         block.double_sided = material.double_sided.value_or(false) ? 1.0f : 0.0f;
+        // Row 0's w: the texture coordinate set (0 or 1) the map samples (map_uv, scene.frag).
         const auto set_uv_transform = [&](int slot, const scene::UvTransform& t) {
-            block.uv_transforms[2 * slot] = glm::vec4(t.row0, 0.0f);
+            block.uv_transforms[2 * slot] = glm::vec4(t.row0, float(t.set));
             block.uv_transforms[2 * slot + 1] = glm::vec4(t.row1, 0.0f);
         };
         set_uv_transform(shading::LF_UV_LEAN_MAP, material.lean_uv);

@@ -154,7 +154,8 @@ Renderer::GpuObject Renderer::upload_object(const scene::Mesh& mesh, int materia
     } attributes[] = {{0, 3, offsetof(scene::Vertex, position)},
                       {1, 3, offsetof(scene::Vertex, normal)},
                       {2, 2, offsetof(scene::Vertex, uv)},
-                      {3, 4, offsetof(scene::Vertex, tangent)}};
+                      {3, 4, offsetof(scene::Vertex, tangent)},
+                      {4, 2, offsetof(scene::Vertex, uv1)}};
     for (const auto& a : attributes) {
         glEnableVertexArrayAttrib(vao, a.location);
         glVertexArrayAttribFormat(vao, a.location, a.size, GL_FLOAT, GL_FALSE, GLuint(a.offset));

@@ -16,14 +16,16 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <limits>
-#include <tuple>
 #include <map>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -100,6 +102,7 @@ UvTransform leanfade_uv_transform(const GltfTextureTransform& t) {
     UvTransform out;
     out.row0 = glm::vec3(float(m[0][0]), float(m[1][0]), float(m[2][0]));
     out.row1 = glm::vec3(float(m[0][1]), float(m[1][1]), float(m[2][1]));
+    out.set = t.tex_coord;
     return out;
 }
 
@@ -280,10 +283,21 @@ int component_count(int type) {
     }
 }
 
-// A texture reference's KHR_texture_transform (offset, rotation, scale; texCoord other than 0 is
-// warned about with the reference's own texCoord), checked finite.
-GltfTextureTransform texture_transform_of(const tinygltf::Value& e, const std::string& where) {
+// A texture reference's texCoord, checked: glTF 2.0's textureInfo.texCoord is an integer >= 0.
+int checked_tex_coord(int tex_coord, const std::string& where) {
+    if (tex_coord < 0)
+        throw std::runtime_error(where + ": texCoord is not a texture coordinate set");
+    return tex_coord;
+}
+
+// Where a texture reference samples: its KHR_texture_transform `e` (offset, rotation, scale,
+// checked finite) and its set, the extension's texCoord when it has one (it overrides the
+// reference's, KHR_texture_transform), else the reference's `tex_coord`. Any set >= 0 is kept
+// here; Converter::supported_set reads the sets above 1 as 0.
+GltfTextureTransform texture_transform_of(const tinygltf::Value& e, int tex_coord,
+                                          const std::string& where) {
     GltfTextureTransform t;
+    t.tex_coord = checked_tex_coord(tex_coord, where);
     if (!e.IsObject()) throw std::runtime_error(where + ": KHR_texture_transform is not an object");
     const auto number = [&](const tinygltf::Value& v, const char* what) {
         if (!v.IsNumber()) throw std::runtime_error(where + ": KHR_texture_transform " + what + " is not a number");
@@ -301,21 +315,33 @@ GltfTextureTransform texture_transform_of(const tinygltf::Value& e, const std::s
     pair("offset", t.offset);
     pair("scale", t.scale);
     if (e.Has("rotation")) t.rotation = number(e.Get("rotation"), "rotation");
+    if (e.Has("texCoord")) {
+        const tinygltf::Value& set = e.Get("texCoord");
+        if (!set.IsInt() || set.Get<int>() < 0)
+            throw std::runtime_error(where +
+                                     ": KHR_texture_transform texCoord is not a texture "
+                                     "coordinate set");
+        t.tex_coord = set.Get<int>();
+    }
     return t;
 }
 
-GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions,
+// A textureInfo's transform and set (texture_transform_of), from its extensions and texCoord.
+GltfTextureTransform texture_transform(const tinygltf::ExtensionMap& extensions, int tex_coord,
                                        const std::string& where) {
     const auto found = extensions.find("KHR_texture_transform");
-    if (found == extensions.end()) return GltfTextureTransform{};
-    return texture_transform_of(found->second, where);
+    if (found == extensions.end()) {
+        GltfTextureTransform t;
+        t.tex_coord = checked_tex_coord(tex_coord, where);
+        return t;
+    }
+    return texture_transform_of(found->second, tex_coord, where);
 }
 
 // A texture reference inside an extension's object (tinygltf leaves those as JSON values): its
-// texture index (-1: none), texCoord and KHR_texture_transform.
+// texture index (-1: none), and its KHR_texture_transform with its set (texture_transform_of).
 struct ExtensionTextureInfo {
     int index = -1;
-    int tex_coord = 0;
     GltfTextureTransform transform;
 };
 
@@ -326,15 +352,18 @@ ExtensionTextureInfo extension_texture_info(const tinygltf::Value& info, const s
     if (!index.IsInt() || index.Get<int>() < 0)
         throw std::runtime_error(where + ": index is not a texture index");
     out.index = index.Get<int>();
+    int tex_coord = 0;
     if (info.Has("texCoord")) {
         const tinygltf::Value& set = info.Get("texCoord");
         if (!set.IsInt() || set.Get<int>() < 0)
             throw std::runtime_error(where + ": texCoord is not a texture coordinate set");
-        out.tex_coord = set.Get<int>();
+        tex_coord = set.Get<int>();
     }
+    out.transform.tex_coord = tex_coord;
     const tinygltf::Value& extensions = info.Get("extensions");
     if (extensions.IsObject() && extensions.Has("KHR_texture_transform"))
-        out.transform = texture_transform_of(extensions.Get("KHR_texture_transform"), where);
+        out.transform =
+            texture_transform_of(extensions.Get("KHR_texture_transform"), tex_coord, where);
     return out;
 }
 
@@ -349,7 +378,7 @@ class Converter {
 
   private:
     AccessorData accessor(int index, const std::string& what) const;
-    Mesh primitive_mesh(int mesh_index, int primitive_index);
+    Mesh primitive_mesh(int mesh_index, int primitive_index, const GltfMaterial& material);
     int material_index(int gltf_material);
     int image_of_texture(int texture, const std::string& where);
     glm::dmat4 local_matrix(const tinygltf::Node& node, int index) const;
@@ -445,7 +474,31 @@ glm::vec3 face_normal(const Mesh& mesh, const std::uint32_t* corner) {
     return glm::vec3(n);  // length = twice the area: the area weight
 }
 
-Mesh Converter::primitive_mesh(int mesh_index, int primitive_index) {
+// The (image, where it samples) pairs of a material's textures; image -1: none. The normal
+// texture's stands for the LEAN map too (a LEANFADE_lean_map file is sampled as it would be).
+std::array<std::pair<int, const GltfTextureTransform*>, 6> material_textures(
+    const GltfMaterial& m) {
+    const int normal = m.normal_image >= 0 || !m.lean_map_file.empty() ? 0 : -1;
+    return {{{normal, &m.normal_transform},
+             {m.base_color_image, &m.base_color_transform},
+             {m.metallic_roughness_image, &m.metallic_roughness_transform},
+             {m.occlusion_image, &m.occlusion_transform},
+             {m.emissive_image, &m.emissive_transform},
+             {m.anisotropy_image, &m.anisotropy_transform}}};
+}
+
+// The set a primitive's generated tangents follow: the normal texture's, whose slopes are in
+// that frame (glTF 2.0 §3.7.2.1: tangents a file lacks are computed with MikkTSpace from "the
+// texture coordinates associated with the normal texture"); without one the anisotropy
+// texture's, whose directions are in the same tangent frame (KHR_materials_anisotropy); else
+// TEXCOORD_0.
+int tangent_set(const GltfMaterial& m) {
+    if (m.normal_image >= 0 || !m.lean_map_file.empty()) return m.normal_transform.tex_coord;
+    if (m.anisotropy_image >= 0) return m.anisotropy_transform.tex_coord;
+    return 0;
+}
+
+Mesh Converter::primitive_mesh(int mesh_index, int primitive_index, const GltfMaterial& material) {
     const tinygltf::Mesh& gm = model_.meshes[std::size_t(mesh_index)];
     const tinygltf::Primitive& prim = gm.primitives[std::size_t(primitive_index)];
     Mesh mesh;
@@ -524,22 +577,36 @@ Mesh Converter::primitive_mesh(int mesh_index, int primitive_index) {
     }
     if (mesh.indices.empty()) throw std::runtime_error(where + " has no triangles");
 
-    // Texture coordinates, flipped to v up.
-    const int uv_accessor = attribute("TEXCOORD_0");
-    if (uv_accessor >= 0) {
-        const AccessorData uvs = accessor(uv_accessor, where + " TEXCOORD_0");
-        require_float(uvs, 2, where + " TEXCOORD_0", true);
+    // Texture coordinates, flipped to v up: TEXCOORD_0 in uv, TEXCOORD_1 in uv1 (a copy of uv
+    // when the primitive has no TEXCOORD_1).
+    const auto read_uvs = [&](const char* name, glm::vec2 Vertex::*member) {
+        const int uv_accessor = attribute(name);
+        if (uv_accessor < 0) return false;
+        const AccessorData uvs = accessor(uv_accessor, where + " " + name);
+        require_float(uvs, 2, where + " " + name, true);
         if (uvs.count != n)
-            throw std::runtime_error(where + ": TEXCOORD_0 has " + std::to_string(uvs.count) +
+            throw std::runtime_error(where + ": " + name + " has " + std::to_string(uvs.count) +
                                      " elements for " + std::to_string(n) + " positions");
         for (std::size_t i = 0; i < n; ++i) {
             float t[2];
             read_float_element(uvs, i, 2, t);
             if (!std::isfinite(t[0]) || !std::isfinite(t[1]))
-                throw std::runtime_error(where + ": TEXCOORD_0 " + std::to_string(i) +
+                throw std::runtime_error(where + ": " + name + " " + std::to_string(i) +
                                          " is not finite");
-            mesh.vertices[i].uv = glm::vec2(t[0], 1.0f - t[1]);
+            mesh.vertices[i].*member = glm::vec2(t[0], 1.0f - t[1]);
         }
+        return true;
+    };
+    read_uvs("TEXCOORD_0", &Vertex::uv);
+    if (!read_uvs("TEXCOORD_1", &Vertex::uv1)) {
+        for (Vertex& v : mesh.vertices) v.uv1 = v.uv;
+        for (const auto& [image, transform] : material_textures(material))
+            if (image >= 0 && transform->tex_coord == 1) {
+                out_.warnings.push_back(where + ": material '" + escape_text(material.name, 64) +
+                                        "' samples TEXCOORD_1, which the primitive lacks; "
+                                        "TEXCOORD_0 is used");
+                break;
+            }
     }
 
     // Normals: from the file (renormalised; zero ones from the faces around them), else flat.
@@ -638,7 +705,7 @@ Mesh Converter::primitive_mesh(int mesh_index, int primitive_index) {
     if (tangents_from_file) {
         ++out_.primitives_with_tangents;
     } else {
-        generate_mikktspace_tangents(mesh);
+        generate_mikktspace_tangents(mesh, tangent_set(material));
         ++out_.primitives_generated_tangents;
     }
     try {
@@ -693,10 +760,14 @@ int Converter::material_index(int gltf_material) {
         m.name = gm.name.empty() ? "material " + std::to_string(gltf_material) : gm.name;
         m.gltf_index = gltf_material;
         const std::string where = "material '" + escape_text(m.name, 64) + "'";
-        const auto warn_tex_coord = [&](const std::string& what, int set) {
-            if (set != 0)
-                out_.warnings.push_back(what + " uses TEXCOORD_" + std::to_string(set) +
-                                        "; leanfade reads TEXCOORD_0");
+        // The sets a texture reference may sample: TEXCOORD_0 and TEXCOORD_1 (Vertex::uv, uv1);
+        // one that names another is drawn with TEXCOORD_0, with a warning.
+        const auto supported_set = [&](const std::string& what, GltfTextureTransform& t) {
+            if (t.tex_coord < kUvSetCount) return;
+            out_.warnings.push_back(what + " uses TEXCOORD_" + std::to_string(t.tex_coord) +
+                                    "; leanfade reads TEXCOORD_0 and TEXCOORD_1, so it samples "
+                                    "TEXCOORD_0");
+            t.tex_coord = 0;
         };
         if (gm.alphaMode == "MASK") {
             if (!(gm.alphaCutoff >= 0.0) || !std::isfinite(gm.alphaCutoff))
@@ -707,11 +778,14 @@ int Converter::material_index(int gltf_material) {
         }
         m.double_sided = gm.doubleSided;
         const tinygltf::PbrMetallicRoughness& pbr = gm.pbrMetallicRoughness;
-        m.normal_transform = texture_transform(gm.normalTexture.extensions, where + " normalTexture");
+        m.normal_transform = texture_transform(gm.normalTexture.extensions,
+                                               gm.normalTexture.texCoord, where + " normalTexture");
         m.base_color_transform =
-            texture_transform(pbr.baseColorTexture.extensions, where + " baseColorTexture");
-        m.metallic_roughness_transform = texture_transform(
-            pbr.metallicRoughnessTexture.extensions, where + " metallicRoughnessTexture");
+            texture_transform(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord,
+                              where + " baseColorTexture");
+        m.metallic_roughness_transform = texture_transform(pbr.metallicRoughnessTexture.extensions,
+                                                           pbr.metallicRoughnessTexture.texCoord,
+                                                           where + " metallicRoughnessTexture");
         for (const auto& [value, name, out] :
              {std::tuple{pbr.metallicFactor, "metallicFactor", &m.metallic_factor},
               std::tuple{pbr.roughnessFactor, "roughnessFactor", &m.roughness_factor}}) {
@@ -722,8 +796,7 @@ int Converter::material_index(int gltf_material) {
         if (pbr.metallicRoughnessTexture.index >= 0) {
             m.metallic_roughness_image =
                 image_of_texture(pbr.metallicRoughnessTexture.index, where + " metallicRoughnessTexture");
-            warn_tex_coord(where + ": metallicRoughnessTexture",
-                           pbr.metallicRoughnessTexture.texCoord);
+            supported_set(where + ": metallicRoughnessTexture", m.metallic_roughness_transform);
         }
         if (const auto ext = gm.extensions.find(kGltfLeanMapExtension); ext != gm.extensions.end()) {
             const tinygltf::Value& uri = ext->second.Get("uri");
@@ -745,7 +818,7 @@ int Converter::material_index(int gltf_material) {
         const tinygltf::TextureInfo& base = gm.pbrMetallicRoughness.baseColorTexture;
         if (base.index >= 0) {
             m.base_color_image = image_of_texture(base.index, where + " baseColorTexture");
-            warn_tex_coord(where + ": baseColorTexture", base.texCoord);
+            supported_set(where + ": baseColorTexture", m.base_color_transform);
         }
         // glTF 2.0 §3.9.4: occlusionTexture's R with its strength.
         const tinygltf::OcclusionTextureInfo& occlusion = gm.occlusionTexture;
@@ -754,9 +827,9 @@ int Converter::material_index(int gltf_material) {
                 throw std::runtime_error(where + ": occlusionTexture strength is not in [0, 1]");
             m.occlusion_image = image_of_texture(occlusion.index, where + " occlusionTexture");
             m.occlusion_strength = float(occlusion.strength);
-            m.occlusion_transform =
-                texture_transform(occlusion.extensions, where + " occlusionTexture");
-            warn_tex_coord(where + ": occlusionTexture", occlusion.texCoord);
+            m.occlusion_transform = texture_transform(occlusion.extensions, occlusion.texCoord,
+                                                      where + " occlusionTexture");
+            supported_set(where + ": occlusionTexture", m.occlusion_transform);
         }
         // glTF 2.0 §3.9.5: emissiveFactor times emissiveTexture (sRGB).
         read_color_factor(gm.emissiveFactor, 3, where + ": emissiveFactor",
@@ -765,8 +838,9 @@ int Converter::material_index(int gltf_material) {
             m.emissive_image =
                 image_of_texture(gm.emissiveTexture.index, where + " emissiveTexture");
             m.emissive_transform =
-                texture_transform(gm.emissiveTexture.extensions, where + " emissiveTexture");
-            warn_tex_coord(where + ": emissiveTexture", gm.emissiveTexture.texCoord);
+                texture_transform(gm.emissiveTexture.extensions, gm.emissiveTexture.texCoord,
+                                  where + " emissiveTexture");
+            supported_set(where + ": emissiveTexture", m.emissive_transform);
         }
         if (const auto ext = gm.extensions.find(kGltfAnisotropyExtension);
             ext != gm.extensions.end()) {
@@ -789,7 +863,7 @@ int Converter::material_index(int gltf_material) {
                     e.Get("anisotropyTexture"), named + " anisotropyTexture");
                 m.anisotropy_image = image_of_texture(info.index, named + " anisotropyTexture");
                 m.anisotropy_transform = info.transform;
-                warn_tex_coord(named + " anisotropyTexture", info.tex_coord);
+                supported_set(named + " anisotropyTexture", m.anisotropy_transform);
             }
         }
         const tinygltf::NormalTextureInfo& normal = gm.normalTexture;
@@ -798,7 +872,7 @@ int Converter::material_index(int gltf_material) {
                 throw std::runtime_error(where + ": normalTexture scale is not finite");
             m.normal_image = image_of_texture(normal.index, where + " normalTexture");
             m.normal_scale = float(normal.scale);
-            warn_tex_coord(where + ": normalTexture", normal.texCoord);
+            supported_set(where + ": normalTexture", m.normal_transform);
         }
     }
     out_.materials.push_back(std::move(m));
@@ -896,10 +970,15 @@ void Converter::run() {
             if (out_.objects.size() >= options_.max_objects)
                 throw std::runtime_error("more than " + std::to_string(options_.max_objects) +
                                          " objects in the scene");
+            // The material first: its textures' sets decide the primitive's tangents.
+            const int material = material_index(prim.material);
             const auto key = std::make_pair(node.mesh, int(p));
             auto found = meshes_.find(key);
             if (found == meshes_.end())
-                found = meshes_.emplace(key, primitive_mesh(node.mesh, int(p))).first;
+                found = meshes_
+                            .emplace(key, primitive_mesh(node.mesh, int(p),
+                                                         out_.materials[std::size_t(material)]))
+                            .first;
             const Mesh& mesh = found->second;
             if (mesh.vertices.size() > options_.max_vertices - vertices_)
                 throw std::runtime_error("more than " + std::to_string(options_.max_vertices) +
@@ -913,7 +992,7 @@ void Converter::run() {
             GltfObject object;
             object.mesh = mesh;
             object.transform = transform;
-            object.material = material_index(prim.material);
+            object.material = material;
             if (mirrored) {
                 for (std::size_t t = 0; t < object.mesh.indices.size(); t += 3)
                     std::swap(object.mesh.indices[t + 1], object.mesh.indices[t + 2]);

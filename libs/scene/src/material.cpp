@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <string_view>
 
 #include "leanfade/core/error.hpp"
 
@@ -155,7 +157,15 @@ void validate(const Scene& scene) {
                                      "' has a colour or shininess that is "
                                      "not a finite, positive number");
         if (!m.layered.layers.empty()) validate_layers(scene, m);
+        const auto check_set = [&](const UvTransform& t, std::string_view what) {
+            if (t.set < 0 || t.set >= kUvSetCount)
+                throw Error("scene", "material '" + m.name + "' samples its " + std::string(what) +
+                                         " with texture coordinate set " + std::to_string(t.set) +
+                                         " (the meshes have sets 0 and 1)");
+        };
+        check_set(m.lean_uv, "LEAN map");
         for (const MapKindInfo& kind : kMapKinds) {
+            check_set(m.map_uv[std::size_t(kind.kind)], kind.name);
             const int slot = m.map(kind.kind);
             const std::size_t count = scene.maps_of(kind.kind).size();
             if (slot < -1 || slot >= int(count))

@@ -26,7 +26,8 @@ void remove_unused_vertices(Mesh& mesh);
 // Translates all positions so the bounding box is centred on the origin.
 void center_on_origin(Mesh& mesh);
 
-// generate_tangents() then compute_bounds(): the last step of every builder.
+// uv1 = uv (the built-in meshes and OBJ files have one texture coordinate set), then
+// generate_tangents() and compute_bounds(): the last step of every builder.
 void finish(Mesh& mesh);
 
 // Which edges of a parameter grid collapse to a single point (a pole).

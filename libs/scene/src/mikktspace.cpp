@@ -31,9 +31,15 @@ struct WeldKeyHash {
     }
 };
 
-WeldKey weld_key(const Vertex& v) {
+// The texture coordinates of `v` in `set` (0: uv, 1: uv1).
+glm::vec2 uv_of(const Vertex& v, int set) {
+    return set == 1 ? v.uv1 : v.uv;
+}
+
+WeldKey weld_key(const Vertex& v, int set) {
+    const glm::vec2 uv = uv_of(v, set);
     const float values[8] = {v.position.x, v.position.y, v.position.z, v.normal.x,
-                             v.normal.y,   v.normal.z,   v.uv.x,       v.uv.y};
+                             v.normal.y,   v.normal.z,   uv.x,         uv.y};
     WeldKey key{};
     for (int i = 0; i < 8; ++i) {
         // +0 and -0 weld together.
@@ -50,8 +56,11 @@ glm::dvec3 project_to_plane(const glm::dvec3& v, const glm::dvec3& n) {
 
 }  // namespace
 
-void generate_mikktspace_tangents(Mesh& mesh) {
+void generate_mikktspace_tangents(Mesh& mesh, int uv_set) {
     const std::size_t vertex_count = mesh.vertices.size();
+    if (uv_set != 0 && uv_set != 1)
+        throw Error(mesh.name,
+                    "texture coordinate set " + std::to_string(uv_set) + " is not 0 or 1");
     if (mesh.indices.size() % 3 != 0)
         throw Error(mesh.name, "index count " + std::to_string(mesh.indices.size()) +
                                    " is not a multiple of 3");
@@ -60,13 +69,13 @@ void generate_mikktspace_tangents(Mesh& mesh) {
             throw Error(mesh.name, "index " + std::to_string(index) + " out of range (" +
                                        std::to_string(vertex_count) + " vertices)");
 
-    // Weld groups: one id per distinct (position, normal, uv).
+    // Weld groups: one id per distinct (position, normal, uv of the set).
     std::vector<std::uint32_t> weld(vertex_count);
     {
         std::unordered_map<WeldKey, std::uint32_t, WeldKeyHash> ids;
         ids.reserve(vertex_count);
         for (std::size_t i = 0; i < vertex_count; ++i)
-            weld[i] = ids.emplace(weld_key(mesh.vertices[i]), std::uint32_t(ids.size()))
+            weld[i] = ids.emplace(weld_key(mesh.vertices[i], uv_set), std::uint32_t(ids.size()))
                           .first->second;
     }
 
@@ -82,8 +91,8 @@ void generate_mikktspace_tangents(Mesh& mesh) {
                               &mesh.vertices[corner[2]]};
         const glm::dvec3 d1 = glm::dvec3(v[1]->position) - glm::dvec3(v[0]->position);
         const glm::dvec3 d2 = glm::dvec3(v[2]->position) - glm::dvec3(v[0]->position);
-        const glm::dvec2 s1 = glm::dvec2(v[1]->uv) - glm::dvec2(v[0]->uv);
-        const glm::dvec2 s2 = glm::dvec2(v[2]->uv) - glm::dvec2(v[0]->uv);
+        const glm::dvec2 s1 = glm::dvec2(uv_of(*v[1], uv_set)) - glm::dvec2(uv_of(*v[0], uv_set));
+        const glm::dvec2 s2 = glm::dvec2(uv_of(*v[2], uv_set)) - glm::dvec2(uv_of(*v[0], uv_set));
         // Twice the signed uv area; dP/du = (s2.y d1 - s1.y d2) / area.
         const double area = s1.x * s2.y - s1.y * s2.x;
         if (!(std::abs(area) > 0.0) || !std::isfinite(area)) continue;

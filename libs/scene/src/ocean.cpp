@@ -103,7 +103,10 @@ Scene make_ocean_scene(const OceanSettings& s, int threads) {
     water.mesh = make_plane(s.extent, 32);
     water.mesh.name = "ocean";
     // make_plane repeats a tile every kTileLength; the ocean's uv spans [0, 1] once instead.
-    for (Vertex& v : water.mesh.vertices) v.uv *= kTileLength / s.extent;
+    for (Vertex& v : water.mesh.vertices) {
+        v.uv *= kTileLength / s.extent;
+        v.uv1 = v.uv;
+    }
     water.material = 0;
     scene.objects.push_back(std::move(water));
 

@@ -4,11 +4,20 @@
 //
 // Conventions of the conversion (docs/architecture.md, "glTF scenes"):
 // - Texture coordinates: glTF puts uv = (0, 0) at the top-left of an image with v growing
-//   downward; leanfade's v grows upward (docs/math.md §1), so every TEXCOORD_0 is stored as
-//   (u, 1 - v). The image rows are used as stored (top row first), so a texel keeps its place.
+//   downward; leanfade's v grows upward (docs/math.md §1), so TEXCOORD_0 and TEXCOORD_1 are
+//   stored as (u, 1 - v) in Vertex::uv and Vertex::uv1 (a primitive without TEXCOORD_1 gets a
+//   copy of TEXCOORD_0 in uv1). The image rows are used as stored (top row first), so a texel
+//   keeps its place.
+// - Texture coordinate sets: each texture reference samples the set its texCoord names, or the
+//   one its KHR_texture_transform's texCoord names when that is present (the extension's
+//   override), 0 or 1 (GltfTextureTransform::tex_coord). Sets 2 and above are not read: such a
+//   reference is a warning and samples TEXCOORD_0, as is a reference to TEXCOORD_1 on a
+//   primitive without it.
 // - Tangents: glTF's bitangent w * cross(N, T) points toward the image's top (decreasing glTF v),
 //   which is +v after the flip: a file's TANGENT is kept as is (orthonormalised against N), and
-//   missing tangents are computed by generate_mikktspace_tangents() on the flipped coordinates.
+//   missing tangents are computed by generate_mikktspace_tangents() on the flipped coordinates of
+//   the set the material's normal texture samples (without one, its anisotropy texture's, else
+//   TEXCOORD_0): the tangent frame is the normal texture's, as glTF's TANGENT is.
 // - Normal textures are OpenGL-convention (+Y toward the image's top), as leanfade's bake expects;
 //   their `scale` multiplies the X and Y of the decoded normal (glTF 2.0 §3.9.3).
 // - Base colour: factor in linear RGB(A); the texture is sRGB-encoded and is decoded to linear
@@ -46,16 +55,21 @@ struct GltfImage {
 // LEAN map as a KTX2 file beside the glTF, {"uri": "..."} (docs/gltf.md).
 inline constexpr const char* kGltfLeanMapExtension = "LEANFADE_lean_map";
 
-// KHR_texture_transform of a texture reference, in glTF's uv (v down): uv' = T R S uv with T
-// the offset, R the rotation (radians, counter-clockwise) and S the scale (the extension's
-// matrices). The identity when the reference has none.
+// Where a texture reference samples: its texture coordinate set and its KHR_texture_transform,
+// in glTF's uv (v down): uv' = T R S uv with T the offset, R the rotation (radians,
+// counter-clockwise) and S the scale (the extension's matrices). The identity when the reference
+// has none.
 struct GltfTextureTransform {
     glm::vec2 offset{0.0f};
     float rotation = 0.0f;
     glm::vec2 scale{1.0f};
+    // TEXCOORD_<tex_coord>, 0 or 1: the textureInfo's texCoord, overridden by the extension's
+    // texCoord when it has one (KHR_texture_transform); a set above 1 is read as 0 (warned).
+    int tex_coord = 0;
 };
 
-// The transform in leanfade's uv (v up, uv = (u, 1 - v) of glTF's) for a material's maps.
+// The transform in leanfade's uv (v up, uv = (u, 1 - v) of glTF's) for a material's maps, with
+// its set (UvTransform::set = tex_coord).
 UvTransform leanfade_uv_transform(const GltfTextureTransform& t);
 
 // A material's part that leanfade reads: what it shades (base colour, normal texture) and what
@@ -172,8 +186,10 @@ struct GltfLoadOptions {
 // (binary container, recognised by its magic bytes). External files are read only inside the
 // glTF's folder: an absolute URI, one with a scheme (http:) or one whose path leaves the folder
 // ("..") is refused. Supported: triangle lists, strips and fans; POSITION (float), NORMAL
-// (float; computed flat as the specification asks when absent), TANGENT (float), TEXCOORD_0
-// (float or normalised unsigned byte/short); indices of unsigned byte, short or int.
+// (float; computed flat as the specification asks when absent), TANGENT (float), TEXCOORD_0 and
+// TEXCOORD_1 (float or normalised unsigned byte/short); indices of unsigned byte, short or int.
+// A texture reference to a set above 1, or to TEXCOORD_1 on a primitive that lacks it, is a
+// warning (GltfScene::warnings) and samples TEXCOORD_0.
 // Throws leanfade::Error(path, cause) with a one-line cause for a missing, unreadable, truncated
 // or malformed file, an accessor or buffer view outside its buffer, an index out of range, a
 // value that is not finite, a node cycle, a URI outside the folder, or a limit exceeded.
@@ -207,9 +223,11 @@ GltfScene load_gltf_from_memory(const std::vector<std::uint8_t>& bytes, const st
 // against the full algorithm: a group is not split further into fans that do not share edges,
 // nor by an angle threshold; on smooth manifold meshes the results agree. A group with no usable
 // triangle (zero uv or position area) gets a unit vector orthogonal to N, w = +1.
-// Throws leanfade::Error(mesh.name, cause) for an index out of range or a count not a multiple
-// of 3. Normals must be unit length.
-void generate_mikktspace_tangents(Mesh& mesh);
+// `uv_set` names the texture coordinates the tangents follow: 0 Vertex::uv, 1 Vertex::uv1 (the
+// glTF normal texture's set); the other set is carried along unchanged.
+// Throws leanfade::Error(mesh.name, cause) for an index out of range, a count not a multiple
+// of 3 or a set other than 0 and 1. Normals must be unit length.
+void generate_mikktspace_tangents(Mesh& mesh, int uv_set = 0);
 
 // How make_render_scene and bake_normal_texture bake normal textures into LEAN maps.
 struct GltfBakeSettings {

@@ -48,12 +48,16 @@ constexpr std::array<int, kMapKindCount> filled_map_slots(int value) {
     return slots;
 }
 
-// An affine map of texture coordinates in leanfade's uv (v up): uv' = (dot(row0.xy, uv) +
-// row0.z, dot(row1.xy, uv) + row1.z); the identity by default (glTF KHR_texture_transform).
+// Where a map is sampled: a texture coordinate set of the mesh (Vertex::uv or Vertex::uv1, a
+// glTF texture reference's texCoord) and an affine map of it in leanfade's uv (v up): uv' =
+// (dot(row0.xy, uv) + row0.z, dot(row1.xy, uv) + row1.z); set 0 and the identity by default
+// (glTF KHR_texture_transform).
 struct UvTransform {
     glm::vec3 row0{1.0f, 0.0f, 0.0f};
     glm::vec3 row1{0.0f, 1.0f, 0.0f};
+    int set = 0;  // 0: Vertex::uv, 1: Vertex::uv1 (kUvSetCount sets)
 };
+inline constexpr int kUvSetCount = 2;
 
 struct Material {
     std::string name;
@@ -152,12 +156,13 @@ glm::ivec2 mixed_map_size(const Scene& scene, const Material& material);
 Bounds scene_bounds(const Scene& scene);
 
 // Throws leanfade::Error(setting, cause) for a scene the renderer cannot draw: no object, a
-// material or map index out of range, an object without triangles, an override that is not
-// finite (or a shininess <= 0), a transform that is not finite or not invertible, layers that
-// are not 2..kMaxLayers with valid weights, strengths, tilings and velocities, a cross-term
-// texture missing for a pair of "textures" layers, a weight map that is not 4-channel, a surface
-// map slot out of range, or a surface map whose levels do not follow its kind (channels, the
-// full chain of a Given kind, finite values; a roughness map's >= 0).
+// material or map index out of range, a texture coordinate set outside [0, kUvSetCount), an object
+// without triangles, an override that is not finite (or a shininess <= 0), a transform that is not
+// finite or not invertible, layers that are not 2..kMaxLayers with valid weights, strengths,
+// tilings and velocities, a cross-term texture missing for a pair of "textures" layers, a weight
+// map that is not 4-channel, a surface map slot out of range, or a surface map whose levels do not
+// follow its kind (channels, the full chain of a Given kind, finite values; a roughness map's
+// >= 0).
 void validate(const Scene& scene);
 
 }  // namespace leanfade::scene

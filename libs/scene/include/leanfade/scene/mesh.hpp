@@ -18,16 +18,23 @@
 
 namespace leanfade::scene {
 
-// One vertex: 12 tightly packed floats (48 bytes), standard layout, uploaded as is.
+// One vertex: 14 tightly packed floats (56 bytes), standard layout, uploaded as is (offsets 0,
+// 12, 24, 32 and 48).
 struct Vertex {
     glm::vec3 position;  // object space, world units
     glm::vec3 normal;    // object space, unit length, pointing out of the surface
-    glm::vec2 uv;        // texture coordinates (tiles of the bump texture; may exceed [0, 1])
-    glm::vec4 tangent;   // xyz: unit, orthogonal to normal, along +u; w = +-1 handedness so that
-                         // bitangent = w * cross(normal, tangent.xyz) points along +v
+    glm::vec2 uv;        // texture coordinates, set 0 (tiles of the bump texture; may exceed
+                         // [0, 1]); glTF's TEXCOORD_0
+    glm::vec4 tangent;   // xyz: unit, orthogonal to normal, along +u of the set the normal
+                         // texture uses (uv unless a glTF normal texture reads TEXCOORD_1);
+                         // w = +-1 handedness so that bitangent = w * cross(normal,
+                         // tangent.xyz) points along that set's +v
+    glm::vec2 uv1;       // texture coordinates, set 1: glTF's TEXCOORD_1 (UvTransform::set 1
+                         // samples it); a copy of uv for every mesh with one set
 };
 static_assert(std::is_standard_layout_v<Vertex>, "Vertex is uploaded to GL as raw floats");
-static_assert(sizeof(Vertex) == 12 * sizeof(float), "Vertex must be 12 tightly packed floats");
+static_assert(sizeof(Vertex) == 14 * sizeof(float), "Vertex must be 14 tightly packed floats");
+static_assert(offsetof(Vertex, uv1) == 12 * sizeof(float), "uv1 follows the tangent");
 
 // Axis-aligned bounding box in object space (world units).
 struct Bounds {
