@@ -433,7 +433,7 @@ TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflectio
         for (std::sregex_iterator it(text.begin(), text.end(), interface_variable), end; it != end;
              ++it)
             if ((*it)[1] == direction) mine.insert((*it)[3]);
-        EXPECT_EQ(mine.size(), 4u) << file;  // uv, light_t, view_t, eye_depth
+        EXPECT_EQ(mine.size(), 5u) << file;  // uv, light_t, view_t, eye_depth, uv1
         if (names.empty()) names = mine;
         EXPECT_EQ(mine, names) << file;
         // The reflection: OpenGL numbers (blocks below the SPIR-V offset), the blocks' layout.
