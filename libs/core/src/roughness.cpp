@@ -96,9 +96,14 @@ TexelRoughness texel_roughness(glm::vec2 mean, glm::vec3 second, double a0, bool
 // A value in [0, 1] as an 8-bit code, rounded as write_png rounds: lround(255 v), halves away
 // from zero. The scaled value is >= 0, exact in double, and + 0.5 in double rounds no tie up,
 // so truncation gives lround's result without a library call.
-std::uint8_t unorm8(float v) {
+// Branch-free (std::min / std::max of floats are single instructions), for loops the compiler
+// vectorises.
+inline std::int32_t unorm8_code(float v) {
     const float scaled = std::min(1.0f, std::max(0.0f, v)) * 255.0f;
-    return std::uint8_t(int(double(scaled) + 0.5));
+    return std::int32_t(double(scaled) + 0.5);
+}
+std::uint8_t unorm8(float v) {
+    return std::uint8_t(unorm8_code(v));
 }
 
 // R, B, A of the input metallic-roughness texture at every level (G unused): its MIP chain
@@ -309,13 +314,6 @@ void RoughnessTextureBuilder::add(const MomentRun& run) {
             if (aniso_out != nullptr) aniso_out[4 * i + c] = unorm8(v.anisotropy[c]);
         }
     }
-}
-
-// The 8-bit code of unorm8, branch-free (std::min / std::max of floats are single instructions),
-// for loops the compiler vectorises.
-inline std::int32_t unorm8_code(float v) {
-    const float scaled = std::min(1.0f, std::max(0.0f, v)) * 255.0f;
-    return std::int32_t(double(scaled) + 0.5);
 }
 
 // The metallic-roughness and normal texels of a run (no anisotropy): the arithmetic of
