@@ -7,7 +7,8 @@ foreach(var NM LIBRARIES)
     message(FATAL_ERROR "check_platform_calls.cmake needs -D${var}=...")
   endif()
 endforeach()
-set(linux_only madvise mmap mmap64 munmap posix_fallocate posix_fallocate64 syscall)
+set(linux_only madvise mmap mmap64 munmap posix_fallocate posix_fallocate64 syscall copy_file_range
+    ioctl)
 foreach(library IN LISTS LIBRARIES)
   execute_process(COMMAND ${NM} -u ${library} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                   ERROR_VARIABLE err)

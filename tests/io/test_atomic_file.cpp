@@ -226,6 +226,54 @@ TEST(AtomicFile, MapAndWriteDoNotMix) {
     expect_error([&] { mapped.map(4); }, folder + "/b", "map after commit");
 }
 
+TEST(AtomicFile, CopiedFileHasTheSourcesBytesAndReplacesTheOld) {
+    const std::string folder = scratch_folder();
+    const std::string source = folder + "/source.bin";
+    const std::string path = folder + "/copy.bin";
+    // Larger than the read-and-write pieces (1 MiB), not a multiple of them, every byte value.
+    std::vector<std::uint8_t> bytes((3u << 20) + 12345);
+    for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = std::uint8_t((i * 2654435761u) >> 13);
+    write_bytes(source, bytes);
+    for (Durability durability : {Durability::Rename, Durability::Flush}) {
+        write_bytes(path, bytes_of("old contents"));
+        AtomicFile file(path, durability);
+        file.copy_from(source, bytes.size());
+        EXPECT_EQ(read_bytes(path), bytes_of("old contents")) << "not replaced before commit";
+        file.commit();
+        EXPECT_EQ(read_bytes(path), bytes);
+        EXPECT_EQ(folder_entries(folder), (std::vector<std::string>{"copy.bin", "source.bin"}));
+    }
+    // An empty source gives an empty file.
+    write_bytes(folder + "/empty", {});
+    AtomicFile empty(folder + "/empty.copy");
+    empty.copy_from(folder + "/empty", 0);
+    empty.commit();
+    EXPECT_TRUE(read_bytes(folder + "/empty.copy").empty());
+    EXPECT_EQ(read_bytes(source), bytes) << "the source is not modified";
+}
+
+TEST(AtomicFile, CopyFromRefusesAWrongSizeAMissingSourceAndAFolder) {
+    const std::string folder = scratch_folder();
+    const std::string source = folder + "/source.bin";
+    write_bytes(source, bytes_of("twelve bytes"));
+    {
+        AtomicFile file(folder + "/a");
+        expect_error([&] { file.copy_from(source, 13); }, source, "holds 12 bytes, not 13");
+        expect_error([&] { file.copy_from(folder + "/missing", 1); }, folder + "/missing", "cannot open");
+        expect_error([&] { file.copy_from(folder, 0); }, folder, "is not a regular file");
+        // Nothing was copied: the file can still be written.
+        file.write(bytes_of("x"));
+        expect_error([&] { file.copy_from(source, 12); }, folder + "/a", "copy into a file already written");
+        file.commit();
+        expect_error([&] { file.copy_from(source, 12); }, folder + "/a", "copy after commit");
+    }
+    EXPECT_EQ(read_bytes(folder + "/a"), bytes_of("x"));
+    // A symbolic link is not followed.
+    std::filesystem::create_symlink(source, folder + "/link");
+    AtomicFile linked(folder + "/b");
+    expect_error([&] { linked.copy_from(folder + "/link", 12); }, folder + "/link", "cannot open");
+}
+
 TEST(AtomicFile, Ktx2BytesDoNotDependOnThreadsOrDurability) {
     const std::string folder = scratch_folder();
     PackedLeanMap map;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
@@ -324,6 +325,45 @@ TEST(LeanMapCacheBounds, EntriesAreVerifiedAgainstTheirKey) {
     EXPECT_FALSE(cached);
     bake_normal_texture(scene, 0, 1.0f, settings, &cached);
     EXPECT_TRUE(cached);
+}
+
+TEST(LeanMapCacheBounds, FileEntriesAreCopiedOnlyWhenWholeAndOfTheirSize) {
+    namespace fs = std::filesystem;
+    const fs::path folder = test::fresh_test_folder("gltf_hostile", "cache_copy");
+    const LeanMapCache cache((folder / "cache").string());
+    const std::string source = (folder / "made.bin").string();
+    const std::string text = "the bytes of an output";
+    { std::ofstream(source, std::ios::binary) << text; }
+    const std::string key = lean_cache_key({1, 2, 3}, "copy test");
+    EXPECT_EQ(cache.store_file_copy(key, ".out.bin", source, text.size()), "");
+    const auto copy_to = [&](const std::string& suffix, std::uint64_t size) {
+        const std::string out = (folder / "copy.bin").string();
+        fs::remove(out);
+        io::AtomicFile file(out);
+        if (!cache.copy_file_to(key, suffix, size, file)) return std::optional<std::string>{};
+        file.commit();
+        std::ifstream in(out, std::ios::binary);
+        return std::optional<std::string>(std::string(std::istreambuf_iterator<char>(in), {}));
+    };
+    EXPECT_EQ(copy_to(".out.bin", text.size()), text);
+    EXPECT_EQ(cache.find_file(key, ".out.bin"), std::vector<std::uint8_t>(text.begin(), text.end()));
+    // Another size than the caller expects (cut short, or another entry's), missing, an unsafe
+    // suffix: not copied, and the output is left as it was.
+    EXPECT_FALSE(copy_to(".out.bin", text.size() + 1).has_value());
+    EXPECT_FALSE(copy_to(".other.bin", text.size()).has_value());
+    EXPECT_FALSE(copy_to("/../x", text.size()).has_value());
+    EXPECT_NE(cache.store_file_copy(key, "/../x", source, text.size()), "");
+    // A source of another size than said is not stored.
+    EXPECT_NE(cache.store_file_copy(key, ".short.bin", source, text.size() + 5), "");
+    EXPECT_FALSE(copy_to(".short.bin", text.size() + 5).has_value());
+    // A symbolic link in the cache is not followed.
+    fs::create_symlink(source, folder / "cache" / (key + ".link.bin"));
+    EXPECT_FALSE(copy_to(".link.bin", text.size()).has_value());
+    // A disabled cache copies and stores nothing.
+    const LeanMapCache disabled("");
+    io::AtomicFile file((folder / "never.bin").string());
+    EXPECT_FALSE(disabled.copy_file_to(key, ".out.bin", text.size(), file));
+    EXPECT_EQ(disabled.store_file_copy(key, ".out.bin", source, text.size()), "");
 }
 
 TEST(LeanMapCacheBounds, EntriesKeepTheMapsMetadata) {

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 using test::GltfStorage;
 using test::GltfTestFile;
 
-fs::path scratch(const std::string& name) { return test::fresh_test_folder("gltf_scene", name); }
+fs::path gltf_scene_folder(const std::string& name) { return test::fresh_test_folder("gltf_scene", name); }
 
 // A uniform normal map of the unit normal n (encoded 0.5 n + 0.5), 8x8 texels, 8-bit RGB.
 std::vector<std::uint8_t> uniform_normal_png(glm::vec3 n) {
@@ -64,7 +64,7 @@ glm::vec3 shading_normal(const Scene& scene, int object) {
 }
 
 TEST(GltfScene, NormalTextureTiltsTowardItsImageDirections) {
-    const fs::path dir = scratch("tilt");
+    const fs::path dir = gltf_scene_folder("tilt");
     GltfBakeSettings settings;  // no cache
     // Tilted toward +X of the image (red up): toward +u, the quad's +x.
     {
@@ -87,7 +87,7 @@ TEST(GltfScene, NormalTextureTiltsTowardItsImageDirections) {
 }
 
 TEST(GltfScene, NormalScaleMultipliesTheSlopes) {
-    const fs::path dir = scratch("scale");
+    const fs::path dir = gltf_scene_folder("scale");
     GltfBakeSettings settings;
     const glm::vec3 n(0.3f, -0.2f, 0.9f);
     const Scene one = make_render_scene(load_textured(dir, n, 1.0f), settings);
@@ -101,7 +101,7 @@ TEST(GltfScene, NormalScaleMultipliesTheSlopes) {
 }
 
 TEST(GltfScene, MaterialsGetBaseColourFactorAndLinearTexture) {
-    const fs::path dir = scratch("colour");
+    const fs::path dir = gltf_scene_folder("colour");
     const Scene scene = make_render_scene(load_textured(dir, {0, 0, 1}), GltfBakeSettings{});
     ASSERT_EQ(scene.materials.size(), 2u);
     ASSERT_EQ(scene.objects.size(), 2u);
@@ -125,7 +125,7 @@ TEST(GltfScene, MaterialsGetBaseColourFactorAndLinearTexture) {
 // The metallic-roughness part: Cook-Torrance's base roughness map per material, α0² = r⁴ with r
 // the roughnessFactor times the texture's G (filtered as the moments), or the factor alone.
 TEST(GltfScene, RoughnessFactorAndTextureBecomeTheBaseRoughnessMap) {
-    const fs::path dir = scratch("roughness");
+    const fs::path dir = gltf_scene_folder("roughness");
     test::GltfTestFile file;
     std::vector<float> mr;
     for (int t = 0; t < 4; ++t) mr.insert(mr.end(), {1.0f, t < 2 ? 0.2f : 0.6f, 0.5f});
@@ -159,7 +159,7 @@ TEST(GltfScene, RoughnessFactorAndTextureBecomeTheBaseRoughnessMap) {
 // emission (factor, texture sRGB decoded) and KHR_materials_anisotropy (strength, rotation,
 // texture kept linear), each a map of its kind with its own texture transform.
 TEST(GltfScene, MetalnessOcclusionEmissionAndAnisotropyBecomeMapsOfTheirKinds) {
-    const fs::path dir = scratch("material_maps");
+    const fs::path dir = gltf_scene_folder("material_maps");
     test::GltfTestFile file;
     // One 2 x 1 RGB image for every texture: (0.2, 0.4, 0.6) and (1, 0.5, 0).
     file.images = {test::png_bytes(2, 1, 3, {0.2f, 0.4f, 0.6f, 1.0f, 0.5f, 0.0f})};
@@ -235,7 +235,7 @@ TEST(GltfScene, MetalnessOcclusionEmissionAndAnisotropyBecomeMapsOfTheirKinds) {
 
 // Values outside the specification's ranges are errors naming the material and the value.
 TEST(GltfScene, MaterialFactorsOutsideTheirRangesAreRefused) {
-    const fs::path dir = scratch("material_ranges");
+    const fs::path dir = gltf_scene_folder("material_ranges");
     const struct {
         nlohmann::json patch;
         const char* named;
@@ -278,7 +278,7 @@ bool same_map(const PackedLeanMap& a, const PackedLeanMap& b) {
 }
 
 TEST(GltfScene, SecondLoadReadsTheCacheAndCorruptEntriesAreRebaked) {
-    const fs::path dir = scratch("cache");
+    const fs::path dir = gltf_scene_folder("cache");
     GltfBakeSettings settings;
     settings.cache_folder = (dir / "cache").string();
     const GltfScene gltf = load_textured(dir, {0.2f, 0.1f, 0.95f});
@@ -331,7 +331,7 @@ TEST(GltfScene, SecondLoadReadsTheCacheAndCorruptEntriesAreRebaked) {
 }
 
 TEST(GltfScene, BrokenImagesAreOneLineErrors) {
-    const fs::path dir = scratch("broken");
+    const fs::path dir = gltf_scene_folder("broken");
     GltfTestFile file = textured_file({0, 0, 1});
     file.images[0].resize(file.images[0].size() / 2);  // truncated PNG
     const std::string path = (dir / "broken.glb").string();
@@ -366,6 +366,10 @@ TEST(LeanMapCache, Sha256MatchesTheStandardsTestVectors) {
     const std::string two = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
     EXPECT_EQ(sha256_hex(two.data(), two.size()),
               "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    // A message of many blocks: the FIPS 180-4 example of a million 'a'.
+    const std::string million(1000000, 'a');
+    EXPECT_EQ(sha256_hex(million.data(), million.size()),
+              "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
     // Keys differ with the settings and the bytes.
     EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 3}, "b"));
     EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 4}, "a"));

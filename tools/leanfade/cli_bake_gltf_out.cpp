@@ -245,15 +245,27 @@ struct EngineTextures {
     float anisotropy_ratio = 1.0f;  // the whole map's covariance, larger axis over smaller
 };
 
-constexpr const char* kEngineFileSuffixes[] = {".roughness.ktx2", ".roughness.png",
-                                               ".normal.ktx2",    ".normal.png",
-                                               ".anisotropy.ktx2", ".anisotropy.png"};
-constexpr const char* kEngineManifestSuffix = ".engine.json";
+// What a cached material's outputs are: the sizes of its files (in kOutputFileSuffixes order:
+// the LEAN map, then EngineTextures::files) and what the summary reports.
+struct CachedOutputs {
+    std::vector<std::uint64_t> bytes;
+    bool anisotropic = false;
+    float anisotropy_ratio = 1.0f;
+    int levels = 0, width = 0, height = 0;
+};
 
-// The cache key of a material's engine textures: its normal texture's and metallic-roughness
-// texture's bytes, the normal scale, the roughness factor, the storage and this code's version.
-std::string engine_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
-                             Storage storage) {
+constexpr const char* kOutputFileSuffixes[] = {".lean.ktx2",      ".roughness.ktx2",
+                                               ".roughness.png",  ".normal.ktx2",
+                                               ".normal.png",     ".anisotropy.ktx2",
+                                               ".anisotropy.png"};
+constexpr std::size_t kOutputFileCount = std::size(kOutputFileSuffixes);
+constexpr const char* kOutputManifestSuffix = ".gltf-out.json";
+
+// The cache key of a material's outputs: its normal texture's and metallic-roughness texture's
+// bytes, the normal scale, the roughness factor, the bake settings that change bytes (storage,
+// strict normals) and the versions of leanfade and of its bake (lean_cache_key).
+std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
+                             const scene::GltfBakeSettings& settings) {
     std::vector<std::uint8_t> source;
     const auto append = [&](const std::vector<std::uint8_t>& bytes) {
         const std::string size = std::to_string(bytes.size()) + ":";
@@ -266,42 +278,51 @@ std::string engine_cache_key(const scene::GltfScene& gltf, const scene::GltfMate
     std::uint32_t scale = 0, roughness = 0;
     std::memcpy(&scale, &m.normal_scale, 4);
     std::memcpy(&roughness, &m.roughness_factor, 4);
-    return scene::lean_cache_key(source, "gltf engine textures v1 scale=" + std::to_string(scale) +
-                                             " roughness=" + std::to_string(roughness) +
-                                             " storage=" + to_string(storage) + " version=" +
-                                             std::to_string(scene::kLeanBakeVersion));
+    return scene::lean_cache_key(
+        source, "gltf out v2 scale=" + std::to_string(scale) + " roughness=" +
+                    std::to_string(roughness) + " storage=" + to_string(settings.storage) +
+                    " strict=" + std::to_string(int(settings.strict_normals)));
 }
 
-std::optional<EngineTextures> find_engine_textures(const scene::LeanMapCache& cache,
-                                                   const std::string& key) {
-    const auto manifest = cache.find_file(key, kEngineManifestSuffix);
+std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cache,
+                                                 const std::string& key) {
+    const auto manifest = cache.find_file(key, kOutputManifestSuffix);
     if (!manifest) return std::nullopt;
-    EngineTextures t;
+    CachedOutputs c;
     try {
         const json j = json::parse(manifest->begin(), manifest->end());
-        t.anisotropic = j.at("anisotropic").get<bool>();
-        t.anisotropy_ratio = j.at("anisotropy_ratio").get<float>();
+        c.bytes = j.at("bytes").get<std::vector<std::uint64_t>>();
+        c.anisotropic = j.at("anisotropic").get<bool>();
+        c.anisotropy_ratio = j.at("anisotropy_ratio").get<float>();
+        c.levels = j.at("levels").get<int>();
+        c.width = j.at("width").get<int>();
+        c.height = j.at("height").get<int>();
     } catch (const json::exception&) {
         return std::nullopt;
     }
-    for (int i = 0; i < (t.anisotropic ? 6 : 4); ++i) {
-        auto bytes = cache.find_file(key, kEngineFileSuffixes[i]);
-        if (!bytes) return std::nullopt;
-        t.files.push_back(std::move(*bytes));
-    }
-    return t;
+    if (c.bytes.size() != (c.anisotropic ? kOutputFileCount : kOutputFileCount - 2)) return std::nullopt;
+    return c;
 }
 
-// Every file first, the manifest last: an entry without its manifest is not found.
-std::string store_engine_textures(const scene::LeanMapCache& cache, const std::string& key,
-                                  const EngineTextures& t) {
+// Every file first, the manifest last: an entry without its manifest is not found. `lean_file`:
+// the LEAN map as written (copied into the cache, not read back).
+std::string store_outputs(const scene::LeanMapCache& cache, const std::string& key,
+                          const std::string& lean_file, const EngineTextures& t,
+                          const CachedOutputs& outputs) {
+    std::string warning = cache.store_file_copy(key, kOutputFileSuffixes[0], lean_file, outputs.bytes[0]);
+    if (!warning.empty()) return warning;
     for (std::size_t i = 0; i < t.files.size(); ++i) {
-        const std::string warning = cache.store_file(key, kEngineFileSuffixes[i], t.files[i]);
+        warning = cache.store_file(key, kOutputFileSuffixes[i + 1], t.files[i]);
         if (!warning.empty()) return warning;
     }
-    const std::string manifest =
-        json{{"anisotropic", t.anisotropic}, {"anisotropy_ratio", t.anisotropy_ratio}}.dump();
-    return cache.store_file(key, kEngineManifestSuffix,
+    const std::string manifest = json{{"bytes", outputs.bytes},
+                                      {"anisotropic", outputs.anisotropic},
+                                      {"anisotropy_ratio", outputs.anisotropy_ratio},
+                                      {"levels", outputs.levels},
+                                      {"width", outputs.width},
+                                      {"height", outputs.height}}
+                                     .dump();
+    return cache.store_file(key, kOutputManifestSuffix,
                             std::vector<std::uint8_t>(manifest.begin(), manifest.end()));
 }
 
@@ -430,6 +451,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     nlohmann::json summaries = nlohmann::json::array();
     const bool progress = stderr_is_terminal();
     const scene::LeanMapCache cache(settings.cache_folder);
+    std::map<std::string, std::string> staged_paths;  // an output's file name -> its temporary
 
     // One trilinear, repeating sampler for the filtered textures (every level is used).
     json& samplers = root["samplers"];
@@ -446,39 +468,59 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                 std::fprintf(stderr, "\r[%zu/%zu] filtering %s...\033[K", j + 1, jobs.size(),
                              terminal_text(m.name).c_str());
             const auto start = std::chrono::steady_clock::now();
-            const PackedLeanMap packed =
-                scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
-            io::write_ktx2(outputs.stage(beside(f.lean)), packed, write_options);
-            // The engine textures, from the cache when an earlier run made them for the same
-            // textures and factors.
-            const std::string cache_key = engine_cache_key(gltf, m, settings.storage);
-            std::optional<EngineTextures> cached = find_engine_textures(cache, cache_key);
-            const EngineTextures textures =
-                cached ? std::move(*cached)
-                       : make_engine_textures(gltf, m, packed, read_options, args.threads, writer,
-                                              args.input);
-            if (!cached) {
-                const std::string warning = store_engine_textures(cache, cache_key, textures);
+            const std::string* const names[kOutputFileCount] = {
+                &f.lean,   &f.roughness,  &f.roughness_png, &f.normal,
+                &f.normal_png, &f.anisotropy, &f.anisotropy_png};
+            const auto staged = [&](std::size_t file) -> const std::string& {
+                auto it = staged_paths.find(*names[file]);
+                if (it == staged_paths.end())
+                    it = staged_paths.emplace(*names[file], outputs.stage(beside(*names[file]))).first;
+                return it->second;
+            };
+            // The files of an earlier run for the same textures and factors, copied from the
+            // cache (in the kernel, without reading them); anything missing or of another size
+            // and the material is filtered again.
+            const std::string cache_key = output_cache_key(gltf, m, settings);
+            std::optional<CachedOutputs> result = find_cached_outputs(cache, cache_key);
+            if (result) {
+                try {
+                    for (std::size_t i = 0; result && i < result->bytes.size(); ++i) {
+                        io::AtomicFile file(staged(i), durability);
+                        if (!cache.copy_file_to(cache_key, kOutputFileSuffixes[i], result->bytes[i], file))
+                            result.reset();
+                        else
+                            file.commit();
+                    }
+                } catch (const Error&) {
+                    result.reset();
+                }
+            }
+            const bool from_cache = result.has_value();
+            if (!from_cache) {
+                const PackedLeanMap packed =
+                    scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
+                io::write_ktx2(staged(0), packed, write_options);
+                const EngineTextures textures = make_engine_textures(
+                    gltf, m, packed, read_options, args.threads, writer, args.input);
+                result.emplace();
+                result->bytes.push_back(fs::file_size(staged(0)));
+                for (std::size_t i = 0; i < textures.files.size(); ++i) {
+                    io::AtomicFile file(staged(i + 1), durability);
+                    file.write(textures.files[i]);
+                    file.commit();
+                    result->bytes.push_back(textures.files[i].size());
+                }
+                result->anisotropic = textures.anisotropic;
+                result->anisotropy_ratio = textures.anisotropy_ratio;
+                result->levels = int(packed.levels.size());
+                result->width = packed.levels.front().width;
+                result->height = packed.levels.front().height;
+                const std::string warning = store_outputs(cache, cache_key, staged(0), textures, *result);
                 if (!warning.empty()) print_warnings(args.input, {"cache: " + warning});
             }
-            const bool anisotropic = textures.anisotropic;
-            const float anisotropy = textures.anisotropy_ratio;
-            const int w = packed.levels.front().width, h = packed.levels.front().height;
-            const auto write_file = [&](const std::vector<std::uint8_t>& bytes, const std::string& name) {
-                io::AtomicFile file(outputs.stage(beside(name)), durability);
-                file.write(bytes.data(), bytes.size());
-                file.commit();
-                written.push_back(beside(name));
-            };
-            written.push_back(beside(f.lean));
-            write_file(textures.files[0], f.roughness);
-            write_file(textures.files[1], f.roughness_png);
-            write_file(textures.files[2], f.normal);
-            write_file(textures.files[3], f.normal_png);
-            if (anisotropic) {
-                write_file(textures.files[4], f.anisotropy);
-                write_file(textures.files[5], f.anisotropy_png);
-            }
+            for (std::size_t i = 0; i < result->bytes.size(); ++i) written.push_back(beside(*names[i]));
+            const bool anisotropic = result->anisotropic;
+            const float anisotropy = result->anisotropy_ratio;
 
             // The material, pointed at the filtered textures.
             json& material = root["materials"][std::size_t(m.gltf_index)];
@@ -513,10 +555,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                  {"normal", beside(f.normal)},
                                  {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
                                  {"anisotropy_ratio", anisotropy},
-                                 {"textures_from_cache", cached.has_value()},
-                                 {"levels", packed.levels.size()},
-                                 {"width", w},
-                                 {"height", h},
+                                 {"textures_from_cache", from_cache},
+                                 {"levels", result->levels},
+                                 {"width", result->width},
+                                 {"height", result->height},
                                  {"seconds", seconds}});
         }
         if (progress) std::fprintf(stderr, "\r\033[K");
@@ -539,9 +581,15 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             written.insert(written.begin() + 1, beside(bin_name));
         }
         for (const CopiedFile& c : copies) {
-            const std::string bytes = read_regular_file(c.source, kMaxGltfFileBytes, "glTF file");
+            // Copied in the kernel (shared blocks where the file system has them).
+            std::error_code error;
+            const std::uintmax_t size = fs::file_size(c.source, error);
+            if (error) throw Error(c.source, "cannot read its size (" + error.message() + ")");
+            if (size > kMaxGltfFileBytes)
+                throw Error(c.source, "a glTF file is at most " + std::to_string(kMaxGltfFileBytes) +
+                                          " bytes, it has " + std::to_string(size));
             io::AtomicFile file(outputs.stage(beside(c.target)), durability);
-            file.write(bytes.data(), bytes.size());
+            file.copy_from(c.source, size);
             file.commit();
             written.push_back(beside(c.target));
         }

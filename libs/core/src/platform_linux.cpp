@@ -1,13 +1,19 @@
 // The platform layer on Linux (leanfade/core/platform.hpp): transparent huge pages, output files
-// mapped into memory, folder trees removed with getdents64.
+// mapped into memory, folder trees removed with getdents64, file copies in the kernel.
 #include "leanfade/core/platform.hpp"
 
 #include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+
+#include "platform_common.hpp"
 
 namespace leanfade::platform {
 namespace {
@@ -88,6 +94,31 @@ int finish_output_mapping(int, const OutputMapping& mapping, std::size_t size, b
 
 bool removes_folder_trees_on_signals() noexcept {
     return true;
+}
+
+int copy_file_contents(int from, int to, std::uint64_t size) noexcept {
+    struct stat source {};
+    if (::fstat(from, &source) != 0) return errno;
+    if (std::uint64_t(source.st_size) < size) return EIO;
+    // The whole file with shared blocks (copy-on-write) where the file system has them.
+    if (std::uint64_t(source.st_size) == size && ::ioctl(to, FICLONE, from) == 0) return 0;
+    loff_t in = 0, out = 0;
+    std::uint64_t left = size;
+    while (left > 0) {
+        const ssize_t copied = ::copy_file_range(from, &in, to, &out, std::size_t(std::min<std::uint64_t>(left, 1u << 30)), 0);
+        if (copied < 0) {
+            if (errno == EINTR) continue;
+            // Not between these files (another file system on old kernels, a special file):
+            // what is left goes through read and write.
+            if (left == size && (errno == EXDEV || errno == EINVAL || errno == ENOSYS ||
+                                 errno == EOPNOTSUPP))
+                return copy_with_read_and_write(from, to, size);
+            return errno;
+        }
+        if (copied == 0) return EIO;  // the source ended early
+        left -= std::uint64_t(copied);
+    }
+    return 0;
 }
 
 void remove_tree_signal_safe(const char* path, int depth) noexcept {

@@ -2,6 +2,8 @@
 // standard C and C++ only, plus POSIX.1 write, unlink and rmdir.
 #include "leanfade/core/platform.hpp"
 
+#include "platform_common.hpp"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -44,6 +46,10 @@ int finish_output_mapping(int descriptor, const OutputMapping& mapping, std::siz
 
 bool removes_folder_trees_on_signals() noexcept {
     return false;
+}
+
+int copy_file_contents(int from, int to, std::uint64_t size) noexcept {
+    return copy_with_read_and_write(from, to, size);
 }
 
 void remove_tree_signal_safe(const char* path, int) noexcept {

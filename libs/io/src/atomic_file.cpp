@@ -108,6 +108,28 @@ std::uint8_t* AtomicFile::map(std::size_t size) {
     return mapping_;
 }
 
+void AtomicFile::copy_from(const std::string& source, std::uint64_t size) {
+    if (descriptor_ < 0) throw Error(path_, "copy after commit");
+    if (mapping_ != nullptr || written_) throw Error(path_, "copy into a file already written");
+    const int from = ::open(source.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (from < 0) throw Error(source, "cannot open (" + errno_text(errno) + ")");
+    struct stat status {};
+    const bool stated = ::fstat(from, &status) == 0;
+    const int stat_error = errno;
+    if (!stated || !S_ISREG(status.st_mode) || std::uint64_t(status.st_size) != size) {
+        ::close(from);
+        if (!stated) throw Error(source, "cannot read its size (" + errno_text(stat_error) + ")");
+        if (!S_ISREG(status.st_mode)) throw Error(source, "is not a regular file");
+        throw Error(source, "holds " + std::to_string(status.st_size) + " bytes, not " +
+                                std::to_string(size));
+    }
+    written_ = true;
+    const int error_number = platform::copy_file_contents(from, descriptor_, size);
+    ::close(from);
+    if (error_number != 0)
+        throw Error(path_, "cannot copy " + source + " (" + errno_text(error_number) + ")");
+}
+
 void AtomicFile::commit() {
     if (descriptor_ < 0) throw Error(path_, "commit called twice");
     // Linux: the mapped pages are the file's page cache, the fsync covers them; portable: the

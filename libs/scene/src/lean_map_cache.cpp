@@ -1,9 +1,8 @@
-// The LEAN-map cache (leanfade/scene/lean_map_cache.hpp) and its SHA-256 key.
+// The LEAN-map cache (leanfade/scene/lean_map_cache.hpp) and its SHA-256 key (OpenSSL libcrypto).
 #include "leanfade/scene/lean_map_cache.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <array>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -14,105 +13,47 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 
+#include <openssl/evp.h>
+
 namespace leanfade::scene {
 namespace {
 
 namespace fs = std::filesystem;
 
-// SHA-256 as FIPS 180-4 §6.2 describes it: 64-byte blocks, a message schedule of 64 words, 64
-// rounds with the constants K (the first 32 bits of the fractional parts of the cube roots of
-// the first 64 primes), the length in bits appended big-endian after a 1 bit and zero padding.
+// SHA-256 (FIPS 180-4) through OpenSSL's libcrypto, which uses the processor's SHA extensions
+// where there are some: the key of a cached bake hashes the whole encoded texture, tens of MB.
 class Sha256 {
   public:
+    Sha256() : context_(EVP_MD_CTX_new()) {
+        if (context_ == nullptr || EVP_DigestInit_ex(context_, EVP_sha256(), nullptr) != 1)
+            fail("cannot start a SHA-256 digest");
+    }
+    ~Sha256() { EVP_MD_CTX_free(context_); }
+    Sha256(const Sha256&) = delete;
+    Sha256& operator=(const Sha256&) = delete;
+
     void update(const void* data, std::size_t size) {
-        const auto* bytes = static_cast<const std::uint8_t*>(data);
-        length_ += size;
-        while (size > 0) {
-            const std::size_t take = std::min(size, block_.size() - used_);
-            std::memcpy(block_.data() + used_, bytes, take);
-            used_ += take;
-            bytes += take;
-            size -= take;
-            if (used_ == block_.size()) {
-                compress();
-                used_ = 0;
-            }
-        }
+        if (size > 0 && EVP_DigestUpdate(context_, data, size) != 1) fail("SHA-256 digest failed");
     }
 
     std::string hex() {
-        const std::uint64_t bits = length_ * 8;
-        const std::uint8_t one = 0x80;
-        update(&one, 1);
-        const std::uint8_t zero = 0;
-        while (used_ != 56) update(&zero, 1);
-        std::uint8_t tail[8];
-        for (int i = 0; i < 8; ++i) tail[i] = std::uint8_t(bits >> (56 - 8 * i));
-        update(tail, 8);
+        unsigned char digest[EVP_MAX_MD_SIZE];
+        unsigned int length = 0;
+        if (EVP_DigestFinal_ex(context_, digest, &length) != 1 || length != 32)
+            fail("SHA-256 digest failed");
         static const char* digits = "0123456789abcdef";
         std::string out;
-        for (std::uint32_t word : state_)
-            for (int shift = 28; shift >= 0; shift -= 4) out += digits[(word >> shift) & 15];
+        for (unsigned int i = 0; i < length; ++i) {
+            out += digits[digest[i] >> 4];
+            out += digits[digest[i] & 15];
+        }
         return out;
     }
 
   private:
-    static std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+    [[noreturn]] static void fail(const char* what) { throw Error("libcrypto", what); }
 
-    void compress() {
-        static constexpr std::uint32_t k[64] = {
-            0x428a2f98, 0x71374491, 0xb5c0fbcf, 0xe9b5dba5, 0x3956c25b, 0x59f111f1, 0x923f82a4,
-            0xab1c5ed5, 0xd807aa98, 0x12835b01, 0x243185be, 0x550c7dc3, 0x72be5d74, 0x80deb1fe,
-            0x9bdc06a7, 0xc19bf174, 0xe49b69c1, 0xefbe4786, 0x0fc19dc6, 0x240ca1cc, 0x2de92c6f,
-            0x4a7484aa, 0x5cb0a9dc, 0x76f988da, 0x983e5152, 0xa831c66d, 0xb00327c8, 0xbf597fc7,
-            0xc6e00bf3, 0xd5a79147, 0x06ca6351, 0x14292967, 0x27b70a85, 0x2e1b2138, 0x4d2c6dfc,
-            0x53380d13, 0x650a7354, 0x766a0abb, 0x81c2c92e, 0x92722c85, 0xa2bfe8a1, 0xa81a664b,
-            0xc24b8b70, 0xc76c51a3, 0xd192e819, 0xd6990624, 0xf40e3585, 0x106aa070, 0x19a4c116,
-            0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
-            0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7,
-            0xc67178f2};
-        std::uint32_t w[64];
-        for (int i = 0; i < 16; ++i)
-            w[i] = std::uint32_t(block_[4 * i]) << 24 | std::uint32_t(block_[4 * i + 1]) << 16 |
-                   std::uint32_t(block_[4 * i + 2]) << 8 | std::uint32_t(block_[4 * i + 3]);
-        for (int i = 16; i < 64; ++i) {
-            const std::uint32_t s0 = rotr(w[i - 15], 7) ^ rotr(w[i - 15], 18) ^ (w[i - 15] >> 3);
-            const std::uint32_t s1 = rotr(w[i - 2], 17) ^ rotr(w[i - 2], 19) ^ (w[i - 2] >> 10);
-            w[i] = w[i - 16] + s0 + w[i - 7] + s1;
-        }
-        std::uint32_t a = state_[0], b = state_[1], c = state_[2], d = state_[3];
-        std::uint32_t e = state_[4], f = state_[5], g = state_[6], h = state_[7];
-        for (int i = 0; i < 64; ++i) {
-            const std::uint32_t s1 = rotr(e, 6) ^ rotr(e, 11) ^ rotr(e, 25);
-            const std::uint32_t choice = (e & f) ^ (~e & g);
-            const std::uint32_t t1 = h + s1 + choice + k[i] + w[i];
-            const std::uint32_t s0 = rotr(a, 2) ^ rotr(a, 13) ^ rotr(a, 22);
-            const std::uint32_t majority = (a & b) ^ (a & c) ^ (b & c);
-            const std::uint32_t t2 = s0 + majority;
-            h = g;
-            g = f;
-            f = e;
-            e = d + t1;
-            d = c;
-            c = b;
-            b = a;
-            a = t1 + t2;
-        }
-        state_[0] += a;
-        state_[1] += b;
-        state_[2] += c;
-        state_[3] += d;
-        state_[4] += e;
-        state_[5] += f;
-        state_[6] += g;
-        state_[7] += h;
-    }
-
-    std::array<std::uint32_t, 8> state_{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a,
-                                        0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
-    std::array<std::uint8_t, 64> block_{};
-    std::size_t used_ = 0;
-    std::uint64_t length_ = 0;
+    EVP_MD_CTX* context_;
 };
 
 }  // namespace
@@ -234,6 +175,42 @@ std::string LeanMapCache::store_file(const std::string& key, const std::string& 
         if (error) return folder_ + ": " + error.message();
         io::AtomicFile file(path);
         file.write(bytes.data(), bytes.size());
+        file.commit();
+        clean(path);
+        return {};
+    } catch (const Error& e) {
+        return e.what();
+    }
+}
+
+bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffix,
+                                std::uint64_t size, io::AtomicFile& output) const {
+    if (!enabled() || !safe_suffix(suffix)) return false;
+    if (!cleaned_) {
+        cleaned_ = true;
+        clean({});
+    }
+    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(path, error);
+    if (error || !fs::is_regular_file(status)) return false;
+    const std::uintmax_t bytes = fs::file_size(path, error);
+    if (error || bytes != size) return false;
+    output.copy_from(path, size);
+    return true;
+}
+
+std::string LeanMapCache::store_file_copy(const std::string& key, const std::string& suffix,
+                                          const std::string& source, std::uint64_t size) const {
+    if (!enabled()) return {};
+    if (!safe_suffix(suffix)) return "cache entry suffix '" + suffix + "' is not a plain name";
+    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    try {
+        std::error_code error;
+        fs::create_directories(folder_, error);
+        if (error) return folder_ + ": " + error.message();
+        io::AtomicFile file(path);
+        file.copy_from(source, size);
         file.commit();
         clean(path);
         return {};

@@ -3,7 +3,8 @@
 // each with a portable fallback. The build compiles one implementation (README, "Platforms"):
 //   src/platform_linux.cpp     Linux: madvise (transparent huge pages), posix_fallocate + mmap
 //                              (mapped output files), getdents64 (removing a folder tree from a
-//                              signal handler);
+//                              signal handler), FICLONE + copy_file_range (file copies in the
+//                              kernel, shared blocks where the file system has them);
 //   src/platform_portable.cpp  any other system, or Linux with -DLEANFADE_PORTABLE=ON: ordinary
 //                              allocation, memory buffers written with ordinary writes, and
 //                              no folder listing in a signal handler.
@@ -40,6 +41,12 @@ int finish_output_mapping(int descriptor, const OutputMapping& mapping, std::siz
 // Whether remove_tree_signal_safe can remove a folder's contents (Linux) or only an empty folder
 // (portable: listing a folder is not async-signal-safe there).
 bool removes_folder_trees_on_signals() noexcept;
+// Copies the first `size` bytes of the file open for reading as `from` (at offset 0) to the
+// empty file open for writing as `to`, which ends up with exactly those bytes. Linux: the
+// file system shares the blocks where it can (FICLONE: Btrfs, XFS, ...), else the kernel copies
+// them (copy_file_range), else read and write; portable: read and write. Returns 0, or the
+// errno value of the failure (EIO when `from` has fewer than `size` bytes).
+int copy_file_contents(int from, int to, std::uint64_t size) noexcept;
 
 // Removes `path`: a file, or a folder with what it holds (at most `depth` levels down) where
 // removes_folder_trees_on_signals(), otherwise an empty folder. Async-signal-safe: no allocation,

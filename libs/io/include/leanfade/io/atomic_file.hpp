@@ -85,6 +85,12 @@ class AtomicFile {
     // reserve N bytes (No space left on device)").
     std::uint8_t* map(std::size_t size);
 
+    // Fills the temporary file with the bytes of the regular file `source`, which must hold
+    // exactly `size` bytes: in the kernel, with the blocks shared where the file system can
+    // (leanfade/core/platform.hpp, copy_file_contents). Only once per file, and not after write()
+    // or map(). Throws Error(source, cause) when the source is missing, not a regular file or of
+    // another size, Error(path, cause) when the copy fails.
+    void copy_from(const std::string& source, std::uint64_t size);
     // [fsync] + close + rename over the target [+ fsync of the folder] (brackets: Flush only).
     // Unmaps a map()ped file first. Throws on failure (the temporary is then removed by the
     // destructor). Calling write(), map() or commit() afterwards throws.

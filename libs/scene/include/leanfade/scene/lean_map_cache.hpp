@@ -16,6 +16,10 @@
 
 #include "leanfade/core/lean_map.hpp"
 
+namespace leanfade::io {
+class AtomicFile;
+}
+
 namespace leanfade::scene {
 
 // Bumped whenever the bytes a bake produces for the same input and settings change (the baker's
@@ -71,6 +75,15 @@ class LeanMapCache {
                                                        const std::string& suffix) const;
     std::string store_file(const std::string& key, const std::string& suffix,
                            const std::vector<std::uint8_t>& bytes) const;
+    // The same for large entries, without their bytes in memory: copy_file_to fills `output`
+    // with the entry `<key><suffix>` when it exists and holds `size` bytes (returns false, and
+    // leaves `output` untouched, when it does not), copied in the kernel (AtomicFile::copy_from);
+    // it throws when the copy itself fails. store_file_copy stores the `size` bytes of the
+    // regular file `source` (a finished output of this run) as that entry.
+    bool copy_file_to(const std::string& key, const std::string& suffix, std::uint64_t size,
+                      io::AtomicFile& output) const;
+    std::string store_file_copy(const std::string& key, const std::string& suffix,
+                                const std::string& source, std::uint64_t size) const;
 
   private:
     void clean(const std::string& kept) const;
