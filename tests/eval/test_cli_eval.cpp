@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path cli_eval_folder(const std::string& name) {
     return leanfade::test::fresh_scratch_folder("eval", name);
 }
 
@@ -24,7 +24,7 @@ std::size_t count_lines(const std::string& text) {
 }
 
 TEST(CliEval, WritesCsvJsonPlotsAndReport) {
-    const fs::path dir = scratch("cli_eval");
+    const fs::path dir = cli_eval_folder("cli_eval");
     const RunResult r = run_leanfade(
         "eval --scene sphere --techniques bump,toksvig,clean,lean,fade --distances 3:12:2 "
         "--shininess 128,2048 --spp 4 --frames 3 --size 48x40 --texture-size 64 --out " +
@@ -59,7 +59,7 @@ TEST(CliEval, WritesCsvJsonPlotsAndReport) {
 // --seeds N sweeps N bump maps (--seed, --seed + 1, ...) and reports ratios of the summed
 // specular energies: the same as summing the single-seed runs' totals by hand.
 TEST(CliEval, SeedsSumTheEnergiesOfIndependentMaps) {
-    const fs::path dir = scratch("cli_eval_seeds");
+    const fs::path dir = cli_eval_folder("cli_eval_seeds");
     const std::string common =
         "eval --scene sphere --techniques lean,two-lobe --distances 6 --shininess 1024 --spp 4 "
         "--frames 2 --size 48x48 --texture-size 64 ";
@@ -89,7 +89,7 @@ TEST(CliEval, SeedsSumTheEnergiesOfIndependentMaps) {
 }
 
 TEST(CliEval, BadFlagsNameTheFlag) {
-    const fs::path dir = scratch("cli_eval_bad");
+    const fs::path dir = cli_eval_folder("cli_eval_bad");
     const struct {
         const char* args;
         const char* flag;
@@ -115,7 +115,7 @@ TEST(CliEval, BadFlagsNameTheFlag) {
 }
 
 TEST(CliCalibrate, FitsAnExponentialAndPlots) {
-    const fs::path dir = scratch("cli_calibrate");
+    const fs::path dir = cli_eval_folder("cli_calibrate");
     const RunResult r = run_leanfade(
         "calibrate --target exp:0.04 --scene sphere --distances 2:32:4 --size 64x64 "
         "--texture-size 64 --shininess 256 --plot " +
@@ -135,7 +135,7 @@ TEST(CliCalibrate, FitsAnExponentialAndPlots) {
 }
 
 TEST(CliCalibrate, BadTargetsNameTheFlag) {
-    const fs::path dir = scratch("cli_calibrate_bad");
+    const fs::path dir = cli_eval_folder("cli_calibrate_bad");
     for (const char* args : {"--target exp:-1", "--target sun", "--target fog"}) {
         const RunResult r = run_leanfade(std::string("calibrate ") + args, dir);
         EXPECT_EQ(r.exit_code, 1) << args;

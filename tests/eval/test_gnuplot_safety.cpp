@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path gnuplot_folder(const std::string& name) {
     return leanfade::test::fresh_scratch_folder("gnuplot_safety", name);
 }
 
@@ -125,7 +125,7 @@ TEST(GnuplotScripts, CalibrationPlotNamesAreLiteralsAndFiles) {
 // gnuplot itself on the script of every measured technique: the lines are drawn, nothing else
 // runs.
 TEST(GnuplotScripts, GnuplotDrawsEveryTechniqueAndRunsNothingElse) {
-    const fs::path dir = scratch("plots");
+    const fs::path dir = gnuplot_folder("plots");
     std::string note;
     const bool plotted =
         eval::write_plots(dir.string(), cases_of(approximating_techniques()), {128.0f}, note);
@@ -141,7 +141,7 @@ TEST(GnuplotScripts, GnuplotDrawsEveryTechniqueAndRunsNothingElse) {
 
 // gnuplot is started without a shell: a folder name with shell syntax is only a name.
 TEST(GnuplotScripts, RunGnuplotUsesNoShell) {
-    const fs::path dir = scratch("x';touch PWNED;'$(touch PWNED2)");
+    const fs::path dir = gnuplot_folder("x';touch PWNED;'$(touch PWNED2)");
     write_file(dir / "t.gp", "print 'ok'\n");
     std::string note;
     eval::run_gnuplot((dir / "t.gp").string(), note);
@@ -184,7 +184,7 @@ std::string results_with_technique(const std::string& technique) {
 }
 
 TEST(ResultsJson, UnknownTechniqueIsRefusedWhenRead) {
-    const fs::path dir = scratch("read");
+    const fs::path dir = gnuplot_folder("read");
     write_file(dir / "results.json", results_with_technique(kHostileName));
     eval::SweepInfo info;
     std::vector<eval::CaseResult> cases;
@@ -201,7 +201,7 @@ TEST(ResultsJson, UnknownTechniqueIsRefusedWhenRead) {
 }
 
 TEST(CliEvalHostile, ReplotRefusesATechniqueNameThatIsCode) {
-    const fs::path dir = scratch("replot");
+    const fs::path dir = gnuplot_folder("replot");
     fs::create_directories(dir / "out");
     write_file(dir / "out" / "results.json", results_with_technique(kHostileName));
     const RunResult r = run_leanfade_in("eval --replot out", dir, dir);
@@ -213,7 +213,7 @@ TEST(CliEvalHostile, ReplotRefusesATechniqueNameThatIsCode) {
 }
 
 TEST(CliCalibrateHostile, PlotFileNameIsOnlyAName) {
-    const fs::path dir = scratch("calibrate");
+    const fs::path dir = gnuplot_folder("calibrate");
     const std::string plot = "a' ; system('touch PWNED') ; 'b.png";
     const RunResult r = run_leanfade_in(
         "calibrate --target exp:0.04 --scene sphere --distances 2,8 --size 32x32 "

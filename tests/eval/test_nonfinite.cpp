@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path nonfinite_folder(const std::string& name) {
     return leanfade::test::fresh_scratch_folder("nonfinite", name);
 }
 
@@ -47,7 +47,7 @@ std::vector<float> pfm_samples(const fs::path& path) {
 // negative in both directions: LEAN's Gaussian gets a negative covariance, exp(+large), and
 // lean gave NaN, clean and fade infinity, written as black pixels with exit 0.
 TEST(NonFiniteShading, IsAnErrorOrFinitePixelsNeverBlack) {
-    const fs::path dir = scratch("extreme_normals");
+    const fs::path dir = nonfinite_folder("extreme_normals");
     Image normals(3, 1, 3);
     const float texels[3][3] = {{1.0f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}};
     for (int x = 0; x < 3; ++x)
@@ -101,7 +101,7 @@ TEST(NonFiniteShading, IsAnErrorOrFinitePixelsNeverBlack) {
 // At 5000 bounding radii the sphere is far below a pixel of a 16x16 frame: eval measured
 // nothing and reported NaN energy and flicker with exit 0.
 TEST(NonFiniteMetrics, ACaseWithoutObjectPixelsIsAnError) {
-    const fs::path dir = scratch("vanished");
+    const fs::path dir = nonfinite_folder("vanished");
     const RunResult r = run_leanfade_bounded(
         "eval --scene sphere --techniques lean --distances 5000 --shininess 128 --spp 1 "
         "--frames 2 --size 16x16 --texture-size 32 --out " +

@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
+fs::path results_folder(const std::string& name) {
     return leanfade::test::fresh_scratch_folder("eval", name);
 }
 
@@ -116,7 +116,7 @@ TEST(ResultsFiles, CsvHasTheDocumentedColumns) {
 }
 
 TEST(ResultsFiles, JsonRoundTrip) {
-    const fs::path dir = scratch("json");
+    const fs::path dir = results_folder("json");
     write_text_file((dir / "results.json").string(), results_json(sample_info(), sample_cases()));
     SweepInfo info;
     std::vector<CaseResult> cases;
@@ -138,7 +138,7 @@ TEST(ResultsFiles, JsonRoundTrip) {
 // sweep.preset is written again with indentation by --replot: its depth and size are checked
 // first (a 44 KB file nested 22000 deep took gigabytes).
 TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
-    const fs::path dir = scratch("json_preset");
+    const fs::path dir = results_folder("json_preset");
     SweepInfo given = sample_info();
     given.preset_json = R"({"scene": "sphere", "bumps": {"source": "bumps"}})";
     const std::string text = results_json(given, sample_cases());
@@ -189,7 +189,7 @@ TEST(ResultsFiles, DeepOrLargePresetsAreRefusedBeforeTheyAreWrittenAgain) {
 }
 
 TEST(ResultsFiles, ReportWithPlots) {
-    const fs::path dir = scratch("report");
+    const fs::path dir = results_folder("report");
     CaseImages images;
     images.shininess = 128.0f;
     images.distance = 2.0f;
@@ -210,7 +210,7 @@ TEST(ResultsFiles, ReportWithPlots) {
 }
 
 TEST(ResultsFiles, WithoutGnuplotTheDataIsWrittenAndTheReportSaysSo) {
-    const fs::path dir = scratch("report_no_gnuplot");
+    const fs::path dir = results_folder("report_no_gnuplot");
     const char* old = std::getenv("PATH");
     const std::string saved = old ? old : "";
     ::setenv("PATH", "/nonexistent", 1);

@@ -39,7 +39,7 @@ std::vector<Image> float_chain(int w, int h) {
 }
 
 TEST(Ktx2Texture, HalfFloatLevelsReadBackAsTheNearestHalves) {
-    const fs::path dir = test::fresh_scratch_folder("io", "ktx2_texture_half");
+    const fs::path dir = ::leanfade::test::fresh_scratch_folder("io", "ktx2_texture_half");
     const std::vector<Image> levels = float_chain(8, 4);
     const std::string path = (dir / "t.ktx2").string();
     write_ktx2_rgba16f(path, levels, "leanfade test", {}, {{kKeyTextureContent, "plateau v1"}});
@@ -89,7 +89,7 @@ TEST(Ktx2Texture, Rgba8KeysAreWrittenSortedAfterTheKtxKeys) {
 // write_ktx2_rgba8 once every level is filled, for square, wide and one-texel chains, and leaves
 // nothing behind without commit().
 TEST(Ktx2Texture, InPlaceRgba8WriterWritesTheSameFile) {
-    const fs::path dir = test::fresh_scratch_folder("io", "ktx2_texture_in_place");
+    const fs::path dir = ::leanfade::test::fresh_scratch_folder("io", "ktx2_texture_in_place");
     for (const auto& [w, h] : {std::pair{8, 8}, std::pair{13, 3}, std::pair{1, 1}}) {
         std::vector<Rgba8Level> levels;
         for (int lw = w, lh = h;; lw = std::max(1, lw / 2), lh = std::max(1, lh / 2)) {

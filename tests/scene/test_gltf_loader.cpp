@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 using test::GltfStorage;
 using test::GltfTestFile;
 
-fs::path scratch(const std::string& name) { return test::fresh_test_folder("gltf", name); }
+fs::path loader_folder(const std::string& name) { return test::fresh_test_folder("gltf", name); }
 
 // Two meshes, three materials (one without textures), two PNG images (a base colour and a
 // normal map), the second mesh with tangents from the file.
@@ -64,7 +64,7 @@ void expect_same_meshes(const GltfScene& x, const GltfScene& y) {
 }
 
 TEST(GltfLoader, ReadsMeshesMaterialsAndImagesOfExternalFiles) {
-    const fs::path dir = scratch("external");
+    const fs::path dir = loader_folder("external");
     const GltfTestFile file = two_material_file();
     const std::string path = (dir / "scene.gltf").string();
     test::write_gltf(file, path, GltfStorage::External);
@@ -106,7 +106,7 @@ TEST(GltfLoader, ReadsMeshesMaterialsAndImagesOfExternalFiles) {
 }
 
 TEST(GltfLoader, EmbeddedAndBinaryFilesGiveTheSameScene) {
-    const fs::path dir = scratch("storages");
+    const fs::path dir = loader_folder("storages");
     const GltfTestFile file = two_material_file();
     const std::string external = (dir / "a.gltf").string();
     const std::string embedded = (dir / "b.gltf").string();
@@ -362,7 +362,7 @@ TEST(GltfLoader, EachTextureSamplesTheSetItsReferenceNames) {
 }
 
 TEST(GltfLoaderErrors, MissingUnreadableAndNotGltf) {
-    const fs::path dir = scratch("errors");
+    const fs::path dir = loader_folder("errors");
     expect_load_error((dir / "missing.gltf").string(), "No such file");
     expect_load_error(dir.string(), "folder");
     test::write_bytes((dir / "text.gltf").string(), {'h', 'e', 'l', 'l', 'o'});
@@ -489,7 +489,7 @@ TEST(GltfLoaderErrors, NodeCyclesAndSharedChildren) {
 }
 
 TEST(GltfLoaderErrors, UrisOutsideTheFolderAreRefused) {
-    const fs::path dir = scratch("uris");
+    const fs::path dir = loader_folder("uris");
     fs::create_directories(dir / "inner");
     GltfTestFile file = one_quad();
     const std::string path = (dir / "inner" / "scene.gltf").string();
@@ -526,7 +526,7 @@ TEST(GltfLoaderErrors, UrisOutsideTheFolderAreRefused) {
 }
 
 TEST(GltfLoaderErrors, MissingImageFile) {
-    const fs::path dir = scratch("missing_image");
+    const fs::path dir = loader_folder("missing_image");
     GltfTestFile file = one_quad();
     file.images.push_back(test::png_bytes(1, 1, 3, {0.5f, 0.5f, 1.0f}));
     file.materials.push_back({"m", glm::vec4(1.0f), -1, 0, 1.0f});

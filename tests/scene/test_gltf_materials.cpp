@@ -41,6 +41,7 @@
 #include "leanfade/core/shading.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "gltf_render_scene.hpp"
 #include "test_gltf_builder.hpp"
 
 using namespace leanfade;
@@ -156,12 +157,8 @@ scene::test::GltfTestFile acceptance_file() {
     return file;
 }
 
-scene::Scene scene_of(const scene::test::GltfTestFile& file, const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_materials";
-    fs::create_directories(dir);
-    const std::string path = (dir / (name + ".glb")).string();
-    scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
-    return scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{});
+scene::Scene material_scene(const scene::test::GltfTestFile& file, const std::string& name) {
+    return scene::test::render_scene_of(file, "gltf_materials", name);
 }
 
 glm::vec2 transformed(const scene::UvTransform& t, glm::vec2 uv) {
@@ -381,7 +378,7 @@ void compare_with_cpu(gl::Context& context, const scene::Scene& scene, Brdf brdf
 
 TEST_P(GltfMaterials, AcceptanceSceneMatchesTheSharedHeaderPixelByPixel) {
     const Brdf brdf = GetParam();
-    const scene::Scene scene = scene_of(acceptance_file(), "acceptance");
+    const scene::Scene scene = material_scene(acceptance_file(), "acceptance");
     ASSERT_EQ(scene.objects.size(), 4u);
     ASSERT_EQ(scene.materials.size(), 4u);
     // What the loader made of the file: the maps each material names.
@@ -470,7 +467,7 @@ scene::test::GltfTestFile two_set_file() {
 
 TEST_P(GltfMaterials, EachMapSamplesTheTextureCoordinateSetItsReferenceNames) {
     const Brdf brdf = GetParam();
-    const scene::Scene scene = scene_of(two_set_file(), "two_sets");
+    const scene::Scene scene = material_scene(two_set_file(), "two_sets");
     ASSERT_EQ(scene.objects.size(), 2u);
     ASSERT_EQ(scene.materials.size(), 2u);
     // The sets as the file names them (the loader's test checks them one by one).

@@ -10,6 +10,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "gltf_render_scene.hpp"
 #include "test_gltf_builder.hpp"
 
 using namespace leanfade;
@@ -29,11 +30,7 @@ std::vector<std::uint8_t> uniform_png(glm::vec3 rgb) {
 
 // The renderer's scene of `file`, written as NAME.glb and read back as a user's file is.
 scene::Scene scene_of(const scene::test::GltfTestFile& file, const std::string& name) {
-    const fs::path dir = fs::path(LEANFADE_TEST_TMP) / "gltf_render";
-    fs::create_directories(dir);
-    const std::string path = (dir / (name + ".glb")).string();
-    scene::test::write_gltf(file, path, scene::test::GltfStorage::Binary);
-    return scene::make_render_scene(scene::load_gltf(path), scene::GltfBakeSettings{});
+    return scene::test::render_scene_of(file, "gltf_render", name);
 }
 
 // The quad (object xy plane, facing +z; the image's top row at y = 1) with one material.

@@ -38,6 +38,11 @@ inline std::string shell_quote(const std::string& s) {
     return q + "'";
 }
 
+// The `env` prefix of a command whose LEAN-map cache is the folder `dir`/cache.
+inline std::string cache_env(const std::filesystem::path& dir) {
+    return "env XDG_CACHE_HOME=" + shell_quote((dir / "cache").string());
+}
+
 inline std::string read_text(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;

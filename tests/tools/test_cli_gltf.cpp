@@ -24,7 +24,7 @@ namespace fs = std::filesystem;
 using scene::test::GltfStorage;
 using scene::test::GltfTestFile;
 
-fs::path scratch(const std::string& name) {
+fs::path cli_gltf_folder(const std::string& name) {
     return leanfade::test::fresh_scratch_folder("cli_gltf", name);
 }
 
@@ -49,20 +49,16 @@ GltfTestFile scene_file() {
     return file;
 }
 
-std::string env(const fs::path& dir) {
-    return "env XDG_CACHE_HOME=" + test::shell_quote((dir / "cache").string());
-}
-
 TEST(CliGltf, BakeWritesEveryNormalTextureAndReusesTheCache) {
     for (GltfStorage storage : {GltfStorage::External, GltfStorage::Binary}) {
-        const fs::path dir = scratch(storage == GltfStorage::Binary ? "glb" : "gltf");
+        const fs::path dir = cli_gltf_folder(storage == GltfStorage::Binary ? "glb" : "gltf");
         const std::string input =
             (dir / (storage == GltfStorage::Binary ? "scene.glb" : "scene.gltf")).string();
         scene::test::write_gltf(scene_file(), input, storage);
         fs::create_directories(dir / "out");
         const std::string args = "bake " + test::shell_quote(input) + " --out-dir " +
                                  test::shell_quote((dir / "out").string());
-        const test::RunResult first = test::run_leanfade_in(args, dir, {}, env(dir));
+        const test::RunResult first = test::run_leanfade_in(args, dir, {}, test::cache_env(dir));
         ASSERT_EQ(first.exit_code, 0) << first.err;
         const fs::path brick = dir / "out" / "scene.brick_wall.ktx2";
         const fs::path metal = dir / "out" / "scene.metal.ktx2";
@@ -77,7 +73,7 @@ TEST(CliGltf, BakeWritesEveryNormalTextureAndReusesTheCache) {
         EXPECT_EQ(map.levels.size(), 5u);
 
         const std::string before = test::read_text(brick);
-        const test::RunResult second = test::run_leanfade_in(args, dir, {}, env(dir));
+        const test::RunResult second = test::run_leanfade_in(args, dir, {}, test::cache_env(dir));
         ASSERT_EQ(second.exit_code, 0) << second.err;
         EXPECT_EQ(second.out.find("baked"), std::string::npos) << second.out;
         EXPECT_NE(second.out.find("from the cache"), std::string::npos) << second.out;
@@ -86,12 +82,12 @@ TEST(CliGltf, BakeWritesEveryNormalTextureAndReusesTheCache) {
 }
 
 TEST(CliGltf, FlagsOfImageBakesAreRefused) {
-    const fs::path dir = scratch("flags");
+    const fs::path dir = cli_gltf_folder("flags");
     const std::string input = (dir / "scene.glb").string();
     scene::test::write_gltf(scene_file(), input, GltfStorage::Binary);
     for (const std::string flag : {"--directx", "--strength 2", "--wrap clamp"}) {
         const test::RunResult r = test::run_leanfade_in(
-            "bake " + test::shell_quote(input) + " " + flag, dir, {}, env(dir));
+            "bake " + test::shell_quote(input) + " " + flag, dir, {}, test::cache_env(dir));
         EXPECT_NE(r.exit_code, 0) << flag;
         EXPECT_NE(r.err.find("does not apply to a glTF scene"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -100,13 +96,13 @@ TEST(CliGltf, FlagsOfImageBakesAreRefused) {
 }
 
 TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
-    const fs::path dir = scratch("broken");
+    const fs::path dir = cli_gltf_folder("broken");
     GltfTestFile file = scene_file();
     file.meshes[1][0].indices[4] = 9;  // out of range
     const std::string input = (dir / "scene.gltf").string();
     scene::test::write_gltf(file, input, GltfStorage::Embedded);
     test::RunResult r =
-        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, test::cache_env(dir));
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find(input), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("index 9 out of range"), std::string::npos) << r.err;
@@ -115,13 +111,13 @@ TEST(CliGltf, BrokenScenesAreOneLineErrorsWithoutOutput) {
     file = scene_file();
     file.images[1].resize(40);
     scene::test::write_gltf(file, input, GltfStorage::Embedded);
-    r = test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+    r = test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, test::cache_env(dir));
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("image 1"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_FALSE(fs::exists(dir / "scene.brick_wall.ktx2"));
     r = test::run_leanfade_in("bake " + test::shell_quote((dir / "missing.glb").string()), dir,
-                              {}, env(dir));
+                              {}, test::cache_env(dir));
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.err.find("missing.glb"), std::string::npos) << r.err;
 }
@@ -159,7 +155,7 @@ nlohmann::json gltf_json(const fs::path& path) {
 TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
     for (const char* in_name : {"scene.gltf", "scene.glb"})
         for (const char* out_name : {"out/filtered.gltf", "out/filtered.glb"}) {
-            const fs::path dir = scratch(std::string("out_") + fs::path(in_name).extension().string().substr(1) +
+            const fs::path dir = cli_gltf_folder(std::string("out_") + fs::path(in_name).extension().string().substr(1) +
                                          "_" + fs::path(out_name).extension().string().substr(1));
             GltfTestFile file = scene_file();
             file.images.push_back(gltf_out::bumpy_normal_png());
@@ -184,7 +180,7 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
             const test::RunResult r = test::run_leanfade_in(
                 "bake " + test::shell_quote(input.string()) + " -o " +
                     test::shell_quote(output.string()),
-                dir, {}, env(dir));
+                dir, {}, test::cache_env(dir));
             ASSERT_EQ(r.exit_code, 0) << r.err;
             for (const auto& [path, bytes] : before) EXPECT_EQ(test::read_text(path), bytes) << path;
             EXPECT_NE(r.out.find("wrote " + output.string()), std::string::npos) << r.out;
@@ -260,7 +256,7 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
 // (its texCoord override included); the filtered textures it adds (metallic-roughness, normal)
 // with the normal texture's texCoord and transform, the set and mapping they were filtered in.
 TEST(CliGltfOut, TextureCoordinateSetsAndTransformsAreKept) {
-    const fs::path dir = scratch("out_tex_coords");
+    const fs::path dir = cli_gltf_folder("out_tex_coords");
     GltfTestFile file;
     file.images = {normal_png({0.3f, 0.0f, 1.0f}), normal_png({0.0f, 0.0f, 1.0f})};
     const nlohmann::json turned = {{"KHR_texture_transform", {{"rotation", 0.5}}}};
@@ -282,7 +278,7 @@ TEST(CliGltfOut, TextureCoordinateSetsAndTransformsAreKept) {
     const fs::path output = dir / "filtered.glb";
     const test::RunResult r = test::run_leanfade_in(
         "bake " + test::shell_quote(input.string()) + " -o " + test::shell_quote(output.string()),
-        dir, {}, env(dir));
+        dir, {}, test::cache_env(dir));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const nlohmann::json before = gltf_out::gltf_json(input)["materials"][0];
     const nlohmann::json after = gltf_out::gltf_json(output)["materials"][0];
@@ -301,14 +297,14 @@ TEST(CliGltfOut, TextureCoordinateSetsAndTransformsAreKept) {
 // The round trip: `render --scene OUT` draws the LEAN maps the file names (LEANFADE_lean_map),
 // the same pixels as the original scene, and every technique reads them.
 TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {
-    const fs::path dir = scratch("out_round_trip");
+    const fs::path dir = cli_gltf_folder("out_round_trip");
     const fs::path input = dir / "scene.glb";
     scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
     fs::create_directories(dir / "out");
     const fs::path output = dir / "out" / "filtered.gltf";
     ASSERT_EQ(test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
                                         test::shell_quote(output.string()),
-                                    dir, {}, env(dir))
+                                    dir, {}, test::cache_env(dir))
                   .exit_code,
               0);
     const auto render = [&](const fs::path& scene, const std::string& png) {
@@ -316,7 +312,7 @@ TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {
                                          " --techniques bump,lean,two-lobe --distances 3,12 "
                                          "--size 64x64 -o " +
                                          test::shell_quote((dir / png).string()),
-                                     dir, {}, env(dir));
+                                     dir, {}, test::cache_env(dir));
     };
     const test::RunResult a = render(input, "scene.png");
     const test::RunResult b = render(output, "filtered.png");
@@ -335,7 +331,7 @@ TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {
 // output that would replace an input (the scene, its buffer, its images) is refused before
 // anything is written.
 TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
-    const fs::path dir = scratch("out_safety");
+    const fs::path dir = cli_gltf_folder("out_safety");
     GltfTestFile file = scene_file();
     file.materials[0].name = "../../etc/passwd";
     file.materials[1].name = "../../etc/passwd";  // the same file name part: numbered
@@ -344,7 +340,7 @@ TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
     const test::RunResult ok = test::run_leanfade_in(
         "bake " + test::shell_quote(input.string()) + " -o " +
             test::shell_quote((dir / "out.gltf").string()),
-        dir, {}, env(dir));
+        dir, {}, test::cache_env(dir));
     ASSERT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_TRUE(fs::exists(dir / "out.______etc_passwd.lean.ktx2")) << ok.out;
     EXPECT_TRUE(fs::exists(dir / "out.______etc_passwd-2.lean.ktx2")) << ok.out;
@@ -365,7 +361,7 @@ TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
         const test::RunResult r = test::run_leanfade_in(
             "bake " + test::shell_quote((dir / scene_file_name).string()) + " -o " +
                 test::shell_quote((dir / out).string()),
-            dir, {}, env(dir));
+            dir, {}, test::cache_env(dir));
         EXPECT_NE(r.exit_code, 0) << out;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
@@ -379,16 +375,17 @@ TEST(CliGltfOut, NamesAreSafeAndNoInputIsReplaced) {
                                      "-o " + test::shell_quote((dir / "o.gltf").string()) +
                                          " --out-dir " + test::shell_quote(dir.string())}) {
         const test::RunResult r = test::run_leanfade_in(
-            "bake " + test::shell_quote(input.string()) + " " + flags, dir, {}, env(dir));
+            "bake " + test::shell_quote(input.string()) + " " + flags, dir, {}, test::cache_env(dir));
         EXPECT_NE(r.exit_code, 0) << flags;
         EXPECT_FALSE(fs::exists(dir / "o.gltf"));
     }
 }
 
-// A second run over the same scene takes the engine textures from the cache (the same bytes),
-// and a damaged cache entry is made again.
-TEST(CliGltfOut, ASecondRunTakesTheEngineTexturesFromTheCache) {
-    const fs::path dir = scratch("out_cache");
+// A second run over the same scene copies its outputs (LEAN maps and engine textures) from the
+// cache, the same bytes; a damaged cache entry (its manifest, or a file of another size) is made
+// again.
+TEST(CliGltfOut, ASecondRunTakesItsOutputsFromTheCache) {
+    const fs::path dir = cli_gltf_folder("out_cache");
     const fs::path input = dir / "scene.glb";
     scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
     const auto run = [&](const std::string& out) {
@@ -396,7 +393,7 @@ TEST(CliGltfOut, ASecondRunTakesTheEngineTexturesFromTheCache) {
             "bake " + test::shell_quote(input.string()) + " -o " +
                 test::shell_quote((dir / (out + ".glb")).string()) + " --json " +
                 test::shell_quote((dir / (out + ".json")).string()),
-            dir, {}, env(dir));
+            dir, {}, test::cache_env(dir));
         EXPECT_EQ(r.exit_code, 0) << r.err;
         return nlohmann::json::parse(test::read_text(dir / (out + ".json")));
     };
@@ -410,18 +407,39 @@ TEST(CliGltfOut, ASecondRunTakesTheEngineTexturesFromTheCache) {
         EXPECT_EQ(first[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
         EXPECT_TRUE(second[i]["textures_from_cache"].get<bool>()) << i;
     }
-    for (const char* file : {".brick_wall.roughness.ktx2", ".brick_wall.normal.png", ".metal.normal.ktx2"})
+    const char* const files[] = {".brick_wall.lean.ktx2", ".brick_wall.roughness.ktx2",
+                                 ".brick_wall.normal.png", ".metal.normal.ktx2", ".metal.lean.ktx2"};
+    for (const char* file : files)
         EXPECT_EQ(test::read_text(dir / (std::string("a") + file)),
                   test::read_text(dir / (std::string("b") + file)))
             << file;
     // Damaged entries (every manifest cut short) are not found: made again, the same bytes.
+    int manifests = 0;
     for (const auto& e : fs::directory_iterator(dir / "cache" / "leanfade"))
-        if (e.path().string().ends_with(".engine.json")) std::ofstream(e.path()) << "{";
+        if (e.path().string().ends_with(".gltf-out.json")) {
+            std::ofstream(e.path()) << "{";
+            ++manifests;
+        }
+    EXPECT_EQ(manifests, 2);  // "brick again" shares the entry of "brick wall"
     const nlohmann::json third = run("c");
     for (std::size_t i = 0; i < third.size(); ++i)
         EXPECT_EQ(third[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
-    EXPECT_EQ(test::read_text(dir / "a.brick_wall.roughness.ktx2"),
-              test::read_text(dir / "c.brick_wall.roughness.ktx2"));
+    // A cached file of another size than its manifest says (cut short): made again.
+    int cut = 0;
+    for (const auto& e : fs::directory_iterator(dir / "cache" / "leanfade"))
+        if (e.path().string().ends_with(".lean.ktx2")) {
+            fs::resize_file(e.path(), 100);
+            ++cut;
+        }
+    EXPECT_EQ(cut, 2);
+    const nlohmann::json fourth = run("d");
+    for (std::size_t i = 0; i < fourth.size(); ++i)
+        EXPECT_EQ(fourth[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
+    for (const char* out : {"c", "d"})
+        for (const char* file : files)
+            EXPECT_EQ(test::read_text(dir / (std::string("a") + file)),
+                      test::read_text(dir / (std::string(out) + file)))
+                << out << file;
 }
 
 }  // namespace

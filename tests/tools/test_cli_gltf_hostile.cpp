@@ -26,12 +26,8 @@ using nlohmann::json;
 using scene::test::GltfStorage;
 using scene::test::GltfTestFile;
 
-fs::path scratch(const std::string& name) {
+fs::path gltf_hostile_folder(const std::string& name) {
     return scene::test::fresh_test_folder("cli_gltf_hostile", name);
-}
-
-std::string env(const fs::path& dir) {
-    return "env XDG_CACHE_HOME=" + test::shell_quote((dir / "cache").string());
 }
 
 std::vector<std::uint8_t> flat_normal_png() {
@@ -81,7 +77,7 @@ void expect_one_line_error(const test::RunResult& r, const std::vector<std::stri
 // ---- File text reaches the terminal escaped ------------------------------------------------
 
 TEST(CliGltfHostile, FileTextInMessagesIsOneEscapedLine) {
-    const fs::path dir = scratch("escaped");
+    const fs::path dir = gltf_hostile_folder("escaped");
     const std::string input = (dir / "scene.gltf").string();
     // Material names with escape sequences, OSC + BEL, a bidirectional override, a newline and
     // a NUL before the cause: the whole message, on one line.
@@ -101,7 +97,7 @@ TEST(CliGltfHostile, FileTextInMessagesIsOneEscapedLine) {
         out.json["materials"][0]["normalTexture"]["index"] = 9;
         write_json(input, out.json);
         const test::RunResult r =
-            test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+            test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, test::cache_env(dir));
         expect_one_line_error(r, {input, shown, "normalTexture: texture 9 does not exist"});
     }
     // A URI with an escape sequence.
@@ -110,17 +106,17 @@ TEST(CliGltfHostile, FileTextInMessagesIsOneEscapedLine) {
     out.json["images"][0]["uri"] = std::string("\x1B]0;t\x07/../x.png");
     write_json(input, out.json);
     const test::RunResult r =
-        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, test::cache_env(dir));
     expect_one_line_error(r, {input, "\\x1B]0;t\\x07/../x.png", "leaves the glTF's folder"});
 }
 
 TEST(CliGltfHostile, BakeReportsOfHostileNamesAreEscaped) {
-    const fs::path dir = scratch("report");
+    const fs::path dir = gltf_hostile_folder("report");
     const std::string input = (dir / "scene.glb").string();
     scene::test::write_gltf(materials_scene({std::string("n\x1B[2J\xE2\x80\xAEx")}), input,
                             GltfStorage::Binary);
     const test::RunResult r =
-        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, env(dir));
+        test::run_leanfade_in("bake " + test::shell_quote(input), dir, {}, test::cache_env(dir));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     for (const std::string& line : {r.out, r.err}) {
         EXPECT_EQ(line.find('\x1B'), std::string::npos) << line;
@@ -138,7 +134,7 @@ TEST(CliGltfHostile, BakeReportsOfHostileNamesAreEscaped) {
 }
 
 TEST(CliGltfHostile, PngPairTextIsEscaped) {
-    const fs::path dir = scratch("png_pair");
+    const fs::path dir = gltf_hostile_folder("png_pair");
     Image image(4, 4, 4);
     for (float& v : image.pixels) v = 0.5f;
     const std::vector<std::pair<std::string, std::string>> layouts = {
@@ -166,7 +162,7 @@ TEST(CliGltfHostile, MaterialNamesThatCollideGetFreeOutputNames) {
     const std::vector<std::vector<std::string>> cases = {
         {"a", "a", "a-2"}, {"a-2", "a", "a"}, {"a b", "a_b", "a?b", "a_b-2"}, {"", "", "material"}};
     for (std::size_t c = 0; c < cases.size(); ++c) {
-        const fs::path dir = scratch("names" + std::to_string(c));
+        const fs::path dir = gltf_hostile_folder("names" + std::to_string(c));
         GltfTestFile file = materials_scene(cases[c]);
         for (std::size_t m = 0; m < file.materials.size(); ++m)
             file.materials[m].normal_scale = 1.0f - 0.1f * float(m);  // one bake each
@@ -176,7 +172,7 @@ TEST(CliGltfHostile, MaterialNamesThatCollideGetFreeOutputNames) {
         const test::RunResult r =
             test::run_leanfade_in("bake " + test::shell_quote(input) + " --out-dir " +
                                       test::shell_quote((dir / "out").string()),
-                                  dir, {}, env(dir));
+                                  dir, {}, test::cache_env(dir));
         ASSERT_EQ(r.exit_code, 0) << r.err;
         EXPECT_EQ(std::size_t(
                       std::distance(fs::directory_iterator(dir / "out"), fs::directory_iterator())),
@@ -188,7 +184,7 @@ TEST(CliGltfHostile, MaterialNamesThatCollideGetFreeOutputNames) {
 // ---- Cross-term textures are not LEAN maps -------------------------------------------------
 
 TEST(CliGltfHostile, CrossTermTextureIsRefusedWhereALeanMapIsRead) {
-    const fs::path dir = scratch("cross_terms");
+    const fs::path dir = gltf_hostile_folder("cross_terms");
     const test::RunResult baked =
         test::run_leanfade_in("bake --cross-terms bumps,noise --size 16 -o pair.ktx2", dir, dir);
     ASSERT_EQ(baked.exit_code, 0) << baked.err;
@@ -219,7 +215,7 @@ TEST(CliGltfHostile, CrossTermTextureIsRefusedWhereALeanMapIsRead) {
 // ---- sc beyond any bake -------------------------------------------------------------------
 
 TEST(CliGltfHostile, ScaleBeyondAnyBakeIsRefusedNamingTheFile) {
-    const fs::path dir = scratch("sc");
+    const fs::path dir = gltf_hostile_folder("sc");
     ASSERT_EQ(
         test::run_leanfade_in("bake --builtin bumps --size 16 --bits 16 -o map.ktx2", dir, dir)
             .exit_code,
@@ -260,7 +256,7 @@ TEST(CliGltfHostile, ScaleBeyondAnyBakeIsRefusedNamingTheFile) {
 // The real `leanfade bake` on each: exit 1, one line naming the file and the cause, well within
 // 512 MiB of resident memory (each took gigabytes or overflowed the stack before its check).
 TEST(CliGltfHostile, ScenesThatWouldExhaustMemoryOrStackAreOneLineErrors) {
-    const fs::path dir = scratch("bombs");
+    const fs::path dir = gltf_hostile_folder("bombs");
     struct Case {
         std::string name;
         std::vector<std::uint8_t> bytes;
@@ -354,7 +350,7 @@ TEST(CliGltfHostile, ScenesThatWouldExhaustMemoryOrStackAreOneLineErrors) {
 // ---- Requested outputs are written or refused ------------------------------------------------
 
 TEST(CliHostileFlags, OptionsABakeWouldIgnoreAreRefusedByName) {
-    const fs::path dir = scratch("ignored_options");
+    const fs::path dir = gltf_hostile_folder("ignored_options");
     const std::vector<std::pair<std::string, std::string>> cross = {
         {"--json j.json", "--json"},
         {"--roughness-out r.ktx2", "--roughness-out"},
@@ -383,25 +379,25 @@ TEST(CliHostileFlags, OptionsABakeWouldIgnoreAreRefusedByName) {
         {"--plateau-out p.ktx2", "--plateau-out"},
     };
     for (const auto& [option, name] : gltf) {
-        const test::RunResult r = test::run_leanfade_in("bake s.glb " + option, dir, dir, env(dir));
+        const test::RunResult r = test::run_leanfade_in("bake s.glb " + option, dir, dir, test::cache_env(dir));
         expect_one_line_error(r, {name + ": does not apply to a glTF scene"});
         for (const char* file : {"s.m.ktx2", "r.ktx2", "a.ktx2", "x.ktx2"})
             EXPECT_FALSE(fs::exists(dir / file)) << option << ": " << file;
     }
     // -o names a glTF output (bake SCENE -o OUT.gltf|OUT.glb), nothing else.
-    const test::RunResult ktx2 = test::run_leanfade_in("bake s.glb -o x.ktx2", dir, dir, env(dir));
+    const test::RunResult ktx2 = test::run_leanfade_in("bake s.glb -o x.ktx2", dir, dir, test::cache_env(dir));
     expect_one_line_error(ktx2, {"x.ktx2: a glTF output is a .gltf or .glb file"});
     EXPECT_FALSE(fs::exists(dir / "x.ktx2"));
     // What applies is honoured: --json is written.
     const test::RunResult r =
-        test::run_leanfade_in("bake s.glb --json j.json --bits 8", dir, dir, env(dir));
+        test::run_leanfade_in("bake s.glb --json j.json --bits 8", dir, dir, test::cache_env(dir));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "j.json"));
     EXPECT_TRUE(fs::exists(dir / "s.m.ktx2"));
 }
 
 TEST(CliHostileFlags, PresetTextureSizeObeysMaxSize) {
-    const fs::path dir = scratch("preset_size");
+    const fs::path dir = gltf_hostile_folder("preset_size");
     scene::test::write_bytes((dir / "big.json").string(), [] {
         const std::string t = R"({"bumps":{"texture_size":8192}})";
         return std::vector<std::uint8_t>(t.begin(), t.end());
@@ -422,7 +418,7 @@ TEST(CliHostileFlags, PresetTextureSizeObeysMaxSize) {
 // ---- Output folders ----------------------------------------------------------------------------
 
 TEST(CliHostileFlags, OutDirIsCreatedAndRemovedAgainWhenTheRunFails) {
-    const fs::path dir = scratch("out_dir");
+    const fs::path dir = gltf_hostile_folder("out_dir");
     const std::string input = (dir / "s.glb").string();
     scene::test::write_gltf(materials_scene({"m"}), input, GltfStorage::Binary);
     // Created, for an image bake and for a glTF scene.
@@ -430,7 +426,7 @@ TEST(CliHostileFlags, OutDirIsCreatedAndRemovedAgainWhenTheRunFails) {
         test::run_leanfade_in("bake --builtin bumps --size 16 --out-dir new/a/b", dir, dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "new/a/b/bumps.ktx2"));
-    r = test::run_leanfade_in("bake s.glb --out-dir made/here", dir, dir, env(dir));
+    r = test::run_leanfade_in("bake s.glb --out-dir made/here", dir, dir, test::cache_env(dir));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "made/here/s.m.ktx2"));
     // A failed run removes the folders it created and nothing else.
@@ -450,7 +446,7 @@ TEST(CliHostileFlags, OutDirIsCreatedAndRemovedAgainWhenTheRunFails) {
 }
 
 TEST(CliHostileFlags, OutputsAreReportedOncePublishedAndNamedNotTheirTemporaries) {
-    const fs::path dir = scratch("report_after_publish");
+    const fs::path dir = gltf_hostile_folder("report_after_publish");
     // Files larger than 512 bytes cannot be written (SIGXFSZ ignored: write fails with EFBIG):
     // the PNG pair fits, the JSON summary does not.
     const test::RunResult r = test::run_leanfade_in(
@@ -471,13 +467,13 @@ TEST(CliHostileFlags, OutputsAreReportedOncePublishedAndNamedNotTheirTemporaries
 // ---- The files a glTF names are inputs -------------------------------------------------------
 
 TEST(CliGltfHostile, OutputsMayNotReplaceTheFilesASceneNames) {
-    const fs::path dir = scratch("scene_inputs");
+    const fs::path dir = gltf_hostile_folder("scene_inputs");
     GltfTestFile file = materials_scene({"m"});
     scene::test::write_gltf(file, (dir / "s.gltf").string(), GltfStorage::External);
     const std::string image = test::read_text(dir / "s_image0.png");
     // render -o onto the scene's texture.
     test::RunResult r = test::run_leanfade_in("render --scene s.gltf --size 16x16 -o s_image0.png",
-                                              dir, dir, env(dir));
+                                              dir, dir, test::cache_env(dir));
     expect_one_line_error(r, {"s_image0.png", "is the same file as an input of this run"});
     EXPECT_EQ(test::read_text(dir / "s_image0.png"), image);
     // A GLB's external image, found in its JSON chunk.
@@ -488,7 +484,7 @@ TEST(CliGltfHostile, OutputsMayNotReplaceTheFilesASceneNames) {
                                  scene::test::pack_glb(out.json, out.bin));
         scene::test::write_bytes((dir / "tex.png").string(), file.images[0]);
         r = test::run_leanfade_in("render --scene g.glb --size 16x16 -o tex.png", dir, dir,
-                                  env(dir));
+                                  test::cache_env(dir));
         expect_one_line_error(r, {"tex.png", "is the same file as an input of this run"});
         EXPECT_EQ(scene::test::read_bytes((dir / "tex.png").string()), file.images[0]);
     }
@@ -498,14 +494,14 @@ TEST(CliGltfHostile, OutputsMayNotReplaceTheFilesASceneNames) {
         out.json["buffers"][0]["uri"] = uri;
         write_json(dir / "s.gltf", out.json);
         scene::test::write_bytes((dir / "s.m.ktx2").string(), out.bin);
-        r = test::run_leanfade_in("bake s.gltf", dir, dir, env(dir));
+        r = test::run_leanfade_in("bake s.gltf", dir, dir, test::cache_env(dir));
         expect_one_line_error(r, {"s.m.ktx2", "is the same file as", "may not replace an input"});
         EXPECT_EQ(scene::test::read_bytes((dir / "s.m.ktx2").string()), out.bin) << uri;
     }
 }
 
 TEST(CliGltfHostile, SymbolicLinksOutOfTheScenesFolderAreNotRead) {
-    const fs::path top = scratch("symlinks");
+    const fs::path top = gltf_hostile_folder("symlinks");
     const fs::path dir = top / "scene";
     fs::create_directories(dir);
     const std::string secret = "top secret bytes of a file outside the folder";
@@ -527,7 +523,7 @@ TEST(CliGltfHostile, SymbolicLinksOutOfTheScenesFolderAreNotRead) {
         out.json[key][0]["uri"] =
             key == "buffers" && target.rfind("up/", 0) == 0 ? target : "link.bin";
         write_json(dir / "s.gltf", out.json);
-        const test::RunResult r = test::run_leanfade_in("bake s.gltf", dir, dir, env(dir));
+        const test::RunResult r = test::run_leanfade_in("bake s.gltf", dir, dir, test::cache_env(dir));
         expect_one_line_error(r, {"s.gltf", "lies outside the glTF's folder"});
         EXPECT_EQ(r.err.find("secret bytes"), std::string::npos) << r.err;
         EXPECT_EQ(r.err.find(std::to_string(secret.size())), std::string::npos) << r.err;
@@ -539,14 +535,14 @@ TEST(CliGltfHostile, SymbolicLinksOutOfTheScenesFolderAreNotRead) {
     scene::test::GltfTestOutput out = scene::test::build_gltf(file, GltfStorage::External, "s");
     out.json["buffers"][0]["uri"] = "link.bin";
     write_json(dir / "s.gltf", out.json);
-    const test::RunResult r = test::run_leanfade_in("bake s.gltf", dir, dir, env(dir));
+    const test::RunResult r = test::run_leanfade_in("bake s.gltf", dir, dir, test::cache_env(dir));
     EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 // ---- Shader folders ----------------------------------------------------------------------
 
 TEST(CliHostileFlags, ShaderFoldersHoldRegularFilesOfBoundedSize) {
-    const fs::path dir = scratch("shader_files");
+    const fs::path dir = gltf_hostile_folder("shader_files");
     struct Case {
         std::string name;
         std::function<void(const fs::path&)> make;
@@ -605,7 +601,7 @@ TEST(CliHostileFlags, ShaderFoldersHoldRegularFilesOfBoundedSize) {
 // ---- Inputs inside the folders a run writes into --------------------------------------------
 
 TEST(CliHostileFlags, InputsInsideOutputFoldersAreNotReplaced) {
-    const fs::path dir = scratch("inputs_in_folders");
+    const fs::path dir = gltf_hostile_folder("inputs_in_folders");
     test::RunResult r = test::run_leanfade_in(
         "bake --builtin bumps --size 16 -o map.ktx2 --roughness-out X.ktx2 --roughness-levels", dir,
         dir);
@@ -632,7 +628,7 @@ TEST(CliHostileFlags, InputsInsideOutputFoldersAreNotReplaced) {
 // ---- Flags without a bound, messages without a name ----------------------------------------
 
 TEST(CliHostileFlags, LayerFlagsAndFigureSizesAreBoundedAndNamed) {
-    const fs::path dir = scratch("layer_flags");
+    const fs::path dir = gltf_hostile_folder("layer_flags");
     const std::vector<std::pair<std::string, std::string>> cases = {
         {"--layers bumps,noise --layer-tiling 1e30,1",
          "--layer-tiling: each tiling must be in (0, 1e+06]"},
