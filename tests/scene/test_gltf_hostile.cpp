@@ -243,8 +243,9 @@ TEST(GltfHostile, OneImageBakesAtMostFourScales) {
     file.materials.clear();
     file.meshes.clear();
     for (int m = 0; m < 5; ++m) {
-        file.materials.push_back(
-            {"m" + std::to_string(m), glm::vec4(1.0f), -1, 0, 1.0f - 0.1f * float(m)});
+        std::string name = "m";
+        name += std::to_string(m);  // not "m" + ...: GCC 12's -Wrestrict misfires on it here
+        file.materials.push_back({name, glm::vec4(1.0f), -1, 0, 1.0f - 0.1f * float(m)});
         file.meshes.push_back({test::unit_quad(m)});
     }
     const std::string cause =

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <thread>
 
@@ -374,6 +375,14 @@ TEST(LeanMapCache, Sha256MatchesTheStandardsTestVectors) {
     EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 3}, "b"));
     EXPECT_NE(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 4}, "a"));
     EXPECT_EQ(lean_cache_key({1, 2, 3}, "a"), lean_cache_key({1, 2, 3}, "a"));
+    // Several sources: one gives the key of one; the split between them counts.
+    const std::vector<std::uint8_t> abc{1, 2, 3}, ab{1, 2}, c{3}, none;
+    const std::span<const std::uint8_t> one[] = {abc};
+    const std::span<const std::uint8_t> split[] = {ab, c};
+    const std::span<const std::uint8_t> joined[] = {abc, none};
+    EXPECT_EQ(lean_cache_key(one, "a"), lean_cache_key(abc, "a"));
+    EXPECT_NE(lean_cache_key(split, "a"), lean_cache_key(joined, "a"));
+    EXPECT_NE(lean_cache_key(joined, "a"), lean_cache_key(one, "a"));
 }
 
 TEST(LeanMapCache, DefaultFolderFollowsXdg) {

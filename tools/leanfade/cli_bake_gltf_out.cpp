@@ -10,6 +10,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 
 #include <nlohmann/json.hpp>
 
@@ -266,20 +267,16 @@ constexpr const char* kOutputManifestSuffix = ".gltf-out.json";
 // strict normals) and the versions of leanfade and of its bake (lean_cache_key).
 std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
                              const scene::GltfBakeSettings& settings) {
-    std::vector<std::uint8_t> source;
-    const auto append = [&](const std::vector<std::uint8_t>& bytes) {
-        const std::string size = std::to_string(bytes.size()) + ":";
-        source.insert(source.end(), size.begin(), size.end());
-        source.insert(source.end(), bytes.begin(), bytes.end());
-    };
-    append(gltf.images[std::size_t(m.normal_image)].bytes);
-    append(m.metallic_roughness_image >= 0 ? gltf.images[std::size_t(m.metallic_roughness_image)].bytes
-                                           : std::vector<std::uint8_t>{});
+    static const std::vector<std::uint8_t> none;
+    const std::span<const std::uint8_t> sources[] = {
+        gltf.images[std::size_t(m.normal_image)].bytes,
+        m.metallic_roughness_image >= 0 ? gltf.images[std::size_t(m.metallic_roughness_image)].bytes
+                                        : none};
     std::uint32_t scale = 0, roughness = 0;
     std::memcpy(&scale, &m.normal_scale, 4);
     std::memcpy(&roughness, &m.roughness_factor, 4);
     return scene::lean_cache_key(
-        source, "gltf out v2 scale=" + std::to_string(scale) + " roughness=" +
+        sources, "gltf out v2 scale=" + std::to_string(scale) + " roughness=" +
                     std::to_string(roughness) + " storage=" + to_string(settings.storage) +
                     " strict=" + std::to_string(int(settings.strict_normals)));
 }

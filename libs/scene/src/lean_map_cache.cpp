@@ -64,7 +64,8 @@ std::string sha256_hex(const void* data, std::size_t size) {
     return hash.hex();
 }
 
-std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::string& settings) {
+std::string lean_cache_key(std::span<const std::span<const std::uint8_t>> sources,
+                           const std::string& settings) {
     // Each part is preceded by its length, so that no two different inputs hash the same text.
     const std::string header = std::string("leanfade LEAN map cache\n") + LEANFADE_VERSION + "\n" +
                                std::to_string(kLeanBakeVersion) + "\n";
@@ -74,10 +75,17 @@ std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::s
         hash.update(length.data(), length.size());
         hash.update(part->data(), part->size());
     }
-    const std::string length = std::to_string(source.size()) + ":";
-    hash.update(length.data(), length.size());
-    hash.update(source.data(), source.size());
+    for (const std::span<const std::uint8_t> source : sources) {
+        const std::string length = std::to_string(source.size()) + ":";
+        hash.update(length.data(), length.size());
+        hash.update(source.data(), source.size());
+    }
     return hash.hex();
+}
+
+std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::string& settings) {
+    const std::span<const std::uint8_t> only(source);
+    return lean_cache_key(std::span<const std::span<const std::uint8_t>>(&only, 1), settings);
 }
 
 std::string default_lean_cache_folder() {

@@ -11,6 +11,7 @@
 // each store, temporaries left by killed runs are removed (docs/robustness.md). GL-free.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ std::string sha256_hex(const void* data, std::size_t size);
 // `settings` (a text naming every bake setting that changes the result) and the source's bytes
 // (the encoded image file as stored).
 std::string lean_cache_key(const std::vector<std::uint8_t>& source, const std::string& settings);
+// The same over several sources, each hashed as its length and its bytes, in order, without
+// copying them (one source gives lean_cache_key's key).
+std::string lean_cache_key(std::span<const std::span<const std::uint8_t>> sources,
+                           const std::string& settings);
 
 // $XDG_CACHE_HOME/leanfade when XDG_CACHE_HOME is an absolute path, else $HOME/.cache/leanfade;
 // empty when neither is set (no cache).
