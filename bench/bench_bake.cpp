@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -464,12 +465,51 @@ std::string quoted(const std::string& s) {
     return "'" + s + "'";
 }
 
+// A glTF scene of one plane (two triangles, positions, normals, texture coordinates) whose one
+// material has input_png() as its normal texture and a roughness factor of 0.3, written beside
+// the PNG once per run.
+const std::string& plane_gltf() {
+    static const std::string path = [] {
+        const float vertices[] = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1,   // positions
+                                  0,  1, 0,  0, 1, 0,  0, 1, 0, 0,  1, 0,   // normals
+                                  0,  0, 1,  0, 1, 1,  0, 1};               // uv
+        const std::uint16_t indices[] = {0, 2, 1, 0, 3, 2};
+        {
+            std::FILE* bin = std::fopen((work_dir() / "plane.bin").c_str(), "wb");
+            if (bin == nullptr) return std::string();
+            std::fwrite(vertices, sizeof vertices, 1, bin);
+            std::fwrite(indices, sizeof indices, 1, bin);
+            std::fclose(bin);
+        }
+        const std::string json = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+"nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,
+"TEXCOORD_0":2},"indices":3,"material":0}]}],"materials":[{"name":"ground","normalTexture":
+{"index":0},"pbrMetallicRoughness":{"roughnessFactor":0.3}}],"textures":[{"source":0}],
+"images":[{"uri":"normals16.png"}],"buffers":[{"uri":"plane.bin","byteLength":140}],
+"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":48},{"buffer":0,"byteOffset":48,
+"byteLength":48},{"buffer":0,"byteOffset":96,"byteLength":32},{"buffer":0,"byteOffset":128,
+"byteLength":12}],"accessors":[{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3",
+"min":[-1,0,-1],"max":[1,0,1]},{"bufferView":1,"componentType":5126,"count":4,"type":"VEC3"},
+{"bufferView":2,"componentType":5126,"count":4,"type":"VEC2"},{"bufferView":3,
+"componentType":5123,"count":6,"type":"SCALAR"}]})";
+        const std::string p = (work_dir() / "plane.gltf").string();
+        std::FILE* file = std::fopen(p.c_str(), "wb");
+        if (file == nullptr) return std::string();
+        std::fwrite(json.data(), 1, json.size(), file);
+        std::fclose(file);
+        return p;
+    }();
+    return path;
+}
+
 // The engine outputs against Filament's `roughness-prefilter` (Debian libfilament-tools) on the
 // same PNG, a fresh process each, alternating within each iteration: roughness MIPs alone
 // (`bake PNG --roughness-out R.ktx2 --roughness 0.3`: the metallic-roughness and normal KTX2
 // files, no LEAN map), `roughness-prefilter -r 0.3 PNG OUT.png` (a PNG per level), the LEAN bake
-// alone and the LEAN bake with the export (`-o M.ktx2 --roughness-out R.ktx2`). Counters: mean
-// wall time and peak memory of each, and the ratios of docs/perf.md.
+// alone and the LEAN bake with the export (`-o M.ktx2 --roughness-out R.ktx2`); then a glTF
+// round trip of plane_gltf() (`bake plane.gltf -o out/plane.glb`): with an empty cache folder,
+// again (the cached run replacing the first run's outputs) and again into a new folder.
+// Counters: mean wall time and peak memory of each, and the ratios of docs/perf.md.
 void BM_EngineOutputsAgainstFilament(benchmark::State& state) {
     if (std::system("command -v roughness-prefilter >/dev/null 2>&1") != 0) {
         state.SkipWithError("roughness-prefilter not installed (Debian libfilament-tools)");
@@ -488,11 +528,32 @@ void BM_EngineOutputsAgainstFilament(benchmark::State& state) {
         {"lean_export", tool + " bake " + png + " -o " + lean + " --roughness-out " + rough +
                             " --roughness 0.3" + threads},
     };
+    input_png();
+    if (plane_gltf().empty()) {
+        state.SkipWithError("cannot write the glTF scene");
+        return;
+    }
+    const fs::path cache = work_dir() / "gltf-cache";
+    const fs::path out = work_dir() / "gltf-out";
+    const fs::path out_new = work_dir() / "gltf-out-new";
+    const std::string gltf_bake = "env XDG_CACHE_HOME=" + quoted(cache.string()) + " " + tool +
+                                  " bake " + quoted(plane_gltf()) + threads + " -o ";
+    const std::vector<std::pair<std::string, std::string>> gltf_commands = {
+        {"gltf_first", gltf_bake + quoted((out / "plane.glb").string())},
+        {"gltf_cached", gltf_bake + quoted((out / "plane.glb").string())},
+        {"gltf_cached_new_folder", gltf_bake + quoted((out_new / "plane.glb").string())},
+    };
     std::map<std::string, double> seconds;
     std::map<std::string, long> memory;
     for (auto _ : state) {
         double ours = 0.0;
-        for (const auto& [name, command] : commands) {
+        std::error_code ec;
+        for (const fs::path& folder : {cache, out, out_new}) fs::remove_all(folder, ec);
+        fs::create_directories(out, ec);
+        fs::create_directories(out_new, ec);
+        std::vector<std::pair<std::string, std::string>> all = commands;
+        all.insert(all.end(), gltf_commands.begin(), gltf_commands.end());
+        for (const auto& [name, command] : all) {
             const CommandRun run = run_command(command);
             if (run.seconds < 0.0) {
                 state.SkipWithError((name + " failed: " + command).c_str());
@@ -513,6 +574,9 @@ void BM_EngineOutputsAgainstFilament(benchmark::State& state) {
     state.counters["roughness_over_filament_memory"] =
         double(memory["roughness"]) / double(memory["filament"]);
     state.counters["lean_export_over_lean_time"] = seconds["lean_export"] / seconds["lean"];
+    state.counters["gltf_cached_over_first_time"] = seconds["gltf_cached"] / seconds["gltf_first"];
+    state.counters["gltf_cached_new_folder_over_first_time"] =
+        seconds["gltf_cached_new_folder"] / seconds["gltf_first"];
 }
 BENCHMARK(BM_EngineOutputsAgainstFilament)
     ->Arg(2)
