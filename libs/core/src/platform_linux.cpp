@@ -102,6 +102,14 @@ int copy_file_contents(int from, int to, std::uint64_t size) noexcept {
     if (std::uint64_t(source.st_size) < size) return EIO;
     // The whole file with shared blocks (copy-on-write) where the file system has them.
     if (std::uint64_t(source.st_size) == size && ::ioctl(to, FICLONE, from) == 0) return 0;
+    // The destination's blocks reserved first, as for a mapped output: a full disk fails here,
+    // and the file system allocates one extent at once instead of at writeback (ext4's delayed
+    // allocation would otherwise allocate when a rename replaces the previous output).
+    if (size > 0) {
+        const int reserve_error = ::posix_fallocate(to, 0, off_t(size));
+        if (reserve_error != 0 && reserve_error != EOPNOTSUPP && reserve_error != EINVAL)
+            return reserve_error;
+    }
     loff_t in = 0, out = 0;
     std::uint64_t left = size;
     while (left > 0) {

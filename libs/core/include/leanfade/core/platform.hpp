@@ -43,8 +43,9 @@ int finish_output_mapping(int descriptor, const OutputMapping& mapping, std::siz
 bool removes_folder_trees_on_signals() noexcept;
 // Copies the first `size` bytes of the file open for reading as `from` (at offset 0) to the
 // empty file open for writing as `to`, which ends up with exactly those bytes. Linux: the
-// file system shares the blocks where it can (FICLONE: Btrfs, XFS, ...), else the kernel copies
-// them (copy_file_range), else read and write; portable: read and write. Returns 0, or the
+// file system shares the blocks where it can (FICLONE: Btrfs, XFS, ...), else reserves the
+// destination's blocks (posix_fallocate: a full disk fails first) and the kernel copies them
+// (copy_file_range), else read and write; portable: read and write. Returns 0, or the
 // errno value of the failure (EIO when `from` has fewer than `size` bytes).
 int copy_file_contents(int from, int to, std::uint64_t size) noexcept;
 
