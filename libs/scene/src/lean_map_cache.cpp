@@ -172,8 +172,9 @@ std::optional<std::vector<std::uint8_t>> LeanMapCache::find_file(const std::stri
     }
 }
 
-std::string LeanMapCache::store_file(const std::string& key, const std::string& suffix,
-                                     const std::vector<std::uint8_t>& bytes) const {
+std::string LeanMapCache::store_file_entry(
+    const std::string& key, const std::string& suffix,
+    const std::function<void(io::AtomicFile&)>& fill) const {
     if (!enabled()) return {};
     if (!safe_suffix(suffix)) return "cache entry suffix '" + suffix + "' is not a plain name";
     const std::string path = (fs::path(folder_) / (key + suffix)).string();
@@ -182,13 +183,19 @@ std::string LeanMapCache::store_file(const std::string& key, const std::string& 
         fs::create_directories(folder_, error);
         if (error) return folder_ + ": " + error.message();
         io::AtomicFile file(path);
-        file.write(bytes.data(), bytes.size());
+        fill(file);
         file.commit();
         clean(path);
         return {};
     } catch (const Error& e) {
         return e.what();
     }
+}
+
+std::string LeanMapCache::store_file(const std::string& key, const std::string& suffix,
+                                     const std::vector<std::uint8_t>& bytes) const {
+    return store_file_entry(key, suffix,
+                            [&](io::AtomicFile& file) { file.write(bytes.data(), bytes.size()); });
 }
 
 bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffix,
@@ -210,21 +217,8 @@ bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffi
 
 std::string LeanMapCache::store_file_copy(const std::string& key, const std::string& suffix,
                                           const std::string& source, std::uint64_t size) const {
-    if (!enabled()) return {};
-    if (!safe_suffix(suffix)) return "cache entry suffix '" + suffix + "' is not a plain name";
-    const std::string path = (fs::path(folder_) / (key + suffix)).string();
-    try {
-        std::error_code error;
-        fs::create_directories(folder_, error);
-        if (error) return folder_ + ": " + error.message();
-        io::AtomicFile file(path);
-        file.copy_from(source, size);
-        file.commit();
-        clean(path);
-        return {};
-    } catch (const Error& e) {
-        return e.what();
-    }
+    return store_file_entry(key, suffix,
+                            [&](io::AtomicFile& file) { file.copy_from(source, size); });
 }
 
 std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map) const {

@@ -10,6 +10,7 @@
 // were written) are removed until the entries take at most max_bytes; at the first find() and after
 // each store, temporaries left by killed runs are removed (docs/robustness.md). GL-free.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -92,6 +93,10 @@ class LeanMapCache {
 
   private:
     void clean(const std::string& kept) const;
+    // Writes the file entry `<key><suffix>` atomically with `fill` and bounds the folder: the
+    // common part of store_file and store_file_copy, with their return value.
+    std::string store_file_entry(const std::string& key, const std::string& suffix,
+                                 const std::function<void(io::AtomicFile&)>& fill) const;
 
     std::string folder_;
     std::uint64_t max_bytes_ = kMaxLeanCacheBytes;
