@@ -14,8 +14,14 @@ technique's input (`leanfade eval --roughness-mips NAME_0.png`). roughness-prefi
 JPEG: a JPEG map is converted first with ImageMagick's `convert` (Debian imagemagick). The real
 normal maps are those of Debian's assimp-testmodels.
 
+The real-map corpus (`--corpus`, CORPUS below: maps of Debian's redeclipse-data,
+supertuxkart-data, cube2-data, freeorion-data and glmark2-data at their native size) runs each
+map on the plane near its mirror direction and on the teapot lit from the front and from behind,
+at 1.5-64 radii, with each BRDF of --brdfs.
+
 Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out/bake_off]
                            [--seeds 8] [--frames 4] [--only NAME,...]
+                           [--corpus [--brdfs bp,ct]] [--techniques LIST]
 """
 import argparse
 import csv
@@ -28,6 +34,63 @@ import sys
 TECHNIQUES = "bump,toksvig,clean,roughness,lean,fade,two-lobe"
 PLANE_GLINT = ["--scene", "plane", "--view-dir", "0,1,1", "--light-dir", "0,1,-1", "--tiling", "0.1"]
 RIBS = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/RibsNormal.png"
+
+# The real-map corpus (docs/results.md §9): normal and height maps that Debian data packages ship,
+# at their native size. (tag, package, path, eval flags of the map). `--directx` where the map's
+# green points down (measured: the curl of its slope field, docs/results.md §9); height maps with
+# the strength (height per texel) that gives their features slopes of about 0.1-0.5.
+RD = "/usr/share/games/redeclipse/data/"
+STK = "/usr/share/games/supertuxkart/data/"
+C2 = "/usr/share/games/cube2/packages/"
+CORPUS = [
+    ("grate01", "redeclipse-data", RD + "jojo/grate01/normal.png", ["--directx"]),
+    ("grate02", "redeclipse-data", RD + "jojo/grate02/normal.png", ["--directx"]),
+    ("ground010", "supertuxkart-data", STK + "tracks/cave/Ground010_1K_Normal.png", ["--directx"]),
+    ("crate1", "redeclipse-data", RD + "trak/trak6/crate1_nm.png", ["--directx"]),
+    ("tile2", "redeclipse-data", RD + "trak/trak6/tile2_nm.png", ["--directx"]),
+    ("brick01", "redeclipse-data", RD + "unnamed/brick01_n.png", ["--directx"]),
+    ("mine_atlas", "redeclipse-data", RD + "weapons/mine/normals.png", []),
+    ("palm_bark", "redeclipse-data", RD + "dziq/meshtex/palm_tree_trunk_n.jpg", ["--directx"]),
+    ("brickA", "supertuxkart-data", STK + "textures/stk_generic_brickA_Normal.png", []),
+    ("cobblestone", "supertuxkart-data", STK + "textures/stktex_generic_cobbleStoneA_Normal.png", ["--directx"]),
+    ("forest_floor", "supertuxkart-data", STK + "tracks/black_forest/grass_forestFloor_big_nm.jpg", []),
+    ("karst_rock", "supertuxkart-data", STK + "textures/stk_karstRock_a_nm.jpg", []),
+    ("castle_wall", "cube2-data", C2 + "gk/fantasy/castell_wall_gk_v01/castell_wall_gk_v01_nm.jpg", ["--directx"]),
+    ("hex_paving", "cube2-data", C2 + "gk/dds/gk_ground_m_01_nm_1024.dds", ["--directx"]),
+    ("asteroid", "glmark2-data", "/usr/share/glmark2/textures/asteroid-normal-map-tangent.png", []),
+    ("barren_height", "freeorion-data", "/usr/share/games/freeorion/default/data/art/planets/Barren-bump01.png",
+     ["--from", "height", "--strength", "8"]),
+    ("brick01_height", "redeclipse-data", RD + "unnamed/brick01_z.png", ["--from", "height", "--strength", "8"]),
+    ("castle_height", "cube2-data", C2 + "gk/fantasy/castell_wall_gk_v01/castell_wall_gk_v01_hm.jpg",
+     ["--from", "height", "--strength", "8"]),
+    ("asteroid_height", "glmark2-data", "/usr/share/glmark2/textures/asteroid-height-map.png",
+     ["--from", "height", "--strength", "8"]),
+]
+CORPUS_PACKAGES = sorted({package for _, package, _, _ in CORPUS})
+# The plane near its mirror direction (the plane's default light for a map of one's own: the
+# view 0,0.3,1 mirrored), the teapot lit from the front (the default light) and from behind.
+CORPUS_VIEWS = [
+    ("plane", ["--scene", "plane", "--view-dir", "0,0.3,1", "--light-dir", "0,0.35,-1"]),
+    ("teapot", ["--scene", "teapot"]),
+    ("teapot_back", ["--scene", "teapot", "--light-dir", "0.3,0.4,-1"]),
+]
+CORPUS_DISTANCES = "1.5,4,16,64"
+
+
+def corpus_configurations(brdfs):
+    """(name, eval arguments, seeds) of every corpus run whose map is installed."""
+    runs = []
+    for tag, _, path, flags in CORPUS:
+        if not os.path.exists(path):
+            continue
+        for view, view_flags in CORPUS_VIEWS:
+            for brdf, brdf_tag in (("blinn-phong", "bp"), ("cook-torrance", "ct")):
+                if brdf_tag not in brdfs:
+                    continue
+                runs.append((f"corpus_{tag}_{view}_{brdf_tag}",
+                             view_flags + ["--bumps", path, "--brdf", brdf, "--distances",
+                                           CORPUS_DISTANCES] + flags, 1))
+    return runs
 WRAP = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/PlasticWrap_normals.jpg"
 
 
@@ -112,19 +175,27 @@ def main():
     parser.add_argument("--seeds", type=int, default=8)
     parser.add_argument("--frames", type=int, default=4)
     parser.add_argument("--only", default="")
+    parser.add_argument("--corpus", action="store_true",
+                        help="run the real-map corpus (CORPUS) instead of the built-in sets")
+    parser.add_argument("--brdfs", default="bp,ct", help="corpus runs: bp, ct or both")
+    parser.add_argument("--techniques", default=TECHNIQUES)
     args = parser.parse_args()
     only = set(filter(None, args.only.split(",")))
     os.makedirs(args.out, exist_ok=True)
     rows = []
-    for name, flags, seeds in configurations(args.seeds):
+    runs = corpus_configurations(args.brdfs.split(",")) if args.corpus else configurations(args.seeds)
+    if args.corpus and not runs:
+        sys.exit("bake_off.py: no corpus map is installed (apt-get install " +
+                 " ".join(CORPUS_PACKAGES) + ")")
+    for name, flags, seeds in runs:
         if only and name not in only:
             continue
         folder = os.path.join(args.out, name)
-        run_eval([args.leanfade, "eval", "--techniques", TECHNIQUES, "--frames", str(args.frames),
+        run_eval([args.leanfade, "eval", "--techniques", args.techniques, "--frames", str(args.frames),
                   "--seeds", str(seeds), "--out", folder] + flags)
         rows += result_rows(name, folder)
     # The peer: Filament's roughness MIPs as the roughness technique's input, per shininess.
-    if shutil.which("roughness-prefilter"):
+    if shutil.which("roughness-prefilter") and not args.corpus:
         for name, flags, normal_map in filament_configurations():
             if only and name not in only:
                 continue

@@ -71,6 +71,8 @@ struct Case {
 
 class Generate : public GlTest {
   protected:
+    // The GPU's plateau layer of a generated size x size map against the CPU's rule.
+    void check_generated_plateau(int size);
     // CPU bake and GPU generation of the same input; returns {cpu packed, gpu packed}.
     std::pair<PackedLeanMap, PackedLeanMap> both(const Case& c, LeanMap* cpu_float = nullptr) {
         const float strength = 1.5f;
@@ -205,17 +207,19 @@ TEST_F(Generate, BadInputsAreErrors) {
 // The plateau layer of two-lobe LEAN (shaders/generate_plateau.comp) follows the CPU's rule
 // (plateau_texels) on the generated map's own stored slopes, and its MIP levels are the layer's
 // box filter (glGenerateMipmap), within half-float rounding.
-TEST_F(Generate, PlateauLayerFollowsTheCpuRuleOnTheGeneratedMap) {
+void Generate::check_generated_plateau(int size) {
     gl::LeanGenerator generator(context());
-    generator.set_source(bumps_height(64, 64), gl::GenerateInput::Height);
+    generator.set_source(bumps_height(size, size), gl::GenerateInput::Height);
     gl::GenerateOptions options;
     options.strength = 4.0f;
     options.scale = 3.0f;
     generator.generate(options);
     ASSERT_NE(generator.plateau_texture(), 0u);
     const std::vector<Image> gpu = generator.read_back_plateau();
-    const std::vector<Image> cpu = plateau_mips(packed_top_slopes(generator.read_back()),
-                                                options.plateau_epsilon);
+    const Image slopes = packed_top_slopes(generator.read_back());
+    const std::vector<Image> cpu = plateau_mips(
+        slopes, plateau_rule(slopes.width, slopes.height, options.plateau_epsilon));
+    EXPECT_EQ(plateau_rule(size, size, options.plateau_epsilon).radius_x, size / 256 > 1 ? 4 : 1);
     ASSERT_EQ(gpu.size(), cpu.size());
     // Level 0: the same texels on a plateau (a texel whose neighbour's slope lies within a float
     // rounding of epsilon may go either way), their values within half-float rounding.
@@ -239,6 +243,19 @@ TEST_F(Generate, PlateauLayerFollowsTheCpuRuleOnTheGeneratedMap) {
                         2e-3f * (std::abs(cpu[l].pixels[i]) + 0.01f) +
                             float(differing) / float(cpu[l].texel_count()) * 4.0f)
                 << "level " << l << " value " << i;
+}
+
+TEST_F(Generate, PlateauLayerFollowsTheCpuRuleOnTheGeneratedMap) {
+    // 64^2: the four neighbours; 1024^2: also the texels 4 apart (PlateauRule's radius).
+    for (const int size : {64, 1024}) {
+        SCOPED_TRACE("size " + std::to_string(size));
+        check_generated_plateau(size);
+    }
+    gl::LeanGenerator generator(context());
+    generator.set_source(bumps_height(64, 64), gl::GenerateInput::Height);
+    gl::GenerateOptions options;
+    options.strength = 4.0f;
+    options.scale = 3.0f;
     // Without the layer: no texture.
     options.plateau_epsilon = 0.0f;
     generator.generate(options);

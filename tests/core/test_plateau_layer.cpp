@@ -26,8 +26,10 @@ Image bumps_height(int w, int h) {
 }
 
 TEST(PlateauLayer, PackedBakeWritesTheReferenceBytesForEverySizeAndStorage) {
+    // 640 x 384 and 515 x 300: the rule's radius 3 x 2 and 2 x 1 (even and odd sizes).
     for (const auto& [w, h] : {std::pair{64, 64}, std::pair{48, 32}, std::pair{37, 20},
-                              std::pair{64, 3}, std::pair{1, 1}}) {
+                              std::pair{64, 3}, std::pair{1, 1}, std::pair{640, 384},
+                              std::pair{515, 300}}) {
         for (Storage storage :
              {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
             for (int threads : {1, 3}) {
@@ -53,6 +55,132 @@ TEST(PlateauLayer, PackedBakeWritesTheReferenceBytesForEverySizeAndStorage) {
             }
         }
     }
+}
+
+// The fraction of the texels the rule puts on a plateau.
+double flat_fraction(const Image& layer0) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < layer0.texel_count(); ++i) sum += layer0.pixels[4 * i];
+    return sum / double(layer0.texel_count());
+}
+
+// The slopes of the built-in bumps at size x size texels: one surface (the bumps' radii and
+// heights are in texels, so their slopes are the same at every size), sampled more finely.
+Image bumps_slopes(int size) {
+    BakeOptions options;
+    options.strength = 1.0f;
+    return slopes_from_height(make_builtin_height("bumps", size, 3), options, "bumps").slopes;
+}
+
+TEST(PlateauRule, RadiusFollowsTheMapSizeAndEpsilonItsQuantisation) {
+    const PlateauRule small = plateau_rule(256, 256, 0.005f);
+    EXPECT_EQ(small.radius_x, 1);
+    EXPECT_EQ(small.radius_y, 1);
+    EXPECT_EQ(small.epsilon, 0.005f);
+    const PlateauRule wide = plateau_rule(4096, 1024, 0.005f);
+    EXPECT_EQ(wide.radius_x, 16);
+    EXPECT_EQ(wide.radius_y, 4);
+    EXPECT_EQ(plateau_rule(16, 3, 0.005f).radius_x, 1);
+    // 8-bit normals: a step of 2/255 is more than epsilon; the rule takes 1.5 steps, radius >= 2.
+    const float step8 = source_slope_step(BakeSource::Normal, 255, 1.0f);
+    EXPECT_FLOAT_EQ(step8, 2.0f / 255.0f);
+    const PlateauRule quantised = plateau_rule(256, 256, 0.005f, step8);
+    EXPECT_FLOAT_EQ(quantised.epsilon, 1.5f * 2.0f / 255.0f);
+    EXPECT_EQ(quantised.radius_x, 2);
+    EXPECT_EQ(plateau_rule(2048, 2048, 0.005f, step8).radius_x, 8);
+    // 16-bit sources and storages, and float sources: far below epsilon, nothing changes.
+    for (const float fine : {source_slope_step(BakeSource::Normal, 65535, 1.0f),
+                             source_slope_step(BakeSource::Height, 65535, 8.0f),
+                             storage_slope_step(Storage::Unorm16, 2.0f),
+                             source_slope_step(BakeSource::Normal, 0, 1.0f),
+                             storage_slope_step(Storage::Float16, 2.0f)}) {
+        const PlateauRule rule = plateau_rule(256, 256, 0.005f, fine);
+        EXPECT_EQ(rule.epsilon, 0.005f) << fine;
+        EXPECT_EQ(rule.radius_x, 1) << fine;
+    }
+    EXPECT_FLOAT_EQ(storage_slope_step(Storage::Unorm8, 0.5f), 1.0f / 255.0f);
+    EXPECT_FLOAT_EQ(source_slope_step(BakeSource::Height, 255, 8.0f), 2.0f / 255.0f);
+    EXPECT_THROW(plateau_rule(256, 256, 0.0f), Error);
+    EXPECT_THROW(plateau_rule(0, 256, 0.005f), Error);
+}
+
+// The same surface at 256, 1024 and 4096 texels: the flat fraction stays (about 0.6 of `bumps`
+// is flat ground: 0.64 at 256 texels, 0.56-0.57 finer, where the bumps' rims are resolved), where
+// a rule of neighbours one texel apart takes the slowly curving flanks of the 4096 map for flat
+// ground too (0.82: their slope changes by less than epsilon per texel there).
+TEST(PlateauRule, TheSameSurfaceHasTheSameFlatFractionAtEveryResolution) {
+    const double at_256 = flat_fraction(plateau_texels(bumps_slopes(256)));
+    EXPECT_GT(at_256, 0.5);
+    EXPECT_LT(at_256, 0.7);
+    double previous = -1.0;
+    for (const int size : {1024, 4096}) {
+        const Image slopes = bumps_slopes(size);
+        const double f = flat_fraction(plateau_texels(slopes));
+        EXPECT_NEAR(f, at_256, 0.1) << size;
+        if (previous >= 0.0) EXPECT_NEAR(f, previous, 0.02) << size;
+        previous = f;
+        PlateauRule one_texel = plateau_rule_for(slopes);
+        one_texel.radius_x = one_texel.radius_y = 1;
+        if (size == 4096) EXPECT_GT(flat_fraction(plateau_texels(slopes, one_texel)), f + 0.2);
+    }
+}
+
+// Flat faces of an 8-bit map (their slopes dithered between two codes) stay flat; a ramp of
+// one code per texel, which a one-texel rule with an epsilon above a step would take for flat, is
+// not.
+TEST(PlateauRule, QuantisedFlatFacesStayFlatAndQuantisedRampsDoNot) {
+    const float step = 2.0f / 255.0f;
+    const int n = 256;
+    Image faces(n, n, 2), ramp(n, n, 2);
+    std::uint32_t state = 12345u;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            state = state * 1664525u + 1013904223u;
+            const float code = float((state >> 16) & 1u);  // 0 or 1: two codes of noise
+            faces.at(x, y, 0) = (x < n / 2 ? 10.0f : -4.0f + code) * step;
+            faces.at(x, y, 1) = (3.0f + float((state >> 20) & 1u)) * step;
+            ramp.at(x, y, 0) = float(x % 64) * step;  // one code per texel, 64 codes
+            ramp.at(x, y, 1) = float(y % 2) * step;   // and a code of noise
+        }
+    const PlateauRule rule = plateau_rule(n, n, kDefaultPlateauEpsilon, step);
+    EXPECT_GT(flat_fraction(plateau_texels(faces, rule)), 0.9);
+    EXPECT_LT(flat_fraction(plateau_texels(ramp, rule)), 0.05);
+    // The rule of continuous slopes finds no flat face in them (a step is more than epsilon).
+    EXPECT_LT(flat_fraction(plateau_texels(faces)), 0.1);
+}
+
+// A 16-bit file of 8-bit data (every sample a multiple of 257) has 8-bit steps.
+TEST(PlateauRule, IntegerSamplesKnowTheirOwnPrecision) {
+    UnormImage sixteen(4, 2, 3, 65535);
+    for (std::size_t i = 0; i < sixteen.samples.size(); ++i)
+        sixteen.samples[i] = std::uint16_t(257 * ((i * 37) % 256));
+    EXPECT_EQ(sixteen.effective_max_code(), 255);
+    sixteen.samples[5] = 1000;  // not a multiple of 257: 16-bit steps
+    EXPECT_EQ(sixteen.effective_max_code(), 65535);
+    EXPECT_EQ(sixteen.effective_max_code(1), 255) << "sample 5 is in channel 2";
+    UnormImage eight(2, 2, 1, 255);
+    eight.samples = {0, 17, 34, 255};  // multiples of 17 (4-bit data): 15
+    EXPECT_EQ(eight.effective_max_code(), 15);
+    EXPECT_EQ(UnormImage().effective_max_code(), 0);
+}
+
+TEST(PlateauLayer, BakeReportsTheFractionAndTheRule) {
+    BakeOptions options;
+    options.strength = 4.0f;
+    const PackedBakeResult baked =
+        bake_packed(bumps_height(512, 512), BakeSource::Height, options, Storage::Unorm16, "t");
+    EXPECT_EQ(baked.summary.plateau_radius_x, 2);
+    EXPECT_EQ(baked.summary.plateau_rule_epsilon, kDefaultPlateauEpsilon);
+    EXPECT_NEAR(baked.summary.plateau_fraction, plateau_fraction(baked.packed), 1e-4);
+    const std::vector<Image> chain = unpack_plateau_layer(baked.packed);
+    EXPECT_NEAR(baked.summary.plateau_fraction, flat_fraction(chain.front()), 1e-4);
+    EXPECT_GT(baked.summary.plateau_fraction, 0.3f);
+    // The same map as 8-bit samples: the rule takes the source's step (strength / (4 * 255)).
+    options.source_max_code = 255;
+    const PackedBakeResult eight =
+        bake_packed(bumps_height(512, 512), BakeSource::Height, options, Storage::Unorm16, "t");
+    EXPECT_FLOAT_EQ(eight.summary.plateau_rule_epsilon,
+                    std::max(kDefaultPlateauEpsilon, 1.5f * 4.0f / (4.0f * 255.0f)));
 }
 
 TEST(PlateauLayer, StoredLayerDecodesToThePlateauMipsWithinTheStoragesRounding) {

@@ -56,6 +56,26 @@ TEST(CliEval, WritesCsvJsonPlotsAndReport) {
     EXPECT_EQ(read_text(dir / "out" / "results.csv"), csv);
 }
 
+// A truth whose sRGB frames clip to white does not change between frames: the table says why its
+// flicker ratio is undefined ("still") instead of printing nan; the CSV keeps nan.
+TEST(CliEval, AStillTruthSaysWhyItsFlickerIsUndefined) {
+    const fs::path dir = cli_eval_folder("cli_eval_still");
+    const RunResult r = run_leanfade(
+        "eval --scene plane --view-dir 0,1,1 --light-dir 0,1,-1 --tiling 0.1 --distances 16 "
+        "--techniques lean --shininess 1024 --spp 4 --frames 2 --size 64x64 --ks 40,40,40 "
+        "--light-color 4,4,4 --out " + shell_quote((dir / "out").string()),
+        dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string row = r.out.substr(r.out.find('\n') + 1, r.out.find('\n', r.out.find('\n') + 1) - r.out.find('\n') - 1);
+    EXPECT_EQ(row.find("nan"), std::string::npos) << row;
+    EXPECT_NE(row.find(" still "), std::string::npos) << row;
+    EXPECT_NE(r.out.find("still: the reference's sRGB frames do not change"), std::string::npos)
+        << r.out;
+    const nlohmann::json json = nlohmann::json::parse(read_text(dir / "out" / "results.json"));
+    ASSERT_EQ(json["cases"].size(), 1u);
+    EXPECT_EQ(json["cases"][0]["reference_change"], 0.0);
+}
+
 // --seeds N sweeps N bump maps (--seed, --seed + 1, ...) and reports ratios of the summed
 // specular energies: the same as summing the single-seed runs' totals by hand.
 TEST(CliEval, SeedsSumTheEnergiesOfIndependentMaps) {

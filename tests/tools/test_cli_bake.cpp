@@ -17,6 +17,7 @@
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/io/png_io.hpp"
 
 #include <nlohmann/json.hpp>
@@ -835,6 +836,29 @@ TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfPlanksWithSteepGaps) {
     const double on_the_fly =
         psnr(lean_cells(dir, input, "on_the_fly", "--strength 128"), truth);
     EXPECT_GE(on_the_fly, 50.0) << "render --bumps planks.png against the 32f bake";
+}
+
+// `bake` and `info` say how much of a map is flat; a map with nothing flat (noise) stores no
+// layer of zeros, and --plateau-out still writes its (zero) layer.
+TEST(CliBakePlateauLayer, ReportsTheFlatFractionAndStoresNoEmptyLayer) {
+    const fs::path dir = test::scratch_dir("bake_plateau_fraction");
+    const fs::path bumps = dir / "bumps.ktx2", noise = dir / "noise.ktx2";
+    const auto flat = run_leanfade("bake --builtin bumps --size 512 -o " + q(bumps), dir);
+    ASSERT_EQ(flat.exit_code, 0) << flat.err;
+    EXPECT_THAT(flat.out, HasSubstr("flat (two-lobe LEAN's plateaus): "));
+    EXPECT_THAT(flat.out, HasSubstr("radius 2x2 texels"));
+    EXPECT_EQ(io::inspect_ktx2(bumps.string()).layer_count, 3u);
+    EXPECT_THAT(run_leanfade("info " + q(bumps), dir).out, HasSubstr("of the texels flat"));
+    const auto none = run_leanfade("bake --builtin noise --size 128 --plateau-out " +
+                                       q(dir / "noise.plateau.ktx2") + " -o " + q(noise),
+                                   dir);
+    ASSERT_EQ(none.exit_code, 0) << none.err;
+    EXPECT_THAT(none.out, HasSubstr("no plateau layer stored"));
+    EXPECT_EQ(io::inspect_ktx2(noise.string()).layer_count, 2u);
+    EXPECT_THAT(run_leanfade("info " + q(noise), dir).out, HasSubstr("without a plateau layer"));
+    const std::vector<Image> zero = io::read_ktx2_rgba16f((dir / "noise.plateau.ktx2").string());
+    ASSERT_FALSE(zero.empty());
+    for (float v : zero.front().pixels) ASSERT_EQ(v, 0.0f);
 }
 
 // The plateau layer of two-lobe LEAN is part of every bake unless --plateau-epsilon 0; `info`

@@ -25,6 +25,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "hostile_bytes.hpp"
@@ -569,7 +570,14 @@ TEST_P(Determinism, SameBytesForAnyThreadCountAndRunAndAsTheLibrary) {
     // With the plateau layer the packed bake adds (leanfade/core/plateau.hpp).
     PackedLeanMap packed =
         pack_lean_map(baked.map, storage, std::string("leanfade ") + LEANFADE_VERSION);
-    add_plateau_layer(packed, options.plateau_epsilon);
+    // The rule takes the PNG's quantisation step (8-bit normals, 16-bit heights).
+    const auto samples = std::get<UnormImage>(io::read_image_compact(input.string()));
+    add_plateau_layer(packed, options.plateau_epsilon, 1,
+                      source_slope_step(baked.source,
+                                        samples.effective_max_code(c.normal_map ? 3 : 1),
+                                        options.strength));
+    // A map with nothing flat stores no layer.
+    if (plateau_fraction(packed) == 0.0f) remove_plateau_layer(packed);
     io::write_ktx2(reference.string(), packed);
     EXPECT_EQ(read_bytes(reference), outputs[0]);
 }

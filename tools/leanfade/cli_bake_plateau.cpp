@@ -27,14 +27,22 @@ void plan_plateau_output(const std::string& plateau_out, std::size_t job_count,
     plan.add_output(plateau_out, "--plateau-out");
 }
 
-int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, int threads,
-                         const io::WriteOptions& write_options, io::OutputTransaction& outputs) {
-    if (!map.has_plateau())
+int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, float epsilon,
+                         int threads, const io::WriteOptions& write_options,
+                         io::OutputTransaction& outputs) {
+    if (!(epsilon > 0.0f))
         throw Error("--plateau-out", "the LEAN map has no plateau layer (--plateau-epsilon 0)");
-    // The layer as the LEAN map stores it, decoded to (f, f Bs, f |Bs|^2).
-    const std::vector<Image> levels = unpack_plateau_layer(map, threads);
+    // The layer as the LEAN map stores it, decoded to (f, f Bs, f |Bs|^2); a map in which the
+    // bake found nothing flat stores none, and its layer is 0 at every texel.
+    std::vector<Image> levels;
+    if (map.has_plateau()) {
+        levels = unpack_plateau_layer(map, threads);
+    } else {
+        for (const PackedLevel& level : map.levels)
+            levels.emplace_back(level.width, level.height, 4, 0.0f);
+    }
     const io::TextureKeyValues keys{{io::kKeyTextureContent, "plateau v1"},
-                                    {io::kPlateauEpsilonKey, shortest_text(map.plateau_epsilon)}};
+                                    {io::kPlateauEpsilonKey, shortest_text(epsilon)}};
     io::write_ktx2_rgba16f(outputs.stage(plateau_out), levels,
                            std::string("leanfade ") + LEANFADE_VERSION, write_options, keys);
     return int(levels.size());

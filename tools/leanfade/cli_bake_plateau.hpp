@@ -21,9 +21,11 @@ void add_plateau_bake_option(CLI::App& app, std::string& plateau_out);
 void plan_plateau_output(const std::string& plateau_out, std::size_t job_count,
                          io::OutputPlan& plan);
 
-// Stages FILE.ktx2 in `outputs`: the plateau MIPs of `map` (its finest level's slopes, the
-// default plateau threshold). Returns the number of levels.
-int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, int threads,
-                         const io::WriteOptions& write_options, io::OutputTransaction& outputs);
+// Stages FILE.ktx2 in `outputs`: the plateau MIPs of `map` as it stores them, baked with the
+// rule's setting `epsilon` (> 0); all 0 for a map whose bake found nothing flat and stored no
+// layer. Returns the number of levels.
+int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& map, float epsilon,
+                         int threads, const io::WriteOptions& write_options,
+                         io::OutputTransaction& outputs);
 
 }  // namespace leanfade::cli

@@ -66,6 +66,13 @@ void print_bake_report(const BakeReport& report) {
     std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
                 s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
                 s.coarsest_anisotropy);
+    if (s.plateau_rule_epsilon > 0.0f)
+        std::printf("  flat (two-lobe LEAN's plateaus): %.3g %% of the texels (epsilon %.3g, radius "
+                    "%dx%d texels)%s\n",
+                    100.0 * double(s.plateau_fraction), double(s.plateau_rule_epsilon),
+                    s.plateau_radius_x, s.plateau_radius_y,
+                    s.plateau_fraction > 0.0f ? ""
+                                              : "; no plateau layer stored: two-lobe shades as LEAN");
     if (report.clamped_texels > 0)
         std::printf("  %zu normals had z < %.4f and were raised to it\n", report.clamped_texels,
                     kMinNormalZ);
@@ -108,6 +115,13 @@ nlohmann::json bake_report_json(const BakeReport& report) {
             {"texels_beyond_sc", report.texels_beyond_scale},
             {"storage", to_string(report.storage)},
             {"roughness_baked", report.roughness_baked},
+            {"plateau",
+             s.plateau_rule_epsilon > 0.0f
+                 ? nlohmann::json{{"fraction", s.plateau_fraction},
+                                  {"epsilon", s.plateau_rule_epsilon},
+                                  {"radius", {s.plateau_radius_x, s.plateau_radius_y}},
+                                  {"layer_stored", s.plateau_fraction > 0.0f}}
+                 : nlohmann::json(nullptr)},
             {"seconds", report.seconds},
             {"looks_like_other_convention", report.looks_like_other_convention},
             {"also_written", report.also_written}};

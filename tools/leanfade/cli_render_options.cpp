@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "cli_flags.hpp"
@@ -104,6 +105,17 @@ void add_shading_options(CLI::App& app, ShadingFlags& f) {
 ShadingSettings resolve_shading(const ShadingFlags& f) {
     validate(f.settings);
     return f.settings;
+}
+
+glm::vec3 plane_glint_light(glm::vec3 view_dir) {
+    const glm::vec3 v = glm::normalize(view_dir);
+    return {-v.x, 1.15f * v.y, -v.z};
+}
+
+void apply_scene_light(ShadingFlags& flags, const CLI::App& app, const std::string& scene,
+                       glm::vec3 view_dir) {
+    if (scene != "plane" || app.count("--light-dir") > 0) return;
+    flags.settings.light_direction = plane_glint_light(view_dir);
 }
 
 void set_shading_defaults(const ShadingSettings& settings, const CLI::App& app,
@@ -223,7 +235,7 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     if (!io::lean_png_pair_base(f.source).empty())  // NAME.lean1.png from `bake --format png`
         return io::read_lean_png_pair(f.source, read_options);
 
-    const BakeOptions options = on_the_fly_bake_options(f, settings);
+    BakeOptions options = on_the_fly_bake_options(f, settings);
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
     // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
@@ -234,7 +246,14 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
     if (is_builtin_bumps(f.source))
         return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
             .packed;
-    const Image image = io::read_image(f.source, read_options);
+    // Integer samples keep their bit depth for the plateau rule (BakeOptions::source_max_code).
+    std::variant<Image, UnormImage> read = io::read_image_compact(f.source, read_options);
+    if (const UnormImage* samples = std::get_if<UnormImage>(&read)) {
+        options.source_max_code =
+            samples->effective_max_code(f.from == BakeSource::Height ? 1 : 3);
+        read = samples->to_float();
+    }
+    const Image& image = std::get<Image>(read);
     PackedBakeResult baked = bake(image, f.from);
     // A strength other than the default was given (flag or preset) for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;

@@ -44,6 +44,13 @@ ShadingSettings resolve_shading(const ShadingFlags& flags);
 void set_shading_defaults(const ShadingSettings& settings, const CLI::App& app,
                           ShadingFlags& flags);
 
+// The plane scene's light unless --light-dir is given: near the mirror direction of the view
+// (-v.x, 1.15 v.y, -v.z of the unit view direction), so that the flat ground of any map shows its
+// glint. The default light of the other scenes lights them from the upper left.
+glm::vec3 plane_glint_light(glm::vec3 view_dir);
+void apply_scene_light(ShadingFlags& flags, const CLI::App& app, const std::string& scene,
+                       glm::vec3 view_dir);
+
 // The bump source (--bumps --from --directx --bits --seed --texture-size) and the other settings
 // of on-the-fly bakes.
 struct LeanSourceFlags : BumpSource {

@@ -16,6 +16,7 @@
 #include "cli_bake_gltf_out.hpp"
 #include "cli_bake_plan.hpp"
 #include "cli_bake_plateau.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "cli_bake_report.hpp"
 #include "cli_bake_roughness.hpp"
 #include "command.hpp"
@@ -96,9 +97,15 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
     StagedBake result;
     if (args.format == "png") {
         Image converted;
+        BakeOptions options = settings.options;
         const Image* floats = std::get_if<Image>(&input);
-        if (floats == nullptr) floats = &(converted = std::get<UnormImage>(input).to_float());
-        result.baked = bake_packed(*floats, kind, settings.options, settings.storage.storage,
+        if (floats == nullptr) {
+            const UnormImage& samples = std::get<UnormImage>(input);
+            floats = &(converted = samples.to_float());
+            // The plateau rule's quantisation step: the samples' own precision.
+            options.source_max_code = samples.effective_max_code(kind == BakeSource::Height ? 1 : 3);
+        }
+        result.baked = bake_packed(*floats, kind, options, settings.storage.storage,
                                    generator_string(), job.name, moments);
         io::write_lean_png_pair(
             outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]), result.baked.packed,
@@ -114,6 +121,15 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
             return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
                                     job.name, settings.write_options, moments);
         });
+    const LeanMapSummary& summary = result.baked.summary;
+    if (result.baked.packed.has_plateau() && summary.plateau_fraction == 0.0f) {
+        // Nothing flat: the file keeps no layer of zeros (a third of its bytes); two-lobe LEAN
+        // shades a map without the layer as LEAN, as it would this one.
+        PackedLeanMap map = io::read_ktx2(staged, settings.read_options);
+        remove_plateau_layer(map);
+        io::write_ktx2(staged, map, settings.write_options);
+        result.baked.packed.plateau_epsilon = 0.0f;
+    }
     return result;
 }
 
@@ -216,7 +232,8 @@ class BakeRun {
             const PackedLeanMap stored =
                 args_.format == "png" ? baked.packed : io::read_ktx2(staged.staged);
             if (!args_.plateau_out.empty())
-                write_plateau_output(args_.plateau_out, stored, settings_.options.threads,
+                write_plateau_output(args_.plateau_out, stored, settings_.options.plateau_epsilon,
+                                     settings_.options.threads,
                                      settings_.write_options, outputs);
             if (args_.ktx2_2d) {
                 const auto [lean1, lean2] = layer_texture_paths(staged.output);

@@ -261,12 +261,21 @@ int run_eval(const EvalArgs& args) {
 
     std::printf("%-9s %8s %9s %9s %9s %9s %7s %8s %6s\n", "technique", "distance", "shininess",
                 "energy", "energy_all", "rmse", "ssim", "flicker", "refspp");
-    bool any_flagged = false;
+    bool any_flagged = false, any_still = false;
     for (const eval::CaseResult& c : output.cases) {
         const bool flagged = !(c.reference_energy_error <= eval::kUnconvergedEnergyError);
         any_flagged = any_flagged || flagged;
-        std::printf("%-9s %8g %9g %9.4g %9.4g %9.4g %7.4f %8.3g %6d%s\n", to_string(c.technique),
-                    c.distance, c.shininess, c.energy, c.energy_total, c.rmse, c.ssim, c.flicker,
+        // The flicker ratio is undefined where the truth's sRGB frames do not change at all
+        // (most often: its highlight clips to white in every frame).
+        const bool still = !(c.reference_change > 0.0);
+        any_still = any_still || still;
+        char flicker[16];
+        if (still)
+            std::snprintf(flicker, sizeof flicker, "still");
+        else
+            std::snprintf(flicker, sizeof flicker, "%.3g", c.flicker);
+        std::printf("%-9s %8g %9g %9.4g %9.4g %9.4g %7.4f %8s %6d%s\n", to_string(c.technique),
+                    c.distance, c.shininess, c.energy, c.energy_total, c.rmse, c.ssim, flicker,
                     c.reference_spp, flagged ? " *" : "");
     }
     std::printf(
@@ -277,6 +286,11 @@ int run_eval(const EvalArgs& args) {
                           " bump maps")
                              .c_str()
                        : "");
+    if (any_still)
+        std::printf(
+            "still: the reference's sRGB frames do not change between frames (its highlight clips "
+            "to white, or the motion moves nothing), so the flicker ratio is undefined (NaN in the "
+            "CSV, null in the JSON); a dimmer light (--light-color, --ks) measures it\n");
     if (any_flagged)
         std::printf(
             "*: the reference's specular energy is uncertain by more than %.0f%% (not "
@@ -343,7 +357,10 @@ const CommandRegistration registration{
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);
         add_gl_options(app, args->gl);
-        return [args] { return run_eval(*args); };
+        return [args, &app] {
+            apply_scene_light(args->shading, app, args->input.scene, args->view_dir);
+            return run_eval(*args);
+        };
     }};
 
 }  // namespace

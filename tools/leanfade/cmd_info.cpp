@@ -7,12 +7,19 @@
 #include "command.hpp"
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 
 namespace leanfade::cli {
 namespace {
+
+std::string percent_text(float fraction) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g %%", 100.0 * double(fraction));
+    return text;
+}
 
 // Every check first, then the output: a refused file prints its one-line error and nothing
 // else. Any KTX 2.0 file passes inspect_ktx2's structural checks or is refused; a file that says
@@ -29,7 +36,9 @@ int run_info(const std::string& path) {
         const LeanMapSummary s = summarize(unpack_lean_map(map));
         kind = "a LEAN map (LEANFADElayout '" + *layout + "')" +
                (map.has_plateau() ? ", with two-lobe LEAN's plateau layer (epsilon " +
-                                        shortest_text(map.plateau_epsilon) + ")"
+                                        shortest_text(map.plateau_epsilon) + "): " +
+                                        percent_text(plateau_fraction(map)) +
+                                        " of the texels flat"
                                   : ", without a plateau layer (two-lobe LEAN shades it as LEAN)");
         char line[300];
         std::snprintf(line, sizeof line,

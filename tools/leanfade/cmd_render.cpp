@@ -305,6 +305,7 @@ const CommandRegistration registration{
         add_ocean_options(app, args->input.ocean);
         add_gl_options(app, args->gl);
         return [args, &app] {
+            apply_scene_light(args->shading, app, args->input.scene, args->view_dir);
             if (!args->preset.empty()) apply_preset(*args, app);
             if (is_ocean_scene(args->input.scene)) {
                 // The ocean's defaults: 16:9 cells and its shading (docs/ocean.md); flags given

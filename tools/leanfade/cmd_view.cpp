@@ -237,6 +237,7 @@ const CommandRegistration registration{
         add_ocean_options(app, args->input.ocean);
         add_gl_options(app, args->gl);
         return [args, &app] {
+            apply_scene_light(args->shading, app, args->input.scene, args->view_dir);
             std::shared_ptr<Preset> loaded;
             if (!args->preset.empty()) {
                 loaded = std::make_shared<Preset>(read_preset(args->preset));

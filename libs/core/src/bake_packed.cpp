@@ -34,6 +34,7 @@
 #include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "plateau_internal.hpp"
+#include "leanfade/core/plateau.hpp"
 
 namespace leanfade {
 namespace {
@@ -419,7 +420,8 @@ Image first_channel(const UnormImage& input) {
 void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                    const BakeOptions& options, Storage storage, const std::string& generator,
                    const std::string& source_name, const TargetProvider& provide_targets,
-                   const NormalRepairs& repairs, const MomentRunSink& moments) {
+                   const NormalRepairs& repairs, const MomentRunSink& moments,
+                   float source_step) {
     result.source = source;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
@@ -537,9 +539,15 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
                                {coarsest[kMxx][0], coarsest[kMyy][0], coarsest[kMxy][0]});
 
     // Two-lobe LEAN's plateau layer from the packed finest level (add_plateau_layer's bytes).
-    if (packed.has_plateau())
-        detail::pack_plateau_layer_to(packed, plan.targets.front().lean2, plan.targets,
-                                      packed.plateau_epsilon, options.threads);
+    if (packed.has_plateau()) {
+        const detail::PlateauOutcome plateau = detail::pack_plateau_layer_to(
+            packed, plan.targets.front().lean2, plan.targets, packed.plateau_epsilon, source_step,
+            options.threads);
+        s.plateau_fraction = plateau.fraction;
+        s.plateau_rule_epsilon = plateau.rule.epsilon;
+        s.plateau_radius_x = plateau.rule.radius_x;
+        s.plateau_radius_y = plateau.rule.radius_y;
+    }
 }
 
 // The bake of a normal map's repaired copy where it has texels to repair (NormalRepairs), else of
@@ -556,15 +564,27 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
         repairs = input.floats != nullptr ? count_normal_repairs(*input.floats)
                                           : count_normal_repairs(*input.unorm);
     }
+    // The quantisation step of the source's slopes (the plateau rule's, plateau.hpp).
+    // Integer samples: their own precision (a 16-bit file of 8-bit data has 8-bit steps).
+    const int max_code =
+        input.unorm != nullptr
+            ? input.unorm->effective_max_code(resolved == BakeSource::Normal ? 3 : 1)
+            : options.source_max_code;
+    // A strength per UV unit is per texel times the texel count (the larger side's).
+    const float texel_strength =
+        options.strength_unit == StrengthUnit::Uv
+            ? options.strength * float(std::max(input.width(), input.height()))
+            : options.strength;
+    const float source_step = source_slope_step(resolved, max_code, texel_strength);
     if (!repairs.any()) {
         bake_repaired(result, input, resolved, options, storage, generator, source_name,
-                      provide_targets, repairs, moments);
+                      provide_targets, repairs, moments, source_step);
         return;
     }
     const Image repaired = repair_normal_map(input.floats != nullptr ? *input.floats
                                                                      : input.unorm->to_float());
     bake_repaired(result, BakeInput{&repaired, nullptr}, resolved, options, storage, generator,
-                  source_name, provide_targets, repairs, moments);
+                  source_name, provide_targets, repairs, moments, source_step);
 }
 
 }  // namespace

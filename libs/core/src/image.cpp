@@ -1,5 +1,7 @@
 #include "leanfade/core/image.hpp"
 
+#include <algorithm>
+#include <numeric>
 #include <stdexcept>
 
 #include "leanfade/core/memory.hpp"
@@ -23,6 +25,16 @@ Image UnormImage::to_float() const {
     const float max = float(max_value);
     for (std::size_t i = 0; i < samples.size(); ++i) image.pixels[i] = float(samples[i]) / max;
     return image;
+}
+
+int UnormImage::effective_max_code(int channels_used) const {
+    if (samples.empty() || channels <= 0) return 0;
+    const int used = channels_used <= 0 ? channels : std::min(channels_used, channels);
+    unsigned divisor = max_value;
+    const std::size_t stride = std::size_t(channels);
+    for (std::size_t i = 0; i < samples.size() && divisor > 1; i += stride)
+        for (int c = 0; c < used && divisor > 1; ++c) divisor = std::gcd(divisor, unsigned(samples[i + std::size_t(c)]));
+    return divisor == 0 ? int(max_value) : int(max_value / divisor);
 }
 
 }  // namespace leanfade

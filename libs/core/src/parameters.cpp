@@ -62,7 +62,8 @@ using S = ShadingSettings;
 // clang-format off
 const std::array<ParameterInfo, 29> kParameters{{
     {.key = "light_direction", .kind = K::Direction, .group = "Light", .label = "light direction",
-     .unit = "world space", .help = "Direction toward the light (y up, the camera on +z)",
+     .unit = "world space", .help = "Direction toward the light (y up, the camera on +z; the plane scene's default is near "
+             "the mirror direction of the view, where a map's flat ground glints)",
      .equation = "L of docs/math.md §4", .min = kMinLightDirectionLength,
      .max = kMaxLightDirectionLength, .ui_min = -1.0f, .ui_max = 1.0f,
      .vector = &S::light_direction},

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -59,18 +61,33 @@ inline std::uint16_t plateau_code(float value, float max_code) {
     return std::uint16_t((std::min(value, max_code) + kIntegers) - kIntegers);
 }
 
-// One row of plateau texels (plateau_texels' rule) from the 2-channel slopes of the row, the rows
-// above and below (the map repeats) into 4 floats per texel.
-void plateau_row(const float* row, const float* up, const float* down, int w, float epsilon,
-                 float* out) {
+// One row of plateau texels (PlateauRule, plateau.hpp) from the 2-channel slopes of the row and
+// of the rows at -1, +1, -radius_y and +radius_y (the map repeats) into 4 floats per texel. A
+// texel is on a plateau when each component of its slope differs by less than rule.epsilon from
+// each of the slopes 1 and radius texels away along both axes (with radius 1 those are the same
+// four neighbours).
+struct StencilRows {
+    const float* row;
+    const float* up;
+    const float* down;
+    const float* far_up;
+    const float* far_down;
+};
+
+void plateau_row(const StencilRows& rows, int w, const PlateauRule& rule, float* out) {
+    const float epsilon = rule.epsilon;
+    const int rx = rule.radius_x % w;
     for (int x = 0; x < w; ++x) {
-        const float bx = row[2 * x], by = row[2 * x + 1];
+        const float bx = rows.row[2 * x], by = rows.row[2 * x + 1];
         const int left = x == 0 ? w - 1 : x - 1, right = x == w - 1 ? 0 : x + 1;
+        const int far_left = (x - rx + w) % w, far_right = (x + rx) % w;
         auto near = [&](const float* r, int at) {
             return std::abs(r[2 * at] - bx) < epsilon && std::abs(r[2 * at + 1] - by) < epsilon;
         };
         float* texel = out + 4 * x;
-        if (!(near(row, left) && near(row, right) && near(up, x) && near(down, x))) {
+        if (!(near(rows.row, left) && near(rows.row, right) && near(rows.up, x) &&
+              near(rows.down, x) && near(rows.row, far_left) && near(rows.row, far_right) &&
+              near(rows.far_up, x) && near(rows.far_down, x))) {
             texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
             continue;
         }
@@ -80,6 +97,43 @@ void plateau_row(const float* row, const float* up, const float* down, int w, fl
         texel[3] = bx * bx + by * by;
     }
 }
+
+// The slope rows of a map one thread walks down: row(y) for any y (the map repeats), decoded by
+// `decode(y mod h, out)` once while it stays within the last `capacity` rows asked for.
+class SlopeRowWindow {
+public:
+    template <typename Decode>
+    SlopeRowWindow(int width, int height, int capacity, Decode decode)
+        : width_(width), height_(height), decode_(std::move(decode)),
+          rows_(std::size_t(capacity)), keys_(std::size_t(capacity), kNone) {
+        for (auto& r : rows_) r.resize(2 * std::size_t(width_));
+    }
+    const float* row(long y) {
+        const std::size_t slot = std::size_t(((y % long(rows_.size())) + long(rows_.size())) %
+                                             long(rows_.size()));
+        if (keys_[slot] != y) {
+            decode_(int(((y % height_) + height_) % height_), rows_[slot].data());
+            keys_[slot] = y;
+        }
+        return rows_[slot].data();
+    }
+    StencilRows stencil(int y, const PlateauRule& rule) {
+        // Every row fetched before the first use: the window holds 2 radius_y + 3 rows at least.
+        const float* far_up = row(long(y) - rule.radius_y);
+        const float* up = row(long(y) - 1);
+        const float* r = row(y);
+        const float* down = row(long(y) + 1);
+        const float* far_down = row(long(y) + rule.radius_y);
+        return {r, up, down, far_up, far_down};
+    }
+
+private:
+    static constexpr long kNone = std::numeric_limits<long>::min();
+    int width_, height_;
+    std::function<void(int, float*)> decode_;
+    std::vector<std::vector<float>> rows_;
+    std::vector<long> keys_;
+};
 
 // One texel of the next level of an even-sized level from its 2 x 2 children (rows a, b, texel
 // x): build_mip_chain's area filter for even sizes.
@@ -181,26 +235,106 @@ Image slopes_of_lean2(const std::uint8_t* lean2, int width, int height, Storage 
     return slopes;
 }
 
-}  // namespace
-
-Image plateau_texels(const Image& slopes, float epsilon, int threads) {
-    check_epsilon(epsilon);
-    if (slopes.channels != 2 || slopes.empty())
-        throw Error("plateau", "needs a non-empty map of 2-channel slopes");
+Image plateau_texels_with_rule(const Image& slopes, const PlateauRule& rule, int threads) {
     const int w = slopes.width, h = slopes.height;
     Image layer(w, h, 4, 0.0f);
     parallel_for_rows(h, threads, [&](int first, int end) {
+        auto row_at = [&](long y) { return slopes.row(int(((y % h) + h) % h)); };
         for (int y = first; y < end; ++y)
-            plateau_row(slopes.row(y), slopes.row((y + h - 1) % h), slopes.row((y + 1) % h), w,
-                        epsilon, layer.row(y));
+            plateau_row({slopes.row(y), row_at(long(y) - 1), row_at(long(y) + 1),
+                         row_at(long(y) - rule.radius_y), row_at(long(y) + rule.radius_y)},
+                        w, rule, layer.row(y));
     });
     return layer;
 }
 
-std::vector<Image> plateau_mips(const Image& slopes, float epsilon, int threads) {
-    std::vector<Image> chain{plateau_texels(slopes, epsilon, threads)};
+// The mean f of a level of the float layer (the coarsest: the map's fraction on a plateau).
+float mean_fraction(const Image& level) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < level.texel_count(); ++i) sum += level.pixels[4 * i];
+    return float(std::clamp(sum / double(std::max<std::size_t>(level.texel_count(), 1)), 0.0, 1.0));
+}
+
+void check_slopes(const Image& slopes) {
+    if (slopes.channels != 2 || slopes.empty())
+        throw Error("plateau", "needs a non-empty map of 2-channel slopes");
+}
+
+void check_rule(const PlateauRule& rule) {
+    check_epsilon(rule.epsilon);
+    if (rule.radius_x < 1 || rule.radius_y < 1)
+        throw Error("plateau", "the rule's radius must be at least 1 texel");
+}
+
+}  // namespace
+
+PlateauRule plateau_rule(int width, int height, float epsilon, float quantisation_step) {
+    check_epsilon(epsilon);
+    if (width < 1 || height < 1) throw Error("plateau", "needs a map of at least 1 x 1 texels");
+    PlateauRule rule;
+    rule.epsilon = epsilon;
+    auto radius = [](int texels) {
+        return std::max(1, int(std::lround(double(texels) / kPlateauReferenceTexels)));
+    };
+    rule.radius_x = radius(width);
+    rule.radius_y = radius(height);
+    rule.quantisation_step =
+        std::isfinite(quantisation_step) ? std::max(quantisation_step, 0.0f) : 0.0f;
+    const float floor = kPlateauQuantisationSteps * rule.quantisation_step;
+    if (floor > epsilon) {
+        // A quantised map: its noise on flat ground is a step or so between neighbours, which a
+        // ramp of one step per texel also is; at 2 texels apart the ramp has moved 2 steps.
+        rule.epsilon = floor;
+        rule.radius_x = std::max(rule.radius_x, 2);
+        rule.radius_y = std::max(rule.radius_y, 2);
+    }
+    return rule;
+}
+
+float source_slope_step(BakeSource source, int unorm_max, float strength) {
+    if (unorm_max <= 0) return 0.0f;
+    // A normal map: one code of a normal component, 2 / max, is that much slope where the
+    // surface is flat (B = -n.xy / n.z, n.z = 1). A height map: one code of a neighbour's height,
+    // 1 / max, moves the Sobel slope by 2/8 of it, times the strength (docs/math.md §2).
+    const float code = 1.0f / float(unorm_max);
+    return source == BakeSource::Normal ? 2.0f * code : 0.25f * code * std::abs(strength);
+}
+
+float storage_slope_step(Storage storage, float sc) {
+    // lean2 = 0.5 B / sc + 0.5: one code of B is 2 sc / max. The float storages round relative
+    // to the value (no fixed step).
+    switch (storage) {
+        case Storage::Unorm8: return 2.0f * sc / 255.0f;
+        case Storage::Unorm16: return 2.0f * sc / 65535.0f;
+        default: return 0.0f;
+    }
+}
+
+PlateauRule plateau_rule_for(const Image& slopes, float epsilon) {
+    check_slopes(slopes);
+    return plateau_rule(slopes.width, slopes.height, epsilon);
+}
+
+Image plateau_texels(const Image& slopes, const PlateauRule& rule, int threads) {
+    check_rule(rule);
+    check_slopes(slopes);
+    return plateau_texels_with_rule(slopes, rule, threads);
+}
+
+Image plateau_texels(const Image& slopes, float epsilon, int threads) {
+    check_epsilon(epsilon);
+    return plateau_texels(slopes, plateau_rule_for(slopes, epsilon), threads);
+}
+
+std::vector<Image> plateau_mips(const Image& slopes, const PlateauRule& rule, int threads) {
+    std::vector<Image> chain{plateau_texels(slopes, rule, threads)};
     extend_chain(chain, threads);
     return chain;
+}
+
+std::vector<Image> plateau_mips(const Image& slopes, float epsilon, int threads) {
+    check_epsilon(epsilon);
+    return plateau_mips(slopes, plateau_rule_for(slopes, epsilon), threads);
 }
 
 Image packed_top_slopes(const PackedLeanMap& map, int threads) {
@@ -213,10 +347,13 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads) {
                            threads);
 }
 
-void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads) {
+void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads, float source_step) {
     check_epsilon(epsilon);
-    set_plateau_layer(map, plateau_mips(packed_top_slopes(map, threads), epsilon, threads),
-                      epsilon, threads);
+    const Image slopes = packed_top_slopes(map, threads);
+    const PlateauRule rule =
+        plateau_rule(slopes.width, slopes.height, epsilon,
+                     std::max(source_step, storage_slope_step(map.storage, map.scale)));
+    set_plateau_layer(map, plateau_mips(slopes, rule, threads), epsilon, threads);
 }
 
 void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, float epsilon,
@@ -242,6 +379,21 @@ glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc) {
     if (!(stored.x > 0.0f)) return glm::vec4(0.0f);  // off every plateau: exactly 0
     return {std::min(stored.x, 1.0f), (2.0f * stored.y - 1.0f) * sc,
             (2.0f * stored.z - 1.0f) * sc, 2.0f * stored.w * (sc * sc)};
+}
+
+float plateau_fraction(const PackedLeanMap& map) {
+    if (!map.has_plateau() || map.levels.empty()) return 0.0f;
+    const PackedLevel& coarsest = map.levels.back();
+    if (coarsest.plateau.size() < std::size_t(bytes_per_texel(map.storage)))
+        throw Error("plateau", "the plateau layer's levels do not match the LEAN map's");
+    // The mean of f over the map: every texel of the coarsest level (1 x 1 for any chain that
+    // ends there; a mean over the texels otherwise).
+    double sum = 0.0;
+    const std::size_t texels = std::size_t(coarsest.width) * std::size_t(coarsest.height);
+    for (std::size_t i = 0; i < texels; ++i)
+        sum += detail::load_channel(coarsest.plateau.data() + i * std::size_t(bytes_per_texel(map.storage)),
+                                    0, map.storage);
+    return float(std::clamp(sum / double(texels), 0.0, 1.0));
 }
 
 void remove_plateau_layer(PackedLeanMap& map) {
@@ -279,9 +431,9 @@ std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
     return chain;
 }
 
-void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
+detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
                                    const std::vector<PackedLevelTarget>& targets, float epsilon,
-                                   int threads) {
+                                   float source_step, int threads) {
     check_epsilon(epsilon);
     const PackedLevel& top = layout.levels.front();
     const int w = top.width, h = top.height;
@@ -289,18 +441,24 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
     const float sc = layout.scale;
     const int texel_bytes = bytes_per_texel(storage);
     const std::size_t row_bytes = std::size_t(w) * std::size_t(texel_bytes);
+    auto decode = [&](int y, float* out) {
+        decode_slope_row(lean2_top + std::size_t(y) * row_bytes, w, storage, sc, out);
+    };
+    const PlateauRule rule =
+        plateau_rule(w, h, epsilon, std::max(source_step, storage_slope_step(storage, sc)));
     std::vector<Image> chain;
     if (w % 2 != 0 || h % 2 != 0) {
         // Odd sizes: the reference's chain (area filter of odd sizes from the finest level).
-        chain = plateau_mips(slopes_of_lean2(lean2_top, w, h, storage, sc, threads), epsilon,
+        chain = plateau_mips(slopes_of_lean2(lean2_top, w, h, storage, sc, threads), rule,
                              threads);
         for (std::size_t l = 0; l < chain.size(); ++l)
             pack_plateau_level(chain[l], storage, sc, targets[l].plateau, threads);
-        return;
+        return {rule, mean_fraction(chain.back())};
     }
     // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
     // into level 1 (no float image of the finest level), which is packed row by row too; then
-    // the reference's chain below.
+    // the reference's chain below. Each thread keeps the slope rows its stencil reaches
+    // (2 radius_y + 4 rows: rows 2y - radius .. 2y + 1 + radius of a pair).
     chain.emplace_back();
     Image& level1 = chain.front();
     level1.width = w / 2;
@@ -309,28 +467,13 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
     // Huge pages where the system has them: level 1 of a 4096^2 map is 64 MiB of floats.
     assign_large(level1.pixels, level1.texel_count() * 4, 0.0f);
     parallel_for_rows(h / 2, threads, [&](int first, int end) {
-        // Slopes of the rows 2y - 1 .. 2y + 2 (the map repeats), and the pair's plateau texels.
-        std::vector<float> slopes[4], texels[2];
-        for (auto& s : slopes) s.resize(2 * std::size_t(w));
+        SlopeRowWindow window(w, h, 2 * rule.radius_y + 4, decode);
+        std::vector<float> texels[2];
         for (auto& t : texels) t.resize(4 * std::size_t(w));
-        auto decode_row = [&](int y, std::vector<float>& out) {
-            decode_slope_row(lean2_top + std::size_t((y + h) % h) * row_bytes, w, storage, sc,
-                             out.data());
-        };
         for (int pair = first; pair < end; ++pair) {
             const int y0 = 2 * pair;
-            if (pair == first) {
-                decode_row(y0 - 1, slopes[0]);
-                decode_row(y0, slopes[1]);
-            } else {
-                std::swap(slopes[0], slopes[2]);  // rows 2y - 1, 2y: the last pair's 2y + 1, 2y + 2
-                std::swap(slopes[1], slopes[3]);
-            }
-            decode_row(y0 + 1, slopes[2]);
-            decode_row(y0 + 2, slopes[3]);
             for (int r = 0; r < 2; ++r) {
-                plateau_row(slopes[1 + r].data(), slopes[r].data(), slopes[2 + r].data(), w,
-                            epsilon, texels[r].data());
+                plateau_row(window.stencil(y0 + r, rule), w, rule, texels[r].data());
                 pack_plateau_texels(texels[r].data(), std::size_t(w), storage, sc,
                                     targets[0].plateau + std::size_t(y0 + r) * row_bytes);
             }
@@ -345,6 +488,7 @@ void detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8
     extend_chain(chain, threads);
     for (std::size_t l = 1; l < chain.size(); ++l)
         pack_plateau_level(chain[l], storage, sc, targets[l + 1].plateau, threads);
+    return {rule, mean_fraction(chain.back())};
 }
 
 }  // namespace leanfade

@@ -6,13 +6,21 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
 
 namespace leanfade::detail {
 
 // Fills targets[l].plateau of every level of `layout` (its storage, sc and level sizes) from the
-// finest level's packed lean2 texels at `lean2_top`. epsilon: slope units, finite and > 0.
-void pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
+// finest level's packed lean2 texels at `lean2_top`. epsilon: slope units, finite and > 0;
+// source_step: the source's quantisation step (source_slope_step), the rule also takes the
+// storage's (storage_slope_step).
+// Returns the rule it applied and the fraction of the texels on a plateau.
+struct PlateauOutcome {
+    PlateauRule rule;
+    float fraction = 0.0f;
+};
+PlateauOutcome pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
                            const std::vector<PackedLevelTarget>& targets, float epsilon,
-                           int threads);
+                           float source_step, int threads);
 
 }  // namespace leanfade::detail

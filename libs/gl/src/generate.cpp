@@ -1,6 +1,8 @@
 // LEAN map generation on the GPU: compute pass for the top level, glGenerateMipmap for the rest.
 #include "leanfade/gl/generate.hpp"
 
+#include "leanfade/core/plateau.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -164,7 +166,11 @@ void LeanGenerator::write_plateau_top_level() {
         plateau_program_ = build_compute_program(sources_, "generate_plateau.comp", {});
     const GLuint p = plateau_program_.get();
     glProgramUniform1f(p, location(p, "u_scale"), scale_);
-    glProgramUniform1f(p, location(p, "u_epsilon"), plateau_epsilon_);
+    // The rule of plateau.hpp for this size; a generated map's slopes are continuous (no
+    // quantisation step).
+    const PlateauRule rule = plateau_rule(width_, height_, plateau_epsilon_);
+    glProgramUniform1f(p, location(p, "u_epsilon"), rule.epsilon);
+    glProgramUniform2i(p, location(p, "u_radius"), rule.radius_x, rule.radius_y);
     glUseProgram(p);
     glBindTextureUnit(0, texture_.get());
     glBindImageTexture(0, plateau_.get(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);

@@ -59,6 +59,10 @@ struct UnormImage {
     }
     // The float image of the same values (what io::read_image returns for the file).
     Image to_float() const;
+    // The largest code of the samples' own precision: max_value divided by the greatest common
+    // divisor of the samples of the first `channels_used` channels (all when 0) and max_value.
+    // A 16-bit file of 8-bit data (every sample a multiple of 257) gives 255; 0 for no samples.
+    int effective_max_code(int channels_used = 0) const;
 };
 
 // Largest accepted width or height for any image read or baked unless raised explicitly

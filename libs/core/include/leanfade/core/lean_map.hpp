@@ -149,6 +149,11 @@ struct BakeOptions {
     // The packed bakes (bake_packed*) add the plateau layer of two-lobe LEAN with this epsilon
     // (slope units, finite, >= 0; 0 = no layer). The float LeanMap has no such layer.
     float plateau_epsilon = kDefaultPlateauEpsilon;
+    // The largest code of the source's integer samples when a bake is given them as floats
+    // (255 for 8 bits, 65535 for 16; 0: a bake of integer samples knows their own, float
+    // samples have none). The plateau rule takes one code's slope as the map's quantisation
+    // step (leanfade/core/plateau.hpp).
+    int source_max_code = 0;
 };
 
 // Normals with z below this (after decoding 2*rgb-1) are raised to it, and counted; normals with
@@ -266,6 +271,12 @@ struct LeanMapSummary {
     float max_slope = 0.0f;   // max |B| over the top level
     glm::vec3 coarsest_covariance{0.0f};  // (Sxx, Syy, Sxy) of the 1x1 level, M - B B^T
     float coarsest_anisotropy = 1.0f;     // sqrt(lambda_max / lambda_min) of that covariance
+    // Two-lobe LEAN's plateau layer (leanfade/core/plateau.hpp), where the bake made one: the
+    // fraction of the texels on a plateau, and the rule's epsilon (slope units) and radius
+    // (texels, per axis) as the map's size and quantisation set them. 0 without a layer.
+    float plateau_fraction = 0.0f;
+    float plateau_rule_epsilon = 0.0f;
+    int plateau_radius_x = 0, plateau_radius_y = 0;
 };
 LeanMapSummary summarize(const LeanMap& map);
 

@@ -11,23 +11,61 @@
 
 namespace leanfade {
 
-// The rule (kDefaultPlateauEpsilon, lean_map.hpp): a texel lies on a plateau when each
-// component of its slope B differs from each of its four neighbours' (the map repeats) by less
-// than epsilon, in slope units (height per texel spacing along the surface). The default 0.005
-// is small against the base roughness of the shininess the maps are shaded with (sqrt(1/s) =
-// 0.0085 at s = 13777): the plateau lobe's own width comes from the plateau texels' measured
-// spread, so the threshold only decides which texels form the spike.
+// The rule (docs/math.md §10): a texel lies on a plateau when each component of its slope B
+// differs by less than `epsilon` (slope units: height per texel spacing along the surface) from
+// the slopes of its four neighbours and of the four texels `radius` away along both axes (the
+// map repeats). Both numbers follow the map, so that the same surface gives the same plateaus at
+// every resolution and bit depth:
+// - radius = round(size / kPlateauReferenceTexels), at least 1, per axis: the texels compared
+//   lie the same distance apart on the surface at every texture size, so a slowly curving flank
+//   whose slope changes by less than epsilon per texel at 4096 texels (and by 16 epsilon over a
+//   256th of the map) is not taken for flat ground;
+// - epsilon = max(the setting, kPlateauQuantisationSteps x the map's quantisation step): a map
+//   whose slopes come in steps (8-bit normals: one code is about 0.008, more than the default
+//   0.005) keeps its flat faces, whose texels differ from their neighbours by a step of noise;
+//   radius is then at least 2, where a ramp of one step per texel has moved two steps. The step
+//   is the source's (source_slope_step) or the storage's (storage_slope_step), the larger.
+// The default epsilon 0.005 is small against the base roughness of the shininess the maps are
+// shaded with (sqrt(1/s) = 0.0085 at s = 13777): the plateau lobe's own width comes from the
+// plateau texels' measured spread, so the rule only decides which texels form the spike.
+inline constexpr int kPlateauReferenceTexels = 256;
+inline constexpr float kPlateauQuantisationSteps = 1.5f;
+
+struct PlateauRule {
+    float epsilon = kDefaultPlateauEpsilon;  // slope units, > 0
+    int radius_x = 1;                        // texels, >= 1
+    int radius_y = 1;
+    float quantisation_step = 0.0f;  // the measured step it was made for (slope units), or 0
+};
+
+// The rule for a map of width x height texels, the setting `epsilon` (slope units, finite and
+// > 0, else Error("plateau_epsilon", ...)) and the quantisation step of the map's slopes (slope
+// units; 0 for continuous slopes).
+PlateauRule plateau_rule(int width, int height, float epsilon, float quantisation_step = 0.0f);
+// The slope change of one code of an integer source (slope units): 2 / unorm_max for a normal
+// map (one code of a normal component where the surface is flat), |strength| / (4 unorm_max) for
+// a height map (one code of a neighbour's height through the Sobel filter, docs/math.md §2);
+// 0 for a float source (unorm_max <= 0).
+float source_slope_step(BakeSource source, int unorm_max, float strength);
+// One code of a stored slope: 2 sc / 255 (8-bit UNORM), 2 sc / 65535 (16-bit UNORM), 0 for the
+// float storages.
+float storage_slope_step(Storage storage, float sc);
+// plateau_rule(slopes' size, epsilon): the rule for continuous slopes.
+PlateauRule plateau_rule_for(const Image& slopes, float epsilon = kDefaultPlateauEpsilon);
 
 // The plateau layer's finest level for 2-channel slopes B: RGBA = (1, Bx, By, Bx^2 + By^2) at a
 // plateau texel and 0 elsewhere, so that filtered texels hold (f, f Bs, f |Bs|^2) with f the
-// fraction of the footprint on a plateau and Bs its mean slope. epsilon: slope units, > 0 and
-// finite. Throws leanfade::Error("plateau_epsilon", ...) for another epsilon, or
-// Error("plateau", ...) for slopes that are not 2 channels. threads: as BakeOptions::threads.
+// fraction of the footprint on a plateau and Bs its mean slope. The rule: `rule`, or
+// plateau_rule_for(slopes, epsilon) (epsilon: slope units, > 0 and finite; continuous slopes). Throws
+// leanfade::Error("plateau_epsilon", ...) for another epsilon, or Error("plateau", ...) for slopes
+// that are not 2 channels. threads: as BakeOptions::threads.
+Image plateau_texels(const Image& slopes, const PlateauRule& rule, int threads = 0);
 Image plateau_texels(const Image& slopes, float epsilon = kDefaultPlateauEpsilon,
                      int threads = 0);
 
 // plateau_texels with its MIP chain, finest first, filtered as the moments are
 // (build_mip_chain), down to 1 x 1. threads: as BakeOptions::threads.
+std::vector<Image> plateau_mips(const Image& slopes, const PlateauRule& rule, int threads = 0);
 std::vector<Image> plateau_mips(const Image& slopes, float epsilon = kDefaultPlateauEpsilon,
                                 int threads = 0);
 
@@ -43,8 +81,10 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads = 0);
 // filtered map. Replaces any layer the map had and sets map.plateau_epsilon. epsilon: slope
 // units, finite and > 0 (else Error("plateau_epsilon", ...)). The packed bakes
 // (BakeOptions::plateau_epsilon) write exactly these bytes.
+// The rule: plateau_rule(the map's size, epsilon, the larger of source_step (the source's
+// quantisation, source_slope_step; 0 when unknown) and the storage's step).
 void add_plateau_layer(PackedLeanMap& map, float epsilon = kDefaultPlateauEpsilon,
-                       int threads = 0);
+                       int threads = 0, float source_step = 0.0f);
 // The plateau layer of `map` from its float chain (f, f Bs, f |Bs|^2), one 4-channel image per
 // level of the map's sizes, finest first, packed as add_plateau_layer packs it; sets
 // map.plateau_epsilon (the epsilon the chain was made with). Throws Error("plateau", ...) for a
@@ -53,6 +93,10 @@ void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, floa
                        int threads = 0);
 // The map without its plateau layer (as maps of older versions are).
 void remove_plateau_layer(PackedLeanMap& map);
+
+// The fraction of `map`'s texels on a plateau (the coarsest level's f, in [0, 1]); 0 for a map
+// without the layer.
+float plateau_fraction(const PackedLeanMap& map);
 
 // The stored plateau layer decoded to the renderer's floats (f, f Bs.x, f Bs.y, f |Bs|^2) (slope
 // units), one image per level, finest first; texels with f = 0 decode to exactly 0 (two-lobe LEAN
