@@ -1,0 +1,359 @@
+// Flag values and output names the command line refuses before any work (docs/robustness.md):
+// an empty number, a camera target no view can hold, an output whose name says another format
+// than the one written there, an output inside a folder the run writes whole; and the matrix of
+// `bake`'s output flags, formats, storages and plateau layer, each combination writing exactly
+// the files it names (or refusing with one line and writing none).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/image.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/output_plan.hpp"
+#include "tools_test_helpers.hpp"
+
+using namespace leanfade;
+using test::run_leanfade;
+using test::run_leanfade_in;
+using test::RunResult;
+using test::shell_quote;
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string q(const fs::path& p) {
+    return shell_quote(p.string());
+}
+
+std::size_t line_count(const std::string& text) {
+    return std::size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+// A small height map (gray PNG).
+fs::path write_height_png(const fs::path& dir, const std::string& name, int side = 16) {
+    Image img(side, side, 1);
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) img.at(x, y) = float((x * 7 + y * 3) % 16) / 15.0f;
+    const fs::path p = dir / name;
+    io::write_png(p.string(), img, 8);
+    return p;
+}
+
+// Every file under `dir` (recursively), as paths relative to it.
+std::set<std::string> files_under(const fs::path& dir) {
+    std::set<std::string> found;
+    if (!fs::exists(dir)) return found;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        if (!entry.is_directory()) found.insert(fs::relative(entry.path(), dir).string());
+    return found;
+}
+
+std::string first_bytes(const fs::path& p, std::size_t n) {
+    std::ifstream in(p, std::ios::binary);
+    std::string bytes(n, '\0');
+    in.read(bytes.data(), std::streamsize(n));
+    bytes.resize(std::size_t(in.gcount()));
+    return bytes;
+}
+
+const std::string kPngMagic("\x89PNG\r\n\x1a\n", 8);
+const std::string kKtx2Magic("\xABKTX 20\xBB\r\n\x1a\n", 12);
+
+// ---- 13. Empty numeric values ----
+
+// The options of `command` whose values are numbers, from its help: "  --seed UINT [7] ...".
+std::vector<std::string> numeric_options(const std::string& command, const fs::path& dir) {
+    const RunResult help = run_leanfade(command + " --help", dir);
+    EXPECT_EQ(help.exit_code, 0) << help.err;
+    std::vector<std::string> flags;
+    std::istringstream lines(help.out);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::string names, type;
+        words >> names >> type;
+        if (names.empty() || names[0] != '-') continue;
+        type = type.substr(0, type.find_first_of(":="));  // "FLOAT=1", "INT:INT in [0 - 256]"
+        if (type != "INT" && type != "UINT" && type != "FLOAT") continue;
+        flags.push_back(names.substr(names.rfind(',') + 1));  // "-o,--output" -> "--output"
+    }
+    return flags;
+}
+
+// Before: CLI11 took "" as 0 (or its type's empty value): `--plateau-epsilon ""`, `--seed ""`,
+// `render --fade ""` exited 0, `--strength ""` complained of a 0 never typed and
+// `--bake-roughness ""` printed a 309-digit bound. Every numeric option of every command now
+// says the value is not a number, exit 2, before any work.
+TEST(CliFlagValues, EmptyNumericValuesAreNotNumbers) {
+    const fs::path dir = test::scratch_dir("flag_values_empty");
+    std::size_t checked = 0;
+    for (const char* command :
+         {"bake", "info", "render", "view", "eval", "calibrate", "bench", "shaders"}) {
+        const std::vector<std::string> flags = numeric_options(command, dir);
+        for (const std::string& flag : flags) {
+            SCOPED_TRACE(std::string(command) + " " + flag);
+            const RunResult r =
+                run_leanfade_in(std::string(command) + " " + flag + " ''", dir, dir,
+                                "env -u DISPLAY -u WAYLAND_DISPLAY");
+            EXPECT_EQ(r.exit_code, 2) << r.err;
+            EXPECT_EQ(r.err, "leanfade: " + flag +
+                                 ": not a number (the value is empty) (see leanfade --help)\n");
+            ++checked;
+        }
+    }
+    // The flags of the report: each must have been among those found.
+    EXPECT_GT(checked, 40u);
+    const std::vector<std::string> bake = numeric_options("bake", dir);
+    for (const char* flag : {"--plateau-epsilon", "--seed", "--strength", "--bake-roughness",
+                             "--threads", "--max-size"})
+        EXPECT_NE(std::find(bake.begin(), bake.end(), flag), bake.end()) << flag;
+    const std::vector<std::string> render = numeric_options("render", dir);
+    for (const char* flag : {"--fade", "--mip-bias", "--seed"})
+        EXPECT_NE(std::find(render.begin(), render.end(), flag), render.end()) << flag;
+    // A value that is a number still is one; "=" with nothing after is empty as well.
+    const RunResult zero = run_leanfade("bake --builtin bumps --size 8 --plateau-epsilon= -o " +
+                                            q(dir / "b.ktx2"),
+                                        dir);
+    EXPECT_EQ(zero.exit_code, 2) << zero.err;
+    EXPECT_FALSE(fs::exists(dir / "b.ktx2"));
+    const RunResult fine = run_leanfade(
+        "bake --builtin bumps --size 8 --seed 3 --plateau-epsilon 0 -o " + q(dir / "b.ktx2"), dir);
+    EXPECT_EQ(fine.exit_code, 0) << fine.err;
+    EXPECT_TRUE(fs::exists(dir / "b.ktx2"));
+}
+
+// ---- 19. Values no picture can show; names of another format ----
+
+// Before: --target 1e30,0,0 rendered an empty frame with exit 0.
+TEST(CliFlagValues, CameraTargetsBeyondEveryViewAreRefused) {
+    const fs::path dir = test::scratch_dir("flag_values_target");
+    for (const char* target : {"1e30,0,0", "0,-1e5,0", "0,0,10001"}) {
+        SCOPED_TRACE(target);
+        const RunResult r = run_leanfade(
+            std::string("render --size 16x16 --target ") + target + " -o " + q(dir / "t.png"), dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr("leanfade render: --target: components must be in [-1e4, "
+                                     "1e4] bounding radii"));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "t.png"));
+        const RunResult v =
+            run_leanfade_in(std::string("view --frames 1 --target ") + target, dir, dir,
+                            "env -u DISPLAY -u WAYLAND_DISPLAY");
+        EXPECT_EQ(v.exit_code, 1) << v.err;
+        EXPECT_THAT(v.err, HasSubstr("--target: components must be in"));
+    }
+    // A preset's camera target is held to the same bound.
+    const fs::path preset = dir / "p.json";
+    std::ofstream(preset) << R"({"camera": {"target": [1e30, 0, 0]}})";
+    const RunResult p =
+        run_leanfade("render --size 16x16 --preset " + q(preset) + " -o " + q(dir / "t.png"), dir);
+    EXPECT_NE(p.exit_code, 0) << p.err;
+    EXPECT_THAT(p.err, HasSubstr("camera.target"));
+    EXPECT_THAT(p.err, HasSubstr("components must be in [-1e4, 1e4]"));
+    EXPECT_FALSE(fs::exists(dir / "t.png"));
+}
+
+// Before: `render -o x.jpg` wrote PNG bytes under a .jpg name, and `bake -o x.jpg` a KTX2 file.
+TEST(CliFlagValues, OutputNamedForAnotherFormatIsRefused) {
+    const fs::path dir = test::scratch_dir("flag_values_extension");
+    for (const char* name : {"x.jpg", "x.JPEG", "x", "x.png.tmp"}) {
+        SCOPED_TRACE(name);
+        RunResult r = run_leanfade("render --size 16x16 -o " + q(dir / name), dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(std::string(name) + ": is written as a PNG file; name it "
+                                                         "with .png"));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        r = run_leanfade_in("view --frames 1 --screenshot " + q(dir / name), dir, dir,
+                            "env -u DISPLAY -u WAYLAND_DISPLAY");
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr("is written as a PNG file"));
+        r = run_leanfade("bake --builtin bumps --size 8 -o " + q(dir / name), dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(std::string(name) + ": is written as a KTX2 file; name it "
+                                                         "with .ktx2"));
+        EXPECT_TRUE(files_under(dir).empty());
+    }
+    // The extension in any case is the format's.
+    const RunResult upper = run_leanfade("bake --builtin bumps --size 8 -o " + q(dir / "M.KTX2"), dir);
+    EXPECT_EQ(upper.exit_code, 0) << upper.err;
+    EXPECT_EQ(first_bytes(dir / "M.KTX2", 12), kKtx2Magic);
+}
+
+TEST(OutputPlanFormats, ExtensionOfTheWrittenFormatIsRequired) {
+    const fs::path dir = test::scratch_dir("flag_values_plan_extension");
+    const auto refused = [&](const std::string& name) {
+        io::OutputPlan plan;
+        plan.add_output((dir / name).string(), "-o", ".png");
+        try {
+            plan.check();
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), (dir / name).string());
+            return std::string(e.cause());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(refused("a.png"), "");
+    EXPECT_EQ(refused("a.PnG"), "");
+    EXPECT_EQ(refused("a.jpg"),
+              "is written as a PNG file; name it with .png (leanfade writes no other format "
+              "there, and .jpg would hold PNG bytes)");
+    EXPECT_EQ(refused("png"), "is written as a PNG file; name it with .png (leanfade writes no "
+                              "other format there)");
+    EXPECT_THAT(refused(".png"), HasSubstr("name it with .png"));  // a dotfile has no extension
+}
+
+// ---- 16. An output inside a folder the run writes whole ----
+
+// Before: an output inside the run's own FILE.levels/ passed the plan and the run failed after
+// the bake, naming a temporary.
+TEST(CliFlagValues, OutputInsideTheRunsLevelsFolderIsRefused) {
+    const fs::path dir = test::scratch_dir("flag_values_levels");
+    const fs::path input = write_height_png(dir, "h.png");
+    const std::string roughness =
+        " --roughness-out " + q(dir / "r.ktx2") + " --roughness-levels ";
+    for (const std::string& inside :
+         {"-o " + q(dir / "r.levels" / "m.ktx2"), "--json " + q(dir / "r.levels" / "s.json"),
+          "--anisotropy-out " + q(dir / "r.levels" / "a.ktx2"),
+          "--out-dir " + q(dir / "r.levels" / "maps")}) {
+        SCOPED_TRACE(inside);
+        for (const bool exists : {false, true}) {
+            if (exists) fs::create_directories(dir / "r.levels");
+            const RunResult r = run_leanfade("bake " + q(input) + roughness + inside, dir);
+            EXPECT_EQ(r.exit_code, 1) << r.err;
+            EXPECT_THAT(r.err, HasSubstr("is inside " + (dir / "r.levels").string() +
+                                         ", a folder this run writes whole"));
+            EXPECT_THAT(r.err, ::testing::Not(HasSubstr(".tmp-")));
+            EXPECT_EQ(line_count(r.err), 1u) << r.err;
+            std::set<std::string> left = files_under(dir);
+            EXPECT_EQ(left, std::set<std::string>{"h.png"});
+            fs::remove_all(dir / "r.levels");
+        }
+    }
+}
+
+// ---- 18. bake's output flags x format x storage x plateau layer ----
+
+struct Combination {
+    std::string format;     // ktx2, png
+    std::string bits;       // 8, 16, 16f, 32f
+    bool plateau = false;   // --plateau-epsilon default, or 0
+    std::string placement;  // -o, --out-dir, beside
+    std::string extra;      // "", json, plateau-out, ktx2-2d, roughness, levels, anisotropy
+};
+
+std::string describe(const Combination& c) {
+    return "--format " + c.format + " --bits " + c.bits + (c.plateau ? "" : " --plateau-epsilon 0") +
+           " " + c.placement + " " + c.extra;
+}
+
+// Before: `bake --format png --plateau-epsilon 0` planned one output named .ktx2 and the writer
+// read the pair's second name past the end of the plan (a PNG under a .ktx2 name, a layer
+// written over -o's file or to a garbage name). Each combination either writes exactly the
+// files it names, each in its format, or refuses with one line and writes nothing; the
+// combinations that must work do.
+TEST(CliBakeMatrix, EveryOutputFlagFormatStorageAndPlateauWritesExactlyItsFiles) {
+    const fs::path root = test::scratch_dir("flag_values_bake_matrix");
+    std::vector<Combination> combinations;
+    for (const std::string format : {"ktx2", "png"})
+        for (const std::string bits : {"8", "16", "16f", "32f"}) {
+            if (format == "png" && (bits == "16f" || bits == "32f")) continue;
+            for (const bool plateau : {true, false})
+                for (const std::string placement : {"-o", "--out-dir", "beside"})
+                    for (const std::string extra : {"", "json", "plateau-out", "ktx2-2d",
+                                                    "roughness", "levels", "anisotropy"})
+                        combinations.push_back({format, bits, plateau, placement, extra});
+        }
+    int accepted = 0;
+    for (const Combination& c : combinations) {
+        SCOPED_TRACE(describe(c));
+        const fs::path dir = root / "run";
+        fs::remove_all(dir);
+        fs::create_directories(dir / "in");
+        fs::create_directories(dir / "out");
+        const fs::path input = write_height_png(dir / "in", "h.png");
+        std::string args = "bake " + q(input) + " --format " + c.format + " --bits " + c.bits;
+        if (!c.plateau) args += " --plateau-epsilon 0";
+        std::set<std::string> expected{"in/h.png"};
+        const bool roughness = c.extra == "roughness" || c.extra == "levels";
+        // Where the LEAN map goes (without -o or --out-dir, roughness outputs alone write none
+        // in KTX2: docs/roughness.md).
+        std::string base;  // relative to dir, without extension
+        if (c.placement == "-o") {
+            base = "out/m";
+            args += " -o " + q(dir / (base + "." + c.format));
+        } else if (c.placement == "--out-dir") {
+            base = "out/h";
+            args += " --out-dir " + q(dir / "out");
+        } else {
+            base = "in/h";
+        }
+        const bool writes_map = !((roughness || c.extra == "anisotropy") &&
+                                  c.placement == "beside" && c.format != "png");
+        if (writes_map && c.format == "ktx2") expected.insert(base + ".ktx2");
+        if (writes_map && c.format == "png") {
+            expected.insert(base + ".lean1.png");
+            expected.insert(base + ".lean2.png");
+            if (c.plateau) expected.insert(base + ".plateau.png");
+        }
+        bool valid = true;
+        if (c.extra == "json") {
+            args += " --json " + q(dir / "out/s.json");
+            expected.insert("out/s.json");
+        } else if (c.extra == "plateau-out") {
+            args += " --plateau-out " + q(dir / "out/p.ktx2");
+            expected.insert("out/p.ktx2");
+            valid = c.plateau;
+        } else if (c.extra == "ktx2-2d") {
+            args += " --ktx2-2d";
+            expected.insert(base + ".lean1.ktx2");
+            expected.insert(base + ".lean2.ktx2");
+            valid = c.format == "ktx2";
+        } else if (roughness) {
+            args += " --roughness-out " + q(dir / "out/r.ktx2");
+            expected.insert("out/r.ktx2");
+            expected.insert("out/r.normal.ktx2");
+            if (c.extra == "levels") {
+                args += " --roughness-levels";
+                for (int level = 0; level < 5; ++level)
+                    for (const char* what : {"roughness", "normal"})
+                        expected.insert("out/r.levels/" + std::string(what) + "_mip" +
+                                        std::to_string(level) + ".png");
+            }
+        } else if (c.extra == "anisotropy") {
+            args += " --anisotropy-out " + q(dir / "out/a.ktx2");
+            expected.insert("out/a.ktx2");
+        }
+        const RunResult r = run_leanfade(args, dir);
+        std::set<std::string> found = files_under(dir);
+        if (!valid) {
+            EXPECT_EQ(r.exit_code, 1) << r.err;
+            EXPECT_EQ(line_count(r.err), 1u) << r.err;
+            EXPECT_EQ(found, std::set<std::string>{"in/h.png"});
+            continue;
+        }
+        ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+        ++accepted;
+        EXPECT_EQ(found, expected) << args;
+        for (const std::string& file : found) {
+            const std::string name = fs::path(file).filename().string();
+            if (name.ends_with(".png")) {
+                EXPECT_EQ(first_bytes(dir / file, 8), kPngMagic) << file;
+            }
+            if (name.ends_with(".ktx2")) {
+                EXPECT_EQ(first_bytes(dir / file, 12), kKtx2Magic) << file;
+            }
+        }
+    }
+    EXPECT_GT(accepted, 150);
+}
+
+}  // namespace
