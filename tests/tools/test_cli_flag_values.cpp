@@ -356,4 +356,36 @@ TEST(CliBakeMatrix, EveryOutputFlagFormatStorageAndPlateauWritesExactlyItsFiles)
     EXPECT_GT(accepted, 150);
 }
 
+// ---- 12. An allocation that fails ----
+
+#if !defined(LEANFADE_TEST_SANITIZED)
+// Before: under `ulimit -v` a large file read whole ended the run with "internal error:
+// std::bad_alloc", exit 3, naming no file. (Compiled in ordinary builds only: AddressSanitizer
+// maps terabytes of shadow memory and cannot run under `ulimit -v`.)
+TEST(CliFlagValues, AllocationFailureIsOneLineNamingTheFile) {
+    const fs::path dir = test::scratch_dir("flag_values_bad_alloc");
+    // An uncompressed 16384 x 16384 RGBA DDS (1 GiB of data, sparse): within every limit.
+    std::vector<std::uint8_t> header(128, 0);
+    const auto put = [&](std::size_t at, std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) header[at + std::size_t(i)] = std::uint8_t(v >> (8 * i));
+    };
+    header[0] = 'D', header[1] = 'D', header[2] = 'S', header[3] = ' ';
+    put(4, 124), put(8, 0x1007), put(12, 16384), put(16, 16384), put(76, 32), put(80, 0x41);
+    put(88, 32), put(92, 0x00FF0000), put(96, 0x0000FF00), put(100, 0x000000FF);
+    put(104, 0xFF000000), put(108, 0x1000);
+    {
+        std::ofstream out(dir / "big.dds", std::ios::binary);
+        out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+    }
+    fs::resize_file(dir / "big.dds", 128 + (std::uintmax_t(1) << 30));
+    const RunResult r = run_leanfade_in("bake big.dds -o big.ktx2", dir, dir,
+                                        "sh -c 'ulimit -v 900000 && exec \"$@\"' sh");
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("leanfade bake: big.dds: out of memory"));
+    EXPECT_EQ(line_count(r.err), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "big.ktx2"));
+    fs::remove(dir / "big.dds");
+}
+#endif
+
 }  // namespace

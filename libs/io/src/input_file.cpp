@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <new>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/memory.hpp"
@@ -74,7 +75,13 @@ void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t siz
 
 std::vector<std::uint8_t> InputFile::read_all() const {
     std::vector<std::uint8_t> bytes;
-    assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
+    try {
+        assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
+    } catch (const std::bad_alloc&) {
+        // One line naming the file (under `ulimit -v` this was "internal error: std::bad_alloc").
+        throw Error(path_, "out of memory reading the file (" + std::to_string(size_) +
+                               " bytes; lower the size limit or raise the memory limit)");
+    }
     read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
     return bytes;
 }
