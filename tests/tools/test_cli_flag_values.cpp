@@ -356,6 +356,36 @@ TEST(CliBakeMatrix, EveryOutputFlagFormatStorageAndPlateauWritesExactlyItsFiles)
     EXPECT_GT(accepted, 150);
 }
 
+// ---- 8. The file size limit ----
+
+// Before: under `ulimit -f` the first write past the limit killed the run with SIGXFSZ (status
+// 153, no message) and left its temporaries. The signal is ignored: the write fails with EFBIG,
+// one line naming the output, exit 1, nothing left.
+TEST(CliFlagValues, FileSizeLimitIsAnErrorNotASignal) {
+    const fs::path dir = test::scratch_dir("flag_values_fsize");
+    fs::create_directories(dir / "out");
+    // `ulimit -f 64`: 32 KiB in 512-byte blocks (dash), 64 KiB in bash's 1024-byte ones; the
+    // maps below take about 700 KiB.
+    const std::string limited = "sh -c 'ulimit -f 64 && exec \"$@\"' sh";
+    for (const std::string& flags :
+         {std::string("--builtin bumps --size 256 -o ") + q(dir / "out" / "m.ktx2"),
+          std::string("--builtin bumps --size 256 --format png -o ") + q(dir / "out" / "m.png")}) {
+        SCOPED_TRACE(flags);
+        const RunResult r = run_leanfade_in("bake " + flags, dir, {}, limited);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr("File too large"));
+        EXPECT_THAT(r.err, HasSubstr((dir / "out" / "m.").string()));
+        EXPECT_THAT(r.err, ::testing::Not(HasSubstr(".tmp-")));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_TRUE(files_under(dir / "out").empty());
+    }
+    // Without the limit the same run writes its map.
+    const RunResult r = run_leanfade(
+        "bake --builtin bumps --size 256 -o " + q(dir / "out" / "m.ktx2"), dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(fs::file_size(dir / "out" / "m.ktx2"), std::uintmax_t(64) << 10);
+}
+
 // ---- 12. An allocation that fails ----
 
 #if !defined(LEANFADE_TEST_SANITIZED)
