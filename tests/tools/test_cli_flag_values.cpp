@@ -386,6 +386,102 @@ TEST(CliFlagValues, FileSizeLimitIsAnErrorNotASignal) {
     EXPECT_GT(fs::file_size(dir / "out" / "m.ktx2"), std::uintmax_t(64) << 10);
 }
 
+// ---- 1. Files read through other files are inputs of the run ----
+
+// Before: `render -o` could replace a texture an OBJ's .mtl names, or a level NAME_k of
+// --roughness-mips: the plan knew only the files the command line named. The levels of a series
+// are listed up front; any other file a run reads is refused when it is opened if it is an output
+// of the run (the plan claims every existing output), before anything is written.
+TEST(CliFlagValues, FilesNamedByOtherFilesAreInputsOfTheRun) {
+    const fs::path dir = test::scratch_dir("flag_values_named_inputs");
+    write_height_png(dir, "tex.png");
+    write_height_png(dir, "n.png");
+    std::ofstream(dir / "m.obj") << "mtllib m.mtl\nusemtl A\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                    "vt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
+    for (const auto& [statement, texture] :
+         {std::pair{"map_Kd", "tex.png"}, std::pair{"map_Bump", "n.png"}}) {
+        SCOPED_TRACE(statement);
+        std::ofstream(dir / "m.mtl") << "newmtl A\n" << statement << " " << texture << "\n";
+        const std::string before = test::read_text(dir / texture);
+        const RunResult r = run_leanfade_in("render --scene m.obj --size 16x16 -o " +
+                                                std::string(texture),
+                                            dir, dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(std::string(texture) + ": is the same file as the output"));
+        EXPECT_THAT(r.err, HasSubstr("an output may not replace an input"));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_EQ(test::read_text(dir / texture), before);
+    }
+    // Each level of a --roughness-mips series, refused by the plan before anything is read.
+    Image level(4, 4, 1, 0.5f);
+    io::write_png((dir / "r_0.png").string(), level, 8);
+    for (const int side : {2, 1}) {
+        Image smaller(side, side, 1, 0.5f);
+        io::write_png((dir / ("r_" + std::to_string(side == 2 ? 1 : 2) + ".png")).string(),
+                      smaller, 8);
+    }
+    for (const char* output : {"r_1.png", "r_2.png"}) {
+        SCOPED_TRACE(output);
+        const std::string before = test::read_text(dir / output);
+        const RunResult r = run_leanfade_in(
+            std::string("render --size 16x16 --roughness-mips r_0.png -o ") + output, dir, dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(std::string(output) + ": is the same file as an input"));
+        EXPECT_EQ(test::read_text(dir / output), before);
+    }
+}
+
+TEST(OutputPlanFormats, ExistingOutputsAreRefusedByEveryReader) {
+    const fs::path dir = test::scratch_dir("flag_values_claimed");
+    const fs::path png = write_height_png(dir, "claimed.png");
+    const fs::path other = write_height_png(dir, "other.png");
+    fs::create_hard_link(png, dir / "alias.png");
+    io::OutputPlan plan;
+    plan.add_output(png.string(), "-o", ".png");
+    plan.check();
+    for (const fs::path& name : {png, dir / "alias.png"}) {
+        try {
+            (void)io::read_image(name.string());
+            ADD_FAILURE() << name << ": read";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), name.string());
+            EXPECT_EQ(e.cause(), "is the same file as the output " + png.string() +
+                                     " of this run (an input named by another input); an output "
+                                     "may not replace an input");
+        }
+    }
+    EXPECT_EQ(io::read_image(other.string()).width, 16);
+}
+
+// ---- 14. The run's --max-size for the run's own maps ----
+
+// Before: --plateau-out and --ktx2-2d read the staged map back with the default size limit, so a
+// bake with a larger --max-size failed after the whole bake, naming its own output as a bad
+// input; and `info` could not describe the map at all.
+TEST(CliFlagValues, MapsBakedWithALargerMaxSizeAreReadBackWithIt) {
+    const fs::path dir = test::scratch_dir("flag_values_max_size");
+    Image wide(16400, 1, 1);
+    for (int x = 0; x < wide.width; ++x) wide.at(x, 0) = float(x % 7) / 6.0f;
+    io::write_png((dir / "wide.png").string(), wide, 8);
+    RunResult r = run_leanfade_in("bake wide.png -o m.ktx2", dir, dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("wide.png: image size 16400x1 exceeds the limit of 16384"));
+    r = run_leanfade_in("bake wide.png --max-size 16400 --plateau-out p.ktx2 --ktx2-2d -o m.ktx2",
+                        dir, dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* file : {"m.ktx2", "p.ktx2", "m.lean1.ktx2", "m.lean2.ktx2"})
+        EXPECT_EQ(first_bytes(dir / file, 12), kKtx2Magic) << file;
+    r = run_leanfade_in("info m.ktx2", dir, dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("exceeds the limit of 16384 texels per side"));
+    r = run_leanfade_in("info --max-size 16400 m.ktx2", dir, dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("kind: a LEAN map"));
+    r = run_leanfade_in("info --max-size 100 m.ktx2", dir, dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_THAT(r.err, HasSubstr("exceeds the limit of 100 texels per side"));
+}
+
 // ---- 12. An allocation that fails ----
 
 #if !defined(LEANFADE_TEST_SANITIZED)

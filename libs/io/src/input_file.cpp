@@ -11,6 +11,7 @@
 #include <new>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/memory.hpp"
 
 namespace leanfade::io::detail {
@@ -36,6 +37,12 @@ InputFile::InputFile(std::string path) : path_(std::move(path)) {
         ::close(descriptor_);
         throw Error(path_, "is not a regular file");
     }
+#if !defined(LEANFADE_IO_OIIO_MODULE)
+    if (const std::string output = claimed_output(status.st_dev, status.st_ino); !output.empty()) {
+        ::close(descriptor_);
+        throw Error(path_, claimed_output_cause(output));
+    }
+#endif
     size_ = std::uint64_t(status.st_size);
     if (size_ == 0) {
         ::close(descriptor_);

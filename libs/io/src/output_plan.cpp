@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::io {
 namespace {
@@ -102,7 +103,6 @@ void fsync_folder(const fs::path& folder) {
     ::close(descriptor);
 }
 
-}  // namespace
 // True when the file name `name` ends with `extension` (".png"), in any case.
 bool has_extension(const std::string& name, const std::string& extension) {
     if (name.size() <= extension.size()) return false;
@@ -121,6 +121,7 @@ std::string format_of(const std::string& extension) {
     return format;
 }
 
+}  // namespace
 
 void OutputPlan::add_input(const std::string& path) {
     if (!path.empty()) inputs_.push_back(path);
@@ -231,7 +232,6 @@ void OutputPlan::check() const {
                 cause += " (also as " + other->path + ")";
             throw Error(path, cause);
         }
-        keys.emplace_back(key, &output);
         // After the inputs: replacing one is the graver cause.
         if (!output.extension.empty() && !has_extension(name, output.extension))
             throw Error(path, "is written as a " + format_of(output.extension) + " file; name it " +
@@ -243,6 +243,26 @@ void OutputPlan::check() const {
                                              " would hold " + format_of(output.extension) +
                                              " bytes") +
                                   ")");
+        keys.emplace_back(key, &output);
+    }
+    // Every existing file the run may replace is claimed: a reader that opens one of them later
+    // (a file another input names, which no list of inputs above knew) refuses it before reading
+    // (input_text.hpp, claim_output_file).
+    for (const Output& output : outputs_) {
+        struct stat info {};
+        if (!output.folder) {
+            if (::lstat(output.path.c_str(), &info) == 0 && S_ISREG(info.st_mode))
+                claim_output_file(info.st_dev, info.st_ino, output.path);
+            continue;
+        }
+        // A folder whose every file is listed: those are claimed above. Another may have any
+        // of its files replaced.
+        if (output.every_file_listed) continue;
+        std::error_code error;
+        for (fs::directory_iterator it(output.path, error), end; !error && it != end;
+             it.increment(error))
+            if (::lstat(it->path().c_str(), &info) == 0 && S_ISREG(info.st_mode))
+                claim_output_file(info.st_dev, info.st_ino, it->path().string());
     }
     for (const Output& output : outputs_) remove_stale_temporaries(output.path);
 }

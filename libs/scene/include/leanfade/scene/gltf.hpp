@@ -195,7 +195,8 @@ struct GltfLoadOptions {
 // value that is not finite, a node cycle, a URI outside the folder, or a limit exceeded.
 GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options = {});
 
-// The external files (buffers and images) that the glTF file at `path` names by a URI that
+// The external files (buffers, images and the LEANFADE_lean_map of a material) that the glTF
+// file at `path` names by a URI that
 // load_gltf would read, as paths beside it: inputs of a run, which its outputs may not replace.
 // Never throws: a file that cannot be read or parsed gives the files found so far (load_gltf
 // then names the cause).
