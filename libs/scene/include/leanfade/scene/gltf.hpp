@@ -254,6 +254,13 @@ struct GltfBakeReport {
     std::vector<std::string> other_convention;
 };
 
+// The size limit of `max_dimension` texels per side checked for the image `image` of `gltf`
+// whose size a cached result records (a LEAN map has its image's size): a cache hit refuses what
+// a bake would, with the decoder's message ("GLTF: image 0 (n.png): image size 4096x4096 exceeds
+// the limit of 1024 texels per side"). The cache saves the work, never a check.
+void check_cached_image_size(const GltfScene& gltf, int image, int width, int height,
+                             int max_dimension);
+
 // The LEAN map of one normal texture with its glTF `scale` (slopes times scale: the normal's X
 // and Y scaled, glTF 2.0 §3.9.3), OpenGL convention, repeat wrap, no baked roughness. Looked up
 // in the cache first (key: the image's encoded bytes, the scale, the storage and the bake
