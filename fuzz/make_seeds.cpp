@@ -297,6 +297,17 @@ void image_seeds(const fs::path& dir) {
         dds("normal_bc5_dx10.dds", "DX10", bc5, 83);
         dds("normal_dxt5nm.dds", "DXT5", dxt5nm);
         dds("colour_bc1.dds", "DXT1", bc1);
+        {
+            // Uncompressed RGBA, 32 bits: the channel masks (checked on the header).
+            std::vector<std::uint8_t> texels;
+            for (int t = 0; t < 8 * 8; ++t)
+                for (int c = 0; c < 4; ++c) texels.push_back(std::uint8_t((t * 37 + c * 71) & 0xFF));
+            auto bytes = io::test::dds_file(8, 8, "\0\0\0\0", 0x41, texels);
+            io::test::put_u32(bytes, 88, 32);
+            const std::uint32_t masks[] = {0x00FF0000u, 0x0000FF00u, 0x000000FFu, 0xFF000000u};
+            for (std::size_t c = 0; c < 4; ++c) io::test::put_u32(bytes, 92 + 4 * c, masks[c]);
+            write_file(dir / "normal_rgba32.dds", std::string(bytes.begin(), bytes.end()));
+        }
         const auto psd8 = io::test::psd_file(normal, 8);
         write_file(dir / "normal8.psd", std::string(psd8.begin(), psd8.end()));
         const auto psd16 = io::test::psd_file(sample_image(5, 4, 1), 16);

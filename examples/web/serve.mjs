@@ -84,9 +84,28 @@ function finish(code, message) {
   setTimeout(() => browser.kill('SIGKILL'), 5000).unref();
 }
 
-const server = createServer((request, response) => {
-  const url = new URL(request.url, 'http://localhost');
-  const path = decodeURIComponent(url.pathname);
+// The decoded path of a request, or null when it is malformed: a bad % escape (decodeURIComponent
+// throws URIError), a target that is no path of this server ("//", which URL reads as a host, or
+// an absolute URL), a NUL.
+function requestPath(target) {
+  if (typeof target !== 'string' || !target.startsWith('/') || target.startsWith('//')) return null;
+  try {
+    const path = decodeURIComponent(new URL(target, 'http://localhost').pathname);
+    return path.includes('\0') ? null : path;
+  } catch {
+    return null;
+  }
+}
+
+// One request. Whatever a request holds, it is answered and the server keeps serving: a
+// malformed one gets 400, an unexpected failure 500 (a page open in the same browser must not be
+// able to end the session).
+function serve(request, response) {
+  const path = requestPath(request.url);
+  if (path === null) {
+    response.writeHead(400).end();
+    return;
+  }
   if (request.method === 'POST' && options.capture && path.startsWith('/capture/')) {
     const name = path.slice('/capture/'.length);
     const chunks = [];
@@ -117,8 +136,24 @@ const server = createServer((request, response) => {
     response.writeHead(404).end();
     return;
   }
+  const body = readFileSync(file);
   response.writeHead(200, { 'Content-Type': types[extname(file)] ?? 'application/octet-stream' });
-  response.end(readFileSync(file));
+  response.end(body);
+}
+
+const server = createServer((request, response) => {
+  try {
+    serve(request, response);
+  } catch (error) {
+    process.stderr.write(`serve.mjs: ${request.method} ${JSON.stringify(request.url)}: ${error.message}\n`);
+    if (!response.headersSent) response.writeHead(500);
+    response.end();
+  }
+});
+server.on('clientError', (error, socket) => {
+  // A request line or header Node's parser refuses: 400, and the connection closed.
+  if (socket.writable) socket.end('HTTP/1.1 400 Bad Request\r\nConnection: close\r\n\r\n');
+  else socket.destroy();
 });
 
 server.listen(port, '127.0.0.1', () => {

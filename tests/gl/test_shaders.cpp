@@ -139,6 +139,39 @@ TEST(ShaderSources, ReportsMissingAndMalformedFiles) {
     EXPECT_THROW(gl::shader_variant(gl::VariantKey::scene(Technique::Lean, 64u)), Error);
 }
 
+// Before: an #include was confined by its spelling only: a link in the shader folder to a file
+// outside it was read, and the outside file's text reached the compile log's messages. Where the
+// name leads is checked before the file is read; a link that stays inside is followed.
+TEST(ShaderSources, IncludeThroughALinkOutOfTheFolderIsRefused) {
+    const fs::path root = scratch_dir("include_links");
+    fs::create_directories(root / "shaders");
+    fs::create_directories(root / "outside");
+    write_file(root / "outside" / "secret.glsl", "SECRET TEXT OF AN OUTSIDE FILE\n");
+    write_file(root / "shaders" / "inner.glsl", "float inner() { return 1.0; }\n");
+    fs::create_symlink("../outside/secret.glsl", root / "shaders" / "out.glsl");
+    fs::create_symlink("../outside", root / "shaders" / "sub");
+    fs::create_symlink("inner.glsl", root / "shaders" / "in.glsl");
+    write_file(root / "shaders" / "a.frag", "#version 450 core\n#include \"out.glsl\"\n");
+    write_file(root / "shaders" / "b.frag", "#version 450 core\n#include \"sub/secret.glsl\"\n");
+    write_file(root / "shaders" / "c.frag", "#version 450 core\n#include \"in.glsl\"\n");
+    fs::create_symlink("../outside/secret.glsl", root / "shaders" / "d.frag");
+    const gl::ShaderSources sources = gl::ShaderSources::directory((root / "shaders").string());
+    for (const char* main_file : {"a.frag", "b.frag", "d.frag"}) {
+        SCOPED_TRACE(main_file);
+        try {
+            (void)sources.resolve(main_file, {});
+            ADD_FAILURE() << "no error";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.cause()).find("resolves outside the shader folder"),
+                      std::string::npos)
+                << e.what();
+            EXPECT_EQ(std::string(e.what()).find("SECRET"), std::string::npos) << e.what();
+        }
+    }
+    const gl::ResolvedSource inside = sources.resolve("c.frag", {});
+    EXPECT_NE(inside.text.find("float inner()"), std::string::npos) << inside.text;
+}
+
 // The drivers' log formats, resolved to files and lines (no context needed).
 TEST(ShaderSources, CompileLogsOfEachDriverNameTheFileAndLine) {
     const fs::path dir = scratch_dir("compile_logs");

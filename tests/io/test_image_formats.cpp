@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <filesystem>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -467,7 +469,9 @@ TEST(Formats, DecompressionBombsAreRefusedBeforeAllocating) {
     const std::string targa = folder + "/bomb.tga";
     write_bytes(targa, tga);
     for (const auto& [path, cause] :
-         {std::pair<std::string, std::string>{dds, "truncated or a decompression bomb"},
+         {std::pair<std::string, std::string>{dds, "truncated DDS data (DXT1 of 16384x16384, 1 "
+                                                   "level: 134217728 bytes of data after the "
+                                                   "128-byte header, the file holds 8)"},
           std::pair<std::string, std::string>{targa, "truncated TGA data (16000x16000 texels"}}) {
         SCOPED_TRACE(path);
         test::reset_largest_allocation();
@@ -505,6 +509,121 @@ TEST(Formats, CorruptHeadersGiveOneLineErrors) {
     bytes[13] = 99;  // 99 channels
     write_bytes(psd, bytes);
     expect_error([&] { read_image(psd); }, psd, "PSD");
+}
+
+// ---- DDS headers checked before the file is read (docs/robustness.md, "Limits") ----
+
+// An uncompressed DDS of `width` x `height` texels, `bits` per texel, with the given pixel
+// flags and channel masks (R, G, B, A), and `data` after the 128-byte header.
+std::vector<std::uint8_t> uncompressed_dds(int width, int height, std::uint32_t pixel_flags,
+                                           std::uint32_t bits,
+                                           const std::array<std::uint32_t, 4>& masks,
+                                           const std::vector<std::uint8_t>& data) {
+    std::vector<std::uint8_t> bytes = test::dds_file(width, height, "\0\0\0\0", pixel_flags, data);
+    test::put_u32(bytes, 88, bits);
+    for (std::size_t c = 0; c < 4; ++c) test::put_u32(bytes, 92 + 4 * c, masks[c]);
+    return bytes;
+}
+
+// Before: a red (or luminance) mask of 0 made OpenImageIO's DDS reader loop forever; overlapping
+// masks and masks beyond the bit count decoded garbage.
+TEST(Formats, DdsChannelMasksAreCheckedBeforeDecoding) {
+    const std::string folder = scratch_folder();
+    const std::string path = folder + "/masks.dds";
+    const std::vector<std::uint8_t> data(4 * 4 * 4, 0x80);
+    constexpr std::uint32_t kRgb = 0x40, kRgba = 0x41, kLuminance = 0x20000;
+    // A good one first: the masks are what decides the channels.
+    write_bytes(path, uncompressed_dds(4, 4, kRgba, 32,
+                                       {0x00FF0000, 0x0000FF00, 0x000000FF, 0xFF000000}, data));
+    EXPECT_EQ(read_image(path).width, 4);
+    const struct {
+        std::uint32_t flags, bits;
+        std::array<std::uint32_t, 4> masks;
+        const char* cause;
+    } cases[] = {
+        {kRgb, 32, {0, 0x0000FF00, 0x000000FF, 0}, "the red channel's mask is 0"},
+        {kRgb, 32, {0x00FF0000, 0, 0x000000FF, 0}, "the green channel's mask is 0"},
+        {kRgb, 32, {0x00FF0000, 0x0000FF00, 0, 0}, "the blue channel's mask is 0"},
+        {kRgba, 32, {0x00FF0000, 0x0000FF00, 0x000000FF, 0}, "the alpha channel's mask is 0"},
+        {kLuminance, 8, {0, 0, 0, 0}, "the red channel's mask is 0"},
+        {kRgb, 32, {0x00FF0000, 0x00FFFF00, 0x000000FF, 0}, "green channel's mask 0x00FFFF00 "
+                                                            "overlaps another channel's"},
+        {kRgb, 16, {0x00FF0000, 0x0000FF00, 0x000000FF, 0},
+         "red channel's mask 0x00FF0000 lies beyond the 16 bits of a texel"},
+        {kRgb, 12, {0xF00, 0x0F0, 0x00F, 0}, "12 bits per texel, expected 8, 16, 24 or 32"},
+        {0, 32, {0x00FF0000, 0x0000FF00, 0x000000FF, 0}, "name no compression and no channels"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.cause);
+        write_bytes(path, uncompressed_dds(4, 4, c.flags, c.bits, c.masks, data));
+        expect_error([&] { read_image(path); }, path, c.cause);
+    }
+}
+
+// Before: a DDS cut short (no data, half, one byte short) decoded as if the missing blocks were
+// 0 and baked into a flat map with exit 0. The header gives the exact byte count.
+TEST(Formats, TruncatedDdsIsRefusedByItsHeadersByteCount) {
+    const std::string folder = scratch_folder();
+    std::vector<std::uint8_t> bc1;
+    for (int i = 0; i < 4; ++i) test::append_bc1_block(bc1, 0xFFFF, 0, kStripes);  // 8x8
+    const std::vector<std::uint8_t> rgb(8 * 8 * 4, 0x80);
+    struct Case {
+        const char* name;
+        std::vector<std::uint8_t> bytes;
+        std::size_t data;
+    };
+    const Case files[] = {
+        {"bc1", test::dds_file(8, 8, "DXT1", test::kDdsFourCcFlag, bc1), bc1.size()},
+        {"rgb", uncompressed_dds(8, 8, 0x41, 32, {0x00FF0000, 0x0000FF00, 0x000000FF, 0xFF000000},
+                                 rgb),
+         rgb.size()},
+    };
+    for (const Case& file : files) {
+        const std::string path = folder + "/" + file.name + ".dds";
+        write_bytes(path, file.bytes);
+        EXPECT_EQ(read_image(path).width, 8) << file.name;  // whole: read
+        for (const std::size_t kept : {std::size_t(0), file.data / 2, file.data - 1}) {
+            SCOPED_TRACE(std::string(file.name) + " with " + std::to_string(kept) + " bytes");
+            std::vector<std::uint8_t> cut = file.bytes;
+            cut.resize(128 + kept);
+            write_bytes(path, cut);
+            expect_error([&] { read_image(path); }, path,
+                         std::to_string(file.data) + " bytes of data after the 128-byte header, "
+                                                     "the file holds " + std::to_string(kept));
+        }
+    }
+    // MIP levels declared in the header count too: a BC1 of 8x8 with 4 levels needs 4 + 1 + 1 + 1
+    // blocks.
+    std::vector<std::uint8_t> bytes = test::dds_file(8, 8, "DXT1", test::kDdsFourCcFlag, bc1);
+    test::put_u32(bytes, 8, 0x1007 | 0x80000 | 0x20000);  // + DDSD_MIPMAPCOUNT
+    test::put_u32(bytes, 28, 4);
+    const std::string path = folder + "/mips.dds";
+    write_bytes(path, bytes);
+    expect_error([&] { read_image(path); }, path,
+                 "DXT1 of 8x8, 4 levels: 56 bytes of data after the 128-byte header, the file "
+                 "holds 32");
+    bytes.resize(bytes.size() + 24, 0);
+    write_bytes(path, bytes);
+    EXPECT_EQ(read_image(path).width, 8);
+}
+
+// Before: a 2 GiB DDS over the size limit was read whole (2.2 GB) before its header was looked
+// at. The header is read alone; nothing of the file's size is allocated.
+TEST(Formats, DdsHeaderIsCheckedBeforeTheFileIsRead) {
+    const std::string folder = scratch_folder();
+    std::vector<std::uint8_t> bc1;
+    test::append_bc1_block(bc1, 0xFFFF, 0, kStripes);
+    const std::string path = folder + "/large.dds";
+    write_bytes(path, test::dds_file(65536, 4, "DXT1", test::kDdsFourCcFlag, bc1));
+    std::filesystem::resize_file(path, std::uintmax_t(2) << 30);  // sparse: 2 GiB of zeros
+    test::reset_largest_allocation();
+    expect_error([&] { read_image(path); }, path,
+                 "image size 65536x4 exceeds the limit of 16384 texels per side");
+    EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+    // Unknown compressions are refused on the header too, naming the four characters.
+    write_bytes(path, test::dds_file(4, 4, "XYZW", test::kDdsFourCcFlag,
+                                     std::vector<std::uint8_t>(16, 0)));
+    expect_error([&] { read_image(path); }, path, "unsupported DDS compression 'XYZW'");
 }
 
 TEST(Formats, UnknownFormatNamesEveryReadableFormat) {

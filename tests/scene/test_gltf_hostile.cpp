@@ -440,9 +440,10 @@ TEST(LeanMapCacheBounds, TheFolderIsBoundedOldestFirstAndStaleTemporariesGo) {
     // Temporaries: of a dead process (removed), a day old (removed), this process's fresh one
     // (kept); the first use of the cache cleans.
     const std::string base = (folder / newest[0]).string();
-    const std::string dead = base + ".tmp-999999999-0";
-    const std::string old = base + ".tmp-" + std::to_string(::getpid()) + "-90";
-    const std::string fresh = base + ".tmp-" + std::to_string(::getpid()) + "-91";
+    const std::string id = "-" + io::temporary_run_id();
+    const std::string dead = base + ".tmp-999999999-0" + id;
+    const std::string old = base + ".tmp-" + std::to_string(::getpid()) + "-90" + id;
+    const std::string fresh = base + ".tmp-" + std::to_string(::getpid()) + "-91" + id;
     for (const std::string& name : {dead, old, fresh}) std::ofstream(name) << "x";
     fs::last_write_time(old, fs::file_time_type::clock::now() - std::chrono::hours(25));
     const LeanMapCache cache(folder.string(), settings.max_cache_bytes);

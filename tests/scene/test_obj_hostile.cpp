@@ -200,5 +200,67 @@ TEST(ObjHostile, DeviceAndDirectoryAreRefusedWithoutReading) {
     }
 }
 
+// Before: the .mtl and texture names of an OBJ were confined by their spelling only, so a
+// symbolic link inside the OBJ's folder to a file outside it was followed and the outside file's
+// text (here a "newmtl" line) reached the messages. Where each name leads is checked before any
+// byte is read; a link that stays inside the folder is still followed.
+TEST(ObjHostile, LinksOutOfTheObjsFolderAreRefusedBeforeReading) {
+    namespace fs = std::filesystem;
+    const fs::path root = scratch() / "links";
+    fs::remove_all(root);
+    fs::create_directories(root / "scene");
+    fs::create_directories(root / "outside");
+    const std::string secret = "SECRET-LINE-OF-AN-OUTSIDE-FILE";
+    std::ofstream(root / "outside" / "secret.mtl") << "newmtl A\nKd 1 " << secret << " 1\n";
+    std::ofstream(root / "outside" / "secret.png") << secret;
+    std::ofstream(root / "scene" / "real.mtl") << "newmtl A\nKd 1 1 1\n";
+    fs::create_symlink("../outside/secret.mtl", root / "scene" / "out.mtl");
+    fs::create_symlink(root / "outside" / "secret.mtl", root / "scene" / "absolute.mtl");
+    fs::create_symlink("../outside", root / "scene" / "sub");
+    fs::create_symlink("real.mtl", root / "scene" / "in.mtl");
+    fs::create_symlink("../outside/secret.png", root / "scene" / "out.png");
+    const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
+    const auto scene_of = [&](const std::string& obj_text, const std::string& mtl_text) {
+        if (!mtl_text.empty()) std::ofstream(root / "scene" / "m.mtl") << mtl_text;
+        std::ofstream(root / "scene" / "m.obj") << obj_text;
+        ObjBakeSettings settings;
+        return make_obj_render_scene(load_obj_model((root / "scene" / "m.obj").string()),
+                                     settings);
+    };
+    const struct {
+        std::string obj, mtl, file, cause;
+    } cases[] = {
+        {"mtllib out.mtl\nusemtl A\n" + quad, "", "m.obj",
+         "mtllib 'out.mtl' resolves outside the OBJ's folder"},
+        {"mtllib absolute.mtl\nusemtl A\n" + quad, "", "m.obj",
+         "mtllib 'absolute.mtl' resolves outside the OBJ's folder"},
+        {"mtllib sub/secret.mtl\nusemtl A\n" + quad, "", "m.obj",
+         "mtllib 'sub/secret.mtl' resolves outside the OBJ's folder"},
+        {"mtllib m.mtl\nusemtl A\n" + quad, "newmtl A\nmap_Kd out.png\n", "m.mtl",
+         "map_Kd 'out.png' resolves outside the OBJ's folder"},
+        {"mtllib m.mtl\nusemtl A\n" + quad, "newmtl A\nnorm sub/secret.png\n", "m.mtl",
+         "norm 'sub/secret.png' resolves outside the OBJ's folder"},
+        {"mtllib m.mtl\nusemtl A\n" + quad, "newmtl A\nmap_Bump out.png\n", "m.mtl",
+         "map_Bump 'out.png' resolves outside the OBJ's folder"},
+        {"mtllib m.mtl\nusemtl A\n" + quad, "newmtl A\nmap_Pr out.png\n", "m.mtl",
+         "map_Pr 'out.png' resolves outside the OBJ's folder"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.cause);
+        try {
+            (void)scene_of(c.obj, c.mtl);
+            ADD_FAILURE() << "no error";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), (root / "scene" / c.file).string());
+            EXPECT_NE(e.cause().find(c.cause), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).find(secret), std::string::npos) << e.what();
+        }
+    }
+    // A link that stays inside the folder is followed.
+    const Scene inside = scene_of("mtllib in.mtl\nusemtl A\n" + quad, "");
+    ASSERT_EQ(inside.materials.size(), 1u);
+    EXPECT_EQ(inside.materials[0].name, "A");
+}
+
 }  // namespace
 }  // namespace leanfade::scene

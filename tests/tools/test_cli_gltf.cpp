@@ -442,5 +442,173 @@ TEST(CliGltfOut, ASecondRunTakesItsOutputsFromTheCache) {
                 << out << file;
 }
 
+// The cache entries of `bake SCENE -o OUT` are verified, bounded and limited as a bake is.
+namespace gltf_out {
+
+std::vector<fs::path> cache_entries(const fs::path& dir, const std::string& suffix) {
+    std::vector<fs::path> found;
+    for (const auto& e : fs::directory_iterator(dir / "cache" / "leanfade"))
+        if (e.path().string().ends_with(suffix)) found.push_back(e.path());
+    std::sort(found.begin(), found.end());
+    return found;
+}
+
+}  // namespace gltf_out
+
+// Before: an entry was trusted on its size: a same-size corrupt LEAN map, or another key's files
+// renamed, were published with exit 0; the manifest was read with a 4 GiB limit and parsed; and
+// a cache hit skipped --max-size (exit 1 on an empty cache, 0 on a warm one). Now each copy must
+// have the SHA-256 its manifest records, the manifest must name its own key and hold at most
+// 4 KiB (unread beyond), and the limits apply to the sizes the entry records.
+TEST(CliGltfOut, CacheEntriesAreVerifiedBoundedAndLimited) {
+    const fs::path dir = cli_gltf_folder("out_cache_verified");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    const auto run = [&](const std::string& out, const std::string& flags = "") {
+        return test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
+                                         test::shell_quote((dir / (out + ".glb")).string()) +
+                                         " --json " +
+                                         test::shell_quote((dir / (out + ".json")).string()) +
+                                         flags,
+                                     dir, {}, test::cache_env(dir));
+    };
+    const auto from_cache = [&](const std::string& out) {
+        std::vector<bool> flags;
+        for (const auto& m : nlohmann::json::parse(test::read_text(dir / (out + ".json"))))
+            flags.push_back(m["textures_from_cache"].get<bool>());
+        return flags;
+    };
+    const std::vector<bool> remade = {false, false, true};  // "brick again" shares an entry
+    const char* const files[] = {".brick_wall.lean.ktx2", ".brick_wall.roughness.ktx2",
+                                 ".brick_wall.normal.png", ".metal.normal.ktx2",
+                                 ".metal.lean.ktx2"};
+    const auto same_as_first = [&](const std::string& out) {
+        for (const char* file : files)
+            EXPECT_EQ(test::read_text(dir / (std::string("a").append(file))),
+                      test::read_text(dir / (std::string(out).append(file))))
+                << out << file;
+    };
+    ASSERT_EQ(run("a").exit_code, 0);
+    EXPECT_EQ(from_cache("a"), remade);
+    ASSERT_EQ(run("warm").exit_code, 0);
+    EXPECT_EQ(from_cache("warm"), (std::vector<bool>{true, true, true}));
+
+    // A byte changed in the middle of every cached LEAN map: the size is right, the bytes not.
+    const std::vector<fs::path> maps = gltf_out::cache_entries(dir, ".lean.ktx2");
+    ASSERT_EQ(maps.size(), 2u);
+    for (const fs::path& map : maps) {
+        std::string bytes = test::read_text(map);
+        bytes[bytes.size() / 2] = char(bytes[bytes.size() / 2] ^ 0x5A);
+        std::ofstream(map, std::ios::binary) << bytes;
+    }
+    ASSERT_EQ(run("b").exit_code, 0);
+    EXPECT_EQ(from_cache("b"), remade);
+    same_as_first("b");
+
+    // The two keys' normal textures swapped (same sizes, 16 x 16 each; other normals).
+    const std::vector<fs::path> normals = gltf_out::cache_entries(dir, ".normal.ktx2");
+    ASSERT_EQ(normals.size(), 2u);
+    ASSERT_EQ(fs::file_size(normals[0]), fs::file_size(normals[1]));
+    ASSERT_NE(test::read_text(normals[0]), test::read_text(normals[1]));
+    fs::rename(normals[0], dir / "swap");
+    fs::rename(normals[1], normals[0]);
+    fs::rename(dir / "swap", normals[1]);
+    ASSERT_EQ(run("c").exit_code, 0);
+    EXPECT_EQ(from_cache("c"), remade);
+    same_as_first("c");
+
+    // Another key's whole entry, manifest included, under this key's names.
+    std::vector<fs::path> manifests = gltf_out::cache_entries(dir, ".gltf-out.json");
+    ASSERT_EQ(manifests.size(), 2u);
+    const std::string key0 = manifests[0].filename().string().substr(0, 64);
+    const std::string key1 = manifests[1].filename().string().substr(0, 64);
+    for (const auto& e : fs::directory_iterator(dir / "cache" / "leanfade")) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind(key1, 0) == 0 && name.find(".tmp-") == std::string::npos)
+            fs::copy_file(e.path(), dir / "cache" / "leanfade" / (key0 + name.substr(64)),
+                          fs::copy_options::overwrite_existing);
+    }
+    ASSERT_EQ(run("d").exit_code, 0);
+    // Key 0's entry names key 1 inside: its material remade, the other's entry used.
+    const std::vector<bool> d = from_cache("d");
+    EXPECT_EQ(std::count(d.begin(), d.end(), false), 1);
+    same_as_first("d");
+
+    // A manifest of 200 kB (its JSON padded with spaces): not read, the material remade.
+    manifests = gltf_out::cache_entries(dir, ".gltf-out.json");
+    for (const fs::path& manifest : manifests) {
+        const std::string text = test::read_text(manifest);
+        std::ofstream(manifest, std::ios::binary) << text << std::string(200000, ' ');
+    }
+    ASSERT_EQ(run("e").exit_code, 0);
+    EXPECT_EQ(from_cache("e"), remade);
+    same_as_first("e");
+
+    // --max-size below the textures' 16 x 16: the same refusal, whether the cache is warm (as
+    // it is now) or empty.
+    const test::RunResult warm = run("f", " --max-size 8");
+    EXPECT_EQ(warm.exit_code, 1) << warm.err;
+    EXPECT_NE(warm.err.find("image size 16x16 exceeds the limit of 8 texels per side"),
+              std::string::npos)
+        << warm.err;
+    EXPECT_FALSE(fs::exists(dir / "f.glb"));
+    const test::RunResult cold = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " -o " +
+            test::shell_quote((dir / "f.glb").string()) + " --json " +
+            test::shell_quote((dir / "f.json").string()) + " --max-size 8",
+        dir, {}, test::cache_env(dir / "empty"));
+    EXPECT_EQ(cold.exit_code, 1) << cold.err;
+    EXPECT_EQ(warm.err, cold.err);
+}
+
+// Before: `bake X.gltf -o OTHER/o.gltf` left a material's own LEANFADE_lean_map URI naming a file
+// that was not copied, and a texture that is a symbolic link inside the scene's folder failed the
+// copy with errno's "Too many levels of symbolic links". The map is copied beside the output and
+// its URI rewritten; a linked texture is copied from the file it leads to.
+TEST(CliGltfOut, OwnLeanMapsAndLinkedTexturesAreCopiedIntoAnotherFolder) {
+    const fs::path dir = cli_gltf_folder("out_own_map_links");
+    const fs::path input = dir / "scene.gltf";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::External);
+    // The plain material names a LEAN map of its own.
+    ASSERT_EQ(test::run_leanfade_in("bake --builtin bumps --size 8 -o own.ktx2", dir, dir).exit_code,
+              0);
+    nlohmann::json j = nlohmann::json::parse(test::read_text(input));
+    j["materials"][3]["extensions"]["LEANFADE_lean_map"] = {{"uri", "own.ktx2"}};
+    std::ofstream(input) << j.dump(1);
+    // The second normal texture is a link to a file in a subfolder of the scene's folder.
+    fs::create_directories(dir / "textures");
+    fs::rename(dir / "scene_image1.png", dir / "textures" / "metal.png");
+    fs::create_symlink("textures/metal.png", dir / "scene_image1.png");
+    fs::create_directories(dir / "other");
+    const test::RunResult r = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " -o " +
+            test::shell_quote((dir / "other" / "o.gltf").string()),
+        dir, {}, test::cache_env(dir));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json out = gltf_out::gltf_json(dir / "other" / "o.gltf");
+    const std::string own = out["materials"][3]["extensions"]["LEANFADE_lean_map"]["uri"];
+    EXPECT_NE(own, "own.ktx2");
+    ASSERT_TRUE(fs::is_regular_file(dir / "other" / own)) << own;
+    EXPECT_EQ(test::read_text(dir / "other" / own), test::read_text(dir / "own.ktx2"));
+    bool linked_copied = false;
+    for (const auto& image : out["images"]) {
+        const std::string uri = image["uri"];
+        ASSERT_TRUE(fs::exists(dir / "other" / uri)) << uri;
+        EXPECT_FALSE(fs::is_symlink(dir / "other" / uri)) << uri;
+        if (test::read_text(dir / "other" / uri) == test::read_text(dir / "textures" / "metal.png"))
+            linked_copied = true;
+    }
+    EXPECT_TRUE(linked_copied);
+    // The same map given as another output's name is an input: refused before anything runs.
+    const test::RunResult over = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " -o " +
+            test::shell_quote((dir / "o2.gltf").string()) + " --json " +
+            test::shell_quote((dir / "own.ktx2").string()),
+        dir, {}, test::cache_env(dir));
+    EXPECT_EQ(over.exit_code, 1) << over.err;
+    EXPECT_NE(over.err.find("is the same file as"), std::string::npos) << over.err;
+    EXPECT_FALSE(fs::exists(dir / "o2.gltf"));
+}
+
 }  // namespace
 }  // namespace leanfade

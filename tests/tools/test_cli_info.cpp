@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <filesystem>
 #include <fstream>
 
@@ -104,6 +106,35 @@ TEST(CliInfo, RefusesWhatIsNotKtx2OrIsNotWhatItsKeysClaim) {
         EXPECT_THAT(r.err, HasSubstr(cause));
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
+}
+
+// Before: a key/value of 120 005 characters was printed whole, as one line, though file text is cut
+// everywhere else (docs/robustness.md, "Limits").
+TEST(CliInfo, LongKeyValueTextIsCut) {
+    const fs::path dir = test::scratch_dir("cli_info_long_text");
+    std::vector<io::Rgba8Level> levels = {{1, 1, std::vector<std::uint8_t>(4, 1)}};
+    const std::string long_value(120005, 'v');
+    const std::string long_key = "K" + std::string(5000, 'k');
+    write_file(dir / "long.ktx2",
+               io::encode_ktx2_rgba8(levels, "w", "long.ktx2",
+                                     {{"note", long_value}, {long_key, "short"}}));
+    const auto r = run_leanfade("info " + shell_quote((dir / "long.ktx2").string()), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::istringstream lines(r.out);
+    bool value_seen = false, key_seen = false;
+    for (std::string line; std::getline(lines, line);) {
+        EXPECT_LE(line.size(), 2 * io::kDescribedTextBytes + 16) << line.substr(0, 80);
+        if (line.starts_with("  note = ")) {
+            value_seen = true;
+            EXPECT_EQ(line, "  note = " + std::string(io::kDescribedTextBytes, 'v') + "...");
+        }
+        if (line.starts_with("  Kkkk")) {
+            key_seen = true;
+            EXPECT_EQ(line, "  K" + std::string(io::kDescribedTextBytes - 1, 'k') + "... = short");
+        }
+    }
+    EXPECT_TRUE(value_seen) << r.out.substr(0, 2000);
+    EXPECT_TRUE(key_seen);
 }
 
 }  // namespace

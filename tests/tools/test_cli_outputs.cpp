@@ -417,19 +417,21 @@ TEST(CliOutputs, SigintDuringALargeBakeLeavesNoTemporary) {
 
 TEST(CliOutputs, StaleTemporariesOfDeadRunsAreRemoved) {
     const fs::path dir = test::scratch_dir("outputs_stale");
+    const std::string id = "-" + io::temporary_run_id();  // this machine, namespace and boot
     const std::string dead = std::to_string(dead_pid());
     const std::string alive = std::to_string(::getpid());
-    write_text(dir / ("x.ktx2.tmp-" + dead + "-3"), "stale");
-    write_text(dir / ("x.ktx2.tmp-" + dead + "-4.tmp-" + dead + "-5"), "stale, staged");
-    write_text(dir / ("x.ktx2.tmp-" + alive + "-3"), "a running process's");
-    write_text(dir / ("y.ktx2.tmp-" + dead + "-3"), "another output's");
+    write_text(dir / ("x.ktx2.tmp-" + dead + "-3" + id), "stale");
+    write_text(dir / ("x.ktx2.tmp-" + dead + "-4" + id + ".tmp-" + dead + "-5" + id),
+               "stale, staged");
+    write_text(dir / ("x.ktx2.tmp-" + alive + "-3" + id), "a running process's");
+    write_text(dir / ("y.ktx2.tmp-" + dead + "-3" + id), "another output's");
     write_text(dir / "x.ktx2.tmp-notapid", "not a temporary name");
     const RunResult r = run_leanfade("bake --builtin bumps --size 16 -o " + q(dir / "x.ktx2"), dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_FALSE(fs::exists(dir / ("x.ktx2.tmp-" + dead + "-3")));
-    EXPECT_FALSE(fs::exists(dir / ("x.ktx2.tmp-" + dead + "-4.tmp-" + dead + "-5")));
-    EXPECT_TRUE(fs::exists(dir / ("x.ktx2.tmp-" + alive + "-3")));
-    EXPECT_TRUE(fs::exists(dir / ("y.ktx2.tmp-" + dead + "-3")));
+    EXPECT_FALSE(fs::exists(dir / ("x.ktx2.tmp-" + dead + "-3" + id)));
+    EXPECT_FALSE(fs::exists(dir / ("x.ktx2.tmp-" + dead + "-4" + id + ".tmp-" + dead + "-5" + id)));
+    EXPECT_TRUE(fs::exists(dir / ("x.ktx2.tmp-" + alive + "-3" + id)));
+    EXPECT_TRUE(fs::exists(dir / ("y.ktx2.tmp-" + dead + "-3" + id)));
     EXPECT_TRUE(fs::exists(dir / "x.ktx2.tmp-notapid"));
 }
 
@@ -545,13 +547,46 @@ TEST(OutputTransaction, FolderIsRenamedOrMergedIntoTheExistingOne) {
 
 TEST(Temporaries, StaleOnesOfRunningProcessesAreKept) {
     const fs::path dir = test::scratch_dir("temporaries_unit");
+    const std::string id = "-" + io::temporary_run_id();
     const std::string dead = std::to_string(dead_pid());
-    write_text(dir / ("o.tmp-" + dead + "-1"), "");
-    fs::create_directories(dir / ("o.tmp-" + dead + "-2") / "images");
-    write_text(dir / ("o.tmp-" + std::to_string(::getpid()) + "-1"), "");
+    write_text(dir / ("o.tmp-" + dead + "-1" + id), "");
+    fs::create_directories(dir / ("o.tmp-" + dead + "-2" + id) / "images");
+    write_text(dir / ("o.tmp-" + std::to_string(::getpid()) + "-1" + id), "");
     EXPECT_EQ(io::remove_stale_temporaries((dir / "o").string()), 2u);
-    EXPECT_TRUE(fs::exists(dir / ("o.tmp-" + std::to_string(::getpid()) + "-1")));
+    EXPECT_TRUE(fs::exists(dir / ("o.tmp-" + std::to_string(::getpid()) + "-1" + id)));
     EXPECT_EQ(io::remove_stale_temporaries((dir / "o").string()), 0u);
+    // The names leanfade gives its temporaries carry the run id.
+    EXPECT_THAT(io::temporary_path_for("p"), ::testing::EndsWith(id));
+}
+
+// Before: a temporary was judged by kill(pid, 0) alone, so a run in another PID namespace (a
+// container, a CI volume, NFS) deleted a live run's temporary whose pid meant nothing here. A
+// pid of another run id (another machine, namespace or boot) or of a name without one (an older
+// leanfade) is not asked: such a temporary is removed only once it is a day old.
+TEST(Temporaries, OnesOfAnotherHostOrNamespaceAreJudgedByAge) {
+    const fs::path dir = test::scratch_dir("temporaries_foreign");
+    const std::string own = io::temporary_run_id();
+    const std::string other = own == "0123abcd" ? "fedc3210" : "0123abcd";
+    const std::string dead = std::to_string(dead_pid());
+    const std::vector<std::string> foreign = {"o.tmp-" + dead + "-1-" + other,
+                                              "o.tmp-" + dead + "-2"};  // no run id
+    for (const std::string& name : foreign) write_text(dir / name, "another machine's run");
+    fs::create_directories(dir / ("o.tmp-" + dead + "-3-" + other));
+    EXPECT_EQ(io::remove_stale_temporaries((dir / "o").string()), 0u);
+    for (const std::string& name : foreign) EXPECT_TRUE(fs::exists(dir / name)) << name;
+    // A day and a minute old: stale whatever its process.
+    const auto old = fs::file_time_type::clock::now() -
+                     std::chrono::seconds(io::kStaleForeignTemporarySeconds + 60);
+    fs::last_write_time(dir / foreign[0], old);
+    fs::last_write_time(dir / ("o.tmp-" + dead + "-3-" + other), old);
+    EXPECT_EQ(io::remove_stale_temporaries((dir / "o").string()), 2u);
+    EXPECT_FALSE(fs::exists(dir / foreign[0]));
+    EXPECT_FALSE(fs::exists(dir / ("o.tmp-" + dead + "-3-" + other)));
+    EXPECT_TRUE(fs::exists(dir / foreign[1]));  // still young
+    // The run id is 8 hexadecimal digits, the same at each call.
+    EXPECT_EQ(own.size(), 8u);
+    EXPECT_EQ(own.find_first_not_of("0123456789abcdef"), std::string::npos);
+    EXPECT_EQ(io::temporary_run_id(), own);
 }
 
 }  // namespace

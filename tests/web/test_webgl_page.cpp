@@ -253,5 +253,34 @@ TEST(WebGltf, ThreeJsLoadsEveryLevelOfTheFilteredGltf) {
     EXPECT_TRUE(m["ktx2"]["anisotropy"].is_null()) << "the bumps are isotropic";
 }
 
+// Before: one request with a bad % escape ("/%") or the path "//" threw out of the request handler
+// and ended the server, so any page open in the same browser could end a `make web` session.
+// Each malformed request is answered 400 and the server keeps serving.
+TEST(WebServer, MalformedRequestsGet400AndTheServerKeepsServing) {
+    const fs::path s = scratch_folder_for_this_selection("web_server");
+    fs::create_directories(s / "data");
+    const std::vector<std::pair<std::string, std::string>> expected = {
+        {"/%", "400"},        {"/%E0%A4%A", "400"}, {"//", "400"},
+        {"//host/x", "400"},  {"/data/%00", "400"}, {"http://x/index.html", "400"},
+        {"/", "200"},         {"/index.html", "200"}, {"/../../etc/passwd", "404"},
+        {"/%2e%2e/%2e%2e/etc/passwd", "404"}};
+    nlohmann::json targets = nlohmann::json::array();
+    for (const auto& [target, status] : expected) targets.push_back(target);
+    const std::string command =
+        "TARGETS=" + shell_quote(targets.dump()) + " " + shell_quote(LEANFADE_NODE) + " " +
+        shell_quote(std::string(LEANFADE_WEB_TESTS) + "/serve_requests.mjs") + " " +
+        shell_quote((fs::path(LEANFADE_WEB_EXAMPLE) / "serve.mjs").string()) + " " +
+        shell_quote((s / "data").string()) + " >" + shell_quote((s / "replies.json").string()) +
+        " 2>" + shell_quote((s / "stderr.txt").string()) + " </dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << read_text(s / "stderr.txt");
+    const nlohmann::json replies = nlohmann::json::parse(read_text(s / "replies.json"));
+    for (const auto& [target, status] : expected) {
+        ASSERT_TRUE(replies.contains(target)) << target;
+        EXPECT_EQ(replies[target].get<std::string>().substr(0, 12), "HTTP/1.1 " + status)
+            << target << ": " << replies[target];
+    }
+    EXPECT_TRUE(replies["alive"].get<bool>()) << "serve.mjs ended";
+}
+
 }  // namespace
 }  // namespace leanfade::test

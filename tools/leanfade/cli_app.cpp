@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -24,6 +25,51 @@ void print_error_line(const std::string& prefix, const std::string& message,
                       const std::string& suffix = {}) {
     const std::string line = prefix + terminal_text(message) + suffix + "\n";
     std::fwrite(line.data(), 1, line.size(), stderr);
+}
+
+// Reaches CLI::Option's protected members (a derived class may name them through a
+// pointer to member): the type name of the value and the validators, in their order.
+struct OptionInternals : CLI::Option {
+    static std::string value_type(CLI::Option& option) {
+        return (option.*(&OptionInternals::type_name_))();
+    }
+    static std::vector<CLI::Validator>& validators(CLI::Option& option) {
+        return option.*(&OptionInternals::validators_);
+    }
+};
+
+// True for CLI11's type names of numbers (INT, UINT, FLOAT, NUMBER, also inside a tuple's or a
+// vector's "[FLOAT,FLOAT]").
+bool is_number_type(const std::string& name) {
+    std::string word;
+    for (std::size_t i = 0; i <= name.size(); ++i) {
+        if (i < name.size() && std::isalpha(static_cast<unsigned char>(name[i])) != 0) {
+            word += name[i];
+            continue;
+        }
+        if (word == "INT" || word == "UINT" || word == "FLOAT" || word == "NUMBER") return true;
+        word.clear();
+    }
+    return false;
+}
+
+// CLI11 assigns an empty value to a number as 0 (or its type's empty value) without a word, and
+// its range validators print their bounds in full ("--bake-roughness ''" printed a 309-digit
+// number). Every numeric option of `app` and its subcommands gets, as its first check, the
+// refusal of an empty value: "--seed: not a number (the value is empty)", exit 2.
+void refuse_empty_numbers(CLI::App& app) {
+    const CLI::Validator not_empty(
+        [](std::string& text) {
+            return text.empty() ? std::string("not a number (the value is empty)") : std::string();
+        },
+        std::string(), "not empty");
+    for (CLI::Option* option : app.get_options()) {
+        if (!is_number_type(OptionInternals::value_type(*option))) continue;
+        auto& checks = OptionInternals::validators(*option);
+        checks.insert(checks.begin(), not_empty);
+    }
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        refuse_empty_numbers(*sub);
 }
 
 }  // namespace
@@ -52,6 +98,7 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
         CLI::App* sub = app.add_subcommand(command.name, command.description);
         runners.emplace_back(sub, command.setup(*sub));
     }
+    refuse_empty_numbers(app);
 
     try {
         app.parse(argc, argv);

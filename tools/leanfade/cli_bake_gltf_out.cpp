@@ -109,41 +109,71 @@ std::string uri_of(const fs::path& relative) {
 // An external file of the scene (a buffer or an image named by a URI) that the output needs
 // beside it: the output's folder is another, so a copy is written there.
 struct CopiedFile {
-    std::string source;  // the input's file
-    std::string target;  // its copy's name, beside the output
+    std::string source;    // the input's file, as the glTF names it
+    std::string resolved;  // the file it is, its links resolved (inside the glTF's folder)
+    std::string target;    // its copy's name, beside the output
 };
 
-// Each external URI of buffers and images, for an output in `output_folder`: kept when that is
-// the input's folder; otherwise the file is copied beside the output (named after the output's
-// stem and the file's own name, each name once) and the URI names the copy, so that the output
-// folder holds everything the file names (leanfade, as many loaders, reads only inside it).
-std::vector<CopiedFile> relocate_external_files(json& root, const fs::path& input_folder,
+// Each external URI of buffers, images and the LEANFADE_lean_map of a material that this run
+// does not filter again (`filtered`: glTF material indices whose map the run writes), for an
+// output in `output_folder`: kept when that is the input's folder; otherwise the file is copied
+// beside the output (named after the output's stem and the file's own name, each name once) and
+// the URI names the copy, so that the output folder holds everything the file names (leanfade,
+// as many loaders, reads only inside it). A file that is a symbolic link inside the folder is
+// copied from the file it leads to, which must lie inside the folder too.
+std::vector<CopiedFile> relocate_external_files(json& root, const std::string& input,
+                                                const fs::path& input_folder,
                                                 const fs::path& output_folder,
-                                                const std::string& stem) {
+                                                const std::string& stem,
+                                                const std::set<int>& filtered) {
     std::vector<CopiedFile> copies;
     if (fs::weakly_canonical(input_folder) == fs::weakly_canonical(output_folder)) return copies;
     std::map<std::string, std::string> copied;  // source -> copy's name
     std::set<std::string> names;
+    std::vector<json*> uris;
     for (const char* key : {"buffers", "images"}) {
         const auto list = root.find(key);
         if (list == root.end() || !list->is_array()) continue;
         for (json& entry : *list) {
             const auto uri = entry.find("uri");
-            if (uri == entry.end() || !uri->is_string()) continue;
-            const std::string text = uri->get<std::string>();
-            if (text.rfind("data:", 0) == 0) continue;
-            const std::string source = (input_folder / scene::gltf_uri_path(text)).lexically_normal().string();
-            auto found = copied.find(source);
-            if (found == copied.end()) {
-                const std::string base = stem + "." + file_name_part(fs::path(source).stem().string());
-                const std::string extension = file_name_part(fs::path(source).extension().string().substr(
-                    std::min<std::size_t>(1, fs::path(source).extension().string().size())));
-                const std::string name = unique_name(base, "." + extension, names);
-                copies.push_back({source, name});
-                found = copied.emplace(source, name).first;
-            }
-            *uri = uri_of(found->second);
+            if (uri != entry.end() && uri->is_string()) uris.push_back(&*uri);
         }
+    }
+    if (const auto materials = root.find("materials");
+        materials != root.end() && materials->is_array()) {
+        for (std::size_t i = 0; i < materials->size(); ++i) {
+            json& material = (*materials)[i];
+            if (filtered.count(int(i)) != 0 || !material.is_object()) continue;
+            const auto extensions = material.find("extensions");
+            if (extensions == material.end() || !extensions->is_object()) continue;
+            const auto lean = extensions->find(scene::kGltfLeanMapExtension);
+            if (lean == extensions->end() || !lean->is_object()) continue;
+            const auto uri = lean->find("uri");
+            if (uri != lean->end() && uri->is_string()) uris.push_back(&*uri);
+        }
+    }
+    for (json* uri : uris) {
+        const std::string text = uri->get<std::string>();
+        if (text.rfind("data:", 0) == 0) continue;
+        const std::string source = (input_folder / scene::gltf_uri_path(text)).lexically_normal().string();
+        auto found = copied.find(source);
+        if (found == copied.end()) {
+            if (!resolves_inside(source, input_folder.string()))
+                throw Error(input, "'" + escape_text(text, 80) +
+                                       "' resolves outside the glTF's folder (through a "
+                                       "symbolic link); it cannot be copied beside the output");
+            std::error_code error;
+            const fs::path resolved = fs::weakly_canonical(source, error);
+            if (error)
+                throw Error(source, "cannot be resolved (" + error.message() + ")");
+            const std::string base = stem + "." + file_name_part(fs::path(source).stem().string());
+            const std::string extension = file_name_part(fs::path(source).extension().string().substr(
+                std::min<std::size_t>(1, fs::path(source).extension().string().size())));
+            const std::string name = unique_name(base, "." + extension, names);
+            copies.push_back({source, resolved.string(), name});
+            found = copied.emplace(source, name).first;
+        }
+        *uri = uri_of(found->second);
     }
     return copies;
 }
@@ -242,14 +272,19 @@ json texture_info(int texture, const json& normal_info) {
 // KTX2, PNG, and, when anisotropic, the anisotropy KTX2 and PNG.
 struct EngineTextures {
     std::vector<std::vector<std::uint8_t>> files;
+    int metallic_roughness_width = 0, metallic_roughness_height = 0;  // its image's; 0: none
     bool anisotropic = false;
     float anisotropy_ratio = 1.0f;  // the whole map's covariance, larger axis over smaller
 };
 
-// What a cached material's outputs are: the sizes of its files (in kOutputFileSuffixes order:
-// the LEAN map, then EngineTextures::files) and what the summary reports.
+// What a cached material's outputs are: the sizes and SHA-256 of its files (in
+// kOutputFileSuffixes order: the LEAN map, then EngineTextures::files), what the summary reports
+// and the sizes of the textures it was made from (the run's --max-size applies to them on a
+// cache hit as on a bake).
 struct CachedOutputs {
     std::vector<std::uint64_t> bytes;
+    std::vector<std::string> sha256;
+    int metallic_roughness_width = 0, metallic_roughness_height = 0;  // 0: none
     bool anisotropic = false;
     float anisotropy_ratio = 1.0f;
     int levels = 0, width = 0, height = 0;
@@ -261,6 +296,8 @@ constexpr const char* kOutputFileSuffixes[] = {".lean.ktx2",      ".roughness.kt
                                                ".anisotropy.png"};
 constexpr std::size_t kOutputFileCount = std::size(kOutputFileSuffixes);
 constexpr const char* kOutputManifestSuffix = ".gltf-out.json";
+// A manifest is a few hundred bytes: one larger is not read (nor parsed) at all.
+constexpr std::uint64_t kMaxOutputManifestBytes = 4096;
 
 // The cache key of a material's outputs: its normal texture's and metallic-roughness texture's
 // bytes, the normal scale, the roughness factor, the bake settings that change bytes (storage,
@@ -283,12 +320,17 @@ std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMate
 
 std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cache,
                                                  const std::string& key) {
-    const auto manifest = cache.find_file(key, kOutputManifestSuffix);
+    const auto manifest = cache.find_file(key, kOutputManifestSuffix, kMaxOutputManifestBytes);
     if (!manifest) return std::nullopt;
     CachedOutputs c;
     try {
         const json j = json::parse(manifest->begin(), manifest->end());
+        // The entry of this key (not another key's files renamed), with a hash of each file.
+        if (j.at("key").get<std::string>() != key) return std::nullopt;
         c.bytes = j.at("bytes").get<std::vector<std::uint64_t>>();
+        c.sha256 = j.at("sha256").get<std::vector<std::string>>();
+        c.metallic_roughness_width = j.at("metallic_roughness_width").get<int>();
+        c.metallic_roughness_height = j.at("metallic_roughness_height").get<int>();
         c.anisotropic = j.at("anisotropic").get<bool>();
         c.anisotropy_ratio = j.at("anisotropy_ratio").get<float>();
         c.levels = j.at("levels").get<int>();
@@ -298,6 +340,7 @@ std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cach
         return std::nullopt;
     }
     if (c.bytes.size() != (c.anisotropic ? kOutputFileCount : kOutputFileCount - 2)) return std::nullopt;
+    if (c.sha256.size() != c.bytes.size()) return std::nullopt;
     return c;
 }
 
@@ -312,7 +355,11 @@ std::string store_outputs(const scene::LeanMapCache& cache, const std::string& k
         warning = cache.store_file(key, kOutputFileSuffixes[i + 1], t.files[i]);
         if (!warning.empty()) return warning;
     }
-    const std::string manifest = json{{"bytes", outputs.bytes},
+    const std::string manifest = json{{"key", key},
+                                      {"bytes", outputs.bytes},
+                                      {"sha256", outputs.sha256},
+                                      {"metallic_roughness_width", outputs.metallic_roughness_width},
+                                      {"metallic_roughness_height", outputs.metallic_roughness_height},
                                       {"anisotropic", outputs.anisotropic},
                                       {"anisotropy_ratio", outputs.anisotropy_ratio},
                                       {"levels", outputs.levels},
@@ -333,9 +380,11 @@ EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::G
     // The material's own roughness, r = roughnessFactor x G of its texture; its R, B
     // (occlusion, metallic) kept. Without a texture, B = 1 keeps metallicFactor as it was.
     Image metallic_roughness(w, h, 3, 1.0f);
+    std::pair<int, int> decoded_size{0, 0};
     if (m.metallic_roughness_image >= 0) {
         const scene::GltfImage& image = gltf.images[std::size_t(m.metallic_roughness_image)];
         Image decoded = io::read_image_from_memory(image.bytes, image.name, read_options);
+        decoded_size = {decoded.width, decoded.height};
         if (decoded.channels < 3)
             throw Error(input, image.name + ": a metallic-roughness texture has 3 or 4 channels");
         metallic_roughness = resampled(decoded, w, h);
@@ -353,6 +402,8 @@ EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::G
     const float half_gap = std::sqrt(0.25f * (c.x - c.y) * (c.x - c.y) + c.z * c.z);
     const float larger = mean + half_gap, smaller = std::max(mean - half_gap, 0.0f);
     EngineTextures t;
+    t.metallic_roughness_width = decoded_size.first;
+    t.metallic_roughness_height = decoded_size.second;
     t.anisotropy_ratio = larger > 1e-8f ? larger / std::max(smaller, 1e-12f) : 1.0f;
     t.anisotropic = larger > 1e-8f && t.anisotropy_ratio >= kAnisotropyThreshold;
     const RoughnessTexturesRgba8 textures =
@@ -420,7 +471,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const bool writes_bin = !binary_out && container.has_bin;
     const std::string bin_name = stem + ".bin";
 
-    const std::vector<CopiedFile> copies = relocate_external_files(root, in_folder, out_folder, stem);
+    std::set<int> filtered;
+    for (const MaterialFiles& f : jobs) filtered.insert(gltf.materials[std::size_t(f.material)].gltf_index);
+    const std::vector<CopiedFile> copies =
+        relocate_external_files(root, args.input, in_folder, out_folder, stem, filtered);
     io::OutputPlan plan;
     plan.add_input(args.input);
     for (const CopiedFile& c : copies) plan.add_output(beside(c.target), "a copy of " + c.source);
@@ -480,13 +534,31 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             const std::string cache_key = output_cache_key(gltf, m, settings);
             std::optional<CachedOutputs> result = find_cached_outputs(cache, cache_key);
             if (result) {
+                // The limits a bake applies to the textures' headers, on the sizes the entry
+                // records: a warm cache refuses what an empty one does.
+                scene::check_cached_image_size(gltf, m.normal_image, result->width, result->height,
+                                               read_options.max_dimension);
+                if (m.metallic_roughness_image >= 0 &&
+                    (result->metallic_roughness_width > read_options.max_dimension ||
+                     result->metallic_roughness_height > read_options.max_dimension))
+                    throw Error(gltf.images[std::size_t(m.metallic_roughness_image)].name,
+                                "image size " + std::to_string(result->metallic_roughness_width) +
+                                    "x" + std::to_string(result->metallic_roughness_height) +
+                                    " exceeds the limit of " +
+                                    std::to_string(read_options.max_dimension) +
+                                    " texels per side");
+                // Each copy is what the manifest hashed, or the material is filtered again: an
+                // entry of the right size with other bytes (corrupt, another key's file renamed)
+                // is never published.
                 try {
                     for (std::size_t i = 0; result && i < result->bytes.size(); ++i) {
                         io::AtomicFile file(staged(i), durability);
-                        if (!cache.copy_file_to(cache_key, kOutputFileSuffixes[i], result->bytes[i], file))
+                        if (!cache.copy_file_to(cache_key, kOutputFileSuffixes[i], result->bytes[i], file)) {
                             result.reset();
-                        else
+                        } else {
                             file.commit();
+                            if (scene::sha256_file_hex(staged(i)) != result->sha256[i]) result.reset();
+                        }
                     }
                 } catch (const Error&) {
                     result.reset();
@@ -501,19 +573,27 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                     gltf, m, packed, read_options, args.threads, writer, args.input);
                 result.emplace();
                 result->bytes.push_back(fs::file_size(staged(0)));
+                result->sha256.push_back(scene::sha256_file_hex(staged(0)));
                 for (std::size_t i = 0; i < textures.files.size(); ++i) {
                     io::AtomicFile file(staged(i + 1), durability);
                     file.write(textures.files[i]);
                     file.commit();
                     result->bytes.push_back(textures.files[i].size());
+                    result->sha256.push_back(
+                        scene::sha256_hex(textures.files[i].data(), textures.files[i].size()));
                 }
+                result->metallic_roughness_width = textures.metallic_roughness_width;
+                result->metallic_roughness_height = textures.metallic_roughness_height;
                 result->anisotropic = textures.anisotropic;
                 result->anisotropy_ratio = textures.anisotropy_ratio;
                 result->levels = int(packed.levels.size());
                 result->width = packed.levels.front().width;
                 result->height = packed.levels.front().height;
                 const std::string warning = store_outputs(cache, cache_key, staged(0), textures, *result);
-                if (!warning.empty()) print_warnings(args.input, {"cache: " + warning});
+                // Named as the outputs, never as their temporaries.
+                if (!warning.empty())
+                    print_warnings(args.input,
+                                   {"cache: " + std::string(outputs.named(Error("", warning)).cause())});
             }
             for (std::size_t i = 0; i < result->bytes.size(); ++i) written.push_back(beside(*names[i]));
             const bool anisotropic = result->anisotropic;
@@ -580,13 +660,13 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
         for (const CopiedFile& c : copies) {
             // Copied in the kernel (shared blocks where the file system has them).
             std::error_code error;
-            const std::uintmax_t size = fs::file_size(c.source, error);
+            const std::uintmax_t size = fs::file_size(c.resolved, error);
             if (error) throw Error(c.source, "cannot read its size (" + error.message() + ")");
             if (size > kMaxGltfFileBytes)
                 throw Error(c.source, "a glTF file is at most " + std::to_string(kMaxGltfFileBytes) +
                                           " bytes, it has " + std::to_string(size));
             io::AtomicFile file(outputs.stage(beside(c.target)), durability);
-            file.copy_from(c.source, size);
+            file.copy_from(c.resolved, size);
             file.commit();
             written.push_back(beside(c.target));
         }

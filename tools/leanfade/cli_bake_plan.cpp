@@ -133,12 +133,13 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
     for (BakeJob& j : jobs) {
         const std::string base =
             output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
-        if (args.format == "png")
+        // A PNG pair (and the plateau layer's PNG when there is one), else one .ktx2.
+        if (args.format == "png") {
             j.outputs = {base + ".lean1.png", base + ".lean2.png"};
-        if (args.format == "png" && args.plateau_epsilon > 0.0f)
-            j.outputs.push_back(base + io::kPlateauPngSuffix);
-        else
+            if (args.plateau_epsilon > 0.0f) j.outputs.push_back(base + io::kPlateauPngSuffix);
+        } else {
             j.outputs = {!args.output.empty() ? args.output : base + ".ktx2"};
+        }
         if (!args.writes_lean_map) j.outputs.clear();
         for (const std::string& output : j.outputs) {
             // An output that is its own input (`bake map.ktx2`) fails that input alone, once it is
@@ -148,7 +149,8 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
                 j.output_is_input = output;
                 continue;
             }
-            plan.add_output(output, "the output of " + j.name);
+            plan.add_output(output, "the output of " + j.name,
+                            args.format == "png" ? ".png" : ".ktx2");
         }
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");

@@ -55,7 +55,7 @@ int run_mixing_figure(const MixingFigureArgs& args, const RenderSourceFlags& inp
     if (mixings.size() < 2) throw Error("--mixings", "give two methods or more to compare");
     io::OutputPlan plan;
     for (const std::string& path : inputs) plan.add_input(path);
-    plan.add_output(args.output, "-o");
+    plan.add_output(args.output, "-o", ".png");
     std::string json_path;
     if (!args.table.empty()) {
         plan.add_output(args.table, "--table");

@@ -327,7 +327,11 @@ void add_camera_options(CLI::App& app, float& fov, glm::vec3& view_dir, const ch
     if (target != nullptr) {
         add_typed_option(
             app, "--target", *target,
-            [](const std::string& text) { return parse_vector(text, "--target"); },
+            [](const std::string& text) {
+                const glm::vec3 point = parse_vector(text, "--target");
+                check_camera_target(point, "--target");
+                return point;
+            },
             "Point the camera looks at, world units (bounding radii; 0 = the centre)",
             vector_text(*target));
     }

@@ -373,6 +373,10 @@ std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
     std::vector<std::string> paths{flags.scene, flags.bumps.source, extra,
                                    flags.layers.weight_map, flags.bumps.roughness_map};
     if (is_ocean_scene(flags.scene)) paths.push_back(flags.ocean.flow);
+    // Every level of a --roughness-mips series.
+    if (!flags.bumps.roughness_mips.empty())
+        for (const std::string& level : io::mip_series_files(flags.bumps.roughness_mips))
+            paths.push_back(level);
     // A glTF scene's buffers and images are inputs too.
     if (scene::is_gltf_path(flags.scene))
         for (const std::string& file : scene::gltf_referenced_files(flags.scene))

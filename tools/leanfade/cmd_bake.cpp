@@ -230,7 +230,8 @@ class BakeRun {
         if (!args_.plateau_out.empty() || args_.ktx2_2d) {
             // From the map as stored: a KTX2 bake keeps no copy of it in memory.
             const PackedLeanMap stored =
-                args_.format == "png" ? baked.packed : io::read_ktx2(staged.staged);
+                args_.format == "png" ? baked.packed
+                                      : io::read_ktx2(staged.staged, settings_.read_options);
             if (!args_.plateau_out.empty())
                 write_plateau_output(args_.plateau_out, stored, settings_.options.plateau_epsilon,
                                      settings_.options.threads,

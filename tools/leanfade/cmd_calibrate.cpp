@@ -94,7 +94,7 @@ int run_calibrate(const CalibrateArgs& args) {
     for (const std::string& input : render_source_inputs(args.input))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     if (!args.plot.empty()) {
-        plan.add_output(files.plot.string(), "--plot");
+        plan.add_output(files.plot.string(), "--plot", ".png");
         plan.add_output(files.data.string(), "the plot's data");
         plan.add_output(files.script.string(), "the plot's script");
     }

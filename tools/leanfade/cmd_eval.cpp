@@ -181,7 +181,7 @@ int run_eval(const EvalArgs& args) {
     io::OutputPlan plan;
     for (const std::string& input : render_source_inputs(args.input))
         if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
-    plan.add_output_folder(args.out);
+    plan.add_output_folder(args.out, false, "the report");
     add_report_outputs(plan, args.out, true);
     plan.check();
 

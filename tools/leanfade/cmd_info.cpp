@@ -25,14 +25,16 @@ std::string percent_text(float fraction) {
 // else. Any KTX 2.0 file passes inspect_ktx2's structural checks or is refused; a file that says
 // it is one of leanfade's (LEANFADElayout, LEANFADEcontent) must also pass the checks of its
 // reader (for a LEAN map, those of `--bumps`).
-int run_info(const std::string& path) {
+int run_info(const std::string& path, int max_size) {
+    io::ReadOptions options;
+    options.max_dimension = max_size;
     const io::Ktx2Info info = io::inspect_ktx2(path);
     const std::string* layout = info.find(io::kLayoutKey);
     const std::string* content = info.find(io::kKeyTextureContent);
     std::string kind, moments;
     if (layout != nullptr &&
         (*layout == io::kLeanLayoutName || *layout == io::kLeanPlateauLayoutName)) {
-        const PackedLeanMap map = io::read_ktx2(path);
+        const PackedLeanMap map = io::read_ktx2(path, options);
         const LeanMapSummary s = summarize(unpack_lean_map(map));
         kind = "a LEAN map (LEANFADElayout '" + *layout + "')" +
                (map.has_plateau() ? ", with two-lobe LEAN's plateau layer (epsilon " +
@@ -48,7 +50,7 @@ int run_info(const std::string& path) {
                       s.coarsest_covariance.y, s.coarsest_covariance.z, s.coarsest_anisotropy);
         moments = line;
     } else if (layout != nullptr && *layout == io::kCrossTermLayoutName) {
-        io::read_cross_term_ktx2(path);
+        io::read_cross_term_ktx2(path, options);
         kind = "not a LEAN map: a cross-term texture of two bump layers (bake --cross-terms)";
     } else if (layout != nullptr) {
         kind = "not a LEAN map this version reads: LEANFADElayout '" + escape_text(*layout) +
@@ -80,7 +82,14 @@ const CommandRegistration registration{
         auto path = std::make_shared<std::string>();
         app.add_option("file", *path, "a KTX 2.0 file (a LEAN map of leanfade bake, or any other)")
             ->required();
-        return [path] { return run_info(*path); };
+        auto max_size = std::make_shared<int>(kDefaultMaxImageDimension);
+        app.add_option("--max-size", *max_size,
+                       "Largest accepted width or height of a map that is read (refused before "
+                       "its levels are read; as bake's --max-size, so that a map bake wrote "
+                       "with a larger one can be described)")
+            ->check(CLI::Range(1, 1 << 20))
+            ->capture_default_str();
+        return [path, max_size] { return run_info(*path, *max_size); };
     }};
 
 }  // namespace

@@ -161,7 +161,7 @@ int run_render(const RenderArgs& args) {
     io::OutputPlan plan;
     for (const std::string& input : render_source_inputs(args.input, args.preset))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
-    for (const std::string& picture : pictures) plan.add_output(picture, "-o");
+    for (const std::string& picture : pictures) plan.add_output(picture, "-o", ".png");
     if (!args.cells.empty()) {
         plan.add_output_folder(args.cells, true);
         std::vector<std::pair<float, std::string>> rows;

@@ -124,7 +124,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
         io::OutputPlan plan;
         for (const std::string& input : render_source_inputs(args.input, args.preset))
             if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
-        plan.add_output(args.screenshot, "--screenshot");
+        plan.add_output(args.screenshot, "--screenshot", ".png");
         plan.check();
     }
     options.frames = args.frames;

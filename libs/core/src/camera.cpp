@@ -22,6 +22,15 @@ void check_camera_distance(double distance, const std::string& setting, const st
                     shown);
 }
 
+void check_camera_target(const glm::vec3& target, const std::string& setting) {
+    for (int i = 0; i < 3; ++i)
+        if (!(target[i] >= -kMaxCameraDistance && target[i] <= kMaxCameraDistance))
+            throw Error(setting,
+                        "components must be in [-1e4, 1e4] bounding radii from the object's "
+                        "centre (beyond, the object is outside every view), got " +
+                            shortest_text(target[i]));
+}
+
 void check_field_of_view(float degrees, const std::string& setting) {
     if (!is_field_of_view(degrees))
         throw Error(setting, "must be in (1, 170) degrees, got " + shortest_text(degrees));

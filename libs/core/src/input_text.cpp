@@ -7,6 +7,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <tuple>
+#include <vector>
+#include <system_error>
 
 #include "leanfade/core/error.hpp"
 
@@ -88,6 +93,8 @@ std::string read_regular_file(const std::string& path, std::uint64_t max_bytes,
     if (S_ISDIR(status.st_mode)) throw Error(path, "is a directory, not " + kind);
     if (!S_ISREG(status.st_mode))
         throw Error(path, "is not a regular file");  // FIFO, device, socket
+    if (const std::string output = claimed_output(status.st_dev, status.st_ino); !output.empty())
+        throw Error(path, claimed_output_cause(output));
     const auto size = std::uint64_t(status.st_size);
     if (size > max_bytes) {
         throw Error(path, "file of " + std::to_string(size) + " bytes exceeds the limit of " +
@@ -168,6 +175,52 @@ std::string terminal_text(std::string_view text) {
         at += length;
     }
     return shown;
+}
+
+namespace {
+
+struct ClaimedOutputs {
+    std::mutex mutex;
+    std::vector<std::tuple<std::uint64_t, std::uint64_t, std::string>> files;
+};
+
+ClaimedOutputs& claimed_outputs() {
+    static ClaimedOutputs claimed;
+    return claimed;
+}
+
+}  // namespace
+
+void claim_output_file(std::uint64_t device, std::uint64_t inode, const std::string& output) {
+    ClaimedOutputs& claimed = claimed_outputs();
+    const std::lock_guard<std::mutex> lock(claimed.mutex);
+    for (const auto& [d, i, name] : claimed.files)
+        if (d == device && i == inode) return;
+    claimed.files.emplace_back(device, inode, output);
+}
+
+std::string claimed_output(std::uint64_t device, std::uint64_t inode) {
+    ClaimedOutputs& claimed = claimed_outputs();
+    const std::lock_guard<std::mutex> lock(claimed.mutex);
+    for (const auto& [d, i, name] : claimed.files)
+        if (d == device && i == inode) return name;
+    return {};
+}
+
+std::string claimed_output_cause(const std::string& output) {
+    return "is the same file as the output " + output +
+           " of this run (an input named by another input); an output may not replace an input";
+}
+
+bool resolves_inside(const std::string& path, const std::string& folder) {
+    namespace fs = std::filesystem;
+    std::error_code error;
+    const fs::path root = fs::weakly_canonical(fs::absolute(folder.empty() ? "." : folder), error);
+    if (error) return false;
+    const fs::path resolved = fs::weakly_canonical(fs::absolute(path), error);
+    if (error) return false;
+    const fs::path inside = resolved.lexically_relative(root);
+    return !inside.empty() && *inside.begin() != ".." && inside != ".";
 }
 
 }  // namespace leanfade

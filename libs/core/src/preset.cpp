@@ -288,6 +288,13 @@ void validate(const Preset& p, const std::string& file) {
     const CameraSettings& c = p.camera;
     for (int i = 0; i < 3; ++i)
         if (!std::isfinite(c.target[i])) fail(file, "camera.target", "must be finite");
+    if (!is_camera_target(c.target)) {
+        try {
+            check_camera_target(c.target, "camera.target");
+        } catch (const Error& e) {
+            fail(file, "camera.target", e.cause());
+        }
+    }
     const float length = std::sqrt(c.direction.x * c.direction.x + c.direction.y * c.direction.y +
                                    c.direction.z * c.direction.z);
     if (!std::isfinite(length) || !(length > 0.0f))

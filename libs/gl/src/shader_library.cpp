@@ -293,6 +293,10 @@ std::string ShaderSources::read(const std::string& name) const {
     const std::string path = (std::filesystem::path(*folder_) / name).string();
     std::error_code error;
     if (!std::filesystem::exists(path, error)) throw Error(path, "cannot read the shader file");
+    // Confined on the resolved path too, before any byte is read: a link in the folder to a file
+    // outside it is refused (its text would reach the compile log's messages).
+    if (!resolves_inside(path, *folder_))
+        throw Error(path, "resolves outside the shader folder (through a symbolic link)");
     // A regular file of bounded size only: a FIFO cannot hang the read, a device (a link to
     // /dev/zero) cannot make it grow (docs/robustness.md).
     return read_regular_file(path, kMaxShaderFileBytes, "a shader file");

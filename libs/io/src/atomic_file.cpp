@@ -42,7 +42,7 @@ void sync_folder(const std::string& folder) {
 
 std::string temporary_path_for(const std::string& path) {
     return path + ".tmp-" + std::to_string(::getpid()) + "-" +
-           std::to_string(temporary_counter.fetch_add(1));
+           std::to_string(temporary_counter.fetch_add(1)) + "-" + temporary_run_id();
 }
 
 AtomicFile::AtomicFile(std::string path, Durability durability)

@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <new>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 #include "leanfade/core/memory.hpp"
 
 namespace leanfade::io::detail {
@@ -35,6 +37,12 @@ InputFile::InputFile(std::string path) : path_(std::move(path)) {
         ::close(descriptor_);
         throw Error(path_, "is not a regular file");
     }
+#if !defined(LEANFADE_IO_OIIO_MODULE)
+    if (const std::string output = claimed_output(status.st_dev, status.st_ino); !output.empty()) {
+        ::close(descriptor_);
+        throw Error(path_, claimed_output_cause(output));
+    }
+#endif
     size_ = std::uint64_t(status.st_size);
     if (size_ == 0) {
         ::close(descriptor_);
@@ -74,7 +82,13 @@ void InputFile::read_at(std::uint64_t offset, void* destination, std::size_t siz
 
 std::vector<std::uint8_t> InputFile::read_all() const {
     std::vector<std::uint8_t> bytes;
-    assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
+    try {
+        assign_large(bytes, static_cast<std::size_t>(size_), std::uint8_t(0));
+    } catch (const std::bad_alloc&) {
+        // One line naming the file (under `ulimit -v` this was "internal error: std::bad_alloc").
+        throw Error(path_, "out of memory reading the file (" + std::to_string(size_) +
+                               " bytes; lower the size limit or raise the memory limit)");
+    }
     read_at(0, bytes.data(), bytes.size(), "file shrank while being read");
     return bytes;
 }

@@ -68,7 +68,10 @@ std::string describe(const Ktx2Info& info) {
     }
     out << "key/values (" << info.key_values.size() << "):\n";
     for (const auto& [key, value] : info.key_values) {
-        out << "  " << escape_text(key, SIZE_MAX) << " = " << escape_text(value, SIZE_MAX) << "\n";
+        // Cut as every file text is (docs/robustness.md): a key or value of 120 000 bytes was
+        // printed whole, as one line.
+        out << "  " << escape_text(key, kDescribedTextBytes) << " = "
+            << escape_text(value, kDescribedTextBytes) << "\n";
     }
     return out.str();
 }

@@ -8,6 +8,26 @@
 
 namespace leanfade::io {
 
+std::vector<std::string> mip_series_files(const std::string& first_level) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> files;
+    const fs::path path(first_level);
+    const std::string stem = path.stem().string();
+    std::error_code error;
+    if (stem.size() < 2 || stem.compare(stem.size() - 2, 2, "_0") != 0) {
+        if (fs::exists(path, error)) files.push_back(first_level);
+        return files;
+    }
+    const std::string base = stem.substr(0, stem.size() - 1);  // NAME_
+    for (int level = 0; level <= 32; ++level) {
+        const fs::path file =
+            path.parent_path() / (base + std::to_string(level) + path.extension().string());
+        if (!fs::exists(file, error)) break;
+        files.push_back(file.string());
+    }
+    return files;
+}
+
 std::vector<Image> read_mip_series(const std::string& first_level, const ReadOptions& options) {
     namespace fs = std::filesystem;
     const fs::path path(first_level);

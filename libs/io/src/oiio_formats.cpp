@@ -8,6 +8,9 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -18,6 +21,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::io::detail {
 namespace {
@@ -187,6 +191,172 @@ const OiioModule* load_module(std::string& failure) {
     return nullptr;
 }
 
+// ---- DDS: the header checked before the file is read ----
+//
+// OpenImageIO's DDS reader takes the channel masks as they are (a mask of 0 made it loop forever)
+// and decodes a file cut short as if the missing blocks were 0 (a flat map, exit 0). So the
+// header is checked here, on its 128 (+ 20) bytes, before the file is read into memory: the
+// size limit, the pixel format (a compression OpenImageIO decodes, or masks that are non-zero
+// for each channel the flags name, within the bit count and not overlapping) and the exact
+// byte count of every level, face and array element it declares.
+
+constexpr std::uint32_t kDdsHeaderBytes = 128, kDx10HeaderBytes = 20;
+constexpr std::uint32_t kDdsdMipMapCount = 0x20000, kDdsdDepth = 0x800000;
+constexpr std::uint32_t kDdpfAlphaPixels = 0x1, kDdpfAlpha = 0x2, kDdpfFourCc = 0x4,
+                        kDdpfRgb = 0x40, kDdpfYuv = 0x200, kDdpfLuminance = 0x20000;
+constexpr std::uint32_t kCaps2Cubemap = 0x200, kCaps2Volume = 0x200000;
+
+std::string hex_text(std::uint32_t value) {
+    char text[16];
+    std::snprintf(text, sizeof text, "0x%08X", value);
+    return text;
+}
+
+// The bytes of one 4x4 block of a compression OpenImageIO's DDS reader decodes; 0 for others.
+std::uint32_t dds_block_bytes(std::string_view four_cc) {
+    for (std::string_view bc : {"DXT1", "ATI1", "BC4U", "BC4S"})
+        if (four_cc == bc) return 8;
+    for (std::string_view bc : {"DXT2", "DXT3", "DXT4", "DXT5", "ATI2", "BC5U", "BC5S", "RXGB"})
+        if (four_cc == bc) return 16;
+    return 0;
+}
+std::uint32_t dxgi_block_bytes(std::uint32_t format) {
+    if ((format >= 70 && format <= 72) || (format >= 79 && format <= 81)) return 8;  // BC1, BC4
+    if ((format >= 73 && format <= 78) || (format >= 82 && format <= 84) ||
+        (format >= 94 && format <= 99))
+        return 16;  // BC2, BC3, BC5, BC6H, BC7
+    return 0;
+}
+
+// a * b, saturated at UINT64_MAX (every size below is compared with the file's size).
+std::uint64_t times(std::uint64_t a, std::uint64_t b) {
+    std::uint64_t product = 0;
+    return __builtin_mul_overflow(a, b, &product) ? UINT64_MAX : product;
+}
+std::uint64_t plus(std::uint64_t a, std::uint64_t b) {
+    return a > UINT64_MAX - b ? UINT64_MAX : a + b;
+}
+
+void check_dds_header(const InputFile& file, const ReadOptions& options) {
+    const std::string& path = file.path();
+    if (file.size() < kDdsHeaderBytes)
+        throw Error(path, "truncated DDS data (a header of 128 bytes, the file holds " +
+                              std::to_string(file.size()) + ")");
+    std::uint8_t header[kDdsHeaderBytes + kDx10HeaderBytes] = {};
+    file.read_at(0, header, kDdsHeaderBytes, "file shrank while being read");
+    const auto u32 = [&](std::size_t offset) { return load_u32_le(header + offset); };
+    if (u32(4) != 124 || u32(76) != 32)
+        throw Error(path, "corrupt DDS header (header size " + std::to_string(u32(4)) +
+                              " and pixel format size " + std::to_string(u32(76)) +
+                              ", expected 124 and 32)");
+    const std::uint32_t flags = u32(8), height = u32(12), width = u32(16), depth = u32(24);
+    const std::uint32_t pixel_flags = u32(80), caps2 = u32(112);
+    check_dimensions(path, width, height, options.max_dimension);
+    if ((caps2 & kCaps2Volume) != 0 || ((flags & kDdsdDepth) != 0 && depth > 1))
+        throw Error(path, "volume DDS not supported");
+
+    const std::string four_cc(reinterpret_cast<const char*>(header + 84), 4);
+    std::uint64_t header_bytes = kDdsHeaderBytes;
+    std::uint32_t block_bytes = 0, texel_bytes = 0;
+    std::uint64_t images = 1;  // faces x array elements
+    std::string format_text;
+    if ((pixel_flags & kDdpfFourCc) != 0) {
+        if (four_cc == "DX10") {
+            header_bytes += kDx10HeaderBytes;
+            if (file.size() < header_bytes)
+                throw Error(path, "truncated DDS data (a DX10 header of 148 bytes, the file "
+                                  "holds " + std::to_string(file.size()) + ")");
+            file.read_at(kDdsHeaderBytes, header + kDdsHeaderBytes, kDx10HeaderBytes,
+                         "file shrank while being read");
+            const std::uint32_t dxgi = u32(128), dimension = u32(132), misc = u32(136),
+                                array_size = u32(140);
+            if (dimension == 4) throw Error(path, "volume DDS not supported");
+            block_bytes = dxgi_block_bytes(dxgi);
+            if (block_bytes == 0)
+                throw Error(path, "unsupported DDS format (DXGI format " + std::to_string(dxgi) +
+                                      "; BC1-BC7 are read)");
+            if (array_size == 0) throw Error(path, "corrupt DDS header (DX10 array size 0)");
+            images = times(array_size, (misc & 0x4) != 0 ? 6 : 1);
+            format_text = "DXGI format " + std::to_string(dxgi);
+        } else {
+            block_bytes = dds_block_bytes(four_cc);
+            if (block_bytes == 0)
+                throw Error(path, "unsupported DDS compression '" + escape_text(four_cc) +
+                                      "' (DXT1-DXT5, ATI1/BC4, ATI2/BC5, RXGB and DX10 are read)");
+            format_text = four_cc;
+        }
+    } else {
+        const std::uint32_t bits = u32(88);
+        if (bits != 8 && bits != 16 && bits != 24 && bits != 32)
+            throw Error(path, "corrupt DDS pixel format (" + std::to_string(bits) +
+                                  " bits per texel, expected 8, 16, 24 or 32)");
+        if ((pixel_flags & (kDdpfRgb | kDdpfLuminance | kDdpfAlpha | kDdpfYuv)) == 0)
+            throw Error(path, "corrupt DDS pixel format (flags " + hex_text(pixel_flags) +
+                                  " name no compression and no channels)");
+        struct Mask {
+            const char* name;
+            std::uint32_t value;
+            bool used;
+        };
+        const bool colour = (pixel_flags & (kDdpfRgb | kDdpfYuv)) != 0;
+        const bool luminance = (pixel_flags & kDdpfLuminance) != 0;
+        const bool alpha = (pixel_flags & (kDdpfAlphaPixels | kDdpfAlpha)) != 0;
+        const Mask masks[] = {{"red", u32(92), colour || luminance},
+                              {"green", u32(96), colour},
+                              {"blue", u32(100), colour},
+                              {"alpha", u32(104), alpha}};
+        const std::uint64_t within = bits == 32 ? 0xFFFFFFFFull : (1ull << bits) - 1;
+        std::uint32_t taken = 0;
+        for (const Mask& mask : masks) {
+            if (mask.used && mask.value == 0)
+                throw Error(path, std::string("corrupt DDS pixel format (the ") + mask.name +
+                                      " channel's mask is 0)");
+            if (!mask.used) continue;
+            if (mask.value > within)
+                throw Error(path, std::string("corrupt DDS pixel format (the ") + mask.name +
+                                      " channel's mask " + hex_text(mask.value) +
+                                      " lies beyond the " + std::to_string(bits) +
+                                      " bits of a texel)");
+            // Luminance shares the red mask's bits with nothing; the others must not overlap.
+            if ((taken & mask.value) != 0)
+                throw Error(path, std::string("corrupt DDS pixel format (the ") + mask.name +
+                                      " channel's mask " + hex_text(mask.value) +
+                                      " overlaps another channel's)");
+            taken |= mask.value;
+        }
+        texel_bytes = bits / 8;
+        format_text = std::to_string(bits) + "-bit uncompressed";
+    }
+    if ((caps2 & kCaps2Cubemap) != 0) {
+        std::uint64_t faces = 0;
+        for (int f = 0; f < 6; ++f) faces += (caps2 >> (10 + f)) & 1u;
+        images = times(images, std::max<std::uint64_t>(faces, 1));
+    }
+    // Every level the header declares (at most the full chain), each face and element.
+    std::uint32_t chain = 1;
+    for (std::uint32_t side = std::max(width, height); side > 1; side /= 2) ++chain;
+    std::uint32_t levels = 1;
+    if ((flags & kDdsdMipMapCount) != 0 && u32(28) > 1) levels = std::min(u32(28), chain);
+    std::uint64_t image_bytes = 0;
+    for (std::uint32_t level = 0; level < levels; ++level) {
+        const std::uint64_t w = std::max<std::uint64_t>(width >> level, 1);
+        const std::uint64_t h = std::max<std::uint64_t>(height >> level, 1);
+        image_bytes = plus(image_bytes, block_bytes != 0
+                                            ? times(times((w + 3) / 4, (h + 3) / 4), block_bytes)
+                                            : times(times(w, h), texel_bytes));
+    }
+    const std::uint64_t needed = times(image_bytes, images);
+    const std::uint64_t data = file.size() - header_bytes;
+    if (file.size() < header_bytes || data < needed)
+        throw Error(path, "truncated DDS data (" + format_text + " of " + std::to_string(width) +
+                              "x" + std::to_string(height) + ", " + std::to_string(levels) +
+                              (levels == 1 ? " level" : " levels") +
+                              (images > 1 ? " x " + std::to_string(images) + " images" : "") +
+                              ": " + std::to_string(needed) + " bytes of data after the " +
+                              std::to_string(header_bytes) + "-byte header, the file holds " +
+                              std::to_string(file.size() < header_bytes ? 0 : data) + ")");
+}
+
 const OiioModule& module_for(const std::string& path, const char* format_name) {
     static std::once_flag once;
     static const OiioModule* module = nullptr;
@@ -233,6 +403,7 @@ const OiioFormat* recognise_oiio_format(const InputFile& file,
 std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFormat& format,
                                             const ReadOptions& options, bool compact) {
     const OiioModule& module = module_for(file.path(), format.name);
+    if (std::strcmp(format.plugin, kDds.plugin) == 0) check_dds_header(file, options);
     const std::vector<std::uint8_t> bytes = file.read_all();
     if (std::strcmp(format.plugin, kTarga.plugin) == 0) check_targa_data(file.path(), bytes);
     if (std::strcmp(format.plugin, kJpeg.plugin) == 0) check_jpeg_data(file.path(), bytes);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::io {
 namespace {
@@ -101,18 +103,38 @@ void fsync_folder(const fs::path& folder) {
     ::close(descriptor);
 }
 
+// True when the file name `name` ends with `extension` (".png"), in any case.
+bool has_extension(const std::string& name, const std::string& extension) {
+    if (name.size() <= extension.size()) return false;
+    for (std::size_t i = 0; i < extension.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(name[name.size() - extension.size() + i])) !=
+            std::tolower(static_cast<unsigned char>(extension[i])))
+            return false;
+    return true;
+}
+
+// ".png" -> "PNG".
+std::string format_of(const std::string& extension) {
+    std::string format;
+    for (char c : extension)
+        if (c != '.') format += char(std::toupper(static_cast<unsigned char>(c)));
+    return format;
+}
+
 }  // namespace
 
 void OutputPlan::add_input(const std::string& path) {
     if (!path.empty()) inputs_.push_back(path);
 }
 
-void OutputPlan::add_output(const std::string& path, const std::string& origin) {
-    outputs_.push_back({path, origin, false});
+void OutputPlan::add_output(const std::string& path, const std::string& origin,
+                            const std::string& extension) {
+    outputs_.push_back({path, origin, extension, false});
 }
 
-void OutputPlan::add_output_folder(const std::string& path, bool every_file_listed) {
-    outputs_.push_back({path, {}, true, every_file_listed});
+void OutputPlan::add_output_folder(const std::string& path, bool every_file_listed,
+                                   const std::string& origin) {
+    outputs_.push_back({path, origin, {}, true, every_file_listed});
 }
 
 void OutputPlan::check() const {
@@ -125,7 +147,11 @@ void OutputPlan::check() const {
     for (const std::string& path : inputs_)
         inputs.push_back({path, resolved(path), file_id(path, true)});
 
-    std::vector<std::string> folder_keys;
+    struct Folder {
+        std::string key;
+        const Output* output;
+    };
+    std::vector<Folder> folders;
     for (const Output& output : outputs_) {
         if (!output.folder) continue;
         if (output.path.empty()) throw Error("", "an output folder name is empty");
@@ -152,7 +178,7 @@ void OutputPlan::check() const {
                                              " of this run; the run writes files into this "
                                              "folder, which may not hold its inputs");
         }
-        folder_keys.push_back(key);
+        folders.push_back({key, &output});
     }
 
     std::vector<std::pair<std::string, const Output*>> keys;
@@ -174,9 +200,19 @@ void OutputPlan::check() const {
         if (name.empty() || name == "." || name == "..")
             throw Error(path, "names a folder; an output must be a file name");
         const std::string key = resolved(path);
-        const bool in_output_folder =
-            std::any_of(folder_keys.begin(), folder_keys.end(),
-                        [&](const std::string& folder) { return inside(key, folder); });
+        bool in_output_folder = false;
+        for (const Folder& folder : folders) {
+            if (!inside(key, folder.key)) continue;
+            in_output_folder = true;
+            // A folder of files not known beforehand is staged whole and renamed into place:
+            // another output of the run inside it would be staged into the folder the rename
+            // replaces.
+            if (!folder.output->every_file_listed &&
+                (folder.output->origin.empty() || folder.output->origin != output.origin))
+                throw Error(path, "is inside " + folder.output->path +
+                                      ", a folder this run writes whole; an output may not lie "
+                                      "inside it");
+        }
         if (!in_output_folder) check_writable_folder(path, folder_of(path), false);
         for (const Input& input : inputs) {
             if (input.key == key || (id && input.id && *id == *input.id)) {
@@ -196,7 +232,37 @@ void OutputPlan::check() const {
                 cause += " (also as " + other->path + ")";
             throw Error(path, cause);
         }
+        // After the inputs: replacing one is the graver cause.
+        if (!output.extension.empty() && !has_extension(name, output.extension))
+            throw Error(path, "is written as a " + format_of(output.extension) + " file; name it " +
+                                  "with " + output.extension + " (leanfade writes no other " +
+                                  "format there" +
+                                  (fs::path(name).extension().empty()
+                                       ? std::string()
+                                       : ", and " + fs::path(name).extension().string() +
+                                             " would hold " + format_of(output.extension) +
+                                             " bytes") +
+                                  ")");
         keys.emplace_back(key, &output);
+    }
+    // Every existing file the run may replace is claimed: a reader that opens one of them later
+    // (a file another input names, which no list of inputs above knew) refuses it before reading
+    // (input_text.hpp, claim_output_file).
+    for (const Output& output : outputs_) {
+        struct stat info {};
+        if (!output.folder) {
+            if (::lstat(output.path.c_str(), &info) == 0 && S_ISREG(info.st_mode))
+                claim_output_file(info.st_dev, info.st_ino, output.path);
+            continue;
+        }
+        // A folder whose every file is listed: those are claimed above. Another may have any
+        // of its files replaced.
+        if (output.every_file_listed) continue;
+        std::error_code error;
+        for (fs::directory_iterator it(output.path, error), end; !error && it != end;
+             it.increment(error))
+            if (::lstat(it->path().c_str(), &info) == 0 && S_ISREG(info.st_mode))
+                claim_output_file(info.st_dev, info.st_ino, it->path().string());
     }
     for (const Output& output : outputs_) remove_stale_temporaries(output.path);
 }

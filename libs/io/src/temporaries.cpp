@@ -3,7 +3,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -89,25 +94,56 @@ static void remove_temporaries_and_reraise(int signal_number) {
 
 namespace {
 
-// "<pid>-<n>" optionally followed by more ".tmp-<pid>-<n>": the pid, or 0 when `rest` is not that.
-long temporary_pid(const std::string& rest) {
+struct TemporaryName {
+    long pid = 0;        // 0: not a temporary name
+    std::string run_id;  // "" for a name without one (an older leanfade)
+};
+
+// "<pid>-<n>[-<run id>]" optionally followed by more ".tmp-<pid>-<n>[-<run id>]": the first pid
+// and run id, or pid 0 when `rest` is not that.
+TemporaryName temporary_name(const std::string& rest) {
     std::size_t at = 0;
-    long pid = 0;
+    TemporaryName name;
+    const auto is_hex = [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); };
     for (bool first = true;; first = false) {
         const std::size_t pid_start = at;
         long value = 0;
         while (at < rest.size() && rest[at] >= '0' && rest[at] <= '9' && at - pid_start < 10)
             value = value * 10 + (rest[at++] - '0');
-        if (at == pid_start || at >= rest.size() || rest[at] != '-') return 0;
+        if (at == pid_start || at >= rest.size() || rest[at] != '-') return {};
         ++at;
         const std::size_t counter_start = at;
         while (at < rest.size() && rest[at] >= '0' && rest[at] <= '9') ++at;
-        if (at == counter_start) return 0;
-        if (first) pid = value;
-        if (at == rest.size()) return pid;
-        if (rest.compare(at, 5, ".tmp-") != 0) return 0;
+        if (at == counter_start) return {};
+        std::string run_id;
+        if (at + 9 <= rest.size() && rest[at] == '-' &&
+            std::all_of(rest.begin() + std::ptrdiff_t(at + 1),
+                        rest.begin() + std::ptrdiff_t(at + 9), is_hex)) {
+            run_id = rest.substr(at + 1, 8);
+            at += 9;
+        }
+        if (first) name = {value, run_id};
+        if (at == rest.size()) return name;
+        if (rest.compare(at, 5, ".tmp-") != 0) return {};
         at += 5;
     }
+}
+
+// FNV-1a, 32 bits: stable across builds and machines (std::hash is not).
+std::uint32_t fnv1a(const std::string& text) {
+    std::uint32_t hash = 2166136261u;
+    for (const char c : text) {
+        hash ^= std::uint8_t(c);
+        hash *= 16777619u;
+    }
+    return hash;
+}
+
+std::string first_line_of(const char* path) {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    return line;
 }
 
 bool process_is_running(long pid) {
@@ -152,7 +188,27 @@ void TemporaryRegistration::release() noexcept {
     slot_ = nullptr;
 }
 
+const std::string& temporary_run_id() {
+    static const std::string id = [] {
+        // The boot (a pid of another boot is another process), the PID namespace (a container's
+        // pids are not the host's) and the host (a shared or network folder).
+        std::string where = first_line_of("/proc/sys/kernel/random/boot_id");
+        struct stat info {};
+        if (::stat("/proc/self/ns/pid", &info) == 0)
+            where += " ns " + std::to_string(info.st_dev) + ":" + std::to_string(info.st_ino);
+        char host[256] = {};
+        if (::gethostname(host, sizeof host - 1) == 0) where += " host " + std::string(host);
+        char text[9];
+        std::snprintf(text, sizeof text, "%08x", unsigned(fnv1a(where)));
+        return std::string(text);
+    }();
+    return id;
+}
+
 void remove_temporaries_on_signals() {
+    // SIGXFSZ's default action ends the process (status 153) with no message and every
+    // temporary left; ignored, the write fails with EFBIG and the run fails as for a full disk.
+    ::signal(SIGXFSZ, SIG_IGN);
     for (int signal_number : kSignals) {
         struct sigaction current {};
         if (::sigaction(signal_number, nullptr, &current) != 0) continue;
@@ -178,13 +234,19 @@ std::size_t remove_stale_temporaries(const std::string& path) noexcept {
              it.increment(error)) {
             const std::string name = it->path().filename().string();
             if (name.compare(0, prefix.size(), prefix) != 0) continue;
-            const long pid = temporary_pid(name.substr(prefix.size()));
-            if (pid <= 0) continue;
+            const TemporaryName temporary = temporary_name(name.substr(prefix.size()));
+            if (temporary.pid <= 0) continue;
             struct stat info {};
             if (::lstat(it->path().c_str(), &info) != 0) continue;
             if (info.st_uid != ::geteuid()) continue;
             if (!S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode)) continue;
-            if (process_is_running(pid)) continue;
+            if (temporary.run_id == temporary_run_id()) {
+                if (process_is_running(temporary.pid)) continue;
+            } else {
+                // Its pid is another machine's, container's or boot's: judged by its age.
+                const std::time_t age = std::time(nullptr) - info.st_mtime;
+                if (age <= kStaleForeignTemporarySeconds) continue;
+            }
             std::error_code remove_error;
             if (fs::remove_all(it->path(), remove_error) > 0 && !remove_error) ++removed;
         }

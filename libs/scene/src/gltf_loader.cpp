@@ -72,6 +72,8 @@ std::string read_file(const std::string& path, std::uint64_t max_bytes,
     if (::fstat(fd, &info) != 0) return std::strerror(errno);
     if (S_ISDIR(info.st_mode)) return "is a folder";
     if (!S_ISREG(info.st_mode)) return "is not a regular file";
+    if (const std::string output = claimed_output(info.st_dev, info.st_ino); !output.empty())
+        return claimed_output_cause(output);
     const std::uint64_t size = std::uint64_t(info.st_size);
     if (size > max_bytes)
         return "is " + std::to_string(size) + " bytes, more than the limit of " +
@@ -1132,6 +1134,22 @@ std::vector<std::string> gltf_referenced_files(const std::string& path,
                 if (!entry.is_object()) continue;
                 const auto uri = entry.find("uri");
                 if (uri == entry.end() || !uri->is_string()) continue;
+                const std::string name = uri->get<std::string>();
+                if (name.rfind("data:", 0) == 0 || !uri_refusal(name, true).empty()) continue;
+                files.push_back((folder / gltf_uri_path(name)).string());
+            }
+        }
+        // The LEAN map a material names (LEANFADE_lean_map): read by the run as well.
+        if (const auto materials = root.find("materials");
+            materials != root.end() && materials->is_array()) {
+            for (const json& material : *materials) {
+                if (!material.is_object()) continue;
+                const auto extensions = material.find("extensions");
+                if (extensions == material.end() || !extensions->is_object()) continue;
+                const auto lean = extensions->find(kGltfLeanMapExtension);
+                if (lean == extensions->end() || !lean->is_object()) continue;
+                const auto uri = lean->find("uri");
+                if (uri == lean->end() || !uri->is_string()) continue;
                 const std::string name = uri->get<std::string>();
                 if (name.rfind("data:", 0) == 0 || !uri_refusal(name, true).empty()) continue;
                 files.push_back((folder / gltf_uri_path(name)).string());

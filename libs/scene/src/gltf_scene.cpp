@@ -103,6 +103,17 @@ bool is_gltf_path(const std::string& path) {
     return lower == ".gltf" || (lower.size() >= 4 && lower.substr(lower.size() - 4) == ".glb");
 }
 
+void check_cached_image_size(const GltfScene& gltf, int image, int width, int height,
+                             int max_dimension) {
+    if (width <= max_dimension && height <= max_dimension) return;
+    const std::string name = image >= 0 && std::size_t(image) < gltf.images.size()
+                                 ? gltf.images[std::size_t(image)].name
+                                 : "image " + std::to_string(image);
+    throw Error(gltf.path, name + ": image size " + std::to_string(width) + "x" +
+                               std::to_string(height) + " exceeds the limit of " +
+                               std::to_string(max_dimension) + " texels per side");
+}
+
 PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float scale,
                                   const GltfBakeSettings& settings, bool* from_cache,
                                   std::string* cache_warning) {
@@ -114,6 +125,9 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     const std::string key = lean_cache_key(
         image.bytes, settings_text(scale, settings.storage, settings.strict_normals));
     if (std::optional<PackedLeanMap> cached = cache.find(key, settings.storage)) {
+        if (!cached->levels.empty())
+            check_cached_image_size(gltf, image_index, cached->levels.front().width,
+                                    cached->levels.front().height, settings.max_image_size);
         if (from_cache != nullptr) *from_cache = true;
         return std::move(*cached);
     }

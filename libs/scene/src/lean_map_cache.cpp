@@ -1,7 +1,12 @@
 // The LEAN-map cache (leanfade/scene/lean_map_cache.hpp) and its SHA-256 key (OpenSSL libcrypto).
 #include "leanfade/scene/lean_map_cache.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
@@ -61,6 +66,28 @@ class Sha256 {
 std::string sha256_hex(const void* data, std::size_t size) {
     Sha256 hash;
     hash.update(data, size);
+    return hash.hex();
+}
+
+std::string sha256_file_hex(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) throw Error(path, std::string("cannot open (") + std::strerror(errno) + ")");
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat info {};
+    if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode))
+        throw Error(path, "is not a regular file");
+    Sha256 hash;
+    std::vector<char> buffer(std::size_t(1) << 20);
+    for (;;) {
+        const ssize_t got = ::read(fd, buffer.data(), buffer.size());
+        if (got < 0 && errno == EINTR) continue;
+        if (got < 0) throw Error(path, std::string("read error (") + std::strerror(errno) + ")");
+        if (got == 0) break;
+        hash.update(buffer.data(), std::size_t(got));
+    }
     return hash.hex();
 }
 
@@ -155,7 +182,8 @@ bool safe_suffix(const std::string& suffix) {
 }  // namespace
 
 std::optional<std::vector<std::uint8_t>> LeanMapCache::find_file(const std::string& key,
-                                                                 const std::string& suffix) const {
+                                                                 const std::string& suffix,
+                                                                 std::uint64_t max_bytes) const {
     if (!enabled() || !safe_suffix(suffix)) return std::nullopt;
     if (!cleaned_) {
         cleaned_ = true;
@@ -163,7 +191,7 @@ std::optional<std::vector<std::uint8_t>> LeanMapCache::find_file(const std::stri
     }
     try {
         const std::string text = read_regular_file((fs::path(folder_) / (key + suffix)).string(),
-                                                   std::uint64_t(1) << 32, "cache entry");
+                                                   max_bytes, "cache entry");
         return std::vector<std::uint8_t>(text.begin(), text.end());
     } catch (const Error&) {
         return std::nullopt;

@@ -33,7 +33,12 @@ std::string confined_path(const std::string& file, const std::string& statement,
         refuse("has a scheme or drive letter (only paths inside the OBJ's folder)");
     for (const auto& part : fs::path(name))
         if (part == "..") refuse("leaves the OBJ's folder ('..')");
-    return (folder / name).string();
+    // Where the name leads, before any byte is read: a symbolic link inside the folder to a file
+    // outside it is outside (the glTF loader's rule, gltf_loader.cpp).
+    const std::string path = (folder / name).string();
+    if (!resolves_inside(path, folder.string()))
+        refuse("resolves outside the OBJ's folder (through a symbolic link)");
+    return path;
 }
 
 struct MaterialBuilder {

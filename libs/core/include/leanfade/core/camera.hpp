@@ -22,6 +22,18 @@ constexpr bool is_camera_distance(double distance) {
 void check_camera_distance(double distance, const std::string& setting,
                            const std::string& text = {});
 
+// The point the camera looks at, bounding radii from the object's centre: each component finite
+// and within kMaxCameraDistance (a target further away than the farthest camera puts the object
+// outside every view, and its float products lose the object's whole size: --target 1e30,0,0
+// rendered an empty frame with exit 0).
+constexpr bool is_camera_target(const glm::vec3& target) {
+    for (int i = 0; i < 3; ++i)
+        if (!(target[i] >= -kMaxCameraDistance && target[i] <= kMaxCameraDistance)) return false;
+    return true;
+}
+// Throws leanfade::Error(setting, "components must be in [-1e4, 1e4] bounding radii ...").
+void check_camera_target(const glm::vec3& target, const std::string& setting);
+
 // The vertical field of view, degrees: in (kMinFovDegrees, kMaxFovDegrees).
 inline constexpr float kMinFovDegrees = 1.0f;
 inline constexpr float kMaxFovDegrees = 170.0f;

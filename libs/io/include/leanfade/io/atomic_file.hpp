@@ -17,10 +17,18 @@ enum class Durability {
     Flush,
 };
 
-// `<path>.tmp-<pid>-<counter>`: a new temporary name beside `path`, unique in this process. Every
-// temporary of leanfade is named so (AtomicFile, OutputTransaction), which is what
+// `<path>.tmp-<pid>-<counter>-<run id>`: a new temporary name beside `path`, unique in this
+// process. Every temporary of leanfade is named so (AtomicFile, OutputTransaction), which is what
 // remove_stale_temporaries recognises.
 std::string temporary_path_for(const std::string& path);
+// The 8 hexadecimal digits that say where a process id means this process's: a hash of the
+// kernel's boot id, the PID namespace and the host name. A pid in a temporary of another run id
+// belongs to another machine, container or boot (a shared volume, NFS), where kill(pid, 0) here
+// says nothing about it.
+const std::string& temporary_run_id();
+// Age after which a temporary whose process cannot be asked (another run id, or a name without
+// one) is stale whatever its process: a day, as for the LEAN-map cache's temporaries.
+inline constexpr int kStaleForeignTemporarySeconds = 24 * 3600;
 
 // Live temporaries, removed if the process is killed by SIGINT, SIGTERM or SIGHUP (see
 // remove_temporaries_on_signals). A registration holds the path in memory allocated beforehand,
@@ -49,13 +57,18 @@ class TemporaryRegistration {
 // process ends as it would have without the handler. Async-signal-safe: unlink, openat, getdents64,
 // unlinkat, close, sigaction and raise on preallocated paths. The portable build
 // (leanfade/core/platform.hpp) removes a registered folder only when it is empty; what it holds
-// is left to remove_stale_temporaries. Call once, early in main().
+// is left to remove_stale_temporaries. Also ignores SIGXFSZ: a write beyond the file size limit
+// (`ulimit -f`) then fails with EFBIG, which the writers report as one line naming the output
+// and clean up after, instead of killing the process with its temporaries left behind. Call
+// once, early in main().
 void remove_temporaries_on_signals();
 
-// Removes the temporaries `<name>.tmp-<pid>-<n>...` of `path` (name: its file name) left in its
-// folder by runs that were killed (SIGKILL, a power cut): those owned by this user whose process
-// <pid> is no longer running. Files of running processes, of other users and other names are
-// kept. Returns how many were removed; never throws.
+// Removes the temporaries `<name>.tmp-<pid>-<n>-<run id>...` of `path` (name: its file name) left
+// in its folder by runs that were killed (SIGKILL, a power cut): those owned by this user whose
+// run id is this process's and whose process <pid> is no longer running, and those of another
+// run id (or none) once they are older than kStaleForeignTemporarySeconds (a live run in another
+// PID namespace or on another host keeps its temporaries). Files of running processes, of other
+// users and other names are kept. Returns how many were removed; never throws.
 std::size_t remove_stale_temporaries(const std::string& path) noexcept;
 
 // Writes to a temporary file `<path>.tmp-<pid>-<counter>` in the target's folder; commit() closes

@@ -72,6 +72,10 @@ Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::
 // channel count. Throws leanfade::Error naming the file for another name, a missing level or a
 // level of another size.
 std::vector<Image> read_mip_series(const std::string& first_level, const ReadOptions& options = {});
+// The files of the MIP series whose level 0 is `first_level` that exist (NAME_0.EXT, NAME_1.EXT,
+// ... up to the first missing one, at most 33): inputs of the run that reads it. Never throws;
+// reads nothing.
+std::vector<std::string> mip_series_files(const std::string& first_level);
 
 // Writes an 8- or 16-bit PNG of 1-4 channels. Values are clamped to [0,1] and quantised with
 // rounding (v * 255 or v * 65535); they are written as-is, with no colour-space conversion. NaN

@@ -203,7 +203,9 @@ Ktx2Info inspect_ktx2_from_memory(const std::vector<std::uint8_t>& bytes, const 
 
 // Multi-line human-readable description: header fields, data format, each level's size, offset
 // and length, and all key/values (escaped by escape_text: control characters, invalid UTF-8 and
-// backslashes as \xHH). Ends with a newline.
+// backslashes as \xHH; each key and value cut after kDescribedTextBytes, ending "..."). Ends
+// with a newline.
+inline constexpr std::size_t kDescribedTextBytes = 1024;
 std::string describe(const Ktx2Info& info);
 
 }  // namespace leanfade::io

@@ -22,13 +22,21 @@ class OutputPlan {
     // own message), but no output may take its name.
     void add_input(const std::string& path);
     // A file the run creates or replaces. `origin` (optional) says what it is the output of, for
-    // the message when two outputs have the same name ("the output of b/x.png").
-    void add_output(const std::string& path, const std::string& origin = {});
+    // the message when two outputs have the same name ("the output of b/x.png"). `extension`
+    // (optional, ".png"): the run writes this one format there, so the name must end with it
+    // (any case); another extension (`-o x.jpg`) is refused instead of holding bytes of another
+    // format.
+    void add_output(const std::string& path, const std::string& origin = {},
+                    const std::string& extension = {});
     // A folder the run writes files into, created (with its missing parents) when missing. The
     // files the run will write there should be added with add_output too; unless
     // `every_file_listed` (each file it writes there is an add_output), the run may write files
-    // of names not known beforehand, so no input may lie anywhere inside the folder.
-    void add_output_folder(const std::string& path, bool every_file_listed = false);
+    // of names not known beforehand, so no input may lie anywhere inside the folder, and no
+    // output file either but those of the folder's own `origin` (the files the run writes into
+    // the staged folder, e.g. "the report"): the folder is staged whole and published by a
+    // rename, so another output of the run inside it would be staged into the folder replaced.
+    void add_output_folder(const std::string& path, bool every_file_listed = false,
+                           const std::string& origin = {});
 
     // Checks every output against the rule (paths resolved: the real path of the folder plus the
     // name; existing files compared by device and inode) and throws for the first that breaks
@@ -39,6 +47,7 @@ class OutputPlan {
     struct Output {
         std::string path;
         std::string origin;
+        std::string extension;
         bool folder = false;
         bool every_file_listed = false;
     };

@@ -195,7 +195,8 @@ struct GltfLoadOptions {
 // value that is not finite, a node cycle, a URI outside the folder, or a limit exceeded.
 GltfScene load_gltf(const std::string& path, const GltfLoadOptions& options = {});
 
-// The external files (buffers and images) that the glTF file at `path` names by a URI that
+// The external files (buffers, images and the LEANFADE_lean_map of a material) that the glTF
+// file at `path` names by a URI that
 // load_gltf would read, as paths beside it: inputs of a run, which its outputs may not replace.
 // Never throws: a file that cannot be read or parsed gives the files found so far (load_gltf
 // then names the cause).
@@ -252,6 +253,13 @@ struct GltfBakeReport {
     // (PackedLeanMap::source_looks_flipped), by image.
     std::vector<std::string> other_convention;
 };
+
+// The size limit of `max_dimension` texels per side checked for the image `image` of `gltf`
+// whose size a cached result records (a LEAN map has its image's size): a cache hit refuses what
+// a bake would, with the decoder's message ("GLTF: image 0 (n.png): image size 4096x4096 exceeds
+// the limit of 1024 texels per side"). The cache saves the work, never a check.
+void check_cached_image_size(const GltfScene& gltf, int image, int width, int height,
+                             int max_dimension);
 
 // The LEAN map of one normal texture with its glTF `scale` (slopes times scale: the normal's X
 // and Y scaled, glTF 2.0 §3.9.3), OpenGL convention, repeat wrap, no baked roughness. Looked up

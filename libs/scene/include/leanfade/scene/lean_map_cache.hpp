@@ -30,6 +30,9 @@ inline constexpr int kLeanBakeVersion = 2;  // 2: repaired normals, the conventi
 
 // SHA-256 (FIPS 180-4) of `size` bytes, as 64 lowercase hexadecimal digits.
 std::string sha256_hex(const void* data, std::size_t size);
+// The same of the regular file `path`, read in pieces (never whole in memory). Throws
+// leanfade::Error(path, cause) when it cannot be read.
+std::string sha256_file_hex(const std::string& path);
 
 // The cache key of one bake: SHA-256 over a format tag, leanfade's version, kLeanBakeVersion,
 // `settings` (a text naming every bake setting that changes the result) and the source's bytes
@@ -46,6 +49,9 @@ std::string default_lean_cache_folder();
 
 // Largest total size of a cache folder's entries (LeanMapCache::store evicts beyond it).
 inline constexpr std::uint64_t kMaxLeanCacheBytes = std::uint64_t(2) << 30;  // 2 GiB
+// Largest file entry find_file reads into memory by default (manifests and other small
+// records; large entries are copied with copy_file_to, never read whole).
+inline constexpr std::uint64_t kMaxCacheRecordBytes = std::uint64_t(64) << 10;  // 64 KiB
 // Age after which a temporary file in the cache folder is removed whatever its process.
 inline constexpr int kStaleCacheTemporarySeconds = 24 * 3600;
 
@@ -73,12 +79,14 @@ class LeanMapCache {
 
     // Other results cached beside the maps (the engine textures of `bake SCENE -o OUT`): the
     // bytes of the entry `<folder>/<key><suffix>` (suffix: letters, digits, '.', '-', '_'), or
-    // nothing when it is missing or unreadable. store_file writes one atomically and then bounds
+    // nothing when it is missing, unreadable or larger than `max_bytes` (then unread: its size
+    // is checked before anything is allocated). store_file writes one atomically and then bounds
     // the folder as store() does (every entry counts); it returns "" or the one-line reason it
     // could not store (the bytes are still good to use). An entry of several files is complete
     // when the caller's last file (a manifest) is there.
-    std::optional<std::vector<std::uint8_t>> find_file(const std::string& key,
-                                                       const std::string& suffix) const;
+    std::optional<std::vector<std::uint8_t>> find_file(
+        const std::string& key, const std::string& suffix,
+        std::uint64_t max_bytes = kMaxCacheRecordBytes) const;
     std::string store_file(const std::string& key, const std::string& suffix,
                            const std::vector<std::uint8_t>& bytes) const;
     // The same for large entries, without their bytes in memory: copy_file_to fills `output`
