@@ -215,15 +215,20 @@ def main():
                 rows += result_rows(name, folder, "roughness (Filament)")
     if not rows:
         sys.exit("bake_off.py: no configuration selected")
-    with open(os.path.join(args.out, "bake_off.json"), "w") as f:
-        json.dump(rows, f, indent=1)
-    with open(os.path.join(args.out, "bake_off.csv"), "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(rows, os.path.join(args.out, "bake_off"))
     with open(os.path.join(args.out, "bake_off.md"), "w") as f:
         f.write(markdown(rows))
     print(os.path.join(args.out, "bake_off.md"))
+
+
+def write_rows(rows, stem):
+    """rows (dicts with the same keys) as STEM.json and STEM.csv."""
+    with open(stem + ".json", "w") as f:
+        json.dump(rows, f, indent=1)
+    with open(stem + ".csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def fmt(v, digits=2):

@@ -10,8 +10,6 @@ OUT/storage_psnr.{csv,json,md} (docs/results.md §9).
 Usage: scripts/storage_psnr.py [--leanfade build/tools/leanfade/leanfade] [--out out/storage_psnr]
 """
 import argparse
-import csv
-import json
 import math
 import os
 import struct
@@ -19,7 +17,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bake_off import CORPUS  # noqa: E402
+from bake_off import CORPUS, write_rows  # noqa: E402
 
 
 def read_pfm(path):
@@ -78,12 +76,7 @@ def main():
             rows.append({"map": tag, "package": package, "storage": storage, "cell": name[:-4],
                          "psnr_db": round(psnr(default_cells[name], float_cells[name]), 2)})
         print(tag, storage, min(r["psnr_db"] for r in rows if r["map"] == tag), file=sys.stderr)
-    with open(os.path.join(args.out, "storage_psnr.json"), "w") as f:
-        json.dump(rows, f, indent=1)
-    with open(os.path.join(args.out, "storage_psnr.csv"), "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_rows(rows, os.path.join(args.out, "storage_psnr"))
     with open(os.path.join(args.out, "storage_psnr.md"), "w") as f:
         f.write("| map | package | default storage | lowest PSNR (dB) | cells |\n|---|---|---|---|---|\n")
         for tag in dict.fromkeys(r["map"] for r in rows):
