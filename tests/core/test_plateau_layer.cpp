@@ -117,11 +117,15 @@ TEST(PlateauRule, TheSameSurfaceHasTheSameFlatFractionAtEveryResolution) {
         const Image slopes = bumps_slopes(size);
         const double f = flat_fraction(plateau_texels(slopes));
         EXPECT_NEAR(f, at_256, 0.1) << size;
-        if (previous >= 0.0) EXPECT_NEAR(f, previous, 0.02) << size;
+        if (previous >= 0.0) {
+            EXPECT_NEAR(f, previous, 0.02) << size;
+        }
         previous = f;
         PlateauRule one_texel = plateau_rule_for(slopes);
         one_texel.radius_x = one_texel.radius_y = 1;
-        if (size == 4096) EXPECT_GT(flat_fraction(plateau_texels(slopes, one_texel)), f + 0.2);
+        if (size == 4096) {
+            EXPECT_GT(flat_fraction(plateau_texels(slopes, one_texel)), f + 0.2);
+        }
     }
 }
 
