@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/eval/calibration.hpp"
 #include "leanfade/eval/results.hpp"
 
@@ -119,20 +120,23 @@ void check_file_literal(const std::string& name) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     FuzzedDataProvider in(data, size);
 
-    // eval's plots: up to 6 technique names (arbitrary), 1 to 3 shininesses, 1 to 3 distances.
+    // eval's plots: up to 6 techniques (any row of the table, repeats allowed), 1 to 3
+    // shininesses, 1 to 3 distances.
     std::vector<leanfade::eval::CaseResult> cases;
-    std::vector<std::string> names;
+    std::vector<leanfade::Technique> techniques;
     const int technique_count = in.ConsumeIntegralInRange(1, 6);
-    for (int t = 0; t < technique_count; ++t) names.push_back(in.ConsumeRandomLengthString(64));
+    for (int t = 0; t < technique_count; ++t)
+        techniques.push_back(leanfade::Technique(
+            in.ConsumeIntegralInRange<std::size_t>(0, leanfade::kTechniques.size() - 1)));
     std::vector<float> shininesses;
     const int panels = in.ConsumeIntegralInRange(1, 3);
     for (int s = 0; s < panels; ++s) shininesses.push_back(in.ConsumeFloatingPoint<float>());
     const int distances = in.ConsumeIntegralInRange(1, 3);
     for (int s = 0; s < panels; ++s)
         for (int d = 0; d < distances; ++d)
-            for (const std::string& name : names) {
+            for (const leanfade::Technique technique : techniques) {
                 leanfade::eval::CaseResult c;
-                c.technique = name;
+                c.technique = technique;
                 c.shininess = shininesses[std::size_t(s)];
                 c.distance = in.ConsumeFloatingPoint<float>();
                 c.energy = in.ConsumeFloatingPoint<double>();
