@@ -26,7 +26,7 @@ import zlib
 VARIANTS = [("8", ["--bits", "8"]), ("16", ["--bits", "16"]), ("16f", ["--bits", "16f"]),
             ("32f", ["--bits", "32f"]), ("8 sc=max", ["--bits", "8", "--sc", "max"]),
             ("16 sc=max", ["--bits", "16", "--sc", "max"]),
-            ("32f sc=max", ["--bits", "32f", "--sc", "max"])]
+            ("32f sc=max", ["--bits", "32f", "--sc", "max"]), ("auto", ["--bits", "auto"])]
 TRUTH = "32f"
 DISTANCES = "1.6,4,12"
 SIZE = "256x256"

@@ -4,6 +4,8 @@
 // map (B = n.xy / n.z), and writes both packed slices of the LEAN texture with a given sc:
 //   slice 0, lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5),  n = normalize(B, 1)
 //   slice 1, lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2),  M = (Bx^2, By^2, Bx By) + 1/s
+// in the offset encoding of UNORM storages, or (n, Mxy / sc^2), (B / sc, Mxx / sc^2, Myy / sc^2)
+// in the signed encoding of float storages (leanfade::LeanEncoding),
 // exactly as the CPU baker does for its top level (libs/core lean_map.cpp). The other MIP levels
 // come from glGenerateMipmap, which averages the packed values: correct, because the packing is
 // affine per channel (docs/math.md §3).
@@ -40,6 +42,7 @@ uniform float u_inv_s;        // 1/s baked into Mxx, Myy (LEAN eq. 6), or 0
 uniform float u_green_sign;   // -1 for DirectX-convention normal maps, else 1
 uniform bool u_wrap_repeat;   // Sobel taps past the edge: repeat, or clamp to the edge
 uniform float u_min_normal_z; // normal maps: z raised to this (kMinNormalZ)
+uniform float u_lean_offset;  // 1: the offset encoding (UNORM storages); 0: signed (float ones)
 
 int wrap(int i, int n) {
     if (u_wrap_repeat) return (i + n) % n;  // i is in [-1, n]
@@ -80,7 +83,9 @@ vec2 layer_slope(int i, vec2 uv) {
     vec2 lean2_xy = vec2(0.0);
     for (int c = 0; c < 4; ++c)
         lean2_xy += w[c] * texelFetch(u_layer_maps[i], ivec3(taps[c], 1), 0).xy;
-    return (2.0 * lean2_xy - vec2(1.0)) * u_layers.scales[i];  // docs/math.md §3
+    // docs/math.md §3-4: B = ((1 + o) s - o) sc with the layer's encoding offset o.
+    float o = u_layers.lean_offsets[i];
+    return ((1.0 + o) * lean2_xy - vec2(o)) * u_layers.scales[i];
 }
 
 vec4 layer_weights(vec2 uv) {
@@ -139,6 +144,9 @@ void main() {
     vec3 n = vec3(b * inv_len, inv_len);
     vec3 m = vec3(b.x * b.x + u_inv_s, b.y * b.y + u_inv_s, b.x * b.y);
     float sc2 = u_scale * u_scale;
-    imageStore(u_lean, ivec3(p, 0), vec4(0.5 * n + vec3(0.5), 0.5 * m.z / sc2 + 0.5));
-    imageStore(u_lean, ivec3(p, 1), vec4(0.5 * b / u_scale + vec2(0.5), m.x / sc2, m.y / sc2));
+    // s = g v + o for n, B, Mxy: (0.5, 0.5) in the offset encoding, (1, 0) in the signed one.
+    float g = u_lean_offset > 0.0 ? 0.5 : 1.0;
+    float o = u_lean_offset > 0.0 ? 0.5 : 0.0;
+    imageStore(u_lean, ivec3(p, 0), vec4(g * n + vec3(o), g * m.z / sc2 + o));
+    imageStore(u_lean, ivec3(p, 1), vec4(g * b / u_scale + vec2(o), m.x / sc2, m.y / sc2));
 }

@@ -117,7 +117,9 @@ struct LfShadingUniforms {
     float blend;
     // glTF doubleSided: 1 shades back faces with the reversed frame; 0: as front faces.
     float double_sided;
-    float uv_transform_padding;  // keeps uv_transforms at a 16-byte offset in C++, as in std140
+    // The LEAN map's offset o (lf_unpack): 1 for the offset encoding (UNORM maps, and float maps
+    // of leanfade 0.1), 0 for the signed encoding of float maps (LEANFADElayout "... v2").
+    float lean_offset LF_DEFAULT(1.0f);
     // Texture coordinate transforms (glTF KHR_texture_transform) of the LEAN map (and its plateau
     // layer) and of each surface map kind, at LF_UV_* (above): two rows each,
     // uv' = (dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up), uv the
@@ -149,13 +151,16 @@ struct LfShade {
     vec3 specular;  // Ks * NdotL^sf * D * F * light
 };
 
-// Unpacking, docs/math.md §4: B = (2 lean2.rg - 1) sc, M = (lean2.b sc^2, lean2.a sc^2, (2 lean1.a
-// - 1) sc^2).
-LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc) {
+// Unpacking, docs/math.md §4, of a map stored with the offset o (1: the offset encoding of UNORM
+// maps and 0.1's float maps, s = 0.5 v + 0.5; 0: the signed encoding of float maps, s = v):
+// n = (1 + o) lean1.rgb - o, B = ((1 + o) lean2.rg - o) sc,
+// M = (lean2.b sc^2, lean2.a sc^2, ((1 + o) lean1.a - o) sc^2).
+LF_FN LfMoments lf_unpack(vec4 lean1, vec4 lean2, float sc, float offset) {
     LfMoments m;
-    m.normal = 2.0f * vec3(lean1.x, lean1.y, lean1.z) - vec3(1.0f);
-    m.mean = (2.0f * vec2(lean2.x, lean2.y) - vec2(1.0f)) * sc;
-    m.second = vec3(lean2.z * sc * sc, lean2.w * sc * sc, (2.0f * lean1.w - 1.0f) * sc * sc);
+    float gain = 1.0f + offset;
+    m.normal = gain * vec3(lean1.x, lean1.y, lean1.z) - vec3(offset);
+    m.mean = (gain * vec2(lean2.x, lean2.y) - vec2(offset)) * sc;
+    m.second = vec3(lean2.z * sc * sc, lean2.w * sc * sc, (gain * lean1.w - offset) * sc * sc);
     m.plateau = vec4(0.0f);
     m.footprint = vec3(0.0f);
     return m;
@@ -241,6 +246,7 @@ struct LfLayerUniforms {
     vec4 weights;     // t_0..t_3, sum 1 (0 for absent layers)
     vec4 strengths;   // k_0..k_3 (k < 0 flips a layer)
     vec4 scales;      // sc of each layer's LEAN map (docs/math.md §3)
+    vec4 lean_offsets LF_DEFAULT(vec4(1.0f));  // o of each layer's LEAN map (lf_unpack)
     vec4 tilings;     // repeats of each layer per unit of the surface's tiled uv
     vec4 offsets[2];  // uv offsets: (u_0, v_0, u_1, v_1), (u_2, v_2, u_3, v_3)
     int count;        // 2..4 layers
@@ -512,9 +518,11 @@ LF_FN LfShade lf_combine_cook_torrance(vec3 n, vec3 light_dir, vec3 view_dir, ve
 // hold for a LEAN texel of some MIP level: (0.5 n + 0.5, r) with n the unit normal of the mean
 // slope B and r = sqrt(alpha) the perceptual roughness of alpha^2 = alpha0^2 + Sxx + Syy, each
 // rounded to 8 bits as `leanfade bake --roughness-out` writes them. A map with baked roughness
-// holds 1/s in M already: pass alpha0^2 = 0 then (2 p.inv_s_shading is).
-LF_FN vec4 lf_roughness_mip_texel(vec4 lean1, vec4 lean2, float sc, float alpha0_squared) {
-    LfMoments m = lf_unpack(lean1, lean2, sc);
+// holds 1/s in M already: pass alpha0^2 = 0 then (2 p.inv_s_shading is). sc and offset as
+// lf_unpack's.
+LF_FN vec4 lf_roughness_mip_texel(vec4 lean1, vec4 lean2, float sc, float offset,
+                                  float alpha0_squared) {
+    LfMoments m = lf_unpack(lean1, lean2, sc, offset);
     vec3 sigma = lf_covariance(m.mean, m.second, 0.0f);
     float alpha = sqrt(alpha0_squared + sigma.x + sigma.y);
     vec3 n = normalize(vec3(m.mean.x, m.mean.y, 1.0f));
@@ -772,8 +780,8 @@ LF_FN LfShade lf_shade(int technique, LfMoments m, vec3 light_dir, vec3 view_unn
 
 // Stage 1 for one LEAN map: the moments of its two texels (lf_unpack) with the plateau layer's
 // texel (docs/math.md §10; vec4(0) for a material without one).
-LF_FN LfMoments lf_map_moments(vec4 lean1, vec4 lean2, float sc, vec4 plateau) {
-    LfMoments m = lf_unpack(lean1, lean2, sc);
+LF_FN LfMoments lf_map_moments(vec4 lean1, vec4 lean2, float sc, float offset, vec4 plateau) {
+    LfMoments m = lf_unpack(lean1, lean2, sc, offset);
     m.plateau = plateau;
     return m;
 }

@@ -128,6 +128,7 @@ vec4 roughness_mip_texel(ivec2 xy, int level) {
     ivec2 p = ((xy % size) + size) % size;
     vec4 texel = lf_roughness_mip_texel(texelFetch(u_lean, ivec3(p, 0), level),
                                         texelFetch(u_lean, ivec3(p, 1), level), u_shading.scale,
+                                        u_shading.lean_offset,
                                         roughness_mip_alpha0_squared(p, level));
     if ((u_shading.maps & LF_MAP_ROUGHNESS_MIPS) != 0)
         texel.w = texel_under_lean_texel(u_roughness_mips, p, level);
@@ -194,8 +195,9 @@ LfMoments layered_moments() {
         uvs[i] = layer_uv(i);
         vec4 lean1 = layer_texel(i, uvs[i], LF_SLICE_LEAN1);
         vec4 lean2 = layer_texel(i, uvs[i], LF_SLICE_LEAN2);
-        LfMoments m = lf_layer_strength(lf_unpack(lean1, lean2, u_layers.scales[i]),
-                                        u_layers.strengths[i]);
+        LfMoments m = lf_layer_strength(
+            lf_unpack(lean1, lean2, u_layers.scales[i], u_layers.lean_offsets[i]),
+            u_layers.strengths[i]);
         means[i] = m.mean;
         mixed = lf_mix_layer(mixed, m, t[i]);
     }
@@ -238,7 +240,8 @@ void main() {
     if ((u_shading.maps & LF_MAP_PLATEAU) != 0)
         plateau = LF_SAMPLE(u_plateau, map_uv(LF_UV_LEAN_MAP));
 #endif
-    LfMoments moments = lf_map_moments(lean1, lean2, u_shading.scale, plateau);
+    LfMoments moments =
+        lf_map_moments(lean1, lean2, u_shading.scale, u_shading.lean_offset, plateau);
 #if defined(LF_ROUGHNESS_MIPS)
     moments = lf_roughness_mips_moments(roughness_mip_trilinear(map_uv(LF_UV_LEAN_MAP)));
 #endif

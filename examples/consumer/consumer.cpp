@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
         const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
         const glm::vec3 view(-0.2f, 0.1f, 3.0f);
         const sh::LfShade shade = sh::lf_shade(
-            sh::LF_TECHNIQUE_LEAN, sh::lf_unpack(lean1, lean2, map.scale), light, view, params);
+            sh::LF_TECHNIQUE_LEAN,
+            sh::lf_unpack(lean1, lean2, map.scale, lean_offset(map.encoding)), light, view, params);
         check(std::isfinite(shade.specular.x) && shade.specular.x > 0.0f,
               "LEAN's specular term is finite and > 0");
         check(shade.diffuse.x > 0.0f && shade.diffuse.x <= 0.5f + 1e-6f,

@@ -52,11 +52,17 @@ export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
     throw new LeanfadeError(name, 'a LEAN map has two layers (three with the plateau layer)');
   const scale = Number(keyValueText(container, 'LEANFADEscale'));
   if (!(scale > 0) || !Number.isFinite(scale)) throw new LeanfadeError(name, 'no LEANFADEscale key');
+  // The encoding (docs/ktx2.md): layout version 2 stores n, B / sc and Mxy / sc^2 signed
+  // (offset 0); version 1 (maps of leanfade 0.1) as 0.5 v + 0.5 (offset 1).
+  const layout = keyValueText(container, 'LEANFADElayout') ?? '';
+  const version = layout.match(/^lean1,lean2(,plateau)? v([12])$/);
+  if (!version) throw new LeanfadeError(name, `unsupported LEANFADElayout '${layout}'`);
   return {
     width: container.pixelWidth,
     height: container.pixelHeight,
     layers: 2,
     scale,
+    leanOffset: version[2] === '2' ? 0 : 1,
     roughnessBaked: keyValueText(container, 'LEANFADEroughnessBaked') === '1',
     levels: halfFloatLevels(container, name).map((level) => ({
       ...level,
@@ -445,6 +451,7 @@ export class LeanfadeScene {
     this.mesh = mesh;
     this.model = mat4.fitToUnitSphere(mesh.bounds);
     this.scale = leanMap.scale;
+    this.leanOffset = leanMap.leanOffset;
     this.roughnessBaked = leanMap.roughnessBaked;
     this.textures = {
       u_lean: { target: gl.TEXTURE_2D_ARRAY, texture: uploadLeanMap(gl, leanMap) },
@@ -494,6 +501,7 @@ export class LeanfadeScene {
       if (block.name === 'LfObjectBlock') for (const [name, v] of Object.entries(values)) block.set(name, v);
       if (block.name === 'LfShadingBlock') {
         block.set('u_shading.scale', this.scale);
+        block.set('u_shading.lean_offset', this.leanOffset);
         // A map with 1/s baked into its moments: none added again at shading time.
         if (this.roughnessBaked) block.set('u_shading.params.inv_s_shading', 0);
         block.set('u_shading.maps', maps);

@@ -200,10 +200,10 @@ TEST(CookTorrance, FadeZeroIsExactlyLean) {
         p.fade = fade;
         p.pmax = fade == 0.0f ? 8.0f : 1.0f;
         for (const vec3 view : {vec3(0.2f, 0.1f, 3.0f), vec3(-2.0f, 1.0f, 0.5f)}) {
-            const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.5f), l,
-                                          view, p);
-            const LfShade fade_shade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f),
-                                                l, view, p);
+            const LfShade lean =
+                lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.5f, 1.0f), l, view, p);
+            const LfShade fade_shade =
+                lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f, 1.0f), l, view, p);
             if (view.z > 1.0f) {
                 EXPECT_GT(lean.specular.x, 1e-3f);
             }
@@ -217,7 +217,7 @@ TEST(CookTorrance, FadeZeroIsExactlyLean) {
     p.fade = 0.5f;
     p.pmax = 8.0f;
     const vec3 view(0.2f, 0.1f, 3.0f);
-    const LfMoments m = lf_unpack(lean1, lean2, 0.5f);
+    const LfMoments m = lf_unpack(lean1, lean2, 0.5f, 1.0f);
     const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, m, l, view, p);
     const LfShade faded = lf_shade(LF_TECHNIQUE_FADE, m, l, view, p);
     const float sf = lf_fade_factor(view.z, p.fade, p.fade_exponent, p.pmax);
@@ -235,7 +235,7 @@ TEST(CookTorrance, TechniquesAgreeOnAFlatFinestLevel) {
     p.brdf = LF_BRDF_COOK_TORRANCE;
     p.inv_s_shading = 0.5f * std::pow(0.35f, 4.0f);
     const vec4 lean1(0.5f, 0.5f, 1.0f, 0.5f), lean2(0.5f, 0.5f, 0.0f, 0.0f);
-    const LfMoments m = lf_unpack(lean1, lean2, 1.0f);
+    const LfMoments m = lf_unpack(lean1, lean2, 1.0f, 1.0f);
     const vec3 l = normalize(vec3(0.3f, 0.2f, 0.9f));
     for (const vec3 view : {vec3(-0.25f, -0.2f, 1.0f), vec3(-1.0f, 0.5f, 0.7f)}) {
         const float lean = lf_shade(LF_TECHNIQUE_LEAN, m, l, view, p).specular.x;
@@ -300,9 +300,10 @@ TEST(RoughnessMips, ShaderTexelIsTheBakedTexel) {
     for (std::size_t l = 0; l < levels.size(); ++l) {
         for (int y = 0; y < levels[l].height; ++y) {
             for (int x = 0; x < levels[l].width; ++x) {
-                const vec4 texel = lf_roughness_mip_texel(
-                    fetch_packed_texel(packed, int(l), 0, x, y),
-                    fetch_packed_texel(packed, int(l), 1, x, y), packed.scale, alpha0_squared);
+                const vec4 texel =
+                    lf_roughness_mip_texel(fetch_packed_texel(packed, int(l), 0, x, y),
+                                           fetch_packed_texel(packed, int(l), 1, x, y),
+                                           packed.scale, lean_offset(packed.encoding), alpha0_squared);
                 const std::size_t t = std::size_t(y * levels[l].width + x);
                 const float r = std::sqrt(levels[l].alpha[t]);
                 const vec3 n = levels[l].normal[t];

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <vector>
 
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/procedural.hpp"
@@ -62,13 +66,14 @@ TEST(Packing, RoundTripWithinQuantisationForEveryStorage) {
 }
 
 TEST(Packing, PackedValuesNeverLeaveTheUnitRange) {
-    // sc is chosen so that no packed channel overflows [0, 1]: check on float storage, where
-    // nothing is clamped, over every level of every built-in set.
+    // sc is chosen so that no packed channel overflows [0, 1]: check on float storage in the
+    // offset encoding, where nothing is clamped, over every level of every built-in set.
     for (const std::string& name : builtin_bump_names()) {
         BakeOptions options;
         const LeanMap map = build_lean_map(
             slopes_from_height(make_builtin_height(name, 64, 2), options).slopes, options);
-        const PackedLeanMap packed = pack_lean_map(map, Storage::Float32, "test");
+        const PackedLeanMap packed =
+            pack_lean_map(map, Storage::Float32, LeanEncoding::Offset, "test");
         for (std::size_t l = 0; l < packed.levels.size(); ++l)
             for (int y = 0; y < packed.levels[l].height; ++y)
                 for (int x = 0; x < packed.levels[l].width; ++x)
@@ -80,6 +85,47 @@ TEST(Packing, PackedValuesNeverLeaveTheUnitRange) {
                         }
                     }
     }
+}
+
+// Half floats in the signed encoding keep the covariance of flat ground (slopes of a few
+// hundredths with the base variance 1/s = 1/13777 baked in), which the offset encoding of
+// leanfade 0.1 rounded away: its 0.5 B / sc + 0.5 held B to sc / 2^11 whatever B's size.
+TEST(Packing, SignedHalfFloatsKeepTheCovarianceOfFlatGround) {
+    Image slopes(64, 64, 2);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            slopes.row(y)[2 * x] = 0.03f * std::sin(0.37f * float(x) + 0.11f * float(y));
+            slopes.row(y)[2 * x + 1] = 0.02f * std::cos(0.23f * float(y) - 0.05f * float(x));
+        }
+    // One steep texel sets sc far above the ground's slopes (as a gap between tiles does).
+    slopes.row(5)[2 * 9] = 3.0f;
+    BakeOptions options;
+    options.bake_roughness_shininess = 13777.0f;
+    options.scale_excludes_outliers = false;
+    const LeanMap map = build_lean_map(slopes, options);
+    ASSERT_GE(map.scale, 3.0f);
+    const float inv_s = 1.0f / 13777.0f;
+    // The largest error of Sxx = Mxx - Bx^2 over the finest level, in units of 1/s.
+    const auto covariance_error = [&](const PackedLeanMap& packed) {
+        const MomentLevel back = unpack_lean_map(packed).levels[0];
+        const MomentLevel& exact = map.levels[0];
+        double worst = 0.0;
+        for (std::size_t i = 0; i < exact.mean.size(); ++i) {
+            const double want = double(exact.second[i].x) - double(exact.mean[i].x) * exact.mean[i].x;
+            const double got = double(back.second[i].x) - double(back.mean[i].x) * back.mean[i].x;
+            if (std::abs(double(exact.mean[i].x)) < 0.1)  // the flat ground only
+                worst = std::max(worst, std::abs(got - want) / double(inv_s));
+        }
+        return worst;
+    };
+    const PackedLeanMap signed_half = pack_lean_map(map, Storage::Float16, "test");
+    ASSERT_EQ(signed_half.encoding, LeanEncoding::Signed);
+    const double signed_error = covariance_error(signed_half);
+    const double offset_error =
+        covariance_error(pack_lean_map(map, Storage::Float16, LeanEncoding::Offset, "test"));
+    EXPECT_LT(signed_error, 0.02) << "signed 16f";
+    EXPECT_GT(offset_error, 0.5) << "offset 16f";
+    EXPECT_LT(covariance_error(pack_lean_map(map, Storage::Float32, "test")), 1e-4);
 }
 
 TEST(Packing, PackingIsAffineSoFilteringCommutesWithIt) {
@@ -308,52 +354,98 @@ TEST(ScaleChoice, UnormClampsTexelsBeyondScAndTheFastPathGivesTheSameBytes) {
             EXPECT_EQ(lean2.x, 1.0f) << to_string(storage);
             EXPECT_EQ(lean2.z, 1.0f) << to_string(storage);
         } else {
-            const float bx = (2.0f * lean2.x - 1.0f) * packed.scale;
+            const float offset = lean_offset(packed.encoding);
+            const float bx = ((1.0f + offset) * lean2.x - offset) * packed.scale;
             EXPECT_NEAR(bx, expected_bx, expected_bx * 2e-3f) << to_string(storage);
         }
     }
 }
 
-// --bits auto (auto_storage): UNORM16 unless texels lie beyond sc, or UNORM16's rounding of M
-// (sc^2 / (2 * 65535)) reaches the base variance 1/13777 while most texels are far flatter than
-// sc (the bound: sc = sqrt(2 * 65535 / 13777) = 3.08); then half floats, or 32-bit floats where
-// half floats' rounding of B (sc / 4096) reaches the highlight's width 1 / sqrt(13777) (sc =
-// 34.9).
-TEST(AutoStorage, HalfFloatsForOutliersOrForCoarseMomentsOfAMostlyFlatMap) {
-    EXPECT_NEAR(unorm16_moment_error(1.0f), 13777.0 / 131070.0, 1e-9);
-    EXPECT_LT(unorm16_moment_error(3.05f), kAutoStorageMaxError);
-    EXPECT_GT(unorm16_moment_error(3.1f), kAutoStorageMaxError);
-    // The built-in sets (sc 0.6 - 1.5) and gentle maps: 16-bit UNORM.
-    EXPECT_EQ(auto_storage(0.98f, 0, 0.3f), Storage::Unorm16);
-    EXPECT_EQ(auto_storage(1.5f, 0, 0.0f), Storage::Unorm16);
-    // Outliers beyond sc: half floats, whatever sc.
-    EXPECT_EQ(auto_storage(1.0f, 1, 0.3f), Storage::Float16);
-    // Steep gaps between flat planks (sc 32, median far below sc / 8): half floats.
-    EXPECT_EQ(auto_storage(32.0f, 0, 0.05f), Storage::Float16);
-    EXPECT_EQ(auto_storage(32.0f, 0, 4.0f), Storage::Float16);
-    EXPECT_LT(float16_slope_error(34.8f), kAutoStorageMaxError);
-    EXPECT_GT(float16_slope_error(35.0f), kAutoStorageMaxError);
-    EXPECT_EQ(auto_storage(64.0f, 0, 0.05f), Storage::Float32);
-    EXPECT_EQ(auto_storage(64.0f, 1, 0.05f), Storage::Float16);  // outliers: half floats
-    // A map steep everywhere (median above sc / 8) keeps UNORM, finer than half floats near sc.
-    EXPECT_EQ(auto_storage(32.0f, 0, 4.5f), Storage::Unorm16);
-    // The median a bake reports: the upper bin edge of max(|Bx|, |By|) of half of the texels.
-    Image slopes(4, 4, 2, 0.0f);
-    for (int i = 0; i < 6; ++i) slopes.pixels[std::size_t(2 * i)] = 20.0f;  // 6 of 16 steep
-    const LeanMap map = build_lean_map(slopes, {});
-    EXPECT_LT(map.median_steepness, 1e-4f);
-    EXPECT_EQ(auto_storage(map.scale, map.texels_beyond_scale, map.median_steepness),
-              Storage::Float16);
-    for (int i = 6; i < 10; ++i) slopes.pixels[std::size_t(2 * i)] = 20.0f;  // 10 of 16 steep
-    const LeanMap steep = build_lean_map(slopes, {});
-    EXPECT_GE(steep.median_steepness, 20.0f);
-    EXPECT_LE(steep.median_steepness, 20.0f * 1.25f);  // four bins per octave: 16, 20, 24, 28
-    EXPECT_EQ(auto_storage(steep.scale, steep.texels_beyond_scale, steep.median_steepness),
-              Storage::Unorm16);
-    // Both bakes report the same median.
-    const Image height = make_builtin_height("bumps", 64);
-    const float reference = bake_lean_map(height, BakeSource::Height, {}).map.median_steepness;
-    EXPECT_GT(reference, 0.0f);
-    EXPECT_EQ(bake_packed(height, BakeSource::Height, {}, Storage::Unorm16, "t").median_steepness,
-              reference);
+// --bits auto (StorageProbe): the 16-bit storage that changes a render of the map's own texels
+// less, measured on the bake's float moments.
+Image planks_height(int size) {
+    // Planks 16 texels wide with 1-texel gaps and a faint grain: steep walls between flat ground.
+    Image height(size, size, 1, 0.0f);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x)
+            height.row(y)[x] = x % 16 == 0 ? -0.25f
+                                           : 0.002f * std::sin(0.3f * float(y) + float(x));
+    return height;
+}
+
+TEST(StorageProbe, MeasuresTheBakesFloatsAsTheFloatMapsAndPicksWhatKeepsTheHighlight) {
+    const auto probe_of_bake = [](const Image& input, const BakeOptions& options,
+                                  PackedBakeResult& baked) {
+        auto probe = std::make_unique<StorageProbe>(input.width, input.height);
+        baked = bake_packed(input, BakeSource::Height, options, Storage::Unorm16, "t", "",
+                            probe->sink());
+        return probe;
+    };
+    // A gentle map (the built-in bumps): every storage measured, the finer the better.
+    BakeOptions gentle;
+    const Image bumps = make_builtin_height("bumps", 64);
+    PackedBakeResult baked;
+    const auto probe = probe_of_bake(bumps, gentle, baked);
+    const double unorm = probe->psnr(Storage::Unorm16, baked.packed.scale);
+    const double half = probe->psnr(Storage::Float16, baked.packed.scale);
+    EXPECT_GT(unorm, 30.0);
+    EXPECT_EQ(probe->psnr(Storage::Float32, baked.packed.scale),
+              std::numeric_limits<double>::infinity());
+    EXPECT_LT(probe->psnr(Storage::Unorm8, baked.packed.scale), unorm);
+    EXPECT_EQ(probe->choose(baked.packed.scale),
+              unorm >= half ? Storage::Unorm16 : Storage::Float16);
+    // The same floats through a float map give the same measure.
+    StorageProbe from_map(64, 64);
+    from_map.add(bake_lean_map(bumps, BakeSource::Height, gentle).map);
+    EXPECT_EQ(from_map.psnr(Storage::Unorm16, baked.packed.scale), unorm);
+    EXPECT_EQ(from_map.psnr(Storage::Float16, baked.packed.scale), half);
+
+    // Planks with steep gaps: the walls set sc, and UNORM's step of M (sc^2 / 65535) rounds away
+    // the flat planks' covariance; signed half floats keep it.
+    BakeOptions steep;
+    steep.strength = 128.0f;
+    PackedBakeResult planks;
+    const auto planks_probe = probe_of_bake(planks_height(64), steep, planks);
+    ASSERT_GT(planks.packed.scale, 8.0f);
+    const double planks_unorm = planks_probe->psnr(Storage::Unorm16, planks.packed.scale);
+    const double planks_half = planks_probe->psnr(Storage::Float16, planks.packed.scale);
+    EXPECT_GT(planks_half, planks_unorm + 10.0);
+    EXPECT_EQ(planks_probe->choose(planks.packed.scale), Storage::Float16);
+    const StorageProbe::Scores scores = planks_probe->scores(planks.packed.scale);
+    EXPECT_EQ(scores.unorm16, planks_unorm);
+    EXPECT_EQ(scores.float16, planks_half);
+    std::printf("probe PSNR: bumps 16 %.1f dB, 16f %.1f dB; planks 16 %.1f dB, 16f %.1f dB\n",
+                unorm, half, planks_unorm, planks_half);
+}
+
+// bake_with_auto_storage bakes once when the first storage is the probe's choice, twice when not.
+TEST(StorageProbe, AutoStorageBakesAgainOnlyForAnotherStorage) {
+    BakeOptions steep;
+    steep.strength = 128.0f;
+    for (const bool planks : {false, true}) {
+        const Image input = planks ? planks_height(64) : make_builtin_height("bumps", 64);
+        const BakeOptions options = planks ? steep : BakeOptions{};
+        std::vector<Storage> bakes;
+        const PackedBakeResult result = bake_with_auto_storage(
+            Storage::Unorm16, true, input.width, input.height,
+            [&](Storage s, const MomentRunSink& probe) {
+                bakes.push_back(s);
+                return bake_packed(input, BakeSource::Height, options, s, "t", "", probe);
+            });
+        ASSERT_FALSE(bakes.empty());
+        EXPECT_EQ(bakes.front(), Storage::Unorm16);
+        EXPECT_EQ(result.packed.storage, bakes.back());
+        EXPECT_EQ(bakes.size(), bakes.back() == Storage::Unorm16 ? 1u : 2u);
+        if (planks) {
+            EXPECT_NE(result.packed.storage, Storage::Unorm16);
+        }
+    }
+    // Not automatic: one bake in the storage asked for, no probe.
+    int calls = 0;
+    bake_with_auto_storage(Storage::Float16, false, 8, 8, [&](Storage s, const MomentRunSink& p) {
+        ++calls;
+        EXPECT_FALSE(bool(p));
+        return bake_packed(make_builtin_height("bumps", 8), BakeSource::Height, {}, s, "t");
+    });
+    EXPECT_EQ(calls, 1);
 }

@@ -72,8 +72,10 @@ TEST(Shading, FadeZeroIsExactlyLean) {
     const vec3 l = normalize(vec3(0.3f, 0.4f, 0.8f));
     for (float d : {0.5f, 3.0f, 50.0f, 400.0f}) {
         const vec3 v = d * normalize(vec3(-0.2f, 0.1f, 0.9f));
-        const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.7f), l, v, p);
-        const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.7f), l, v, p);
+        const LfShade lean =
+            lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.7f, 1.0f), l, v, p);
+        const LfShade fade =
+            lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.7f, 1.0f), l, v, p);
         EXPECT_EQ(lean.specular, fade.specular);
         EXPECT_EQ(lean.diffuse, fade.diffuse);
     }
@@ -87,8 +89,10 @@ TEST(Shading, FadingOnlyLowersSpecularAndKeepsDiffuse) {
     float previous = 1e30f;
     for (float d : {1.0f, 10.0f, 30.0f, 100.0f}) {
         const vec3 v = d * normalize(vec3(-0.1f, 0.0f, 1.0f));
-        const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.5f), l, v, p);
-        const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f), l, v, p);
+        const LfShade lean =
+            lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.5f, 1.0f), l, v, p);
+        const LfShade fade =
+            lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.5f, 1.0f), l, v, p);
         EXPECT_EQ(lean.diffuse, fade.diffuse);
         EXPECT_LE(fade.specular.x, lean.specular.x);
         const float ratio = fade.specular.x / lean.specular.x;
@@ -139,9 +143,26 @@ TEST(Shading, FresnelIsClampedSchlick) {
     EXPECT_EQ(lf_fresnel(n, vec3(1, 0, 0), 0.5f, 0.9f), 1.0f);
 }
 
+// The same moments in both encodings (offset 1: s = 0.5 v + 0.5; offset 0: s = v) unpack alike.
+TEST(Shading, UnpackDecodesTheOffsetAndTheSignedEncodingAlike) {
+    const vec3 n(0.25f, -0.5f, 0.8125f);
+    const vec2 b_over_sc(0.375f, -0.75f);
+    const float mxy_over_sc2 = -0.125f, sc = 2.0f;
+    const LfMoments offset = lf_unpack(vec4(0.5f * n + vec3(0.5f), 0.5f * mxy_over_sc2 + 0.5f),
+                                       vec4(0.5f * b_over_sc + vec2(0.5f), 0.5f, 0.25f), sc, 1.0f);
+    const LfMoments signed_values =
+        lf_unpack(vec4(n, mxy_over_sc2), vec4(b_over_sc, 0.5f, 0.25f), sc, 0.0f);
+    EXPECT_EQ(offset.normal, n);
+    EXPECT_EQ(signed_values.normal, n);
+    EXPECT_EQ(offset.mean, b_over_sc * sc);
+    EXPECT_EQ(signed_values.mean, b_over_sc * sc);
+    EXPECT_EQ(offset.second, vec3(2.0f, 1.0f, -0.5f));
+    EXPECT_EQ(signed_values.second, vec3(2.0f, 1.0f, -0.5f));
+}
+
 TEST(Shading, UnpackAppliesScaleFactor) {
     const LfMoments m =
-        lf_unpack(vec4(0.5f, 0.5f, 1.0f, 0.75f), vec4(1.0f, 0.25f, 0.5f, 0.25f), 2.0f);
+        lf_unpack(vec4(0.5f, 0.5f, 1.0f, 0.75f), vec4(1.0f, 0.25f, 0.5f, 0.25f), 2.0f, 1.0f);
     EXPECT_EQ(m.normal, vec3(0, 0, 1));
     EXPECT_EQ(m.mean, vec2(2.0f, -1.0f));
     EXPECT_EQ(m.second, vec3(2.0f, 1.0f, 2.0f));

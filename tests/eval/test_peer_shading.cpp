@@ -78,9 +78,9 @@ TEST(Clean, IsotropicMomentsGiveLean) {
     const vec3 light = normalize(vec3(-0.3f, 0.4f, 1.0f));
     const vec3 view(0.4f, -0.2f, 3.0f);
     const LfShade lean =
-        lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, sc), light, view, params(300.0f));
-    const LfShade clean =
-        lf_shade(LF_TECHNIQUE_CLEAN, lf_unpack(lean1, lean2, sc), light, view, params(300.0f));
+        lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, sc, 1.0f), light, view, params(300.0f));
+    const LfShade clean = lf_shade(LF_TECHNIQUE_CLEAN, lf_unpack(lean1, lean2, sc, 1.0f), light,
+                                   view, params(300.0f));
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(clean.specular[c], lean.specular[c], 1e-4f * lean.specular[c]);
         EXPECT_EQ(clean.diffuse[c], lean.diffuse[c]);
@@ -106,8 +106,10 @@ TEST(FadeTerms, ExplainTheFadedSpecular) {
     LfParams p = params(200.0f);
     p.fade = 0.2f;
     p.pmax = 16.0f;
-    const LfShade lean = lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.4f), light, view, p);
-    const LfShade fade = lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.4f), light, view, p);
+    const LfShade lean =
+        lf_shade(LF_TECHNIQUE_LEAN, lf_unpack(lean1, lean2, 0.4f, 1.0f), light, view, p);
+    const LfShade fade =
+        lf_shade(LF_TECHNIQUE_FADE, lf_unpack(lean1, lean2, 0.4f, 1.0f), light, view, p);
     const vec2 terms = lf_fade_terms(lean1, light, view, p.fade_distance);
     EXPECT_NEAR(terms.y, 6.0f, 1e-6f);
     const float sf = lf_fade_factor(terms.y, p.fade, p.fade_exponent, p.pmax);

@@ -135,7 +135,7 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             roughness_textures(roughness_mips(unpack_lean_map(map), options), nullptr);
         for (int x : {0, kMapSize - 1}) {
             const glm::vec4 texel = shading::lf_roughness_mip_texel(
-                lean1, lean2, map.scale, alpha0_squared[0].at(x, 0));
+                lean1, lean2, map.scale, lean_offset(map.encoding), alpha0_squared[0].at(x, 0));
             const float r = baked.metallic_roughness[0].at(x, 0, 1);
             EXPECT_NEAR(texel.w, std::round(r * 255.0f) / 255.0f, 1.0f / 255.0f + 1e-6f);
             for (int ch = 0; ch < 3; ++ch)
@@ -184,12 +184,13 @@ TEST_P(GpuMatchesCpu, PixelByPixel) {
             // scene.frag's pipeline on the texels: the moments of the LEAN map and the plateau
             // layer, then the material (no base colour texture: white; the map's α0²) and the
             // shade.
-            shading::LfMoments moments = shading::lf_map_moments(
-                lean1, lean2, map.scale, c.plateau ? kPlateauTexel : glm::vec4(0.0f));
+            shading::LfMoments moments =
+                shading::lf_map_moments(lean1, lean2, map.scale, lean_offset(map.encoding),
+                                        c.plateau ? kPlateauTexel : glm::vec4(0.0f));
             // Roughness MIPs: the engine texel of the (constant) map, which any filtering keeps.
             if (c.technique == gl::Technique::Roughness)
-                moments = shading::lf_roughness_mips_moments(
-                    shading::lf_roughness_mip_texel(lean1, lean2, map.scale, base));
+                moments = shading::lf_roughness_mips_moments(shading::lf_roughness_mip_texel(
+                    lean1, lean2, map.scale, lean_offset(map.encoding), base));
             const shading::LfShade shade = shading::lf_shade_material(
                 info(c.technique).shader_technique, moments, glm::vec4(1.0f),
                 c.roughness_map && s.brdf == Brdf::CookTorrance, base, light, view_t, params);

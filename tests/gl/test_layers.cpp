@@ -112,10 +112,11 @@ TEST_P(LayersGpuMatchesCpu, PixelByPixel) {
     shading::LfMoments scaled[3];
     for (int i = 0; i < c.layers; ++i) {
         const PackedLeanMap& map = s.lean_maps[std::size_t(i)];
-        scaled[i] = shading::lf_layer_strength(
-            shading::lf_unpack(fetch_packed_texel(map, 0, 0, 0, 0),
-                               fetch_packed_texel(map, 0, 1, 0, 0), map.scale),
-            strengths[i]);
+        scaled[i] =
+            shading::lf_layer_strength(shading::lf_unpack(fetch_packed_texel(map, 0, 0, 0, 0),
+                                                          fetch_packed_texel(map, 0, 1, 0, 0),
+                                                          map.scale, lean_offset(map.encoding)),
+                                       strengths[i]);
         mixed = shading::lf_mix_layer(mixed, scaled[i], t[std::size_t(i)]);
     }
     for (int i = 0; i < c.layers; ++i)

@@ -81,7 +81,8 @@ TEST(Std140, TheRealBlocksListEveryMemberOnce) {
     // 160 bytes before the transforms, 7 transforms of two vec4s, the factors' 32 bytes.
     EXPECT_EQ(kShadingBlockStd140Size, 160u + 7u * 32u + 32u);
     const std::vector<BlockMember> layers = layer_block_members();
-    EXPECT_EQ(layers[4].name, "u_layers.offsets[0]");
+    EXPECT_EQ(layers[3].name, "u_layers.lean_offsets");
+    EXPECT_EQ(layers[5].name, "u_layers.offsets[0]");
 }
 
 }  // namespace

@@ -209,7 +209,9 @@ Bytes lean_map_file(const std::string& path) {
     options.threads = 1;
     const BakeResult baked =
         bake_lean_map(make_builtin_height("ridges", 16, 2), BakeSource::Height, options);
-    write_ktx2(path, pack_lean_map(baked.map, Storage::Float16, "test"));
+    // A float map as leanfade 0.1 wrote it (layout v1, the offset encoding): its sc is a long
+    // decimal, room for the value edits below.
+    write_ktx2(path, pack_lean_map(baked.map, Storage::Float16, LeanEncoding::Offset, "test"));
     return read_bytes(path);
 }
 

@@ -88,6 +88,7 @@ PackedLeanMap make_map(Storage storage, int width, int height, int level_count, 
 
 void expect_same_map(const PackedLeanMap& actual, const PackedLeanMap& expected) {
     EXPECT_EQ(actual.storage, expected.storage);
+    EXPECT_EQ(actual.encoding, expected.encoding);
     EXPECT_EQ(std::memcmp(&actual.scale, &expected.scale, sizeof(float)), 0)
         << actual.scale << " vs " << expected.scale;
     EXPECT_EQ(actual.roughness_baked, expected.roughness_baked);
@@ -573,8 +574,12 @@ TEST(Ktx2, InconsistentDescriptorsAndKeysAreRefused) {
             std::copy(to.begin(), to.end(), b.begin() + std::ptrdiff_t(find_text(b, from)));
         };
     };
+    expect_rejected(path, bytes, replace(std::string("lean1,lean2 v1"), "lean1,lean2 v3"),
+                    "unsupported LEANFADElayout 'lean1,lean2 v3'");
+    // Version 2 (the signed encoding) is for float vkFormats only.
     expect_rejected(path, bytes, replace(std::string("lean1,lean2 v1"), "lean1,lean2 v2"),
-                    "unsupported LEANFADElayout 'lean1,lean2 v2'");
+                    "LEANFADElayout 'lean1,lean2 v2' (signed values) needs a float vkFormat, not "
+                    "VK_FORMAT_R16G16B16A16_UNORM");
     expect_rejected(
         path, bytes,
         replace(std::string("LEANFADEscale\0000.5", 17), std::string("LEANFADEscale\0nan", 17)),
@@ -592,6 +597,61 @@ TEST(Ktx2, InconsistentDescriptorsAndKeysAreRefused) {
     expect_rejected(path, bytes,
                     replace(std::string("Baked\0001", 7), std::string("Baked\0002", 7)),
                     "bad LEANFADEroughnessBaked value '2'");
+}
+
+// Float maps store signed values (layout version 2); version 1 float maps, as leanfade 0.1
+// wrote them (the offset encoding), load as before and decode to the same moments.
+TEST(Ktx2, SignedFloatMapsAreLayoutVersion2AndVersion1MapsLoadAsBefore) {
+    const std::string folder = scratch_folder();
+    LeanMap moments;
+    moments.scale = 0.75f;
+    MomentLevel level;
+    level.width = level.height = 1;
+    level.normal = {glm::vec3(0.2f, -0.1f, 0.97f)};
+    level.mean = {glm::vec2(0.25f, -0.125f)};
+    level.second = {glm::vec3(0.0625f + 1e-3f, 0.015625f + 2e-3f, -0.03125f + 1e-4f)};
+    moments.levels = {level};
+    for (const Storage storage : {Storage::Float16, Storage::Float32}) {
+        SCOPED_TRACE(to_string(storage));
+        const PackedLeanMap signed_map = pack_lean_map(moments, storage, "leanfade test");
+        ASSERT_EQ(signed_map.encoding, LeanEncoding::Signed);
+        const PackedLeanMap offset_map =
+            pack_lean_map(moments, storage, LeanEncoding::Offset, "leanfade test");
+        const std::string v2 = folder + "/v2.ktx2", v1 = folder + "/v1.ktx2";
+        write_ktx2(v2, signed_map);
+        write_ktx2(v1, offset_map);
+        const auto layout = [](const std::string& path) {
+            for (const auto& [key, value] : raw_key_values(read_bytes(path)))
+                if (key == "LEANFADElayout") return value;
+            return std::string();
+        };
+        EXPECT_EQ(layout(v2), std::string("lean1,lean2 v2\0", 15));
+        EXPECT_EQ(layout(v1), std::string("lean1,lean2 v1\0", 15));
+        const PackedLeanMap read_v2 = read_ktx2(v2), read_v1 = read_ktx2(v1);
+        expect_same_map(read_v2, signed_map);
+        expect_same_map(read_v1, offset_map);
+        // Both decode to the moments, each within its storage's rounding: the signed one to
+        // half's relative 2^-11, the offset one only to 2^-11 of the range (sc, sc^2).
+        const MomentLevel a = unpack_lean_map(read_v2).levels[0];
+        const MomentLevel b = unpack_lean_map(read_v1).levels[0];
+        const float relative = storage == Storage::Float16 ? 4.9e-4f : 1.2e-7f;
+        const float sc = moments.scale;
+        for (int c = 0; c < 2; ++c) {
+            EXPECT_NEAR(a.mean[0][c], level.mean[0][c], std::abs(level.mean[0][c]) * relative);
+            EXPECT_NEAR(b.mean[0][c], level.mean[0][c], sc * 2.0f * relative);
+        }
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(a.second[0][c], level.second[0][c],
+                        std::abs(level.second[0][c]) * relative);
+            EXPECT_NEAR(b.second[0][c], level.second[0][c], sc * sc * 2.0f * relative);
+        }
+    }
+    // A signed map in a UNORM storage is refused by the packer and the writer.
+    EXPECT_THROW(pack_lean_map(moments, Storage::Unorm16, LeanEncoding::Signed, "x"), Error);
+    PackedLeanMap unorm = pack_lean_map(moments, Storage::Unorm16, "x");
+    unorm.encoding = LeanEncoding::Signed;
+    expect_error([&] { write_ktx2(folder + "/bad.ktx2", unorm); }, folder + "/bad.ktx2",
+                 "the signed encoding needs a float storage, not 16");
 }
 
 TEST(Ktx2, WriteRefusesInconsistentMaps) {

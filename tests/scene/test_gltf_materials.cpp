@@ -37,11 +37,11 @@
 #include <glm/gtc/packing.hpp>
 
 #include "gl_test_helpers.hpp"
+#include "gltf_render_scene.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "gltf_render_scene.hpp"
 #include "test_gltf_builder.hpp"
 
 using namespace leanfade;
@@ -346,8 +346,8 @@ void compare_with_cpu(gl::Context& context, const scene::Scene& scene, Brdf brdf
                 texel(scene::MapKind::BaseRoughness).x, texel(scene::MapKind::Metallic).x,
                 texel(scene::MapKind::Occlusion).x, texel(scene::MapKind::Emissive),
                 texel(scene::MapKind::Anisotropy), factors);
-            const shading::LfMoments moments =
-                shading::lf_map_moments(*lean1, *lean2, lean.scale, glm::vec4(0.0f));
+            const shading::LfMoments moments = shading::lf_map_moments(
+                *lean1, *lean2, lean.scale, lean_offset(lean.encoding), glm::vec4(0.0f));
             // The light and the eye in the quad's tangent frame (docs/math.md §1).
             const glm::mat3 frame =
                 mapping.frame_of_uv1
@@ -616,7 +616,7 @@ TEST(GltfSurface, AnisotropyStretchesTheBaseRoughnessAlongItsDirection) {
     ShadingSettings s;
     const shading::LfMoments flat =
         shading::lf_map_moments(glm::vec4(0.5f, 0.5f, 1.0f, 0.5f),
-                                glm::vec4(0.5f, 0.5f, 0.0f, 0.0f), 1.0f, glm::vec4(0.0f));
+                                glm::vec4(0.5f, 0.5f, 0.0f, 0.0f), 1.0f, 1.0f, glm::vec4(0.0f));
     const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.1f, 1.0f));
     const glm::vec3 eye(-0.4f, 0.2f, 2.0f);
     const shading::LfSurface plain = shading::lf_surface(kWhite, true, 0.09f, 1.0f, 1.0f, kWhite,
@@ -644,7 +644,7 @@ TEST(GltfSurface, AnisotropicHighlightsSpreadAlongTheDirection) {
         shading::lf_surface(kWhite, false, 0.0f, 1.0f, 1.0f, kWhite, kNoAnisotropyTexture, f);
     const shading::LfMoments flat =
         shading::lf_map_moments(glm::vec4(0.5f, 0.5f, 1.0f, 0.5f),
-                                glm::vec4(0.5f, 0.5f, 0.0f, 0.0f), 1.0f, glm::vec4(0.0f));
+                                glm::vec4(0.5f, 0.5f, 0.0f, 0.0f), 1.0f, 1.0f, glm::vec4(0.0f));
     const glm::vec3 eye(0.0f, 0.0f, 3.0f);
     const auto specular = [&](glm::vec3 light) {
         return shading::lf_shade_surface(shading::LF_TECHNIQUE_LEAN, flat, along_u,

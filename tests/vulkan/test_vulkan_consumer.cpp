@@ -802,8 +802,8 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
     object.eye_world = view.eye;
     object.tiling = settings.tiling;
     object.light_world = glm::normalize(settings.light_direction);
-    const gl::LfShadingUniforms shading =
-        gl::shading_uniforms(settings, map.roughness_baked, map.scale, gl::OutputMode::Color);
+    const gl::LfShadingUniforms shading = gl::shading_uniforms(
+        settings, map.roughness_baked, map.scale, lean_offset(map.encoding), gl::OutputMode::Color);
 
     struct Block {
         const void* data;

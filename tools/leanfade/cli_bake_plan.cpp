@@ -108,7 +108,7 @@ BakeSettings bake_settings(const BakeArgs& args) {
     settings.source = parse_bake_source(args.from);
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float
-    // (leanfade::auto_storage; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
+    // (leanfade::StorageProbe; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
     settings.storage.automatic = args.bits == "auto";
     settings.storage.storage = parse_bake_storage(args.bits);
     settings.read_options.max_dimension = args.max_size;

@@ -51,6 +51,8 @@ BakeReport bake_report(const std::string& input, const std::string& output,
     report.texels_beyond_scale = baked.texels_beyond_scale;
     report.roughness_baked = baked.packed.roughness_baked;
     report.storage = baked.packed.storage;
+    report.probe_unorm16_psnr = baked.probe_unorm16_psnr;
+    report.probe_float16_psnr = baked.probe_float16_psnr;
     report.seconds = seconds;
     report.looks_like_other_convention = looks_like_other_convention;
     return report;
@@ -62,6 +64,10 @@ void print_bake_report(const BakeReport& report) {
                 terminal_text(report.output).c_str());
     std::printf("  %dx%d, %d levels, %s map, sc = %.6g, storage %s\n", s.width, s.height, s.levels,
                 to_string(report.source), s.scale, to_string(report.storage));
+    if (!std::isnan(report.probe_unorm16_psnr))
+        std::printf("  storage by measurement (--bits auto): the map's highlights %.1f dB from "
+                    "32f in 16-bit UNORM, %.1f dB in 16f\n",
+                    report.probe_unorm16_psnr, report.probe_float16_psnr);
     std::printf("  slope |B|: mean %.4f, max %.4f\n", s.mean_slope, s.max_slope);
     std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
                 s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
@@ -93,6 +99,13 @@ void print_bake_report(const BakeReport& report) {
     std::printf("  %.3f s\n", report.seconds);
 }
 
+namespace {
+// A PSNR for JSON: the number, or "inf" where nothing changed.
+nlohmann::json decibels_json(double db) {
+    return std::isfinite(db) ? nlohmann::json(db) : nlohmann::json("inf");
+}
+}  // namespace
+
 nlohmann::json bake_report_json(const BakeReport& report) {
     const LeanMapSummary& s = report.summary;
     return {{"input", report.input},
@@ -114,6 +127,11 @@ nlohmann::json bake_report_json(const BakeReport& report) {
             {"raised_normals", report.normal_repairs.raised_texels},
             {"texels_beyond_sc", report.texels_beyond_scale},
             {"storage", to_string(report.storage)},
+            {"storage_probe_psnr",
+             std::isnan(report.probe_unorm16_psnr)
+                 ? nlohmann::json(nullptr)
+                 : nlohmann::json{{"16", decibels_json(report.probe_unorm16_psnr)},
+                                  {"16f", decibels_json(report.probe_float16_psnr)}}},
             {"roughness_baked", report.roughness_baked},
             {"plateau",
              s.plateau_rule_epsilon > 0.0f

@@ -4,6 +4,7 @@
 // convention.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <variant>
 #include <vector>
@@ -26,6 +27,10 @@ struct BakeReport {
     std::uint64_t texels_beyond_scale = 0;
     bool roughness_baked = false;
     Storage storage = Storage::Unorm16;  // as written (--bits auto: the storage chosen)
+    // --bits auto: the highlight's PSNR (dB) as 16-bit UNORM and as half floats store the map
+    // (StorageProbe); NaN otherwise.
+    double probe_unorm16_psnr = std::numeric_limits<double>::quiet_NaN();
+    double probe_float16_psnr = std::numeric_limits<double>::quiet_NaN();
     double seconds = 0.0;
     bool looks_like_other_convention = false;
     // The other files (and folders) the bake wrote for this input: roughness, normal and

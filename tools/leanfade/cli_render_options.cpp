@@ -237,11 +237,14 @@ PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& set
 
     BakeOptions options = on_the_fly_bake_options(f, settings);
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
-    // --bits auto: baked again as 16f or 32f by auto_storage's rule, as `leanfade bake` does.
+    // --bits auto: baked again as 16f or 32f where the StorageProbe finds it better, as
+    // `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
-        return bake_with_auto_storage(f.bits.storage, f.bits.automatic, [&](Storage s) {
-            return bake_packed(input, kind, options, s, generator, f.source);
-        });
+        return bake_with_auto_storage(
+            f.bits.storage, f.bits.automatic, input.width, input.height,
+            [&](Storage s, const MomentRunSink& probe) {
+                return bake_packed(input, kind, options, s, generator, f.source, probe);
+            });
     };
     if (is_builtin_bumps(f.source))
         return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)

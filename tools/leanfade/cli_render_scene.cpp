@@ -181,11 +181,12 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
     const std::vector<glm::vec2> velocities = layer_velocities(f);
     check_texture_size(flags.bumps.texture_size, flags.bumps.max_size,
                        std::any_of(sources.begin(), sources.end(), is_builtin_bumps));
-    // --bits auto: 16-bit UNORM, or 16f or 32f by auto_storage's rule (as `leanfade bake`).
+    // --bits auto: the storage a StorageProbe of the float map chooses (as `leanfade bake`).
     auto storage_of = [&](const LeanMap& m) {
-        return flags.bumps.bits.automatic
-                   ? auto_storage(m.scale, m.texels_beyond_scale, m.median_steepness)
-                   : flags.bumps.bits.storage;
+        if (!flags.bumps.bits.automatic || m.levels.empty()) return flags.bumps.bits.storage;
+        StorageProbe probe(m.levels[0].width, m.levels[0].height);
+        probe.add(m);
+        return probe.choose(m.scale);
     };
 
     std::vector<LeanMap> maps;

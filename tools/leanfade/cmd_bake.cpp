@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -116,10 +117,13 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
     }
     result.output = job.outputs[0];
     const std::string staged = result.staged = outputs.stage(result.output);
+    const auto [width, height] = std::visit(
+        [](const auto& image) { return std::pair<int, int>(image.width, image.height); }, input);
     result.baked = bake_with_auto_storage(
-        settings.storage.storage, settings.storage.automatic, [&](Storage s) {
+        settings.storage.storage, settings.storage.automatic, width, height,
+        [&](Storage s, const MomentRunSink& probe) {
             return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
-                                    job.name, settings.write_options, moments);
+                                    job.name, settings.write_options, both_sinks(moments, probe));
         });
     const LeanMapSummary& summary = result.baked.summary;
     if (result.baked.packed.has_plateau() && summary.plateau_fraction == 0.0f) {

@@ -32,11 +32,11 @@ int run_info(const std::string& path, int max_size) {
     const std::string* layout = info.find(io::kLayoutKey);
     const std::string* content = info.find(io::kKeyTextureContent);
     std::string kind, moments;
-    if (layout != nullptr &&
-        (*layout == io::kLeanLayoutName || *layout == io::kLeanPlateauLayoutName)) {
+    if (layout != nullptr && io::is_lean_layout_name(*layout)) {
         const PackedLeanMap map = io::read_ktx2(path, options);
         const LeanMapSummary s = summarize(unpack_lean_map(map));
-        kind = "a LEAN map (LEANFADElayout '" + *layout + "')" +
+        kind = "a LEAN map (LEANFADElayout '" + *layout + "', " + to_string(map.encoding) +
+               " encoding)" +
                (map.has_plateau() ? ", with two-lobe LEAN's plateau layer (epsilon " +
                                         shortest_text(map.plateau_epsilon) + "): " +
                                         percent_text(plateau_fraction(map)) +
@@ -54,8 +54,9 @@ int run_info(const std::string& path, int max_size) {
         kind = "not a LEAN map: a cross-term texture of two bump layers (bake --cross-terms)";
     } else if (layout != nullptr) {
         kind = "not a LEAN map this version reads: LEANFADElayout '" + escape_text(*layout) +
-               "' (this version reads '" + io::kLeanLayoutName + "' and '" +
-               io::kLeanPlateauLayoutName + "')";
+               "' (this version reads '" + io::kLeanLayoutName + "', '" +
+               io::kLeanPlateauLayoutName + "', '" + io::kLeanSignedLayoutName + "' and '" +
+               io::kLeanSignedPlateauLayoutName + "')";
     } else if (content != nullptr) {
         if (*content == "plateau v1")
             io::read_ktx2_rgba16f(path);

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "leanfade/core/error.hpp"
 #include "leanfade/core/camera.hpp"
+#include "leanfade/core/error.hpp"
 #include "leanfade/gl/figure.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_export.hpp"
@@ -103,7 +103,7 @@ nlohmann::json defaults_json() {
         variants[std::string(info(technique).name)] = gl::variant_name(gl::variant_for(request));
     }
     const shading::LfShadingUniforms shading =
-        gl::shading_uniforms(settings, false, 1.0f, gl::OutputMode::Color);
+        gl::shading_uniforms(settings, false, 1.0f, 1.0f, gl::OutputMode::Color);
     gl::LfObjectUniforms object{};
     object.tiling = settings.tiling;
     object.light_world = glm::normalize(settings.light_direction);

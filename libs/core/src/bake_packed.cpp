@@ -33,8 +33,8 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
-#include "plateau_internal.hpp"
 #include "leanfade/core/plateau.hpp"
+#include "plateau_internal.hpp"
 
 namespace leanfade {
 namespace {
@@ -471,11 +471,16 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
                                         plan.top.inv_s)
             : detail::ScaleChoice{detail::lean_scale(totals.max_b, totals.max_m), 0};
     result.texels_beyond_scale = scale.beyond;
-    result.median_steepness = detail::median_steepness(totals.histogram);
-    const float sc = scale.scale;
+    // A Signed map (float storages) is stored with its own sc, a power of two (LeanEncoding).
+    const LeanEncoding encoding = default_encoding(storage);
+    const float sc = encoding == LeanEncoding::Signed
+                         ? signed_encoding_scale(storage, totals.max_b, totals.max_m)
+                         : scale.scale;
     plan.scale.sc = sc;
     plan.scale.sc2 = sc * sc;
     plan.scale.unorm = detail::unorm_packing(storage, plan.scale.sc, plan.scale.sc2);
+    plan.scale.gain = encoding == LeanEncoding::Offset ? 0.5f : 1.0f;
+    plan.scale.offset = encoding == LeanEncoding::Offset ? 0.5f : 0.0f;
 
     const int texel_bytes = bytes_per_texel(storage);
     plan.texel_bytes = texel_bytes;
@@ -486,6 +491,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
 
     PackedLeanMap& packed = result.packed;
     packed.storage = storage;
+    packed.encoding = encoding;
     packed.scale = sc;
     packed.roughness_baked = plan.top.inv_s > 0.0f;
     packed.baked_shininess = packed.roughness_baked ? options.bake_roughness_shininess : 0.0f;
@@ -532,7 +538,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     s.width = width;
     s.height = height;
     s.levels = int(plan.levels.size());
-    s.scale = sc;
+    s.scale = scale.scale;  // the map's sc (a Signed map is stored with its own)
     s.max_slope = totals.max_slope;
     s.mean_slope = float(totals.sum_slope / (double(width) * double(height)));
     detail::summarize_coarsest(s, {coarsest[kBx][0], coarsest[kBy][0]},

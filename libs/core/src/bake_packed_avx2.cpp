@@ -186,15 +186,16 @@ LF_AVX2_INLINE void pack8(const __m256* m, const PackScale& s, const RowDest& d,
         store_codes8<S>(code8(m[kBx], b_factor, half), code8(m[kBy], b_factor, half),
                         code8(m[kMxx], m_factor), code8(m[kMyy], m_factor), lean2);
     } else {
-        const __m256 half = _mm256_set1_ps(0.5f);
+        // s = g v + o for n, B, Mxy (the encoding's g, o), as the scalar lean_texel.
+        const __m256 gain = _mm256_set1_ps(s.gain), offset = _mm256_set1_ps(s.offset);
         const __m256 sc = _mm256_set1_ps(s.sc), sc2 = _mm256_set1_ps(s.sc2);
         __m256 l1[4], l2[4];
-        l1[0] = _mm256_add_ps(_mm256_mul_ps(half, m[kNx]), half);
-        l1[1] = _mm256_add_ps(_mm256_mul_ps(half, m[kNy]), half);
-        l1[2] = _mm256_add_ps(_mm256_mul_ps(half, m[kNz]), half);
-        l1[3] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kMxy]), sc2), half);
-        l2[0] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBx]), sc), half);
-        l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(half, m[kBy]), sc), half);
+        l1[0] = _mm256_add_ps(_mm256_mul_ps(gain, m[kNx]), offset);
+        l1[1] = _mm256_add_ps(_mm256_mul_ps(gain, m[kNy]), offset);
+        l1[2] = _mm256_add_ps(_mm256_mul_ps(gain, m[kNz]), offset);
+        l1[3] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(gain, m[kMxy]), sc2), offset);
+        l2[0] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(gain, m[kBx]), sc), offset);
+        l2[1] = _mm256_add_ps(_mm256_div_ps(_mm256_mul_ps(gain, m[kBy]), sc), offset);
         l2[2] = _mm256_div_ps(m[kMxx], sc2);
         l2[3] = _mm256_div_ps(m[kMyy], sc2);
         store_slice8<S>(l1, lean1);

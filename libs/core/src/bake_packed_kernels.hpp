@@ -40,6 +40,9 @@ struct PackScale {
     float sc = 1.0f;
     float sc2 = 1.0f;
     detail::UnormPacking unorm;
+    // Float storages: s = gain v + offset for n, B, Mxy (LeanEncoding: 0.5, 0.5 or 1, 0).
+    float gain = 0.5f;
+    float offset = 0.5f;
 };
 
 // Where one row of one level is packed.

@@ -10,15 +10,15 @@
 namespace leanfade::bake_kernels::scalar {
 namespace {
 
-// lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5), lean2 = (0.5 B / sc + 0.5, Mxx / sc^2,
-// Myy / sc^2) (docs/math.md §3), as pack_lean_map.
+// lean1 = (g n + o, g Mxy / sc^2 + o), lean2 = (g B / sc + o, Mxx / sc^2, Myy / sc^2)
+// (docs/math.md §3; g, o = 0.5, 0.5 or 1, 0 by the encoding), as pack_lean_map.
 inline void lean_texel(const float* m, const PackScale& s, float* l1, float* l2) {
-    l1[0] = 0.5f * m[kNx] + 0.5f;
-    l1[1] = 0.5f * m[kNy] + 0.5f;
-    l1[2] = 0.5f * m[kNz] + 0.5f;
-    l1[3] = 0.5f * m[kMxy] / s.sc2 + 0.5f;
-    l2[0] = 0.5f * m[kBx] / s.sc + 0.5f;
-    l2[1] = 0.5f * m[kBy] / s.sc + 0.5f;
+    l1[0] = s.gain * m[kNx] + s.offset;
+    l1[1] = s.gain * m[kNy] + s.offset;
+    l1[2] = s.gain * m[kNz] + s.offset;
+    l1[3] = s.gain * m[kMxy] / s.sc2 + s.offset;
+    l2[0] = s.gain * m[kBx] / s.sc + s.offset;
+    l2[1] = s.gain * m[kBy] / s.sc + s.offset;
     l2[2] = m[kMxx] / s.sc2;
     l2[3] = m[kMyy] / s.sc2;
 }

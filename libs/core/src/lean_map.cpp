@@ -6,15 +6,16 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include <glm/gtc/packing.hpp>
 #include <glm/vec4.hpp>
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/core/shading.hpp"
+#include "leanfade/core/text.hpp"
 
 namespace leanfade {
 
@@ -103,6 +104,29 @@ int bytes_per_texel(Storage s) {
     return 0;
 }
 
+const char* to_string(LeanEncoding encoding) {
+    return encoding == LeanEncoding::Offset ? "offset" : "signed";
+}
+
+LeanEncoding default_encoding(Storage storage) {
+    return storage == Storage::Float16 || storage == Storage::Float32 ? LeanEncoding::Signed
+                                                                      : LeanEncoding::Offset;
+}
+
+float lean_offset(LeanEncoding encoding) {
+    return encoding == LeanEncoding::Offset ? 1.0f : 0.0f;
+}
+
+float signed_encoding_scale(Storage storage, double max_b, double max_m) {
+    if (storage != Storage::Float16) return 1.0f;
+    // max M / sc^2 <= 2^15 (and |B| / sc <= 2^15, which follows for |B| >= 1 as M >= B^2).
+    constexpr double kLimit = 32768.0;
+    const double largest = std::max(max_m, max_b);
+    float scale = 1.0f;
+    while (double(scale) * double(scale) * kLimit < largest && scale < 1.0e6f) scale *= 2.0f;
+    return scale;
+}
+
 int mip_level_count(int width, int height) {
     int levels = 1;
     while (width > 1 || height > 1) {
@@ -118,8 +142,8 @@ namespace {
 // The eight float moments of a texel, filtered together.
 using Moments = std::array<float, 8>;  // n.xyz, B.xy, M.xx, M.yy, M.xy
 
-using detail::Tap;
 using detail::reduction_taps;
+using detail::Tap;
 
 MomentLevel from_moments(int width, int height, const std::vector<Moments>& in) {
     MomentLevel level;
@@ -236,7 +260,6 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options) {
             : detail::ScaleChoice{detail::lean_scale(max_b, max_m), 0};
     map.scale = scale.scale;
     map.texels_beyond_scale = scale.beyond;
-    map.median_steepness = detail::median_steepness(histogram);
 
     int lw = w, lh = h;
     std::vector<Moments> current = std::move(top);
@@ -310,21 +333,13 @@ BakeSource resolve_bake_source(BakeSource requested, const UnormImage& input) {
                                                                : BakeSource::Height;
 }
 
-double unorm16_moment_error(float scale) {
-    return double(scale) * double(scale) / (2.0 * 65535.0) * double(kAutoStorageShininess);
-}
-
-double float16_slope_error(float scale) {
-    return double(scale) / 4096.0 * std::sqrt(double(kAutoStorageShininess));
-}
-
-Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness) {
-    if (texels_beyond_scale > 0) return Storage::Float16;
-    const bool coarse = unorm16_moment_error(scale) >= kAutoStorageMaxError;
-    const bool mostly_flat = double(median_steepness) * kAutoStorageFlatRatio <= double(scale);
-    if (!coarse || !mostly_flat) return Storage::Unorm16;
-    return float16_slope_error(scale) >= kAutoStorageMaxError ? Storage::Float32
-                                                              : Storage::Float16;
+MomentRunSink both_sinks(const MomentRunSink& first, const MomentRunSink& second) {
+    if (!first) return second;
+    if (!second) return first;
+    return [first, second](const MomentRun& run) {
+        first(run);
+        second(run);
+    };
 }
 
 BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOptions& options,
@@ -345,18 +360,47 @@ BakeResult bake_lean_map(const Image& input, BakeSource source, const BakeOption
     return result;
 }
 
+namespace {
+// max |Bx|, |By| and max Mxx, Myy of one level.
+std::pair<double, double> largest_moments(const MomentLevel& level) {
+    double max_b = 0.0, max_m = 0.0;
+    for (std::size_t i = 0; i < level.mean.size(); ++i) {
+        max_b =
+            std::max({max_b, double(std::abs(level.mean[i].x)), double(std::abs(level.mean[i].y))});
+        max_m = std::max({max_m, double(level.second[i].x), double(level.second[i].y)});
+    }
+    return {max_b, max_m};
+}
+}  // namespace
 
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator) {
+    return pack_lean_map(map, storage, default_encoding(storage), generator);
+}
+
+PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, LeanEncoding encoding,
+                            const std::string& generator) {
+    if (encoding == LeanEncoding::Signed && default_encoding(storage) != LeanEncoding::Signed)
+        throw Error("bits", std::string("the signed encoding needs a float storage, not ") +
+                                to_string(storage));
     PackedLeanMap packed;
     packed.storage = storage;
+    packed.encoding = encoding;
     packed.scale = map.scale;
+    if (packed.encoding == LeanEncoding::Signed && !map.levels.empty()) {
+        // signed_encoding_scale from the top level's maxima (as the fused bake's scan).
+        const auto [max_b, max_m] = largest_moments(map.levels.front());
+        packed.scale = signed_encoding_scale(storage, max_b, max_m);
+    }
     packed.roughness_baked = map.roughness_baked;
     packed.baked_shininess = map.baked_shininess;
     packed.source_convention = map.source_convention;
     packed.normal_repairs = map.normal_repairs;
     packed.generator = generator;
     const int bpt = bytes_per_texel(storage);
-    const float sc = map.scale, sc2 = map.scale * map.scale;
+    const float sc = packed.scale, sc2 = packed.scale * packed.scale;
+    // Float storages: s = gain v + offset for n, B, Mxy (0.5 v + 0.5 or v: LeanEncoding).
+    const float gain = packed.encoding == LeanEncoding::Offset ? 0.5f : 1.0f;
+    const float offset = packed.encoding == LeanEncoding::Offset ? 0.5f : 0.0f;
     const bool unorm = storage == Storage::Unorm8 || storage == Storage::Unorm16;
     const detail::UnormPacking unorm_factors = detail::unorm_packing(storage, sc, sc2);
     for (const MomentLevel& level : map.levels) {
@@ -381,11 +425,11 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
                     detail::store_unorm_texel(t2, q2, storage);
                     continue;
                 }
-                // docs/math.md §3: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
-                //          lean2 = (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
-                const float l1[4] = {0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f,
-                                     0.5f * m.z / sc2 + 0.5f};
-                const float l2[4] = {0.5f * b.x / sc + 0.5f, 0.5f * b.y / sc + 0.5f, m.x / sc2,
+                // docs/math.md §3: lean1 = (g n + o, g Mxy / sc^2 + o)
+                //          lean2 = (g B / sc + o, Mxx / sc^2, Myy / sc^2)
+                const float l1[4] = {gain * n.x + offset, gain * n.y + offset, gain * n.z + offset,
+                                     gain * m.z / sc2 + offset};
+                const float l2[4] = {gain * b.x / sc + offset, gain * b.y / sc + offset, m.x / sc2,
                                      m.y / sc2};
                 for (int c = 0; c < 4; ++c) {
                     detail::store_float_channel(t1, c, l1[c], storage);
@@ -429,13 +473,19 @@ LeanMap unpack_lean_map(const PackedLeanMap& packed) {
                 const std::size_t i = std::size_t(y) * std::size_t(pl.width) + std::size_t(x);
                 const auto m = shading::lf_unpack(fetch_packed_texel(packed, int(li), 0, x, y),
                                                   fetch_packed_texel(packed, int(li), 1, x, y),
-                                                  packed.scale);
+                                                  packed.scale, lean_offset(packed.encoding));
                 level.normal[i] = m.normal;
                 level.mean[i] = m.mean;
                 level.second[i] = m.second;
             }
         }
         map.levels.push_back(std::move(level));
+    }
+    if (packed.encoding == LeanEncoding::Signed && !map.levels.empty()) {
+        // The stored sc of a Signed map is a storage detail (signed_encoding_scale); the map's
+        // own is the steepest slope's, so that packing it again in UNORM clamps nothing.
+        const auto [max_b, max_m] = largest_moments(map.levels.front());
+        map.scale = detail::lean_scale(max_b, max_m);
     }
     return map;
 }

@@ -60,18 +60,6 @@ ScaleChoice choose_lean_scale(const SlopeHistogram& histogram, double max_b, dou
     return {scale, beyond};
 }
 
-float median_steepness(const SlopeHistogram& histogram) {
-    std::uint64_t total = 0;
-    for (const std::uint64_t c : histogram.counts) total += c;
-    if (total == 0) return 0.0f;
-    std::uint64_t below = 0;
-    for (int i = 0; i < SlopeHistogram::kCount; ++i) {
-        below += histogram.counts[i];
-        if (2 * below >= total) return SlopeHistogram::upper_edge(i);
-    }
-    return SlopeHistogram::upper_edge(SlopeHistogram::kCount - 1);
-}
-
 void summarize_coarsest(LeanMapSummary& s, glm::vec2 mean, glm::vec3 second) {
     s.coarsest_covariance = shading::lf_covariance(mean, second, 0.0f);
     const double a = s.coarsest_covariance.x, d = s.coarsest_covariance.y,

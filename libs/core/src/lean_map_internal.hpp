@@ -168,10 +168,6 @@ inline constexpr double kMinScaleGain = 2.0;
 // far inside the half-float range).
 inline constexpr double kMaxScaleGain = 128.0;
 
-// The median of max(|Bx|, |By|) over the top level: the upper edge of the bin that holds it (0 for
-// an empty histogram). --bits auto reads it (auto_storage, lean_map.hpp).
-float median_steepness(const SlopeHistogram& histogram);
-
 struct ScaleChoice {
     float scale = 1.0f;
     std::uint64_t beyond = 0;  // top-level texels whose steepest slope component exceeds sc

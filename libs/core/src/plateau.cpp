@@ -38,16 +38,17 @@ void with_storage(Storage storage, Body&& body) {
 }
 
 // The slopes (2 floats per texel, slope units) of a finest-level lean2 row of w texels
-// (docs/math.md §3: lean2 = (0.5 B / sc + 0.5, ...)).
-void decode_slope_row(const std::uint8_t* lean2_row, int w, Storage storage, float sc,
+// (docs/math.md §3: lean2 = (g B / sc + o, ...), B = ((1 + o) s - o) sc with o = `offset`).
+void decode_slope_row(const std::uint8_t* lean2_row, int w, Storage storage, float sc, float offset,
                       float* out) {
+    const float gain = 1.0f + offset;
     with_storage(storage, [&](auto s) {
         constexpr Storage S = decltype(s)::value;
         const std::size_t texel_bytes = std::size_t(bytes_per_texel(S));
         for (int x = 0; x < w; ++x) {
             const std::uint8_t* texel = lean2_row + std::size_t(x) * texel_bytes;
-            out[2 * x] = (2.0f * detail::load_channel(texel, 0, S) - 1.0f) * sc;
-            out[2 * x + 1] = (2.0f * detail::load_channel(texel, 1, S) - 1.0f) * sc;
+            out[2 * x] = (gain * detail::load_channel(texel, 0, S) - offset) * sc;
+            out[2 * x + 1] = (gain * detail::load_channel(texel, 1, S) - offset) * sc;
         }
     });
 }
@@ -170,9 +171,11 @@ void extend_chain(std::vector<Image>& chain, int threads) {
 // The stored form of `count` float plateau texels (f, f Bs, f |Bs|^2) in `storage` at `out`
 // (PackedLevel::plateau): UNORM codes are one multiply(-add) each, rounded and clamped as the
 // moments' (lean_map_internal.hpp, unorm_code), with
-//   f * Q,  f Bs * (Q/2)/sc + Q/2,  f |Bs|^2 * (Q/2)/sc^2.
+//   f * Q,  f Bs * (Q/2)/sc + Q/2,  f |Bs|^2 * (Q/2)/sc^2;
+// float storages (f, g f Bs / sc + o, g f |Bs|^2 / sc^2) with g, o = 0.5, 0.5 (offset = 1, the
+// offset encoding) or 1, 0 (offset = 0, the signed encoding).
 void pack_plateau_texels(const float* values, std::size_t count, Storage storage, float sc,
-                         std::uint8_t* out) {
+                         float offset, std::uint8_t* out) {
     const float sc2 = sc * sc;
     with_storage(storage, [&](auto s) {
         constexpr Storage S = decltype(s)::value;
@@ -199,10 +202,11 @@ void pack_plateau_texels(const float* values, std::size_t count, Storage storage
                 detail::store_unorm_texel(texel, codes, S);
             }
         } else {
+            const float g = offset > 0.0f ? 0.5f : 1.0f, o = offset > 0.0f ? 0.5f : 0.0f;
             for (std::size_t i = 0; i < count; ++i) {
                 const float* v = values + 4 * i;
-                const float stored[4] = {v[0], 0.5f * v[1] / sc + 0.5f, 0.5f * v[2] / sc + 0.5f,
-                                         0.5f * v[3] / sc2};
+                const float stored[4] = {v[0], g * v[1] / sc + o, g * v[2] / sc + o,
+                                         g * v[3] / sc2};
                 for (int c = 0; c < 4; ++c)
                     detail::store_float_channel(out + i * texel_bytes, c, stored[c], S);
             }
@@ -210,26 +214,26 @@ void pack_plateau_texels(const float* values, std::size_t count, Storage storage
     });
 }
 
-void pack_plateau_level(const Image& level, Storage storage, float sc, std::uint8_t* out,
-                        int threads) {
+void pack_plateau_level(const Image& level, Storage storage, float sc, float offset,
+                        std::uint8_t* out, int threads) {
     const int texel_bytes = bytes_per_texel(storage);
     parallel_for_rows(level.height, threads, [&](int first, int end) {
         for (int y = first; y < end; ++y)
-            pack_plateau_texels(level.row(y), std::size_t(level.width), storage, sc,
-                                out + std::size_t(y) * std::size_t(level.width) *
-                                          std::size_t(texel_bytes));
+            pack_plateau_texels(
+                level.row(y), std::size_t(level.width), storage, sc, offset,
+                out + std::size_t(y) * std::size_t(level.width) * std::size_t(texel_bytes));
     });
 }
 
 Image slopes_of_lean2(const std::uint8_t* lean2, int width, int height, Storage storage, float sc,
-                      int threads) {
+                      float offset, int threads) {
     Image slopes(width, height, 2);
     const int texel_bytes = bytes_per_texel(storage);
     parallel_for_rows(height, threads, [&](int first, int end) {
         for (int y = first; y < end; ++y) {
             const std::uint8_t* row =
                 lean2 + std::size_t(y) * std::size_t(width) * std::size_t(texel_bytes);
-            decode_slope_row(row, width, storage, sc, slopes.row(y));
+            decode_slope_row(row, width, storage, sc, offset, slopes.row(y));
         }
     });
     return slopes;
@@ -344,7 +348,7 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads) {
         std::size_t(top.width) * std::size_t(top.height) * std::size_t(bytes_per_texel(map.storage));
     if (top.lean2.size() != bytes) throw Error("plateau", "the LEAN map's finest level is not packed");
     return slopes_of_lean2(top.lean2.data(), top.width, top.height, map.storage, map.scale,
-                           threads);
+                           lean_offset(map.encoding), threads);
 }
 
 void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads, float source_step) {
@@ -367,18 +371,19 @@ void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, floa
         if (chain[l].width != level.width || chain[l].height != level.height ||
             chain[l].channels != 4)
             throw Error("plateau", "the plateau layer's levels do not match the LEAN map's");
-        level.plateau.assign(std::size_t(level.width) * std::size_t(level.height) *
-                                 std::size_t(texel_bytes),
-                             0);
-        pack_plateau_level(chain[l], map.storage, map.scale, level.plateau.data(), threads);
+        level.plateau.assign(
+            std::size_t(level.width) * std::size_t(level.height) * std::size_t(texel_bytes), 0);
+        pack_plateau_level(chain[l], map.storage, map.scale, lean_offset(map.encoding),
+                           level.plateau.data(), threads);
     }
     map.plateau_epsilon = epsilon;
 }
 
-glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc) {
+glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc, float offset) {
     if (!(stored.x > 0.0f)) return glm::vec4(0.0f);  // off every plateau: exactly 0
-    return {std::min(stored.x, 1.0f), (2.0f * stored.y - 1.0f) * sc,
-            (2.0f * stored.z - 1.0f) * sc, 2.0f * stored.w * (sc * sc)};
+    const float gain = 1.0f + offset;
+    return {std::min(stored.x, 1.0f), (gain * stored.y - offset) * sc,
+            (gain * stored.z - offset) * sc, gain * stored.w * (sc * sc)};
 }
 
 float plateau_fraction(const PackedLeanMap& map) {
@@ -421,7 +426,8 @@ std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
                     glm::vec4 stored;
                     for (int c = 0; c < 4; ++c)
                         stored[c] = detail::load_channel(texel, c, map.storage);
-                    const glm::vec4 v = decode_plateau_texel(stored, map.scale);
+                    const glm::vec4 v =
+                        decode_plateau_texel(stored, map.scale, lean_offset(map.encoding));
                     for (int c = 0; c < 4; ++c) row[4 * x + c] = v[c];
                 }
             }
@@ -439,20 +445,21 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
     const int w = top.width, h = top.height;
     const Storage storage = layout.storage;
     const float sc = layout.scale;
+    const float offset = lean_offset(layout.encoding);
     const int texel_bytes = bytes_per_texel(storage);
     const std::size_t row_bytes = std::size_t(w) * std::size_t(texel_bytes);
     auto decode = [&](int y, float* out) {
-        decode_slope_row(lean2_top + std::size_t(y) * row_bytes, w, storage, sc, out);
+        decode_slope_row(lean2_top + std::size_t(y) * row_bytes, w, storage, sc, offset, out);
     };
     const PlateauRule rule =
         plateau_rule(w, h, epsilon, std::max(source_step, storage_slope_step(storage, sc)));
     std::vector<Image> chain;
     if (w % 2 != 0 || h % 2 != 0) {
         // Odd sizes: the reference's chain (area filter of odd sizes from the finest level).
-        chain = plateau_mips(slopes_of_lean2(lean2_top, w, h, storage, sc, threads), rule,
+        chain = plateau_mips(slopes_of_lean2(lean2_top, w, h, storage, sc, offset, threads), rule,
                              threads);
         for (std::size_t l = 0; l < chain.size(); ++l)
-            pack_plateau_level(chain[l], storage, sc, targets[l].plateau, threads);
+            pack_plateau_level(chain[l], storage, sc, offset, targets[l].plateau, threads);
         return {rule, mean_fraction(chain.back())};
     }
     // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
@@ -474,20 +481,20 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
             const int y0 = 2 * pair;
             for (int r = 0; r < 2; ++r) {
                 plateau_row(window.stencil(y0 + r, rule), w, rule, texels[r].data());
-                pack_plateau_texels(texels[r].data(), std::size_t(w), storage, sc,
+                pack_plateau_texels(texels[r].data(), std::size_t(w), storage, sc, offset,
                                     targets[0].plateau + std::size_t(y0 + r) * row_bytes);
             }
             float* out = level1.row(pair);
             for (int x = 0; x < w / 2; ++x)
                 box_texel(texels[0].data(), texels[1].data(), x, out + 4 * x);
             // Level 1's row packed while it is in the cache.
-            pack_plateau_texels(out, std::size_t(w / 2), storage, sc,
+            pack_plateau_texels(out, std::size_t(w / 2), storage, sc, offset,
                                 targets[1].plateau + std::size_t(pair) * (row_bytes / 2));
         }
     });
     extend_chain(chain, threads);
     for (std::size_t l = 1; l < chain.size(); ++l)
-        pack_plateau_level(chain[l], storage, sc, targets[l + 1].plateau, threads);
+        pack_plateau_level(chain[l], storage, sc, offset, targets[l + 1].plateau, threads);
     return {rule, mean_fraction(chain.back())};
 }
 

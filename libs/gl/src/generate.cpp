@@ -138,6 +138,8 @@ void LeanGenerator::write_top_level(const GenerateOptions& options) {
                        options.convention == NormalConvention::DirectX ? -1.0f : 1.0f);
     glProgramUniform1i(p, location(p, "u_wrap_repeat"), options.wrap == Wrap::Repeat ? 1 : 0);
     glProgramUniform1f(p, location(p, "u_min_normal_z"), kMinNormalZ);
+    glProgramUniform1f(p, location(p, "u_lean_offset"),
+                       lean_offset(default_encoding(options.storage)));
     glUseProgram(p);
     if (input_ != GenerateInput::Layers) glBindTextureUnit(0, source_.get());
     glBindImageTexture(0, texture_.get(), 0, GL_TRUE, 0, GL_WRITE_ONLY, format.internal_format);
@@ -198,6 +200,7 @@ PackedLeanMap LeanGenerator::read_back() const {
     if (!texture_) throw Error("generate", "no top level was written");
     PackedLeanMap map;
     map.storage = storage_;
+    map.encoding = default_encoding(storage_);
     map.scale = scale_;
     map.roughness_baked = baked_shininess_ > 0.0f;
     map.baked_shininess = baked_shininess_;

@@ -71,10 +71,11 @@ VariantKey variant_for(const RenderRequest& request) {
 }
 
 LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_baked, float map_scale,
-                                   OutputMode output) {
+                                   float map_offset, OutputMode output) {
     LfShadingUniforms block{};
     block.params = to_lf_params(s, roughness_baked);
     block.scale = map_scale;
+    block.lean_offset = map_offset;
     block.output_mode = output_constant(output);
     block.fog_mode = to_shader_constant(s.fog);
     block.fog_start = s.fog_start;
@@ -170,6 +171,7 @@ void Renderer::bind_layers(const scene::Material& material, const GpuLayers& lay
         block.weights[c] = l.weights[i];
         block.strengths[c] = layer.strength;
         block.scales[c] = map.info.scale;
+        block.lean_offsets[c] = map.info.lean_offset;
         block.tilings[c] = layer.tiling;
         // A moving layer: its texture coordinates slide by velocity * time (uv units), taken
         // modulo 1 in double precision (the layers repeat) so that late times keep their texels.
@@ -237,6 +239,9 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         const LeanGenerator* mixer = material_layers.mixer.get();
         const GLuint map_texture = mixer != nullptr ? mixer->texture() : map.texture.get();
         const float map_scale = mixer != nullptr ? material_layers.mixed.scale : map.info.scale;
+        const float map_offset = mixer != nullptr
+                                     ? lean_offset(default_encoding(material_layers.mixed.storage))
+                                     : map.info.lean_offset;
         const bool layered = layerable && !material.layered.layers.empty() && mixer == nullptr;
         glUseProgram(layered ? program(variant.with(kLayered)) : p);
         if (layered) bind_layers(material, material_layers, request.time);
@@ -256,8 +261,9 @@ void Renderer::draw_scene(const VariantKey& variant, const RenderRequest& reques
         // base colour texture, by the shader (lf_surface_params).
         if (material.metallic) s.metallic = 0.0f;
         // A layered material's maps have no baked roughness: 1/s is added once, after mixing.
-        LfShadingUniforms block = shading_uniforms(
-            s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale, request.output);
+        LfShadingUniforms block =
+            shading_uniforms(s, !layered && mixer == nullptr && map.info.roughness_baked, map_scale,
+                             map_offset, request.output);
         if (material.alpha_cutoff) block.alpha_cutoff = *material.alpha_cutoff;
         block.base_alpha = material.base_alpha;
         block.blend = material.blend ? 1.0f : 0.0f;

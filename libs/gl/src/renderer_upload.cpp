@@ -6,6 +6,7 @@
 #include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
@@ -115,13 +116,25 @@ Texture detail::upload_surface_map(const scene::MapKindInfo& kind,
         generated ? GLsizei(mip_level_count(top.width, top.height)) : GLsizei(chain.size());
     glTextureStorage2D(texture.get(), levels, gl_internal_format(kind.format), top.width,
                        top.height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    // Half-float kinds are converted here (round to nearest, as the bake's half floats), not by
+    // the driver: drivers round float -> half differently (Mesa's llvmpipe toward zero), which
+    // moved two-lobe LEAN's spike by 0.5 % between GPUs.
+    const bool half = kind.format == scene::MapFormat::Rgba16f;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, half ? 2 : 4);
     for (std::size_t level = 0; level < (generated ? 1 : chain.size()); ++level) {
         const Image& image = chain[level];
         const std::vector<float> rows = flipped_rows(image);
-        glTextureSubImage2D(texture.get(), GLint(level), 0, 0, image.width, image.height,
-                            gl_pixel_format(image.channels), GL_FLOAT, rows.data());
+        if (half) {
+            std::vector<std::uint16_t> halves(rows.size());
+            for (std::size_t i = 0; i < rows.size(); ++i) halves[i] = glm::packHalf1x16(rows[i]);
+            glTextureSubImage2D(texture.get(), GLint(level), 0, 0, image.width, image.height,
+                                gl_pixel_format(image.channels), GL_HALF_FLOAT, halves.data());
+        } else {
+            glTextureSubImage2D(texture.get(), GLint(level), 0, 0, image.width, image.height,
+                                gl_pixel_format(image.channels), GL_FLOAT, rows.data());
+        }
     }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     if (generated) glGenerateTextureMipmap(texture.get());
     set_repeat_trilinear(texture.get(), levels);
     return texture;
@@ -283,7 +296,7 @@ Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
         const glm::ivec2 size = scene::mixed_map_size(scene, material);
         result.mixer = std::make_unique<LeanGenerator>(context_, sources_);
         result.mixer->set_layer_source(size.x, size.y);
-        result.mixed.scale = bound > 0.0f ? bound : 1.0f;
+        result.mixed.scale = bound > 0.0f ? bound : 1.0f;  // (a bound in either encoding)
         result.mixed.storage = storage;
     }
     if (l.weight_map >= 0) {
@@ -352,6 +365,7 @@ Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
     result.info.levels = levels;
     result.info.storage = map.storage;
     result.info.scale = map.scale;
+    result.info.lean_offset = lean_offset(map.encoding);
     result.info.roughness_baked = map.roughness_baked;
     return result;
 }

@@ -293,6 +293,10 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
     if (!(std::isfinite(map.scale) && map.scale > 0.0f)) {
         throw Error(path, "LEAN scale " + format_float(map.scale) + " is not finite and > 0");
     }
+    if (map.encoding == LeanEncoding::Signed && map.storage != Storage::Float16 &&
+        map.storage != Storage::Float32)
+        throw Error(path, std::string("the signed encoding needs a float storage, not ") +
+                              to_string(map.storage));
     if (!(std::isfinite(map.plateau_epsilon) && map.plateau_epsilon >= 0.0f)) {
         throw Error(path, "plateau epsilon " + format_float(map.plateau_epsilon) +
                               " is not finite and >= 0");
@@ -310,6 +314,19 @@ const char* normal_convention_name(NormalConvention convention) {
 }  // namespace ktx2_detail
 
 using namespace ktx2_detail;
+
+const char* lean_layout_name(LeanEncoding encoding, bool plateau) {
+    if (encoding == LeanEncoding::Signed)
+        return plateau ? kLeanSignedPlateauLayoutName : kLeanSignedLayoutName;
+    return plateau ? kLeanPlateauLayoutName : kLeanLayoutName;
+}
+
+bool is_lean_layout_name(std::string_view layout) {
+    for (const LeanEncoding encoding : {LeanEncoding::Offset, LeanEncoding::Signed})
+        for (const bool plateau : {false, true})
+            if (layout == lean_layout_name(encoding, plateau)) return true;
+    return false;
+}
 
 std::uint32_t vk_format_of(Storage storage) {
     return format_of(storage).vk_format;

@@ -294,14 +294,24 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
     const std::string& layout = required_key(path, info, kLayoutKey);
     if (layout == kCrossTermLayoutName && layout != layout_name)
         throw Error(path, "is a cross-term texture (bake --cross-terms), not a LEAN map");
-    const bool lean_layout = layout == kLeanLayoutName || layout == kLeanPlateauLayoutName;
+    const bool signed_layout =
+        layout == kLeanSignedLayoutName || layout == kLeanSignedPlateauLayoutName;
+    const bool lean_layout = is_lean_layout_name(layout);
     if (lean_layout && std::string(layout_name) != kLeanLayoutName)
         throw Error(path, "is a LEAN map, not a cross-term texture");
     if (!lean_layout && layout != layout_name) {
         throw Error(path, "unsupported " + std::string(kLayoutKey) + " '" + escape_text(layout) +
                               "' (expected '" + layout_name + "')");
     }
-    const std::uint32_t layers = layout == kLeanPlateauLayoutName ? kPlateauLayerCount : kLayerCount;
+    if (signed_layout && map.storage != Storage::Float16 && map.storage != Storage::Float32)
+        throw Error(path, std::string(kLayoutKey) + " '" + layout +
+                              "' (signed values) needs a float vkFormat, not " +
+                              vk_format_name(info.vk_format));
+    map.encoding = signed_layout ? LeanEncoding::Signed : LeanEncoding::Offset;
+    const std::uint32_t layers =
+        layout == kLeanPlateauLayoutName || layout == kLeanSignedPlateauLayoutName
+            ? kPlateauLayerCount
+            : kLayerCount;
     if (info.layer_count != layers)
         throw Error(path, "layerCount " + std::to_string(info.layer_count) + " does not match " +
                               kLayoutKey + " '" + layout + "' (" + std::to_string(layers) +

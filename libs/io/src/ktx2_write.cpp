@@ -49,8 +49,8 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
         kKeyWriter,
         layout.generator.empty() ? std::string("leanfade " LEANFADE_VERSION) : layout.generator);
     const bool plateau = layout.has_plateau();
-    key_values.emplace_back(kLayoutKey, plateau && std::strcmp(layout_name, kLeanLayoutName) == 0
-                                            ? kLeanPlateauLayoutName
+    key_values.emplace_back(kLayoutKey, std::strcmp(layout_name, kLeanLayoutName) == 0
+                                            ? lean_layout_name(layout.encoding, plateau)
                                             : layout_name);
     const std::uint32_t layer_count = plateau ? kPlateauLayerCount : kLayerCount;
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires

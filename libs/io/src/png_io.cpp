@@ -5,8 +5,8 @@
 #include <png.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -713,7 +713,8 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
             const float* a = &lean1.pixels[4 * i];
             const float* b = &lean2.pixels[4 * i];
             const auto m = shading::lf_unpack(glm::vec4(a[0], a[1], a[2], a[3]),
-                                              glm::vec4(b[0], b[1], b[2], b[3]), scale);
+                                              glm::vec4(b[0], b[1], b[2], b[3]), scale,
+                                              lean_offset(LeanEncoding::Offset));
             level.normal[i] = m.normal;
             level.mean[i] = m.mean;
             level.second[i] = m.second;
@@ -730,7 +731,8 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         Image decoded = layers[2].to_float();
         for (std::size_t t = 0; t < decoded.texel_count(); ++t) {
             float* v = &decoded.pixels[4 * t];
-            const glm::vec4 d = decode_plateau_texel(glm::vec4(v[0], v[1], v[2], v[3]), scale);
+            const glm::vec4 d = decode_plateau_texel(glm::vec4(v[0], v[1], v[2], v[3]), scale,
+                                                     lean_offset(LeanEncoding::Offset));
             for (int c = 0; c < 4; ++c) v[c] = d[c];
         }
         set_plateau_layer(packed, build_mip_chain(decoded), plateau_epsilon);

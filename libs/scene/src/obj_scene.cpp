@@ -57,9 +57,12 @@ struct MaterialBuilder {
 
     PackedLeanMap bake(const Image& input, BakeSource source, const BakeOptions& options,
                        const std::string& name) const {
-        return bake_with_auto_storage(settings.storage, settings.auto_storage, [&](Storage s) {
-                   return bake_packed(input, source, options, s, generator_string(), name);
-               })
+        return bake_with_auto_storage(settings.storage, settings.auto_storage, input.width,
+                                      input.height,
+                                      [&](Storage s, const MomentRunSink& probe) {
+                                          return bake_packed(input, source, options, s,
+                                                             generator_string(), name, probe);
+                                      })
             .packed;
     }
 

@@ -18,7 +18,7 @@
 namespace leanfade {
 
 // The storage of a bake on the fly (`--bits`): a fixed storage, or automatic (first baked as
-// 16-bit UNORM, then again as 16f or 32f when auto_storage's rule picks them, as `leanfade bake`
+// 16-bit UNORM, then again as 16f or 32f where a StorageProbe finds them better, as `leanfade bake`
 // does; docs/ktx2.md, "Choosing storage and sc").
 struct BakeStorage {
     bool automatic = true;

@@ -7,6 +7,8 @@
 // top row first (as in image files); the GL upload flips them so that +v points up.
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +40,27 @@ const std::vector<std::string>& bake_storage_names();
 Storage parse_bake_storage(std::string_view name, const std::string& setting = "bits");
 int bytes_per_texel(Storage);  // one RGBA texel of one slice (lean1 or lean2)
 
+// How the signed quantities of a LEAN map (n, B, Mxy; the plateau layer's f Bs) are stored
+// (docs/math.md §3, docs/ktx2.md): a stored value s decodes to v = (1 + o) s - o with o the
+// encoding's offset (lean_offset).
+// - Offset (o = 1): s = 0.5 v + 0.5, so that [-1, 1] fits UNORM's [0, 1]. Every UNORM map, and
+//   the float maps of leanfade 0.1 (KTX2 layout "... v1").
+// - Signed (o = 0): s = v, what float storages write from 0.2 on (layout "... v2"). Half floats
+//   then keep 11 significant bits of small B and M, where the offset left them 11 bits of the
+//   whole range (B to sc / 2^11 absolute, worse than 16-bit UNORM's sc / 65535).
+enum class LeanEncoding { Offset, Signed };
+const char* to_string(LeanEncoding);  // "offset", "signed"
+// What a bake writes in `storage`: Signed for the float storages, Offset for UNORM.
+LeanEncoding default_encoding(Storage storage);
+// The o of v = (1 + o) s - o (1 for Offset, 0 for Signed): what lf_unpack takes.
+float lean_offset(LeanEncoding encoding);
+// The sc a Signed map of `storage` is stored with, from the top level's max |Bx|, |By| and max
+// Mxx, Myy: 1 for Float32; for Float16 the smallest power of two >= 1 with max M / sc^2 <=
+// 2^15 (below the half range's 65504: slopes up to 181 store with sc = 1). Powers of two divide
+// exactly, and small values keep half's normal range (down to 6.1e-5, a base variance 1/s of
+// s = 16384) instead of becoming subnormal, as they would divided by a large sc.
+float signed_encoding_scale(Storage storage, double max_b, double max_m);
+
 // The imperfect texels of a normal map that a bake repairs (docs/math.md §2) unless
 // BakeOptions::strict_normals: texels encoded (0, 0, 0), the padding of image editors and bakers
 // outside the UV islands, are taken as flat (0, 0, 1); texels with z <= -kNormalZRejectEpsilon
@@ -65,9 +88,6 @@ struct LeanMap {
     // beyond sc (docs/ktx2.md, "Choosing storage and sc"): UNORM storages clamp their packed
     // values to [0, 1], float storages keep them.
     std::uint64_t texels_beyond_scale = 0;
-    // The median of max(|Bx|, |By|) over the top level, rounded up to a bin edge of sc's histogram
-    // (four bins per octave): what --bits auto reads (auto_storage).
-    float median_steepness = 0.0f;
     bool roughness_baked = false;     // 1/s added to Mxx, Myy at bake time (LEAN eq. 6)
     float baked_shininess = 0.0f;     // s when roughness_baked
     NormalConvention source_convention = NormalConvention::OpenGL;
@@ -80,13 +100,16 @@ struct LeanMap {
 struct PackedLevel {
     int width = 0;
     int height = 0;
+    // Encoding Offset (LeanEncoding):
     std::vector<std::uint8_t> lean1;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)
     std::vector<std::uint8_t> lean2;  // (0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)
+    // Encoding Signed: lean1 = (n, Mxy / sc^2), lean2 = (B / sc, Mxx / sc^2, Myy / sc^2).
     // Two-lobe LEAN's plateau layer (docs/math.md §10), empty when the map has none
     // (PackedLeanMapMetadata::plateau_epsilon = 0): the same storage and size as lean1, holding
-    // (f, 0.5 f Bs / sc + 0.5, 0.5 f |Bs|^2 / sc^2) with f the fraction of the texel's footprint
-    // on a plateau and Bs its slope; every channel affine in (f, f Bs, f |Bs|^2), so filtering
-    // the stored values filters the layer (leanfade/core/plateau.hpp).
+    // (f, 0.5 f Bs / sc + 0.5, 0.5 f |Bs|^2 / sc^2) (Offset) or (f, f Bs / sc, f |Bs|^2 / sc^2)
+    // (Signed) with f the fraction of the texel's footprint on a plateau and Bs its slope; every
+    // channel affine in (f, f Bs, f |Bs|^2), so filtering the stored values filters the layer
+    // (leanfade/core/plateau.hpp).
     std::vector<std::uint8_t> plateau;
 };
 
@@ -99,6 +122,8 @@ inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 // a KTX2 file keeps in its key/value data, docs/ktx2.md).
 struct PackedLeanMapMetadata {
     Storage storage = Storage::Unorm16;
+    // Offset for UNORM storages; Signed or (files of leanfade 0.1) Offset for float storages.
+    LeanEncoding encoding = LeanEncoding::Offset;
     float scale = 1.0f;
     bool roughness_baked = false;
     float baked_shininess = 0.0f;
@@ -252,10 +277,16 @@ NormalConventionCheck check_normal_convention(const Image& normals, NormalConven
 // MIP chain sizes: floor halving down to 1x1, as OpenGL does.
 int mip_level_count(int width, int height);
 
-// Pack (docs/math.md §3) each level separately from the floats, quantising to the storage: UNORM
-// codes are round-to-nearest (ties to even) of one multiply-add per channel, clamped to [0, 2^bits
-// - 1] (lean_map_internal.hpp, unorm_texel); float storages keep 0.5 B / sc + 0.5 etc. as written.
+// Pack (docs/math.md §3) each level separately from the floats, quantising to the storage in its
+// default_encoding: UNORM codes are round-to-nearest (ties to even) of one multiply-add per
+// channel, clamped to [0, 2^bits - 1] (lean_map_internal.hpp, unorm_texel); float storages keep
+// B / sc etc. (Signed, sc = signed_encoding_scale of the top level), half floats rounded to
+// nearest, ties to even.
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::string& generator);
+// The same in `encoding`: Offset in any storage (a float map as leanfade 0.1 wrote it, sc =
+// map.scale), Signed in the float storages; throws Error("bits", ...) for Signed UNORM.
+PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, LeanEncoding encoding,
+                            const std::string& generator);
 // Inverse of pack_lean_map within the storage's quantisation.
 LeanMap unpack_lean_map(const PackedLeanMap& packed);
 
@@ -307,45 +338,87 @@ struct PackedBakeResult {
     BakeSource source = BakeSource::Height;  // what the input was taken as
     std::size_t clamped_texels = 0;          // normal maps: z raised to kMinNormalZ
     std::uint64_t texels_beyond_scale = 0;   // as LeanMap::texels_beyond_scale
-    float median_steepness = 0.0f;           // as LeanMap::median_steepness
     LeanMapSummary summary;
+    // --bits auto (bake_with_auto_storage): StorageProbe::psnr of 16-bit UNORM and of half floats
+    // (dB), what the storage was chosen by; NaN for a bake in a storage given.
+    double probe_unorm16_psnr = std::numeric_limits<double>::quiet_NaN();
+    double probe_float16_psnr = std::numeric_limits<double>::quiet_NaN();
 };
 
-// --bits auto (docs/ktx2.md, "Choosing storage and sc"): a bake starts as 16-bit UNORM and is
-// baked again as half float (Float16) when
-// - texels lie beyond sc (UNORM would clamp them), or
-// - the rounding of UNORM16's second moments, half a step sc^2 / (2 * 65535), is at least
-//   kAutoStorageMaxError times the base variance 1/kAutoStorageShininess of the sharpest
-//   highlight the map is meant for, and most texels are far flatter than sc (median of
-//   max(|Bx|, |By|) at most sc / kAutoStorageFlatRatio): their covariance M - B B^T, only the
-//   base roughness, is lost in UNORM's rounding, while half floats hold small M with 11 bits of
-//   mantissa. (A map steep everywhere is better in UNORM: half floats are coarser near sc.)
-//   Half floats round B to sc / 2^11 (half an ulp of 0.5 + 0.5 B / sc, times 2 sc); where that
-//   is at least kAutoStorageMaxError times the highlight's width 1 / sqrt(kAutoStorageShininess)
-//   (sc >= 34.9), such a map is baked as Float32 instead.
-inline constexpr float kAutoStorageShininess = 13777.0f;  // the largest s of docs/results.md
-inline constexpr double kAutoStorageMaxError = 1.0;
-inline constexpr float kAutoStorageFlatRatio = 8.0f;
-// The rounding of UNORM16's M (sc^2 / (2 * 65535)) in units of 1 / kAutoStorageShininess.
-double unorm16_moment_error(float scale);
-// The rounding of half floats' B (sc / 2^12) in units of 1 / sqrt(kAutoStorageShininess).
-double float16_slope_error(float scale);
-// Unorm16, Float16 or Float32 by the rule above.
-Storage auto_storage(float scale, std::uint64_t texels_beyond_scale, float median_steepness);
+// --bits auto (docs/ktx2.md, "Choosing storage and sc"): of the two storages of 8 bytes per
+// texel, the one whose rounding changes a render of the map less, measured on the map. A
+// StorageProbe keeps the float moments of a grid of at most kStorageProbeSide^2 texels of every
+// level (from the first bake's MomentRunSink, or a float map), rounds them as 16-bit UNORM (with
+// the bake's sc, outliers clamped) and as signed half floats store them, and shades each texel
+// as a render with the default material does (the LEAN lobe with 1/s, s =
+// kStorageProbeShininess; Ks 1 and a light of radiance 1) under every half vector whose slope
+// lies within kStorageProbeRadius of the texel's mean (a 41 x 41 grid), clamped to [0, 1] as a
+// displayed render is. psnr() is the PSNR (dB) of those values against the float moments';
+// choose() takes the storage with the higher one (16-bit UNORM on a tie). It compares the two;
+// its absolute value is not a render's PSNR (docs/ktx2.md has both for the corpus).
+inline constexpr float kStorageProbeShininess = 800.0f;  // the default s (ShadingSettings)
+inline constexpr float kStorageProbeRadius = 0.5f;       // slope units
+inline constexpr int kStorageProbeSide = 32;
+class StorageProbe {
+  public:
+    // The size of the map's finest level; `threads` as BakeOptions::threads (for psnr()).
+    StorageProbe(int width, int height, int threads = 0);
+    // Takes a bake's float moments (every run of every level; runs of different threads at once).
+    void add(const MomentRun& run);
+    // add() as a sink for a bake; the probe must outlive the bake.
+    MomentRunSink sink();
+    // Takes a float map's levels.
+    void add(const LeanMap& map);
+    // PSNR (dB) of `storage`'s rounding against the floats; `unorm_scale`: the sc a UNORM bake
+    // of the map has. Infinity when nothing changes.
+    double psnr(Storage storage, float unorm_scale) const;
+    // The same for several storages at once (one pass over the samples).
+    std::vector<double> psnr(const std::vector<Storage>& storages, float unorm_scale) const;
+    struct Scores {
+        double unorm16 = 0.0, float16 = 0.0;  // psnr() of Unorm16 and Float16
+    };
+    Scores scores(float unorm_scale) const;
+    Storage choose(float unorm_scale) const;  // Unorm16 or Float16 as above
+
+  private:
+    struct Texel {
+        glm::vec2 mean{0.0f};
+        glm::vec3 second{0.0f};
+        bool sampled = false;
+    };
+    struct Level {
+        int width = 0, height = 0, step_x = 1, step_y = 1, columns = 0;
+        std::vector<Texel> texels;
+    };
+    std::vector<Level> levels_;
+    int threads_ = 0;
+    std::mutex maxima_mutex_;
+    double max_b_ = 0.0, max_m_ = 0.0;  // of the finest level (signed_encoding_scale)
+};
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
                              Storage storage, const std::string& generator,
                              const std::string& source_name = "",
                              const MomentRunSink& moments = {});
-// The storage rule of `--bits auto` around any bake: `bake(storage)` first; with `automatic`, a
-// second `bake(auto_storage(...))` when the rule picks another storage for what the first found.
+// `--bits auto` around any bake of a width x height map: `bake(storage, probe)` first (storage:
+// Unorm16 for auto), its float moments given to `probe` (a MomentRunSink the bake must call,
+// with its own, if any: both_sinks); with `automatic`, a second `bake(chosen, {})` when the
+// StorageProbe's choice is another storage, and the probe's scores in the result.
 template <typename Bake>
-PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, Bake&& bake) {
-    PackedBakeResult result = bake(storage);
-    if (!automatic) return result;
+PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, int width, int height,
+                                        Bake&& bake) {
+    if (!automatic) return bake(storage, MomentRunSink{});
+    StorageProbe probe(width, height);
+    PackedBakeResult result = bake(storage, probe.sink());
+    const StorageProbe::Scores scores = probe.scores(result.packed.scale);
     const Storage chosen =
-        auto_storage(result.packed.scale, result.texels_beyond_scale, result.median_steepness);
-    return chosen == storage ? result : bake(chosen);
+        scores.unorm16 >= scores.float16 ? Storage::Unorm16 : Storage::Float16;
+    if (chosen != storage) result = bake(chosen, MomentRunSink{});
+    result.probe_unorm16_psnr = scores.unorm16;
+    result.probe_float16_psnr = scores.float16;
+    return result;
 }
+// A sink that gives each run to `first` and to `second` (either may be empty).
+MomentRunSink both_sinks(const MomentRunSink& first, const MomentRunSink& second);
 // The same into `result`, reusing its buffers: baking another map of the same size and storage
 // allocates no output memory.
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,

@@ -56,9 +56,9 @@ PlateauRule plateau_rule_for(const Image& slopes, float epsilon = kDefaultPlatea
 // The plateau layer's finest level for 2-channel slopes B: RGBA = (1, Bx, By, Bx^2 + By^2) at a
 // plateau texel and 0 elsewhere, so that filtered texels hold (f, f Bs, f |Bs|^2) with f the
 // fraction of the footprint on a plateau and Bs its mean slope. The rule: `rule`, or
-// plateau_rule_for(slopes, epsilon) (epsilon: slope units, > 0 and finite; continuous slopes). Throws
-// leanfade::Error("plateau_epsilon", ...) for another epsilon, or Error("plateau", ...) for slopes
-// that are not 2 channels. threads: as BakeOptions::threads.
+// plateau_rule_for(slopes, epsilon) (epsilon: slope units, > 0 and finite; continuous slopes).
+// Throws leanfade::Error("plateau_epsilon", ...) for another epsilon, or Error("plateau", ...) for
+// slopes that are not 2 channels. threads: as BakeOptions::threads.
 Image plateau_texels(const Image& slopes, const PlateauRule& rule, int threads = 0);
 Image plateau_texels(const Image& slopes, float epsilon = kDefaultPlateauEpsilon,
                      int threads = 0);
@@ -104,7 +104,8 @@ float plateau_fraction(const PackedLeanMap& map);
 // the layer's byte counts do not match the levels.
 std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads = 0);
 // One stored texel (its four channels decoded to [0, 1], or the float storages' values) as
-// (f, f Bs.x, f Bs.y, f |Bs|^2) for a map of slope scale sc: exactly 0 where f = 0.
-glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc);
+// (f, f Bs.x, f Bs.y, f |Bs|^2) for a map of slope scale sc and encoding offset o
+// (lean_offset(map.encoding): 1 for UNORM maps, 0 for signed float maps): exactly 0 where f = 0.
+glm::vec4 decode_plateau_texel(glm::vec4 stored, float sc, float offset);
 
 }  // namespace leanfade

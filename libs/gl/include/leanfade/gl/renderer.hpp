@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "leanfade/core/camera.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
@@ -26,7 +27,6 @@
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/material.hpp"
 #include "leanfade/scene/mesh.hpp"
-#include "leanfade/core/camera.hpp"
 
 namespace leanfade::gl {
 
@@ -99,10 +99,11 @@ struct RenderRequest {
 VariantKey variant_for(const RenderRequest& request);
 
 // The shading block of a draw with `settings` (what Renderer fills per object): the parameters
-// (the base roughness left out when the map has it baked), the map's scale sc, the output mode,
-// fog, and no surface maps (`maps` = 0: the caller sets the bits of the maps it binds).
+// (the base roughness left out when the map has it baked), the map's scale sc and encoding
+// offset o (lean_offset(map.encoding): 1 for UNORM maps, 0 for the signed float maps), the output
+// mode, fog, and no surface maps (`maps` = 0: the caller sets the bits of the maps it binds).
 shading::LfShadingUniforms shading_uniforms(const ShadingSettings& settings, bool roughness_baked,
-                                             float map_scale, OutputMode output);
+                                            float map_scale, float map_offset, OutputMode output);
 
 // The LEAN texture as uploaded: a GL_TEXTURE_2D_ARRAY of 2 slices (lean1, lean2) with every MIP
 // level of the map, rows flipped so that +v is up.
@@ -112,6 +113,7 @@ struct LeanTextureInfo {
     int levels = 0;
     Storage storage = Storage::Unorm16;
     float scale = 1.0f;            // sc, passed as a uniform
+    float lean_offset = 1.0f;      // o of the map's encoding (lf_unpack), passed as a uniform
     bool roughness_baked = false;  // inv_s_shading = 0 when true
 };
 

@@ -66,7 +66,7 @@ inline constexpr Std140Field kShadingBlockFields[] = {
     LF_STD140(LfShadingUniforms, base_alpha, Float),
     LF_STD140(LfShadingUniforms, blend, Float),
     LF_STD140(LfShadingUniforms, double_sided, Float),
-    LF_STD140(LfShadingUniforms, uv_transform_padding, Float),
+    LF_STD140(LfShadingUniforms, lean_offset, Float),
     LF_STD140(LfShadingUniforms, uv_transforms, Vec4, 2 * shading::LF_UV_TRANSFORM_COUNT),
     LF_STD140(LfShadingUniforms, material, Struct, 0, kMaterialFactorsFields),
 };
@@ -109,12 +109,13 @@ inline std::vector<BlockMember> object_block_members() {
 }
 
 // The layers' block LfLayerBlock of layered materials (shaders/scene.frag, LfLayerUniforms of the
-// shared header): six vec4s (offsets is an array of two, stride 16) and four ints.
+// shared header): seven vec4s (offsets is an array of two, stride 16) and four ints.
 using shading::LfLayerUniforms;
 inline constexpr Std140Field kLayerBlockFields[] = {
     LF_STD140(LfLayerUniforms, weights, Vec4),
     LF_STD140(LfLayerUniforms, strengths, Vec4),
     LF_STD140(LfLayerUniforms, scales, Vec4),
+    LF_STD140(LfLayerUniforms, lean_offsets, Vec4),
     LF_STD140(LfLayerUniforms, tilings, Vec4),
     LF_STD140(LfLayerUniforms, offsets, Vec4, 2),
     LF_STD140(LfLayerUniforms, count, Int),

@@ -14,6 +14,7 @@
 // Every failure throws leanfade::Error(file, cause). write_ktx2 writes atomically (AtomicFile).
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -49,6 +50,15 @@ inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
 // leanfade/core/plateau.hpp), made with the epsilon of LEANFADEplateauEpsilon. A reader that
 // takes only the first two layers reads it as the two-layer map.
 inline constexpr const char* kLeanPlateauLayoutName = "lean1,lean2,plateau v1";
+// Version 2 of both: the signed encoding of float storages (LeanEncoding::Signed, leanfade 0.2):
+// n, B / sc, Mxy / sc^2 stored as they are, without version 1's 0.5 v + 0.5. Version 1 files
+// (UNORM, and the float maps of leanfade 0.1) keep the offset encoding and load as before.
+inline constexpr const char* kLeanSignedLayoutName = "lean1,lean2 v2";
+inline constexpr const char* kLeanSignedPlateauLayoutName = "lean1,lean2,plateau v2";
+// The LEANFADElayout value of a LEAN map of this encoding, with or without the plateau layer.
+const char* lean_layout_name(LeanEncoding encoding, bool plateau);
+// Whether `layout` is one of the four LEANFADElayout values of a LEAN map above.
+bool is_lean_layout_name(std::string_view layout);
 inline constexpr const char* kPlateauEpsilonKey = "LEANFADEplateauEpsilon";
 // The LEANFADElayout of a cross-term texture (`bake --cross-terms`, docs/ktx2.md): the same
 // container, other layers; read_ktx2 refuses it by name.

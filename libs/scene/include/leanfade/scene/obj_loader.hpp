@@ -66,7 +66,7 @@ std::vector<MtlMaterial> load_mtl(const std::string& path);
 // How make_obj_render_scene bakes the materials' bump and normal maps.
 struct ObjBakeSettings {
     Storage storage = Storage::Unorm16;
-    bool auto_storage = true;    // storage by auto_storage (lean_map.hpp), ignoring `storage`
+    bool auto_storage = true;    // storage by a StorageProbe (lean_map.hpp), ignoring `storage`
     int max_image_size = kDefaultMaxImageDimension;  // per side, checked before decoding
     int threads = 0;
     bool strict_normals = false;  // BakeOptions::strict_normals
