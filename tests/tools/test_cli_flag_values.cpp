@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "leanfade/core/error.hpp"
@@ -480,6 +481,42 @@ TEST(CliFlagValues, MapsBakedWithALargerMaxSizeAreReadBackWithIt) {
     r = run_leanfade_in("info --max-size 100 m.ktx2", dir, dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_THAT(r.err, HasSubstr("exceeds the limit of 100 texels per side"));
+}
+
+// ---- 12. Limits checked on the header, before the file is read ----
+
+// Before: only a DDS had its header checked before the file was read into memory whole; a TGA
+// or PFM over the size limit cost its whole size (here 1 and 3 GiB, sparse) before the refusal.
+// Now each is refused by its header: one line naming the file, exit 1, the file never read.
+TEST(CliFlagValues, SizeLimitIsCheckedOnTheHeaderBeforeTheFileIsRead) {
+    const fs::path dir = test::scratch_dir("flag_values_header_first");
+    // A raw true-colour TGA of 16384 x 16384 texels, 32 bits each.
+    std::vector<std::uint8_t> tga(18, 0);
+    tga[2] = 2;
+    tga[13] = 0x40;
+    tga[15] = 0x40;
+    tga[16] = 32;
+    const std::string pfm_header = "PF\n16384 16384\n-1.0\n";
+    const std::vector<std::uint8_t> pfm(pfm_header.begin(), pfm_header.end());
+    for (const auto& [name, header, data] :
+         {std::tuple{"big.tga", tga, std::uintmax_t(16384) * 16384 * 4},
+          std::tuple{"big.pfm", pfm, std::uintmax_t(16384) * 16384 * 12}}) {
+        SCOPED_TRACE(name);
+        {
+            std::ofstream out(dir / name, std::ios::binary);
+            out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+        }
+        fs::resize_file(dir / name, header.size() + data);
+        const RunResult r = test::run_leanfade_bounded(
+            "bake --max-size 4096 " + q(dir / name) + " -o " + q(dir / "out.ktx2"), dir, 60);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr((dir / name).string() +
+                                     ": image size 16384x16384 exceeds the limit of 4096"));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_LT(r.max_rss_kib, 512L << 10) << "the file was read";
+        EXPECT_FALSE(fs::exists(dir / "out.ktx2"));
+        fs::remove(dir / name);
+    }
 }
 
 // ---- 12. An allocation that fails ----
