@@ -390,28 +390,56 @@ TEST(CliFlagValues, FileSizeLimitIsAnErrorNotASignal) {
 // ---- 1. Files read through other files are inputs of the run ----
 
 // Before: `render -o` could replace a texture an OBJ's .mtl names, or a level NAME_k of
-// --roughness-mips: the plan knew only the files the command line named. The levels of a series
-// are listed up front; any other file a run reads is refused when it is opened if it is an output
-// of the run (the plan claims every existing output), before anything is written.
+// --roughness-mips: the plan knew only the files the command line named. Now an OBJ's mtllib
+// files and every texture they name (map_Kd, map_Pr, map_Bump / bump, norm), and each level of a
+// series, are inputs of the plan: refused up front, by the plan's message (not the one of a
+// reader that finds its file claimed by an output, which comes only once the scene is read).
 TEST(CliFlagValues, FilesNamedByOtherFilesAreInputsOfTheRun) {
     const fs::path dir = test::scratch_dir("flag_values_named_inputs");
     write_height_png(dir, "tex.png");
-    write_height_png(dir, "n.png");
+    write_height_png(dir, "h.png");
+    write_height_png(dir, "r.png");
+    fs::create_directories(dir / "cells");
+    write_height_png(dir / "cells", "lean_d3.png");
+    {
+        Image normals(16, 16, 3, 0.5f);
+        for (std::size_t i = 2; i < normals.pixels.size(); i += 3) normals.pixels[i] = 1.0f;
+        io::write_png((dir / "n.png").string(), normals, 8);
+    }
     std::ofstream(dir / "m.obj") << "mtllib m.mtl\nusemtl A\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
                                     "vt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
-    for (const auto& [statement, texture] :
-         {std::pair{"map_Kd", "tex.png"}, std::pair{"map_Bump", "n.png"}}) {
-        SCOPED_TRACE(statement);
-        std::ofstream(dir / "m.mtl") << "newmtl A\n" << statement << " " << texture << "\n";
-        const std::string before = test::read_text(dir / texture);
-        const RunResult r = run_leanfade_in("render --scene m.obj --size 16x16 -o " +
-                                                std::string(texture),
-                                            dir, dir);
+    struct Case {
+        std::string mtl;     // the material's statements
+        std::string output;  // the output flag and the file it names
+        std::string file;    // that file, relative to dir
+    };
+    const std::string render = "render --scene m.obj --size 16x16 --techniques lean --distances 3 ";
+    const std::vector<Case> cases{
+        {"map_Kd tex.png\n", render + "-o m.mtl", "m.mtl"},
+        {"map_Kd tex.png\n", render + "-o tex.png", "tex.png"},
+        {"map_Bump -bm 2 h.png\n", render + "-o h.png", "h.png"},
+        {"norm n.png\n", render + "-o ./n.png", "n.png"},
+        {"Pr 0.5\nmap_Pr r.png\n", render + "-o r.png", "r.png"},
+        {"map_Kd cells/lean_d3.png\n", render + "--cells cells -o grid.png", "cells/lean_d3.png"},
+        {"map_Kd tex.png\n", "view --scene m.obj --frames 1 --screenshot tex.png", "tex.png"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.output);
+        std::ofstream(dir / "m.mtl") << "newmtl A\n" << c.mtl;
+        const std::string before = test::read_text(dir / c.file);
+        const auto mtime = fs::last_write_time(dir / c.file);
+        // No display: view refuses before it opens a window.
+        const RunResult r =
+            run_leanfade_in(c.output, dir, dir, "env -u DISPLAY -u WAYLAND_DISPLAY");
         EXPECT_EQ(r.exit_code, 1) << r.err;
-        EXPECT_THAT(r.err, HasSubstr(std::string(texture) + ": is the same file as the output"));
-        EXPECT_THAT(r.err, HasSubstr("an output may not replace an input"));
+        EXPECT_THAT(r.err, HasSubstr(c.file + ": is the same file as "));
+        EXPECT_THAT(r.err, HasSubstr("input"));
+        EXPECT_THAT(r.err, HasSubstr(" of this run; an output may not replace an input"));
+        EXPECT_THAT(r.err, ::testing::Not(HasSubstr("an input named by another input")));
         EXPECT_EQ(line_count(r.err), 1u) << r.err;
-        EXPECT_EQ(test::read_text(dir / texture), before);
+        EXPECT_EQ(test::read_text(dir / c.file), before);
+        EXPECT_EQ(fs::last_write_time(dir / c.file), mtime);
+        EXPECT_FALSE(fs::exists(dir / "grid.png"));
     }
     // Each level of a --roughness-mips series, refused by the plan before anything is read.
     Image level(4, 4, 1, 0.5f);
