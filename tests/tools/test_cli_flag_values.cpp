@@ -241,6 +241,42 @@ TEST(CliFlagValues, OutputInsideTheRunsLevelsFolderIsRefused) {
     }
 }
 
+// The same rule for the outputs of the other flags and however the folder is spelled: through
+// "./" and "..", or through a symbolic link to it: refused by the plan, before the bake, naming
+// no temporary.
+TEST(CliFlagValues, OutputInsideTheLevelsFolderIsRefusedHoweverItIsNamed) {
+    const fs::path dir = test::scratch_dir("flag_values_levels_spelled");
+    const fs::path input = write_height_png(dir, "h.png");
+    fs::create_directories(dir / "sub");
+    const std::string levels = " --roughness-out " + q(dir / "r.ktx2") + " --roughness-levels ";
+    struct Case {
+        std::string flags;
+        bool link = false;  // dir/link -> dir/r.levels
+    };
+    const std::vector<Case> cases{
+        {levels + "--plateau-out " + q(dir / "r.levels" / "p.ktx2")},
+        {levels + "-o " + q(dir / "m.ktx2") + " --ktx2-2d --json " +
+         q(dir / "sub" / ".." / "r.levels" / "s.json")},
+        {levels + "-o " + q(dir / "." / "r.levels" / "." / "m.ktx2")},
+        {levels + "--format png -o " + q(dir / "r.levels" / "m.png")},
+        {levels + "-o " + q(dir / "link" / "m.ktx2"), true},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.flags);
+        fs::create_directories(dir / "r.levels");
+        if (c.link) fs::create_directory_symlink(dir / "r.levels", dir / "link");
+        const RunResult r = run_leanfade("bake " + q(input) + c.flags, dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(", a folder this run writes whole"));
+        EXPECT_THAT(r.err, ::testing::Not(HasSubstr(".tmp-")));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_EQ(files_under(dir), std::set<std::string>{"h.png"});
+        EXPECT_TRUE(fs::is_empty(dir / "r.levels"));
+        fs::remove(dir / "link");
+        fs::remove_all(dir / "r.levels");
+    }
+}
+
 // ---- 18. bake's output flags x format x storage x plateau layer ----
 
 struct Combination {
