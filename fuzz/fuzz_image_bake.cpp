@@ -1,4 +1,5 @@
-// Fuzz target: image decoding (PNG, OpenEXR, PFM; io::read_image_from_memory) and the whole bake
+// Fuzz target: image decoding (io::read_image_from_memory: PNG, OpenEXR, PFM, and JPEG, TGA, DDS,
+// TIFF, PSD, BMP, HDR, WebP through OpenImageIO, each with its header checks) and the whole bake
 // of what decodes, differentially: the reference path (bake_lean_map, pack_lean_map) and the fast
 // path `leanfade bake` runs (bake_packed, AVX2 or portable) must throw the same message or give
 // the same bytes (lean_map.hpp promises both); then unpack and summarize. A PNG also goes the
@@ -74,27 +75,45 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         io::read_image_compact_from_memory(fuzz::to_bytes(data, size), "fuzz-input", read_options);
     if (const UnormImage* samples = std::get_if<UnormImage>(&compact)) {
         if (samples->to_float().pixels != image.pixels) __builtin_trap();
+        // lean1, lean2 and the plateau layer of each level (the packed bakes add that layer by
+        // default: bake_packed_to wants a target for it, or it throws std::invalid_argument).
         std::vector<std::vector<std::uint8_t>> layers;
+        bool plateau = false;
         const PackedBakeResult to = bake_packed_to(
             [&](const PackedLeanMap& layout) {
                 std::vector<PackedLevelTarget> targets;
-                layers.resize(2 * layout.levels.size());
+                plateau = layout.has_plateau();
+                layers.resize(3 * layout.levels.size());
                 for (std::size_t l = 0; l < layout.levels.size(); ++l) {
                     const std::size_t bytes = std::size_t(layout.levels[l].width) *
                                               std::size_t(layout.levels[l].height) *
                                               std::size_t(bytes_per_texel(storage));
-                    layers[2 * l].assign(bytes, 0xAB);
-                    layers[2 * l + 1].assign(bytes, 0xCD);
-                    targets.push_back({layers[2 * l].data(), layers[2 * l + 1].data()});
+                    layers[3 * l].assign(bytes, 0xAB);
+                    layers[3 * l + 1].assign(bytes, 0xCD);
+                    if (plateau) layers[3 * l + 2].assign(bytes, 0xEF);
+                    targets.push_back({layers[3 * l].data(), layers[3 * l + 1].data(),
+                                       plateau ? layers[3 * l + 2].data() : nullptr});
                 }
                 return targets;
             },
             *samples, source, options, storage, "fuzz", "fuzz-input");
-        if (to.packed.scale != reference.scale || layers.size() != 2 * reference.levels.size())
+        if (to.packed.scale != reference.scale || layers.size() != 3 * reference.levels.size() ||
+            plateau != fast.packed.has_plateau())
             __builtin_trap();
+        // The plateau rule takes the samples' own precision as the quantisation step: the float
+        // bake of the same values gives the same layer when told it (BakeOptions::
+        // source_max_code, as `leanfade bake` does), not without.
+        PackedBakeResult coded;
+        if (plateau) {
+            BakeOptions with_code = options;
+            with_code.source_max_code = samples->effective_max_code(
+                resolve_bake_source(source, *samples) == BakeSource::Normal ? 3 : 1);
+            coded = bake_packed(image, source, with_code, storage, "fuzz", "fuzz-input");
+        }
         for (std::size_t i = 0; i < reference.levels.size(); ++i) {
-            if (layers[2 * i] != reference.levels[i].lean1 ||
-                layers[2 * i + 1] != reference.levels[i].lean2) {
+            if (layers[3 * i] != reference.levels[i].lean1 ||
+                layers[3 * i + 1] != reference.levels[i].lean2 ||
+                (plateau && layers[3 * i + 2] != coded.packed.levels[i].plateau)) {
                 __builtin_trap();
             }
         }

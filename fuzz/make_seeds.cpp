@@ -260,6 +260,9 @@ void image_seeds(const fs::path& dir) {
     const auto oiio = [&](const char* name, const char* extension, const Image& image,
                           OIIO::TypeDesc type,
                           std::vector<std::pair<std::string, std::string>> attributes = {}) {
+        // A fixed date: OpenImageIO's TIFF and OpenEXR writers record the time of writing
+        // (DateTime, capDate) otherwise, and the seeds would differ from run to run.
+        attributes.emplace_back("DateTime", "2000:01:01 00:00:00");
         io::test::write_with_openimageio((dir / name).string(), extension, image, type,
                                          attributes);
     };

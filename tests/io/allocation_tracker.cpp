@@ -8,8 +8,11 @@
 
 namespace {
 std::atomic<std::size_t> largest_request{0};
+std::atomic<std::size_t> request_limit{0};  // 0: none
 
 void* allocate(std::size_t size) {
+    const std::size_t limit = request_limit.load(std::memory_order_relaxed);
+    if (limit != 0 && size > limit) throw std::bad_alloc();
     std::size_t previous = largest_request.load(std::memory_order_relaxed);
     while (size > previous &&
            !largest_request.compare_exchange_weak(previous, size, std::memory_order_relaxed)) {
@@ -60,5 +63,8 @@ void reset_largest_allocation() {
 }
 std::size_t largest_allocation() {
     return largest_request.load();
+}
+void set_allocation_limit(std::size_t bytes) {
+    request_limit.store(bytes);
 }
 }  // namespace leanfade::io::test

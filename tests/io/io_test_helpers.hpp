@@ -84,5 +84,8 @@ inline std::uint64_t u64_le(const std::vector<std::uint8_t>& bytes, std::size_t 
 // Largest single operator-new request since the last reset (allocation_tracker.cpp).
 void reset_largest_allocation();
 std::size_t largest_allocation();
+// Makes every single request of more than `bytes` throw std::bad_alloc (as under `ulimit -v`);
+// 0 lifts the limit.
+void set_allocation_limit(std::size_t bytes);
 
 }  // namespace leanfade::io::test

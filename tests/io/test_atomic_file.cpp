@@ -95,7 +95,13 @@ TEST(AtomicFile, ExistingOutputIsReplacedByRename) {
 TEST(AtomicFile, MissingFolderThrows) {
     const std::string folder = scratch_folder();
     const std::string path = folder + "/missing/out.bin";
-    expect_error([&] { AtomicFile file(path); }, path, "cannot create temporary file");
+    expect_error([&] { AtomicFile file(path); }, path,
+                 "cannot create a temporary file in its folder (No such file or directory)");
+    try {
+        AtomicFile file(path);
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).find(".tmp-"), std::string::npos) << e.what();
+    }
     EXPECT_TRUE(folder_entries(folder).empty());
 }
 

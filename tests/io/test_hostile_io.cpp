@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "io_test_helpers.hpp"
@@ -614,6 +615,63 @@ TEST(HostileIo, Ktx2OverlapsDuplicateKeysPartialChainsAndNonFiniteValuesAreRefus
     std::copy_n("nan(", 4, value);
     *(value_end - 1) = ')';
     expect_refused("nan_scale.ktx2", nan_scale, "bad LEANFADEscale value 'nan(x", false);
+}
+
+// Found by fuzz_image_bake (fuzz/regressions/fuzz_image_bake/png_gray1_plateau_target_missing, a
+// 9 x 4 1-bit gray PNG): the target gave bake_packed_to no plateau target and compared its layer
+// with a float bake that did not know the samples' precision. What holds, and what the target
+// now checks: baked into caller memory from its integer samples, with a target per layer, the
+// map has the bytes of bake_packed of the floats told the samples' precision
+// (BakeOptions::source_max_code), plateau layer included; without it the layer may differ.
+TEST(HostileIo, CompactBakeIntoCallerMemoryMatchesTheFloatBakeToldItsPrecision) {
+    const Bytes png{0x89, 0x50, 0x4E, 0x47, 0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00, 0x00, 0x0D, 0x49,
+                    0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x09, 0x00, 0x00, 0x00, 0x04, 0x01, 0x00,
+                    0x00, 0x00, 0x00, 0x74, 0x74, 0x28, 0x63, 0x00, 0x00, 0x00, 0x14, 0x49, 0x44,
+                    0x41, 0x54, 0x08, 0x99, 0x63, 0x60, 0x50, 0x65, 0xF0, 0xCA, 0x67, 0x98, 0xB2,
+                    0x93, 0xE1, 0x1E, 0x33, 0x00, 0x0E, 0x5E, 0x03, 0x0D, 0x8F, 0x0F, 0xC6, 0xC7,
+                    0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82};
+    const auto compact = read_image_compact_from_memory(png, "fuzz.png");
+    const UnormImage* samples = std::get_if<UnormImage>(&compact);
+    ASSERT_NE(samples, nullptr);
+    const Image floats = read_image_from_memory(png, "fuzz.png");
+    for (const Storage storage :
+         {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
+        SCOPED_TRACE(int(storage));
+        BakeOptions options;
+        options.threads = 1;
+        std::vector<Bytes> layers;
+        bool plateau = false;
+        const PackedBakeResult to = bake_packed_to(
+            [&](const PackedLeanMap& layout) {
+                plateau = layout.has_plateau();
+                layers.resize(3 * layout.levels.size());
+                std::vector<PackedLevelTarget> targets;
+                for (std::size_t l = 0; l < layout.levels.size(); ++l) {
+                    const std::size_t bytes = std::size_t(layout.levels[l].width) *
+                                              std::size_t(layout.levels[l].height) *
+                                              std::size_t(bytes_per_texel(storage));
+                    for (std::size_t k = 0; k < 3; ++k) layers[3 * l + k].assign(bytes, 0xAB);
+                    targets.push_back(
+                        {layers[3 * l].data(), layers[3 * l + 1].data(), layers[3 * l + 2].data()});
+                }
+                return targets;
+            },
+            *samples, BakeSource::Auto, options, storage, "test", "fuzz.png");
+        ASSERT_TRUE(plateau);  // the packed bakes add the layer by default
+        BakeOptions told = options;
+        told.source_max_code = samples->effective_max_code(
+            resolve_bake_source(BakeSource::Auto, *samples) == BakeSource::Normal ? 3 : 1);
+        const PackedBakeResult expected =
+            bake_packed(floats, BakeSource::Auto, told, storage, "test", "fuzz.png");
+        EXPECT_EQ(to.packed.scale, expected.packed.scale);
+        ASSERT_EQ(layers.size(), 3 * expected.packed.levels.size());
+        for (std::size_t l = 0; l < expected.packed.levels.size(); ++l) {
+            SCOPED_TRACE(l);
+            EXPECT_EQ(layers[3 * l], expected.packed.levels[l].lean1);
+            EXPECT_EQ(layers[3 * l + 1], expected.packed.levels[l].lean2);
+            EXPECT_EQ(layers[3 * l + 2], expected.packed.levels[l].plateau);
+        }
+    }
 }
 
 }  // namespace

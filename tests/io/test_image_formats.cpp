@@ -449,6 +449,77 @@ TEST(Formats, SizeLimitIsCheckedOnTheHeaderOfEveryFormat) {
     }
 }
 
+// Before: every format but DDS was read into memory whole before its header was checked (a
+// 2 GiB file over the size limit cost 2.2 GB). Each file here is padded to 64 MiB after its
+// data (the readers ignore what follows): refused by its header, with no buffer of the file's
+// size allocated.
+TEST(Formats, SizeLimitIsCheckedBeforeTheFileIsRead) {
+    const std::string folder = scratch_folder();
+    const Image rgb = byte_image(40, 24, 3);
+    std::vector<std::string> paths;
+    for (const char* extension : {"jpg", "tga", "tif", "bmp", "hdr", "webp"}) {
+        paths.push_back(folder + "/big." + extension);
+        test::write_with_openimageio(
+            paths.back(), extension, rgb,
+            std::string(extension) == "hdr" ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    }
+    paths.push_back(folder + "/big-dwaa.exr");  // decoded by OpenImageIO
+    test::write_with_openimageio(paths.back(), "exr", rgb, OIIO::TypeDesc::HALF,
+                                 {{"compression", "dwaa"}});
+    paths.push_back(folder + "/big-zip.exr");  // decoded by tinyexr
+    write_exr(paths.back(), rgb);
+    paths.push_back(folder + "/big.pfm");
+    write_pfm(paths.back(), rgb);
+    paths.push_back(folder + "/big.psd");
+    write_bytes(paths.back(), test::psd_file(rgb, 8));
+    paths.push_back(folder + "/big.dds");
+    write_bytes(paths.back(), test::dds_file(40, 24, "ATI1", test::kDdsFourCcFlag,
+                                             std::vector<std::uint8_t>(60 * 8, 0)));
+    constexpr std::uintmax_t kPadded = std::uintmax_t(64) << 20;
+    ReadOptions small;
+    small.max_dimension = 32;
+    for (const std::string& path : paths) {
+        SCOPED_TRACE(path);
+        EXPECT_EQ(read_image(path).width, 40);  // a readable file
+        std::filesystem::resize_file(path, kPadded);
+        test::reset_largest_allocation();
+        expect_error([&] { read_image(path, small); }, path,
+                     "image size 40x24 exceeds the limit of 32 texels per side");
+        expect_error([&] { read_image_compact(path, small); }, path,
+                     "image size 40x24 exceeds the limit of 32 texels per side");
+        EXPECT_LT(test::largest_allocation(), std::size_t(1) << 20);
+    }
+}
+
+// Before: an allocation failure (under `ulimit -v`) ended the run with "internal error:
+// std::bad_alloc", naming no file. Here every request over 2 MiB fails, as under a memory limit:
+// the file's bytes fit, the decoded image (12 MiB of floats) does not.
+TEST(Formats, AllocationFailureIsAnErrorNamingTheFile) {
+    const std::string folder = scratch_folder();
+    Image rgb(1024, 1024, 3);  // flat: a small file of every format
+    std::fill(rgb.pixels.begin(), rgb.pixels.end(), 0.25f);
+    std::vector<std::string> paths{folder + "/large.png"};
+    write_png(paths.back(), rgb, 8);
+    for (const char* extension : {"tif", "tga"}) {
+        paths.push_back(folder + "/large." + extension);
+        test::write_with_openimageio(
+            paths.back(), extension, rgb, OIIO::TypeDesc::UINT8,
+            {{"compression", std::string(extension) == "tif" ? "zip" : "rle"}});
+    }
+    constexpr std::size_t kLimit = std::size_t(2) << 20;
+    struct LimitGuard {
+        ~LimitGuard() { test::set_allocation_limit(0); }
+    } guard;
+    for (const std::string& path : paths) {
+        SCOPED_TRACE(path);
+        ASSERT_LT(std::filesystem::file_size(path), kLimit);
+        EXPECT_EQ(read_image(path).width, 1024);  // without the limit
+        test::set_allocation_limit(kLimit);
+        expect_error([&] { read_image(path); }, path, "out of memory");
+        test::set_allocation_limit(0);
+    }
+}
+
 TEST(Formats, DecompressionBombsAreRefusedBeforeAllocating) {
     const std::string folder = scratch_folder();
     // A BC1 DDS declaring 16384 x 16384 texels (4 GiB as RGBA floats) with one block of data.
@@ -469,10 +540,14 @@ TEST(Formats, DecompressionBombsAreRefusedBeforeAllocating) {
     const std::string targa = folder + "/bomb.tga";
     write_bytes(targa, tga);
     for (const auto& [path, cause] :
-         {std::pair<std::string, std::string>{dds, "truncated DDS data (DXT1 of 16384x16384, 1 "
-                                                   "level: 134217728 bytes of data after the "
-                                                   "128-byte header, the file holds 8)"},
-          std::pair<std::string, std::string>{targa, "truncated TGA data (16000x16000 texels"}}) {
+         {std::pair<std::string, std::string>{dds,
+                                              "truncated DDS data (DXT1 of 16384x16384, 1 "
+                                              "level: 134217728 bytes of data after the "
+                                              "128-byte header, the file holds 8)"},
+          // Refused on its header, before the file is read: its data could not hold the texels.
+          std::pair<std::string, std::string>{targa,
+                                              "TGA of 16000x16000, 3 channels would decode "
+                                              "to 3072000000 bytes from 22 bytes"}}) {
         SCOPED_TRACE(path);
         test::reset_largest_allocation();
         expect_error([&] { read_image(path); }, path, cause);

@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "leanfade/core/error.hpp"
@@ -240,6 +241,42 @@ TEST(CliFlagValues, OutputInsideTheRunsLevelsFolderIsRefused) {
     }
 }
 
+// The same rule for the outputs of the other flags and however the folder is spelled: through
+// "./" and "..", or through a symbolic link to it: refused by the plan, before the bake, naming
+// no temporary.
+TEST(CliFlagValues, OutputInsideTheLevelsFolderIsRefusedHoweverItIsNamed) {
+    const fs::path dir = test::scratch_dir("flag_values_levels_spelled");
+    const fs::path input = write_height_png(dir, "h.png");
+    fs::create_directories(dir / "sub");
+    const std::string levels = " --roughness-out " + q(dir / "r.ktx2") + " --roughness-levels ";
+    struct Case {
+        std::string flags;
+        bool link = false;  // dir/link -> dir/r.levels
+    };
+    const std::vector<Case> cases{
+        {levels + "--plateau-out " + q(dir / "r.levels" / "p.ktx2")},
+        {levels + "-o " + q(dir / "m.ktx2") + " --ktx2-2d --json " +
+         q(dir / "sub" / ".." / "r.levels" / "s.json")},
+        {levels + "-o " + q(dir / "." / "r.levels" / "." / "m.ktx2")},
+        {levels + "--format png -o " + q(dir / "r.levels" / "m.png")},
+        {levels + "-o " + q(dir / "link" / "m.ktx2"), true},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.flags);
+        fs::create_directories(dir / "r.levels");
+        if (c.link) fs::create_directory_symlink(dir / "r.levels", dir / "link");
+        const RunResult r = run_leanfade("bake " + q(input) + c.flags, dir);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr(", a folder this run writes whole"));
+        EXPECT_THAT(r.err, ::testing::Not(HasSubstr(".tmp-")));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_EQ(files_under(dir), std::set<std::string>{"h.png"});
+        EXPECT_TRUE(fs::is_empty(dir / "r.levels"));
+        fs::remove(dir / "link");
+        fs::remove_all(dir / "r.levels");
+    }
+}
+
 // ---- 18. bake's output flags x format x storage x plateau layer ----
 
 struct Combination {
@@ -389,28 +426,56 @@ TEST(CliFlagValues, FileSizeLimitIsAnErrorNotASignal) {
 // ---- 1. Files read through other files are inputs of the run ----
 
 // Before: `render -o` could replace a texture an OBJ's .mtl names, or a level NAME_k of
-// --roughness-mips: the plan knew only the files the command line named. The levels of a series
-// are listed up front; any other file a run reads is refused when it is opened if it is an output
-// of the run (the plan claims every existing output), before anything is written.
+// --roughness-mips: the plan knew only the files the command line named. Now an OBJ's mtllib
+// files and every texture they name (map_Kd, map_Pr, map_Bump / bump, norm), and each level of a
+// series, are inputs of the plan: refused up front, by the plan's message (not the one of a
+// reader that finds its file claimed by an output, which comes only once the scene is read).
 TEST(CliFlagValues, FilesNamedByOtherFilesAreInputsOfTheRun) {
     const fs::path dir = test::scratch_dir("flag_values_named_inputs");
     write_height_png(dir, "tex.png");
-    write_height_png(dir, "n.png");
+    write_height_png(dir, "h.png");
+    write_height_png(dir, "r.png");
+    fs::create_directories(dir / "cells");
+    write_height_png(dir / "cells", "lean_d3.png");
+    {
+        Image normals(16, 16, 3, 0.5f);
+        for (std::size_t i = 2; i < normals.pixels.size(); i += 3) normals.pixels[i] = 1.0f;
+        io::write_png((dir / "n.png").string(), normals, 8);
+    }
     std::ofstream(dir / "m.obj") << "mtllib m.mtl\nusemtl A\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
                                     "vt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
-    for (const auto& [statement, texture] :
-         {std::pair{"map_Kd", "tex.png"}, std::pair{"map_Bump", "n.png"}}) {
-        SCOPED_TRACE(statement);
-        std::ofstream(dir / "m.mtl") << "newmtl A\n" << statement << " " << texture << "\n";
-        const std::string before = test::read_text(dir / texture);
-        const RunResult r = run_leanfade_in("render --scene m.obj --size 16x16 -o " +
-                                                std::string(texture),
-                                            dir, dir);
+    struct Case {
+        std::string mtl;     // the material's statements
+        std::string output;  // the output flag and the file it names
+        std::string file;    // that file, relative to dir
+    };
+    const std::string render = "render --scene m.obj --size 16x16 --techniques lean --distances 3 ";
+    const std::vector<Case> cases{
+        {"map_Kd tex.png\n", render + "-o m.mtl", "m.mtl"},
+        {"map_Kd tex.png\n", render + "-o tex.png", "tex.png"},
+        {"map_Bump -bm 2 h.png\n", render + "-o h.png", "h.png"},
+        {"norm n.png\n", render + "-o ./n.png", "n.png"},
+        {"Pr 0.5\nmap_Pr r.png\n", render + "-o r.png", "r.png"},
+        {"map_Kd cells/lean_d3.png\n", render + "--cells cells -o grid.png", "cells/lean_d3.png"},
+        {"map_Kd tex.png\n", "view --scene m.obj --frames 1 --screenshot tex.png", "tex.png"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.output);
+        std::ofstream(dir / "m.mtl") << "newmtl A\n" << c.mtl;
+        const std::string before = test::read_text(dir / c.file);
+        const auto mtime = fs::last_write_time(dir / c.file);
+        // No display: view refuses before it opens a window.
+        const RunResult r =
+            run_leanfade_in(c.output, dir, dir, "env -u DISPLAY -u WAYLAND_DISPLAY");
         EXPECT_EQ(r.exit_code, 1) << r.err;
-        EXPECT_THAT(r.err, HasSubstr(std::string(texture) + ": is the same file as the output"));
-        EXPECT_THAT(r.err, HasSubstr("an output may not replace an input"));
+        EXPECT_THAT(r.err, HasSubstr(c.file + ": is the same file as "));
+        EXPECT_THAT(r.err, HasSubstr("input"));
+        EXPECT_THAT(r.err, HasSubstr(" of this run; an output may not replace an input"));
+        EXPECT_THAT(r.err, ::testing::Not(HasSubstr("an input named by another input")));
         EXPECT_EQ(line_count(r.err), 1u) << r.err;
-        EXPECT_EQ(test::read_text(dir / texture), before);
+        EXPECT_EQ(test::read_text(dir / c.file), before);
+        EXPECT_EQ(fs::last_write_time(dir / c.file), mtime);
+        EXPECT_FALSE(fs::exists(dir / "grid.png"));
     }
     // Each level of a --roughness-mips series, refused by the plan before anything is read.
     Image level(4, 4, 1, 0.5f);
@@ -480,6 +545,42 @@ TEST(CliFlagValues, MapsBakedWithALargerMaxSizeAreReadBackWithIt) {
     r = run_leanfade_in("info --max-size 100 m.ktx2", dir, dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_THAT(r.err, HasSubstr("exceeds the limit of 100 texels per side"));
+}
+
+// ---- 12. Limits checked on the header, before the file is read ----
+
+// Before: only a DDS had its header checked before the file was read into memory whole; a TGA
+// or PFM over the size limit cost its whole size (here 1 and 3 GiB, sparse) before the refusal.
+// Now each is refused by its header: one line naming the file, exit 1, the file never read.
+TEST(CliFlagValues, SizeLimitIsCheckedOnTheHeaderBeforeTheFileIsRead) {
+    const fs::path dir = test::scratch_dir("flag_values_header_first");
+    // A raw true-colour TGA of 16384 x 16384 texels, 32 bits each.
+    std::vector<std::uint8_t> tga(18, 0);
+    tga[2] = 2;
+    tga[13] = 0x40;
+    tga[15] = 0x40;
+    tga[16] = 32;
+    const std::string pfm_header = "PF\n16384 16384\n-1.0\n";
+    const std::vector<std::uint8_t> pfm(pfm_header.begin(), pfm_header.end());
+    for (const auto& [name, header, data] :
+         {std::tuple{"big.tga", tga, std::uintmax_t(16384) * 16384 * 4},
+          std::tuple{"big.pfm", pfm, std::uintmax_t(16384) * 16384 * 12}}) {
+        SCOPED_TRACE(name);
+        {
+            std::ofstream out(dir / name, std::ios::binary);
+            out.write(reinterpret_cast<const char*>(header.data()), std::streamsize(header.size()));
+        }
+        fs::resize_file(dir / name, header.size() + data);
+        const RunResult r = test::run_leanfade_bounded(
+            "bake --max-size 4096 " + q(dir / name) + " -o " + q(dir / "out.ktx2"), dir, 60);
+        EXPECT_EQ(r.exit_code, 1) << r.err;
+        EXPECT_THAT(r.err, HasSubstr((dir / name).string() +
+                                     ": image size 16384x16384 exceeds the limit of 4096"));
+        EXPECT_EQ(line_count(r.err), 1u) << r.err;
+        EXPECT_LT(r.max_rss_kib, 512L << 10) << "the file was read";
+        EXPECT_FALSE(fs::exists(dir / "out.ktx2"));
+        fs::remove(dir / name);
+    }
 }
 
 // ---- 12. An allocation that fails ----

@@ -2,6 +2,7 @@
 // through the LEAN-map cache; broken scenes are one-line errors with no output.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -608,6 +609,133 @@ TEST(CliGltfOut, OwnLeanMapsAndLinkedTexturesAreCopiedIntoAnotherFolder) {
     EXPECT_EQ(over.exit_code, 1) << over.err;
     EXPECT_NE(over.err.find("is the same file as"), std::string::npos) << over.err;
     EXPECT_FALSE(fs::exists(dir / "o2.gltf"));
+}
+
+// ---- The file system's limits while the caches are written ----
+
+namespace gltf_out {
+
+// Every file under `dir` whose name holds ".tmp-" (a temporary), recursively.
+std::vector<std::string> temporaries_under(const fs::path& dir) {
+    std::vector<std::string> found;
+    if (!fs::exists(dir)) return found;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (e.path().filename().string().find(".tmp-") != std::string::npos)
+            found.push_back(e.path().string());
+    return found;
+}
+
+std::size_t files_in(const fs::path& dir) {
+    std::size_t count = 0;
+    if (!fs::exists(dir)) return count;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (!e.is_directory()) ++count;
+    return count;
+}
+
+}  // namespace gltf_out
+
+// Before: under `ulimit -f` a write past the limit killed the run with SIGXFSZ (status 153, no
+// message), leaving its temporaries, in the cache too. Every file is limited here to 4 KiB (8
+// blocks of 512 bytes, dash). `render` of the scene writes a picture under the limit and LEAN
+// maps over it into the cache: each store fails as a warning naming the entry, the picture is
+// written (exit 0). `bake -o` (the glTF-out cache) and `bake --out-dir` (LEAN maps) fail on
+// their outputs (exit 1). Nothing is left in the outputs' folder or the cache, and no message
+// names a temporary.
+TEST(CliGltfOut, FileSizeLimitLeavesNoTemporaryInTheOutputsOrTheCache) {
+    const fs::path dir = cli_gltf_folder("out_cache_fsize");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    const std::string before = test::read_text(input);
+    const std::string limited = test::cache_env(dir) + " sh -c 'ulimit -f 8 && exec \"$@\"' sh";
+    const fs::path picture = dir / "out" / "r.png";
+    struct Case {
+        std::string flags;
+        int exit_code;
+    };
+    for (const Case& c : {Case{"render --scene " + test::shell_quote(input.string()) +
+                                   " --size 16x16 --techniques lean --distances 3 -o " +
+                                   test::shell_quote(picture.string()),
+                               0},
+                          Case{"bake " + test::shell_quote(input.string()) + " -o " +
+                                   test::shell_quote((dir / "out" / "f.glb").string()),
+                               1},
+                          Case{"bake " + test::shell_quote(input.string()) + " --out-dir " +
+                                   test::shell_quote((dir / "out").string()),
+                               1}}) {
+        SCOPED_TRACE(c.flags);
+        fs::remove_all(dir / "cache");
+        fs::remove_all(dir / "out");
+        fs::create_directories(dir / "out");
+        const test::RunResult r = test::run_leanfade_in(c.flags, dir, {}, limited);
+        EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+        EXPECT_NE(r.err.find("File too large"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find(".tmp-"), std::string::npos) << r.err;
+        if (c.exit_code == 0) {
+            // The stores' warnings name the entries.
+            EXPECT_NE(r.err.find("cache: " + (dir / "cache" / "leanfade").string() + "/"),
+                      std::string::npos)
+                << r.err;
+            EXPECT_TRUE(fs::is_regular_file(picture));
+            EXPECT_EQ(gltf_out::files_in(dir / "out"), 1u);
+        } else {
+            EXPECT_EQ(gltf_out::files_in(dir / "out"), 0u);
+        }
+        EXPECT_EQ(gltf_out::temporaries_under(dir / "cache"), std::vector<std::string>{});
+        EXPECT_EQ(gltf_out::temporaries_under(dir / "out"), std::vector<std::string>{});
+        EXPECT_EQ(test::read_text(input), before);
+        // Without the limit the same run writes its outputs and fills the cache.
+        fs::remove_all(dir / "out");
+        fs::create_directories(dir / "out");
+        const test::RunResult ok = test::run_leanfade_in(c.flags, dir, {}, test::cache_env(dir));
+        EXPECT_EQ(ok.exit_code, 0) << ok.err;
+        EXPECT_GT(gltf_out::files_in(dir / "out"), 0u);
+        EXPECT_GT(gltf_out::files_in(dir / "cache" / "leanfade"), 0u);
+    }
+}
+
+// Before: a store into a full cache warned with the name of the entry's temporary ("cannot
+// create temporary file .../KEY.ktx2.tmp-PID-N-RUN"). The cache's folder is full here (creating
+// a file there fails with ENOSPC: tests/support/preload/full_folder.c): each run does its work
+// and exits 0, each store is a warning naming its entry and the cause, none a temporary, and
+// nothing is left in the cache.
+TEST(CliGltfOut, AFullCacheIsAWarningNamingTheEntryNotItsTemporary) {
+    const fs::path dir = cli_gltf_folder("out_cache_full");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    const fs::path cache = dir / "cache" / "leanfade";
+    fs::create_directories(cache);
+    const char* asan = std::getenv("ASAN_OPTIONS");
+    // The preloaded library comes before the sanitizers' runtime, which checks that it is first.
+    const std::string full =
+        test::cache_env(dir) + " MESA_SHADER_CACHE_DISABLE=true LD_PRELOAD=" +
+        test::shell_quote(LEANFADE_TEST_FULL_FOLDER_PRELOAD) +
+        " LEANFADE_TEST_FULL_FOLDER=" + test::shell_quote((dir / "cache").string()) +
+        " ASAN_OPTIONS=" +
+        test::shell_quote((asan != nullptr && *asan != '\0' ? std::string(asan) + ":" : "") +
+                          "verify_asan_link_order=0");
+    fs::create_directories(dir / "out");
+    for (const std::string& flags : {"render --scene " + test::shell_quote(input.string()) +
+                                         " --size 16x16 --techniques lean --distances 3 -o " +
+                                         test::shell_quote((dir / "out" / "r.png").string()),
+                                     "bake " + test::shell_quote(input.string()) + " -o " +
+                                         test::shell_quote((dir / "out" / "f.glb").string()),
+                                     "bake " + test::shell_quote(input.string()) + " --out-dir " +
+                                         test::shell_quote((dir / "out").string())}) {
+        SCOPED_TRACE(flags);
+        const test::RunResult r = test::run_leanfade_in(flags, dir, {}, full);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.err.find("cache: " + cache.string() + "/"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(": cannot create a temporary file in its folder (No space left on "
+                             "device)"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_EQ(r.err.find(".tmp-"), std::string::npos) << r.err;
+        EXPECT_EQ(gltf_out::files_in(dir / "cache"), 0u);
+    }
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "r.png"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "f.glb"));
+    EXPECT_TRUE(fs::is_regular_file(dir / "out" / "scene.brick_wall.ktx2"));
 }
 
 }  // namespace

@@ -382,6 +382,10 @@ std::vector<std::string> render_source_inputs(const RenderSourceFlags& flags,
     if (scene::is_gltf_path(flags.scene))
         for (const std::string& file : scene::gltf_referenced_files(flags.scene))
             paths.push_back(file);
+    // So are an OBJ scene's MTL files and the textures they name.
+    if (is_obj_path(flags.scene))
+        for (const std::string& file : scene::obj_referenced_files(flags.scene))
+            paths.push_back(file);
     for (const std::string& source : flags.layers.sources) paths.push_back(source);
     for (const std::string& path : paths)
         if (!path.empty() && std::filesystem::exists(path)) inputs.push_back(path);

@@ -54,8 +54,9 @@ AtomicFile::AtomicFile(std::string path, Durability durability)
     descriptor_ = ::open(temporary_path_.c_str(),
                          O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC /* mmap needs read */, 0666);
     if (descriptor_ < 0) {
-        throw Error(path_, "cannot create temporary file " + temporary_path_ + " (" +
-                               errno_text(errno) + ")");
+        // Named after the output, never its temporary (a full cache's warning named one).
+        throw Error(path_,
+                    "cannot create a temporary file in its folder (" + errno_text(errno) + ")");
     }
 }
 

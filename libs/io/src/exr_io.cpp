@@ -3,13 +3,14 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdlib>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
-#include <string>
-#include <vector>
 #include <memory>
 #include <numeric>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "formats.hpp"
 #include "input_file.hpp"
@@ -448,6 +449,39 @@ Image decode_with_openexr(const std::string& path, const std::vector<std::uint8_
 }
 
 }  // namespace
+
+void check_exr_size(const InputFile& file, const ReadOptions& options) {
+    const std::uint64_t file_size = file.size();
+    std::uint64_t position = 8;  // after the magic number and the version field
+    for (int attribute = 0; attribute < 4096 && position < file_size; ++attribute) {
+        // A name and a type of at most 255 bytes each, their null bytes and the value's size.
+        std::uint8_t buffer[2 * 256 + 4];
+        const auto count =
+            std::size_t(std::min<std::uint64_t>(sizeof buffer, file_size - position));
+        file.read_at(position, buffer, count, "file shrank while being read");
+        if (buffer[0] == 0) return;  // the end of the header: no data window (decode_exr says so)
+        const auto* text = reinterpret_cast<const char*>(buffer);
+        const std::size_t name_length = strnlen(text, count);
+        if (name_length + 1 >= count) return;
+        const std::size_t type_length = strnlen(text + name_length + 1, count - name_length - 1);
+        const std::size_t size_at = name_length + 1 + type_length + 1;
+        if (size_at + 4 > count) return;
+        const std::uint32_t value_size = load_u32_le(buffer + size_at);
+        const std::uint64_t value_at = position + size_at + 4;
+        if (std::string_view(text, name_length) == "dataWindow" && value_size == 16) {
+            if (value_at + 16 > file_size) return;
+            std::uint8_t window[16];
+            file.read_at(value_at, window, sizeof window, "file shrank while being read");
+            const auto corner = [&](int i) {
+                return std::int64_t(std::int32_t(load_u32_le(window + 4 * i)));
+            };
+            check_dimensions(file.path(), corner(2) - corner(0) + 1, corner(3) - corner(1) + 1,
+                             options.max_dimension);
+            return;
+        }
+        position = value_at + value_size;
+    }
+}
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options) {

@@ -23,6 +23,11 @@ std::vector<std::uint8_t> encode_png_rgba8(const std::string& path, const Rgba8I
 
 Image decode_exr(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);
+// The size of an OpenEXR file's data window against options.max_dimension, from the header's
+// attributes read from the file, before the file is read into memory. A header it cannot walk
+// (an attribute name of more than 255 bytes, more than 4096 attributes before the data window)
+// is left to decode_exr.
+void check_exr_size(const InputFile& file, const ReadOptions& options);
 std::vector<std::uint8_t> encode_exr(const std::string& path, const Image& image);
 
 // The channels of a file to return, in order (indices into `names`), from their names (the part
@@ -52,12 +57,13 @@ const std::vector<std::string>& oiio_format_names();
 const OiioFormat* recognise_oiio_format(const InputFile& file,
                                         const std::vector<std::uint8_t>& head);
 // Decodes a file of that format (through the OpenImageIO module, below), from its bytes read
-// into memory. Checks the header (size against options.max_dimension, the decoded bytes against
-// the file's size) before any pixel memory is allocated; TGA and JPEG data that ends early is
-// refused (OpenImageIO 2.4 decodes it without an error). DDS normal maps stored as two channels
-// (BC5, DXT5 "nm" with x in alpha, RXGB) come back as RGB with the third component
-// reconstructed, z = sqrt(1 - x^2 - y^2). compact: 8- and 16-bit samples as a UnormImage;
-// options.drop_alpha: RGBA -> RGB.
+// into memory. The header is checked first, through the file itself (OpenImageIO's reader
+// opened on it; DDS, PSD and WebP fields read here), before the file is read into memory: the
+// size against options.max_dimension, the decoded bytes against the file's size. TGA and JPEG
+// data that ends early is refused (OpenImageIO 2.4 decodes it without an error). DDS normal
+// maps stored as two channels (BC5, DXT5 "nm" with x in alpha, RXGB) come back as RGB with the
+// third component reconstructed, z = sqrt(1 - x^2 - y^2). compact: 8- and 16-bit samples as a
+// UnormImage; options.drop_alpha: RGBA -> RGB. An allocation failure is an Error naming the file.
 std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFormat& format,
                                             const ReadOptions& options, bool compact);
 
@@ -66,10 +72,15 @@ std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFor
 // first use, so that OpenImageIO's dependencies load only for the files that need them.
 // `decode` decodes a whole file's bytes of `format`, as decode_oiio describes, throwing
 // leanfade::Error(path, cause).
+// `check_header` opens the file (or its bytes in memory) with the format's reader and applies
+// the same header checks as `decode`, reading only what the reader reads to open it (its
+// header), never the pixel data.
 struct OiioModule {
     std::variant<Image, UnormImage> (*decode)(const std::vector<std::uint8_t>& bytes,
                                               const std::string& path, const OiioFormat& format,
                                               const ReadOptions& options, bool compact);
+    void (*check_header)(const InputFile& file, const OiioFormat& format,
+                         const ReadOptions& options);
 };
 using OiioModuleEntry = const OiioModule* (*)();
 inline constexpr const char* kOiioModuleFileName = "libleanfade_io_oiio.so";
@@ -77,6 +88,9 @@ inline constexpr const char* kOiioModuleEntryName = "leanfade_io_oiio_module";
 
 Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options);
+// A PFM's width and height against options.max_dimension, from its first 4 KiB, before the file
+// is read into memory (a header longer than that is left to decode_pfm).
+void check_pfm_size(const InputFile& file, const ReadOptions& options);
 std::vector<std::uint8_t> encode_pfm(const std::string& path, const Image& image);
 
 }  // namespace leanfade::io::detail

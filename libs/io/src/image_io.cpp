@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <new>
 
 #include "formats.hpp"
 #include "input_file.hpp"
@@ -70,9 +71,13 @@ std::variant<Image, UnormImage> decode(const detail::InputFile& file,
     };
     if (starts_like(head, kExrMagic)) {
         if (head.size() < sizeof kExrMagic) throw Error(path, "truncated OpenEXR data");
+        detail::check_exr_size(file, options);  // before the file is read into memory
         return opaque(detail::decode_exr(path, bytes(), options));
     }
-    if (is_pfm(head)) return opaque(detail::decode_pfm(path, bytes(), options));
+    if (is_pfm(head)) {
+        detail::check_pfm_size(file, options);
+        return opaque(detail::decode_pfm(path, bytes(), options));
+    }
     if (head.size() >= sizeof kKtx2Magic && starts_like(head, kKtx2Magic)) {
         throw Error(path, "is a KTX2 texture, not an image (expected " + expected_formats() + ")");
     }
@@ -80,6 +85,19 @@ std::variant<Image, UnormImage> decode(const detail::InputFile& file,
         return detail::decode_oiio(file, *format, options, compact);
     }
     throw Error(path, "unknown image format (expected " + expected_formats() + ")");
+}
+
+// decode, with an allocation failure anywhere in it (the file's bytes, a decoder's buffers, the
+// image) as one line naming the file: under `ulimit -v` it was "internal error: std::bad_alloc".
+std::variant<Image, UnormImage> guarded_decode(const detail::InputFile& file,
+                                               const std::vector<std::uint8_t>* whole,
+                                               const ReadOptions& options, bool compact) {
+    try {
+        return decode(file, whole, options, compact);
+    } catch (const std::bad_alloc&) {
+        throw Error(file.path(), "out of memory reading the image (" + std::to_string(file.size()) +
+                                     "-byte file; lower the size limit or raise the memory limit)");
+    }
 }
 
 void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
@@ -93,27 +111,27 @@ void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
 
 Image read_image(const std::string& path, const ReadOptions& options) {
     const detail::InputFile file(path);
-    return std::get<Image>(decode(file, nullptr, options, false));
+    return std::get<Image>(guarded_decode(file, nullptr, options, false));
 }
 
 std::variant<Image, UnormImage> read_image_compact(const std::string& path,
                                                    const ReadOptions& options) {
     const detail::InputFile file(path);
-    return decode(file, nullptr, options, true);
+    return guarded_decode(file, nullptr, options, true);
 }
 
 std::variant<Image, UnormImage> read_image_compact_from_memory(
     const std::vector<std::uint8_t>& bytes, const std::string& path, const ReadOptions& options) {
     if (bytes.empty()) throw Error(path, "empty file");
     const detail::InputFile file(path, bytes.data(), bytes.size());
-    return decode(file, &bytes, options, true);
+    return guarded_decode(file, &bytes, options, true);
 }
 
 Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::string& path,
                              const ReadOptions& options) {
     if (bytes.empty()) throw Error(path, "empty file");
     const detail::InputFile file(path, bytes.data(), bytes.size());
-    return std::get<Image>(decode(file, &bytes, options, false));
+    return std::get<Image>(guarded_decode(file, &bytes, options, false));
 }
 
 void write_png(const std::string& path, const Image& image, int bits, const WriteOptions& options) {

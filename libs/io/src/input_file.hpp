@@ -31,6 +31,10 @@ class InputFile {
     void read_at(std::uint64_t offset, void* destination, std::size_t size,
                  const std::string& truncated_cause) const;
     std::vector<std::uint8_t> read_all() const;
+    // The open descriptor of a file (-1 for bytes in memory), for readers that read the header
+    // through it (oiio_image.cpp); and the bytes in memory (nullptr for a file).
+    int descriptor() const noexcept { return descriptor_; }
+    const std::uint8_t* memory() const noexcept { return memory_; }
 
   private:
     std::string path_;

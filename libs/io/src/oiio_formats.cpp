@@ -125,34 +125,62 @@ void check_jpeg_data(const std::string& path, const std::vector<std::uint8_t>& b
 // OpenImageIO's PSD reader (2.4) allocates the colour mode data, the image resources and the
 // layer and mask information at the lengths the file gives, before it checks them against the
 // file: a 152-byte file declaring 4 GB of colour data made it allocate as much (found by
-// fuzz_image_bake). Each section must fit in the file, after the 26-byte header.
-void check_psd_sections(const std::string& path, const std::vector<std::uint8_t>& bytes) {
-    if (bytes.size() < 26) throw Error(path, "truncated PSD data (header)");
-    const int version = bytes[4] << 8 | bytes[5];
+// fuzz_image_bake). Each section must fit in the file, after the 26-byte header; read from the
+// file, before OpenImageIO opens it.
+void check_psd_sections(const InputFile& file) {
+    const std::string& path = file.path();
+    const std::uint64_t file_size = file.size();
+    if (file_size < 26) throw Error(path, "truncated PSD data (header)");
+    std::uint8_t header[26];
+    file.read_at(0, header, sizeof header, "file shrank while being read");
+    const int version = header[4] << 8 | header[5];
     if (version != 1 && version != 2)
         throw Error(path, "corrupt PSD header (version " + std::to_string(version) + ")");
-    const auto big_endian = [&](std::size_t at, int size) {
-        std::uint64_t value = 0;
-        for (int i = 0; i < size; ++i) value = value << 8 | bytes[at + std::size_t(i)];
-        return value;
-    };
     static constexpr const char* kSections[3] = {"colour mode data", "image resources",
                                                  "layer and mask information"};
     std::uint64_t position = 26;
     for (int section = 0; section < 3; ++section) {
         // PSB (version 2) gives the layer and mask information's length in 8 bytes.
         const int field = section == 2 && version == 2 ? 8 : 4;
-        if (position + std::uint64_t(field) > bytes.size())
+        if (position + std::uint64_t(field) > file_size)
             throw Error(path, std::string("truncated PSD data (") + kSections[section] + ")");
-        const std::uint64_t length = big_endian(std::size_t(position), field);
+        std::uint8_t length_bytes[8];
+        file.read_at(position, length_bytes, std::size_t(field), "file shrank while being read");
+        std::uint64_t length = 0;
+        for (int i = 0; i < field; ++i) length = length << 8 | length_bytes[i];
         position += std::uint64_t(field);
-        if (length > bytes.size() - position) {
+        if (length > file_size - position) {
             throw Error(path, std::string("truncated or corrupt PSD data (") + kSections[section] +
                                   " of " + std::to_string(length) + " bytes past the end of the " +
-                                  std::to_string(bytes.size()) + "-byte file)");
+                                  std::to_string(file_size) + "-byte file)");
         }
         position += length;
     }
+}
+
+// OpenImageIO's WebP reader (2.4) reads the whole file when it opens it: the size is read here
+// from the first chunk (VP8X's canvas, VP8L's or VP8's frame), before. A file too short for it,
+// or of another first chunk, is left to the reader's own checks.
+void check_webp_size(const InputFile& file, const ReadOptions& options) {
+    std::uint8_t head[30] = {};
+    if (file.size() < sizeof head) return;
+    file.read_at(0, head, sizeof head, "file shrank while being read");
+    const std::string_view chunk(reinterpret_cast<const char*>(head + 12), 4);
+    std::int64_t width = 0, height = 0;
+    if (chunk == "VP8X") {
+        width = std::int64_t(head[24] | head[25] << 8 | head[26] << 16) + 1;
+        height = std::int64_t(head[27] | head[28] << 8 | head[29] << 16) + 1;
+    } else if (chunk == "VP8L" && head[20] == 0x2F) {
+        const std::uint32_t bits = load_u32_le(head + 21);
+        width = std::int64_t(bits & 0x3FFF) + 1;
+        height = std::int64_t((bits >> 14) & 0x3FFF) + 1;
+    } else if (chunk == "VP8 " && head[23] == 0x9D && head[24] == 0x01 && head[25] == 0x2A) {
+        width = load_u16_le(head + 26) & 0x3FFF;
+        height = load_u16_le(head + 28) & 0x3FFF;
+    } else {
+        return;
+    }
+    check_dimensions(file.path(), width, height, options.max_dimension);
 }
 
 // BMP: "BM", then an info header of one of the known sizes at offset 14.
@@ -403,11 +431,21 @@ const OiioFormat* recognise_oiio_format(const InputFile& file,
 std::variant<Image, UnormImage> decode_oiio(const InputFile& file, const OiioFormat& format,
                                             const ReadOptions& options, bool compact) {
     const OiioModule& module = module_for(file.path(), format.name);
-    if (std::strcmp(format.plugin, kDds.plugin) == 0) check_dds_header(file, options);
+    const auto is = [&](const OiioFormat& other) {
+        return std::strcmp(format.plugin, other.plugin) == 0;
+    };
+    // The header, from the file, before the file is read into memory (docs/robustness.md).
+    if (is(kDds)) {
+        check_dds_header(file, options);
+    } else if (is(kWebp)) {
+        check_webp_size(file, options);
+    } else {
+        if (is(kPsd)) check_psd_sections(file);
+        module.check_header(file, format, options);
+    }
     const std::vector<std::uint8_t> bytes = file.read_all();
-    if (std::strcmp(format.plugin, kTarga.plugin) == 0) check_targa_data(file.path(), bytes);
-    if (std::strcmp(format.plugin, kJpeg.plugin) == 0) check_jpeg_data(file.path(), bytes);
-    if (std::strcmp(format.plugin, kPsd.plugin) == 0) check_psd_sections(file.path(), bytes);
+    if (is(kTarga)) check_targa_data(file.path(), bytes);
+    if (is(kJpeg)) check_jpeg_data(file.path(), bytes);
     return module.decode(bytes, file.path(), format, options, compact);
 }
 

@@ -1,6 +1,7 @@
 // The OpenImageIO module (libleanfade_io_oiio.so, loaded by oiio_formats.cpp on first use):
 // decodes JPEG, TGA, DDS (BC1-BC5), TIFF, PSD, BMP, Radiance HDR, WebP and the OpenEXR files of
-// the compressions tinyexr cannot decode, from the file's bytes in memory.
+// the compressions tinyexr cannot decode, from the file's bytes in memory; and checks a file's
+// header (check_header) through the file itself, before the caller reads it into memory.
 //
 // Each file goes to the one reader of the format its content named (never to OpenImageIO's
 // search over every reader, which opens the file with each in turn), through an IOMemReader
@@ -10,9 +11,13 @@
 // line; its exceptions become leanfade::Error.
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -167,29 +172,12 @@ void select_channels(const std::vector<Sample>& samples, int channels,
             target[i * out + c] = samples[i * in + std::size_t(order[c])];
 }
 
-std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
-                                       const std::string& path, const OiioFormat& format,
-                                       const ReadOptions& options, bool compact) {
-    const bool dds = is(format, "dds");
-    const DdsLayout layout = dds ? dds_layout(bytes) : DdsLayout{};
-    std::vector<std::uint8_t> unflagged;
-    const std::vector<std::uint8_t>& input = dds ? without_normal_flag(bytes, layout, unflagged)
-                                                 : bytes;
-    Decoder decoder{path, OIIO::ImageInput::create(format.plugin)};
-    if (decoder.input == nullptr) {
-        throw Error(path, std::string("cannot read ") + format.name + " (" +
-                              one_line(OIIO::geterror()) + ")");
-    }
-    OIIO::Filesystem::IOMemReader proxy(input.data(), input.size());
-    if (!decoder.input->set_ioproxy(&proxy))
-        decoder.fail(std::string("cannot read ") + format.name);
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);  // values as stored, never premultiplied
-    OIIO::ImageSpec spec;
-    const std::string truncated = std::string("truncated or corrupt ") + format.name + " data";
-    if (!decoder.input->open(path, spec, config)) decoder.fail(truncated);
-
-    // Header checks, before any pixel memory.
+// The checks of a reader's header (`spec`, after open, before any pixel is read): size against
+// the limit, channel count and names, the bytes decoding would allocate against the file's size.
+// Returns the channels to keep, in order (order_channels).
+std::vector<int> check_spec(const std::string& path, const OiioFormat& format,
+                            const OIIO::ImageSpec& spec, const ReadOptions& options,
+                            std::uint64_t file_bytes) {
     if (spec.depth > 1) throw Error(path, std::string("volume ") + format.name + " not supported");
     check_dimensions(path, spec.width, spec.height, options.max_dimension);
     if (spec.nchannels < 1) throw Error(path, std::string(format.name) + " without channels");
@@ -214,13 +202,40 @@ std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
                        std::string(format.name) + " of " + std::to_string(spec.width) + "x" +
                            std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
                            " channels",
-                       decoded, bytes.size());
+                       decoded, file_bytes);
     for (int c = 0; c < spec.nchannels && is(format, "openexr"); ++c) {
         if (spec.channelformat(c).basetype == OIIO::TypeDesc::UINT32)
             throw Error(path,
                         "OpenEXR uint channels with B44, PXR24 or DWA compression not "
                         "supported");
     }
+    return order;
+}
+
+std::variant<Image, UnormImage> decode(const std::vector<std::uint8_t>& bytes,
+                                       const std::string& path, const OiioFormat& format,
+                                       const ReadOptions& options, bool compact) {
+    const bool dds = is(format, "dds");
+    const DdsLayout layout = dds ? dds_layout(bytes) : DdsLayout{};
+    std::vector<std::uint8_t> unflagged;
+    const std::vector<std::uint8_t>& input = dds ? without_normal_flag(bytes, layout, unflagged)
+                                                 : bytes;
+    Decoder decoder{path, OIIO::ImageInput::create(format.plugin)};
+    if (decoder.input == nullptr) {
+        throw Error(path, std::string("cannot read ") + format.name + " (" +
+                              one_line(OIIO::geterror()) + ")");
+    }
+    OIIO::Filesystem::IOMemReader proxy(input.data(), input.size());
+    if (!decoder.input->set_ioproxy(&proxy))
+        decoder.fail(std::string("cannot read ") + format.name);
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // values as stored, never premultiplied
+    OIIO::ImageSpec spec;
+    const std::string truncated = std::string("truncated or corrupt ") + format.name + " data";
+    if (!decoder.input->open(path, spec, config)) decoder.fail(truncated);
+
+    // Header checks, before any pixel memory (decode_oiio made them on the file already).
+    std::vector<int> order = check_spec(path, format, spec, options, bytes.size());
 
     const int width = spec.width, height = spec.height;
     const std::string compression = spec.get_string_attribute("compression");
@@ -281,7 +296,74 @@ std::variant<Image, UnormImage> guarded_decode(const std::vector<std::uint8_t>& 
     }
 }
 
-constexpr OiioModule kModule{&guarded_decode};
+// A FILE* of its own on the descriptor of an InputFile (a duplicate: closing it leaves the
+// InputFile's open), for OpenImageIO's IOFile (the proxy its JPEG reader accepts besides
+// IOMemReader). The InputFile reads with pread, so the shared file offset is free to move.
+class DuplicateStream {
+  public:
+    explicit DuplicateStream(const InputFile& file) {
+        const int copy = ::fcntl(file.descriptor(), F_DUPFD_CLOEXEC, 0);
+        if (copy < 0)
+            throw Error(file.path(), std::string("cannot read (") + std::strerror(errno) + ")");
+        stream_ = ::fdopen(copy, "rb");
+        if (stream_ == nullptr) {
+            const int error_number = errno;
+            ::close(copy);
+            throw Error(file.path(),
+                        std::string("cannot read (") + std::strerror(error_number) + ")");
+        }
+        ::rewind(stream_);
+    }
+    ~DuplicateStream() { std::fclose(stream_); }
+    DuplicateStream(const DuplicateStream&) = delete;
+    DuplicateStream& operator=(const DuplicateStream&) = delete;
+    FILE* get() const noexcept { return stream_; }
+
+  private:
+    FILE* stream_ = nullptr;
+};
+
+// Opens the file (or its bytes in memory) with the format's reader, which reads its header
+// only, and makes decode's header checks on it: a file over the size limit, or claiming more
+// than its bytes can hold, is refused before it is read into memory (docs/robustness.md).
+void check_header(const InputFile& file, const OiioFormat& format, const ReadOptions& options) {
+    const std::string& path = file.path();
+    try {
+        std::unique_ptr<DuplicateStream> stream;
+        std::unique_ptr<OIIO::Filesystem::IOProxy> proxy;
+        if (file.memory() != nullptr) {
+            proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(file.memory(),
+                                                                    std::size_t(file.size()));
+        } else {
+            stream = std::make_unique<DuplicateStream>(file);
+            proxy = std::make_unique<OIIO::Filesystem::IOFile>(stream->get(),
+                                                               OIIO::Filesystem::IOProxy::Read);
+        }
+        Decoder decoder{path, OIIO::ImageInput::create(format.plugin)};
+        if (decoder.input == nullptr) {
+            throw Error(path, std::string("cannot read ") + format.name + " (" +
+                                  one_line(OIIO::geterror()) + ")");
+        }
+        if (!decoder.input->set_ioproxy(proxy.get()))
+            decoder.fail(std::string("cannot read ") + format.name);
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);
+        OIIO::ImageSpec spec;
+        if (!decoder.input->open(path, spec, config))
+            decoder.fail(std::string("truncated or corrupt ") + format.name + " data");
+        check_spec(path, format, spec, options, file.size());
+        decoder.input->close();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw Error(path, std::string("out of memory reading the ") + format.name + " header");
+    } catch (const std::exception& error) {
+        throw Error(path, std::string("corrupt ") + format.name + " header (" +
+                              one_line(error.what()) + ")");
+    }
+}
+
+constexpr OiioModule kModule{&guarded_decode, &check_header};
 
 }  // namespace
 }  // namespace leanfade::io::detail

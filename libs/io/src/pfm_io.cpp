@@ -1,6 +1,7 @@
 // Portable Float Map: "PF" (RGB) or "Pf" (gray), then width, height and a scale whose sign gives
 // the byte order (negative = little-endian), each separated by white space, one white-space byte,
 // then 32-bit floats with the rows bottom first.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -70,6 +71,21 @@ class HeaderParser {
 };
 
 }  // namespace
+
+void check_pfm_size(const InputFile& file, const ReadOptions& options) {
+    std::vector<std::uint8_t> head(std::size_t(std::min<std::uint64_t>(file.size(), 4096)));
+    file.read_at(0, head.data(), head.size(), "file shrank while being read");
+    HeaderParser parser(file.path(), head);
+    std::int64_t width = 0, height = 0;
+    try {
+        width = parser.integer("width");
+        height = parser.integer("height");
+    } catch (const Error&) {
+        if (head.size() < file.size()) return;  // a longer header: decode_pfm reads it whole
+        throw;
+    }
+    check_dimensions(file.path(), width, height, options.max_dimension);
+}
 
 Image decode_pfm(const std::string& path, const std::vector<std::uint8_t>& bytes,
                  const ReadOptions& options) {

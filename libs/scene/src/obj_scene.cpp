@@ -1,8 +1,11 @@
 // The renderer's scene of an OBJ model with MTL materials (leanfade/scene/obj_loader.hpp).
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -130,6 +133,56 @@ struct MaterialBuilder {
 };
 
 }  // namespace
+
+std::vector<std::string> obj_referenced_files(const std::string& path) {
+    std::vector<std::string> files;
+    const auto add = [&](const std::string& file) {
+        if (std::find(files.begin(), files.end(), file) == files.end()) files.push_back(file);
+    };
+    try {
+        const std::string text = read_regular_file(path, kMaxObjFileBytes, "an OBJ file");
+        const fs::path folder = fs::path(path).parent_path();
+        const auto is_space = [](char c) {
+            return std::isspace(static_cast<unsigned char>(c)) != 0;
+        };
+        for (std::size_t pos = 0; pos < text.size();) {
+            const std::size_t end = std::min(text.find('\n', pos), text.size());
+            std::string_view line(text.data() + pos, end - pos);
+            pos = end + 1;
+            line = line.substr(0, line.find('#'));  // as load_obj_model reads it
+            while (!line.empty() && is_space(line.front())) line.remove_prefix(1);
+            while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
+            if (!line.starts_with("mtllib") || line.size() == 6 || !is_space(line[6])) continue;
+            line.remove_prefix(6);
+            while (!line.empty() && is_space(line.front())) line.remove_prefix(1);
+            if (line.empty()) continue;
+            std::string mtl;
+            try {
+                mtl = confined_path(path, "mtllib", std::string(line), folder);
+            } catch (const Error&) {
+                continue;  // refused when the scene is loaded
+            }
+            add(mtl);
+            try {
+                for (const MtlMaterial& m : load_mtl(mtl)) {
+                    for (const std::string* name :
+                         {&m.kd_map, &m.roughness_map, &m.bump_map, &m.normal_map}) {
+                        if (name->empty()) continue;
+                        try {
+                            add(confined_path(mtl, "map", *name, folder));
+                        } catch (const Error&) {
+                        }
+                    }
+                }
+            } catch (const Error&) {
+                // A malformed MTL: its own message when the scene is loaded.
+            }
+        }
+    } catch (const Error&) {
+        // An OBJ that cannot be read: its own message when the scene is loaded.
+    }
+    return files;
+}
 
 Scene make_obj_render_scene(const ObjModel& model, const ObjBakeSettings& settings,
                             ObjSceneReport* report) {

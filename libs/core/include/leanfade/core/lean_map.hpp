@@ -450,7 +450,8 @@ PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Ima
                                 const std::string& generator, const std::string& source_name = "",
                                 const MomentRunSink& moments = {});
 // The same from integer samples (an 8- or 16-bit file's, half the memory of the float image):
-// exactly the bytes and summary of bake_packed_to(open_output, input.to_float(), ...).
+// exactly the bytes and summary of bake_packed_to(open_output, input.to_float(), ...) with
+// options.source_max_code = input.effective_max_code(...) (the plateau layer depends on it).
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name = "",

@@ -89,4 +89,11 @@ struct ObjSceneReport {
 Scene make_obj_render_scene(const ObjModel& model, const ObjBakeSettings& settings,
                             ObjSceneReport* report = nullptr);
 
+// The files the OBJ file at `path` makes a run read: its mtllib files and the textures they
+// name (map_Kd, map_Pr, map_Bump / bump, norm), as paths inside the OBJ's folder, where
+// make_obj_render_scene reads them: inputs of the run, which its outputs may not replace. Never
+// throws: a file that cannot be read or parsed, or a name make_obj_render_scene refuses, gives
+// the files found so far (loading the scene then names the cause).
+std::vector<std::string> obj_referenced_files(const std::string& path);
+
 }  // namespace leanfade::scene
