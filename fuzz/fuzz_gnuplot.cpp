@@ -143,9 +143,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 cases.push_back(c);
             }
     const std::vector<Line> plots = parse_script(leanfade::eval::plots_script(cases, shininesses));
-    std::size_t plot_lines = 0;
-    for (const Line& line : plots) plot_lines += line.command == "plot" ? 1 : 0;
-    if (plot_lines != 4 * shininesses.size()) finding();  // a name did not add a command
+    // One picture per metric (a "set output"), one plot per shininess in each: any other count
+    // means a string added or cut a command.
+    std::size_t plot_lines = 0, outputs = 0;
+    for (const Line& line : plots) {
+        plot_lines += line.command == "plot" ? 1 : 0;
+        outputs += line.command == "set" && !line.file_position.empty() && line.file_position[0];
+    }
+    if (outputs == 0 || plot_lines != outputs * shininesses.size()) finding();
 
     // calibrate's plot: the target's name, the plot and data file names.
     const std::string target = in.ConsumeRandomLengthString(64);
