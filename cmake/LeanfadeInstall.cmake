@@ -237,10 +237,15 @@ install(TARGETS ${LEANFADE_EXPORTED_CORE} EXPORT leanfadeTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS ${LEANFADE_EXPORTED_GL} EXPORT leanfadeGlTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-# The OpenImageIO module libs/io loads with dlopen (JPEG, TGA, TIFF, ...) where it looks in an
-# installed tree: <bin>/../lib/leanfade (libs/io/src/oiio_formats.cpp).
+# The OpenImageIO module libs/io loads with dlopen (JPEG, TGA, TIFF, ...), in <prefix>/lib/leanfade:
+# found beside the code that loads it, or by name on the run path that the package gives the
+# programs linking it (leanfade::io's INTERFACE_LINK_OPTIONS; leanfade.pc's Libs).
+set(LEANFADE_PC_MODULE_RPATH "")
 if(TARGET leanfade_io_oiio)
   install(TARGETS leanfade_io_oiio LIBRARY DESTINATION lib/leanfade)
+  if(CMAKE_EXECUTABLE_FORMAT STREQUAL "ELF")
+    set(LEANFADE_PC_MODULE_RPATH "-Wl,-rpath,\${prefix}/lib/leanfade")
+  endif()
 endif()
 install(EXPORT leanfadeTargets NAMESPACE leanfade:: DESTINATION ${LEANFADE_INSTALL_CMAKE_DIR})
 install(EXPORT leanfadeGlTargets NAMESPACE leanfade:: DESTINATION ${LEANFADE_INSTALL_CMAKE_DIR})

@@ -80,7 +80,15 @@ macro(leanfade_configure_libraries)
     if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
       target_compile_options(${target} PRIVATE -fno-gnu-unique)
     endif()
+    # C++20 is a usage requirement: a consumer that sets no standard compiles the headers with it.
+    target_compile_features(${target} PUBLIC cxx_std_20)
     get_target_property(_leanfade_type ${target} TYPE)
+    if(NOT _leanfade_type STREQUAL "SHARED_LIBRARY")
+      # Static: the library's own symbols are hidden, so that a shared object linking it (an
+      # engine plugin) does not export them; within the program or plugin they link as usual.
+      set_target_properties(${target} PROPERTIES CXX_VISIBILITY_PRESET hidden
+                            VISIBILITY_INLINES_HIDDEN ON)
+    endif()
     if(_leanfade_type STREQUAL "SHARED_LIBRARY")
       if(CMAKE_EXECUTABLE_FORMAT STREQUAL "ELF")
         target_link_options(${target} PRIVATE

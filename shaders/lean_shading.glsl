@@ -11,10 +11,16 @@
 #ifndef LF_FN
 #define LF_FN
 #endif
-// A struct member's default value: `= value` in C++ (so that a C++ LfParams built field by field
-// starts from the defaults), nothing in GLSL, whose structs have no initialisers.
+// A struct member's default value: `= value` in C++, nothing in GLSL, whose structs have no
+// initialisers. In C++ a default-constructed LfShadingUniforms is a valid block: the parameter
+// table's defaults (ShadingSettings{}, through to_lf_params), sc 1 and the offset encoding, no
+// fog, no surface maps, identity texture coordinate transforms of set 0, opaque and one-sided.
 #ifndef LF_DEFAULT
 #define LF_DEFAULT(value)
+#endif
+// The identity transforms of LfShadingUniforms::uv_transforms in C++ (leanfade/core/shading.hpp).
+#ifndef LF_UV_TRANSFORMS_IDENTITY
+#define LF_UV_TRANSFORMS_IDENTITY
 #endif
 
 const float LF_PI = 3.14159265358979f;
@@ -82,41 +88,42 @@ const int LF_UV_TRANSFORM_COUNT = 7;
 // §3.9.2-3.9.5 and KHR_materials_anisotropy). All 0 for other materials: no metalness beyond the
 // frame's (in LfParams already), no occlusion, no emission, no anisotropy.
 struct LfMaterialFactors {
-    vec3 emissive;              // emissiveFactor, linear RGB radiance
-    float metallic;             // metallicFactor in [0, 1]
-    vec2 anisotropy_rotation;   // (cos, sin) of anisotropyRotation (counter-clockwise from +u)
-    float anisotropy_strength;  // anisotropyStrength in [0, 1]
-    float occlusion_strength;   // occlusionTexture.strength in [0, 1]
+    vec3 emissive LF_DEFAULT(vec3(0.0f));  // emissiveFactor, linear RGB radiance
+    float metallic LF_DEFAULT(0.0f);       // metallicFactor in [0, 1]
+    // (cos, sin) of anisotropyRotation (counter-clockwise from +u)
+    vec2 anisotropy_rotation LF_DEFAULT(vec2(1.0f, 0.0f));
+    float anisotropy_strength LF_DEFAULT(0.0f);  // anisotropyStrength in [0, 1]
+    float occlusion_strength LF_DEFAULT(0.0f);   // occlusionTexture.strength in [0, 1]
 };
 
 // Everything the fragment stage of the renderer reads per draw, as one std140 uniform block
 // (binding LF_BINDING_SHADING_BLOCK, shaders/bindings.glsl).
 struct LfShadingUniforms {
-    LfParams params;
-    float scale;        // sc of the LEAN map (docs/math.md §3)
-    int output_mode;    // OUTPUT_* of scene.frag
-    int fog_mode;       // LF_FOG_*
-    float fog_start;    // world units
-    vec3 fog_color;     // linear RGB
-    float fog_end;      // world units
-    float fog_density;  // per world unit
-    int maps;           // LF_MAP_* bits of the material's surface maps the shader reads
-                        // (shaders/bindings.glsl); with LF_MAP_BASE_ROUGHNESS Cook-Torrance's
-                        // base roughness comes per texel from the map's alpha0^2, not from
-                        // params.inv_s_shading
+    LfParams params LF_DEFAULT(lf_default_params());
+    float scale LF_DEFAULT(1.0f);  // sc of the LEAN map (docs/math.md §3)
+    int output_mode LF_DEFAULT(0);  // OUTPUT_* of scene.frag (0: OUTPUT_COLOR)
+    int fog_mode LF_DEFAULT(to_shader_constant(ShadingSettings{}.fog));  // LF_FOG_*
+    float fog_start LF_DEFAULT(ShadingSettings{}.fog_start);  // world units
+    vec3 fog_color LF_DEFAULT(ShadingSettings{}.fog_color);  // linear RGB
+    float fog_end LF_DEFAULT(ShadingSettings{}.fog_end);  // world units
+    float fog_density LF_DEFAULT(ShadingSettings{}.fog_density);  // per world unit
+    // LF_MAP_* bits of the material's surface maps the shader reads (shaders/bindings.glsl); with
+    // LF_MAP_BASE_ROUGHNESS Cook-Torrance's base roughness comes per texel from the map's
+    // alpha0^2, not from params.inv_s_shading.
+    int maps LF_DEFAULT(0);
     // Geometric specular antialiasing (docs/math.md §11): the clamp kappa of the pixel
     // footprint's alpha^2 (lf_footprint_covariance), read by the shaders compiled with
     // LF_GEOMETRIC_AA.
-    float geometric_aa_kappa;
+    float geometric_aa_kappa LF_DEFAULT(ShadingSettings{}.geometric_aa_kappa);
     // glTF alphaMode MASK: a fragment whose base colour alpha times base_alpha is below
     // alpha_cutoff is discarded; alpha_cutoff < 0: opaque (every other material).
-    float alpha_cutoff;
-    float base_alpha;  // the material's base colour factor's alpha
+    float alpha_cutoff LF_DEFAULT(-1.0f);
+    float base_alpha LF_DEFAULT(1.0f);  // the material's base colour factor's alpha
     // glTF alphaMode BLEND: 1 makes the output's alpha the base colour's (texture times
     // base_alpha), blended over what is behind; 0: alpha 1 (opaque).
-    float blend;
+    float blend LF_DEFAULT(0.0f);
     // glTF doubleSided: 1 shades back faces with the reversed frame; 0: as front faces.
-    float double_sided;
+    float double_sided LF_DEFAULT(0.0f);
     // The LEAN map's offset o (lf_unpack): 1 for the offset encoding (UNORM maps, and float maps
     // of leanfade 0.1), 0 for the signed encoding of float maps (LEANFADElayout "... v2").
     float lean_offset LF_DEFAULT(1.0f);
@@ -125,7 +132,7 @@ struct LfShadingUniforms {
     // uv' = (dot(r0.xy, uv) + r0.z, dot(r1.xy, uv) + r1.z) in leanfade's uv (v up), uv the
     // texture coordinate set r0.w names (0: the mesh's set 0, 1: its set 1, a glTF texture
     // reference's texCoord); the identity of set 0 for other materials.
-    vec4 uv_transforms[2 * LF_UV_TRANSFORM_COUNT];
+    vec4 uv_transforms[2 * LF_UV_TRANSFORM_COUNT] LF_UV_TRANSFORMS_IDENTITY;
     LfMaterialFactors material;  // the glTF material's factors (zero for other materials)
 };
 
@@ -245,9 +252,9 @@ const int LF_MIXING_APPROX = 2;    // lf_cross_products of the filtered, strengt
 struct LfLayerUniforms {
     vec4 weights;     // t_0..t_3, sum 1 (0 for absent layers)
     vec4 strengths;   // k_0..k_3 (k < 0 flips a layer)
-    vec4 scales;      // sc of each layer's LEAN map (docs/math.md §3)
+    vec4 scales LF_DEFAULT(vec4(1.0f));  // sc of each layer's LEAN map (docs/math.md §3)
     vec4 lean_offsets LF_DEFAULT(vec4(1.0f));  // o of each layer's LEAN map (lf_unpack)
-    vec4 tilings;     // repeats of each layer per unit of the surface's tiled uv
+    vec4 tilings LF_DEFAULT(vec4(1.0f));  // repeats of each layer per unit of the surface's tiled uv
     vec4 offsets[2];  // uv offsets: (u_0, v_0, u_1, v_1), (u_2, v_2, u_3, v_3)
     int count;        // 2..4 layers
     int mixing;       // LF_MIXING_*

@@ -4,8 +4,9 @@
 // Built by examples/consumer/CMakeLists.txt (find_package) and examples/consumer/Makefile
 // (pkg-config); run by the test `package.InstallAndConsume` (tests/package).
 //
-// Usage: consumer OUTPUT_FOLDER   (writes OUTPUT_FOLDER/consumer.ktx2). Exit 0 when every check
-// holds, 1 with a message naming the first that does not.
+// Usage: consumer OUTPUT_FOLDER [IMAGE]   (writes OUTPUT_FOLDER/consumer.ktx2; with IMAGE, also
+// reads and bakes that file, e.g. a DDS, which the package's OpenImageIO module decodes). Exit 0
+// when every check holds, 1 with a message naming the first that does not.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -52,11 +53,21 @@ bool same_levels(const leanfade::PackedLeanMap& a, const leanfade::PackedLeanMap
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: consumer OUTPUT_FOLDER\n");
+    if (argc != 2 && argc != 3) {
+        std::fprintf(stderr, "usage: consumer OUTPUT_FOLDER [IMAGE]\n");
         return 2;
     }
     const std::string file = std::string(argv[1]) + "/consumer.ktx2";
+#ifdef CONSUMER_PACKAGE_VERSION
+    // The installed header and the package that CMake found are the same version.
+    if (std::string(LEANFADE_VERSION_STRING) != CONSUMER_PACKAGE_VERSION) {
+        std::fprintf(stderr, "consumer: FAILED: leanfade/version.hpp says %s, the package %s\n",
+                     LEANFADE_VERSION_STRING, CONSUMER_PACKAGE_VERSION);
+        return 1;
+    }
+#endif
+    static_assert(LEANFADE_VERSION_MAJOR >= 0 && LEANFADE_VERSION_MINOR >= 0 &&
+                  LEANFADE_VERSION_PATCH >= 0);
     try {
         // Bake in memory: 16-bit UNORM layers, every MIP level (docs/math.md §3).
         const int width = 96, height = 40;
@@ -121,11 +132,27 @@ int main(int argc, char** argv) {
         check(shade.diffuse.x > 0.0f && shade.diffuse.x <= 0.5f + 1e-6f,
               "the diffuse term is Kd NdotL, in (0, Kd]");
 
+        // A file in a format of the OpenImageIO module (DDS, JPEG, TGA, ...): the package finds
+        // the module wherever it is installed (docs/integration.md).
+        std::string read_back;
+        if (argc == 3) {
+            const leanfade::Image image = leanfade::io::read_image(argv[2]);
+            const leanfade::PackedBakeResult from_file =
+                leanfade::bake_packed(image, leanfade::BakeSource::Auto, leanfade::BakeOptions{},
+                                      leanfade::Storage::Unorm16, "leanfade consumer example");
+            check(from_file.packed.levels.size() ==
+                      std::size_t(leanfade::mip_level_count(image.width, image.height)),
+                  "the bake of the file has every MIP level");
+            read_back = ", " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                        " read from " + argv[2];
+        }
+
         std::printf(
-            "consumer: %dx%d map, %zu levels, sc %.4f, KTX2 %zu bytes, LEAN specular "
-            "%.4f: %s\n",
-            width, height, map.levels.size(), double(map.scale), bytes.size(),
-            double(shade.specular.x), failures == 0 ? "ok" : "FAILED");
+            "consumer: leanfade %s, %dx%d map, %zu levels, sc %.4f, KTX2 %zu bytes, LEAN "
+            "specular %.4f%s: %s\n",
+            LEANFADE_VERSION_STRING, width, height, map.levels.size(), double(map.scale),
+            bytes.size(), double(shade.specular.x), read_back.c_str(),
+            failures == 0 ? "ok" : "FAILED");
     } catch (const leanfade::Error& e) {
         std::fprintf(stderr, "consumer: %s\n", e.what());
         return 1;

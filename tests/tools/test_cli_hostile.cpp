@@ -29,13 +29,14 @@
 #include <vector>
 
 #include "hostile_bytes.hpp"
-#include "tools_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/version.hpp"
+#include "tools_test_helpers.hpp"
 
 using namespace leanfade;
 using test::shell_quote;

@@ -15,6 +15,7 @@
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -11,6 +11,7 @@
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

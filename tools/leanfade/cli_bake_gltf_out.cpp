@@ -27,6 +27,7 @@
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

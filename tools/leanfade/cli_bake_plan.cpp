@@ -12,6 +12,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/io/png_io.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -8,6 +8,7 @@
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 

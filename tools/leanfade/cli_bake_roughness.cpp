@@ -7,6 +7,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

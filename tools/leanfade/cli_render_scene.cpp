@@ -24,6 +24,7 @@
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/obj_loader.hpp"
 #include "leanfade/scene/scene.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -7,9 +7,9 @@
 #include <memory>
 
 #include "cli_bench_bake.hpp"
+#include "cli_bench_layers.hpp"
 #include "cli_bench_report.hpp"
 #include "cli_render_options.hpp"
-#include "cli_bench_layers.hpp"
 #include "cli_render_scene.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
@@ -22,6 +22,7 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/scene.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

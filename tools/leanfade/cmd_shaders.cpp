@@ -16,6 +16,7 @@
 #include "leanfade/gl/shading_block.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/output_plan.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <utility>
+#include <vector>
 
 #include "app.hpp"
 #include "backends/imgui_impl_glfw.h"
@@ -43,12 +44,16 @@ bool contains_any(std::string text, std::initializer_list<const char*> words) {
     return false;
 }
 
-// The shader folder: the one asked for, ./shaders of a checkout, the source tree the binary was
-// built from, or none (the built-in copies).
+// The shader folder (edited live): the one asked for, ./shaders of a checkout, the installed
+// tree's <program>/../share/leanfade/shaders (in the build tree, a link to the sources), or none
+// (the built-in copies).
 gl::ShaderSources choose_shaders(const std::string& requested) {
     if (!requested.empty()) return gl::ShaderSources::directory(requested);
     std::error_code ec;
-    for (const fs::path& folder : {fs::path("shaders"), fs::path(LEANFADE_SOURCE_DIR) / "shaders"})
+    std::vector<fs::path> folders{fs::path("shaders")};
+    const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) folders.push_back(program.parent_path() / ".." / "share" / "leanfade" / "shaders");
+    for (const fs::path& folder : folders)
         if (fs::is_regular_file(folder / "lean_shading.glsl", ec) &&
             fs::is_regular_file(folder / "scene.frag", ec))
             return gl::ShaderSources::directory(folder.string());

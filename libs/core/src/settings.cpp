@@ -8,6 +8,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parameters.hpp"
+#include "leanfade/core/shading.hpp"
 
 namespace leanfade {
 void validate(const ShadingSettings& s) {
@@ -48,6 +49,10 @@ shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
         p.kd = s.kd * (1.0f - s.metallic);
     }
     return p;
+}
+
+shading::LfParams shading::lf_default_params() {
+    return to_lf_params(ShadingSettings{}, false);
 }
 
 int to_shader_constant(FadeDistance mode) {

@@ -72,7 +72,9 @@ VariantKey variant_for(const RenderRequest& request) {
 
 LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_baked, float map_scale,
                                    float map_offset, OutputMode output) {
-    LfShadingUniforms block{};
+    // The defaults (shaders/lean_shading.glsl: identity uv transforms of set 0, opaque, one-sided,
+    // no surface maps or glTF factors) and what the settings and the map set (docs/integration.md).
+    LfShadingUniforms block;
     block.params = to_lf_params(s, roughness_baked);
     block.scale = map_scale;
     block.lean_offset = map_offset;
@@ -83,21 +85,6 @@ LfShadingUniforms shading_uniforms(const ShadingSettings& s, bool roughness_bake
     block.fog_end = s.fog_end;
     block.fog_density = s.fog_density;
     block.geometric_aa_kappa = s.geometric_aa_kappa;
-    block.maps = 0;
-    block.alpha_cutoff = -1.0f;  // opaque
-    block.base_alpha = 1.0f;
-    block.blend = 0.0f;
-    block.double_sided = 0.0f;
-    for (int t = 0; t < shading::LF_UV_TRANSFORM_COUNT; ++t) {  // identity transforms of set 0
-        block.uv_transforms[2 * t] = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
-        block.uv_transforms[2 * t + 1] = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
-    }
-    // No glTF factors: no metalness beyond the frame's, no occlusion, emission or anisotropy.
-    block.material.emissive = glm::vec3(0.0f);
-    block.material.metallic = 0.0f;
-    block.material.anisotropy_rotation = glm::vec2(1.0f, 0.0f);
-    block.material.anisotropy_strength = 0.0f;
-    block.material.occlusion_strength = 0.0f;
     return block;
 }
 

@@ -13,6 +13,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::io {
 namespace {

@@ -19,6 +19,7 @@
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/io/atomic_file.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::io {
 

@@ -191,18 +191,34 @@ bool is_bmp(const std::vector<std::uint8_t>& head) {
            info == 124;
 }
 
-// The module: where the build put it, then <executable's folder>/../lib/leanfade/ (an installed
-// tree), then the library search path. Loaded once; a failure is reported on every use.
+// The module, found relative to the code that loads it, never by a path of the build:
+// - beside the object holding this function (dladdr): <lib>/leanfade/ of a shared libleanfade_io,
+//   and <bin>/../lib/leanfade/ of a program (the installed `leanfade`, or an engine that links
+//   the static library from its own tree);
+// - by its file name: the run path of the program (the package puts <prefix>/lib/leanfade on the
+//   run path of what links it; the build tree puts libs/io on its targets'), LD_LIBRARY_PATH.
+// Loaded once; a failure is reported on every use.
 const OiioModule* load_module(std::string& failure) {
-    std::vector<std::string> candidates{LEANFADE_IO_OIIO_MODULE_BUILD_PATH};
-    std::error_code error;
-    const std::filesystem::path executable = std::filesystem::read_symlink("/proc/self/exe", error);
-    if (!error) {
-        candidates.push_back(
-            (executable.parent_path() / ".." / "lib" / "leanfade" / kOiioModuleFileName).string());
+    std::vector<std::string> candidates;
+    // The object's file: glibc names the main program by its argv[0], which may be relative, so
+    // that one is /proc/self/exe.
+    std::filesystem::path object;
+    Dl_info self{};
+    if (::dladdr(reinterpret_cast<const void*>(&load_module), &self) != 0 &&
+        self.dli_fname != nullptr && self.dli_fname[0] == '/')
+        object = self.dli_fname;
+    std::error_code no_link;
+    if (object.empty()) object = std::filesystem::read_symlink("/proc/self/exe", no_link);
+    if (!object.empty()) {
+        const std::filesystem::path folder = object.parent_path();
+        candidates.push_back((folder / "leanfade" / kOiioModuleFileName).string());
+        candidates.push_back((folder / ".." / "lib" / "leanfade" / kOiioModuleFileName).string());
     }
     candidates.emplace_back(kOiioModuleFileName);
     for (const std::string& candidate : candidates) {
+        std::error_code error;
+        const bool by_name = candidate == kOiioModuleFileName;
+        if (!by_name && !std::filesystem::exists(candidate, error)) continue;
         void* handle = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (handle == nullptr) {
             const char* message = ::dlerror();

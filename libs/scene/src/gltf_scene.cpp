@@ -7,12 +7,13 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/image_io.hpp"
-#include "leanfade/io/ktx2.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/text.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/version.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

@@ -17,6 +17,7 @@
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/version.hpp"
 
 #include <openssl/evp.h>
 

@@ -12,6 +12,7 @@
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/version.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

@@ -10,6 +10,7 @@
 #include "leanfade/core/flow_map.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/scene/generators.hpp"
+#include "leanfade/version.hpp"
 
 namespace leanfade::scene {
 namespace {

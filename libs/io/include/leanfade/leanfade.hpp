@@ -14,6 +14,7 @@
 //                    (shaders/lean_shading.glsl), compiled as C++ with glm.
 //   Techniques       leanfade::kTechniques: each technique's LF_TECHNIQUE_* value and the
 //                    textures it reads.
+//   Version          LEANFADE_VERSION_MAJOR / _MINOR / _PATCH / _STRING (leanfade/version.hpp).
 // Every failure throws leanfade::Error (what(): "<file or setting>: <cause>").
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
@@ -22,3 +23,4 @@
 #include "leanfade/core/technique.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/version.hpp"

@@ -13,9 +13,11 @@
 
 #include <glm/vec3.hpp>
 
-#include "leanfade/core/shading.hpp"
-
 namespace leanfade {
+
+namespace shading {
+struct LfParams;  // shaders/lean_shading.glsl, leanfade/core/shading.hpp
+}  // namespace shading
 
 // Distance measure d of specular fading (docs/math.md §4).
 enum class FadeDistance {
