@@ -6,9 +6,11 @@
 // command about 130 MB of resident memory and 0.6 s of CPU time at start-up, before any image is
 // read. Loaded with dlopen, only a command that reads such a file pays it.
 #include <dlfcn.h>
+#include <link.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -195,7 +197,8 @@ bool is_bmp(const std::vector<std::uint8_t>& head) {
 // - beside the object holding this function (dladdr): <lib>/leanfade/ of a shared libleanfade_io,
 //   and <bin>/../lib/leanfade/ of a program (the installed `leanfade`, or an engine that links
 //   the static library from its own tree);
-// - by its file name: the run path of the program (the package puts <prefix>/lib/leanfade on the
+// - in the run path and library path of that object (dlinfo), then by its file name: the run
+//   path of the program (the package puts <prefix>/lib/leanfade on the
 //   run path of what links it; the build tree puts libs/io on its targets'), LD_LIBRARY_PATH.
 // Loaded once; a failure is reported on every use.
 const OiioModule* load_module(std::string& failure) {
@@ -213,6 +216,30 @@ const OiioModule* load_module(std::string& failure) {
         const std::filesystem::path folder = object.parent_path();
         candidates.push_back((folder / "leanfade" / kOiioModuleFileName).string());
         candidates.push_back((folder / ".." / "lib" / "leanfade" / kOiioModuleFileName).string());
+    }
+    // The run path and library path of that object, as the dynamic linker would search them for
+    // its own dlopen by name (RTLD_DI_SERINFO). Searched here explicitly: a dlopen intercepted by
+    // a sanitizer runtime searches the runtime's run path, not the program's.
+    // (glibc's handles are link maps: the one dladdr1 gives is the object's handle.)
+    Dl_info info{};
+    link_map* self_map = nullptr;
+    if (::dladdr1(reinterpret_cast<const void*>(&load_module), &info,
+                  reinterpret_cast<void**>(&self_map), RTLD_DL_LINKMAP) != 0 &&
+        self_map != nullptr) {
+        Dl_serinfo size{};
+        if (::dlinfo(self_map, RTLD_DI_SERINFOSIZE, &size) == 0 && size.dls_cnt > 0) {
+            std::vector<std::max_align_t> storage(size.dls_size / sizeof(std::max_align_t) + 1);
+            auto* paths = reinterpret_cast<Dl_serinfo*>(storage.data());
+            if (::dlinfo(self_map, RTLD_DI_SERINFOSIZE, paths) == 0 &&
+                ::dlinfo(self_map, RTLD_DI_SERINFO, paths) == 0) {
+                for (unsigned i = 0; i < paths->dls_cnt; ++i) {
+                    const char* folder = paths->dls_serpath[i].dls_name;
+                    if (folder != nullptr && folder[0] == '/')
+                        candidates.push_back(
+                            (std::filesystem::path(folder) / kOiioModuleFileName).string());
+                }
+            }
+        }
     }
     candidates.emplace_back(kOiioModuleFileName);
     for (const std::string& candidate : candidates) {
