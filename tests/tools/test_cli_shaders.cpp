@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <algorithm>
 #include <set>
 #include <sstream>
 #include <string>
@@ -223,7 +224,8 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
         {"LfShadingBlock", mirror_members(gl::shading_block_members())},
         {"LfObjectBlock", mirror_members(gl::object_block_members())},
         {"LfLayerBlock", mirror_members(gl::layer_block_members())}};
-    nlohmann::json vertex_outputs;
+    nlohmann::json vertex_outputs, vertex_inputs;
+    std::set<int> sampled;  // every sampler binding some variant reads
     std::size_t before = 0, after = 0;
     for (const auto& s : e.index["shaders"]) {
         const fs::path file = e.folder / s["file"].get<std::string>();
@@ -252,6 +254,7 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                 EXPECT_EQ(res["array_size"], 1);
             } else {
                 EXPECT_EQ(res["descriptor_type"], "combined_image_sampler") << name;
+                sampled.insert(res["binding"].get<int>());
                 EXPECT_EQ(res["array_size"], name == "u_layer_maps" ? 4 : 1) << name;
                 const bool two_d = name == "u_base_color" || name == "u_base_roughness" ||
                                    name == "u_layer_weights" || name == "u_plateau" ||
@@ -275,6 +278,7 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                 EXPECT_EQ(inputs[i]["format"], formats[i]);
             }
             vertex_outputs = r["outputs"];
+            vertex_inputs = inputs;
             EXPECT_EQ(vertex_outputs.size(), 5u);  // VertexData; gl_Position is a built-in
             continue;
         }
@@ -291,6 +295,38 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                   variant.find("_layered") == std::string::npos ? 1u : 0u)
             << file;
     }
+    // The index's vertex layout is the vertex stage's interface: each attribute at its location
+    // with the reflected format's component count, interleaved in one binding of 56 bytes.
+    const auto& layout = e.index["vertex_layout"];
+    EXPECT_EQ(layout["stride"], 56);
+    ASSERT_EQ(layout["attributes"].size(), vertex_inputs.size());
+    std::size_t offset = 0;
+    for (std::size_t i = 0; i < vertex_inputs.size(); ++i) {
+        const auto& a = layout["attributes"][i];
+        EXPECT_EQ(a["location"], vertex_inputs[i]["location"]);
+        EXPECT_EQ("a_" + a["name"].get<std::string>(), vertex_inputs[i]["name"]);
+        const std::string format = vertex_inputs[i]["format"];
+        const int components = int(std::count(format.begin(), format.end(), '3'));  // R32G32..
+        EXPECT_EQ(a["components"], components) << format;
+        EXPECT_EQ(a["offset"], offset);
+        offset += 4 * a["components"].get<std::size_t>();
+    }
+    EXPECT_EQ(offset, 56u);
+    // The index's surface maps: distinct bits of u_shading.maps, each bound where some variant
+    // samples it, with a uv transform slot and what to bind in its absence.
+    int bits = 0;
+    for (const auto& m : e.index["maps"]) {
+        const int bit = m["maps_bit"];
+        EXPECT_EQ(bit & (bit - 1), 0) << m.dump();
+        EXPECT_EQ(bits & bit, 0) << m.dump();
+        bits |= bit;
+        EXPECT_EQ(sampled.count(m["binding"].get<int>()), 1u) << m.dump();
+        EXPECT_GE(m["uv_transform"].get<int>(), 0);
+        EXPECT_LT(m["uv_transform"].get<int>(), 7);
+        EXPECT_FALSE(m["when_absent"].get<std::string>().empty());
+    }
+    EXPECT_EQ(e.index["maps"].size(), 8u);
+
     // The whole set: optimisation takes out most of what glslang writes.
     EXPECT_LT(after * 3, before) << after << " of " << before << " bytes";
     EXPECT_NE(e.index["optimizer"].get<std::string>().find("spirv-opt -O"), std::string::npos);

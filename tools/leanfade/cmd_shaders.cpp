@@ -1,5 +1,6 @@
 // leanfade shaders: the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL),
 // one file per stage and variant, and an index (shaders.json). docs/integration.md.
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -16,6 +17,8 @@
 #include "leanfade/gl/shading_block.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/output_plan.hpp"
+#include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/scene/mesh.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {
@@ -133,6 +136,49 @@ nlohmann::json defaults_json() {
          "uploaded bottom first (+v up)"}};
 }
 
+// The surface maps a variant may sample, from the map-kind table (leanfade/scene/map_kinds.hpp):
+// where each is bound, its bit in u_shading.maps and its slot of u_shading.uv_transforms, and what
+// to bind when a material has none.
+nlohmann::json maps_json() {
+    nlohmann::json list = nlohmann::json::array();
+    for (const scene::MapKindInfo& m : scene::kMapKinds) {
+        list.push_back(
+            {{"name", std::string(m.name)},
+             {"binding", m.binding},
+             {"maps_bit", m.mask_bit},
+             {"uv_transform", m.uv_transform},
+             {"channels", m.channels},
+             {"format", m.format == scene::MapFormat::R32f ? "R32F" : "RGBA16F"},
+             {"cook_torrance_only", m.cook_torrance_only},
+             {"when_absent",
+              m.fallback == scene::MapFallback::White
+                  ? "bind a 1x1 white texture (a factor of 1); the bit may stay 0"
+                  : "keep the bit 0 and bind any texture of the sampler's type where the "
+                    "variant's reflection lists the binding: it is not sampled"},
+             {"gltf_source", std::string(m.gltf_source)},
+             {"meaning", std::string(m.meaning)}});
+    }
+    return list;
+}
+
+// The vertex input every variant's vertex stage reads (scene::Vertex), one interleaved binding.
+nlohmann::json vertex_layout_json() {
+    auto attribute = [](int location, const char* name, int components, std::size_t offset) {
+        return nlohmann::json{{"location", location},
+                              {"name", name},
+                              {"components", components},
+                              {"type", "float32"},
+                              {"offset", offset}};
+    };
+    return {{"stride", sizeof(scene::Vertex)},
+            {"attributes",
+             {attribute(0, "position", 3, offsetof(scene::Vertex, position)),
+              attribute(1, "normal", 3, offsetof(scene::Vertex, normal)),
+              attribute(2, "uv", 2, offsetof(scene::Vertex, uv)),
+              attribute(3, "tangent", 4, offsetof(scene::Vertex, tangent)),
+              attribute(4, "uv1", 2, offsetof(scene::Vertex, uv1))}}};
+}
+
 nlohmann::json index_json(gl::ShaderLanguage language,
                           const std::vector<gl::ExportedShader>& shaders) {
     nlohmann::json j;
@@ -165,6 +211,8 @@ nlohmann::json index_json(gl::ShaderLanguage language,
     }
     j["shaders"] = list;
     j["defaults"] = defaults_json();
+    j["maps"] = maps_json();
+    j["vertex_layout"] = vertex_layout_json();
     return j;
 }
 
