@@ -19,6 +19,7 @@
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/map_kinds.hpp"
 #include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/vertex_layout.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {
@@ -163,20 +164,14 @@ nlohmann::json maps_json() {
 
 // The vertex input every variant's vertex stage reads (scene::Vertex), one interleaved binding.
 nlohmann::json vertex_layout_json() {
-    auto attribute = [](int location, const char* name, int components, std::size_t offset) {
-        return nlohmann::json{{"location", location},
-                              {"name", name},
-                              {"components", components},
+    nlohmann::json attributes = nlohmann::json::array();
+    for (const scene::VertexAttribute& a : scene::kVertexAttributes)
+        attributes.push_back({{"location", a.location},
+                              {"name", a.name},
+                              {"components", a.components},
                               {"type", "float32"},
-                              {"offset", offset}};
-    };
-    return {{"stride", sizeof(scene::Vertex)},
-            {"attributes",
-             {attribute(0, "position", 3, offsetof(scene::Vertex, position)),
-              attribute(1, "normal", 3, offsetof(scene::Vertex, normal)),
-              attribute(2, "uv", 2, offsetof(scene::Vertex, uv)),
-              attribute(3, "tangent", 4, offsetof(scene::Vertex, tangent)),
-              attribute(4, "uv1", 2, offsetof(scene::Vertex, uv1))}}};
+                              {"offset", a.offset}});
+    return {{"stride", sizeof(scene::Vertex)}, {"attributes", attributes}};
 }
 
 nlohmann::json index_json(gl::ShaderLanguage language,

@@ -11,6 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/shading_block.hpp"
+#include "leanfade/scene/vertex_layout.hpp"
 #include "renderer_internal.hpp"
 
 namespace leanfade::gl {
@@ -160,19 +161,12 @@ Renderer::GpuObject Renderer::upload_object(const scene::Mesh& mesh, int materia
     const GLuint vao = object.vertex_array.get();
     glVertexArrayVertexBuffer(vao, 0, object.vertices.get(), 0, sizeof(scene::Vertex));
     glVertexArrayElementBuffer(vao, object.indices.get());
-    const struct {
-        GLuint location;
-        GLint size;
-        std::size_t offset;
-    } attributes[] = {{0, 3, offsetof(scene::Vertex, position)},
-                      {1, 3, offsetof(scene::Vertex, normal)},
-                      {2, 2, offsetof(scene::Vertex, uv)},
-                      {3, 4, offsetof(scene::Vertex, tangent)},
-                      {4, 2, offsetof(scene::Vertex, uv1)}};
-    for (const auto& a : attributes) {
-        glEnableVertexArrayAttrib(vao, a.location);
-        glVertexArrayAttribFormat(vao, a.location, a.size, GL_FLOAT, GL_FALSE, GLuint(a.offset));
-        glVertexArrayAttribBinding(vao, a.location, 0);
+    for (const scene::VertexAttribute& a : scene::kVertexAttributes) {
+        const GLuint location = GLuint(a.location);
+        glEnableVertexArrayAttrib(vao, location);
+        glVertexArrayAttribFormat(vao, location, a.components, GL_FLOAT, GL_FALSE,
+                                  GLuint(a.offset));
+        glVertexArrayAttribBinding(vao, location, 0);
     }
     context_.check("uploading mesh " + mesh.name);
     return object;

@@ -203,13 +203,16 @@ bool is_bmp(const std::vector<std::uint8_t>& head) {
 // Loaded once; a failure is reported on every use.
 const OiioModule* load_module(std::string& failure) {
     std::vector<std::string> candidates;
-    // The object's file: glibc names the main program by its argv[0], which may be relative, so
-    // that one is /proc/self/exe.
-    std::filesystem::path object;
+    // The object holding this function: its file and its link map (glibc's handles are link
+    // maps: the one dladdr1 gives is the object's handle).
     Dl_info self{};
-    if (::dladdr(reinterpret_cast<const void*>(&load_module), &self) != 0 &&
-        self.dli_fname != nullptr && self.dli_fname[0] == '/')
-        object = self.dli_fname;
+    link_map* self_map = nullptr;
+    const bool found = ::dladdr1(reinterpret_cast<const void*>(&load_module), &self,
+                                 reinterpret_cast<void**>(&self_map), RTLD_DL_LINKMAP) != 0;
+    // Its file: glibc names the main program by its argv[0], which may be relative, so that one
+    // is /proc/self/exe.
+    std::filesystem::path object;
+    if (found && self.dli_fname != nullptr && self.dli_fname[0] == '/') object = self.dli_fname;
     std::error_code no_link;
     if (object.empty()) object = std::filesystem::read_symlink("/proc/self/exe", no_link);
     if (!object.empty()) {
@@ -220,12 +223,7 @@ const OiioModule* load_module(std::string& failure) {
     // The run path and library path of that object, as the dynamic linker would search them for
     // its own dlopen by name (RTLD_DI_SERINFO). Searched here explicitly: a dlopen intercepted by
     // a sanitizer runtime searches the runtime's run path, not the program's.
-    // (glibc's handles are link maps: the one dladdr1 gives is the object's handle.)
-    Dl_info info{};
-    link_map* self_map = nullptr;
-    if (::dladdr1(reinterpret_cast<const void*>(&load_module), &info,
-                  reinterpret_cast<void**>(&self_map), RTLD_DL_LINKMAP) != 0 &&
-        self_map != nullptr) {
+    if (found && self_map != nullptr) {
         Dl_serinfo size{};
         if (::dlinfo(self_map, RTLD_DI_SERINFOSIZE, &size) == 0 && size.dls_cnt > 0) {
             std::vector<std::max_align_t> storage(size.dls_size / sizeof(std::max_align_t) + 1);
