@@ -14,6 +14,7 @@ packages=(
   libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev
   spirv-tools mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
   chromium
+  pybind11-dev python3-dev python3-numpy python3-distributed
 )
 # Node.js and npm for the WebGL2 example's server and its three.js, unless the machine already
 # has them (another Node.js installation conflicts with Debian's packages).

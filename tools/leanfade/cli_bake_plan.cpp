@@ -110,8 +110,7 @@ BakeSettings bake_settings(const BakeArgs& args) {
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float
     // (leanfade::StorageProbe; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
-    settings.storage.automatic = args.bits == "auto";
-    settings.storage.storage = parse_bake_storage(args.bits);
+    settings.storage = parse_storage_policy(args.bits);
     settings.read_options.max_dimension = args.max_size;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only
     settings.write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;

@@ -63,18 +63,11 @@ std::string first_inapplicable(const BakeArgs& args,
 // png for an -o named .png, else ktx2. Throws leanfade::Error(flag, cause).
 BakeArgs checked_bake_args(const BakeArgs& given);
 
-// How the LEAN maps are stored: `storage` first and, when `automatic` (--bits auto), baked again
-// in the storage leanfade::auto_storage picks (bake_with_auto_storage).
-struct StoragePolicy {
-    Storage storage = Storage::Unorm16;
-    bool automatic = false;
-};
-
 // What every bake of the run uses.
 struct BakeSettings {
     BakeOptions options;
     BakeSource source = BakeSource::Auto;  // of the input files (built-in sets are height maps)
-    StoragePolicy storage;
+    StoragePolicy storage;  // leanfade::StoragePolicy of --bits
     io::ReadOptions read_options;
     io::WriteOptions write_options;
 };

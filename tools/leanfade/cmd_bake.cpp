@@ -17,7 +17,6 @@
 #include "cli_bake_gltf_out.hpp"
 #include "cli_bake_plan.hpp"
 #include "cli_bake_plateau.hpp"
-#include "leanfade/core/plateau.hpp"
 #include "cli_bake_report.hpp"
 #include "cli_bake_roughness.hpp"
 #include "command.hpp"
@@ -116,24 +115,10 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
         return result;
     }
     result.output = job.outputs[0];
-    const std::string staged = result.staged = outputs.stage(result.output);
-    const auto [width, height] = std::visit(
-        [](const auto& image) { return std::pair<int, int>(image.width, image.height); }, input);
-    result.baked = bake_with_auto_storage(
-        settings.storage.storage, settings.storage.automatic, width, height,
-        [&](Storage s, const MomentRunSink& probe) {
-            return io::bake_to_ktx2(staged, input, kind, settings.options, s, generator_string(),
-                                    job.name, settings.write_options, both_sinks(moments, probe));
-        });
-    const LeanMapSummary& summary = result.baked.summary;
-    if (result.baked.packed.has_plateau() && summary.plateau_fraction == 0.0f) {
-        // Nothing flat: the file keeps no layer of zeros (a third of its bytes); two-lobe LEAN
-        // shades a map without the layer as LEAN, as it would this one.
-        PackedLeanMap map = io::read_ktx2(staged, settings.read_options);
-        remove_plateau_layer(map);
-        io::write_ktx2(staged, map, settings.write_options);
-        result.baked.packed.plateau_epsilon = 0.0f;
-    }
+    result.staged = outputs.stage(result.output);
+    result.baked = io::bake_image_to_ktx2(result.staged, input, kind, settings.options,
+                                          settings.storage, generator_string(), job.name,
+                                          settings.write_options, settings.read_options, moments);
     return result;
 }
 

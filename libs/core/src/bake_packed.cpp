@@ -25,6 +25,8 @@
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "bake_packed_kernels.hpp"
@@ -643,6 +645,43 @@ PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOp
                              const std::string& source_name, const MomentRunSink& moments) {
     PackedBakeResult result;
     bake_packed_into(result, input, source, options, storage, generator, source_name, moments);
+    return result;
+}
+
+StoragePolicy parse_storage_policy(std::string_view name, const std::string& setting) {
+    return {parse_bake_storage(name, setting), name == "auto"};
+}
+
+PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input, BakeSource source,
+                                   const BakeOptions& options, StoragePolicy storage,
+                                   const std::string& generator, const std::string& source_name,
+                                   const MomentRunSink& moments) {
+    const BakeInput samples = std::visit(
+        [](const auto& image) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(image)>, Image>)
+                return BakeInput{&image, nullptr};
+            else
+                return BakeInput{nullptr, &image};
+        },
+        input);
+    PackedBakeResult result = bake_with_auto_storage(
+        storage.storage, storage.automatic, samples.width(), samples.height(),
+        [&](Storage s, const MomentRunSink& probe) {
+            PackedBakeResult baked;
+            bake(baked, samples, source, options, s, generator, source_name,
+                 [&](PackedLeanMap& packed, int threads) {
+                     size_output(packed, bytes_per_texel(s), threads);
+                     std::vector<PackedLevelTarget> targets;
+                     for (PackedLevel& level : packed.levels)
+                         targets.push_back({level.lean1.data(), level.lean2.data(),
+                                            level.plateau.empty() ? nullptr : level.plateau.data()});
+                     return targets;
+                 },
+                 both_sinks(moments, probe));
+            return baked;
+        });
+    if (result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f)
+        remove_plateau_layer(result.packed);
     return result;
 }
 

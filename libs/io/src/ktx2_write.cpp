@@ -13,11 +13,13 @@
 #include <numeric>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/parallel.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/version.hpp"
 
@@ -142,6 +144,32 @@ PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image,
         input);
     writer->commit();
     return baked;
+}
+
+PackedBakeResult bake_image_to_ktx2(const std::string& path,
+                                    const std::variant<Image, UnormImage>& input,
+                                    BakeSource source, const BakeOptions& options,
+                                    StoragePolicy storage, const std::string& generator,
+                                    const std::string& source_name,
+                                    const WriteOptions& write_options,
+                                    const ReadOptions& read_options,
+                                    const MomentRunSink& moments) {
+    const auto [width, height] = std::visit(
+        [](const auto& image) { return std::pair<int, int>(image.width, image.height); }, input);
+    PackedBakeResult result = bake_with_auto_storage(
+        storage.storage, storage.automatic, width, height,
+        [&](Storage s, const MomentRunSink& probe) {
+            return bake_to_ktx2(path, input, source, options, s, generator, source_name,
+                                write_options, both_sinks(moments, probe));
+        });
+    if (result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f) {
+        // Nothing flat: the file keeps no layer of zeros (a third of its bytes).
+        PackedLeanMap map = read_ktx2(path, read_options);
+        remove_plateau_layer(map);
+        write_ktx2(path, map, write_options);
+        result.packed.plateau_epsilon = 0.0f;
+    }
+    return result;
 }
 
 std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const std::string& name) {

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -419,6 +420,29 @@ PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, int wid
 }
 // A sink that gives each run to `first` and to `second` (either may be empty).
 MomentRunSink both_sinks(const MomentRunSink& first, const MomentRunSink& second);
+
+// How a bake stores its map: in `storage`, or, with `automatic` (`--bits auto`, docs/ktx2.md,
+// "Choosing storage and sc"), 16-bit UNORM first and baked again as half float where the
+// StorageProbe measures half floats closer to the float moments (bake_with_auto_storage).
+struct StoragePolicy {
+    Storage storage = Storage::Unorm16;
+    bool automatic = false;
+};
+// The policy of a storage name: storage_names() or "auto". Throws leanfade::Error(setting, cause)
+// as parse_bake_storage does.
+StoragePolicy parse_storage_policy(std::string_view name, const std::string& setting = "bits");
+
+// One image baked as `leanfade bake` bakes it into a KTX2 file, in memory: the policy's bake
+// (bake_with_auto_storage), then, when the plateau rule found nothing flat, the empty plateau
+// layer removed (two-lobe LEAN shades a map without it as LEAN, as it would this one).
+// Integer samples (an 8- or 16-bit file's) bake as bake_packed_to's UnormImage overload does.
+// write_ktx2 of the result writes the bytes `leanfade bake` writes for the same input and
+// settings; io::bake_image_to_ktx2 writes them without the copy in memory.
+PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input, BakeSource source,
+                                   const BakeOptions& options, StoragePolicy storage,
+                                   const std::string& generator,
+                                   const std::string& source_name = "",
+                                   const MomentRunSink& moments = {});
 // The same into `result`, reusing its buffers: baking another map of the same size and storage
 // allocates no output memory.
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,

@@ -119,6 +119,19 @@ PackedBakeResult bake_to_ktx2(const std::string& path,
                               const WriteOptions& write_options = {},
                               const MomentRunSink& moments = {});
 
+// `leanfade bake` of one image into the KTX2 file `path`: bake_to_ktx2 under the storage policy
+// (bake_with_auto_storage), and, when the plateau rule found nothing flat, the file written again
+// without its empty plateau layer (read back with `read_options`). The same bytes as write_ktx2
+// of bake_packed_image's map; nothing appears at `path` when it throws.
+PackedBakeResult bake_image_to_ktx2(const std::string& path,
+                                    const std::variant<Image, UnormImage>& input,
+                                    BakeSource source, const BakeOptions& options,
+                                    StoragePolicy storage, const std::string& generator,
+                                    const std::string& source_name,
+                                    const WriteOptions& write_options = {},
+                                    const ReadOptions& read_options = {},
+                                    const MomentRunSink& moments = {});
+
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
 // height in [1, max_dimension], depth 0, layerCount 2, or 3 with the plateau layer, faceCount 1,

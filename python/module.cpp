@@ -1,0 +1,579 @@
+// `import leanfade` (pybind11): the bake of `leanfade bake` for Python pipelines, NumPy arrays in
+// and out (docs/pipelines.md). The settings are the bake's (BakeSettingsSpec below, one row per
+// setting: its name, default and check); errors are leanfade.Error with the library's message.
+// The GIL is released while a bake, a read or a write runs.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/image.hpp"
+#include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/roughness.hpp"
+#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/png_io.hpp"
+#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/version.hpp"
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+
+namespace leanfade::python {
+namespace {
+
+// ---- Settings ---------------------------------------------------------------------------------
+
+// The settings of one bake, as `leanfade bake`'s flags set them (tools/leanfade/cli_bake_plan.cpp:
+// bake_settings): the same names without the dashes.
+struct BakeSettings {
+    BakeOptions options;
+    BakeSource source = BakeSource::Auto;
+    StoragePolicy storage;
+    bool strength_given = false;
+    io::ReadOptions read_options;
+    io::WriteOptions write_options;
+};
+
+std::string generator_string() { return std::string("leanfade ") + LEANFADE_VERSION; }
+
+float finite_setting(const char* setting, double value) {
+    if (!std::isfinite(value)) throw Error(setting, "must be a finite number");
+    return float(value);
+}
+
+BakeSettings make_settings(const std::string& from, std::optional<double> strength,
+                           const std::string& strength_unit, const std::string& sc, bool directx,
+                           bool strict_normals, const std::string& bits, double bake_roughness,
+                           double plateau_epsilon, const std::string& wrap, int threads,
+                           int max_size) {
+    BakeSettings settings;
+    BakeOptions& options = settings.options;
+    settings.source = parse_bake_source(from, "from");
+    if (strength) {
+        options.strength = finite_setting("strength", *strength);
+        if (options.strength == 0.0f)
+            throw Error("strength", "must not be 0 (a negative strength inverts the heights)");
+        if (settings.source == BakeSource::Normal)
+            throw Error("strength", "applies to height maps; from='normal' bakes normal maps");
+        settings.strength_given = true;
+    }
+    if (strength_unit != "texel" && strength_unit != "uv")
+        throw Error("strength_unit", "expected texel or uv, got '" + strength_unit + "'");
+    options.strength_unit = strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
+    if (sc != "auto" && sc != "max") throw Error("sc", "expected auto or max, got '" + sc + "'");
+    options.scale_excludes_outliers = sc == "auto";
+    options.convention = directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
+    options.strict_normals = strict_normals;
+    settings.storage = parse_storage_policy(bits, "bits");
+    if (!(bake_roughness >= 0.0) || !std::isfinite(bake_roughness))
+        throw Error("bake_roughness", "must be a positive shininess (0: none)");
+    options.bake_roughness_shininess = float(bake_roughness);
+    if (!(plateau_epsilon >= 0.0) || !std::isfinite(plateau_epsilon))
+        throw Error("plateau_epsilon", "must be a finite number >= 0 (0: no plateau layer)");
+    options.plateau_epsilon = float(plateau_epsilon);
+    if (wrap != "repeat" && wrap != "clamp")
+        throw Error("wrap", "expected repeat or clamp, got '" + wrap + "'");
+    options.wrap = wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
+    if (threads < 0 || threads > 256) throw Error("threads", "must be in [0, 256] (0 = all cores)");
+    options.threads = threads;
+    settings.write_options.threads = threads;
+    if (max_size < 1 || max_size > (1 << 20))
+        throw Error("max_size", "must be in [1, 1048576]");
+    settings.read_options.max_dimension = max_size;
+    settings.read_options.drop_alpha = true;  // normal maps use RGB only, as the CLI reads them
+    return settings;
+}
+
+// ---- Inputs -----------------------------------------------------------------------------------
+
+bool is_path(const py::handle& object) {
+    return py::isinstance<py::str>(object) ||
+           py::isinstance(object, py::module_::import("os").attr("PathLike"));
+}
+
+std::string path_text(const py::handle& object) {
+    return py::str(py::module_::import("os").attr("fspath")(object)).cast<std::string>();
+}
+
+// A NumPy array as the bake's input: (H, W) or (H, W, C), C in 1-4; uint8 and uint16 as the
+// integer samples of an 8- or 16-bit file, float32/float64 as floats. RGBA keeps RGB (what
+// reading a file with an alpha channel gives the bake).
+std::variant<Image, UnormImage> image_from_array(const py::array& array, const std::string& name,
+                                                 int max_size) {
+    if (array.ndim() != 2 && array.ndim() != 3)
+        throw Error(name, "expected an array of shape (height, width) or (height, width, "
+                          "channels), got " + std::to_string(array.ndim()) + " dimensions");
+    const py::ssize_t height = array.shape(0), width = array.shape(1);
+    const py::ssize_t channels = array.ndim() == 3 ? array.shape(2) : 1;
+    if (width < 1 || height < 1) throw Error(name, "the array is empty");
+    if (width > max_size || height > max_size)
+        throw Error(name, std::to_string(width) + "x" + std::to_string(height) +
+                              " is larger than max_size " + std::to_string(max_size));
+    if (channels < 1 || channels > 4)
+        throw Error(name, "expected 1-4 channels, got " + std::to_string(channels));
+    const int kept = channels == 4 ? 3 : int(channels);
+    const py::dtype dtype = array.dtype();
+    const auto copy = [&](auto* out, auto tag) {
+        using T = decltype(tag);
+        const py::array_t<T, py::array::c_style | py::array::forcecast> dense(array);
+        const T* in = dense.data();
+        const std::size_t texels = std::size_t(width) * std::size_t(height);
+        for (std::size_t i = 0; i < texels; ++i)
+            for (int c = 0; c < kept; ++c) out[i * kept + c] = in[i * channels + c];
+    };
+    if (dtype.is(py::dtype::of<std::uint8_t>()) || dtype.is(py::dtype::of<std::uint16_t>())) {
+        const bool eight = dtype.is(py::dtype::of<std::uint8_t>());
+        UnormImage image(int(width), int(height), kept, eight ? 255 : 65535);
+        if (eight)
+            copy(image.samples.data(), std::uint8_t{});
+        else
+            copy(image.samples.data(), std::uint16_t{});
+        return image;
+    }
+    if (dtype.kind() == 'f') {
+        Image image(int(width), int(height), kept);
+        copy(image.pixels.data(), float{});
+        return image;
+    }
+    throw Error(name, "expected a uint8, uint16 or floating-point array, got dtype " +
+                          dtype.attr("name").cast<std::string>());
+}
+
+std::vector<std::uint8_t> bytes_of(const py::bytes& bytes) {
+    const std::string text = bytes;
+    return {text.begin(), text.end()};
+}
+
+struct Source {
+    std::variant<Image, UnormImage> image;
+    std::string name;  // the file, or the caller's name for an array
+    std::string file;  // the input file, when read from one
+};
+
+Source read_source(const py::object& source, const std::string& name, const BakeSettings& settings) {
+    Source result;
+    if (is_path(source)) {
+        result.file = result.name = path_text(source);
+        py::gil_scoped_release unlocked;
+        result.image = io::read_image_compact(result.file, settings.read_options);
+        return result;
+    }
+    if (py::isinstance<py::bytes>(source)) {
+        // An image file's bytes (what a batch hashed), decoded as the file would be.
+        const std::vector<std::uint8_t> bytes = bytes_of(source.cast<py::bytes>());
+        result.name = name.empty() ? "bytes" : name;
+        py::gil_scoped_release unlocked;
+        result.image = io::read_image_compact_from_memory(bytes, result.name, settings.read_options);
+        return result;
+    }
+    result.name = name.empty() ? "array" : name;
+    result.image = image_from_array(py::array::ensure(source), result.name,
+                                    settings.read_options.max_dimension);
+    return result;
+}
+
+// ---- Results ----------------------------------------------------------------------------------
+
+// A baked or loaded LEAN map, shared with the arrays that view its levels.
+struct LeanMapObject {
+    PackedBakeResult baked;
+    std::string input_file;  // the file it was baked from: never an output
+    bool has_summary = false;
+};
+
+py::dtype storage_dtype(Storage storage) {
+    switch (storage) {
+        case Storage::Unorm8: return py::dtype("uint8");
+        case Storage::Unorm16: return py::dtype("uint16");
+        case Storage::Float16: return py::dtype("float16");
+        case Storage::Float32: return py::dtype("float32");
+    }
+    return py::dtype("uint8");
+}
+
+// A read-only (height, width, 4) view of one slice's bytes, keeping `owner` alive.
+py::object level_view(const std::vector<std::uint8_t>& bytes, const PackedLevel& level,
+                      Storage storage, py::handle owner) {
+    if (bytes.empty()) return py::none();
+    const py::ssize_t texel = bytes_per_texel(storage), channel = texel / 4;
+    py::array view(storage_dtype(storage), {py::ssize_t(level.height), py::ssize_t(level.width), py::ssize_t(4)},
+                   {py::ssize_t(level.width) * texel, texel, channel}, bytes.data(), owner);
+    py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+    return std::move(view);
+}
+
+py::dict summary_dict(const LeanMapSummary& s) {
+    py::dict d;
+    d["width"] = s.width;
+    d["height"] = s.height;
+    d["levels"] = s.levels;
+    d["scale"] = s.scale;
+    d["mean_slope"] = s.mean_slope;
+    d["max_slope"] = s.max_slope;
+    d["coarsest_covariance"] = py::make_tuple(s.coarsest_covariance.x, s.coarsest_covariance.y,
+                                              s.coarsest_covariance.z);
+    d["coarsest_anisotropy"] = s.coarsest_anisotropy;
+    d["plateau_fraction"] = s.plateau_fraction;
+    return d;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+    std::error_code error;
+    return !a.empty() && !b.empty() && fs::equivalent(a, b, error) && !error;
+}
+
+bool has_extension(const std::string& path, const char* extension) {
+    std::string e = fs::path(path).extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e == extension;
+}
+
+// save(): NAME.ktx2 (every level), or NAME.png for the PNG pair NAME.lean1.png + NAME.lean2.png
+// (+ NAME.plateau.png), as `leanfade bake -o` names them.
+void save_map(const LeanMapObject& map, const std::string& path, bool fsync) {
+    io::WriteOptions options;
+    options.durability = fsync ? io::Durability::Flush : io::Durability::Rename;
+    const PackedLeanMap& packed = map.baked.packed;
+    std::vector<std::string> outputs;
+    const bool png = has_extension(path, ".png");
+    if (png) {
+        const std::string base = fs::path(path).replace_extension().string();
+        outputs = {base + io::kLeanPngSuffixes[0], base + io::kLeanPngSuffixes[1]};
+        if (packed.has_plateau()) outputs.push_back(base + io::kPlateauPngSuffix);
+    } else if (has_extension(path, ".ktx2")) {
+        outputs = {path};
+    } else {
+        throw Error(path, "expected a .ktx2 or .png output");
+    }
+    for (const std::string& output : outputs)
+        if (same_file(output, map.input_file))
+            throw Error(output, "is the map's input; an output may not replace an input");
+    py::gil_scoped_release unlocked;
+    if (png)
+        io::write_lean_png_pair(outputs[0], outputs[1], packed, options,
+                                outputs.size() > 2 ? outputs[2] : "");
+    else
+        io::write_ktx2(path, packed, options);
+}
+
+std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string& name,
+                                    const BakeSettings& settings) {
+    Source input = read_source(source, name, settings);
+    auto map = std::make_shared<LeanMapObject>();
+    map->input_file = input.file;
+    map->has_summary = true;
+    {
+        py::gil_scoped_release unlocked;
+        map->baked = bake_packed_image(input.image, settings.source, settings.options,
+                                       settings.storage, generator_string(), input.name);
+    }
+    if (settings.strength_given && map->baked.source == BakeSource::Normal)
+        throw Error(input.name, "is a normal map: strength applies to height maps only");
+    return map;
+}
+
+// ---- Engine textures --------------------------------------------------------------------------
+
+py::array rgba8_array(Rgba8Image&& image) {
+    auto owner = std::make_unique<std::vector<std::uint8_t>>(std::move(image.texels));
+    std::uint8_t* data = owner->data();
+    py::capsule free_owner(owner.release(), [](void* p) {
+        delete static_cast<std::vector<std::uint8_t>*>(p);
+    });
+    return py::array_t<std::uint8_t>({py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(4)},
+                                     data, free_owner);
+}
+
+py::list rgba8_levels(std::vector<Rgba8Image>& levels) {
+    py::list list;
+    for (Rgba8Image& level : levels) list.append(rgba8_array(std::move(level)));
+    return list;
+}
+
+
+}  // namespace
+}  // namespace leanfade::python
+
+PYBIND11_MODULE(_leanfade, m) {
+    using namespace leanfade;
+    using namespace leanfade::python;
+    m.doc() = "leanfade: LEAN maps (filtered normal-map specular) baked for pipelines";
+    m.attr("__version__") = LEANFADE_VERSION;
+
+    static py::exception<Error> error_type(m, "Error", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr thrown) {
+        try {
+            if (thrown) std::rethrow_exception(thrown);
+        } catch (const Error& e) {
+            py::object instance = py::handle(error_type.ptr())(e.what());
+            instance.attr("subject") = e.file();
+            instance.attr("cause") = e.cause();
+            PyErr_SetObject(error_type.ptr(), instance.ptr());
+        }
+    });
+
+    py::class_<BakeSettings>(m, "BakeSettings",
+                             "The settings of one bake: `leanfade bake`'s flags, checked.")
+        .def(py::init(&make_settings), py::kw_only(), py::arg("from_") = "auto",
+             py::arg("strength") = py::none(), py::arg("strength_unit") = "texel",
+             py::arg("sc") = "auto", py::arg("directx") = false, py::arg("strict_normals") = false,
+             py::arg("bits") = "auto", py::arg("bake_roughness") = 0.0,
+             py::arg("plateau_epsilon") = double(kDefaultPlateauEpsilon),
+             py::arg("wrap") = "repeat", py::arg("threads") = 0,
+             py::arg("max_size") = kDefaultMaxImageDimension);
+
+    py::class_<LeanMapObject, std::shared_ptr<LeanMapObject>>(
+        m, "LeanMap",
+        "A LEAN map: every MIP level's layers lean1, lean2 (and the plateau layer of two-lobe "
+        "LEAN) as the GPU samples them (docs/math.md §3).")
+        .def_property_readonly("width", [](const LeanMapObject& m) {
+            return m.baked.packed.levels.empty() ? 0 : m.baked.packed.levels[0].width; })
+        .def_property_readonly("height", [](const LeanMapObject& m) {
+            return m.baked.packed.levels.empty() ? 0 : m.baked.packed.levels[0].height; })
+        .def_property_readonly("storage", [](const LeanMapObject& m) {
+            return std::string(to_string(m.baked.packed.storage)); })
+        .def_property_readonly("encoding", [](const LeanMapObject& m) {
+            return std::string(to_string(m.baked.packed.encoding)); })
+        .def_property_readonly("scale", [](const LeanMapObject& m) { return m.baked.packed.scale; })
+        .def_property_readonly("source", [](const LeanMapObject& m) {
+            return std::string(to_string(m.baked.source)); })
+        .def_property_readonly("generator", [](const LeanMapObject& m) {
+            return m.baked.packed.generator; })
+        .def_property_readonly("plateau_epsilon", [](const LeanMapObject& m) {
+            return m.baked.packed.plateau_epsilon; })
+        .def_property_readonly("has_plateau", [](const LeanMapObject& m) {
+            return m.baked.packed.has_plateau(); })
+        .def_property_readonly("summary", [](const LeanMapObject& m) {
+            return summary_dict(m.baked.summary); })
+        .def_property_readonly(
+            "levels",
+            [](py::object self) {
+                const LeanMapObject& m = self.cast<const LeanMapObject&>();
+                py::list levels;
+                for (const PackedLevel& level : m.baked.packed.levels) {
+                    py::dict d;
+                    const Storage s = m.baked.packed.storage;
+                    d["lean1"] = level_view(level.lean1, level, s, self);
+                    d["lean2"] = level_view(level.lean2, level, s, self);
+                    d["plateau"] = level_view(level.plateau, level, s, self);
+                    levels.append(d);
+                }
+                return levels;
+            },
+            "One dict per MIP level (0 = finest): read-only (height, width, 4) views of lean1, "
+            "lean2 and plateau (None without the layer), dtype as the storage.")
+        .def("save", &save_map, py::arg("path"), py::arg("fsync") = false,
+             "Writes PATH.ktx2 (every level) or the PNG pair PATH.lean1.png + PATH.lean2.png "
+             "(+ .plateau.png) of 8- or 16-bit maps, atomically: the bytes `leanfade bake -o` "
+             "writes.")
+        .def("to_bytes", [](const LeanMapObject& m) {
+            std::vector<std::uint8_t> bytes;
+            {
+                py::gil_scoped_release unlocked;
+                bytes = io::write_ktx2_to_memory(m.baked.packed, "LeanMap");
+            }
+            return py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+        }, "The KTX2 file's bytes.");
+
+    m.def(
+        "bake",
+        [](const py::object& source, const BakeSettings& settings, const std::string& name) {
+            return bake(source, name, settings);
+        },
+        py::arg("source"), py::arg("settings"), py::arg("name") = "");
+
+    m.def(
+        "load",
+        [](const py::object& path, int max_size) {
+            const std::string file = path_text(path);
+            auto map = std::make_shared<LeanMapObject>();
+            py::gil_scoped_release unlocked;
+            io::ReadOptions options;
+            options.max_dimension = max_size;
+            map->baked.packed = io::read_ktx2(file, options);
+            map->baked.summary = summarize(unpack_lean_map(map->baked.packed));
+            if (map->baked.packed.has_plateau())
+                map->baked.summary.plateau_fraction = plateau_fraction(map->baked.packed);
+            map->baked.source = BakeSource::Auto;
+            map->input_file = file;
+            return map;
+        },
+        py::arg("path"), py::arg("max_size") = kDefaultMaxImageDimension);
+
+    m.def(
+        "inspect",
+        [](const py::object& path) {
+            const std::string file = path_text(path);
+            io::Ktx2Info info;
+            {
+                py::gil_scoped_release unlocked;
+                info = io::inspect_ktx2(file);
+            }
+            py::dict d;
+            d["path"] = info.path;
+            d["file_size"] = info.file_size;
+            d["vk_format"] = info.vk_format;
+            d["width"] = info.pixel_width;
+            d["height"] = info.pixel_height;
+            d["layer_count"] = info.layer_count;
+            d["level_count"] = info.level_count;
+            d["supercompression_scheme"] = info.supercompression_scheme;
+            py::list levels;
+            for (const io::Ktx2Level& level : info.levels) {
+                py::dict l;
+                l["width"] = level.width;
+                l["height"] = level.height;
+                l["byte_offset"] = level.byte_offset;
+                l["byte_length"] = level.byte_length;
+                levels.append(l);
+            }
+            d["levels"] = levels;
+            py::dict key_values;
+            for (const auto& [key, value] : info.key_values)
+                key_values[py::str(key)] = py::bytes(value);
+            d["key_values"] = key_values;
+            const std::string* layout = info.find(io::kLayoutKey);
+            d["lean_map"] = layout != nullptr && io::is_lean_layout_name(*layout);
+            return d;
+        },
+        py::arg("path"));
+
+    m.def(
+        "roughness_textures",
+        [](const py::object& source, const BakeSettings& settings, double base_roughness,
+           const std::string& name) {
+            if (!(base_roughness >= 0.0 && base_roughness <= 1.0))
+                throw Error("base_roughness", "must be in [0, 1]");
+            Source input = read_source(source, name, settings);
+            RoughnessTexturesRgba8 textures;
+            {
+                py::gil_scoped_release unlocked;
+                const Image floats = std::holds_alternative<Image>(input.image)
+                                         ? std::get<Image>(input.image)
+                                         : std::get<UnormImage>(input.image).to_float();
+                const BakeResult baked =
+                    bake_lean_map(floats, settings.source, settings.options, input.name);
+                RoughnessOptions options;
+                options.base_roughness = float(base_roughness);
+                options.threads = settings.options.threads;
+                textures = roughness_textures_rgba8(baked.map, options, nullptr);
+            }
+            py::dict d;
+            d["metallic_roughness"] = rgba8_levels(textures.metallic_roughness);
+            d["normal"] = rgba8_levels(textures.normal);
+            d["anisotropy"] = rgba8_levels(textures.anisotropy);
+            return d;
+        },
+        py::arg("source"), py::arg("settings"), py::arg("base_roughness") = 0.0,
+        py::arg("name") = "");
+
+    m.def(
+        "write_image",
+        [](const py::object& path, const py::array& array) {
+            const std::string file = path_text(path);
+            std::variant<Image, UnormImage> image = image_from_array(array, file, 1 << 20);
+            py::gil_scoped_release unlocked;
+            if (std::holds_alternative<UnormImage>(image)) {
+                const UnormImage& samples = std::get<UnormImage>(image);
+                io::write_png(file, samples.to_float(), samples.max_value == 255 ? 8 : 16);
+            } else if (has_extension(file, ".exr")) {
+                io::write_exr(file, std::get<Image>(image));
+            } else {
+                io::write_pfm(file, std::get<Image>(image));
+            }
+        },
+        py::arg("path"), py::arg("array"));
+
+    m.def(
+        "cache_key",
+        [](const std::vector<py::bytes>& sources, const std::string& settings) {
+            std::vector<std::vector<std::uint8_t>> copies;
+            for (const py::bytes& b : sources) copies.push_back(bytes_of(b));
+            py::gil_scoped_release unlocked;
+            std::vector<std::span<const std::uint8_t>> spans(copies.begin(), copies.end());
+            return scene::lean_cache_key(spans, settings);
+        },
+        py::arg("sources"), py::arg("settings"));
+    m.def(
+        "sha256_file",
+        [](const py::object& path) {
+            const std::string file = path_text(path);
+            py::gil_scoped_release unlocked;
+            return scene::sha256_file_hex(file);
+        },
+        py::arg("path"));
+    m.def("default_cache_folder", &scene::default_lean_cache_folder);
+
+    py::class_<scene::LeanMapCache>(m, "Cache")
+        .def(py::init([](const py::object& folder, std::uint64_t max_bytes) {
+                 return scene::LeanMapCache(folder.is_none() ? std::string() : path_text(folder),
+                                            max_bytes);
+             }),
+             py::arg("folder"), py::arg("max_bytes") = scene::kMaxLeanCacheBytes)
+        .def_property_readonly("folder", &scene::LeanMapCache::folder)
+        .def("entry_path",
+             [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix) {
+                 return c.folder() + "/" + key + suffix;
+             })
+        .def(
+            "find_file",
+            [](const scene::LeanMapCache& c, const std::string& key,
+               const std::string& suffix) -> py::object {
+                std::optional<std::vector<std::uint8_t>> bytes;
+                {
+                    py::gil_scoped_release unlocked;
+                    bytes = c.find_file(key, suffix);
+                }
+                if (!bytes) return py::none();
+                return py::bytes(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+            },
+            py::arg("key"), py::arg("suffix"))
+        .def(
+            "store_file",
+            [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix,
+               const py::bytes& bytes) {
+                std::vector<std::uint8_t> copy = bytes_of(bytes);
+                py::gil_scoped_release unlocked;
+                return c.store_file(key, suffix, copy);
+            },
+            py::arg("key"), py::arg("suffix"), py::arg("data"))
+        .def(
+            "store_file_copy",
+            [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix,
+               const py::object& source, std::uint64_t size) {
+                const std::string file = path_text(source);
+                py::gil_scoped_release unlocked;
+                return c.store_file_copy(key, suffix, file, size);
+            },
+            py::arg("key"), py::arg("suffix"), py::arg("source"), py::arg("size"))
+        .def(
+            "copy_file_to",
+            [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix,
+               std::uint64_t size, const std::string& sha256, const py::object& output) {
+                const std::string file = path_text(output);
+                py::gil_scoped_release unlocked;
+                io::AtomicFile out(file);
+                if (!c.copy_file_to(key, suffix, size, out)) return false;
+                // Served only when the copy holds what the entry's record says it holds.
+                if (scene::sha256_file_hex(out.temporary_path()) != sha256) return false;
+                out.commit();
+                return true;
+            },
+            py::arg("key"), py::arg("suffix"), py::arg("size"), py::arg("sha256"),
+            py::arg("output"),
+            "Copies the entry KEY+SUFFIX to OUTPUT atomically when it holds SIZE bytes whose "
+            "SHA-256 is SHA256; False (OUTPUT untouched) otherwise.");
+}
