@@ -12,7 +12,8 @@ root (--root, default that folder). Blank lines and lines starting with '#' are 
 Each job is keyed by the SHA-256 of its input's bytes and of every setting (leanfade.cache_key,
 the key of leanfade's cache): a job whose output already holds what its cache record says is
 "done" and skipped; one whose result is in the cache folder is copied from it ("cached", after
-checking the copy's SHA-256); the others are baked ("baked") and stored in the cache. Every output
+checking the copy's SHA-256); the others are baked ("baked") and stored in the cache. The cache
+is asked first, by this process: a rerun of an unchanged manifest starts no cluster. Every output
 appears whole or not at all (written to a temporary file and renamed). The cache folder may be
 shared between machines (NFS): its entries are written the same way and verified when served.
 
@@ -29,6 +30,7 @@ import json
 import os
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional
@@ -129,37 +131,75 @@ def _output_holds(path: str, record: dict[str, Any]) -> bool:
         return False
 
 
+def _job_key(job: Job, data: bytes) -> str:
+    return leanfade.cache_key([data], f"batch ktx2 {job.settings_text}")
+
+
+def _read_input(job: Job) -> bytes:
+    try:
+        return Path(job.input).read_bytes()
+    except OSError as e:
+        raise leanfade.Error(f"{job.input}: cannot read ({e.strerror or e})") from None
+
+
+def _record(cache: leanfade.Cache, key: str) -> Optional[dict[str, Any]]:
+    stored = cache.find_file(key, RECORD_SUFFIX)
+    try:
+        record = json.loads(stored) if stored is not None else None
+    except ValueError:
+        return None  # a damaged record is a miss, replaced by the next bake
+    if not (isinstance(record, dict) and isinstance(record.get("size"), int)
+            and isinstance(record.get("sha256"), str)):
+        return None
+    return record
+
+
+def _served(job: Job, cache: leanfade.Cache, key: str) -> Optional[str]:
+    """"done" when the output holds the cache record's bytes, "cached" when the cache entry was
+    copied to it (its SHA-256 checked), else None."""
+    record = _record(cache, key)
+    if record is None:
+        return None
+    if _output_holds(job.output, record):
+        return "done"
+    if cache.copy_file_to(key, OUTPUT_SUFFIX, record["size"], record["sha256"], job.output):
+        return "cached"
+    return None
+
+
+def _failed(job: Job, error: str, start: float) -> dict[str, Any]:
+    return {"line": job.line, "input": job.input, "output": job.output, "status": "failed",
+            "error": error, "seconds": time.monotonic() - start}
+
+
+def serve_job(job: Job, cache_folder: str) -> Optional[dict[str, Any]]:
+    """The job's result when the cache serves it ("done" or "cached"), without baking; None when
+    it must be baked. Run for every job before the cluster is asked for anything, so that a rerun
+    of an unchanged manifest needs no worker."""
+    start = time.monotonic()
+    try:
+        status = _served(job, leanfade.Cache(cache_folder), _job_key(job, _read_input(job)))
+    except leanfade.Error:
+        return None  # reported by the bake, where it runs
+    if status is None:
+        return None
+    return {"line": job.line, "input": job.input, "output": job.output, "status": status,
+            "seconds": time.monotonic() - start}
+
+
 def run_job(job: Job, cache_folder: Optional[str]) -> dict[str, Any]:
     """One job, where it runs (a Dask worker or this process): {"line", "input", "output",
     "status": "done" | "cached" | "baked" | "failed", "error" (failed only), "seconds"}."""
     start = time.monotonic()
-    result: dict[str, Any] = {"line": job.line, "input": job.input, "output": job.output}
     try:
-        try:
-            data = Path(job.input).read_bytes()
-        except OSError as e:
-            raise leanfade.Error(f"{job.input}: cannot read ({e.strerror or e})") from None
-        key = leanfade.cache_key([data], f"batch ktx2 {job.settings_text}")
+        data = _read_input(job)
+        key = _job_key(job, data)
         cache = leanfade.Cache(cache_folder)
-        record = None
-        if cache_folder:
-            stored = cache.find_file(key, RECORD_SUFFIX)
-            try:
-                record = json.loads(stored) if stored is not None else None
-                if record is not None and not (isinstance(record.get("size"), int)
-                                               and isinstance(record.get("sha256"), str)):
-                    record = None
-            except (ValueError, AttributeError):
-                record = None  # a damaged record is a miss, replaced below
-        if record and _output_holds(job.output, record):
-            result["status"] = "done"
-        elif record and cache.copy_file_to(key, OUTPUT_SUFFIX, record["size"], record["sha256"],
-                                           job.output):
-            result["status"] = "cached"
-        else:
+        status = _served(job, cache, key) if cache_folder else None
+        if status is None:
             lean = leanfade.bake(data, name=job.input, **job.settings)
             lean.save(job.output)
-            result["status"] = "baked"
+            status = "baked"
             if cache_folder:
                 size = os.path.getsize(job.output)
                 sha256 = leanfade.sha256_file(job.output)
@@ -168,11 +208,11 @@ def run_job(job: Job, cache_folder: Optional[str]) -> dict[str, Any]:
                     cache.store_file(key, RECORD_SUFFIX,
                                      json.dumps({"size": size, "sha256": sha256}).encode())
     except leanfade.Error as e:
-        result.update(status="failed", error=str(e))
+        return _failed(job, str(e), start)
     except Exception as e:  # anything else is this job's failure too, not the batch's
-        result.update(status="failed", error=f"{job.input}: {type(e).__name__}: {e}")
-    result["seconds"] = time.monotonic() - start
-    return result
+        return _failed(job, f"{job.input}: {type(e).__name__}: {e}", start)
+    return {"line": job.line, "input": job.input, "output": job.output, "status": status,
+            "seconds": time.monotonic() - start}
 
 
 class Progress:
@@ -271,12 +311,23 @@ def main(argv: Optional[list[str]] = None) -> int:
         print(f"{PROGRAM}: {e}", file=sys.stderr)
         return 2
     progress = Progress(len(jobs))
-    if args.job is not None:
-        results = [run_job(jobs[0], cache)]
-        progress.add(results[0])
+    results: list[dict[str, Any]] = []
+    if cache:
+        # What the cache serves first, here, on threads (hashing and copying release the GIL).
+        with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+            served = list(pool.map(lambda job: serve_job(job, cache), jobs))
+        for result in served:
+            if result is not None:
+                progress.add(result)
+                results.append(result)
+        jobs = [job for job, result in zip(jobs, served) if result is None]
+    if args.job is not None or len(jobs) == 0:
+        for job in jobs:
+            results.append(run_job(job, cache))
+            progress.add(results[-1])
     else:
-        results = run_on_dask(jobs, cache, args.scheduler, args.scheduler_file, args.workers,
-                              progress)
+        results += run_on_dask(jobs, cache, args.scheduler, args.scheduler_file, args.workers,
+                               progress)
     progress.close()
     results.sort(key=lambda r: r["line"])
     for result in results:
