@@ -21,6 +21,9 @@ SANITIZE_ENV := ASAN_OPTIONS=$(ASAN_CHECKS) UBSAN_OPTIONS=print_stacktrace=1:hal
 # `make test-portable`: the build folder of the portable platform layer (README, "Platforms").
 PORTABLE_BUILD_DIR ?= build-portable
 
+# The interpreter of the Python module's benchmark (Debian's, with NumPy and Dask).
+PYTHON ?= /usr/bin/python3
+
 .PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds web \
 	clean format
 
@@ -75,6 +78,8 @@ bench: build
 	@echo "bake benchmark written to out/bench/bake.json"
 	$(LEANFADE) bench --size 800x600 --frames 10 --warmup 2 --json out/bench/frames.json
 	@echo "frame benchmark written to out/bench/frames.json (docs/perf.md)"
+	PYTHONPATH=$(BUILD_DIR)/python $(PYTHON) bench/batch_throughput.py --leanfade $(LEANFADE) \
+		--out out/bench/batch
 
 # The whole test suite built with AddressSanitizer + UndefinedBehaviorSanitizer (Debug).
 sanitize:

@@ -560,20 +560,27 @@ PYBIND11_MODULE(_leanfade, m) {
             },
             py::arg("key"), py::arg("suffix"), py::arg("source"), py::arg("size"))
         .def(
-            "copy_file_to",
+            "store_file_link",
+            [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix,
+               const py::object& source, std::uint64_t size) {
+                const std::string file = path_text(source);
+                py::gil_scoped_release unlocked;
+                return c.store_file_link(key, suffix, file, size);
+            },
+            py::arg("key"), py::arg("suffix"), py::arg("source"), py::arg("size"),
+            "Stores SOURCE (SIZE bytes) as the entry KEY+SUFFIX, by a hard link where the file "
+            "system allows, else a copy; returns '' or why it could not.")
+        .def(
+            "serve_file_to",
             [](const scene::LeanMapCache& c, const std::string& key, const std::string& suffix,
                std::uint64_t size, const std::string& sha256, const py::object& output) {
                 const std::string file = path_text(output);
                 py::gil_scoped_release unlocked;
-                io::AtomicFile out(file);
-                if (!c.copy_file_to(key, suffix, size, out)) return false;
-                // Served only when the copy holds what the entry's record says it holds.
-                if (scene::sha256_file_hex(out.temporary_path()) != sha256) return false;
-                out.commit();
-                return true;
+                return c.serve_file_to(key, suffix, size, sha256, file);
             },
             py::arg("key"), py::arg("suffix"), py::arg("size"), py::arg("sha256"),
             py::arg("output"),
-            "Copies the entry KEY+SUFFIX to OUTPUT atomically when it holds SIZE bytes whose "
-            "SHA-256 is SHA256; False (OUTPUT untouched) otherwise.");
+            "Puts the entry KEY+SUFFIX at OUTPUT (atomically; a hard link where the file system "
+            "allows) when it holds SIZE bytes whose SHA-256 is SHA256; False (OUTPUT untouched) "
+            "otherwise.");
 }

@@ -12,8 +12,10 @@ root (--root, default that folder). Blank lines and lines starting with '#' are 
 Each job is keyed by the SHA-256 of its input's bytes and of every setting (leanfade.cache_key,
 the key of leanfade's cache): a job whose output already holds what its cache record says is
 "done" and skipped; one whose result is in the cache folder is copied from it ("cached", after
-checking the copy's SHA-256); the others are baked ("baked") and stored in the cache. The cache
-is asked first, by this process: a rerun of an unchanged manifest starts no cluster. Every output
+checking its SHA-256); the others are baked ("baked") and stored in the cache. Outputs and cache
+entries are hard links of one another where they share a file system (no byte copied), else
+copies. The cache is asked first, by this process: a rerun of an unchanged manifest starts no
+cluster. Every output
 appears whole or not at all (written to a temporary file and renamed). The cache folder may be
 shared between machines (NFS): its entries are written the same way and verified when served.
 
@@ -26,6 +28,7 @@ array jobs. Exit status: 0, 1 when a job failed, 2 for a manifest or flag that c
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import sys
@@ -39,6 +42,8 @@ import leanfade
 
 PROGRAM = "leanfade batch"
 RECORD_SUFFIX = ".batch.json"
+RECORDS_FOLDER = "batch-records"
+DEFAULT_CACHE_BYTES = 2 << 30  # leanfade's cache bound (kMaxLeanCacheBytes)
 OUTPUT_SUFFIX = ".batch.ktx2"
 JOB_FIELDS = {"input", "output", "settings"}
 
@@ -142,8 +147,17 @@ def _read_input(job: Job) -> bytes:
         raise leanfade.Error(f"{job.input}: cannot read ({e.strerror or e})") from None
 
 
-def _record(cache: leanfade.Cache, key: str) -> Optional[dict[str, Any]]:
-    stored = cache.find_file(key, RECORD_SUFFIX)
+@functools.lru_cache(maxsize=None)
+def _caches(folder: str, max_bytes: int) -> tuple[leanfade.Cache, leanfade.Cache]:
+    """The cache folder's outputs (at most max_bytes, the oldest removed first), and its records
+    (a subfolder, so that evicting large outputs never forgets which outputs are done), once per
+    process."""
+    return (leanfade.Cache(folder, max_bytes),
+            leanfade.Cache(os.path.join(folder, RECORDS_FOLDER)))
+
+
+def _record(records: leanfade.Cache, key: str) -> Optional[dict[str, Any]]:
+    stored = records.find_file(key, RECORD_SUFFIX)
     try:
         record = json.loads(stored) if stored is not None else None
     except ValueError:
@@ -154,15 +168,16 @@ def _record(cache: leanfade.Cache, key: str) -> Optional[dict[str, Any]]:
     return record
 
 
-def _served(job: Job, cache: leanfade.Cache, key: str) -> Optional[str]:
-    """"done" when the output holds the cache record's bytes, "cached" when the cache entry was
-    copied to it (its SHA-256 checked), else None."""
-    record = _record(cache, key)
+def _served(job: Job, cache_folder: str, cache_bytes: int, key: str) -> Optional[str]:
+    """"done" when the output holds the bytes its record names, "cached" when the cache entry
+    was put there (its SHA-256 checked), else None."""
+    outputs, records = _caches(cache_folder, cache_bytes)
+    record = _record(records, key)
     if record is None:
         return None
     if _output_holds(job.output, record):
         return "done"
-    if cache.copy_file_to(key, OUTPUT_SUFFIX, record["size"], record["sha256"], job.output):
+    if outputs.serve_file_to(key, OUTPUT_SUFFIX, record["size"], record["sha256"], job.output):
         return "cached"
     return None
 
@@ -172,13 +187,14 @@ def _failed(job: Job, error: str, start: float) -> dict[str, Any]:
             "error": error, "seconds": time.monotonic() - start}
 
 
-def serve_job(job: Job, cache_folder: str) -> Optional[dict[str, Any]]:
+def serve_job(job: Job, cache_folder: str,
+              cache_bytes: int = DEFAULT_CACHE_BYTES) -> Optional[dict[str, Any]]:
     """The job's result when the cache serves it ("done" or "cached"), without baking; None when
     it must be baked. Run for every job before the cluster is asked for anything, so that a rerun
     of an unchanged manifest needs no worker."""
     start = time.monotonic()
     try:
-        status = _served(job, leanfade.Cache(cache_folder), _job_key(job, _read_input(job)))
+        status = _served(job, cache_folder, cache_bytes, _job_key(job, _read_input(job)))
     except leanfade.Error:
         return None  # reported by the bake, where it runs
     if status is None:
@@ -187,26 +203,28 @@ def serve_job(job: Job, cache_folder: str) -> Optional[dict[str, Any]]:
             "seconds": time.monotonic() - start}
 
 
-def run_job(job: Job, cache_folder: Optional[str]) -> dict[str, Any]:
+def run_job(job: Job, cache_folder: Optional[str],
+            cache_bytes: int = DEFAULT_CACHE_BYTES) -> dict[str, Any]:
     """One job, where it runs (a Dask worker or this process): {"line", "input", "output",
     "status": "done" | "cached" | "baked" | "failed", "error" (failed only), "seconds"}."""
     start = time.monotonic()
     try:
         data = _read_input(job)
         key = _job_key(job, data)
-        cache = leanfade.Cache(cache_folder)
-        status = _served(job, cache, key) if cache_folder else None
+        status = _served(job, cache_folder, cache_bytes, key) if cache_folder else None
         if status is None:
             lean = leanfade.bake(data, name=job.input, **job.settings)
             lean.save(job.output)
             status = "baked"
             if cache_folder:
+                outputs, records = _caches(cache_folder, cache_bytes)
                 size = os.path.getsize(job.output)
                 sha256 = leanfade.sha256_file(job.output)
-                # The record last: an entry is complete when its record is there.
-                if not cache.store_file_copy(key, OUTPUT_SUFFIX, job.output, size):
-                    cache.store_file(key, RECORD_SUFFIX,
-                                     json.dumps({"size": size, "sha256": sha256}).encode())
+                # The output by a hard link (no copy where the cache shares its file system),
+                # then its record: an entry counts once its record is there.
+                outputs.store_file_link(key, OUTPUT_SUFFIX, job.output, size)
+                records.store_file(key, RECORD_SUFFIX,
+                                   json.dumps({"size": size, "sha256": sha256}).encode())
     except leanfade.Error as e:
         return _failed(job, str(e), start)
     except Exception as e:  # anything else is this job's failure too, not the batch's
@@ -237,7 +255,8 @@ class Progress:
             sys.stderr.write("\r\033[K")
 
 
-def run_on_dask(jobs: list[Job], cache_folder: Optional[str], scheduler: Optional[str],
+def run_on_dask(jobs: list[Job], cache_folder: Optional[str], cache_bytes: int,
+                scheduler: Optional[str],
                 scheduler_file: Optional[str], workers: int, progress: Progress) -> list[dict]:
     from distributed import Client, LocalCluster, as_completed
 
@@ -249,7 +268,8 @@ def run_on_dask(jobs: list[Job], cache_folder: Optional[str], scheduler: Optiona
                                dashboard_address=None)
         client = Client(cluster)
     try:
-        futures = client.map(run_job, jobs, cache_folder=cache_folder, pure=False)
+        futures = client.map(run_job, jobs, cache_folder=cache_folder, cache_bytes=cache_bytes,
+                             pure=False)
         by_future = dict(zip(futures, jobs))
         results = []
         for future in as_completed(futures):
@@ -284,6 +304,10 @@ def main(argv: Optional[list[str]] = None) -> int:
     parser.add_argument("--cache", default=None,
                         help="cache folder, shared by every worker (default: leanfade's, "
                         "$XDG_CACHE_HOME/leanfade)")
+    parser.add_argument("--cache-gib", type=float, default=DEFAULT_CACHE_BYTES / 2**30,
+                        help="bound of the cache folder's outputs in GiB, the oldest removed "
+                        "first (default 2, leanfade's; outputs hard-linked from it take no "
+                        "space of their own)")
     parser.add_argument("--no-cache", action="store_true", help="bake every job")
     parser.add_argument("--root", default=None,
                         help="inputs and outputs must resolve inside this folder (default: the "
@@ -294,6 +318,9 @@ def main(argv: Optional[list[str]] = None) -> int:
     try:
         if args.workers < 1:
             raise ManifestError("--workers: must be at least 1")
+        if not (0 < args.cache_gib < 2**20):
+            raise ManifestError("--cache-gib: must be a positive number of GiB")
+        cache_bytes = int(args.cache_gib * 2**30)
         jobs = read_manifest(args.manifest, args.root)
         if args.job is not None:
             chosen = [job for job in jobs if job.line == args.job]
@@ -315,7 +342,7 @@ def main(argv: Optional[list[str]] = None) -> int:
     if cache:
         # What the cache serves first, here, on threads (hashing and copying release the GIL).
         with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-            served = list(pool.map(lambda job: serve_job(job, cache), jobs))
+            served = list(pool.map(lambda job: serve_job(job, cache, cache_bytes), jobs))
         for result in served:
             if result is not None:
                 progress.add(result)
@@ -323,11 +350,11 @@ def main(argv: Optional[list[str]] = None) -> int:
         jobs = [job for job, result in zip(jobs, served) if result is None]
     if args.job is not None or len(jobs) == 0:
         for job in jobs:
-            results.append(run_job(job, cache))
+            results.append(run_job(job, cache, cache_bytes))
             progress.add(results[-1])
     else:
-        results += run_on_dask(jobs, cache, args.scheduler, args.scheduler_file, args.workers,
-                               progress)
+        results += run_on_dask(jobs, cache, cache_bytes, args.scheduler, args.scheduler_file,
+                               args.workers, progress)
     progress.close()
     results.sort(key=lambda r: r["line"])
     for result in results:

@@ -156,19 +156,36 @@ class DaskBatch(unittest.TestCase):
         self.assert_outputs_match(jobs)
         self.assertLess(second, first / 3)
 
-        # Third run: everything done; a damaged cache entry is not served.
+        # Third run: everything done.
         run = self.batch(manifest, scheduler_file)
         stdout, _ = run.communicate(timeout=240)
-        self.assertIn(f"{MAPS} already done", stdout)
+        self.assertIn(f"0 baked, 0 from the cache, {MAPS} already done", stdout)
+
+        # A damaged cache entry (replaced, as a broken copy on a shared folder would be) is not
+        # served: its job is baked again.
         os.remove(os.path.join(self.dir, jobs[0]["output"]))
-        for entry in os.listdir(os.path.join(self.dir, "cache")):
+        cache = os.path.join(self.dir, "cache")
+        for entry in os.listdir(cache):
             if entry.endswith(".batch.ktx2"):
-                with open(os.path.join(self.dir, "cache", entry), "r+b") as f:
-                    f.seek(300)
-                    f.write(b"\xff\xfe")
+                with open(os.path.join(cache, entry), "rb") as f:
+                    data = bytearray(f.read())
+                data[300:302] = b"\xff\xfe"
+                with open(os.path.join(cache, entry + ".new"), "wb") as f:
+                    f.write(data)
+                os.replace(os.path.join(cache, entry + ".new"), os.path.join(cache, entry))
         run = self.batch(manifest, scheduler_file)
         stdout, _ = run.communicate(timeout=240)
         self.assertIn(f"1 baked, 0 from the cache, {MAPS - 1} already done", stdout)
+        self.assert_outputs_match(jobs)
+
+        # An output changed in place is not "done": it is baked again (or served from an
+        # intact cache entry).
+        with open(os.path.join(self.dir, jobs[1]["output"]), "r+b") as f:
+            f.seek(400)
+            f.write(b"\x00\x01")
+        run = self.batch(manifest, scheduler_file)
+        stdout, _ = run.communicate(timeout=240)
+        self.assertIn(f"{MAPS - 1} already done", stdout)
         self.assert_outputs_match(jobs)
 
     def assert_outputs_match(self, jobs):

@@ -215,6 +215,25 @@ class Errors(unittest.TestCase):
             self.assertEqual(open(png, "rb").read()[:8], b"\x89PNG\r\n\x1a\n")
 
 
+class Stubs(unittest.TestCase):
+    def test_every_public_name_has_a_stub(self):
+        import ast
+        stub = os.path.join(os.path.dirname(leanfade.__file__), "_leanfade.pyi")
+        with open(stub) as f:
+            tree = ast.parse(f.read())
+        declared = {node.name for node in tree.body
+                    if isinstance(node, (ast.FunctionDef, ast.ClassDef))}
+        declared |= {node.target.id for node in tree.body if isinstance(node, ast.AnnAssign)}
+        public = {name for name in dir(leanfade._leanfade) if not name.startswith("_")}
+        self.assertEqual(public - declared, set())
+        for cls in ("LeanMap", "Cache"):
+            members = {name for name in dir(getattr(leanfade._leanfade, cls))
+                       if not name.startswith("_")}
+            node = next(n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == cls)
+            stubbed = {n.name for n in node.body if isinstance(n, ast.FunctionDef)}
+            self.assertEqual(members - stubbed, set(), cls)
+
+
 class Gil(unittest.TestCase):
     def test_bakes_release_the_gil(self):
         # While one thread is inside a long bake, another gets to run Python: with the GIL held

@@ -367,6 +367,52 @@ TEST(LeanMapCacheBounds, FileEntriesAreCopiedOnlyWhenWholeAndOfTheirSize) {
     EXPECT_EQ(disabled.store_file_copy(key, ".out.bin", source, text.size()), "");
 }
 
+TEST(LeanMapCacheBounds, LinkedEntriesAreServedOnlyWithTheirHash) {
+    namespace fs = std::filesystem;
+    const fs::path folder = test::fresh_test_folder("gltf_hostile", "cache_link");
+    const LeanMapCache cache((folder / "cache").string());
+    const std::string source = (folder / "made.bin").string();
+    const std::string text = "the bytes of a batch output";
+    { std::ofstream(source, std::ios::binary) << text; }
+    const std::string sha = sha256_file_hex(source);
+    const std::string key = lean_cache_key({4, 5, 6}, "link test");
+    EXPECT_EQ(cache.store_file_link(key, ".out.bin", source, text.size()), "");
+    const fs::path entry = folder / "cache" / (key + ".out.bin");
+    // The same file system: a hard link, no copy.
+    EXPECT_TRUE(fs::equivalent(entry, source));
+    const std::string out = (folder / "served.bin").string();
+    const auto read = [](const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_TRUE(cache.serve_file_to(key, ".out.bin", text.size(), sha, out));
+    EXPECT_EQ(read(out), text);
+    // Another hash or size than recorded, missing, an unsafe suffix: not served, the output
+    // left as it was.
+    // (A new file: `out` is the entry's hard link, and writing it in place would change both.)
+    fs::remove(out);
+    { std::ofstream(out, std::ios::binary) << "old"; }
+    EXPECT_FALSE(cache.serve_file_to(key, ".out.bin", text.size(), std::string(64, '0'), out));
+    EXPECT_FALSE(cache.serve_file_to(key, ".out.bin", text.size() + 1, sha, out));
+    EXPECT_FALSE(cache.serve_file_to(key, ".none.bin", text.size(), sha, out));
+    EXPECT_FALSE(cache.serve_file_to(key, "/../x", text.size(), sha, out));
+    EXPECT_EQ(read(out), "old");
+    // An entry damaged where it lies is not served.
+    { std::ofstream(entry, std::ios::binary | std::ios::in | std::ios::out) << "X"; }
+    EXPECT_FALSE(cache.serve_file_to(key, ".out.bin", text.size(), sha, out));
+    EXPECT_EQ(read(out), "old");
+    // No temporary is left beside the output or in the cache.
+    for (const fs::path& dir : {folder, folder / "cache"})
+        for (const auto& file : fs::directory_iterator(dir))
+            EXPECT_EQ(file.path().filename().string().find(".tmp-"), std::string::npos)
+                << file.path();
+    // A source of another size than said is not stored.
+    EXPECT_NE(cache.store_file_link(key, ".short.bin", source, text.size() + 5), "");
+    const LeanMapCache disabled("");
+    EXPECT_EQ(disabled.store_file_link(key, ".out.bin", source, text.size()), "");
+    EXPECT_FALSE(disabled.serve_file_to(key, ".out.bin", text.size(), sha, out));
+}
+
 TEST(LeanMapCacheBounds, EntriesKeepTheMapsMetadata) {
     // Every field of the metadata comes back from an entry as stored, none at its default.
     namespace fs = std::filesystem;

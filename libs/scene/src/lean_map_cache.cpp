@@ -250,6 +250,70 @@ std::string LeanMapCache::store_file_copy(const std::string& key, const std::str
                             [&](io::AtomicFile& file) { file.copy_from(source, size); });
 }
 
+std::string LeanMapCache::store_file_link(const std::string& key, const std::string& suffix,
+                                          const std::string& source, std::uint64_t size) const {
+    if (!enabled()) return {};
+    if (!safe_suffix(suffix)) return "cache entry suffix '" + suffix + "' is not a plain name";
+    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    std::error_code error;
+    fs::create_directories(folder_, error);
+    if (error) return folder_ + ": " + error.message();
+    const std::string temporary = io::temporary_path_for(path);
+    fs::create_hard_link(source, temporary, error);
+    if (!error) {
+        const fs::file_status status = fs::symlink_status(temporary, error);
+        if (!error && fs::is_regular_file(status) && fs::file_size(temporary, error) == size &&
+            !error) {
+            fs::rename(temporary, path, error);
+            if (!error) {
+                clean(path);
+                return {};
+            }
+        }
+        std::error_code ignored;
+        fs::remove(temporary, ignored);
+    }
+    // Another file system (or one without hard links): a copy.
+    return store_file_copy(key, suffix, source, size);
+}
+
+bool LeanMapCache::serve_file_to(const std::string& key, const std::string& suffix,
+                                 std::uint64_t size, const std::string& sha256,
+                                 const std::string& output) const {
+    if (!enabled() || !safe_suffix(suffix)) return false;
+    if (!cleaned_) {
+        cleaned_ = true;
+        clean({});
+    }
+    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(path, error);
+    if (error || !fs::is_regular_file(status)) return false;
+    // A link beside the output pins the entry's file: what is checked is what appears.
+    const std::string temporary = io::temporary_path_for(output);
+    fs::create_hard_link(path, temporary, error);
+    if (!error) {
+        bool good = false;
+        try {
+            good = fs::file_size(temporary, error) == size && !error &&
+                   sha256_file_hex(temporary) == sha256;
+        } catch (const Error&) {
+            good = false;
+        }
+        if (good) fs::rename(temporary, output, error);
+        std::error_code ignored;
+        if (!good || error) fs::remove(temporary, ignored);
+        if (good && error) throw Error(output, "cannot be written (" + error.message() + ")");
+        return good;
+    }
+    // Another file system: a checked copy.
+    io::AtomicFile file(output);
+    if (!copy_file_to(key, suffix, size, file)) return false;
+    if (sha256_file_hex(file.temporary_path()) != sha256) return false;
+    file.commit();
+    return true;
+}
+
 std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map) const {
     if (!enabled()) return {};
     try {

@@ -98,6 +98,20 @@ class LeanMapCache {
                       io::AtomicFile& output) const;
     std::string store_file_copy(const std::string& key, const std::string& suffix,
                                 const std::string& source, std::uint64_t size) const;
+    // The same without copying where the cache folder and `source` share a file system: the
+    // entry becomes a hard link to `source` (no byte copied; the two share their data until
+    // either is replaced, and every leanfade writer replaces a file by a rename, never in
+    // place), else a copy as store_file_copy. `source` must hold `size` bytes.
+    std::string store_file_link(const std::string& key, const std::string& suffix,
+                                const std::string& source, std::uint64_t size) const;
+    // Serves the entry `<key><suffix>` at `output` (replacing it atomically) when the entry holds
+    // `size` bytes whose SHA-256 is `sha256` (64 lowercase hexadecimal digits), as a hard link
+    // where the file system allows, else as a copy; the bytes checked are those of the file that
+    // appears at `output`. Returns false, and leaves `output` untouched, when the entry is
+    // missing or holds anything else; throws leanfade::Error(output, cause) when `output`
+    // cannot be written.
+    bool serve_file_to(const std::string& key, const std::string& suffix, std::uint64_t size,
+                       const std::string& sha256, const std::string& output) const;
 
   private:
     void clean(const std::string& kept) const;
