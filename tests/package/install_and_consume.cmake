@@ -129,6 +129,22 @@ step("build the CMake consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/cmake -j 2)
 set(dds ${SOURCE_DIR}/tests/io/data/nvtt-bc5.dds)
 step("run consumer" ${WORK_DIR}/cmake/consumer ${WORK_DIR}/out ${dds})
 message(STATUS "${step_output}")
+# The installed Python module (python/), from the prefix alone: it bakes the DDS through the same
+# OpenImageIO module, found from the extension's run path.
+if(PYTHON)
+  step("import the installed Python module" ${CMAKE_COMMAND} -E env
+       PYTHONPATH=${prefix}/${PYTHON_DIR} PYTHONDONTWRITEBYTECODE=1
+       ${PYTHON} -c [[
+import sys
+import leanfade
+lean = leanfade.bake(sys.argv[1])
+print(leanfade.__file__, lean.width, lean.height, lean.source, lean.storage)
+]] ${dds})
+  if(NOT step_output MATCHES "^${prefix}/${PYTHON_DIR}/leanfade/__init__.py 32 32 normal 16")
+    message(FATAL_ERROR "the installed Python module: ${step_output}")
+  endif()
+  message(STATUS "${step_output}")
+endif()
 step("run consumer_gl" ${WORK_DIR}/cmake/consumer_gl ${prefix}/share/leanfade/shaders)
 message(STATUS "${step_output}")
 if(NOT EXISTS ${WORK_DIR}/cmake/consumer_tinygltf)
