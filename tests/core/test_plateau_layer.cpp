@@ -26,10 +26,13 @@ Image bumps_height(int w, int h) {
 }
 
 TEST(PlateauLayer, PackedBakeWritesTheReferenceBytesForEverySizeAndStorage) {
-    // 640 x 384 and 515 x 300: the rule's radius 3 x 2 and 2 x 1 (even and odd sizes).
+    // 640 x 384 and 515 x 300: the rule's radius 3 x 2 and 2 x 1 (even and odd sizes). The
+    // packed bake makes levels 0-4 of even sizes row block by row block: 24 x 40 halves 3
+    // times, 2 x 2 once, 96 x 64 (and 64 x 64, 48 x 32, 640 x 384) 4 times before the rest.
     for (const auto& [w, h] : {std::pair{64, 64}, std::pair{48, 32}, std::pair{37, 20},
                               std::pair{64, 3}, std::pair{1, 1}, std::pair{640, 384},
-                              std::pair{515, 300}}) {
+                              std::pair{515, 300}, std::pair{24, 40}, std::pair{2, 2},
+                              std::pair{96, 64}}) {
         for (Storage storage :
              {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32}) {
             for (int threads : {1, 3}) {

@@ -2,6 +2,7 @@
 #include "leanfade/core/plateau.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -19,6 +20,9 @@
 
 namespace leanfade {
 namespace {
+
+// The levels the packed bake's plateau pass makes row block by row block (plateau_layer_to).
+constexpr int kMaxStreamedLevels = 4;
 
 void check_epsilon(float epsilon) {
     if (!std::isfinite(epsilon) || epsilon <= 0.0f)
@@ -75,28 +79,65 @@ struct StencilRows {
     const float* far_down;
 };
 
-void plateau_row(const StencilRows& rows, int w, const PlateauRule& rule, float* out) {
+// Whether each component of the slope at texel `at` of row `r` is within epsilon of (bx, by).
+inline bool near_slope(const float* r, int at, float bx, float by, float epsilon) {
+    return std::abs(r[2 * at] - bx) < epsilon && std::abs(r[2 * at + 1] - by) < epsilon;
+}
+
+// No packing (the reference path packs its float levels afterwards).
+struct NoPacker {
+    static constexpr std::size_t kTexelBytes = 0;
+    void pack_off(std::uint8_t*) const {}
+    void pack_values(const float*, std::uint8_t*) const {}
+};
+
+// One plateau texel into `texel` (4 floats) and, packed by `packer`, into `packed`.
+template <typename Packer>
+inline void plateau_texel(const StencilRows& rows, int x, int left, int right, int far_left,
+                          int far_right, float epsilon, float* texel, const Packer& packer,
+                          std::uint8_t* packed) {
+    const float bx = rows.row[2 * x], by = rows.row[2 * x + 1];
+    // Most texels of a bumpy map fail the first comparisons: tested in order, stopping there.
+    if (!(near_slope(rows.row, left, bx, by, epsilon) &&
+          near_slope(rows.row, right, bx, by, epsilon) &&
+          near_slope(rows.up, x, bx, by, epsilon) && near_slope(rows.down, x, bx, by, epsilon) &&
+          near_slope(rows.row, far_left, bx, by, epsilon) &&
+          near_slope(rows.row, far_right, bx, by, epsilon) &&
+          near_slope(rows.far_up, x, bx, by, epsilon) &&
+          near_slope(rows.far_down, x, bx, by, epsilon))) {
+        texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
+        packer.pack_off(packed);
+        return;
+    }
+    texel[0] = 1.0f;
+    texel[1] = bx;
+    texel[2] = by;
+    texel[3] = bx * bx + by * by;
+    packer.pack_values(texel, packed);
+}
+
+// A row of plateau texels (4 floats each) into `out` and, packed, into `packed` (the level's row
+// in the storage; unused with NoPacker).
+template <typename Packer = NoPacker>
+void plateau_row(const StencilRows& rows, int w, const PlateauRule& rule, float* out,
+                 const Packer& packer = {}, std::uint8_t* packed = nullptr) {
     const float epsilon = rule.epsilon;
     const int rx = rule.radius_x % w;
-    for (int x = 0; x < w; ++x) {
-        const float bx = rows.row[2 * x], by = rows.row[2 * x + 1];
+    constexpr std::size_t bytes = Packer::kTexelBytes;
+    // The texels whose neighbours (1 and rx away) need no wrap, without index arithmetic;
+    // the others wrapped.
+    const int margin = std::max(1, rx);
+    const int first = std::min(margin, w), end = std::max(first, w - margin);
+    auto wrapped = [&](int x) {
         const int left = x == 0 ? w - 1 : x - 1, right = x == w - 1 ? 0 : x + 1;
-        const int far_left = (x - rx + w) % w, far_right = (x + rx) % w;
-        auto near = [&](const float* r, int at) {
-            return std::abs(r[2 * at] - bx) < epsilon && std::abs(r[2 * at + 1] - by) < epsilon;
-        };
-        float* texel = out + 4 * x;
-        if (!(near(rows.row, left) && near(rows.row, right) && near(rows.up, x) &&
-              near(rows.down, x) && near(rows.row, far_left) && near(rows.row, far_right) &&
-              near(rows.far_up, x) && near(rows.far_down, x))) {
-            texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
-            continue;
-        }
-        texel[0] = 1.0f;
-        texel[1] = bx;
-        texel[2] = by;
-        texel[3] = bx * bx + by * by;
-    }
+        plateau_texel(rows, x, left, right, (x - rx + w) % w, (x + rx) % w, epsilon, out + 4 * x,
+                      packer, packed + std::size_t(x) * bytes);
+    };
+    for (int x = 0; x < first; ++x) wrapped(x);
+    for (int x = first; x < end; ++x)
+        plateau_texel(rows, x, x - 1, x + 1, x - rx, x + rx, epsilon, out + 4 * x, packer,
+                      packed + std::size_t(x) * bytes);
+    for (int x = end; x < w; ++x) wrapped(x);
 }
 
 // The slope rows of a map one thread walks down: row(y) for any y (the map repeats), decoded by
@@ -168,49 +209,68 @@ void extend_chain(std::vector<Image>& chain, int threads) {
     }
 }
 
-// The stored form of `count` float plateau texels (f, f Bs, f |Bs|^2) in `storage` at `out`
+// The stored form of float plateau texels (f, f Bs, f |Bs|^2) in storage S
 // (PackedLevel::plateau): UNORM codes are one multiply(-add) each, rounded and clamped as the
 // moments' (lean_map_internal.hpp, unorm_code), with
 //   f * Q,  f Bs * (Q/2)/sc + Q/2,  f |Bs|^2 * (Q/2)/sc^2;
 // float storages (f, g f Bs / sc + o, g f |Bs|^2 / sc^2) with g, o = 0.5, 0.5 (offset = 1, the
 // offset encoding) or 1, 0 (offset = 0, the signed encoding).
-void pack_plateau_texels(const float* values, std::size_t count, Storage storage, float sc,
-                         float offset, std::uint8_t* out) {
-    const float sc2 = sc * sc;
-    with_storage(storage, [&](auto s) {
-        constexpr Storage S = decltype(s)::value;
-        const std::size_t texel_bytes = std::size_t(bytes_per_texel(S));
-        if constexpr (S == Storage::Unorm8 || S == Storage::Unorm16) {
+template <Storage S>
+struct PlateauPacker {
+    static constexpr std::size_t kTexelBytes =
+        S == Storage::Unorm8 ? 4 : S == Storage::Float32 ? 16 : 8;  // bytes_per_texel(S)
+    static constexpr bool kUnorm = S == Storage::Unorm8 || S == Storage::Unorm16;
+    float factor[4] = {}, offset[4] = {}, max_code = 0.0f;  // UNORM
+    float sc = 1.0f, sc2 = 1.0f, g = 1.0f, o = 0.0f;        // float storages
+    // A texel off every plateau (f = 0, all four values 0) always packs to these bytes.
+    std::uint8_t off_plateau[8] = {};
+
+    PlateauPacker(float scale, float encoding_offset) : sc(scale), sc2(scale * scale) {
+        assert(int(kTexelBytes) == bytes_per_texel(S));
+        if constexpr (kUnorm) {
             const detail::UnormPacking k = detail::unorm_packing(S, sc, sc2);
             // Per channel value * factor + offset (a + 0 changes no code: -0 and +0 are code 0).
-            const float factor[4] = {k.max, k.b_factor, k.b_factor, k.mxy_factor};
-            const float offset[4] = {0.0f, k.half, k.half, 0.0f};
-            // A texel off every plateau (f = 0, all four values 0) always packs to these bytes.
-            std::uint8_t off_plateau[8];
-            std::uint16_t off_codes[4];
-            for (int c = 0; c < 4; ++c) off_codes[c] = plateau_code(offset[c], k.max);
-            detail::store_unorm_texel(off_plateau, off_codes, S);
-            for (std::size_t i = 0; i < count; ++i) {
-                const float* v = values + 4 * i;
-                std::uint8_t* texel = out + i * texel_bytes;
-                if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f) {
-                    std::memcpy(texel, off_plateau, texel_bytes);
-                    continue;
-                }
-                std::uint16_t codes[4];
-                for (int c = 0; c < 4; ++c) codes[c] = plateau_code(v[c] * factor[c] + offset[c], k.max);
-                detail::store_unorm_texel(texel, codes, S);
-            }
+            const float f[4] = {k.max, k.b_factor, k.b_factor, k.mxy_factor};
+            const float a[4] = {0.0f, k.half, k.half, 0.0f};
+            std::copy(f, f + 4, factor);
+            std::copy(a, a + 4, offset);
+            max_code = k.max;
+            std::uint16_t codes[4];
+            for (int c = 0; c < 4; ++c) codes[c] = plateau_code(offset[c], max_code);
+            detail::store_unorm_texel(off_plateau, codes, S);
         } else {
-            const float g = offset > 0.0f ? 0.5f : 1.0f, o = offset > 0.0f ? 0.5f : 0.0f;
-            for (std::size_t i = 0; i < count; ++i) {
-                const float* v = values + 4 * i;
-                const float stored[4] = {v[0], g * v[1] / sc + o, g * v[2] / sc + o,
-                                         g * v[3] / sc2};
-                for (int c = 0; c < 4; ++c)
-                    detail::store_float_channel(out + i * texel_bytes, c, stored[c], S);
-            }
+            g = encoding_offset > 0.0f ? 0.5f : 1.0f;
+            o = encoding_offset > 0.0f ? 0.5f : 0.0f;
+            const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            pack_values(zero, off_plateau);
         }
+    }
+    void pack_values(const float* v, std::uint8_t* texel) const {
+        if constexpr (kUnorm) {
+            std::uint16_t codes[4];
+            for (int c = 0; c < 4; ++c) codes[c] = plateau_code(v[c] * factor[c] + offset[c], max_code);
+            detail::store_unorm_texel(texel, codes, S);
+        } else {
+            const float stored[4] = {v[0], g * v[1] / sc + o, g * v[2] / sc + o, g * v[3] / sc2};
+            for (int c = 0; c < 4; ++c) detail::store_float_channel(texel, c, stored[c], S);
+        }
+    }
+    void pack_off(std::uint8_t* texel) const { std::memcpy(texel, off_plateau, kTexelBytes); }
+    void pack(const float* v, std::uint8_t* texel) const {
+        if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f)
+            pack_off(texel);
+        else
+            pack_values(v, texel);
+    }
+};
+
+void pack_plateau_texels(const float* values, std::size_t count, Storage storage, float sc,
+                         float offset, std::uint8_t* out) {
+    with_storage(storage, [&](auto s) {
+        constexpr Storage S = decltype(s)::value;
+        const PlateauPacker<S> packer(sc, offset);
+        for (std::size_t i = 0; i < count; ++i)
+            packer.pack(values + 4 * i, out + i * PlateauPacker<S>::kTexelBytes);
     });
 }
 
@@ -462,39 +522,53 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
             pack_plateau_level(chain[l], storage, sc, offset, targets[l].plateau, threads);
         return {rule, mean_fraction(chain.back())};
     }
-    // Even sizes: the finest level row pair by row pair, packed as it is made and box-filtered
-    // into level 1 (no float image of the finest level), which is packed row by row too; then
-    // the reference's chain below. Each thread keeps the slope rows its stencil reaches
-    // (2 radius_y + 4 rows: rows 2y - radius .. 2y + 1 + radius of a pair).
+    // Even sizes: levels 0 to `depth` made block by block (2^depth rows of the finest level,
+    // from which each level's rows of the block are box-filtered, packed as they are made), with
+    // no float image but level `depth`'s (at most a 256th of the finest level's floats); then the
+    // reference's chain below it. Each thread keeps the slope rows its stencil reaches
+    // (2 radius_y + 4 rows) and two float rows per level of the block.
+    int depth = 0;
+    while (depth < kMaxStreamedLevels && (w >> depth) % 2 == 0 && (h >> depth) % 2 == 0) ++depth;
     chain.emplace_back();
-    Image& level1 = chain.front();
-    level1.width = w / 2;
-    level1.height = h / 2;
-    level1.channels = 4;
-    // Huge pages where the system has them: level 1 of a 4096^2 map is 64 MiB of floats.
-    assign_large(level1.pixels, level1.texel_count() * 4, 0.0f);
-    parallel_for_rows(h / 2, threads, [&](int first, int end) {
-        SlopeRowWindow window(w, h, 2 * rule.radius_y + 4, decode);
-        std::vector<float> texels[2];
-        for (auto& t : texels) t.resize(4 * std::size_t(w));
-        for (int pair = first; pair < end; ++pair) {
-            const int y0 = 2 * pair;
-            for (int r = 0; r < 2; ++r) {
-                plateau_row(window.stencil(y0 + r, rule), w, rule, texels[r].data());
-                pack_plateau_texels(texels[r].data(), std::size_t(w), storage, sc, offset,
-                                    targets[0].plateau + std::size_t(y0 + r) * row_bytes);
-            }
-            float* out = level1.row(pair);
-            for (int x = 0; x < w / 2; ++x)
-                box_texel(texels[0].data(), texels[1].data(), x, out + 4 * x);
-            // Level 1's row packed while it is in the cache.
-            pack_plateau_texels(out, std::size_t(w / 2), storage, sc, offset,
-                                targets[1].plateau + std::size_t(pair) * (row_bytes / 2));
-        }
+    Image& stored = chain.front();
+    stored.width = w >> depth;
+    stored.height = h >> depth;
+    stored.channels = 4;
+    stored.pixels.resize(stored.texel_count() * 4);
+    with_storage(storage, [&](auto s) {
+        constexpr Storage S = decltype(s)::value;
+        constexpr std::size_t bytes = PlateauPacker<S>::kTexelBytes;
+        const PlateauPacker<S> packer(sc, offset);
+        parallel_for_rows(stored.height, threads, [&](int first, int end) {
+            SlopeRowWindow window(w, h, 2 * rule.radius_y + 4, decode);
+            std::vector<float> pairs[kMaxStreamedLevels][2];
+            for (int l = 0; l < depth; ++l)
+                for (auto& row : pairs[l]) row.resize(4 * std::size_t(w >> l));
+            // Row y of level l into `out` (4 floats per texel) and, packed, into its target.
+            const auto make_row = [&](const auto& self, int l, int y, float* out) -> void {
+                const int width = w >> l;
+                std::uint8_t* packed = targets[std::size_t(l)].plateau +
+                                       std::size_t(y) * std::size_t(width) * bytes;
+                if (l == 0) {
+                    plateau_row(window.stencil(y, rule), w, rule, out, packer, packed);
+                    return;
+                }
+                float* a = pairs[l - 1][0].data();
+                float* b = pairs[l - 1][1].data();
+                self(self, l - 1, 2 * y, a);
+                self(self, l - 1, 2 * y + 1, b);
+                for (int x = 0; x < width; ++x) {
+                    box_texel(a, b, x, out + 4 * x);
+                    packer.pack(out + 4 * x, packed + std::size_t(x) * bytes);
+                }
+            };
+            for (int y = first; y < end; ++y) make_row(make_row, depth, y, stored.row(y));
+        });
     });
     extend_chain(chain, threads);
     for (std::size_t l = 1; l < chain.size(); ++l)
-        pack_plateau_level(chain[l], storage, sc, offset, targets[l + 1].plateau, threads);
+        pack_plateau_level(chain[l], storage, sc, offset, targets[std::size_t(depth) + l].plateau,
+                           threads);
     return {rule, mean_fraction(chain.back())};
 }
 

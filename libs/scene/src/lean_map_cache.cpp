@@ -227,9 +227,9 @@ std::string LeanMapCache::store_file(const std::string& key, const std::string& 
                             [&](io::AtomicFile& file) { file.write(bytes.data(), bytes.size()); });
 }
 
-bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffix,
-                                std::uint64_t size, io::AtomicFile& output) const {
-    if (!enabled() || !safe_suffix(suffix)) return false;
+std::string LeanMapCache::regular_file_entry(const std::string& key,
+                                             const std::string& suffix) const {
+    if (!enabled() || !safe_suffix(suffix)) return {};
     if (!cleaned_) {
         cleaned_ = true;
         clean({});
@@ -237,7 +237,15 @@ bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffi
     const std::string path = (fs::path(folder_) / (key + suffix)).string();
     std::error_code error;
     const fs::file_status status = fs::symlink_status(path, error);
-    if (error || !fs::is_regular_file(status)) return false;
+    if (error || !fs::is_regular_file(status)) return {};  // missing, or a link not followed
+    return path;
+}
+
+bool LeanMapCache::copy_file_to(const std::string& key, const std::string& suffix,
+                                std::uint64_t size, io::AtomicFile& output) const {
+    const std::string path = regular_file_entry(key, suffix);
+    if (path.empty()) return false;
+    std::error_code error;
     const std::uintmax_t bytes = fs::file_size(path, error);
     if (error || bytes != size) return false;
     output.copy_from(path, size);
@@ -280,15 +288,9 @@ std::string LeanMapCache::store_file_link(const std::string& key, const std::str
 bool LeanMapCache::serve_file_to(const std::string& key, const std::string& suffix,
                                  std::uint64_t size, const std::string& sha256,
                                  const std::string& output) const {
-    if (!enabled() || !safe_suffix(suffix)) return false;
-    if (!cleaned_) {
-        cleaned_ = true;
-        clean({});
-    }
-    const std::string path = (fs::path(folder_) / (key + suffix)).string();
+    const std::string path = regular_file_entry(key, suffix);
+    if (path.empty()) return false;
     std::error_code error;
-    const fs::file_status status = fs::symlink_status(path, error);
-    if (error || !fs::is_regular_file(status)) return false;
     // A link beside the output pins the entry's file: what is checked is what appears.
     const std::string temporary = io::temporary_path_for(output);
     fs::create_hard_link(path, temporary, error);

@@ -115,6 +115,9 @@ class LeanMapCache {
 
   private:
     void clean(const std::string& kept) const;
+    // The path of the file entry `<key><suffix>` when it is a regular file (the folder cleaned
+    // of stale temporaries first, once), else "".
+    std::string regular_file_entry(const std::string& key, const std::string& suffix) const;
     // Writes the file entry `<key><suffix>` atomically with `fill` and bounds the folder: the
     // common part of store_file and store_file_copy, with their return value.
     std::string store_file_entry(const std::string& key, const std::string& suffix,
