@@ -393,7 +393,9 @@ PYBIND11_MODULE(_leanfade, m) {
         [](const py::object& source, const BakeSettings& settings, const std::string& name) {
             return bake(source, name, settings);
         },
-        py::arg("source"), py::arg("settings"), py::arg("name") = "");
+        py::arg("source"), py::arg("settings"), py::arg("name") = "",
+        "Bakes SOURCE (a path, a file's bytes or a NumPy array) with SETTINGS into a LeanMap, as "
+        "`leanfade bake` does. leanfade.bake() is the keyword form.");
 
     m.def(
         "load",
@@ -411,7 +413,8 @@ PYBIND11_MODULE(_leanfade, m) {
             map->input_file = file;
             return map;
         },
-        py::arg("path"), py::arg("max_size") = kDefaultMaxImageDimension);
+        py::arg("path"), py::arg("max_size") = kDefaultMaxImageDimension,
+        "Reads a LEAN-map KTX2 file with every check of `leanfade info`.");
 
     m.def(
         "inspect",
@@ -449,7 +452,9 @@ PYBIND11_MODULE(_leanfade, m) {
             d["lean_map"] = layout != nullptr && io::is_lean_layout_name(*layout);
             return d;
         },
-        py::arg("path"));
+        py::arg("path"),
+        "Any KTX2 file's header, levels and key/values (bytes), checked structurally; "
+        "lean_map: whether it says it is a LEAN map.");
 
     m.def(
         "roughness_textures",
@@ -478,7 +483,9 @@ PYBIND11_MODULE(_leanfade, m) {
             return d;
         },
         py::arg("source"), py::arg("settings"), py::arg("base_roughness") = 0.0,
-        py::arg("name") = "");
+        py::arg("name") = "",
+        "The engine textures of `bake --roughness-out` (metallic_roughness, normal, anisotropy), "
+        "every level as a (h, w, 4) uint8 array.");
 
     m.def(
         "write_image",
@@ -495,7 +502,9 @@ PYBIND11_MODULE(_leanfade, m) {
                 io::write_pfm(file, std::get<Image>(image));
             }
         },
-        py::arg("path"), py::arg("array"));
+        py::arg("path"), py::arg("array"),
+        "Writes a (H, W[, C]) array: uint8/uint16 as 8/16-bit PNG, floats as OpenEXR (.exr) or "
+        "PFM.");
 
     m.def(
         "cache_key",
@@ -506,7 +515,9 @@ PYBIND11_MODULE(_leanfade, m) {
             std::vector<std::span<const std::uint8_t>> spans(copies.begin(), copies.end());
             return scene::lean_cache_key(spans, settings);
         },
-        py::arg("sources"), py::arg("settings"));
+        py::arg("sources"), py::arg("settings"),
+        "SHA-256 (hex) over a format tag, leanfade's version, SETTINGS and each source's length "
+        "and bytes: the key of leanfade's cache.");
     m.def(
         "sha256_file",
         [](const py::object& path) {
@@ -514,8 +525,9 @@ PYBIND11_MODULE(_leanfade, m) {
             py::gil_scoped_release unlocked;
             return scene::sha256_file_hex(file);
         },
-        py::arg("path"));
-    m.def("default_cache_folder", &scene::default_lean_cache_folder);
+        py::arg("path"), "SHA-256 (hex) of a file, read in pieces.");
+    m.def("default_cache_folder", &scene::default_lean_cache_folder,
+          "$XDG_CACHE_HOME/leanfade, else $HOME/.cache/leanfade; '' when neither is set.");
 
     py::class_<scene::LeanMapCache>(m, "Cache")
         .def(py::init([](const py::object& folder, std::uint64_t max_bytes) {
