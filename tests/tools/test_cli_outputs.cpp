@@ -294,6 +294,24 @@ TEST(CliOutputs, JsonInAMissingFolderWritesNothing) {
     EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+TEST(CliOutputs, BakeOutputCreatesItsFolderAndRemovesItOnFailure) {
+    // -o into a missing folder creates it, as --out-dir does; a bake that fails leaves none.
+    const fs::path dir = test::scratch_dir("outputs_bake_folder");
+    RunResult r = run_leanfade(
+        "bake --builtin bumps --size 16 -o " + q(dir / "new" / "deeper" / "x.ktx2"), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::is_regular_file(dir / "new" / "deeper" / "x.ktx2"));
+    write_text(dir / "bad.png", "not a png");
+    r = run_leanfade("bake " + q(dir / "bad.png") + " -o " + q(dir / "other" / "y.ktx2"), dir);
+    expect_one_line_error(r, "bad.png", "bad.png");
+    EXPECT_FALSE(fs::exists(dir / "other")) << "a failed bake left its output folder";
+    // A folder under a file cannot be made.
+    write_text(dir / "file", "x");
+    r = run_leanfade("bake --builtin bumps --size 16 -o " + q(dir / "file" / "z.ktx2"), dir);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(CliOutputs, RenderCellsAreAllOrNothing) {
     const fs::path dir = test::scratch_dir("outputs_render_cells");
     fs::create_directories(dir / "cells" / "lean_d24.png");  // the last cell cannot be written

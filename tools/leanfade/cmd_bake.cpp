@@ -3,6 +3,7 @@
 // reported (cli_bake_report.hpp); the outputs are published as they are done.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -284,8 +285,11 @@ int run_bake(const BakeArgs& given) {
     if (is_gltf_bake(given)) return run_gltf_bake(given);
     // Flags checked before touching any file.
     const BakeArgs args = checked_bake_args(given);
-    // A missing --out-dir is created, and removed again if the run writes nothing into it.
+    // A missing --out-dir, or the folder of -o, is created, and removed again if the run writes
+    // nothing into it.
     const io::CreatedFolders out_folder(args.out_dir);
+    const io::CreatedFolders output_folder(
+        args.output.empty() ? std::string() : std::filesystem::path(args.output).parent_path().string());
     const BakeSettings settings = bake_settings(args);
     const std::vector<BakeJob> jobs = plan_bake_jobs(args);
     return BakeRun(args, settings, jobs).run();
@@ -297,8 +301,8 @@ const CommandRegistration registration{
         auto args = std::make_shared<BakeArgs>();
         app.add_option("inputs", args->inputs, "Height or normal maps (PNG 8/16-bit, EXR, PFM)");
         app.add_option("-o,--output", args->output,
-                       "Output file (one input only); with --format png, the name before "
-                       ".lean1.png/.lean2.png");
+                       "Output file (one input only; a missing folder is created); with --format "
+                       "png, the name before .lean1.png/.lean2.png");
         app.add_option("--out-dir", args->out_dir, "Folder for the outputs of a batch");
         app.add_option("--from", args->from,
                        "Input kind: " + name_list(bake_source_names()) +
@@ -354,7 +358,8 @@ const CommandRegistration registration{
                        "else ktx2")
             ->check(CLI::IsMember({"ktx2", "png"}));
         app.get_option("--output")
-            ->description("Output (one input only): NAME.ktx2, or NAME.png for the PNG pair "
+            ->description("Output (one input only; a missing folder is created, and removed if "
+                          "the bake fails): NAME.ktx2, or NAME.png for the PNG pair "
                           "NAME.lean1.png + NAME.lean2.png");
         app.add_flag("--fsync", args->fsync,
                      "Flush each output to disk before it replaces the old one (survives a "
