@@ -12,7 +12,12 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/image.hpp"
+#include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/obj_loader.hpp"
 
 namespace leanfade::scene {
@@ -260,6 +265,49 @@ TEST(ObjHostile, LinksOutOfTheObjsFolderAreRefusedBeforeReading) {
     const Scene inside = scene_of("mtllib in.mtl\nusemtl A\n" + quad, "");
     ASSERT_EQ(inside.materials.size(), 1u);
     EXPECT_EQ(inside.materials[0].name, "A");
+}
+
+// Blender's OBJ exporter writes a normal map as map_Bump: a colour image where a height map is
+// expected is baked as the normal map it is (bake's content rule), with a warning; a grey one
+// stays a height map.
+TEST(ObjMaterials, ColourMapBumpIsBakedAsANormalMap) {
+    namespace fs = std::filesystem;
+    const fs::path root = scratch() / "map_bump_normal";
+    fs::remove_all(root);
+    fs::create_directories(root);
+    Image normals(32, 32, 3);
+    Image heights(32, 32, 1);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const glm::vec3 n = glm::normalize(
+                glm::vec3(0.3f * std::sin(0.4f * float(x)), 0.2f * std::cos(0.3f * float(y)), 1.0f));
+            for (int c = 0; c < 3; ++c) normals.at(x, y, c) = 0.5f * n[c] + 0.5f;
+            heights.at(x, y) = 0.5f + 0.3f * std::sin(0.4f * float(x));
+        }
+    io::write_png((root / "n.png").string(), normals, 8);
+    io::write_png((root / "h.png").string(), heights, 8);
+    const std::string quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nf 1/1 2/2 3/3\n";
+    std::ofstream(root / "m.obj") << "mtllib m.mtl\nusemtl A\n" + quad;
+    const auto scene_of = [&](const std::string& mtl_text, ObjSceneReport& report) {
+        std::ofstream(root / "m.mtl") << mtl_text;
+        return make_obj_render_scene(load_obj_model((root / "m.obj").string()), {}, &report);
+    };
+    ObjSceneReport as_bump, as_norm, as_height;
+    const Scene bump = scene_of("newmtl A\nmap_Bump n.png\n", as_bump);
+    const Scene norm = scene_of("newmtl A\nnorm n.png\n", as_norm);
+    ASSERT_EQ(bump.lean_maps.size(), 1u);
+    ASSERT_EQ(norm.lean_maps.size(), 1u);
+    for (std::size_t l = 0; l < norm.lean_maps[0].levels.size(); ++l)
+        EXPECT_TRUE(bump.lean_maps[0].levels[l].lean2 == norm.lean_maps[0].levels[l].lean2) << l;
+    ASSERT_EQ(as_bump.warnings.size(), 1u);
+    EXPECT_NE(as_bump.warnings[0].find("map_Bump n.png is a colour image"), std::string::npos)
+        << as_bump.warnings[0];
+    EXPECT_TRUE(as_norm.warnings.empty());
+    // A grey map_Bump is a height map, as before.
+    const Scene height = scene_of("newmtl A\nmap_Bump -bm 2 h.png\n", as_height);
+    EXPECT_TRUE(as_height.warnings.empty());
+    ASSERT_EQ(height.lean_maps.size(), 1u);
+    EXPECT_FALSE(height.lean_maps[0].levels[0].lean2 == norm.lean_maps[0].levels[0].lean2);
 }
 
 }  // namespace

@@ -75,9 +75,8 @@ struct MaterialBuilder {
         options.threads = settings.threads;
         options.strict_normals = settings.strict_normals;
         PackedLeanMap map;
-        if (!m.normal_map.empty()) {
-            const std::string path = confined_path(mtl, "norm", m.normal_map, folder);
-            Image normals = read(path);
+        // A normal map (OpenGL convention), its slopes times -bm.
+        const auto bake_normals = [&](Image normals, const std::string& path) {
             if (normals.channels < 3)
                 throw Error(path, "a normal map needs 3 or 4 channels, this image has " +
                                       std::to_string(normals.channels));
@@ -86,15 +85,32 @@ struct MaterialBuilder {
             if (!settings.strict_normals) repairs = count_normal_repairs(normals);
             if (repairs.any()) normals = repair_normal_map(normals);
             if (m.bump_multiplier != 1.0f) detail::scale_normals(normals, m.bump_multiplier);
-            map = bake(normals, BakeSource::Normal, options, path);
-            map.normal_repairs = repairs;
+            PackedLeanMap baked = bake(normals, BakeSource::Normal, options, path);
+            baked.normal_repairs = repairs;
             if (repairs.any()) report.repaired.emplace_back(path, repairs);
+            return baked;
+        };
+        if (!m.normal_map.empty()) {
+            const std::string path = confined_path(mtl, "norm", m.normal_map, folder);
+            map = bake_normals(read(path), path);
         } else if (!m.bump_map.empty()) {
             const std::string path = confined_path(mtl, "map_Bump", m.bump_map, folder);
             if (m.bump_multiplier == 0.0f)
                 throw Error(mtl, "material '" + m.name + "': -bm must not be 0");
-            options.strength = m.bump_multiplier;
-            map = bake(read(path), BakeSource::Height, options, path);
+            Image image = read(path);
+            if (resolve_bake_source(BakeSource::Auto, image) == BakeSource::Normal) {
+                // A colour image where a height map is expected: the normal map that Blender's
+                // OBJ exporter (and others) write as map_Bump. Taken by bake's content rule
+                // (BakeSource::Auto), and said.
+                report.warnings.push_back(
+                    mtl + ": material '" + m.name + "': map_Bump " + m.bump_map +
+                    " is a colour image (not grey), baked as a normal map (OpenGL convention); "
+                    "name it with norm to say so");
+                map = bake_normals(std::move(image), path);
+            } else {
+                options.strength = m.bump_multiplier;
+                map = bake(image, BakeSource::Height, options, path);
+            }
         } else {
             Image flat(1, 1, 3, 0.5f);
             flat.pixels[2] = 1.0f;

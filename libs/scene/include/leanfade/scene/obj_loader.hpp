@@ -72,7 +72,8 @@ struct ObjBakeSettings {
     bool strict_normals = false;  // BakeOptions::strict_normals
 };
 struct ObjSceneReport {
-    std::vector<std::string> warnings;  // usemtl names no MTL file defines
+    // usemtl names no MTL file defines; map_Bump files taken as normal maps
+    std::vector<std::string> warnings;
     std::vector<std::pair<std::string, NormalRepairs>> repaired;  // normal maps, by file
 };
 
@@ -80,8 +81,9 @@ struct ObjSceneReport {
 // makes a glTF scene's: one object per part, one material per MTL material used, with Kd, Ks,
 // Ns (the Blinn-Phong shininess), its map_Kd (sRGB, decoded to linear RGBA, times Kd), its Pr or
 // map_Pr (the base roughness map, alpha0^2 = r^4, read by Cook-Torrance) and its bump map baked
-// to a LEAN map: map_Bump / bump a height map at strength -bm (height per texel spacing), norm a
-// normal map (OpenGL convention) with slopes times -bm; no bump map: flat. Parts without a
+// to a LEAN map: map_Bump / bump a height map at strength -bm (height per texel spacing), or a
+// normal map when it is a colour image (bake's content rule, BakeSource::Auto; a warning says
+// so), norm a normal map (OpenGL convention) with slopes times -bm; no bump map: flat. Parts without a
 // material, or whose usemtl no MTL file defines (a warning), get a material with no overrides.
 // mtllib and texture names are relative paths inside the OBJ's folder (absolute paths, '..',
 // drive letters and schemes are refused); a missing or malformed MTL or texture throws
