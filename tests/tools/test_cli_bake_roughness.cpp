@@ -96,8 +96,8 @@ TEST(CliBakeRoughness, WritesKtx2AndPngLevelsOfTheCoreRoughnessMips) {
         for (std::size_t t = 0; t < want[l].alpha.size(); ++t) {
             const std::uint8_t* texel = &mr[l].texels[4 * t];
             EXPECT_EQ(texel[1], byte(std::sqrt(want[l].alpha[t]))) << "level " << l;
-            EXPECT_EQ(texel[0], 0);
-            EXPECT_EQ(texel[2], 0);  // metallic 0
+            EXPECT_EQ(texel[0], 255);  // occlusion none (ORM)
+            EXPECT_EQ(texel[2], 0);    // metallic 0
             EXPECT_EQ(texel[3], 255);
             const glm::vec3 n = want[l].normal[t];
             EXPECT_EQ(normal[l].texels[4 * t], byte(0.5f * n.x + 0.5f));

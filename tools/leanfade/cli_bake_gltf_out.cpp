@@ -314,7 +314,7 @@ std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMate
     std::memcpy(&scale, &m.normal_scale, 4);
     std::memcpy(&roughness, &m.roughness_factor, 4);
     return scene::lean_cache_key(
-        sources, "gltf out v2 scale=" + std::to_string(scale) + " roughness=" +
+        sources, "gltf out v3 scale=" + std::to_string(scale) + " roughness=" +
                     std::to_string(roughness) + " storage=" + to_string(settings.storage) +
                     " strict=" + std::to_string(int(settings.strict_normals)));
 }

@@ -135,7 +135,7 @@ struct TexelTextures {
 TexelTextures texel_textures(const TexelRoughness& r, glm::vec3 n, const float* kept) {
     TexelTextures out;
     out.metallic_roughness = kept != nullptr ? glm::vec4(kept[0], 0.0f, kept[2], kept[3])
-                                             : glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+                                             : glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);
     out.metallic_roughness.y = std::min(1.0f, perceptual_roughness(r.alpha));
     out.normal = glm::vec4(0.5f * n.x + 0.5f, 0.5f * n.y + 0.5f, 0.5f * n.z + 0.5f, 1.0f);
     out.anisotropy = glm::vec4(0.5f * r.direction.x + 0.5f, 0.5f * r.direction.y + 0.5f,
@@ -351,9 +351,9 @@ void RoughnessTextureBuilder::add_isotropic(const MomentRun& run, const float* b
                 t[4 * k + 2] = std::uint8_t(unorm8_code(in[4 * k + 2]));
                 t[4 * k + 3] = std::uint8_t(unorm8_code(in[4 * k + 3]));
             }
-        } else {  // no input texture: metallic 0, B 0, A 1
+        } else {  // no input texture: R 1 (occlusion none, for ORM packing), metallic 0, A 1
             for (int k = 0; k < n; ++k) {
-                t[4 * k] = 0;
+                t[4 * k] = 255;
                 t[4 * k + 1] = std::uint8_t(g[k]);
                 t[4 * k + 2] = 0;
                 t[4 * k + 3] = 255;

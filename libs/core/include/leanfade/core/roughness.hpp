@@ -49,7 +49,8 @@ std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOp
 // [0, 1], rows top first (docs/roughness.md):
 //   metallic_roughness  glTF metallic-roughness: G = perceptual r = √α; R, B, A those of the
 //                       input texture (its MIP chain filtered linearly, as the moments), or
-//                       (0, 0, 1) without one (metallic 0)
+//                       (1, 0, 1) without one: R 1 (no occlusion, for engines that read an
+//                       ORM texture's R as occlusion), metallic 0
 //   normal              0.5 n + 0.5 of the unit normal of the mean slope, A = 1
 //   anisotropy          KHR_materials_anisotropy: RG = 0.5 d + 0.5 of the direction d of the larger
 //                       slope variance (tangent space), B = strength, A = 1
