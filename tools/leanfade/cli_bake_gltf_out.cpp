@@ -179,30 +179,6 @@ std::vector<CopiedFile> relocate_external_files(json& root, const std::string& i
     return copies;
 }
 
-// `image` resampled to w x h (bilinear, repeating, texel centres aligned): a metallic-roughness
-// texture of another size than the normal texture.
-Image resampled(const Image& image, int w, int h) {
-    if (image.width == w && image.height == h) return image;
-    Image out(w, h, image.channels);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const float fx = (float(x) + 0.5f) * float(image.width) / float(w) - 0.5f;
-            const float fy = (float(y) + 0.5f) * float(image.height) / float(h) - 0.5f;
-            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
-            const float tx = fx - float(x0), ty = fy - float(y0);
-            const auto wrap = [](int v, int n) { return ((v % n) + n) % n; };
-            for (int c = 0; c < image.channels; ++c) {
-                const auto at = [&](int xi, int yi) {
-                    return image.pixels[image.index(wrap(xi, image.width), wrap(yi, image.height), c)];
-                };
-                out.pixels[out.index(x, y, c)] =
-                    (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
-                    ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
-            }
-        }
-    return out;
-}
-
 // The files of one material's filtered textures.
 struct MaterialFiles {
     int material = -1;  // index into GltfScene::materials

@@ -55,7 +55,8 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
         ->each([&args](const std::string&) { args.roughness_given = true; });
     app.add_option("--roughness-map", args.roughness_map,
                    "Base roughness per texel: a grey map of r0, or a glTF metallic-roughness "
-                   "texture (r0 in G; its R, B, A are kept in the output), of the input's size");
+                   "texture (r0 in G; its R, B, A are kept in the output); of another size than the "
+                   "input, resampled to it (bilinear, repeating)");
 }
 
 std::string normal_output_path(const std::string& roughness_out) {
@@ -108,7 +109,9 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
     roughness.threads = options.threads;
     const Image* metallic_roughness = nullptr;
     if (!args.roughness_map.empty()) {
-        map_image_ = read_roughness_map(args.roughness_map, read_options);
+        // Of another size than the input: resampled to it, as a glTF's metallic-roughness
+        // texture is (docs/roughness.md).
+        map_image_ = resampled(read_roughness_map(args.roughness_map, read_options), width, height);
         base_ = base_roughness_channel(map_image_);
         roughness.roughness_map = &base_;
         if (map_image_.channels >= 3) metallic_roughness = &map_image_;

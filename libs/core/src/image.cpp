@@ -1,6 +1,7 @@
 #include "leanfade/core/image.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 
@@ -35,6 +36,28 @@ int UnormImage::effective_max_code(int channels_used) const {
     for (std::size_t i = 0; i < samples.size() && divisor > 1; i += stride)
         for (int c = 0; c < used && divisor > 1; ++c) divisor = std::gcd(divisor, unsigned(samples[i + std::size_t(c)]));
     return divisor == 0 ? int(max_value) : int(max_value / divisor);
+}
+
+Image resampled(const Image& image, int w, int h) {
+    if (image.width == w && image.height == h) return image;
+    Image out(w, h, image.channels);
+    const auto wrap = [](int v, int n) { return ((v % n) + n) % n; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const float fx = (float(x) + 0.5f) * float(image.width) / float(w) - 0.5f;
+            const float fy = (float(y) + 0.5f) * float(image.height) / float(h) - 0.5f;
+            const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+            const float tx = fx - float(x0), ty = fy - float(y0);
+            for (int c = 0; c < image.channels; ++c) {
+                const auto at = [&](int xi, int yi) {
+                    return image.pixels[image.index(wrap(xi, image.width), wrap(yi, image.height), c)];
+                };
+                out.pixels[out.index(x, y, c)] =
+                    (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x0 + 1, y0)) +
+                    ty * ((1 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1));
+            }
+        }
+    return out;
 }
 
 }  // namespace leanfade

@@ -65,6 +65,11 @@ struct UnormImage {
     int effective_max_code(int channels_used = 0) const;
 };
 
+// `image` resampled to width x height (bilinear, the image repeating, texel centres aligned):
+// a texture of another size than the map it goes with (a metallic-roughness texture beside a
+// normal map). The image itself when it has that size already.
+Image resampled(const Image& image, int width, int height);
+
 // Largest accepted width or height for any image read or baked unless raised explicitly
 // (a guard against decompression bombs and absurd headers).
 inline constexpr int kDefaultMaxImageDimension = 16384;
