@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 #include "test_gltf_builder.hpp"
@@ -739,4 +740,47 @@ TEST(CliGltfOut, AFullCacheIsAWarningNamingTheEntryNotItsTemporary) {
 }
 
 }  // namespace
+// glTF normal textures are OpenGL (+Y): one that fits a height field clearly better with green
+// flipped gets the convention warning on every bake path: `bake SCENE --out-dir`, and
+// `bake SCENE -o OUT` whether its outputs are baked or taken from the cache.
+TEST(CliGltfOut, DirectXLookingNormalTextureIsWarnedOnEveryPath) {
+    const fs::path dir = cli_gltf_folder("out_convention");
+    // The built-in bumps as an OpenGL normal map (a bake's lean1 rgb), its green flipped.
+    const fs::path base = dir / "bumps";
+    ASSERT_EQ(test::run_leanfade("bake --builtin bumps --size 96 --format png --bits 8 -o " +
+                                     test::shell_quote(base.string() + ".png"),
+                                 dir)
+                  .exit_code,
+              0);
+    const Image lean1 = io::read_image(base.string() + ".lean1.png");
+    std::vector<float> pixels;
+    for (int y = 0; y < lean1.height; ++y)
+        for (int x = 0; x < lean1.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                pixels.push_back(c == 1 ? 1.0f - lean1.at(x, y, c) : lean1.at(x, y, c));
+    GltfTestFile file;
+    file.images = {scene::test::png_bytes(lean1.width, lean1.height, 3, pixels)};
+    file.materials = {{"flipped", glm::vec4(1.0f), -1, 0, 1.0f}};
+    file.meshes.push_back({scene::test::unit_quad(0)});
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(file, input.string(), GltfStorage::Binary);
+    const auto warned = [](const test::RunResult& r) {
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        return r.err.find("looks like a DirectX (-Y) normal map") != std::string::npos;
+    };
+    fs::create_directories(dir / "maps");
+    EXPECT_TRUE(warned(test::run_leanfade_in("bake " + test::shell_quote(input.string()) +
+                                                 " --out-dir " +
+                                                 test::shell_quote((dir / "maps").string()),
+                                             dir, {}, test::cache_env(dir))));
+    for (const char* out : {"a.glb", "b.glb"}) {  // baked, then from the cache
+        const test::RunResult r = test::run_leanfade_in(
+            "bake " + test::shell_quote(input.string()) + " -o " +
+                test::shell_quote((dir / out).string()),
+            dir, {}, test::cache_env(dir));
+        EXPECT_TRUE(warned(r)) << out;
+    }
+}
+
 }  // namespace leanfade

@@ -24,6 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
+}  // namespace
+
 // glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
 std::string gltf_convention_warning(const std::string& image) {
     return "warning: " + image +
@@ -31,8 +33,6 @@ std::string gltf_convention_warning(const std::string& image) {
            "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
            "from the wrong side, flip the texture's green channel";
 }
-
-}  // namespace
 
 std::string file_name_part(const std::string& name) {
     std::string out;

@@ -265,6 +265,7 @@ struct CachedOutputs {
     bool anisotropic = false;
     float anisotropy_ratio = 1.0f;
     int levels = 0, width = 0, height = 0;
+    bool looks_flipped = false;  // the normal texture looks like a DirectX (-Y) one
 };
 
 constexpr const char* kOutputFileSuffixes[] = {".lean.ktx2",      ".roughness.ktx2",
@@ -313,6 +314,7 @@ std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cach
         c.levels = j.at("levels").get<int>();
         c.width = j.at("width").get<int>();
         c.height = j.at("height").get<int>();
+        c.looks_flipped = j.at("looks_flipped").get<bool>();
     } catch (const json::exception&) {
         return std::nullopt;
     }
@@ -341,7 +343,8 @@ std::string store_outputs(const scene::LeanMapCache& cache, const std::string& k
                                       {"anisotropy_ratio", outputs.anisotropy_ratio},
                                       {"levels", outputs.levels},
                                       {"width", outputs.width},
-                                      {"height", outputs.height}}
+                                      {"height", outputs.height},
+                                      {"looks_flipped", outputs.looks_flipped}}
                                      .dump();
     return cache.store_file(key, kOutputManifestSuffix,
                             std::vector<std::uint8_t>(manifest.begin(), manifest.end()));
@@ -566,6 +569,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                 result->levels = int(packed.levels.size());
                 result->width = packed.levels.front().width;
                 result->height = packed.levels.front().height;
+                result->looks_flipped = packed.source_looks_flipped;
                 const std::string warning = store_outputs(cache, cache_key, staged(0), textures, *result);
                 // Named as the outputs, never as their temporaries.
                 if (!warning.empty())
@@ -573,6 +577,12 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                    {"cache: " + std::string(outputs.named(Error("", warning)).cause())});
             }
             for (std::size_t i = 0; i < result->bytes.size(); ++i) written.push_back(beside(*names[i]));
+            // The convention warning of every bake path, from the cache too.
+            if (result->looks_flipped) {
+                if (progress) std::fprintf(stderr, "\r\033[K");
+                print_warnings(args.input, {gltf_convention_warning(
+                                               gltf.images[std::size_t(m.normal_image)].name)});
+            }
             const bool anisotropic = result->anisotropic;
             const float anisotropy = result->anisotropy_ratio;
 
