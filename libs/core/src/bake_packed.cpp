@@ -384,6 +384,16 @@ void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
     });
 }
 
+// The map's own level vectors as the bake's targets, sized for `storage` (size_output).
+std::vector<PackedLevelTarget> sized_targets(PackedLeanMap& packed, Storage storage, int threads) {
+    size_output(packed, bytes_per_texel(storage), threads);
+    std::vector<PackedLevelTarget> targets;
+    for (PackedLevel& level : packed.levels)
+        targets.push_back({level.lean1.data(), level.lean2.data(),
+                           level.plateau.empty() ? nullptr : level.plateau.data()});
+    return targets;
+}
+
 }  // namespace
 
 bool set_bake_simd(bool enabled) {
@@ -610,12 +620,7 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
                  packed.levels[l].lean2 = std::move(previous[l].lean2);
                  packed.levels[l].plateau = std::move(previous[l].plateau);
              }
-             size_output(packed, bytes_per_texel(storage), threads);
-             std::vector<PackedLevelTarget> targets;
-             for (PackedLevel& level : packed.levels)
-                 targets.push_back({level.lean1.data(), level.lean2.data(),
-                                    level.plateau.empty() ? nullptr : level.plateau.data()});
-             return targets;
+             return sized_targets(packed, storage, threads);
          },
          moments);
 }
@@ -670,12 +675,7 @@ PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input,
             PackedBakeResult baked;
             bake(baked, samples, source, options, s, generator, source_name,
                  [&](PackedLeanMap& packed, int threads) {
-                     size_output(packed, bytes_per_texel(s), threads);
-                     std::vector<PackedLevelTarget> targets;
-                     for (PackedLevel& level : packed.levels)
-                         targets.push_back({level.lean1.data(), level.lean2.data(),
-                                            level.plateau.empty() ? nullptr : level.plateau.data()});
-                     return targets;
+                     return sized_targets(packed, s, threads);
                  },
                  both_sinks(moments, probe));
             return baked;
