@@ -24,6 +24,7 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/output_plan.hpp"
 #include "leanfade/io/png_io.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
 #include "leanfade/version.hpp"
@@ -46,8 +47,6 @@ struct BakeSettings {
     io::ReadOptions read_options;
     io::WriteOptions write_options;
 };
-
-std::string generator_string() { return std::string("leanfade ") + LEANFADE_VERSION; }
 
 float finite_setting(const char* setting, double value) {
     if (!std::isfinite(value)) throw Error(setting, "must be a finite number");
@@ -235,12 +234,6 @@ bool same_file(const std::string& a, const std::string& b) {
     return !a.empty() && !b.empty() && fs::equivalent(a, b, error) && !error;
 }
 
-bool has_extension(const std::string& path, const char* extension) {
-    std::string e = fs::path(path).extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e == extension;
-}
-
 // save(): NAME.ktx2 (every level), or NAME.png for the PNG pair NAME.lean1.png + NAME.lean2.png
 // (+ NAME.plateau.png), as `leanfade bake -o` names them.
 void save_map(const LeanMapObject& map, const std::string& path, bool fsync) {
@@ -248,12 +241,12 @@ void save_map(const LeanMapObject& map, const std::string& path, bool fsync) {
     options.durability = fsync ? io::Durability::Flush : io::Durability::Rename;
     const PackedLeanMap& packed = map.baked.packed;
     std::vector<std::string> outputs;
-    const bool png = has_extension(path, ".png");
+    const bool png = io::has_extension(path, ".png");
     if (png) {
         const std::string base = fs::path(path).replace_extension().string();
         outputs = {base + io::kLeanPngSuffixes[0], base + io::kLeanPngSuffixes[1]};
         if (packed.has_plateau()) outputs.push_back(base + io::kPlateauPngSuffix);
-    } else if (has_extension(path, ".ktx2")) {
+    } else if (io::has_extension(path, ".ktx2")) {
         outputs = {path};
     } else {
         throw Error(path, "expected a .ktx2 or .png output");
@@ -278,7 +271,7 @@ std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string&
     {
         py::gil_scoped_release unlocked;
         map->baked = bake_packed_image(input.image, settings.source, settings.options,
-                                       settings.storage, generator_string(), input.name);
+                                       settings.storage, LEANFADE_GENERATOR, input.name);
     }
     if (settings.strength_given && map->baked.source == BakeSource::Normal)
         throw Error(input.name, "is a normal map: strength applies to height maps only");
@@ -496,7 +489,7 @@ PYBIND11_MODULE(_leanfade, m) {
             if (std::holds_alternative<UnormImage>(image)) {
                 const UnormImage& samples = std::get<UnormImage>(image);
                 io::write_png(file, samples.to_float(), samples.max_value == 255 ? 8 : 16);
-            } else if (has_extension(file, ".exr")) {
+            } else if (io::has_extension(file, ".exr")) {
                 io::write_exr(file, std::get<Image>(image));
             } else {
                 io::write_pfm(file, std::get<Image>(image));

@@ -89,7 +89,7 @@ int run_leanfade(int argc, const char* const* argv, const RunOptions& options) {
                      LEANFADE_VERSION + ")",
                  "leanfade"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", std::string("leanfade ") + LEANFADE_VERSION);
+    app.set_version_flag("--version", std::string(LEANFADE_GENERATOR));
 
     auto& commands = command_registry();
     std::sort(commands.begin(), commands.end(),

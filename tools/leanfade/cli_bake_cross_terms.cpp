@@ -65,7 +65,7 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
     PackedLeanMap packed;
     packed.storage = Storage::Float32;
     packed.scale = 1.0f;
-    packed.generator = std::string("leanfade ") + LEANFADE_VERSION + " cross terms";
+    packed.generator = std::string(LEANFADE_GENERATOR) + " cross terms";
     for (std::size_t level = 0; level < products.size(); ++level) {
         PackedLevel l;
         l.width = products[level].width;

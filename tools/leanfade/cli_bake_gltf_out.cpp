@@ -477,7 +477,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     io::OutputTransaction outputs(durability);
     io::WriteOptions write_options;
     write_options.durability = durability;
-    const std::string writer = std::string("leanfade ") + LEANFADE_VERSION;
+    const std::string writer = std::string(LEANFADE_GENERATOR);
     std::vector<std::string> written;
     nlohmann::json summaries = nlohmann::json::array();
     const bool progress = stderr_is_terminal();

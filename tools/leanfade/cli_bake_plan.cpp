@@ -19,17 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool has_extension(const std::string& path, const char* extension) {
-    std::string e = fs::path(path).extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e == extension;
-}
-
 // The output format: --format, else png for an -o named .png, else ktx2. An -o whose extension
 // (.png or .ktx2) contradicts --format is refused.
 std::string resolve_format(const BakeArgs& args) {
-    const bool png_name = !args.output.empty() && has_extension(args.output, ".png");
-    const bool ktx2_name = !args.output.empty() && has_extension(args.output, ".ktx2");
+    const bool png_name = !args.output.empty() && io::has_extension(args.output, ".png");
+    const bool ktx2_name = !args.output.empty() && io::has_extension(args.output, ".ktx2");
     if (args.format.empty()) return png_name ? "png" : "ktx2";
     if ((args.format == "png" && ktx2_name) || (args.format == "ktx2" && png_name))
         throw Error("-o", "'" + args.output + "' does not name a " + args.format +
@@ -41,7 +35,7 @@ std::string resolve_format(const BakeArgs& args) {
 std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
     if (!args.output.empty()) {
         fs::path out(args.output);
-        if (args.format == "png" && has_extension(args.output, ".png")) out.replace_extension();
+        if (args.format == "png" && io::has_extension(args.output, ".png")) out.replace_extension();
         return out.string();
     }
     fs::path stem = fs::path(input_name).stem();
@@ -168,7 +162,7 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
 }
 
 std::string generator_string() {
-    return std::string("leanfade ") + LEANFADE_VERSION;
+    return std::string(LEANFADE_GENERATOR);
 }
 
 }  // namespace leanfade::cli

@@ -45,7 +45,7 @@ int write_plateau_output(const std::string& plateau_out, const PackedLeanMap& ma
     const io::TextureKeyValues keys{{io::kKeyTextureContent, "plateau v1"},
                                     {io::kPlateauEpsilonKey, shortest_text(epsilon)}};
     io::write_ktx2_rgba16f(outputs.stage(plateau_out), levels,
-                           std::string("leanfade ") + LEANFADE_VERSION, write_options, keys);
+                           std::string(LEANFADE_GENERATOR), write_options, keys);
     return int(levels.size());
 }
 

@@ -26,7 +26,7 @@ io::TextureKeyValues content(const std::string& what) {
 }
 
 std::string writer_string() {
-    return std::string("leanfade ") + LEANFADE_VERSION;
+    return std::string(LEANFADE_GENERATOR);
 }
 
 }  // namespace

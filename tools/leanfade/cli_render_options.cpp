@@ -228,7 +228,7 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
 }
 
 PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
-    const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
+    const std::string generator = std::string(LEANFADE_GENERATOR);
     check_texture_size(f.texture_size, f.max_size, is_builtin_bumps(f.source));
     io::ReadOptions read_options;
     read_options.max_dimension = f.max_size;

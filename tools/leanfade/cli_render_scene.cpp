@@ -195,7 +195,7 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         maps.push_back(load_layer_map(source, flags.bumps, settings));
     std::vector<Image> slopes;
     for (const LeanMap& m : maps) slopes.push_back(top_slopes(m));
-    const std::string generator = std::string("leanfade ") + LEANFADE_VERSION;
+    const std::string generator = std::string(LEANFADE_GENERATOR);
 
     scene::Material material;
     material.name = "layers";

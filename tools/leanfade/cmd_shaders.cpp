@@ -177,7 +177,7 @@ nlohmann::json vertex_layout_json() {
 nlohmann::json index_json(gl::ShaderLanguage language,
                           const std::vector<gl::ExportedShader>& shaders) {
     nlohmann::json j;
-    j["generator"] = std::string("leanfade ") + LEANFADE_VERSION;
+    j["generator"] = std::string(LEANFADE_GENERATOR);
     j["language"] = gl::to_string(language);
     // A block's binding (SPIR-V) or register (b, [[buffer]]) = this + its OpenGL block binding;
     // textures keep their OpenGL units everywhere.

@@ -282,7 +282,7 @@ void write_ktx2_layer_textures(const std::string& lean1_path, const std::string&
     const FormatInfo& format = format_of(map.storage);
     validate_for_write(lean1_path, map, format, true);
     const std::string writer =
-        map.generator.empty() ? std::string("leanfade ") + LEANFADE_VERSION : map.generator;
+        map.generator.empty() ? std::string(LEANFADE_GENERATOR) : map.generator;
     for (int layer = 0; layer < 2; ++layer) {
         const std::string& path = layer == 0 ? lean1_path : lean2_path;
         std::vector<LevelBytes> views;

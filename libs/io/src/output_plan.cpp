@@ -103,16 +103,6 @@ void fsync_folder(const fs::path& folder) {
     ::close(descriptor);
 }
 
-// True when the file name `name` ends with `extension` (".png"), in any case.
-bool has_extension(const std::string& name, const std::string& extension) {
-    if (name.size() <= extension.size()) return false;
-    for (std::size_t i = 0; i < extension.size(); ++i)
-        if (std::tolower(static_cast<unsigned char>(name[name.size() - extension.size() + i])) !=
-            std::tolower(static_cast<unsigned char>(extension[i])))
-            return false;
-    return true;
-}
-
 // ".png" -> "PNG".
 std::string format_of(const std::string& extension) {
     std::string format;
@@ -481,6 +471,17 @@ void OutputTransaction::publish() {
         staged->registration.release();
         if (durability_ == Durability::Flush) fsync_folder(folder_of(staged->target));
     }
+}
+
+bool has_extension(const std::string& path, const std::string& extension) {
+    // The file name's: a name that is only the extension (".png") is a hidden file without one.
+    const std::string name = fs::path(path).filename().string();
+    if (name.size() <= extension.size()) return false;
+    for (std::size_t i = 0; i < extension.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(name[name.size() - extension.size() + i])) !=
+            std::tolower(static_cast<unsigned char>(extension[i])))
+            return false;
+    return true;
 }
 
 }  // namespace leanfade::io

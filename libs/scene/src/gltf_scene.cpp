@@ -20,7 +20,7 @@ namespace leanfade::scene {
 namespace {
 
 std::string generator_string() {
-    return std::string("leanfade ") + LEANFADE_VERSION;
+    return std::string(LEANFADE_GENERATOR);
 }
 
 // The sRGB transfer function inverted (IEC 61966-2-1): encoded [0, 1] -> linear [0, 1].

@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string generator_string() {
-    return std::string("leanfade ") + LEANFADE_VERSION;
+    return std::string(LEANFADE_GENERATOR);
 }
 
 // `name` (an mtllib or texture name of `statement`) inside `folder`, or Error(`file`, cause).

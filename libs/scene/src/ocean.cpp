@@ -117,7 +117,7 @@ Scene make_ocean_scene(const OceanSettings& s, int threads) {
     BakeOptions bake;
     bake.strength = 1.0f;
     bake.threads = threads;
-    const std::string generator = std::string("leanfade ") + LEANFADE_VERSION + " ocean";
+    const std::string generator = std::string(LEANFADE_GENERATOR " ocean");
     std::vector<glm::vec2> velocities;
     for (const OceanLayer& layer : layers) {
         const Image heights = make_gabor_noise(layer.waves, threads);

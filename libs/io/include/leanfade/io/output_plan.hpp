@@ -16,6 +16,10 @@
 
 namespace leanfade::io {
 
+// True when the file name of `path` ends with `extension` (".png"), in any case, and is longer
+// than it (".png" alone is a hidden file without an extension, as std::filesystem has it).
+bool has_extension(const std::string& path, const std::string& extension);
+
 class OutputPlan {
   public:
     // A file the run reads. One that does not exist is allowed (reading it fails later, with its
