@@ -182,9 +182,17 @@ def _served(job: Job, cache_folder: str, cache_bytes: int, key: str) -> Optional
     return None
 
 
-def _failed(job: Job, error: str, start: float) -> dict[str, Any]:
-    return {"line": job.line, "input": job.input, "output": job.output, "status": "failed",
-            "error": error, "seconds": time.monotonic() - start}
+def _result(job: Job, status: str, start: Optional[float], error: Optional[str] = None
+            ) -> dict[str, Any]:
+    """A job's result: its line, input, output and status, the error of a failed one, and the
+    seconds since `start` (none when the job was lost with its worker)."""
+    result: dict[str, Any] = {"line": job.line, "input": job.input, "output": job.output,
+                              "status": status}
+    if error is not None:
+        result["error"] = error
+    if start is not None:
+        result["seconds"] = time.monotonic() - start
+    return result
 
 
 def serve_job(job: Job, cache_folder: str,
@@ -197,10 +205,7 @@ def serve_job(job: Job, cache_folder: str,
         status = _served(job, cache_folder, cache_bytes, _job_key(job, _read_input(job)))
     except leanfade.Error:
         return None  # reported by the bake, where it runs
-    if status is None:
-        return None
-    return {"line": job.line, "input": job.input, "output": job.output, "status": status,
-            "seconds": time.monotonic() - start}
+    return None if status is None else _result(job, status, start)
 
 
 def run_job(job: Job, cache_folder: Optional[str],
@@ -226,11 +231,10 @@ def run_job(job: Job, cache_folder: Optional[str],
                 records.store_file(key, RECORD_SUFFIX,
                                    json.dumps({"size": size, "sha256": sha256}).encode())
     except leanfade.Error as e:
-        return _failed(job, str(e), start)
+        return _result(job, "failed", start, str(e))
     except Exception as e:  # anything else is this job's failure too, not the batch's
-        return _failed(job, f"{job.input}: {type(e).__name__}: {e}", start)
-    return {"line": job.line, "input": job.input, "output": job.output, "status": status,
-            "seconds": time.monotonic() - start}
+        return _result(job, "failed", start, f"{job.input}: {type(e).__name__}: {e}")
+    return _result(job, status, start)
 
 
 class Progress:
@@ -277,8 +281,7 @@ def run_on_dask(jobs: list[Job], cache_folder: Optional[str], cache_bytes: int,
                 result = future.result()
             except Exception as e:  # e.g. KilledWorker: the job killed every worker it ran on
                 job = by_future[future]
-                result = {"line": job.line, "input": job.input, "output": job.output,
-                          "status": "failed", "error": f"{job.input}: {type(e).__name__}: {e}"}
+                result = _result(job, "failed", None, f"{job.input}: {type(e).__name__}: {e}")
             progress.add(result)
             results.append(result)
         return results
