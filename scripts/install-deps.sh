@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ninja-build pkg-config git
   libglm-dev libpng-dev libtinyexr-dev libstb-dev libcli11-dev nlohmann-json3-dev
-  libtinyobjloader-dev libssl-dev libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
+  libtinyobjloader-dev libssl-dev libzstd-dev libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libglfw3-dev libimgui-dev glslang-tools xvfb xauth libglx-mesa0 gnuplot-nox
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev

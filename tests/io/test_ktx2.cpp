@@ -472,8 +472,12 @@ TEST(Ktx2, HostileHeadersAreRefusedBeforeAllocating) {
     expect_rejected(
         path, bytes, [](auto& b) { store_u32_le(b, kPixelDepth, 3); }, "pixelDepth 3");
     expect_rejected(
+        path, bytes, [](auto& b) { store_u32_le(b, kSupercompression, 3); },
+        "supercompressionScheme 3 (ZLIB) is not supported");
+    // Zstandard's level data is unsized: a plain file that says scheme 2 keeps bytesPlane0.
+    expect_rejected(
         path, bytes, [](auto& b) { store_u32_le(b, kSupercompression, 2); },
-        "supercompressionScheme 2");
+        "bytesPlane0 16, expected 0 for supercompressed data");
     expect_rejected(
         path, bytes, [](auto& b) { store_u32_le(b, kTypeSize, 1); },
         "typeSize 1 does not match VK_FORMAT_R32G32B32A32_SFLOAT");
@@ -679,6 +683,117 @@ TEST(Ktx2, WriteRefusesInconsistentMaps) {
     map.baked_shininess = -1.0f;
     expect_error([&] { write_ktx2(path, map); }, path, "baked shininess -1");
     EXPECT_TRUE(test::folder_entries(folder).empty());
+}
+
+// Zstandard supercompression (KTX2 scheme 2): every level one frame, unaligned, bytesPlane0 0,
+// and the same map read back bit for bit; the in-place writer and the in-memory writer give the
+// same bytes as write_ktx2.
+TEST(Ktx2, ZstandardRoundTripsBitExactForAllStorages) {
+    const std::string folder = scratch_folder();
+    WriteOptions zstd;
+    zstd.supercompression = Supercompression::Zstandard;
+    for (const StorageCase& storage : kStorages) {
+        for (const auto& size : {std::pair{37, 20}, std::pair{1, 1}, std::pair{3, 50}}) {
+            SCOPED_TRACE(std::string(to_string(storage.storage)) + " " +
+                         std::to_string(size.first) + "x" + std::to_string(size.second));
+            const int levels = chain_length(size.first, size.second);
+            PackedLeanMap map = make_map(storage.storage, size.first, size.second, levels, 5);
+            // Half of every layer constant: compressible, as real maps' flat ground is.
+            for (PackedLevel& level : map.levels)
+                for (std::vector<std::uint8_t>* layer : {&level.lean1, &level.lean2})
+                    std::fill(layer->begin(), layer->begin() + std::ptrdiff_t(layer->size() / 2), 0);
+            const std::string path = folder + "/zstd.ktx2";
+            write_ktx2(path, map, zstd);
+            expect_same_map(read_ktx2(path), map);
+            const std::vector<std::uint8_t> bytes = read_bytes(path);
+            EXPECT_EQ(u32_le(bytes, kSupercompression), 2u);
+            EXPECT_EQ(u64_le(bytes, kSgdLength), 0u);
+            const Ktx2Info info = inspect_ktx2(path);
+            EXPECT_EQ(info.data_format.bytes_plane[0], 0u);
+            for (std::size_t l = 0; l < info.levels.size(); ++l)
+                EXPECT_EQ(info.levels[l].uncompressed_byte_length,
+                          2 * map.levels[l].lean1.size());
+            if (size.first == 37) {
+                write_ktx2(folder + "/plain.ktx2", map);
+                EXPECT_LT(bytes.size(), read_bytes(folder + "/plain.ktx2").size() * 3 / 4);
+            }
+            EXPECT_EQ(write_ktx2_to_memory(map, "m", zstd), bytes);
+            expect_same_map(read_ktx2_from_memory(bytes, "m"), map);
+        }
+    }
+    WriteOptions bad = zstd;
+    bad.zstd_level = 23;
+    expect_error([&] { write_ktx2(folder + "/bad.ktx2", make_map(Storage::Unorm8, 4, 4, 3), bad); },
+                 folder + "/bad.ktx2", "Zstandard level 23 is not in 1..");
+}
+
+TEST(Ktx2, ZstandardWriterDropsAnEmptyPlateauLayerBeforeCommit) {
+    const std::string folder = scratch_folder();
+    WriteOptions zstd;
+    zstd.supercompression = Supercompression::Zstandard;
+    PackedLeanMap map = make_map(Storage::Unorm16, 37, 20, chain_length(37, 20), 3);
+    PackedLeanMap layout = map;
+    layout.plateau_epsilon = 0.01f;
+    for (PackedLevel& level : layout.levels) level = {level.width, level.height, {}, {}, {}};
+    const std::string path = folder + "/dropped.ktx2";
+    Ktx2Writer writer(path, layout, zstd);
+    for (std::size_t l = 0; l < map.levels.size(); ++l) {
+        ASSERT_NE(writer.targets()[l].plateau, nullptr);
+        std::copy(map.levels[l].lean1.begin(), map.levels[l].lean1.end(), writer.targets()[l].lean1);
+        std::copy(map.levels[l].lean2.begin(), map.levels[l].lean2.end(), writer.targets()[l].lean2);
+    }
+    EXPECT_TRUE(writer.drop_plateau_layer());
+    EXPECT_FALSE(writer.drop_plateau_layer());
+    writer.commit();
+    write_ktx2(folder + "/two_layers.ktx2", map, zstd);
+    EXPECT_EQ(read_bytes(path), read_bytes(folder + "/two_layers.ktx2"));
+    EXPECT_FALSE(read_ktx2(path).has_plateau());
+    // An uncompressed file's size is fixed: nothing is dropped.
+    Ktx2Writer plain(folder + "/plain.ktx2", layout);
+    EXPECT_FALSE(plain.drop_plateau_layer());
+}
+
+TEST(Ktx2, CorruptZstandardLevelsAreRefusedNamingTheLevel) {
+    const std::string folder = scratch_folder();
+    WriteOptions zstd;
+    zstd.supercompression = Supercompression::Zstandard;
+    const std::string good = folder + "/good.ktx2";
+    write_ktx2(good, make_map(Storage::Float16, 37, 20, 6), zstd);
+    const std::vector<std::uint8_t> bytes = read_bytes(good);
+    const std::size_t level0 = kLevelIndex;  // level 0's index entry
+    const std::uint64_t offset = u64_le(bytes, level0), length = u64_le(bytes, level0 + 8);
+    const std::string path = folder + "/bad.ktx2";
+    // A flipped byte in the middle of the frame: the checksum (or the decoder) catches it.
+    expect_rejected(
+        path, bytes, [&](auto& b) { b[std::size_t(offset + length / 2)] ^= 0x5A; },
+        "level 0: corrupt Zstandard data");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, level0 + 8, length - 3); },
+        "level 0: its Zstandard frame is truncated");
+    expect_rejected(
+        path, bytes, [&](auto& b) { store_u64_le(b, level0 + 16, 37 * 20 * 8 * 2 + 8); },
+        "level 0 byteLength");
+    expect_rejected(
+        path, bytes, [&](auto& b) { b[std::size_t(offset)] ^= 0xFF; },
+        "level 0: not Zstandard data");
+    expect_rejected(
+        path, bytes,
+        [&](auto& b) {
+            b.insert(b.end(), {1, 2, 3, 4});
+            store_u64_le(b, level0 + 8, length + 4);
+        },
+        "level 0: 4 bytes after its Zstandard frame");
+    // Levels 0 and 1 swapped: level 0's frame is longer than any frame of level 1's size.
+    expect_rejected(
+        path, bytes,
+        [&](auto& b) {
+            const std::uint64_t offset1 = u64_le(b, level0 + 24), length1 = u64_le(b, level0 + 32);
+            store_u64_le(b, level0 + 24, offset);
+            store_u64_le(b, level0 + 32, length);
+            store_u64_le(b, level0, offset1);
+            store_u64_le(b, level0 + 8, length1);
+        },
+        "level 1 byteLength 11854 / uncompressed 2880, expected a Zstandard frame / 2880");
 }
 
 }  // namespace

@@ -501,7 +501,7 @@ const HostileCase kCases[] = {
          return hostile_ktx2(d, "basis.ktx2",
                              [](Bytes& b) { store_le32(b, kSupercompression, 1); });
      },
-     "supercompressionScheme 1 is not supported", "basis.ktx2"},
+     "supercompressionScheme 1 (BasisLZ) is not supported", "basis.ktx2"},
     {"ktx2_scale_not_a_number",
      [](const fs::path& d) {
          return hostile_ktx2(d, "scale.ktx2",

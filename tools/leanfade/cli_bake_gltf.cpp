@@ -115,6 +115,8 @@ int run_bake_gltf(const GltfBakeArgs& args) {
     io::OutputTransaction outputs(durability);
     io::WriteOptions write_options;
     write_options.durability = durability;
+    write_options.supercompression = args.supercompression;
+    write_options.zstd_level = args.zstd_level;
     nlohmann::json summaries = nlohmann::json::array();
     std::string report;  // printed once the outputs are published
     const bool progress = stderr_is_terminal();

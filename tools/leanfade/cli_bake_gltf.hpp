@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "leanfade/io/image_io.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/material.hpp"
 
@@ -20,6 +21,9 @@ struct GltfBakeArgs {
     std::string json;  // also write the summaries as JSON
     bool fsync = false;
     bool strict_normals = false;  // --strict-normals
+    // The LEAN maps' KTX2 supercompression (--supercompression, --zstd-level).
+    io::Supercompression supercompression = io::Supercompression::None;
+    int zstd_level = 3;
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;
 };

@@ -279,9 +279,10 @@ constexpr std::uint64_t kMaxOutputManifestBytes = 4096;
 
 // The cache key of a material's outputs: its normal texture's and metallic-roughness texture's
 // bytes, the normal scale, the roughness factor, the bake settings that change bytes (storage,
-// strict normals) and the versions of leanfade and of its bake (lean_cache_key).
+// strict normals, supercompression) and the versions of leanfade and of its bake (lean_cache_key).
 std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
-                             const scene::GltfBakeSettings& settings) {
+                             const scene::GltfBakeSettings& settings,
+                             const io::WriteOptions& write_options) {
     static const std::vector<std::uint8_t> none;
     const std::span<const std::uint8_t> sources[] = {
         gltf.images[std::size_t(m.normal_image)].bytes,
@@ -291,9 +292,13 @@ std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMate
     std::memcpy(&scale, &m.normal_scale, 4);
     std::memcpy(&roughness, &m.roughness_factor, 4);
     return scene::lean_cache_key(
-        sources, "gltf out v3 scale=" + std::to_string(scale) + " roughness=" +
+        sources, "gltf out v4 scale=" + std::to_string(scale) + " roughness=" +
                     std::to_string(roughness) + " storage=" + to_string(settings.storage) +
-                    " strict=" + std::to_string(int(settings.strict_normals)));
+                    " strict=" + std::to_string(int(settings.strict_normals)) +
+                    " supercompression=" + io::to_string(write_options.supercompression) +
+                    (write_options.supercompression == io::Supercompression::Zstandard
+                         ? ":" + std::to_string(write_options.zstd_level)
+                         : std::string()));
 }
 
 std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cache,
@@ -477,6 +482,8 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     io::OutputTransaction outputs(durability);
     io::WriteOptions write_options;
     write_options.durability = durability;
+    write_options.supercompression = args.supercompression;
+    write_options.zstd_level = args.zstd_level;
     const std::string writer = std::string(LEANFADE_GENERATOR);
     std::vector<std::string> written;
     nlohmann::json summaries = nlohmann::json::array();
@@ -511,7 +518,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             // The files of an earlier run for the same textures and factors, copied from the
             // cache (in the kernel, without reading them); anything missing or of another size
             // and the material is filtered again.
-            const std::string cache_key = output_cache_key(gltf, m, settings);
+            const std::string cache_key = output_cache_key(gltf, m, settings, write_options);
             std::optional<CachedOutputs> result = find_cached_outputs(cache, cache_key);
             if (result) {
                 // The limits a bake applies to the textures' headers, on the sizes the entry

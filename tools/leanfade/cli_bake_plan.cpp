@@ -73,6 +73,15 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
         throw Error("--plateau-epsilon", "must be a finite number >= 0 (0: no plateau layer)");
     if (args.plateau_epsilon == 0.0f && !args.plateau_out.empty())
         throw Error("--plateau-out", "needs the plateau layer; --plateau-epsilon 0 bakes none");
+    const auto given_flag = [&](std::string_view flag) {
+        return std::find(args.given.begin(), args.given.end(), flag) != args.given.end();
+    };
+    // A PNG pair is deflated by PNG itself: KTX2's supercompression does not apply to it.
+    for (const char* flag : {"--supercompression", "--zstd-level"})
+        if (args.format == "png" && given_flag(flag))
+            throw Error(flag, "applies to KTX2 LEAN maps, not to a PNG pair (--format png)");
+    if (given_flag("--zstd-level") && args.supercompression != io::Supercompression::Zstandard)
+        throw Error("--zstd-level", "needs --supercompression zstd");
     if (args.inputs.empty() && args.builtin.empty())
         throw Error("bake", "no input: give image files or --builtin NAME");
     const std::size_t jobs = job_count(args);
@@ -109,6 +118,8 @@ BakeSettings bake_settings(const BakeArgs& args) {
     settings.read_options.drop_alpha = true;  // normal maps use RGB only
     settings.write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
     settings.write_options.threads = args.threads;
+    settings.write_options.supercompression = args.supercompression;
+    settings.write_options.zstd_level = args.zstd_level;
     return settings;
 }
 

@@ -14,6 +14,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/image_io.hpp"
 
 namespace leanfade::cli {
 
@@ -33,6 +34,9 @@ struct BakeArgs {
     // The plateau layer's epsilon (slope units; 0 = no layer): BakeOptions::plateau_epsilon.
     float plateau_epsilon = kDefaultPlateauEpsilon;
     std::string wrap = "repeat";
+    // KTX2 LEAN maps' supercompression (--supercompression, --zstd-level; docs/ktx2.md).
+    io::Supercompression supercompression = io::Supercompression::None;
+    int zstd_level = 3;
     std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
     int threads = 0;
     bool fsync = false;

@@ -60,12 +60,13 @@ bool is_gltf_bake(const BakeArgs& given) {
 
 // A glTF scene: every normal texture of it (cli_bake_gltf.cpp).
 int run_gltf_bake(const BakeArgs& given) {
-    GltfBakeArgs gltf{given.inputs[0], given.out_dir,        given.bits,
-                      given.threads,   given.max_size,       given.json,
-                      given.fsync,     given.strict_normals, {}};
-    const std::string refused =
-        first_inapplicable(given, {"inputs", "--out-dir", "--output", "--bits", "--threads",
-                                   "--max-size", "--json", "--fsync", "--strict-normals"});
+    GltfBakeArgs gltf{given.inputs[0],      given.out_dir,          given.bits,
+                      given.threads,        given.max_size,         given.json,
+                      given.fsync,          given.strict_normals,   given.supercompression,
+                      given.zstd_level,     {}};
+    const std::string refused = first_inapplicable(
+        given, {"inputs", "--out-dir", "--output", "--bits", "--threads", "--max-size", "--json",
+                "--fsync", "--strict-normals", "--supercompression", "--zstd-level"});
     if (!refused.empty()) gltf.refused_flags.push_back(refused);
     // -o OUT.gltf|OUT.glb: a filtered copy of the scene (cli_bake_gltf_out.hpp).
     if (!given.output.empty()) return run_bake_gltf_out(gltf, given.output);
@@ -350,6 +351,16 @@ const CommandRegistration registration{
             ->capture_default_str();
         app.add_option("--wrap", args->wrap, "Border handling of the slope filter")
             ->check(CLI::IsMember({"repeat", "clamp"}))
+            ->capture_default_str();
+        app.add_option("--supercompression", args->supercompression,
+                       "KTX2 LEAN maps: zstd (each MIP level a Zstandard frame, KTX2 scheme 2: "
+                       "smaller files, the same GPU memory; read by leanfade, libktx and "
+                       "three.js's KTX2Loader) or none (the level data as the GPU takes it)")
+            ->transform(CLI::CheckedTransformer(io::supercompression_names()))
+            ->default_str("none");
+        app.add_option("--zstd-level", args->zstd_level,
+                       "Zstandard level: 1 (fastest) to 19 (smallest; several times slower)")
+            ->check(CLI::Range(1, 19))
             ->capture_default_str();
         app.add_option("--format", args->format,
                        "ktx2 (GPU-ready, every MIP level) or png (the top level as two RGBA PNGs "

@@ -87,6 +87,25 @@ void AtomicFile::write(const void* data, std::size_t size) {
     }
 }
 
+void AtomicFile::write_at(std::uint64_t offset, const void* data, std::size_t size) {
+    if (descriptor_ < 0) throw Error(path_, "write after commit");
+    if (mapping_ != nullptr) throw Error(path_, "write to a mapped file");
+    const off_t end = ::lseek(descriptor_, 0, SEEK_CUR);
+    if (end < 0 || offset > std::uint64_t(end) || size > std::uint64_t(end) - offset)
+        throw Error(path_, "write_at outside the bytes written");
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    while (size > 0) {
+        const ssize_t written = ::pwrite(descriptor_, bytes, size, off_t(offset));
+        if (written < 0) {
+            if (errno == EINTR) continue;
+            throw Error(path_, "write failed (" + errno_text(errno) + ")");
+        }
+        bytes += written;
+        offset += std::uint64_t(written);
+        size -= std::size_t(written);
+    }
+}
+
 std::uint8_t* AtomicFile::map(std::size_t size) {
     if (descriptor_ < 0) throw Error(path_, "map after commit");
     if (mapping_ != nullptr || written_) throw Error(path_, "map of a file already written");

@@ -134,6 +134,16 @@ Image read_image_from_memory(const std::vector<std::uint8_t>& bytes, const std::
     return std::get<Image>(guarded_decode(file, &bytes, options, false));
 }
 
+const std::vector<std::pair<std::string, Supercompression>>& supercompression_names() {
+    static const std::vector<std::pair<std::string, Supercompression>> names = {
+        {"zstd", Supercompression::Zstandard}, {"none", Supercompression::None}};
+    return names;
+}
+
+const char* to_string(Supercompression supercompression) {
+    return supercompression == Supercompression::Zstandard ? "zstd" : "none";
+}
+
 void write_png(const std::string& path, const Image& image, int bits, const WriteOptions& options) {
     write_all(path, detail::encode_png(path, image, bits), options.durability);
 }

@@ -45,7 +45,8 @@ std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment) {
     return (value + alignment - 1) / alignment * alignment;
 }
 
-std::uint64_t level_alignment(const FormatInfo& format) {
+std::uint64_t level_alignment(const FormatInfo& format, bool supercompressed) {
+    if (supercompressed) return 1;
     return std::lcm(std::uint64_t(format.texel_bytes), std::uint64_t(4));
 }
 
@@ -67,7 +68,7 @@ bool inside(std::uint64_t offset, std::uint64_t length, std::uint64_t size) {
     return offset <= size && length <= size - offset;
 }
 
-Ktx2DataFormat expected_data_format(const FormatInfo& format) {
+Ktx2DataFormat expected_data_format(const FormatInfo& format, bool supercompressed) {
     Ktx2DataFormat data_format;
     data_format.descriptor_block_size = kDfdBlockHeaderSize + 4 * kDfdSampleSize;
     data_format.total_size = 4 + data_format.descriptor_block_size;
@@ -75,7 +76,7 @@ Ktx2DataFormat expected_data_format(const FormatInfo& format) {
     data_format.color_model = kDfdModelRgbsda;
     data_format.color_primaries = kDfdPrimariesBt709;
     data_format.transfer_function = kDfdTransferLinear;
-    data_format.bytes_plane[0] = format.texel_bytes;
+    data_format.bytes_plane[0] = supercompressed ? 0 : format.texel_bytes;
     const std::uint32_t bits = format.type_size * 8;
     for (std::uint32_t channel = 0; channel < 4; ++channel) {
         Ktx2Sample sample;

@@ -25,6 +25,9 @@ constexpr std::array<std::uint8_t, 12> kIdentifier = {0xAB, 'K',  'T',  'X',  ' 
 constexpr std::size_t kHeaderSize = 80;  // identifier + 9 uint32 + 4 uint32 + 2 uint64
 constexpr std::size_t kLevelIndexEntrySize = 24;
 
+constexpr std::uint32_t kSchemeNone = 0;
+constexpr std::uint32_t kSchemeZstandard = 2;
+
 constexpr std::uint32_t kMaxLevelCount = 32;  // a uint32 size has at most 32 levels
 constexpr std::uint32_t kLayerCount = 2;         // lean1, lean2
 constexpr std::uint32_t kPlateauLayerCount = 3;  // lean1, lean2, plateau
@@ -77,8 +80,8 @@ const FormatInfo& format_of(Storage storage);
 
 std::uint64_t align_up(std::uint64_t value, std::uint64_t alignment);
 
-// Alignment of level data: lcm(texel block size, 4).
-std::uint64_t level_alignment(const FormatInfo& format);
+// Alignment of level data: lcm(texel block size, 4); 1 for supercompressed data (KTX2 §3.9.7).
+std::uint64_t level_alignment(const FormatInfo& format, bool supercompressed = false);
 
 std::uint32_t full_chain_length(std::uint32_t width, std::uint32_t height);
 
@@ -90,7 +93,9 @@ std::uint64_t layer_bytes(const FormatInfo& format, std::uint32_t width, std::ui
 // True when [offset, offset + length) lies inside a file of `size` bytes (no overflow).
 bool inside(std::uint64_t offset, std::uint64_t length, std::uint64_t size);
 
-Ktx2DataFormat expected_data_format(const FormatInfo& format);
+// The basic descriptor of `format`; a supercompressed file's has bytesPlane0 = 0 (its level data
+// is "unsized", as the KTX2 specification and Khronos's validator ask).
+Ktx2DataFormat expected_data_format(const FormatInfo& format, bool supercompressed = false);
 
 std::vector<std::uint8_t> encode_data_format(const Ktx2DataFormat& data_format);
 

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <numeric>
 #include <optional>
+#include <memory>
+#include <span>
 #include <sstream>
 
 #include "input_file.hpp"
@@ -19,6 +21,8 @@
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/parallel.hpp"
 #include "leanfade/io/atomic_file.hpp"
+
+#include <zstd.h>
 
 namespace leanfade::io {
 
@@ -51,10 +55,15 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
     if (info.face_count != 1) {
         throw Error(path, "faceCount " + std::to_string(info.face_count) + " (expected 1)");
     }
-    if (info.supercompression_scheme != 0) {
+    if (info.supercompression_scheme != kSchemeNone &&
+        info.supercompression_scheme != kSchemeZstandard) {
         throw Error(path, "supercompressionScheme " + std::to_string(info.supercompression_scheme) +
-                              " is not supported");
+                              " (" + supercompression_name(info.supercompression_scheme) +
+                              ") is not supported (a LEAN map is stored plain or with Zstandard)");
     }
+    if (info.supercompression_scheme == kSchemeZstandard && info.sgd_byte_length != 0)
+        throw Error(path, "Zstandard supercompression has no global data, but sgdByteLength is " +
+                              std::to_string(info.sgd_byte_length));
     const std::uint32_t chain = full_chain_length(info.pixel_width, info.pixel_height);
     if (info.level_count == 0) {
         throw Error(path, "levelCount 0 (MIP levels generated at load) is not supported");
@@ -235,8 +244,8 @@ Ktx2Info inspect_open_file(const detail::InputFile& file, const ReadOptions* str
 }
 
 void validate_data_format(const std::string& path, const Ktx2DataFormat& actual,
-                          const FormatInfo& format) {
-    const Ktx2DataFormat expected = expected_data_format(format);
+                          const FormatInfo& format, bool supercompressed) {
+    const Ktx2DataFormat expected = expected_data_format(format, supercompressed);
     const auto fail = [&](const std::string& what) {
         throw Error(path, "data format descriptor does not describe " + std::string(format.name) +
                               " (" + what + ")");
@@ -244,7 +253,10 @@ void validate_data_format(const std::string& path, const Ktx2DataFormat& actual,
     if (actual.vendor_id != 0 || actual.descriptor_type != 0) fail("not a basic descriptor");
     if (actual.color_model != expected.color_model) fail("colour model is not RGBSDA");
     if (actual.transfer_function != expected.transfer_function) fail("transfer is not LINEAR");
-    if (actual.bytes_plane[0] != expected.bytes_plane[0]) fail("bytesPlane0");
+    if (actual.bytes_plane[0] != expected.bytes_plane[0])
+        fail("bytesPlane0 " + std::to_string(actual.bytes_plane[0]) + ", expected " +
+             std::to_string(expected.bytes_plane[0]) +
+             (supercompressed ? " for supercompressed data" : ""));
     for (int i = 0; i < 4; ++i) {
         if (actual.texel_block_dimensions[i] != 0) fail("texel block is not 1x1x1x1");
     }
@@ -266,28 +278,87 @@ const std::string& required_key(const std::string& path, const Ktx2Info& info, c
     return *value;
 }
 
+// Decompresses one supercompressed level (`frame`, a Zstandard frame) into its layers of
+// `layer_size` bytes each (empty on entry), which must come out exactly: corrupt, short or long
+// data is refused, naming the level. Memory grows with the data that actually decompresses (a
+// hostile frame that declares a large level and holds garbage fails in its first block).
+void inflate_level(const std::string& path, std::uint32_t level, ZSTD_DCtx* decompressor,
+                   const std::vector<std::uint8_t>& frame, std::uint64_t layer_size,
+                   std::span<std::vector<std::uint8_t>* const> layers) {
+    const auto fail = [&](const std::string& cause) {
+        throw Error(path, "level " + std::to_string(level) + ": " + cause);
+    };
+    const std::uint64_t expected = layer_size * layers.size();
+    const unsigned long long declared = ZSTD_getFrameContentSize(frame.data(), frame.size());
+    if (declared == ZSTD_CONTENTSIZE_ERROR) fail("not Zstandard data");
+    if (declared == ZSTD_CONTENTSIZE_UNKNOWN) fail("its Zstandard frame does not declare its size");
+    if (declared != expected)
+        fail("its Zstandard frame holds " + std::to_string(declared) + " bytes, expected " +
+             std::to_string(expected));
+    ZSTD_DCtx_reset(decompressor, ZSTD_reset_session_only);
+    ZSTD_inBuffer in{frame.data(), frame.size(), 0};
+    std::vector<std::uint8_t> chunk(std::size_t(1) << 20);
+    std::size_t pending = 1;  // ZSTD_decompressStream's hint: 0 once a frame is complete
+    for (std::vector<std::uint8_t>* layer : layers) {
+        layer->reserve(std::size_t(layer_size));  // address space only until written
+        while (layer->size() < layer_size) {
+            const std::size_t want =
+                std::size_t(std::min<std::uint64_t>(chunk.size(), layer_size - layer->size()));
+            ZSTD_outBuffer out{chunk.data(), want, 0};
+            const std::size_t before_in = in.pos;
+            pending = ZSTD_decompressStream(decompressor, &out, &in);
+            if (ZSTD_isError(pending))
+                fail(std::string("corrupt Zstandard data (") + ZSTD_getErrorName(pending) + ")");
+            if (in.pos == before_in && out.pos == 0)
+                fail("its Zstandard data ends before the level's " + std::to_string(expected) +
+                     " bytes");
+            layer->insert(layer->end(), chunk.data(), chunk.data() + out.pos);
+        }
+    }
+    // The frame must end here (its checksum verified) with nothing after it.
+    while (pending != 0) {
+        ZSTD_outBuffer out{chunk.data(), 1, 0};
+        const std::size_t before_in = in.pos;
+        pending = ZSTD_decompressStream(decompressor, &out, &in);
+        if (ZSTD_isError(pending))
+            fail(std::string("corrupt Zstandard data (") + ZSTD_getErrorName(pending) + ")");
+        if (out.pos != 0)
+            fail("its Zstandard data holds more than the level's " + std::to_string(expected) +
+                 " bytes");
+        if (pending != 0 && in.pos == before_in) fail("its Zstandard frame is truncated");
+    }
+    if (in.pos != in.size)
+        fail(std::to_string(in.size - in.pos) + " bytes after its Zstandard frame");
+}
+
 PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& options,
                              const char* layout_name = kLeanLayoutName) {
     const std::string& path = file.path();
     const Ktx2Info info = inspect_open_file(file, &options);
     const FormatInfo* format = find_format(info.vk_format);
+    const bool zstd = info.supercompression_scheme == kSchemeZstandard;
     for (std::uint32_t level = 0; level < info.level_count; ++level) {
         const Ktx2Level& entry = info.levels[level];
         const std::uint64_t expected =
             info.layer_count * layer_bytes(*format, entry.width, entry.height);
-        if (entry.byte_length != expected || entry.uncompressed_byte_length != expected) {
+        // A Zstandard frame is at least a few bytes and at most ZSTD_compressBound long.
+        const bool length_ok =
+            zstd ? entry.byte_length > 0 && entry.byte_length <= ZSTD_compressBound(expected)
+                 : entry.byte_length == expected;
+        if (!length_ok || entry.uncompressed_byte_length != expected) {
             throw Error(path, "level " + std::to_string(level) + " byteLength " +
                                   std::to_string(entry.byte_length) + " / uncompressed " +
                                   std::to_string(entry.uncompressed_byte_length) + ", expected " +
+                                  (zstd ? "a Zstandard frame / " : std::to_string(expected) + " / ") +
                                   std::to_string(expected));
         }
-        if (entry.byte_offset % level_alignment(*format) != 0) {
+        if (entry.byte_offset % level_alignment(*format, zstd) != 0) {
             throw Error(path, "level " + std::to_string(level) + " offset " +
                                   std::to_string(entry.byte_offset) + " is not aligned to " +
                                   std::to_string(level_alignment(*format)) + " bytes");
         }
     }
-    validate_data_format(path, info.data_format, *format);
+    validate_data_format(path, info.data_format, *format, zstd);
 
     PackedLeanMap map;
     map.storage = format->storage;
@@ -369,24 +440,29 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
             throw Error(path, std::string(kPlateauEpsilonKey) + " must be > 0");
     }
 
-    // Every level was checked to lie inside the file with its exact size: the allocations
-    // below are bounded by the file size.
+    // Every level was checked to lie inside the file with its exact size (or, supercompressed,
+    // its declared size, which max_dimension bounds): the allocations below are bounded.
+    std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> decompressor(nullptr, &ZSTD_freeDCtx);
     for (std::uint32_t level = 0; level < info.level_count; ++level) {
         const Ktx2Level& entry = info.levels[level];
-        const std::uint64_t layer_size = entry.byte_length / layers;
+        const std::uint64_t layer_size = entry.uncompressed_byte_length / layers;
         PackedLevel packed;
         packed.width = int(entry.width);
         packed.height = int(entry.height);
-        packed.lean1.resize(std::size_t(layer_size));
-        packed.lean2.resize(std::size_t(layer_size));
-        file.read_at(entry.byte_offset, packed.lean1.data(), packed.lean1.size(),
-                     "truncated level data");
-        file.read_at(entry.byte_offset + layer_size, packed.lean2.data(), packed.lean2.size(),
-                     "truncated level data");
-        if (layers == kPlateauLayerCount) {
-            packed.plateau.resize(std::size_t(layer_size));
-            file.read_at(entry.byte_offset + 2 * layer_size, packed.plateau.data(),
-                         packed.plateau.size(), "truncated level data");
+        std::vector<std::uint8_t>* targets[3] = {&packed.lean1, &packed.lean2, &packed.plateau};
+        if (zstd) {
+            if (!decompressor) decompressor.reset(ZSTD_createDCtx());
+            if (!decompressor) throw Error(path, "cannot allocate a Zstandard decompressor");
+            std::vector<std::uint8_t> frame(std::size_t(entry.byte_length));
+            file.read_at(entry.byte_offset, frame.data(), frame.size(), "truncated level data");
+            inflate_level(path, level, decompressor.get(), frame, layer_size,
+                          {targets, targets + layers});
+        } else {
+            for (std::uint32_t layer = 0; layer < layers; ++layer) {
+                targets[layer]->resize(std::size_t(layer_size));
+                file.read_at(entry.byte_offset + layer * layer_size, targets[layer]->data(),
+                             targets[layer]->size(), "truncated level data");
+            }
         }
         check_finite_texels(path, *format, packed, level);
         map.levels.push_back(std::move(packed));

@@ -9,7 +9,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -23,28 +25,82 @@
 #include "leanfade/io/atomic_file.hpp"
 #include "leanfade/version.hpp"
 
+#include <zstd.h>
+
 namespace leanfade::io {
 
 using namespace ktx2_detail;
 
 namespace {
 
-// Where everything goes in a KTX2 file of `layout`: the bytes of its header, level index, DFD and
-// key/value data, and each level's offset and length (all layers) in a file of `size` bytes.
+// Everything of a KTX2 file of `layout` but its level data: the encoded data format descriptor
+// and key/value data, and each level's uncompressed length (all layers).
 struct Ktx2FilePlan {
-    std::vector<std::uint8_t> head;
-    std::vector<std::uint64_t> level_offsets;
-    std::vector<std::uint64_t> level_lengths;
-    std::uint64_t size = 0;
+    const FormatInfo* format = nullptr;
+    std::uint32_t width = 0, height = 0;
     std::uint32_t layer_count = kLayerCount;  // kPlateauLayerCount with the plateau layer
+    std::vector<std::uint8_t> key_values;
+    std::vector<std::uint64_t> level_lengths;  // level 0 first
+
+    std::uint64_t head_size() const {
+        return kHeaderSize + kLevelIndexEntrySize * level_lengths.size() +
+               expected_data_format(*format).total_size + key_values.size();
+    }
+    // Each level's offset in a file whose levels are `byte_lengths` long, stored from the
+    // smallest level to the largest (each aligned unless supercompressed); returns the file size.
+    std::uint64_t place_levels(const std::vector<std::uint64_t>& byte_lengths, bool supercompressed,
+                               std::vector<std::uint64_t>& offsets) const {
+        offsets.assign(byte_lengths.size(), 0);
+        std::uint64_t end = head_size();
+        for (std::size_t level = byte_lengths.size(); level-- > 0;) {
+            end = align_up(end, level_alignment(*format, supercompressed));
+            offsets[level] = end;
+            end += byte_lengths[level];
+        }
+        return end;
+    }
+    // The header, level index, DFD and key/value data: a few hundred bytes.
+    std::vector<std::uint8_t> head(std::uint32_t scheme, const std::vector<std::uint64_t>& offsets,
+                                   const std::vector<std::uint64_t>& byte_lengths) const {
+        const std::vector<std::uint8_t> dfd =
+            encode_data_format(expected_data_format(*format, scheme != kSchemeNone));
+        const auto level_count = std::uint32_t(level_lengths.size());
+        const std::uint64_t dfd_offset = kHeaderSize + kLevelIndexEntrySize * level_count;
+        const std::uint64_t kvd_offset = dfd_offset + dfd.size();
+        std::vector<std::uint8_t> bytes(kIdentifier.begin(), kIdentifier.end());
+        append_u32_le(bytes, format->vk_format);
+        append_u32_le(bytes, format->type_size);
+        append_u32_le(bytes, width);
+        append_u32_le(bytes, height);
+        append_u32_le(bytes, 0);  // pixelDepth: 2D
+        append_u32_le(bytes, layer_count);
+        append_u32_le(bytes, 1);  // faceCount
+        append_u32_le(bytes, level_count);
+        append_u32_le(bytes, scheme);  // supercompressionScheme
+        append_u32_le(bytes, std::uint32_t(dfd_offset));
+        append_u32_le(bytes, std::uint32_t(dfd.size()));
+        append_u32_le(bytes, std::uint32_t(kvd_offset));
+        append_u32_le(bytes, std::uint32_t(key_values.size()));
+        append_u64_le(bytes, 0);  // sgdByteOffset: Zstandard has no global data
+        append_u64_le(bytes, 0);  // sgdByteLength
+        for (std::uint32_t level = 0; level < level_count; ++level) {
+            append_u64_le(bytes, offsets[level]);
+            append_u64_le(bytes, byte_lengths[level]);   // byteLength
+            append_u64_le(bytes, level_lengths[level]);  // uncompressedByteLength
+        }
+        bytes.insert(bytes.end(), dfd.begin(), dfd.end());
+        bytes.insert(bytes.end(), key_values.begin(), key_values.end());
+        return bytes;
+    }
 };
 
 Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout, bool check_layers,
                             const char* layout_name = kLeanLayoutName) {
-    const FormatInfo& format = format_of(layout.storage);
-    validate_for_write(path, layout, format, check_layers);
-    const auto level_count = std::uint32_t(layout.levels.size());
-    const PackedLevel& top = layout.levels.front();
+    Ktx2FilePlan plan;
+    plan.format = &format_of(layout.storage);
+    validate_for_write(path, layout, *plan.format, check_layers);
+    plan.width = std::uint32_t(layout.levels.front().width);
+    plan.height = std::uint32_t(layout.levels.front().height);
 
     std::vector<std::pair<std::string, std::string>> key_values = lean_metadata_keys(layout);
     key_values.emplace_back(kKeyOrientation, "rd");
@@ -55,95 +111,202 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     key_values.emplace_back(kLayoutKey, std::strcmp(layout_name, kLeanLayoutName) == 0
                                             ? lean_layout_name(layout.encoding, plateau)
                                             : layout_name);
-    const std::uint32_t layer_count = plateau ? kPlateauLayerCount : kLayerCount;
+    plan.layer_count = plateau ? kPlateauLayerCount : kLayerCount;
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
-    std::vector<std::uint8_t> key_value_bytes;
-    for (const auto& [key, value] : key_values) append_key_value(key_value_bytes, key, value);
+    for (const auto& [key, value] : key_values) append_key_value(plan.key_values, key, value);
 
-    const std::vector<std::uint8_t> dfd_bytes = encode_data_format(expected_data_format(format));
-    const std::uint64_t dfd_offset = kHeaderSize + kLevelIndexEntrySize * level_count;
-    const std::uint64_t kvd_offset = dfd_offset + dfd_bytes.size();
-
-    // Level data from the smallest level to the largest, each aligned.
-    std::vector<std::uint64_t> level_offsets(level_count), level_lengths(level_count);
-    std::uint64_t end = kvd_offset + key_value_bytes.size();
-    for (std::uint32_t level = level_count; level-- > 0;) {
-        end = align_up(end, level_alignment(format));
-        level_offsets[level] = end;
-        level_lengths[level] = layer_count * layer_bytes(format, std::uint32_t(layout.levels[level].width),
-                                               std::uint32_t(layout.levels[level].height));
-        end += level_lengths[level];
+    std::uint64_t total = plan.head_size();
+    for (const PackedLevel& level : layout.levels) {
+        plan.level_lengths.push_back(plan.layer_count *
+                                     layer_bytes(*plan.format, std::uint32_t(level.width),
+                                                 std::uint32_t(level.height)));
+        total += plan.level_lengths.back() + 16;  // with the alignment
     }
-    if (end > std::uint64_t(SIZE_MAX)) throw Error(path, "LEAN map too large to write");
-
-    // Header, level index, DFD and key/value data: a few hundred bytes.
-    std::vector<std::uint8_t> bytes(kIdentifier.begin(), kIdentifier.end());
-    append_u32_le(bytes, format.vk_format);
-    append_u32_le(bytes, format.type_size);
-    append_u32_le(bytes, std::uint32_t(top.width));
-    append_u32_le(bytes, std::uint32_t(top.height));
-    append_u32_le(bytes, 0);  // pixelDepth: 2D
-    append_u32_le(bytes, layer_count);
-    append_u32_le(bytes, 1);  // faceCount
-    append_u32_le(bytes, level_count);
-    append_u32_le(bytes, 0);  // supercompressionScheme: none
-    append_u32_le(bytes, std::uint32_t(dfd_offset));
-    append_u32_le(bytes, std::uint32_t(dfd_bytes.size()));
-    append_u32_le(bytes, std::uint32_t(kvd_offset));
-    append_u32_le(bytes, std::uint32_t(key_value_bytes.size()));
-    append_u64_le(bytes, 0);  // sgdByteOffset
-    append_u64_le(bytes, 0);  // sgdByteLength
-    for (std::uint32_t level = 0; level < level_count; ++level) {
-        append_u64_le(bytes, level_offsets[level]);
-        append_u64_le(bytes, level_lengths[level]);  // byteLength
-        append_u64_le(bytes, level_lengths[level]);  // uncompressedByteLength
-    }
-    bytes.insert(bytes.end(), dfd_bytes.begin(), dfd_bytes.end());
-    bytes.insert(bytes.end(), key_value_bytes.begin(), key_value_bytes.end());
-
-    return {std::move(bytes), std::move(level_offsets), std::move(level_lengths), end, layer_count};
+    if (total > std::uint64_t(SIZE_MAX)) throw Error(path, "LEAN map too large to write");
+    return plan;
 }
 
+// Zstandard's compressor of LEAN map levels: each level one frame with its content size and
+// checksum, on `threads` workers for large levels.
+class ZstdCompressor {
+  public:
+    ZstdCompressor(const std::string& path, int level, int threads)
+        : path_(path), threads_(threads), context_(ZSTD_createCCtx()) {
+        if (!context_) throw Error(path, "cannot allocate a Zstandard compressor");
+        if (level < 1 || level > ZSTD_maxCLevel())
+            throw Error(path, "Zstandard level " + std::to_string(level) + " is not in 1.." +
+                                  std::to_string(ZSTD_maxCLevel()));
+        ZSTD_CCtx_setParameter(context_.get(), ZSTD_c_compressionLevel, level);
+        ZSTD_CCtx_setParameter(context_.get(), ZSTD_c_checksumFlag, 1);
+    }
+
+    // The frame of `size` bytes at `data`, handed to `sink` in pieces of up to 128 KiB; returns
+    // its length.
+    template <class Sink>
+    std::uint64_t frame(const std::uint8_t* data, std::size_t size, Sink&& sink) {
+        ZSTD_CCtx* context = context_.get();
+        ZSTD_CCtx_reset(context, ZSTD_reset_session_only);
+        // Multithreading pays off from a few MiB on; a library built without it refuses the
+        // parameter and compresses on this thread.
+        constexpr std::size_t kThreadedBytes = std::size_t(4) << 20;
+        ZSTD_CCtx_setParameter(context, ZSTD_c_nbWorkers,
+                               threads_ > 1 && size >= kThreadedBytes ? threads_ : 0);
+        ZSTD_CCtx_setPledgedSrcSize(context, size);
+        out_.resize(ZSTD_CStreamOutSize());
+        ZSTD_inBuffer in{data, size, 0};
+        std::uint64_t length = 0;
+        for (std::size_t remaining = 1; remaining != 0;) {
+            ZSTD_outBuffer out{out_.data(), out_.size(), 0};
+            remaining = ZSTD_compressStream2(context, &out, &in, ZSTD_e_end);
+            if (ZSTD_isError(remaining))
+                throw Error(path_, std::string("Zstandard compression failed: ") +
+                                       ZSTD_getErrorName(remaining));
+            sink(out_.data(), out.pos);
+            length += out.pos;
+        }
+        return length;
+    }
+
+  private:
+    struct ContextDeleter {
+        void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
+    };
+    std::string path_;
+    int threads_;
+    std::unique_ptr<ZSTD_CCtx, ContextDeleter> context_;
+    std::vector<std::uint8_t> out_;
+};
+
 }  // namespace
+
+// A supercompressed file's levels, held uncompressed until commit() compresses them.
+struct Ktx2Writer::Staging {
+    PackedLeanMap layout;  // the metadata and level sizes (no layer data)
+    const char* layout_name = kLeanLayoutName;
+    Ktx2FilePlan plan;
+    WriteOptions options;
+    std::unique_ptr<std::uint8_t, decltype(&std::free)> bytes{nullptr, &std::free};
+    std::vector<std::uint64_t> level_offsets;  // in `bytes`
+};
+
+Ktx2Writer::~Ktx2Writer() = default;
 
 Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options,
                        bool check_layers, const char* layout_name)
     : file_(path, options.durability) {
-    const Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers, layout_name);
+    Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers, layout_name);
+    const auto add_targets = [&](std::uint8_t* base, const std::vector<std::uint64_t>& offsets) {
+        for (std::size_t level = 0; level < offsets.size(); ++level) {
+            std::uint8_t* lean1 = base + offsets[level];
+            const std::uint64_t layer = plan.level_lengths[level] / plan.layer_count;
+            targets_.push_back(
+                {lean1, lean1 + layer,
+                 plan.layer_count == kPlateauLayerCount ? lean1 + 2 * layer : nullptr});
+        }
+    };
+    if (options.supercompression == Supercompression::Zstandard) {
+        ZstdCompressor(path, options.zstd_level, 1);  // the level checked before the bake
+        // The levels are compressed whole at commit(): until then they wait in memory
+        // (calloc: pages the bake has not touched cost nothing).
+        staging_ = std::make_unique<Staging>();
+        std::uint64_t total = 0;
+        for (const std::uint64_t length : plan.level_lengths) {
+            staging_->level_offsets.push_back(total);
+            total += length;
+        }
+        staging_->bytes.reset(static_cast<std::uint8_t*>(std::calloc(std::size_t(total), 1)));
+        if (!staging_->bytes)
+            throw Error(path, "cannot allocate " + std::to_string(total) +
+                                  " bytes for the levels before compression");
+        staging_->options = options;
+        staging_->layout_name = layout_name;
+        static_cast<PackedLeanMapMetadata&>(staging_->layout) = layout.metadata();
+        for (const PackedLevel& level : layout.levels)
+            staging_->layout.levels.push_back({level.width, level.height, {}, {}, {}});
+        add_targets(staging_->bytes.get(), staging_->level_offsets);
+        staging_->plan = std::move(plan);
+        return;
+    }
     // The level data goes straight into the mapped file; the mip padding between levels is left
     // as the zeros a newly reserved file reads as.
-    std::uint8_t* output = file_.map(std::size_t(plan.size));
-    std::memcpy(output, plan.head.data(), plan.head.size());
-    for (std::size_t level = 0; level < plan.level_offsets.size(); ++level) {
-        std::uint8_t* lean1 = output + plan.level_offsets[level];
-        const std::uint64_t layer = plan.level_lengths[level] / plan.layer_count;
-        targets_.push_back({lean1, lean1 + layer,
-                            plan.layer_count == kPlateauLayerCount ? lean1 + 2 * layer : nullptr});
-    }
+    std::vector<std::uint64_t> offsets;
+    const std::uint64_t size = plan.place_levels(plan.level_lengths, false, offsets);
+    std::uint8_t* output = file_.map(std::size_t(size));
+    const std::vector<std::uint8_t> head = plan.head(kSchemeNone, offsets, plan.level_lengths);
+    std::memcpy(output, head.data(), head.size());
+    add_targets(output, offsets);
+}
+
+bool Ktx2Writer::drop_plateau_layer() {
+    if (!staging_ || !staging_->layout.has_plateau() || targets_.empty()) return false;
+    // Each staged level keeps its layers back to back: the first two are the new level.
+    staging_->layout.plateau_epsilon = 0.0f;
+    staging_->plan = plan_ktx2_file(file_.path(), staging_->layout, false, staging_->layout_name);
+    for (PackedLevelTarget& target : targets_) target.plateau = nullptr;
+    return true;
 }
 
 void Ktx2Writer::commit() {
     targets_.clear();
+    if (staging_) {
+        // The head's place first (its size does not depend on the levels' lengths), then each
+        // level one frame, from the smallest level to the largest, unaligned; then the head.
+        const Ktx2FilePlan& plan = staging_->plan;
+        file_.write(std::vector<std::uint8_t>(std::size_t(plan.head_size()), 0));
+        ZstdCompressor compressor(file_.path(), staging_->options.zstd_level,
+                                  resolve_thread_count(staging_->options.threads));
+        std::vector<std::uint64_t> lengths(plan.level_lengths.size()), offsets;
+        for (std::size_t level = lengths.size(); level-- > 0;) {
+            lengths[level] = compressor.frame(
+                staging_->bytes.get() + staging_->level_offsets[level],
+                std::size_t(plan.level_lengths[level]),
+                [&](const std::uint8_t* bytes, std::size_t size) { file_.write(bytes, size); });
+        }
+        staging_->bytes.reset();
+        plan.place_levels(lengths, true, offsets);
+        const std::vector<std::uint8_t> head = plan.head(kSchemeZstandard, offsets, lengths);
+        file_.write_at(0, head.data(), head.size());
+        staging_.reset();
+    }
     file_.commit();
 }
 
-PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image, UnormImage>& input,
-                              BakeSource source, const BakeOptions& options, Storage storage,
-                              const std::string& generator, const std::string& source_name,
-                              const WriteOptions& write_options, const MomentRunSink& moments) {
-    std::optional<Ktx2Writer> writer;
+namespace {
+
+// A bake into the (uncommitted) writer it opens once sc is known.
+struct WriterBake {
+    PackedBakeResult baked;
+    std::unique_ptr<Ktx2Writer> writer;
+};
+
+WriterBake bake_into_writer(const std::string& path, const std::variant<Image, UnormImage>& input,
+                            BakeSource source, const BakeOptions& options, Storage storage,
+                            const std::string& generator, const std::string& source_name,
+                            const WriteOptions& write_options, const MomentRunSink& moments) {
+    WriterBake result;
     const auto open_output = [&](const PackedLeanMap& layout) {
-        writer.emplace(path, layout, write_options);
-        return writer->targets();
+        result.writer = std::make_unique<Ktx2Writer>(path, layout, write_options);
+        return result.writer->targets();
     };
-    PackedBakeResult baked = std::visit(
+    result.baked = std::visit(
         [&](const auto& image) {
             return bake_packed_to(open_output, image, source, options, storage, generator,
                                   source_name, moments);
         },
         input);
-    writer->commit();
-    return baked;
+    return result;
+}
+
+}  // namespace
+
+PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image, UnormImage>& input,
+                              BakeSource source, const BakeOptions& options, Storage storage,
+                              const std::string& generator, const std::string& source_name,
+                              const WriteOptions& write_options, const MomentRunSink& moments) {
+    WriterBake bake = bake_into_writer(path, input, source, options, storage, generator,
+                                       source_name, write_options, moments);
+    bake.writer->commit();
+    return std::move(bake.baked);
 }
 
 PackedBakeResult bake_image_to_ktx2(const std::string& path,
@@ -156,35 +319,66 @@ PackedBakeResult bake_image_to_ktx2(const std::string& path,
                                     const MomentRunSink& moments) {
     const auto [width, height] = std::visit(
         [](const auto& image) { return std::pair<int, int>(image.width, image.height); }, input);
+    // The policy's bakes each open a writer; one that is not kept is discarded unwritten.
+    std::unique_ptr<Ktx2Writer> writer;
     PackedBakeResult result = bake_with_auto_storage(
         storage.storage, storage.automatic, width, height,
         [&](Storage s, const MomentRunSink& probe) {
-            return bake_to_ktx2(path, input, source, options, s, generator, source_name,
-                                write_options, both_sinks(moments, probe));
+            writer.reset();
+            WriterBake bake = bake_into_writer(path, input, source, options, s, generator,
+                                               source_name, write_options,
+                                               both_sinks(moments, probe));
+            writer = std::move(bake.writer);
+            return std::move(bake.baked);
         });
-    if (result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f) {
-        // Nothing flat: the file keeps no layer of zeros (a third of its bytes).
+    // Nothing flat: the file keeps no layer of zeros (a third of its bytes). A supercompressed
+    // file is written without it; an uncompressed one, whose size was fixed, is written again.
+    const bool empty_plateau =
+        result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f;
+    const bool dropped = empty_plateau && writer->drop_plateau_layer();
+    writer->commit();
+    if (empty_plateau && !dropped) {
         PackedLeanMap map = read_ktx2(path, read_options);
         remove_plateau_layer(map);
         write_ktx2(path, map, write_options);
-        result.packed.plateau_epsilon = 0.0f;
     }
+    if (empty_plateau) result.packed.plateau_epsilon = 0.0f;
     return result;
 }
 
-std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const std::string& name) {
+std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const std::string& name,
+                                               const WriteOptions& options) {
     const Ktx2FilePlan plan = plan_ktx2_file(name, map, true);
-    std::vector<std::uint8_t> file(std::size_t(plan.size), 0);  // mip padding: zeros
-    std::copy(plan.head.begin(), plan.head.end(), file.begin());
-    for (std::size_t level = 0; level < map.levels.size(); ++level) {
-        const PackedLevel& packed = map.levels[level];
-        const auto lean1 = file.begin() + std::ptrdiff_t(plan.level_offsets[level]);
-        const auto layer = std::ptrdiff_t(packed.lean1.size());
-        std::copy(packed.lean1.begin(), packed.lean1.end(), lean1);
-        std::copy(packed.lean2.begin(), packed.lean2.end(), lean1 + layer);
-        if (map.has_plateau())
-            std::copy(packed.plateau.begin(), packed.plateau.end(), lean1 + 2 * layer);
+    const bool zstd = options.supercompression == Supercompression::Zstandard;
+    std::optional<ZstdCompressor> compressor;
+    if (zstd) compressor.emplace(name, options.zstd_level, resolve_thread_count(options.threads));
+    // Each level's layers back to back (compressed as one frame when supercompressed).
+    std::vector<std::vector<std::uint8_t>> levels;
+    std::vector<std::uint64_t> lengths;
+    for (const PackedLevel& packed : map.levels) {
+        std::vector<std::uint8_t> level(packed.lean1);
+        level.insert(level.end(), packed.lean2.begin(), packed.lean2.end());
+        if (map.has_plateau()) level.insert(level.end(), packed.plateau.begin(), packed.plateau.end());
+        if (zstd) {
+            std::vector<std::uint8_t> frame;
+            compressor->frame(level.data(), level.size(),
+                              [&](const std::uint8_t* bytes, std::size_t size) {
+                                  frame.insert(frame.end(), bytes, bytes + size);
+                              });
+            level = std::move(frame);
+        }
+        lengths.push_back(level.size());
+        levels.push_back(std::move(level));
     }
+    std::vector<std::uint64_t> offsets;
+    const std::uint64_t size = plan.place_levels(lengths, zstd, offsets);
+    std::vector<std::uint8_t> file(std::size_t(size), 0);  // mip padding: zeros
+    const std::vector<std::uint8_t> head =
+        plan.head(zstd ? kSchemeZstandard : kSchemeNone, offsets, lengths);
+    std::copy(head.begin(), head.end(), file.begin());
+    for (std::size_t level = 0; level < levels.size(); ++level)
+        std::copy(levels[level].begin(), levels[level].end(),
+                  file.begin() + std::ptrdiff_t(offsets[level]));
     return file;
 }
 

@@ -89,6 +89,9 @@ class AtomicFile {
     // Appends bytes to the temporary file. Throws on a write error (disk full, ...).
     void write(const void* data, std::size_t size);
     void write(const std::vector<std::uint8_t>& bytes) { write(bytes.data(), bytes.size()); }
+    // Overwrites bytes already written (e.g. a header whose fields are known last): [offset,
+    // offset + size) must lie inside what write() has written. Throws on a write error.
+    void write_at(std::uint64_t offset, const void* data, std::size_t size);
 
     // Sizes the temporary file to exactly `size` bytes, with its disk space reserved (so that a
     // full disk is an error here, not a crash later), and maps it into memory for writing: the

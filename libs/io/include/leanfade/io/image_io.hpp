@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -23,9 +24,22 @@
 namespace leanfade::io {
 
 // How writers write. Every writer replaces its output atomically (AtomicFile).
+// KTX2 supercompression of a LEAN map file's level data (docs/ktx2.md, "Supercompression"):
+// none, or Zstandard (KTX2 scheme 2: each level one Zstandard frame with its checksum). What a
+// GPU receives is the same either way.
+enum class Supercompression { None, Zstandard };
+// The settings' names of the supercompressions ("zstd", "none").
+const std::vector<std::pair<std::string, Supercompression>>& supercompression_names();
+// "zstd" or "none".
+const char* to_string(Supercompression supercompression);
+
 struct WriteOptions {
     Durability durability = Durability::Rename;  // Flush: fsync before the rename
     int threads = 0;                             // for copying large outputs; <= 0: all cores
+    // LEAN map KTX2 files only (write_ktx2, Ktx2Writer, bake_to_ktx2, write_ktx2_to_memory):
+    // other outputs ignore it (`leanfade bake --supercompression`).
+    Supercompression supercompression = Supercompression::None;
+    int zstd_level = 3;  // Zstandard's level, 1 (fastest) to 19 (smallest)
 };
 
 struct ReadOptions {

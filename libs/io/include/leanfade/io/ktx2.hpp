@@ -13,6 +13,7 @@
 //   normal convention, layout), sorted by key.
 // Every failure throws leanfade::Error(file, cause). write_ktx2 writes atomically (AtomicFile).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -83,8 +84,11 @@ void write_cross_term_ktx2(const std::string& path, const PackedLeanMap& map,
 
 // The bytes write_ktx2 writes for `map`, in memory (for an engine's own asset pipeline or
 // archive): the same checks, with `name` in their errors. The inverse of read_ktx2_from_memory.
+// options.supercompression and zstd_level are honoured (durability and threads: the threads of
+// the compression).
 std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map,
-                                               const std::string& name = "LEAN map");
+                                               const std::string& name = "LEAN map",
+                                               const WriteOptions& options = {});
 
 // A LEAN map written in place (what write_ktx2 does, without the map in memory): the
 // constructor creates the temporary output file with its final size, writes the header, level
@@ -92,20 +96,31 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map,
 // write_ktx2 checks them; its layers may be empty unless check_layers) and maps the file; the
 // caller fills each level's layers through targets() (e.g. bake_packed_to, from several threads)
 // and calls commit(), which replaces `path` atomically (AtomicFile). Without commit() nothing
-// appears. Not copyable, not movable.
+// appears. Not copyable, not movable. With options.supercompression Zstandard the levels are
+// filled in memory and compressed by commit() (each level one frame), which then writes the file.
 class Ktx2Writer {
   public:
     // `layout_name`: the LEANFADElayout value (kLeanLayoutName or kCrossTermLayoutName).
     Ktx2Writer(std::string path, const PackedLeanMap& layout, const WriteOptions& options = {},
                bool check_layers = false, const char* layout_name = kLeanLayoutName);
+    ~Ktx2Writer();
+    Ktx2Writer(const Ktx2Writer&) = delete;
+    Ktx2Writer& operator=(const Ktx2Writer&) = delete;
     // One per level, level 0 first: where lean1 and lean2 go (width * height * texel bytes each,
     // rows top first). Valid until commit().
     const std::vector<PackedLevelTarget>& targets() const noexcept { return targets_; }
+    // Before commit(), for a supercompressed file whose layout has the plateau layer: the file
+    // is written without it (its layout, key/value data and levels of two layers), as a map
+    // without one. Returns false, changing nothing, for an uncompressed file (whose size is
+    // fixed) or a layout without the layer.
+    bool drop_plateau_layer();
     void commit();
 
   private:
+    struct Staging;
     AtomicFile file_;
     std::vector<PackedLevelTarget> targets_;
+    std::unique_ptr<Staging> staging_;  // supercompressed files only
 };
 
 // Bakes `input` (bake_packed_to) straight into the KTX2 file `path` through a Ktx2Writer, opened
@@ -135,7 +150,8 @@ PackedBakeResult bake_image_to_ktx2(const std::string& path,
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and
 // height in [1, max_dimension], depth 0, layerCount 2, or 3 with the plateau layer, faceCount 1,
-// levelCount the full MIP chain, no supercompression), that every offset + length lies inside
+// levelCount the full MIP chain, no supercompression or Zstandard, each level one frame of
+// exactly its bytes), that every offset + length lies inside
 // the file (overflow-safe),
 // that no two parts of the file (header and level index, DFD, key/value data, each level)
 // overlap, that level data is aligned and exactly sized, the data format descriptor, the key/value
