@@ -14,6 +14,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <utility>
 
@@ -126,24 +127,30 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     return plan;
 }
 
+void check_zstd_level(const std::string& path, int level) {
+    if (level < 1 || level > ZSTD_maxCLevel())
+        throw Error(path, "Zstandard level " + std::to_string(level) + " is not in 1.." +
+                              std::to_string(ZSTD_maxCLevel()));
+}
+
 // Zstandard's compressor of LEAN map levels: each level one frame with its content size and
 // checksum, on `threads` workers for large levels.
 class ZstdCompressor {
   public:
     ZstdCompressor(const std::string& path, int level, int threads)
         : path_(path), threads_(threads), context_(ZSTD_createCCtx()) {
+        check_zstd_level(path, level);
         if (!context_) throw Error(path, "cannot allocate a Zstandard compressor");
-        if (level < 1 || level > ZSTD_maxCLevel())
-            throw Error(path, "Zstandard level " + std::to_string(level) + " is not in 1.." +
-                                  std::to_string(ZSTD_maxCLevel()));
         ZSTD_CCtx_setParameter(context_.get(), ZSTD_c_compressionLevel, level);
         ZSTD_CCtx_setParameter(context_.get(), ZSTD_c_checksumFlag, 1);
     }
 
-    // The frame of `size` bytes at `data`, handed to `sink` in pieces of up to 128 KiB; returns
-    // its length.
+    // The frame of `pieces` one after the other (a level's layers), handed to `sink` in pieces
+    // of up to 128 KiB; returns its length.
     template <class Sink>
-    std::uint64_t frame(const std::uint8_t* data, std::size_t size, Sink&& sink) {
+    std::uint64_t frame(const std::vector<std::span<const std::uint8_t>>& pieces, Sink&& sink) {
+        std::size_t size = 0;
+        for (const std::span<const std::uint8_t> piece : pieces) size += piece.size();
         ZSTD_CCtx* context = context_.get();
         ZSTD_CCtx_reset(context, ZSTD_reset_session_only);
         // Multithreading pays off from a few MiB on; a library built without it refuses the
@@ -153,16 +160,21 @@ class ZstdCompressor {
                                threads_ > 1 && size >= kThreadedBytes ? threads_ : 0);
         ZSTD_CCtx_setPledgedSrcSize(context, size);
         out_.resize(ZSTD_CStreamOutSize());
-        ZSTD_inBuffer in{data, size, 0};
         std::uint64_t length = 0;
-        for (std::size_t remaining = 1; remaining != 0;) {
-            ZSTD_outBuffer out{out_.data(), out_.size(), 0};
-            remaining = ZSTD_compressStream2(context, &out, &in, ZSTD_e_end);
-            if (ZSTD_isError(remaining))
-                throw Error(path_, std::string("Zstandard compression failed: ") +
-                                       ZSTD_getErrorName(remaining));
-            sink(out_.data(), out.pos);
-            length += out.pos;
+        std::size_t index = 0;
+        for (const std::span<const std::uint8_t> piece : pieces) {
+            const ZSTD_EndDirective end = ++index == pieces.size() ? ZSTD_e_end : ZSTD_e_continue;
+            ZSTD_inBuffer in{piece.data(), piece.size(), 0};
+            // ZSTD_e_continue: until the piece is consumed; ZSTD_e_end: until the frame is done.
+            for (std::size_t remaining = 1; end == ZSTD_e_end ? remaining != 0 : in.pos < in.size;) {
+                ZSTD_outBuffer out{out_.data(), out_.size(), 0};
+                remaining = ZSTD_compressStream2(context, &out, &in, end);
+                if (ZSTD_isError(remaining))
+                    throw Error(path_, std::string("Zstandard compression failed: ") +
+                                           ZSTD_getErrorName(remaining));
+                sink(out_.data(), out.pos);
+                length += out.pos;
+            }
         }
         return length;
     }
@@ -183,7 +195,6 @@ class ZstdCompressor {
 struct Ktx2Writer::Staging {
     PackedLeanMap layout;  // the metadata and level sizes (no layer data)
     const char* layout_name = kLeanLayoutName;
-    Ktx2FilePlan plan;
     WriteOptions options;
     std::unique_ptr<std::uint8_t, decltype(&std::free)> bytes{nullptr, &std::free};
     std::vector<std::uint64_t> level_offsets;  // in `bytes`
@@ -205,7 +216,7 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
         }
     };
     if (options.supercompression == Supercompression::Zstandard) {
-        ZstdCompressor(path, options.zstd_level, 1);  // the level checked before the bake
+        check_zstd_level(path, options.zstd_level);  // before the bake, not at commit()
         // The levels are compressed whole at commit(): until then they wait in memory
         // (calloc: pages the bake has not touched cost nothing).
         staging_ = std::make_unique<Staging>();
@@ -224,7 +235,6 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
         for (const PackedLevel& level : layout.levels)
             staging_->layout.levels.push_back({level.width, level.height, {}, {}, {}});
         add_targets(staging_->bytes.get(), staging_->level_offsets);
-        staging_->plan = std::move(plan);
         return;
     }
     // The level data goes straight into the mapped file; the mip padding between levels is left
@@ -241,7 +251,6 @@ bool Ktx2Writer::drop_plateau_layer() {
     if (!staging_ || !staging_->layout.has_plateau() || targets_.empty()) return false;
     // Each staged level keeps its layers back to back: the first two are the new level.
     staging_->layout.plateau_epsilon = 0.0f;
-    staging_->plan = plan_ktx2_file(file_.path(), staging_->layout, false, staging_->layout_name);
     for (PackedLevelTarget& target : targets_) target.plateau = nullptr;
     return true;
 }
@@ -251,15 +260,16 @@ void Ktx2Writer::commit() {
     if (staging_) {
         // The head's place first (its size does not depend on the levels' lengths), then each
         // level one frame, from the smallest level to the largest, unaligned; then the head.
-        const Ktx2FilePlan& plan = staging_->plan;
+        const Ktx2FilePlan plan =
+            plan_ktx2_file(file_.path(), staging_->layout, false, staging_->layout_name);
         file_.write(std::vector<std::uint8_t>(std::size_t(plan.head_size()), 0));
         ZstdCompressor compressor(file_.path(), staging_->options.zstd_level,
                                   resolve_thread_count(staging_->options.threads));
         std::vector<std::uint64_t> lengths(plan.level_lengths.size()), offsets;
         for (std::size_t level = lengths.size(); level-- > 0;) {
             lengths[level] = compressor.frame(
-                staging_->bytes.get() + staging_->level_offsets[level],
-                std::size_t(plan.level_lengths[level]),
+                {{staging_->bytes.get() + staging_->level_offsets[level],
+                  std::size_t(plan.level_lengths[level])}},
                 [&](const std::uint8_t* bytes, std::size_t size) { file_.write(bytes, size); });
         }
         staging_->bytes.reset();
@@ -350,25 +360,23 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const s
                                                const WriteOptions& options) {
     const Ktx2FilePlan plan = plan_ktx2_file(name, map, true);
     const bool zstd = options.supercompression == Supercompression::Zstandard;
-    std::optional<ZstdCompressor> compressor;
-    if (zstd) compressor.emplace(name, options.zstd_level, resolve_thread_count(options.threads));
-    // Each level's layers back to back (compressed as one frame when supercompressed).
-    std::vector<std::vector<std::uint8_t>> levels;
-    std::vector<std::uint64_t> lengths;
-    for (const PackedLevel& packed : map.levels) {
-        std::vector<std::uint8_t> level(packed.lean1);
-        level.insert(level.end(), packed.lean2.begin(), packed.lean2.end());
-        if (map.has_plateau()) level.insert(level.end(), packed.plateau.begin(), packed.plateau.end());
-        if (zstd) {
-            std::vector<std::uint8_t> frame;
-            compressor->frame(level.data(), level.size(),
-                              [&](const std::uint8_t* bytes, std::size_t size) {
-                                  frame.insert(frame.end(), bytes, bytes + size);
-                              });
-            level = std::move(frame);
+    const auto layers = [&](const PackedLevel& packed) {
+        std::vector<std::span<const std::uint8_t>> spans = {packed.lean1, packed.lean2};
+        if (map.has_plateau()) spans.emplace_back(packed.plateau);
+        return spans;
+    };
+    // Supercompressed: each level's frame, then the file; else the layers straight into it.
+    std::vector<std::vector<std::uint8_t>> frames;
+    std::vector<std::uint64_t> lengths = plan.level_lengths;
+    if (zstd) {
+        ZstdCompressor compressor(name, options.zstd_level, resolve_thread_count(options.threads));
+        for (std::size_t level = 0; level < map.levels.size(); ++level) {
+            std::vector<std::uint8_t>& frame = frames.emplace_back();
+            lengths[level] = compressor.frame(
+                layers(map.levels[level]), [&](const std::uint8_t* bytes, std::size_t size) {
+                    frame.insert(frame.end(), bytes, bytes + size);
+                });
         }
-        lengths.push_back(level.size());
-        levels.push_back(std::move(level));
     }
     std::vector<std::uint64_t> offsets;
     const std::uint64_t size = plan.place_levels(lengths, zstd, offsets);
@@ -376,9 +384,15 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const s
     const std::vector<std::uint8_t> head =
         plan.head(zstd ? kSchemeZstandard : kSchemeNone, offsets, lengths);
     std::copy(head.begin(), head.end(), file.begin());
-    for (std::size_t level = 0; level < levels.size(); ++level)
-        std::copy(levels[level].begin(), levels[level].end(),
-                  file.begin() + std::ptrdiff_t(offsets[level]));
+    for (std::size_t level = 0; level < map.levels.size(); ++level) {
+        auto at = file.begin() + std::ptrdiff_t(offsets[level]);
+        if (zstd) {
+            std::copy(frames[level].begin(), frames[level].end(), at);
+            continue;
+        }
+        for (const std::span<const std::uint8_t> layer : layers(map.levels[level]))
+            at = std::copy(layer.begin(), layer.end(), at);
+    }
     return file;
 }
 
