@@ -76,6 +76,13 @@ bench: build
 	@mkdir -p out/bench
 	$(BUILD_DIR)/bench/leanfade_bench_bake --benchmark_out=out/bench/bake.json --benchmark_out_format=json
 	@echo "bake benchmark written to out/bench/bake.json"
+	@maps="$$($(PYTHON) scripts/bake_off.py --list-corpus)"; \
+	if [ -z "$$maps" ]; then \
+		echo "compression error: no corpus map installed (docs/results.md §9 names the packages)"; \
+	else \
+		$(BUILD_DIR)/bench/leanfade_compression_error --out out/bench/compression $$maps && \
+		echo "compression error on the corpus maps written to out/bench/compression"; \
+	fi
 	$(LEANFADE) bench --size 800x600 --frames 10 --warmup 2 --json out/bench/frames.json
 	@echo "frame benchmark written to out/bench/frames.json (docs/perf.md)"
 	PYTHONPATH=$(BUILD_DIR)/python $(PYTHON) bench/batch_throughput.py --leanfade $(LEANFADE) \

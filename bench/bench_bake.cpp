@@ -33,6 +33,8 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
+#include "leanfade/core/roughness.hpp"
+#include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 
@@ -433,6 +435,74 @@ BENCHMARK(BM_CliAgainstNvcompress)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(5);
+
+// Block compression of the engine textures (leanfade/io/block_compression.hpp): the normal
+// texture's full chain of a bench_size() map compressed on 2 threads. Arg 0: BC5 (libsquish),
+// 1: ASTC 4x4 (libastcenc, medium effort). Counter: texels per second (all levels).
+void BM_CompressNormalTexture(benchmark::State& state) {
+    static const RoughnessTexturesRgba8 textures = [] {
+        BakeOptions options;
+        const LeanMap map = bake_lean_map(io::read_image(input_png()), BakeSource::Normal, options).map;
+        RoughnessOptions roughness;
+        roughness.base_roughness = 0.3f;
+        return roughness_textures_rgba8(map, roughness, nullptr, {true, false});
+    }();
+    const io::BlockCompression compression =
+        state.range(0) == 0 ? io::BlockCompression::Bc : io::BlockCompression::Astc;
+    std::uint64_t texels = 0;
+    for (const Rgba8Image& level : textures.normal) texels += std::uint64_t(level.width) * level.height;
+    for (auto _ : state) {
+        const auto blocks = io::compress_levels(textures.normal, compression, io::EngineTexture::Normal, 2);
+        benchmark::DoNotOptimize(blocks.data());
+    }
+    state.SetLabel(io::to_string(compression));
+    state.counters["texels_per_s"] =
+        benchmark::Counter(double(texels) * double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CompressNormalTexture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// `leanfade bake N.png --roughness-out R.ktx2 --compress bc` (the bake's moments, roughness and
+// normal MIPs, BC4 + BC5 of every level) against `nvcompress -normal -bc5` (MIP chain and BC5 of
+// the normal map only) on the same PNG, each a fresh process, alternating within each iteration.
+void BM_CompressBcAgainstNvcompress(benchmark::State& state) {
+    if (std::system("command -v nvcompress >/dev/null 2>&1") != 0) {
+        state.SkipWithError("nvcompress not installed (Debian libnvtt-bin)");
+        return;
+    }
+    const std::string ktx2 = (work_dir() / "bc.ktx2").string();
+    const std::string dds = (work_dir() / "bc5.dds").string();
+    const std::string leanfade = std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() +
+                                 "' --roughness-out '" + ktx2 +
+                                 "' --compress bc --threads 2 >/dev/null 2>&1";
+    const std::string nvcompress =
+        "nvcompress -normal -bc5 '" + input_png() + "' '" + dds + "' >/dev/null 2>&1";
+    const auto timed = [](const std::string& command) {
+        const auto start = std::chrono::steady_clock::now();
+        const int status = std::system(command.c_str());
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return status == 0 ? seconds : -1.0;
+    };
+    double leanfade_total = 0.0, nvcompress_total = 0.0;
+    for (auto _ : state) {
+        fs::remove(ktx2);
+        fs::remove(dds);
+        const double ours = timed(leanfade);
+        const double theirs = timed(nvcompress);
+        if (ours < 0.0 || theirs < 0.0 || !fs::exists(ktx2) || !fs::exists(dds)) {
+            state.SkipWithError("leanfade bake --compress bc or nvcompress -bc5 failed");
+            return;
+        }
+        state.SetIterationTime(ours);
+        leanfade_total += ours;
+        nvcompress_total += theirs;
+    }
+    const double n = double(state.iterations());
+    state.counters["leanfade_ms"] = 1e3 * leanfade_total / n;
+    state.counters["nvcompress_bc5_ms"] = 1e3 * nvcompress_total / n;
+    state.counters["leanfade_over_nvcompress"] = leanfade_total / nvcompress_total;
+}
+BENCHMARK(BM_CompressBcAgainstNvcompress)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
 
 // A command run as a user runs it (/bin/sh -c, no stdin, output discarded): wall seconds and the
 // peak resident memory of the process (and of what it waited for), KiB; seconds < 0 on failure.

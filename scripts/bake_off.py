@@ -183,7 +183,15 @@ def main():
     parser.add_argument("--techniques", default=TECHNIQUES)
     parser.add_argument("--resume", action="store_true",
                         help="keep the results of configurations already run into --out")
+    parser.add_argument("--list-corpus", action="store_true",
+                        help="print the installed corpus maps as leanfade_compression_error's "
+                             "arguments (--normal MAP | --height MAP) and stop")
     args = parser.parse_args()
+    if args.list_corpus:
+        for _, _, path, flags in CORPUS:
+            if os.path.exists(path):
+                print("--height" if "height" in flags else "--normal", path)
+        return
     only = set(filter(None, args.only.split(",")))
     os.makedirs(args.out, exist_ok=True)
     rows = []

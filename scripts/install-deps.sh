@@ -11,6 +11,7 @@ packages=(
   libtinyobjloader-dev libssl-dev libzstd-dev libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libgbm1
   libglfw3-dev libimgui-dev glslang-tools xvfb xauth libglx-mesa0 gnuplot-nox
   libgtest-dev libgmock-dev libbenchmark-dev
+  libsquish-dev libastcenc-dev
   libopenimageio-dev libtinygltf-dev spirv-cross libspirv-cross-c-shared-dev glslang-dev
   spirv-tools mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers
   chromium

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 
 #include <glm/gtc/packing.hpp>
@@ -16,6 +18,7 @@
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
@@ -48,6 +51,11 @@ std::vector<RoughnessLevel> expected_levels(const fs::path& height_png, float r0
     ro.base_roughness = r0;
     ro.roughness_map = map;
     return roughness_mips(lean, ro);
+}
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
 }
 
 int byte(float v) {
@@ -204,6 +212,11 @@ TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
         {rough + " --bake-roughness 100", "--roughness-out"},
         {" --roughness 0.2", "--roughness"},
         {" --roughness-out " + shell_quote((dir / "rough.png").string()), "ktx2"},
+        {" --compress bc", "--compress"},
+        {rough + " --compress basis", "--compress"},
+        {rough + " --compress ''", "--compress"},
+        {" --roughness-out " + shell_quote((dir / "rough.dds").string()) + " --compress astc",
+         "DDS has no ASTC"},
     };
     for (const Bad& c : cases) {
         const auto r = run_leanfade(base + c.args, dir);
@@ -214,6 +227,71 @@ TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
         EXPECT_FALSE(fs::exists(dir / "map.ktx2")) << c.args;
         EXPECT_FALSE(fs::exists(dir / "rough.levels")) << c.args;
     }
+}
+
+// --compress bc|astc: the engine textures as block-compressed KTX2 (checked by vkFormat) or DDS,
+// every level decoding within the stated error (docs/compression.md) of the uncompressed file's
+// level; the LEAN map is the same bytes as without --compress.
+TEST(CliBakeRoughness, CompressWritesBlockCompressedLevelsOfTheUncompressedTextures) {
+    const fs::path dir = test::scratch_dir("bake_roughness_compress");
+    const fs::path height = write_height_map(dir);
+    const auto bake = [&](const std::string& name, const std::string& extension,
+                          const std::string& compress) {
+        const auto r = run_leanfade(
+            "bake " + shell_quote(height.string()) + " -o " +
+                shell_quote((dir / (name + ".map.ktx2")).string()) + " --roughness 0.3" +
+                " --roughness-out " + shell_quote((dir / (name + extension)).string()) +
+                " --anisotropy-out " + shell_quote((dir / (name + ".aniso" + extension)).string()) +
+                compress,
+            dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+    };
+    bake("plain", ".ktx2", "");
+    bake("bc", ".ktx2", " --compress bc");
+    bake("astc", ".ktx2", " --compress astc");
+    bake("dds", ".dds", " --compress bc");
+    EXPECT_EQ(file_bytes(dir / "plain.map.ktx2"), file_bytes(dir / "bc.map.ktx2"));
+    const struct {
+        std::string suffix;
+        io::EngineTexture texture;
+        std::uint32_t bc_vk, astc_vk, dxgi;
+        int tolerance;  // largest difference of a stored channel, 8-bit codes
+    } files[] = {{".ktx2", io::EngineTexture::Roughness, 139, 157, 80, 12},
+                 {".normal.ktx2", io::EngineTexture::Normal, 141, 157, 83, 20},
+                 {".aniso.ktx2", io::EngineTexture::Anisotropy, 131, 157, 71, 255}};
+    for (const auto& f : files) {
+        const std::vector<io::Rgba8Level> plain = io::read_ktx2_rgba8((dir / ("plain" + f.suffix)).string());
+        for (const io::BlockCompression c : {io::BlockCompression::Bc, io::BlockCompression::Astc}) {
+            const std::string path = (dir / (io::to_string(c) + f.suffix)).string();
+            EXPECT_EQ(io::inspect_ktx2(path).vk_format,
+                      c == io::BlockCompression::Bc ? f.bc_vk : f.astc_vk) << path;
+            const auto levels = io::read_ktx2_compressed(path, io::block_format(c, f.texture));
+            ASSERT_EQ(levels.size(), plain.size()) << path;
+            const auto decoded = io::decompress_levels(levels, c, f.texture);
+            for (std::size_t l = 0; l < plain.size(); ++l) {
+                int largest = 0;
+                for (std::size_t i = 0; i < plain[l].texels.size(); i += 4)
+                    for (int ch = 0; ch < 2; ++ch) {
+                        // Roughness: G; normals: x, y.
+                        const std::size_t at = i + std::size_t(f.texture == io::EngineTexture::Roughness ? 1 : ch);
+                        largest = std::max(largest, std::abs(int(plain[l].texels[at]) - int(decoded[l].texels[at])));
+                    }
+                EXPECT_LE(largest, f.tolerance) << path << " level " << l;
+            }
+        }
+        const std::string dds_suffix = f.suffix.substr(0, f.suffix.size() - 5) + ".dds";
+        const io::DdsFile dds = io::read_dds((dir / ("dds" + dds_suffix)).string());
+        EXPECT_EQ(dds.dxgi_format, f.dxgi);
+        const auto bc = io::read_ktx2_compressed((dir / ("bc" + f.suffix)).string(),
+                                                 io::block_format(io::BlockCompression::Bc, f.texture));
+        ASSERT_EQ(dds.levels.size(), bc.size());
+        for (std::size_t l = 0; l < bc.size(); ++l) EXPECT_EQ(dds.levels[l].blocks, bc[l].blocks);
+    }
+    // `info` reads them.
+    const auto info = run_leanfade("info " + shell_quote((dir / "bc.normal.ktx2").string()), dir);
+    EXPECT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_THAT(info.out, HasSubstr("VK_FORMAT_BC5_UNORM_BLOCK"));
+    EXPECT_THAT(info.out, HasSubstr("KTXswizzle = rg01"));
 }
 
 }  // namespace

@@ -2,21 +2,27 @@
 #include "cli_bake_roughness.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/version.hpp"
+#include "leanfade/core/input_text.hpp"
 
 namespace leanfade::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
+bool is_dds(const std::string& path) {
+    return fs::path(path).extension() == ".dds";
+}
+
 std::string stem_of(const std::string& path) {
     fs::path p(path);
-    if (p.extension() == ".ktx2") p.replace_extension();
+    if (p.extension() == ".ktx2" || p.extension() == ".dds") p.replace_extension();
     return p.string();
 }
 
@@ -27,6 +33,14 @@ io::TextureKeyValues content(const std::string& what) {
 
 std::string writer_string() {
     return std::string(LEANFADE_GENERATOR);
+}
+
+// Whether a metallic-roughness texture holds anything but R = 1 (no occlusion) and B = 0 (not
+// metallic), which a BC4 roughness texture cannot keep.
+bool carries_occlusion_or_metallic(const Image& map) {
+    for (std::size_t t = 0; t < map.pixels.size(); t += std::size_t(map.channels))
+        if (map.pixels[t] < 1.0f || map.pixels[t + 2] > 0.0f) return true;
+    return false;
 }
 
 }  // namespace
@@ -41,14 +55,23 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
     app.add_option("--roughness-out", args.roughness_out,
                    "Also write roughness MIPs for engines: FILE.ktx2 (glTF metallic-roughness, "
                    "G = sqrt(alpha) with alpha^2 = alpha0^2 + Sxx + Syy per level) and "
-                   "FILE.normal.ktx2 (the normal of the mean slope per level); without -o or "
-                   "--out-dir, no LEAN map is written (docs/roughness.md)");
+                   "FILE.normal.ktx2 (the normal of the mean slope per level), or FILE.dds and "
+                   "FILE.normal.dds; without -o or --out-dir, no LEAN map is written "
+                   "(docs/roughness.md)");
     app.add_flag("--roughness-levels", args.png_levels,
                  "Also write every level of the roughness, normal and anisotropy MIPs as a PNG "
                  "in FILE.levels/");
     app.add_option("--anisotropy-out", args.anisotropy_out,
                    "Also write the KHR_materials_anisotropy texture (direction and strength from "
-                   "the slope covariance) with every level, as FILE.ktx2");
+                   "the slope covariance) with every level, as FILE.ktx2 or FILE.dds");
+    app.add_option("--compress", args.compression,
+                   "Block-compress the engine textures (--roughness-out, --anisotropy-out): bc "
+                   "(desktop: BC4 roughness, BC5 normal, BC1 anisotropy) or astc (mobile: ASTC "
+                   "4x4), every level from its own filtered level; LEAN maps stay uncompressed "
+                   "(docs/compression.md)")
+        ->transform(CLI::CheckedTransformer(io::block_compression_names()))
+        ->default_str("none")
+        ->each([&args](const std::string&) { args.compression_given = true; });
     app.add_option("--roughness", args.roughness,
                    "Base perceptual roughness r0 in [0, 1] of the roughness MIPs (alpha0 = r0^2)")
         ->check(CLI::Range(0.0f, 1.0f))
@@ -60,7 +83,7 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
 }
 
 std::string normal_output_path(const std::string& roughness_out) {
-    return stem_of(roughness_out) + ".normal.ktx2";
+    return stem_of(roughness_out) + (is_dds(roughness_out) ? ".normal.dds" : ".normal.ktx2");
 }
 
 std::string levels_folder_path(const RoughnessBakeArgs& args) {
@@ -71,10 +94,12 @@ std::string levels_folder_path(const RoughnessBakeArgs& args) {
 void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
                             float bake_roughness, io::OutputPlan& plan) {
     if (!args.requested()) {
-        if (args.roughness_given || !args.roughness_map.empty() || args.png_levels)
-            throw Error(args.roughness_given ? "--roughness"
-                        : args.png_levels    ? "--roughness-levels"
-                                             : "--roughness-map",
+        if (args.roughness_given || !args.roughness_map.empty() || args.png_levels ||
+            args.compression_given)
+            throw Error(args.roughness_given     ? "--roughness"
+                        : args.png_levels        ? "--roughness-levels"
+                        : args.compression_given ? "--compress"
+                                                 : "--roughness-map",
                         "applies to --roughness-out and --anisotropy-out");
         return;
     }
@@ -87,8 +112,10 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
         throw Error("--roughness", "give --roughness or --roughness-map, not both");
     for (const std::string* out : {&args.roughness_out, &args.anisotropy_out}) {
         if (out->empty()) continue;
-        if (fs::path(*out).extension() != ".ktx2")
-            throw Error(*out, "roughness and anisotropy outputs are .ktx2 files");
+        if (fs::path(*out).extension() != ".ktx2" && !is_dds(*out))
+            throw Error(*out, "roughness and anisotropy outputs are .ktx2 or .dds files");
+        if (is_dds(*out) && args.compression == io::BlockCompression::Astc)
+            throw Error(*out, "DDS has no ASTC formats: write .ktx2 with --compress astc");
     }
     if (!args.roughness_map.empty()) plan.add_input(args.roughness_map);
     if (!args.roughness_out.empty()) {
@@ -103,7 +130,12 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
                                  const BakeOptions& options, const io::ReadOptions& read_options,
                                  const io::WriteOptions& write_options,
                                  io::OutputTransaction& outputs)
-    : args_(args), write_options_(write_options), outputs_(outputs) {
+    : args_(args),
+      write_options_(write_options),
+      outputs_(outputs),
+      threads_(options.threads),
+      in_memory_(args.png_levels || args.compression != io::BlockCompression::None ||
+                 is_dds(args.roughness_out) || is_dds(args.anisotropy_out)) {
     RoughnessOptions roughness;
     roughness.base_roughness = args.roughness;
     roughness.threads = options.threads;
@@ -115,13 +147,20 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
         base_ = base_roughness_channel(map_image_);
         roughness.roughness_map = &base_;
         if (map_image_.channels >= 3) metallic_roughness = &map_image_;
+        if (metallic_roughness != nullptr && args.compression == io::BlockCompression::Bc &&
+            !args.roughness_out.empty() && carries_occlusion_or_metallic(map_image_))
+            std::fprintf(stderr,
+                         "leanfade bake: warning: %s: its R (occlusion) and B (metallic) are not "
+                         "kept by --compress bc (BC4 holds roughness only); --compress astc keeps "
+                         "them\n",
+                         terminal_text(args.roughness_map).c_str());
     }
-    // Without PNG levels the bake writes the KTX2 files' texels in place.
+    // Uncompressed KTX2 files without PNG levels: the bake writes their texels in place.
     RoughnessTextureTargets targets;
     const auto mapped = [&](const std::string& path, const char* what,
                             std::unique_ptr<io::Ktx2Rgba8Writer>& file,
                             std::vector<std::uint8_t*>& levels) {
-        if (path.empty() || args.png_levels) return;
+        if (path.empty() || in_memory_) return;
         file = std::make_unique<io::Ktx2Rgba8Writer>(outputs.stage(path), width, height,
                                                      writer_string(), content(what),
                                                      write_options);
@@ -150,28 +189,54 @@ void RoughnessExport::bake_alone(const std::variant<Image, UnormImage>& input, B
                input);
 }
 
+void RoughnessExport::write_texture(const std::string& path, const std::vector<Rgba8Image>& levels,
+                                    io::EngineTexture texture, const std::string& content_name) {
+    const std::string staged = outputs_.stage(path);
+    if (args_.compression == io::BlockCompression::None) {
+        if (is_dds(path))
+            io::write_dds_rgba8(staged, levels, write_options_);
+        else
+            io::write_ktx2_rgba8(staged, levels, writer_string(), write_options_,
+                                 content(content_name));
+        return;
+    }
+    const io::BlockFormat& format = io::block_format(args_.compression, texture);
+    const std::vector<io::CompressedLevel> compressed =
+        io::compress_levels(levels, args_.compression, texture, threads_, path);
+    if (is_dds(path))
+        io::write_dds_compressed(staged, compressed, format, write_options_);
+    else
+        io::write_ktx2_compressed(staged, compressed, format, writer_string(), write_options_,
+                                  content(content_name));
+}
+
 int RoughnessExport::write() {
     const int levels = mip_level_count(builder_->width(), builder_->height());
     for (auto* file : {&roughness_file_, &normal_file_, &anisotropy_file_})
         if (*file) (*file)->commit();
-    if (!args_.png_levels) return levels;
-    // In memory: each KTX2 file and the PNG of every level.
+    if (!in_memory_) return levels;
+    // In memory: each file and with --roughness-levels the PNG of every level (the uncompressed
+    // texels).
     const RoughnessTexturesRgba8 textures = builder_->take();
-    const std::string writer = writer_string();
-    const std::string folder = outputs_.stage_folder(levels_folder_path(args_));
+    const std::string folder =
+        args_.png_levels ? outputs_.stage_folder(levels_folder_path(args_)) : std::string();
     const auto write_all = [&](const std::string& path, const std::vector<Rgba8Image>& images,
-                               const std::string& name) {
-        io::write_ktx2_rgba8(outputs_.stage(path), images, writer, write_options_, content(name));
+                               io::EngineTexture texture) {
+        const std::string name = io::to_string(texture);
+        write_texture(path, images, texture, name);
+        if (!args_.png_levels) return;
         for (std::size_t l = 0; l < images.size(); ++l)
             io::write_png_rgba8(
                 (fs::path(folder) / (name + "_mip" + std::to_string(l) + ".png")).string(),
                 images[l], write_options_);
     };
     if (!args_.roughness_out.empty()) {
-        write_all(args_.roughness_out, textures.metallic_roughness, "roughness");
-        write_all(normal_output_path(args_.roughness_out), textures.normal, "normal");
+        write_all(args_.roughness_out, textures.metallic_roughness, io::EngineTexture::Roughness);
+        write_all(normal_output_path(args_.roughness_out), textures.normal,
+                  io::EngineTexture::Normal);
     }
-    if (!args_.anisotropy_out.empty()) write_all(args_.anisotropy_out, textures.anisotropy, "anisotropy");
+    if (!args_.anisotropy_out.empty())
+        write_all(args_.anisotropy_out, textures.anisotropy, io::EngineTexture::Anisotropy);
     return levels;
 }
 

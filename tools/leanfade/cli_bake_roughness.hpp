@@ -12,6 +12,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/io/output_plan.hpp"
@@ -25,6 +26,9 @@ struct RoughnessBakeArgs {
     bool roughness_given = false;
     std::string roughness_map;   // a grey roughness map or a glTF metallic-roughness texture
     bool png_levels = false;     // --roughness-levels: every level as a PNG in FILE.levels/
+    // --compress: the outputs block-compressed (BC4/BC5/BC1 or ASTC 4x4; docs/compression.md).
+    io::BlockCompression compression = io::BlockCompression::None;
+    bool compression_given = false;
 
     bool requested() const { return !roughness_out.empty() || !anisotropy_out.empty(); }
 };
@@ -42,8 +46,8 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args);
 void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count,
                             float bake_roughness, io::OutputPlan& plan);
 
-// The files of the outputs: for --roughness-out R.ktx2, R.ktx2 and R.normal.ktx2; for
-// --anisotropy-out A.ktx2, A.ktx2; with --roughness-levels, the folder R.levels/ of PNGs per
+// The files of the outputs: for --roughness-out R.ktx2, R.ktx2 and R.normal.ktx2 (R.dds:
+// R.normal.dds); for --anisotropy-out A.ktx2, A.ktx2; with --roughness-levels, the folder R.levels/ of PNGs per
 // level (roughness_mipN.png, normal_mipN.png, anisotropy_mipN.png).
 std::string normal_output_path(const std::string& roughness_out);
 std::string levels_folder_path(const RoughnessBakeArgs& args);
@@ -77,7 +81,14 @@ class RoughnessExport {
     const io::WriteOptions& write_options_;
     io::OutputTransaction& outputs_;
     Image map_image_, base_;
-    // The mapped KTX2 files (none with --roughness-levels): roughness, normal, anisotropy.
+    // Writes one texture's levels to `path` in the form asked for (KTX2 or DDS, compressed or
+    // not).
+    void write_texture(const std::string& path, const std::vector<Rgba8Image>& levels,
+                       io::EngineTexture texture, const std::string& content_name);
+    int threads_ = 0;
+    bool in_memory_ = false;  // the textures are kept in memory (not written in place)
+    // The mapped KTX2 files (none with --roughness-levels, --compress or DDS): roughness, normal,
+    // anisotropy.
     std::unique_ptr<io::Ktx2Rgba8Writer> roughness_file_, normal_file_, anisotropy_file_;
     std::unique_ptr<RoughnessTextureBuilder> builder_;
 };

@@ -9,6 +9,7 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/text.hpp"
+#include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 
@@ -19,6 +20,23 @@ std::string percent_text(float fraction) {
     char text[32];
     std::snprintf(text, sizeof text, "%.3g %%", 100.0 * double(fraction));
     return text;
+}
+
+// An engine texture's levels (bake --roughness-out, --anisotropy-out): RGBA8 or the block
+// format of its content under --compress (leanfade/io/block_compression.hpp).
+void read_engine_texture(const std::string& path, const io::Ktx2Info& info,
+                         const std::string& content) {
+    const io::EngineTexture texture = content == "roughness v1" ? io::EngineTexture::Roughness
+                                      : content == "normal v1"  ? io::EngineTexture::Normal
+                                                                : io::EngineTexture::Anisotropy;
+    for (const io::BlockCompression compression : {io::BlockCompression::Bc, io::BlockCompression::Astc}) {
+        const io::BlockFormat& format = io::block_format(compression, texture);
+        if (info.vk_format == format.vk_format) {
+            io::read_ktx2_compressed(path, format);
+            return;
+        }
+    }
+    io::read_ktx2_rgba8(path);
 }
 
 // Every check first, then the output: a refused file prints its one-line error and nothing
@@ -62,7 +80,7 @@ int run_info(const std::string& path, int max_size) {
             io::read_ktx2_rgba16f(path);
         else if (*content == "roughness v1" || *content == "normal v1" ||
                  *content == "anisotropy v1")
-            io::read_ktx2_rgba8(path);
+            read_engine_texture(path, info, *content);
         kind = content->rfind("lean", 0) == 0
                    ? "not a LEAN map: one of its layers as a 2D texture (bake --ktx2-2d), "
                      "LEANFADEcontent '" + escape_text(*content) + "'"

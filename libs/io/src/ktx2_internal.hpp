@@ -58,6 +58,8 @@ constexpr const char* kKeyOrientation = "KTXorientation";
 
 constexpr const char* kKeyWriter = "KTXwriter";
 
+constexpr const char* kKeySwizzle = "KTXswizzle";
+
 struct FormatInfo {
     Storage storage;
     std::uint32_t vk_format;
@@ -123,5 +125,13 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
                         bool check_layers);
 
 const char* normal_convention_name(NormalConvention convention);
+
+// The key/value data of a plain texture (ktx2_texture.hpp): KTXorientation "rd", KTXwriter, the
+// KTX keys `ktx_keys` (KTXswizzle, ...) and the caller's keys `extra` (none starting with "KTX",
+// none empty or with a NUL byte, each once), sorted by key bytes (KTX2 §3.11). Throws
+// leanfade::Error(name, cause).
+std::vector<std::uint8_t> texture_key_value_data(
+    const std::string& writer, const std::vector<std::pair<std::string, std::string>>& extra,
+    const std::string& name, const std::vector<std::pair<std::string, std::string>>& ktx_keys = {});
 
 }  // namespace leanfade::io::ktx2_detail

@@ -66,27 +66,6 @@ void check_chain(const std::vector<LevelSize>& levels, const FormatInfo& format,
         throw Error(name, "the MIP chain must go down to 1x1");
 }
 
-// The key/value data: the two KTX keys and the caller's, sorted by key bytes (KTX2 §3.11).
-std::vector<std::uint8_t> key_value_data(const std::string& writer,
-                                         const TextureKeyValues& extra,
-                                         const std::string& name) {
-    TextureKeyValues all{{kKeyOrientation, "rd"}, {kKeyWriter, writer}};
-    for (const auto& [key, value] : extra) {
-        if (key.empty() || key.rfind("KTX", 0) == 0)
-            throw Error(name, "key '" + key + "' is reserved or empty");
-        if (key.find('\0') != std::string::npos || value.find('\0') != std::string::npos)
-            throw Error(name, "key '" + key + "' holds a NUL byte");
-        all.emplace_back(key, value);
-    }
-    std::sort(all.begin(), all.end());
-    for (std::size_t i = 1; i < all.size(); ++i)
-        if (all[i].first == all[i - 1].first)
-            throw Error(name, "key '" + all[i].first + "' given twice");
-    std::vector<std::uint8_t> bytes;
-    for (const auto& [key, value] : all) append_key_value(bytes, key, value);
-    return bytes;
-}
-
 // The layout of a 2D texture file: its head (header, level index, data format descriptor and
 // key/value data, padded to the first level) and where each level's texels go.
 struct File2d {
@@ -100,7 +79,7 @@ File2d plan_2d(const FormatInfo& format, const std::vector<LevelSize>& sizes,
                const std::string& writer, const std::string& name, const TextureKeyValues& extra) {
     check_chain(sizes, format, name);
     const auto level_count = std::uint32_t(sizes.size());
-    const std::vector<std::uint8_t> key_values = key_value_data(writer, extra, name);
+    const std::vector<std::uint8_t> key_values = texture_key_value_data(writer, extra, name);
     const std::vector<std::uint8_t> dfd = encode_data_format(expected_data_format(format));
     const std::uint64_t dfd_offset = kHeaderSize + kLevelIndexEntrySize * level_count;
     const std::uint64_t kvd_offset = dfd_offset + dfd.size();
@@ -227,6 +206,32 @@ std::vector<std::vector<std::uint8_t>> read_2d(const std::string& path, const Fo
 }
 
 }  // namespace
+
+namespace ktx2_detail {
+
+std::vector<std::uint8_t> texture_key_value_data(const std::string& writer,
+                                                 const TextureKeyValues& extra,
+                                                 const std::string& name,
+                                                 const TextureKeyValues& ktx_keys) {
+    TextureKeyValues all{{kKeyOrientation, "rd"}, {kKeyWriter, writer}};
+    all.insert(all.end(), ktx_keys.begin(), ktx_keys.end());
+    for (const auto& [key, value] : extra) {
+        if (key.empty() || key.rfind("KTX", 0) == 0)
+            throw Error(name, "key '" + key + "' is reserved or empty");
+        if (key.find('\0') != std::string::npos || value.find('\0') != std::string::npos)
+            throw Error(name, "key '" + key + "' holds a NUL byte");
+        all.emplace_back(key, value);
+    }
+    std::sort(all.begin(), all.end());
+    for (std::size_t i = 1; i < all.size(); ++i)
+        if (all[i].first == all[i - 1].first)
+            throw Error(name, "key '" + all[i].first + "' given twice");
+    std::vector<std::uint8_t> bytes;
+    for (const auto& [key, value] : all) append_key_value(bytes, key, value);
+    return bytes;
+}
+
+}  // namespace ktx2_detail
 
 std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& levels,
                                             const std::string& writer, const std::string& name,
