@@ -400,7 +400,7 @@ void BM_CliAgainstNvcompress(benchmark::State& state) {
     const std::string ktx2 = (work_dir() / "cli.ktx2").string();
     const std::string dds = (work_dir() / "cli.dds").string();
     const std::string leanfade = std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() +
-                                 "' -o '" + ktx2 + "' --threads " +
+                                 "' -o '" + ktx2 + "' --supercompression none --threads " +
                                  std::to_string(state.range(0)) + " >/dev/null 2>&1";
     const std::string nvcompress =
         "nvcompress -normal -rgb '" + input_png() + "' '" + dds + "' >/dev/null 2>&1";

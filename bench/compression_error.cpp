@@ -6,7 +6,13 @@
 // doubled axis angle, codes of strength), and the whole chain's compression time. Writes
 // OUT/compression_error.{csv,json,md}.
 //
-//   leanfade_compression_error --out DIR (--normal MAP | --height MAP)...
+// With --levels-out DIR, also every map's roughness chain, uncompressed and decoded from each
+// compression, as grey PNG series DIR/STEM.COMPRESSION_L.png (perceptual r), the layout of the
+// rendering commands' --roughness-mips, to measure what compression does to a render's energy.
+// --roughness R sets the base roughness (default 0.3).
+//
+//   leanfade_compression_error --out DIR [--levels-out DIR] [--roughness R]
+//                              (--normal MAP | --height MAP)...
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +28,7 @@
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/png_io.hpp"
 
 using namespace leanfade;
 namespace fs = std::filesystem;
@@ -92,11 +99,14 @@ TextureError measure(const std::vector<Rgba8Image>& levels, io::BlockCompression
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string out = "out/bench/compression";
+    std::string out = "out/bench/compression", levels_out;
+    float base_roughness = 0.3f;
     std::vector<std::pair<std::string, BakeSource>> maps;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string flag = argv[i];
         if (flag == "--out") out = argv[i + 1];
+        else if (flag == "--levels-out") levels_out = argv[i + 1];
+        else if (flag == "--roughness") base_roughness = std::stof(argv[i + 1]);
         else if (flag == "--normal") maps.emplace_back(argv[i + 1], BakeSource::Normal);
         else if (flag == "--height") maps.emplace_back(argv[i + 1], BakeSource::Height);
         else {
@@ -124,8 +134,31 @@ int main(int argc, char** argv) {
             if (source == BakeSource::Height) options.strength = 8.0f;
             const LeanMap map = bake_lean_map(input, source, options).map;
             RoughnessOptions roughness;
-            roughness.base_roughness = 0.3f;
+            roughness.base_roughness = base_roughness;
             const RoughnessTexturesRgba8 textures = roughness_textures_rgba8(map, roughness, nullptr);
+            if (!levels_out.empty()) {
+                fs::create_directories(levels_out);
+                const std::string stem = fs::path(path).stem().string();
+                for (const io::BlockCompression c :
+                     {io::BlockCompression::None, io::BlockCompression::Bc, io::BlockCompression::Astc}) {
+                    const std::vector<Rgba8Image> levels =
+                        c == io::BlockCompression::None
+                            ? textures.metallic_roughness
+                            : io::decompress_levels(
+                                  io::compress_levels(textures.metallic_roughness, c,
+                                                      io::EngineTexture::Roughness, 2),
+                                  c, io::EngineTexture::Roughness);
+                    for (std::size_t l = 0; l < levels.size(); ++l) {
+                        Image grey(levels[l].width, levels[l].height, 1);
+                        for (std::size_t t = 0; t < grey.pixels.size(); ++t)
+                            grey.pixels[t] = float(levels[l].texels[4 * t + 1]) / 255.0f;
+                        io::write_png((fs::path(levels_out) / (stem + "." + io::to_string(c) + "_" +
+                                                               std::to_string(l) + ".png"))
+                                          .string(),
+                                      grey, 8);
+                    }
+                }
+            }
             const std::string size = std::to_string(input.width) + "x" + std::to_string(input.height);
             const std::string name =
                 (fs::path(path).parent_path().filename() / fs::path(path).filename()).string();

@@ -57,7 +57,7 @@ BakeSettings make_settings(const std::string& from, std::optional<double> streng
                            const std::string& strength_unit, const std::string& sc, bool directx,
                            bool strict_normals, const std::string& bits, double bake_roughness,
                            double plateau_epsilon, const std::string& wrap, int threads,
-                           int max_size) {
+                           int max_size, const std::string& supercompression, int zstd_level) {
     BakeSettings settings;
     BakeOptions& options = settings.options;
     settings.source = parse_bake_source(from, "from");
@@ -93,6 +93,17 @@ BakeSettings make_settings(const std::string& from, std::optional<double> streng
         throw Error("max_size", "must be in [1, 1048576]");
     settings.read_options.max_dimension = max_size;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only, as the CLI reads them
+    // The KTX2 file's supercompression (save, to_bytes), as `bake --supercompression`.
+    bool known = false;
+    for (const auto& [text, value] : io::supercompression_names()) {
+        if (text != supercompression) continue;
+        settings.write_options.supercompression = value;
+        known = true;
+    }
+    if (!known)
+        throw Error("supercompression", "expected zstd or none, got '" + supercompression + "'");
+    if (zstd_level < 1 || zstd_level > 19) throw Error("zstd_level", "must be in [1, 19]");
+    settings.write_options.zstd_level = zstd_level;
     return settings;
 }
 
@@ -187,10 +198,20 @@ Source read_source(const py::object& source, const std::string& name, const Bake
 // ---- Results ----------------------------------------------------------------------------------
 
 // A baked or loaded LEAN map, shared with the arrays that view its levels.
+// How save() and to_bytes() write a map: the bake's supercompression settings, or for a loaded
+// map `leanfade bake`'s defaults (Zstandard, level 3).
+io::WriteOptions default_file_options() {
+    io::WriteOptions options;
+    options.supercompression = io::Supercompression::Zstandard;
+    options.zstd_level = 3;
+    return options;
+}
+
 struct LeanMapObject {
     PackedBakeResult baked;
     std::string input_file;  // the file it was baked from: never an output
     bool has_summary = false;
+    io::WriteOptions file_options = default_file_options();
 };
 
 py::dtype storage_dtype(Storage storage) {
@@ -237,7 +258,7 @@ bool same_file(const std::string& a, const std::string& b) {
 // save(): NAME.ktx2 (every level), or NAME.png for the PNG pair NAME.lean1.png + NAME.lean2.png
 // (+ NAME.plateau.png), as `leanfade bake -o` names them.
 void save_map(const LeanMapObject& map, const std::string& path, bool fsync) {
-    io::WriteOptions options;
+    io::WriteOptions options = map.file_options;
     options.durability = fsync ? io::Durability::Flush : io::Durability::Rename;
     const PackedLeanMap& packed = map.baked.packed;
     std::vector<std::string> outputs;
@@ -267,6 +288,8 @@ std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string&
     Source input = read_source(source, name, settings);
     auto map = std::make_shared<LeanMapObject>();
     map->input_file = input.file;
+    map->file_options.supercompression = settings.write_options.supercompression;
+    map->file_options.zstd_level = settings.write_options.zstd_level;
     map->has_summary = true;
     {
         py::gil_scoped_release unlocked;
@@ -326,7 +349,8 @@ PYBIND11_MODULE(_leanfade, m) {
              py::arg("bits") = "auto", py::arg("bake_roughness") = 0.0,
              py::arg("plateau_epsilon") = double(kDefaultPlateauEpsilon),
              py::arg("wrap") = "repeat", py::arg("threads") = 0,
-             py::arg("max_size") = kDefaultMaxImageDimension);
+             py::arg("max_size") = kDefaultMaxImageDimension, py::arg("supercompression") = "zstd",
+             py::arg("zstd_level") = 3);
 
     py::class_<LeanMapObject, std::shared_ptr<LeanMapObject>>(
         m, "LeanMap",
@@ -376,7 +400,7 @@ PYBIND11_MODULE(_leanfade, m) {
             std::vector<std::uint8_t> bytes;
             {
                 py::gil_scoped_release unlocked;
-                bytes = io::write_ktx2_to_memory(m.baked.packed, "LeanMap");
+                bytes = io::write_ktx2_to_memory(m.baked.packed, "LeanMap", m.file_options);
             }
             return py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size());
         }, "The KTX2 file's bytes.");

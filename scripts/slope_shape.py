@@ -156,8 +156,9 @@ def main():
         folder = os.path.join(args.out, tag)
         os.makedirs(folder, exist_ok=True)
         ktx2 = os.path.join(folder, "map.ktx2")
+        # Uncompressed levels: this script reads the file's bytes itself.
         subprocess.run([args.leanfade, "bake", path, "--bits", "32f", "--plateau-epsilon", "0",
-                        "-o", ktx2] + bake_flags(flags), check=True, stdout=subprocess.DEVNULL)
+                        "--supercompression", "none", "-o", ktx2] + bake_flags(flags), check=True, stdout=subprocess.DEVNULL)
         row = {"map": tag, "package": package}
         row.update(shape(*read_lean2_level0(ktx2)))
         if args.eval:

@@ -3,6 +3,7 @@
 // what it needs: the KTX2 readers, the uploads, the uniform blocks written at the reflected
 // offsets, the camera that `leanfade render` uses. docs/integration.md, "WebGL2 and three.js".
 import { read as readKtx2 } from './node_modules/three/examples/jsm/libs/ktx-parse.module.js';
+import { ZSTDDecoder } from './node_modules/three/examples/jsm/libs/zstddec.module.js';
 
 // Vulkan format numbers of the files leanfade writes for the web (`bake --bits 16f`,
 // `bake --plateau-out`): RGBA half floats, which WebGL2 filters without extensions.
@@ -22,18 +23,41 @@ function keyValueText(container, key) {
   return new TextDecoder().decode(value).replace(/\0$/, '');
 }
 
+// KTX2 supercompression schemes leanfade writes: none, and Zstandard (`bake --supercompression
+// zstd`, the default), each level one Zstandard frame.
+const KTX2_SUPERCOMPRESSION_NONE = 0;
+const KTX2_SUPERCOMPRESSION_ZSTD = 2;
+let zstdDecoder;
+
+// Each level's bytes as the GPU takes them: a Zstandard-supercompressed level inflated (three.js's
+// ZSTDDecoder, the one its KTX2Loader uses).
+async function levelBytes(container, name) {
+  const scheme = container.supercompressionScheme;
+  if (scheme === KTX2_SUPERCOMPRESSION_NONE) return container.levels.map((level) => level.levelData);
+  if (scheme !== KTX2_SUPERCOMPRESSION_ZSTD)
+    throw new LeanfadeError(name, `supercompression scheme ${scheme} is not read here (0: none, 2: Zstandard)`);
+  if (!zstdDecoder) {
+    zstdDecoder = new ZSTDDecoder();
+    await zstdDecoder.init();
+  }
+  return container.levels.map((level, i) => {
+    const bytes = zstdDecoder.decode(level.levelData, level.uncompressedByteLength);
+    if (bytes.byteLength !== level.uncompressedByteLength)
+      throw new LeanfadeError(name, `level ${i} inflates to ${bytes.byteLength} bytes, not ${level.uncompressedByteLength}`);
+    return bytes;
+  });
+}
+
 // The levels of a KTX2 file of RGBA half floats, level 0 first, each layer back to back in
 // `data` (rows top first, as leanfade writes them).
-function halfFloatLevels(container, name) {
+async function halfFloatLevels(container, name) {
   if (container.vkFormat !== VK_FORMAT_R16G16B16A16_SFLOAT)
     throw new LeanfadeError(name, `expected VK_FORMAT_R16G16B16A16_SFLOAT (97), got vkFormat ${container.vkFormat}; bake with --bits 16f`);
-  if (container.supercompressionScheme !== 0)
-    throw new LeanfadeError(name, 'supercompressed levels are not read here');
   const layers = Math.max(1, container.layerCount);
-  return container.levels.map((level, i) => {
+  const levels = await levelBytes(container, name);
+  return levels.map((bytes, i) => {
     const width = Math.max(1, container.pixelWidth >> i);
     const height = Math.max(1, container.pixelHeight >> i);
-    const bytes = level.levelData;
     if (bytes.byteLength !== width * height * 8 * layers)
       throw new LeanfadeError(name, `level ${i} holds ${bytes.byteLength} bytes, not ${width * height * 8 * layers}`);
     const copy = new Uint16Array(bytes.byteLength / 2);
@@ -43,8 +67,9 @@ function halfFloatLevels(container, name) {
 }
 
 // A LEAN map written by `leanfade bake --bits 16f`: a 2D array of two layers (lean1, lean2), or
-// three with the plateau layer, with every level, and its slope scale sc (LEANFADEscale).
-export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
+// three with the plateau layer, with every level, and its slope scale sc (LEANFADEscale); levels
+// supercompressed with Zstandard or not. Async: Zstandard's decoder loads once.
+export async function parseLeanMap(arrayBuffer, name = 'LEAN map') {
   const container = readKtx2(new Uint8Array(arrayBuffer));
   // Two layers, or three with two-lobe LEAN's plateau layer, whose decoded form the page reads
   // from `bake --plateau-out` instead: only lean1 and lean2 are kept here.
@@ -64,7 +89,7 @@ export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
     scale,
     leanOffset: version[2] === '2' ? 0 : 1,
     roughnessBaked: keyValueText(container, 'LEANFADEroughnessBaked') === '1',
-    levels: halfFloatLevels(container, name).map((level) => ({
+    levels: (await halfFloatLevels(container, name)).map((level) => ({
       ...level,
       data: level.data.subarray(0, level.width * level.height * 4 * 2),
     })),
@@ -73,7 +98,7 @@ export function parseLeanMap(arrayBuffer, name = 'LEAN map') {
 
 // A 2D texture of RGBA half floats with its levels (`leanfade bake --plateau-out`), and what
 // its LEANFADEcontent key says it holds.
-export function parseTexture(arrayBuffer, name = 'texture') {
+export async function parseTexture(arrayBuffer, name = 'texture') {
   const container = readKtx2(new Uint8Array(arrayBuffer));
   if (container.layerCount > 1) throw new LeanfadeError(name, 'expected a 2D texture');
   return {
@@ -81,7 +106,7 @@ export function parseTexture(arrayBuffer, name = 'texture') {
     height: container.pixelHeight,
     layers: 1,
     content: keyValueText(container, 'LEANFADEcontent'),
-    levels: halfFloatLevels(container, name).map((level) => ({
+    levels: (await halfFloatLevels(container, name)).map((level) => ({
       ...level,
       data: level.data.subarray(0, level.width * level.height * 4 * 2),
     })),

@@ -73,8 +73,8 @@ function presenter(gl) {
 
 async function main() {
   const [leanMap, plateau, shadersIndexUrl] = [
-    parseLeanMap(await fetchBytes(`${dataUrl}/${mapName}.ktx2`), `${mapName}.ktx2`),
-    parseTexture(await fetchBytes(`${dataUrl}/${mapName}.plateau.ktx2`), `${mapName}.plateau.ktx2`),
+    await parseLeanMap(await fetchBytes(`${dataUrl}/${mapName}.ktx2`), `${mapName}.ktx2`),
+    await parseTexture(await fetchBytes(`${dataUrl}/${mapName}.plateau.ktx2`), `${mapName}.plateau.ktx2`),
     `${dataUrl}/shaders`,
   ];
   const index = await (await fetch(`${shadersIndexUrl}/shaders.json`)).json();

@@ -54,6 +54,8 @@ BAKE_SETTINGS: dict[str, Any] = {
     "wrap": "repeat",
     "threads": 0,
     "max_size": 16384,
+    "supercompression": "zstd",
+    "zstd_level": 3,
 }
 
 
@@ -99,7 +101,8 @@ def bake(source: Source, *, name: str = "", **settings: Any) -> LeanMap:
     floats are values in [0, 1] (normal maps encoded 0.5 n + 0.5). Rows top first, as in files.
     name: what errors call an array (default "array").
     settings: `leanfade bake`'s flags (from_, strength, strength_unit, sc, directx,
-    strict_normals, bits, bake_roughness, plateau_epsilon, wrap, threads, max_size).
+    strict_normals, bits, bake_roughness, plateau_epsilon, wrap, threads, max_size,
+    supercompression, zstd_level: how save() and to_bytes() write the KTX2 file).
     """
     return _leanfade.bake(source, bake_settings(**settings), name)
 

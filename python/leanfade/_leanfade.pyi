@@ -19,7 +19,8 @@ class BakeSettings:
                  strength_unit: str = "texel", sc: str = "auto", directx: bool = False,
                  strict_normals: bool = False, bits: str = "auto", bake_roughness: float = 0.0,
                  plateau_epsilon: float = 0.005, wrap: str = "repeat", threads: int = 0,
-                 max_size: int = 16384) -> None: ...
+                 max_size: int = 16384, supercompression: str = "zstd",
+                 zstd_level: int = 3) -> None: ...
 
 class LeanMap:
     @property

@@ -122,9 +122,20 @@ class SameBytesAsTheCli(unittest.TestCase):
 class Levels(unittest.TestCase):
     def test_views_hold_the_files_texels(self):
         with tempfile.TemporaryDirectory(dir=os.environ.get("LEANFADE_TEST_TMP")) as folder:
-            lean = leanfade.bake(height_map(100, 8), bits="16")
+            # Uncompressed levels: the test reads the file's level bytes itself.
+            lean = leanfade.bake(height_map(100, 8), bits="16", supercompression="none")
             path = os.path.join(folder, "m.ktx2")
             lean.save(path)
+            self.assertEqual(leanfade.info(path)["supercompression_scheme"], 0)
+            # By default, as `leanfade bake`: Zstandard levels that load as the same texels.
+            packed = os.path.join(folder, "z.ktx2")
+            zstd = leanfade.bake(height_map(100, 8), bits="16")
+            zstd.save(packed)
+            self.assertEqual(leanfade.info(packed)["supercompression_scheme"], 2)
+            self.assertLess(os.path.getsize(packed), os.path.getsize(path))
+            for mine, loaded in zip(zstd.levels, leanfade.load(packed).levels):
+                self.assertEqual(mine["lean1"].tobytes(), loaded["lean1"].tobytes())
+                self.assertEqual(mine["lean2"].tobytes(), loaded["lean2"].tobytes())
             levels = lean.levels
             self.assertEqual(len(levels), 7)  # 100, 50, 25, 12, 6, 3, 1
             self.assertEqual(lean.summary["levels"], 7)

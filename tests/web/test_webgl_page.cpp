@@ -1,5 +1,6 @@
 // The WebGL2 example page (examples/web) as a browser runs it: headless Chromium (SwiftShader's
-// WebGL2) loads the page with a LEAN map baked as half floats (`bake --bits 16f`), its plateau
+// WebGL2) loads the page with a LEAN map baked as half floats (`bake --bits 16f`, Zstandard-
+// supercompressed as bake writes by default), its plateau
 // layer (`--plateau-out`) and the GLSL ES shaders (`shaders --lang glsl-es`); the page draws
 // bump, LEAN and two-lobe LEAN with plain WebGL2 and LEAN through its three.js material into a
 // float target and posts the linear floats back (examples/web/serve.mjs --capture). Each is
@@ -19,6 +20,7 @@
 
 #include "cli_runner.hpp"
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
 #include "leanfade/test/cell_comparison.hpp"
 #include "leanfade/test/scratch.hpp"
 
@@ -61,6 +63,10 @@ class WebGlPage : public testing::Test {
         };
         run("bake --builtin bumps --size 128 --bits 16f -o " + shell_quote(data / "bumps.ktx2") +
             " --plateau-out " + shell_quote(data / "bumps.plateau.ktx2"));
+        // The page reads `bake`'s default files: Zstandard-supercompressed levels.
+        if (setup_->empty() &&
+            io::inspect_ktx2((data / "bumps.ktx2").string()).supercompression_scheme != 2)
+            *setup_ += "bumps.ktx2 is not Zstandard-supercompressed (bake's default)";
         run("shaders --lang glsl-es -o " + shell_quote(data / "shaders"));
         run("render --scene sphere --bumps " + shell_quote(data / "bumps.ktx2") +
             " --techniques bump,lean,two-lobe --distances 3,12 --size " + std::to_string(kSize) +

@@ -22,7 +22,7 @@ struct GltfBakeArgs {
     bool fsync = false;
     bool strict_normals = false;  // --strict-normals
     // The LEAN maps' KTX2 supercompression (--supercompression, --zstd-level).
-    io::Supercompression supercompression = io::Supercompression::None;
+    io::Supercompression supercompression = io::Supercompression::Zstandard;
     int zstd_level = 3;
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;

@@ -35,7 +35,7 @@ struct BakeArgs {
     float plateau_epsilon = kDefaultPlateauEpsilon;
     std::string wrap = "repeat";
     // KTX2 LEAN maps' supercompression (--supercompression, --zstd-level; docs/ktx2.md).
-    io::Supercompression supercompression = io::Supercompression::None;
+    io::Supercompression supercompression = io::Supercompression::Zstandard;
     int zstd_level = 3;
     std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
     int threads = 0;

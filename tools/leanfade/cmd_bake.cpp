@@ -357,7 +357,7 @@ const CommandRegistration registration{
                        "smaller files, the same GPU memory; read by leanfade, libktx and "
                        "three.js's KTX2Loader) or none (the level data as the GPU takes it)")
             ->transform(CLI::CheckedTransformer(io::supercompression_names()))
-            ->default_str("none");
+            ->default_str("zstd");
         app.add_option("--zstd-level", args->zstd_level,
                        "Zstandard level: 1 (fastest) to 19 (smallest; several times slower)")
             ->check(CLI::Range(1, 19))
