@@ -388,47 +388,54 @@ BENCHMARK(BM_Nvcompress)
     ->UseRealTime()
     ->Iterations(3);
 
-// A fresh process each, as a user runs them: `leanfade bake` and `nvcompress -normal -rgb` (with
-// its MIP chain) on the same PNG, alternating within each iteration so that drift of the machine
-// falls on both. The benchmark's time is leanfade's; the counters give the mean time of each
-// over the iterations and their ratio.
-void BM_CliAgainstNvcompress(benchmark::State& state) {
+// Two commands as a user runs them, a fresh process each, alternating within each iteration so
+// that drift of the machine falls on both; each iteration first removes `outputs` and checks that
+// they appear. The benchmark's time is leanfade's; the counters give the mean time of each over
+// the iterations (`ours_ms`, `theirs_ms`) and their ratio (leanfade_over_nvcompress).
+void run_against(benchmark::State& state, const std::string& ours, const std::string& theirs,
+                 const std::vector<std::string>& outputs, const std::string& theirs_ms) {
     if (std::system("command -v nvcompress >/dev/null 2>&1") != 0) {
         state.SkipWithError("nvcompress not installed (Debian libnvtt-bin)");
         return;
     }
-    const std::string ktx2 = (work_dir() / "cli.ktx2").string();
-    const std::string dds = (work_dir() / "cli.dds").string();
-    const std::string leanfade = std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() +
-                                 "' -o '" + ktx2 + "' --supercompression none --threads " +
-                                 std::to_string(state.range(0)) + " >/dev/null 2>&1";
-    const std::string nvcompress =
-        "nvcompress -normal -rgb '" + input_png() + "' '" + dds + "' >/dev/null 2>&1";
     const auto timed = [](const std::string& command) {
         const auto start = std::chrono::steady_clock::now();
-        const int status = std::system(command.c_str());
+        const int status = std::system((command + " >/dev/null 2>&1").c_str());
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return status == 0 ? seconds : -1.0;
     };
-    double leanfade_total = 0.0, nvcompress_total = 0.0;
+    double ours_total = 0.0, theirs_total = 0.0;
     for (auto _ : state) {
-        fs::remove(ktx2);
-        fs::remove(dds);
-        const double ours = timed(leanfade);
-        const double theirs = timed(nvcompress);
-        if (ours < 0.0 || theirs < 0.0 || !fs::exists(ktx2) || !fs::exists(dds)) {
-            state.SkipWithError("leanfade bake or nvcompress failed");
+        for (const std::string& output : outputs) fs::remove(output);
+        const double mine = timed(ours);
+        const double other = timed(theirs);
+        bool written = true;
+        for (const std::string& output : outputs) written = written && fs::exists(output);
+        if (mine < 0.0 || other < 0.0 || !written) {
+            state.SkipWithError(("failed: " + ours + " / " + theirs).c_str());
             return;
         }
-        state.SetIterationTime(ours);
-        leanfade_total += ours;
-        nvcompress_total += theirs;
+        state.SetIterationTime(mine);
+        ours_total += mine;
+        theirs_total += other;
     }
     const double n = double(state.iterations());
-    state.counters["leanfade_ms"] = 1e3 * leanfade_total / n;
-    state.counters["nvcompress_ms"] = 1e3 * nvcompress_total / n;
-    state.counters["leanfade_over_nvcompress"] = leanfade_total / nvcompress_total;
+    state.counters["leanfade_ms"] = 1e3 * ours_total / n;
+    state.counters[theirs_ms] = 1e3 * theirs_total / n;
+    state.counters["leanfade_over_nvcompress"] = ours_total / theirs_total;
+}
+
+// `leanfade bake` (its defaults: Zstandard levels) and `nvcompress -normal -rgb` (with its MIP
+// chain) on the same PNG.
+void BM_CliAgainstNvcompress(benchmark::State& state) {
+    const std::string ktx2 = (work_dir() / "cli.ktx2").string();
+    const std::string dds = (work_dir() / "cli.dds").string();
+    run_against(state,
+                std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() + "' -o '" + ktx2 +
+                    "' --threads " + std::to_string(state.range(0)),
+                "nvcompress -normal -rgb '" + input_png() + "' '" + dds + "'", {ktx2, dds},
+                "nvcompress_ms");
 }
 BENCHMARK(BM_CliAgainstNvcompress)
     ->Arg(2)
@@ -465,42 +472,13 @@ BENCHMARK(BM_CompressNormalTexture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecon
 // normal MIPs, BC4 + BC5 of every level) against `nvcompress -normal -bc5` (MIP chain and BC5 of
 // the normal map only) on the same PNG, each a fresh process, alternating within each iteration.
 void BM_CompressBcAgainstNvcompress(benchmark::State& state) {
-    if (std::system("command -v nvcompress >/dev/null 2>&1") != 0) {
-        state.SkipWithError("nvcompress not installed (Debian libnvtt-bin)");
-        return;
-    }
     const std::string ktx2 = (work_dir() / "bc.ktx2").string();
     const std::string dds = (work_dir() / "bc5.dds").string();
-    const std::string leanfade = std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() +
-                                 "' --roughness-out '" + ktx2 +
-                                 "' --compress bc --threads 2 >/dev/null 2>&1";
-    const std::string nvcompress =
-        "nvcompress -normal -bc5 '" + input_png() + "' '" + dds + "' >/dev/null 2>&1";
-    const auto timed = [](const std::string& command) {
-        const auto start = std::chrono::steady_clock::now();
-        const int status = std::system(command.c_str());
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        return status == 0 ? seconds : -1.0;
-    };
-    double leanfade_total = 0.0, nvcompress_total = 0.0;
-    for (auto _ : state) {
-        fs::remove(ktx2);
-        fs::remove(dds);
-        const double ours = timed(leanfade);
-        const double theirs = timed(nvcompress);
-        if (ours < 0.0 || theirs < 0.0 || !fs::exists(ktx2) || !fs::exists(dds)) {
-            state.SkipWithError("leanfade bake --compress bc or nvcompress -bc5 failed");
-            return;
-        }
-        state.SetIterationTime(ours);
-        leanfade_total += ours;
-        nvcompress_total += theirs;
-    }
-    const double n = double(state.iterations());
-    state.counters["leanfade_ms"] = 1e3 * leanfade_total / n;
-    state.counters["nvcompress_bc5_ms"] = 1e3 * nvcompress_total / n;
-    state.counters["leanfade_over_nvcompress"] = leanfade_total / nvcompress_total;
+    run_against(state,
+                std::string("'") + LEANFADE_TOOL + "' bake '" + input_png() + "' --roughness-out '" +
+                    ktx2 + "' --compress bc --threads 2",
+                "nvcompress -normal -bc5 '" + input_png() + "' '" + dds + "'", {ktx2, dds},
+                "nvcompress_bc5_ms");
 }
 BENCHMARK(BM_CompressBcAgainstNvcompress)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
 

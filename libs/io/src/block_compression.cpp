@@ -338,13 +338,6 @@ Ktx2DataFormat block_data_format(const BlockFormat& format) {
     return dfd;
 }
 
-void write_all(const std::string& path, const std::vector<std::uint8_t>& bytes,
-               const WriteOptions& options) {
-    AtomicFile file(path, options.durability);
-    file.write(bytes);
-    file.commit();
-}
-
 // --- DDS (Microsoft's DDS_HEADER + DDS_HEADER_DXT10) ---
 
 constexpr std::uint32_t kDdsMagic = 0x20534444;  // "DDS "
@@ -511,7 +504,7 @@ std::vector<std::uint8_t> encode_ktx2_compressed(const std::vector<CompressedLev
 void write_ktx2_compressed(const std::string& path, const std::vector<CompressedLevel>& levels,
                            const BlockFormat& format, const std::string& writer,
                            const WriteOptions& options, const TextureKeyValues& key_values) {
-    write_all(path, encode_ktx2_compressed(levels, format, writer, path, key_values), options);
+    write_file_atomically(path, encode_ktx2_compressed(levels, format, writer, path, key_values), options);
 }
 
 std::vector<CompressedLevel> read_ktx2_compressed(const std::string& path,
@@ -551,7 +544,7 @@ void write_dds_compressed(const std::string& path, const std::vector<CompressedL
                  true, levels.front().blocks.size());
     for (const CompressedLevel& level : levels)
         bytes.insert(bytes.end(), level.blocks.begin(), level.blocks.end());
-    write_all(path, bytes, options);
+    write_file_atomically(path, bytes, options);
 }
 
 void write_dds_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
@@ -563,7 +556,7 @@ void write_dds_rgba8(const std::string& path, const std::vector<Rgba8Level>& lev
                  false, std::uint64_t(levels.front().width) * 4);
     for (const Rgba8Level& level : levels)
         bytes.insert(bytes.end(), level.texels.begin(), level.texels.end());
-    write_all(path, bytes, options);
+    write_file_atomically(path, bytes, options);
 }
 
 DdsFile read_dds(const std::string& path) {

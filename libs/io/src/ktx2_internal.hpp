@@ -126,6 +126,10 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
 
 const char* normal_convention_name(NormalConvention convention);
 
+// `bytes` written atomically to `path` (AtomicFile, options.durability).
+void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                           const WriteOptions& options);
+
 // The key/value data of a plain texture (ktx2_texture.hpp): KTXorientation "rd", KTXwriter, the
 // KTX keys `ktx_keys` (KTXswizzle, ...) and the caller's keys `extra` (none starting with "KTX",
 // none empty or with a NUL byte, each once), sorted by key bytes (KTX2 §3.11). Throws

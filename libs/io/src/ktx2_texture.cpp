@@ -150,13 +150,6 @@ std::vector<LevelSize> chain_sizes(int width, int height, std::size_t texel_byte
     return sizes;
 }
 
-void write_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes,
-                 const WriteOptions& options) {
-    AtomicFile file(path, options.durability);
-    file.write(bytes);
-    file.commit();
-}
-
 // Half floats of a 4-channel image, little-endian.
 std::vector<std::uint8_t> to_half_bytes(const Image& image, std::size_t level,
                                         const std::string& name) {
@@ -209,6 +202,13 @@ std::vector<std::vector<std::uint8_t>> read_2d(const std::string& path, const Fo
 
 namespace ktx2_detail {
 
+void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes,
+                           const WriteOptions& options) {
+    AtomicFile file(path, options.durability);
+    file.write(bytes);
+    file.commit();
+}
+
 std::vector<std::uint8_t> texture_key_value_data(const std::string& writer,
                                                  const TextureKeyValues& extra,
                                                  const std::string& name,
@@ -244,7 +244,7 @@ std::vector<std::uint8_t> encode_ktx2_rgba8(const std::vector<Rgba8Level>& level
 void write_ktx2_rgba8(const std::string& path, const std::vector<Rgba8Level>& levels,
                       const std::string& writer, const WriteOptions& options,
                       const TextureKeyValues& key_values) {
-    write_bytes(path, encode_ktx2_rgba8(levels, writer, path, key_values), options);
+    write_file_atomically(path, encode_ktx2_rgba8(levels, writer, path, key_values), options);
 }
 
 Ktx2Rgba8Writer::Ktx2Rgba8Writer(const std::string& path, int width, int height,
@@ -279,7 +279,7 @@ std::vector<std::uint8_t> encode_ktx2_rgba16f(const std::vector<Image>& levels,
 void write_ktx2_rgba16f(const std::string& path, const std::vector<Image>& levels,
                         const std::string& writer, const WriteOptions& options,
                         const TextureKeyValues& key_values) {
-    write_bytes(path, encode_ktx2_rgba16f(levels, writer, path, key_values), options);
+    write_file_atomically(path, encode_ktx2_rgba16f(levels, writer, path, key_values), options);
 }
 
 void write_ktx2_layer_textures(const std::string& lean1_path, const std::string& lean2_path,
@@ -295,7 +295,7 @@ void write_ktx2_layer_textures(const std::string& lean1_path, const std::string&
             views.push_back({level.width, level.height, layer == 0 ? level.lean1 : level.lean2});
         TextureKeyValues keys = lean_metadata_keys(map);
         keys.emplace_back(kKeyTextureContent, layer == 0 ? "lean1 v1" : "lean2 v1");
-        write_bytes(path, encode_2d(format, views, writer, path, keys), options);
+        write_file_atomically(path, encode_2d(format, views, writer, path, keys), options);
     }
 }
 
