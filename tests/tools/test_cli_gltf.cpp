@@ -402,9 +402,30 @@ TEST(CliGltfOut, ASecondRunTakesItsOutputsFromTheCache) {
     const nlohmann::json first = run("a");
     const nlohmann::json second = run("b");
     ASSERT_EQ(first.size(), 3u);  // the materials with a normal texture
-    // "brick again" has the textures and factors of "brick wall": its entry already, in the
-    // first run too.
+    // "brick again" has the textures and factors of "brick wall": it shares its files (written
+    // once, one texture each in the JSON), in the first run too.
     const bool first_expected[] = {false, false, true};
+    EXPECT_EQ(first[2]["same_files_as"], "brick wall");
+    EXPECT_TRUE(first[0]["same_files_as"].is_null());
+    EXPECT_EQ(first[2]["lean_map"], first[0]["lean_map"]);
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().find("brick_again"), std::string::npos)
+            << e.path();
+    {
+        const std::string glb = test::read_text(dir / "a.glb");
+        const std::uint32_t json_length = std::uint32_t(std::uint8_t(glb[12])) |
+                                          std::uint32_t(std::uint8_t(glb[13])) << 8 |
+                                          std::uint32_t(std::uint8_t(glb[14])) << 16 |
+                                          std::uint32_t(std::uint8_t(glb[15])) << 24;
+        const nlohmann::json root = nlohmann::json::parse(glb.substr(20, json_length));
+        const nlohmann::json& materials = root["materials"];
+        EXPECT_EQ(materials[2]["normalTexture"]["index"], materials[0]["normalTexture"]["index"]);
+        EXPECT_EQ(materials[2]["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"],
+                  materials[0]["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"]);
+        EXPECT_NE(materials[1]["normalTexture"]["index"], materials[0]["normalTexture"]["index"]);
+        EXPECT_EQ(materials[2]["extensions"]["LEANFADE_lean_map"]["uri"],
+                  materials[0]["extensions"]["LEANFADE_lean_map"]["uri"]);
+    }
     for (std::size_t i = 0; i < first.size(); ++i) {
         EXPECT_EQ(first[i]["textures_from_cache"].get<bool>(), first_expected[i]) << i;
         EXPECT_TRUE(second[i]["textures_from_cache"].get<bool>()) << i;

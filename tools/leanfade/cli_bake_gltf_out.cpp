@@ -184,6 +184,9 @@ struct MaterialFiles {
     int material = -1;  // index into GltfScene::materials
     std::string part;   // its name's file-name part, unique
     std::string lean, roughness, roughness_png, normal, normal_png, anisotropy, anisotropy_png;
+    std::string cache_key;  // of its textures and factors (output_cache_key)
+    // The earlier job with the same key, whose files this material shares (-1: its own files).
+    int same_as = -1;
 };
 
 std::string json_text(const json& root) {
@@ -221,7 +224,11 @@ void add_extension_used(json& root, const std::string& name) {
 
 // A texture of the PNG level 0 `png` with the KTX2 `ktx2` (every level) under
 // KHR_texture_basisu; returns its index.
-int add_texture(json& root, const std::string& png, const std::string& ktx2, int sampler) {
+// The texture of a filtered file: added once (with its PNG fallback and the KTX2 under
+// KHR_texture_basisu), then shared by every material that uses the same file.
+int add_texture(json& root, const std::string& png, const std::string& ktx2, int sampler,
+                std::map<std::string, int>& added) {
+    if (const auto it = added.find(ktx2); it != added.end()) return it->second;
     json& images = root["images"];
     if (!images.is_array()) images = json::array();
     images.push_back({{"uri", png}, {"mimeType", "image/png"}});
@@ -233,6 +240,7 @@ int add_texture(json& root, const std::string& png, const std::string& ktx2, int
     textures.push_back({{"sampler", sampler},
                         {"source", png_index},
                         {"extensions", {{"KHR_texture_basisu", {{"source", ktx2_index}}}}}});
+    added.emplace(ktx2, int(textures.size()) - 1);
     return int(textures.size()) - 1;
 }
 
@@ -452,6 +460,34 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
         jobs.push_back(f);
     }
     if (jobs.empty()) throw Error(args.input, "no material of the scene has a normal texture");
+    const scene::GltfBakeSettings settings =
+        gltf_bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
+    const io::Durability durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
+    io::WriteOptions write_options;
+    write_options.durability = durability;
+    write_options.supercompression = args.supercompression;
+    write_options.zstd_level = args.zstd_level;
+    // Materials with the same normal texture, metallic-roughness texture and factors get the same
+    // files: written once, under the first one's names.
+    {
+        std::map<std::string, int> first_of;
+        for (std::size_t j = 0; j < jobs.size(); ++j) {
+            MaterialFiles& f = jobs[j];
+            f.cache_key = output_cache_key(gltf, gltf.materials[std::size_t(f.material)], settings,
+                                           write_options);
+            const auto [it, added] = first_of.emplace(f.cache_key, int(j));
+            if (added) continue;
+            const MaterialFiles& first = jobs[std::size_t(it->second)];
+            f.same_as = it->second;
+            f.lean = first.lean;
+            f.roughness = first.roughness;
+            f.roughness_png = first.roughness_png;
+            f.normal = first.normal;
+            f.normal_png = first.normal_png;
+            f.anisotropy = first.anisotropy;
+            f.anisotropy_png = first.anisotropy_png;
+        }
+    }
     // A .gltf out of a .glb: its binary chunk becomes a file beside the output.
     const bool writes_bin = !binary_out && container.has_bin;
     const std::string bin_name = stem + ".bin";
@@ -466,24 +502,19 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     for (const std::string& file : scene::gltf_referenced_files(args.input)) plan.add_input(file);
     plan.add_output(output, "-o");
     if (writes_bin) plan.add_output(beside(bin_name), "-o (the binary chunk)");
-    for (const MaterialFiles& f : jobs)
+    for (const MaterialFiles& f : jobs) {
+        if (f.same_as >= 0) continue;  // the files of an earlier material
         for (const std::string* file : {&f.lean, &f.roughness, &f.roughness_png, &f.normal,
                                         &f.normal_png, &f.anisotropy, &f.anisotropy_png})
             plan.add_output(beside(*file), "material '" + gltf.materials[std::size_t(f.material)].name + "'");
+    }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan.check();
 
-    const scene::GltfBakeSettings settings =
-        gltf_bake_settings(args.bits, args.max_size, args.threads, args.strict_normals);
     io::ReadOptions read_options;
     if (args.max_size > 0) read_options.max_dimension = args.max_size;
 
-    const io::Durability durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
     io::OutputTransaction outputs(durability);
-    io::WriteOptions write_options;
-    write_options.durability = durability;
-    write_options.supercompression = args.supercompression;
-    write_options.zstd_level = args.zstd_level;
     const std::string writer = std::string(LEANFADE_GENERATOR);
     std::vector<std::string> written;
     nlohmann::json summaries = nlohmann::json::array();
@@ -497,6 +528,8 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     samplers.push_back({{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}});
     const int sampler = int(samplers.size()) - 1;
     if (writes_bin) root["buffers"][0]["uri"] = uri_of(bin_name);
+    std::map<std::string, int> textures_added;  // KTX2 file -> its texture (add_texture)
+    std::vector<std::optional<CachedOutputs>> results(jobs.size());
 
     try {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
@@ -518,9 +551,11 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             // The files of an earlier run for the same textures and factors, copied from the
             // cache (in the kernel, without reading them); anything missing or of another size
             // and the material is filtered again.
-            const std::string cache_key = output_cache_key(gltf, m, settings, write_options);
-            std::optional<CachedOutputs> result = find_cached_outputs(cache, cache_key);
-            if (result) {
+            const std::string& cache_key = f.cache_key;
+            std::optional<CachedOutputs>& result = results[j];
+            if (f.same_as >= 0) result = results[std::size_t(f.same_as)];
+            else result = find_cached_outputs(cache, cache_key);
+            if (result && f.same_as < 0) {
                 // The limits a bake applies to the textures' headers, on the sizes the entry
                 // records: a warm cache refuses what an empty one does.
                 scene::check_cached_image_size(gltf, m.normal_image, result->width, result->height,
@@ -551,8 +586,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                     result.reset();
                 }
             }
+            // Not made by this run's bake: copied from the cache, or the files of an earlier
+            // material (same_files_as).
             const bool from_cache = result.has_value();
-            if (!from_cache) {
+            if (!result) {
                 const PackedLeanMap packed =
                     scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
                 io::write_ktx2(staged(0), packed, write_options);
@@ -583,9 +620,11 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                     print_warnings(args.input,
                                    {"cache: " + std::string(outputs.named(Error("", warning)).cause())});
             }
-            for (std::size_t i = 0; i < result->bytes.size(); ++i) written.push_back(beside(*names[i]));
+            if (f.same_as < 0)
+                for (std::size_t i = 0; i < result->bytes.size(); ++i)
+                    written.push_back(beside(*names[i]));
             // The convention warning of every bake path, from the cache too.
-            if (result->looks_flipped) {
+            if (result->looks_flipped && f.same_as < 0) {
                 if (progress) std::fprintf(stderr, "\r\033[K");
                 print_warnings(args.input, {gltf_convention_warning(
                                                gltf.images[std::size_t(m.normal_image)].name)});
@@ -599,11 +638,13 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             json& pbr = material["pbrMetallicRoughness"];
             if (!pbr.is_object()) pbr = json::object();
             pbr["metallicRoughnessTexture"] =
-                texture_info(add_texture(root, uri_of(f.roughness_png), uri_of(f.roughness), sampler),
+                texture_info(add_texture(root, uri_of(f.roughness_png), uri_of(f.roughness), sampler,
+                                         textures_added),
                              normal_info);
             pbr["roughnessFactor"] = 1.0;  // G holds the whole roughness now
             json normal = texture_info(
-                add_texture(root, uri_of(f.normal_png), uri_of(f.normal), sampler), normal_info);
+                add_texture(root, uri_of(f.normal_png), uri_of(f.normal), sampler, textures_added),
+            normal_info);
             material["normalTexture"] = normal;  // scale 1: the normals hold the scaled slopes
             json& extensions = material["extensions"];
             if (!extensions.is_object()) extensions = json::object();
@@ -612,7 +653,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                     {"anisotropyStrength", 1.0},
                     {"anisotropyTexture",
                      texture_info(add_texture(root, uri_of(f.anisotropy_png), uri_of(f.anisotropy),
-                                              sampler),
+                                              sampler, textures_added),
                                   normal_info)}};
                 add_extension_used(root, "KHR_materials_anisotropy");
             }
@@ -627,6 +668,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                  {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
                                  {"anisotropy_ratio", anisotropy},
                                  {"textures_from_cache", from_cache},
+                                 {"same_files_as",
+                                  f.same_as >= 0
+                                      ? json(gltf.materials[std::size_t(jobs[std::size_t(f.same_as)].material)].name)
+                                      : json()},
                                  {"levels", result->levels},
                                  {"width", result->width},
                                  {"height", result->height},
