@@ -24,6 +24,8 @@
 // rounding of texels to half floats (measured on llvmpipe: at most 5e-4). A dropped or doubled term
 // (the emission, the occlusion, the metalness, a texture transform, the anisotropy) changes pixels
 // by percents.
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -157,8 +159,11 @@ scene::test::GltfTestFile acceptance_file() {
     return file;
 }
 
+// The scene written as a .glb and loaded. The file's name carries the process id: ctest runs the
+// parameters of one test (each BRDF) as processes side by side, which must not write one file.
 scene::Scene material_scene(const scene::test::GltfTestFile& file, const std::string& name) {
-    return scene::test::render_scene_of(file, "gltf_materials", name);
+    return scene::test::render_scene_of(file, "gltf_materials",
+                                        name + "." + std::to_string(::getpid()));
 }
 
 glm::vec2 transformed(const scene::UvTransform& t, glm::vec2 uv) {
