@@ -477,15 +477,13 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                            write_options);
             const auto [it, added] = first_of.emplace(f.cache_key, int(j));
             if (added) continue;
-            const MaterialFiles& first = jobs[std::size_t(it->second)];
-            f.same_as = it->second;
-            f.lean = first.lean;
-            f.roughness = first.roughness;
-            f.roughness_png = first.roughness_png;
-            f.normal = first.normal;
-            f.normal_png = first.normal_png;
-            f.anisotropy = first.anisotropy;
-            f.anisotropy_png = first.anisotropy_png;
+            // The first material's file names; its own index, name part and key.
+            MaterialFiles shared = jobs[std::size_t(it->second)];
+            shared.material = f.material;
+            shared.part = f.part;
+            shared.cache_key = f.cache_key;
+            shared.same_as = it->second;
+            f = std::move(shared);
         }
     }
     // A .gltf out of a .glb: its binary chunk becomes a file beside the output.
