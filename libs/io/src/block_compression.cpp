@@ -272,27 +272,20 @@ Rgba8Level decompress_astc(astcenc_context* context, const CompressedLevel& leve
     return out;
 }
 
+LevelByteCount block_bytes_of(const BlockFormat& format) {
+    return [&format](int w, int h) { return level_block_bytes(w, h, format); };
+}
+
+std::string blocks_unit(const BlockFormat& format) {
+    return std::string(" of ") + format.name + " blocks";
+}
+
 void check_compressed(const std::vector<CompressedLevel>& levels, const BlockFormat& format,
                       const std::string& name) {
-    if (levels.empty()) throw Error(name, "a texture needs at least one level");
-    int w = levels.front().width, h = levels.front().height;
-    if (w < 1 || h < 1 || w > 65536 || h > 65536)
-        throw Error(name, "level 0 must be 1 to 65536 texels on a side");
-    for (std::size_t l = 0; l < levels.size(); ++l) {
-        if (levels[l].width != w || levels[l].height != h)
-            throw Error(name, "level " + std::to_string(l) + " must be " + std::to_string(w) + "x" +
-                                  std::to_string(h));
-        if (levels[l].blocks.size() != level_block_bytes(w, h, format))
-            throw Error(name, "level " + std::to_string(l) + " must hold " +
-                                  std::to_string(level_block_bytes(w, h, format)) + " bytes of " +
-                                  format.name + " blocks");
-        if (w == 1 && h == 1 && l + 1 != levels.size())
-            throw Error(name, "levels after the 1x1 level");
-        w = std::max(1, w / 2);
-        h = std::max(1, h / 2);
-    }
-    if (levels.back().width != 1 || levels.back().height != 1)
-        throw Error(name, "the MIP chain must go down to 1x1");
+    std::vector<TextureLevelSize> sizes;
+    for (const CompressedLevel& level : levels)
+        sizes.push_back({level.width, level.height, level.blocks.size()});
+    check_mip_chain(sizes, block_bytes_of(format), blocks_unit(format), name);
 }
 
 // The basic data format descriptor of a block format (KDFS §5.6: one sample per plane of the
@@ -509,27 +502,10 @@ void write_ktx2_compressed(const std::string& path, const std::vector<Compressed
 
 std::vector<CompressedLevel> read_ktx2_compressed(const std::string& path,
                                                   const BlockFormat& format) {
-    const Ktx2Info info = inspect_ktx2(path);
-    if (info.vk_format != format.vk_format)
-        throw Error(path, std::string("expected ") + format.name + ", got " +
-                              vk_format_name(info.vk_format));
-    if (info.pixel_depth != 0 || info.layer_count > 1 || info.face_count != 1 ||
-        info.supercompression_scheme != kSchemeNone)
-        throw Error(path, "expected a plain 2D texture (no depth, layers, faces or "
-                          "supercompression)");
-    const detail::InputFile file(path);
     std::vector<CompressedLevel> levels;
-    for (std::size_t l = 0; l < info.levels.size(); ++l) {
-        const Ktx2Level& entry = info.levels[l];
-        const std::size_t size = level_block_bytes(int(entry.width), int(entry.height), format);
-        if (entry.byte_length != size)
-            throw Error(path, "level " + std::to_string(l) + " must hold " + std::to_string(size) +
-                                  " bytes of " + format.name + " blocks");
-        CompressedLevel level{int(entry.width), int(entry.height), std::vector<std::uint8_t>(size)};
-        file.read_at(entry.byte_offset, level.blocks.data(), size,
-                     "truncated in level " + std::to_string(l));
-        levels.push_back(std::move(level));
-    }
+    for (TextureLevelData& level : read_plain_2d_levels(path, format.vk_format, format.name,
+                                                        block_bytes_of(format), blocks_unit(format)))
+        levels.push_back({level.width, level.height, std::move(level.bytes)});
     return levels;
 }
 

@@ -5,6 +5,7 @@
 // ktx2_describe.cpp describes a file for people.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -125,6 +126,40 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
                         bool check_layers);
 
 const char* normal_convention_name(NormalConvention convention);
+
+// A level of a plain 2D texture: its size in texels and its byte count (texels or blocks).
+struct TextureLevelSize {
+    int width = 0;
+    int height = 0;
+    std::size_t bytes = 0;
+};
+
+// The bytes a level of width x height texels holds in a format (texels or blocks).
+using LevelByteCount = std::function<std::size_t(int width, int height)>;
+
+// Throws leanfade::Error(name, cause) unless `levels` is a full MIP chain (level 0 of 1 to 65536
+// texels a side, each level half the one above, floor, down to 1 x 1) whose levels hold
+// level_bytes(width, height) bytes each; `unit` follows the byte count in the message ("" or
+// " of BC5_UNORM blocks").
+void check_mip_chain(const std::vector<TextureLevelSize>& levels, const LevelByteCount& level_bytes,
+                     const std::string& unit, const std::string& name);
+
+// A level read from a file: its size and bytes.
+struct TextureLevelData {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> bytes;
+};
+
+// The levels of a plain 2D KTX2 texture (no depth, layers, faces or supercompression) of
+// vkFormat `vk_format` (`format_name` in messages), each of level_bytes(width, height) bytes
+// (`unit` as check_mip_chain's), after inspect_ktx2's structural checks. Throws
+// leanfade::Error(path, cause).
+std::vector<TextureLevelData> read_plain_2d_levels(const std::string& path,
+                                                   std::uint32_t vk_format,
+                                                   const std::string& format_name,
+                                                   const LevelByteCount& level_bytes,
+                                                   const std::string& unit);
 
 // `bytes` written atomically to `path` (AtomicFile, options.durability).
 void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes,

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <span>
 
 #include <glm/gtc/packing.hpp>
@@ -28,11 +27,7 @@ struct LevelBytes {
 };
 
 // One level's size and byte count (the file's layout needs no texels).
-struct LevelSize {
-    int width = 0;
-    int height = 0;
-    std::size_t bytes = 0;
-};
+using LevelSize = TextureLevelSize;
 
 std::vector<LevelSize> sizes_of(const std::vector<LevelBytes>& levels) {
     std::vector<LevelSize> sizes;
@@ -40,30 +35,10 @@ std::vector<LevelSize> sizes_of(const std::vector<LevelBytes>& levels) {
     return sizes;
 }
 
-void check_chain(const std::vector<LevelSize>& levels, const FormatInfo& format,
-                 const std::string& name) {
-    if (levels.empty()) throw Error(name, "a texture needs at least one level");
-    const LevelSize& top = levels.front();
-    if (top.width < 1 || top.height < 1 || top.width > 65536 || top.height > 65536)
-        throw Error(name, "level 0 must be 1 to 65536 texels on a side, got " +
-                              std::to_string(top.width) + "x" + std::to_string(top.height));
-    int w = top.width, h = top.height;
-    for (std::size_t l = 0; l < levels.size(); ++l) {
-        const LevelSize& level = levels[l];
-        if (level.width != w || level.height != h)
-            throw Error(name, "level " + std::to_string(l) + " must be " + std::to_string(w) +
-                                  "x" + std::to_string(h));
-        const std::size_t size = std::size_t(w) * std::size_t(h) * format.texel_bytes;
-        if (level.bytes != size)
-            throw Error(name, "level " + std::to_string(l) + " must hold " +
-                                  std::to_string(size) + " bytes");
-        if (w == 1 && h == 1 && l + 1 != levels.size())
-            throw Error(name, "levels after the 1x1 level");
-        w = std::max(1, w / 2);
-        h = std::max(1, h / 2);
-    }
-    if (levels.back().width != 1 || levels.back().height != 1)
-        throw Error(name, "the MIP chain must go down to 1x1");
+LevelByteCount texel_bytes_of(const FormatInfo& format) {
+    return [texel_bytes = std::size_t(format.texel_bytes)](int w, int h) {
+        return std::size_t(w) * std::size_t(h) * texel_bytes;
+    };
 }
 
 // The layout of a 2D texture file: its head (header, level index, data format descriptor and
@@ -77,7 +52,7 @@ struct File2d {
 // `sizes`: the chain's levels, level 0 first (checked by check_chain).
 File2d plan_2d(const FormatInfo& format, const std::vector<LevelSize>& sizes,
                const std::string& writer, const std::string& name, const TextureKeyValues& extra) {
-    check_chain(sizes, format, name);
+    check_mip_chain(sizes, texel_bytes_of(format), "", name);
     const auto level_count = std::uint32_t(sizes.size());
     const std::vector<std::uint8_t> key_values = texture_key_value_data(writer, extra, name);
     const std::vector<std::uint8_t> dfd = encode_data_format(expected_data_format(format));
@@ -169,38 +144,63 @@ std::vector<std::uint8_t> to_half_bytes(const Image& image, std::size_t level,
     return bytes;
 }
 
-// The checks of a read and each level's bytes.
-std::vector<std::vector<std::uint8_t>> read_2d(const std::string& path, const FormatInfo& format,
-                                               std::vector<glm::ivec2>& sizes) {
-    const Ktx2Info info = inspect_ktx2(path);
-    if (info.vk_format != format.vk_format)
-        throw Error(path, std::string("expected ") + format.name + ", got " +
-                              vk_format_name(info.vk_format));
-    if (info.pixel_depth != 0 || info.layer_count > 1 || info.face_count != 1 ||
-        info.supercompression_scheme != 0)
-        throw Error(path, "expected a plain 2D texture (no depth, layers, faces or "
-                          "supercompression)");
-    std::ifstream in(path, std::ios::binary);
-    std::vector<std::vector<std::uint8_t>> levels;
-    for (const Ktx2Level& entry : info.levels) {
-        const std::uint64_t size = std::uint64_t(entry.width) * entry.height * format.texel_bytes;
-        if (entry.byte_length != size)
-            throw Error(path, "a level of " + std::to_string(entry.width) + "x" +
-                                  std::to_string(entry.height) + " texels must hold " +
-                                  std::to_string(size) + " bytes");
-        std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-        in.seekg(std::streamoff(entry.byte_offset));
-        in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size));
-        if (!in) throw Error(path, "cannot read a level's texels");
-        sizes.emplace_back(int(entry.width), int(entry.height));
-        levels.push_back(std::move(bytes));
-    }
-    return levels;
-}
-
 }  // namespace
 
 namespace ktx2_detail {
+
+void check_mip_chain(const std::vector<TextureLevelSize>& levels, const LevelByteCount& level_bytes,
+                     const std::string& unit, const std::string& name) {
+    if (levels.empty()) throw Error(name, "a texture needs at least one level");
+    const TextureLevelSize& top = levels.front();
+    if (top.width < 1 || top.height < 1 || top.width > 65536 || top.height > 65536)
+        throw Error(name, "level 0 must be 1 to 65536 texels on a side, got " +
+                              std::to_string(top.width) + "x" + std::to_string(top.height));
+    int w = top.width, h = top.height;
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+        const TextureLevelSize& level = levels[l];
+        if (level.width != w || level.height != h)
+            throw Error(name, "level " + std::to_string(l) + " must be " + std::to_string(w) +
+                                  "x" + std::to_string(h));
+        const std::size_t size = level_bytes(w, h);
+        if (level.bytes != size)
+            throw Error(name, "level " + std::to_string(l) + " must hold " +
+                                  std::to_string(size) + " bytes" + unit);
+        if (w == 1 && h == 1 && l + 1 != levels.size())
+            throw Error(name, "levels after the 1x1 level");
+        w = std::max(1, w / 2);
+        h = std::max(1, h / 2);
+    }
+    if (levels.back().width != 1 || levels.back().height != 1)
+        throw Error(name, "the MIP chain must go down to 1x1");
+}
+
+std::vector<TextureLevelData> read_plain_2d_levels(const std::string& path,
+                                                   std::uint32_t vk_format,
+                                                   const std::string& format_name,
+                                                   const LevelByteCount& level_bytes,
+                                                   const std::string& unit) {
+    const Ktx2Info info = inspect_ktx2(path);
+    if (info.vk_format != vk_format)
+        throw Error(path, "expected " + format_name + ", got " + vk_format_name(info.vk_format));
+    if (info.pixel_depth != 0 || info.layer_count > 1 || info.face_count != 1 ||
+        info.supercompression_scheme != kSchemeNone)
+        throw Error(path, "expected a plain 2D texture (no depth, layers, faces or "
+                          "supercompression)");
+    const detail::InputFile file(path);
+    std::vector<TextureLevelData> levels;
+    for (const Ktx2Level& entry : info.levels) {
+        const int width = int(entry.width), height = int(entry.height);
+        const std::size_t size = level_bytes(width, height);
+        if (entry.byte_length != size)
+            throw Error(path, "a level of " + std::to_string(width) + "x" +
+                                  std::to_string(height) + " texels must hold " +
+                                  std::to_string(size) + " bytes" + unit);
+        TextureLevelData level{width, height, std::vector<std::uint8_t>(size)};
+        file.read_at(entry.byte_offset, level.bytes.data(), size, "cannot read a level's texels");
+        levels.push_back(std::move(level));
+    }
+    return levels;
+}
 
 void write_file_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes,
                            const WriteOptions& options) {
@@ -300,23 +300,24 @@ void write_ktx2_layer_textures(const std::string& lean1_path, const std::string&
 }
 
 std::vector<Rgba8Level> read_ktx2_rgba8(const std::string& path) {
-    std::vector<glm::ivec2> sizes;
-    std::vector<std::vector<std::uint8_t>> bytes = read_2d(path, format_of(Storage::Unorm8), sizes);
+    const FormatInfo& format = format_of(Storage::Unorm8);
     std::vector<Rgba8Level> levels;
-    for (std::size_t l = 0; l < bytes.size(); ++l)
-        levels.push_back({sizes[l].x, sizes[l].y, std::move(bytes[l])});
+    for (TextureLevelData& level :
+         read_plain_2d_levels(path, format.vk_format, format.name, texel_bytes_of(format), ""))
+        levels.push_back({level.width, level.height, std::move(level.bytes)});
     return levels;
 }
 
 std::vector<Image> read_ktx2_rgba16f(const std::string& path) {
-    std::vector<glm::ivec2> sizes;
-    const std::vector<std::vector<std::uint8_t>> bytes =
-        read_2d(path, format_of(Storage::Float16), sizes);
+    const FormatInfo& format = format_of(Storage::Float16);
+    const std::vector<TextureLevelData> data =
+        read_plain_2d_levels(path, format.vk_format, format.name, texel_bytes_of(format), "");
     std::vector<Image> levels;
-    for (std::size_t l = 0; l < bytes.size(); ++l) {
-        Image image(sizes[l].x, sizes[l].y, 4);
+    for (std::size_t l = 0; l < data.size(); ++l) {
+        const std::vector<std::uint8_t>& bytes = data[l].bytes;
+        Image image(data[l].width, data[l].height, 4);
         for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-            const auto h = std::uint16_t(bytes[l][2 * i] | (bytes[l][2 * i + 1] << 8));
+            const auto h = std::uint16_t(bytes[2 * i] | (bytes[2 * i + 1] << 8));
             image.pixels[i] = glm::unpackHalf1x16(h);
             if (!std::isfinite(image.pixels[i]))
                 throw Error(path, "level " + std::to_string(l) + " holds a value that is not finite");
