@@ -197,16 +197,16 @@ Source read_source(const py::object& source, const std::string& name, const Bake
 
 // ---- Results ----------------------------------------------------------------------------------
 
-// A baked or loaded LEAN map, shared with the arrays that view its levels.
-// How save() and to_bytes() write a map: the bake's supercompression settings, or for a loaded
-// map `leanfade bake`'s defaults (Zstandard, level 3).
+// How save() and to_bytes() write a loaded map: `leanfade bake`'s defaults (Zstandard at
+// WriteOptions' level, 3).
 io::WriteOptions default_file_options() {
     io::WriteOptions options;
     options.supercompression = io::Supercompression::Zstandard;
-    options.zstd_level = 3;
     return options;
 }
 
+// A baked or loaded LEAN map, shared with the arrays that view its levels. A baked map is
+// written with its bake's write options (supercompression, level, threads).
 struct LeanMapObject {
     PackedBakeResult baked;
     std::string input_file;  // the file it was baked from: never an output
@@ -288,8 +288,7 @@ std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string&
     Source input = read_source(source, name, settings);
     auto map = std::make_shared<LeanMapObject>();
     map->input_file = input.file;
-    map->file_options.supercompression = settings.write_options.supercompression;
-    map->file_options.zstd_level = settings.write_options.zstd_level;
+    map->file_options = settings.write_options;
     map->has_summary = true;
     {
         py::gil_scoped_release unlocked;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "command.hpp"
 #include "leanfade/core/input_text.hpp"
@@ -22,13 +23,19 @@ std::string percent_text(float fraction) {
     return text;
 }
 
-// An engine texture's levels (bake --roughness-out, --anisotropy-out): RGBA8 or the block
-// format of its content under --compress (leanfade/io/block_compression.hpp).
+// The engine texture a LEANFADEcontent value names ("roughness v1", ...; bake --roughness-out,
+// --anisotropy-out), if any.
+std::optional<io::EngineTexture> engine_texture_of(const std::string& content) {
+    for (const io::EngineTexture texture :
+         {io::EngineTexture::Roughness, io::EngineTexture::Normal, io::EngineTexture::Anisotropy})
+        if (content == std::string(io::to_string(texture)) + " v1") return texture;
+    return std::nullopt;
+}
+
+// An engine texture's levels: RGBA8, or the block format of `texture` under --compress
+// (leanfade/io/block_compression.hpp).
 void read_engine_texture(const std::string& path, const io::Ktx2Info& info,
-                         const std::string& content) {
-    const io::EngineTexture texture = content == "roughness v1" ? io::EngineTexture::Roughness
-                                      : content == "normal v1"  ? io::EngineTexture::Normal
-                                                                : io::EngineTexture::Anisotropy;
+                         io::EngineTexture texture) {
     for (const io::BlockCompression compression : {io::BlockCompression::Bc, io::BlockCompression::Astc}) {
         const io::BlockFormat& format = io::block_format(compression, texture);
         if (info.vk_format == format.vk_format) {
@@ -78,9 +85,8 @@ int run_info(const std::string& path, int max_size) {
     } else if (content != nullptr) {
         if (*content == "plateau v1")
             io::read_ktx2_rgba16f(path);
-        else if (*content == "roughness v1" || *content == "normal v1" ||
-                 *content == "anisotropy v1")
-            read_engine_texture(path, info, *content);
+        else if (const std::optional<io::EngineTexture> texture = engine_texture_of(*content))
+            read_engine_texture(path, info, *texture);
         kind = content->rfind("lean", 0) == 0
                    ? "not a LEAN map: one of its layers as a 2D texture (bake --ktx2-2d), "
                      "LEANFADEcontent '" + escape_text(*content) + "'"
