@@ -46,3 +46,15 @@ if [[ "$have" != "$wanted" ]]; then
   echo "install-deps: npm ci in $web (three $wanted)"
   (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+
+# The WGSL translator's packages (naga-wasm; wgsl_reflect for the tests), as its lockfile pins them.
+wgsl=tools/wgsl
+for package in naga-wasm wgsl_reflect; do
+  wanted=$(node -p "require('./$wgsl/package-lock.json').packages['node_modules/$package'].version")
+  have=$(node -p "try { require('./$wgsl/node_modules/$package/package.json').version } catch { '' }")
+  if [[ "$have" != "$wanted" ]]; then
+    echo "install-deps: npm ci in $wgsl ($package $wanted)"
+    (cd "$wgsl" && npm ci --no-audit --no-fund --loglevel=error)
+    break
+  fi
+done

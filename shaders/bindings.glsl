@@ -56,4 +56,21 @@ const int LF_BINDING_CROSS_TERMS = 14;
 const int LF_BINDING_LAYER_WEIGHTS = 15;
 const int LF_BINDING_LAYER_BLOCK = 2;  // uniform block LfLayerBlock (LfLayerUniforms)
 
+// What the vertex stage hands the fragment stage (interface block VertexData, locations 0-4 in
+// this order), each member once as X(type, name):
+//   uv         tiled texture coordinates, set 0
+//   light_t    direction toward the light, tangent space (normalised per fragment)
+//   view_t     Vt: vector to the eye, tangent space, world units (not normalised)
+//   eye_depth  distance along the view axis, world units
+//   uv1        tiled texture coordinates, set 1
+// WGSL has no interface blocks: with LF_SEPARATE_VARYINGS (`leanfade shaders --lang wgsl`) the
+// members are variables lf_vertex_<name> at the same locations, copied from/to a private
+// VertexData.
+#define LF_VERTEX_DATA(X) X(vec2, uv) X(vec3, light_t) X(vec3, view_t) X(float, eye_depth) X(vec2, uv1)
+#define LF_VERTEX_MEMBER(type, name) type name;
+#define LF_VERTEX_OUTPUT(type, name) out type lf_vertex_##name;
+#define LF_VERTEX_INPUT(type, name) in type lf_vertex_##name;
+#define LF_VERTEX_STORE(type, name) lf_vertex_##name = v_out.name;
+#define LF_VERTEX_LOAD(type, name) v_in.name = lf_vertex_##name;
+
 #endif  // LEANFADE_BINDINGS_GLSL

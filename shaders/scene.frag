@@ -28,13 +28,13 @@ const int OUTPUT_DIFFUSE = 1;     // (Ka + Kd NdotL) light, no fog
 const int OUTPUT_SPECULAR = 2;    // Ks NdotL^sf D F light, no fog
 const int OUTPUT_FADE_TERMS = 3;  // (NdotL, d, 0) of fading from lean1 (lf_fade_terms), no fog
 
-in VertexData {
-    vec2 uv;
-    vec3 light_t;
-    vec3 view_t;
-    float eye_depth;
-    vec2 uv1;
-} v_in;
+#if defined(LF_SEPARATE_VARYINGS)
+struct VertexData { LF_VERTEX_DATA(LF_VERTEX_MEMBER) };
+VertexData v_in;
+LF_VERTEX_DATA(LF_VERTEX_INPUT)
+#else
+in VertexData { LF_VERTEX_DATA(LF_VERTEX_MEMBER) } v_in;  // bindings.glsl
+#endif
 
 // Slice 0: lean1 = (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5); slice 1: lean2 = (0.5 B / sc + 0.5,
 // Mxx / sc^2, Myy / sc^2) (docs/math.md §3). The baseline's normal map is lean1.rgb.
@@ -220,6 +220,9 @@ LfMoments layered_moments() {
 #endif
 
 void main() {
+#if defined(LF_SEPARATE_VARYINGS)
+    LF_VERTEX_DATA(LF_VERTEX_LOAD)
+#endif
     // glTF doubleSided: a back face is shaded with its tangent frame reversed (glTF 2.0 §3.9.2:
     // its normal flipped), so that both sides light alike.
     float side = (u_shading.double_sided > 0.5 && !gl_FrontFacing) ? -1.0 : 1.0;

@@ -27,13 +27,13 @@ layout(std140, binding = LF_BINDING_OBJECT_BLOCK) uniform LfObjectBlock {
     vec3 u_light_world;    // unit direction toward the light, world space
 };
 
-out VertexData {
-    vec2 uv;          // tiled texture coordinates, set 0
-    vec3 light_t;     // direction toward the light, tangent space (normalised per fragment)
-    vec3 view_t;      // Vt: vector to the eye, tangent space, world units (not normalised)
-    float eye_depth;  // distance along the view axis, world units
-    vec2 uv1;         // tiled texture coordinates, set 1
-} v_out;
+#if defined(LF_SEPARATE_VARYINGS)
+struct VertexData { LF_VERTEX_DATA(LF_VERTEX_MEMBER) };
+VertexData v_out;
+LF_VERTEX_DATA(LF_VERTEX_OUTPUT)
+#else
+out VertexData { LF_VERTEX_DATA(LF_VERTEX_MEMBER) } v_out;  // bindings.glsl
+#endif
 
 void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
@@ -48,4 +48,12 @@ void main() {
     v_out.view_t = vec3(dot(t, to_eye), dot(b, to_eye), dot(n, to_eye));
     v_out.eye_depth = -(u_view * world).z;
     gl_Position = u_clip * world;
+#if defined(LF_SEPARATE_VARYINGS)
+    LF_VERTEX_DATA(LF_VERTEX_STORE)
+    // The WGSL export (`leanfade shaders --lang wgsl`) takes the same u_clip as OpenGL: WebGPU's
+    // clip space has z in [0, w], not [-w, w]; naga's SPIR-V reader negates y (Vulkan's clip
+    // space is y-down, WebGPU's y-up, as OpenGL's), which is undone here.
+    gl_Position.z = 0.5 * (gl_Position.z + gl_Position.w);
+    gl_Position.y = -gl_Position.y;
+#endif
 }

@@ -39,7 +39,7 @@ if (!/^[a-z_]+\.html$/.test(options.page)) fail(`--page ${options.page} is not a
 
 const types = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
-  '.essl': 'text/plain', '.ktx2': 'image/ktx2',
+  '.essl': 'text/plain', '.wgsl': 'text/wgsl', '.ktx2': 'image/ktx2',
 };
 
 // The regular file `relative` names inside `root`, or null (no escape through .. or links).
@@ -169,6 +169,8 @@ server.listen(port, '127.0.0.1', () => {
   browser = spawn(options.browser, [
     '--headless=new', '--no-sandbox', '--no-first-run', '--disable-extensions',
     '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+    // WebGPU (webgpu.html) on SwiftShader's Vulkan, which headless Chromium has without a GPU.
+    '--enable-unsafe-webgpu', '--use-webgpu-adapter=swiftshader',
     `--user-data-dir=${profile}`, `${address}${options.page}?${query}`,
   ], { stdio: ['ignore', 'ignore', 'pipe'] });
   let log = '';

@@ -77,6 +77,19 @@ if(tree_paths)
 endif()
 message(STATUS "${installed_count} installed files: none names the build or source tree")
 
+# The installed program finds its WGSL translator in share/leanfade/wgsl (the npm package is
+# installed with it when the source tree has it: scripts/install-deps.sh runs npm ci there).
+if(EXISTS ${SOURCE_DIR}/tools/wgsl/node_modules/naga-wasm/package.json)
+  if(NOT EXISTS ${prefix}/share/leanfade/wgsl/node_modules/naga-wasm/package.json)
+    message(FATAL_ERROR "the install has no share/leanfade/wgsl/node_modules/naga-wasm")
+  endif()
+  step("installed leanfade shaders --lang wgsl"
+       ${prefix}/bin/leanfade shaders --lang wgsl -o ${WORK_DIR}/out/wgsl)
+  if(NOT EXISTS ${WORK_DIR}/out/wgsl/scene_lean_plain.frag.wgsl)
+    message(FATAL_ERROR "the installed leanfade wrote no WGSL: ${step_output}")
+  endif()
+endif()
+
 # Defined global symbols of the installed libraries: only those of namespace leanfade (functions,
 # variables, vtables, typeinfo, thunks, guard variables, function-local statics, as mangled).
 set(leanfade_symbol "^_Z(N[rVK]*[RO]?8leanfade|T[VTIS]N8leanfade|T[hvc].*_N[rVK]*[RO]?8leanfade")

@@ -1,4 +1,4 @@
-// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL, MSL and GLSL ES, checked with
+// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL, MSL, GLSL ES and WGSL, checked with
 // the tools Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
 // spirv-val validates every SPIR-V module (the exported ones, optimised, and the HLSL compiled
 // back), spirv-dis shows the bindings and names they keep, and the index's reflection of each
@@ -496,6 +496,89 @@ TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflectio
         << r.out;
 }
 
+// WGSL (naga from the SPIR-V with split samplers): every variant has a file or says why not
+// (arrays of textures for bump layers, the LOD query of the roughness MIPs); each file turns off
+// the derivative-uniformity diagnostic and binds in group 0; the reflection pairs every texture
+// with its sampler at kWgslSamplerBindingOffset + its unit, and the shading block keeps its C++
+// mirror's size. (The files are parsed by an independent WGSL parser and drawn by WebGPU in
+// tests/web.)
+TEST(ShadersCli, WgslSplitsSamplersAndSaysWhyAVariantHasNoForm) {
+    const fs::path scratch = scratch_dir("shaders_wgsl");
+    const fs::path out = scratch / "out";
+    const RunResult r = run_leanfade("shaders --lang wgsl -o " + shell_quote(out), scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json index = nlohmann::json::parse(read_text(out / "shaders.json"));
+    EXPECT_EQ(index["language"], "wgsl");
+    EXPECT_EQ(index["sampler_binding_offset"], gl::kWgslSamplerBindingOffset);
+    EXPECT_EQ(index["uniform_block_binding_offset"], gl::kSpirvUniformBlockBase);
+    const std::vector<const gl::ShaderVariant*> variants = scene_variants();
+    const auto& shaders = index["shaders"];
+    ASSERT_EQ(shaders.size(), 1 + variants.size());
+    std::size_t files = 0;
+    for (std::size_t i = 0; i < shaders.size(); ++i) {
+        const auto& s = shaders[i];
+        const std::string variant = s["variant"];
+        const bool layered = variant.find("_layered") != std::string::npos;
+        const bool roughness =
+            i > 0 && variants[i - 1]->key.technique == Technique::Roughness && !layered;
+        if (layered || roughness) {
+            EXPECT_NE(s.value("omitted", "").find(layered ? "array of combined image samplers"
+                                                          : "ImageQueryLod"),
+                      std::string::npos)
+                << variant << ": " << s.value("omitted", "");
+            EXPECT_FALSE(s.contains("file")) << variant;
+            continue;
+        }
+        ASSERT_FALSE(s.contains("omitted")) << variant << ": " << s["omitted"];
+        ++files;
+        const std::string text = read_text(out / s["file"].get<std::string>());
+        EXPECT_EQ(text.rfind("diagnostic(off, derivative_uniformity);\n", 0), 0u) << variant;
+        EXPECT_NE(text.find(stage_of(s) == "vert" ? "@vertex" : "@fragment"), std::string::npos);
+        EXPECT_EQ(text.find("binding_array"), std::string::npos) << variant;
+        EXPECT_EQ(text.find("@group(1)"), std::string::npos) << variant;
+        std::map<std::string, int> textures, samplers;
+        for (const auto& res : s["reflection"]["resources"]) {
+            const std::string kind = res["descriptor_type"];
+            EXPECT_NE(kind, "combined_image_sampler") << variant;
+            if (kind == "sampled_texture") textures[res["name"]] = res["binding"];
+            if (kind == "sampler") samplers[res["name"]] = res["binding"];
+            if (res["name"] == "LfShadingBlock") {
+                EXPECT_EQ(res["block_size"], sizeof(gl::LfShadingUniforms));
+            }
+        }
+        EXPECT_EQ(textures.size(), samplers.size()) << variant;
+        for (const auto& [name, binding] : textures)
+            EXPECT_EQ(samplers[name + "_sampler"], binding + int(gl::kWgslSamplerBindingOffset))
+                << variant << " " << name;
+        if (stage_of(s) == "frag") {
+            EXPECT_EQ(textures.count("u_lean"), 1u) << variant;
+        }
+    }
+    EXPECT_GE(files, 1u + kTechniques.size() - 1);  // every technique but the roughness MIPs
+    EXPECT_NE(r.out.find(std::to_string(shaders.size() - files) + " variants have no wgsl form"),
+              std::string::npos)
+        << r.out;
+}
+
+// Without the translator beside the program (a copy of leanfade in another folder), WGSL is a
+// one-line error that says what is missing, and nothing is written.
+TEST(ShadersCli, WgslWithoutTheTranslatorIsOneLineAndWritesNothing) {
+    const fs::path scratch = scratch_dir("shaders_wgsl_alone");
+    const fs::path program = scratch / "bin" / "leanfade";
+    fs::create_directories(program.parent_path());
+    fs::copy_file(LEANFADE_EXE, program);
+    const fs::path out = scratch / "out";
+    const fs::path log = scratch / "log.txt";
+    std::string output;
+    EXPECT_EQ(run_tool(shell_quote(program.string()) + " shaders --lang wgsl -o " +
+                           shell_quote(out.string()),
+                       log, &output),
+              1);
+    EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+    EXPECT_NE(output.find("naga-wasm"), std::string::npos) << output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(ShadersCli, UnknownLanguageIsOneLineAndWritesNothing) {
     const fs::path scratch = scratch_dir("shaders_bad_lang");
     const RunResult r =
@@ -503,7 +586,7 @@ TEST(ShadersCli, UnknownLanguageIsOneLineAndWritesNothing) {
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_EQ(r.err,
               "leanfade shaders: --lang: unknown shader language 'cuda' (expected glsl, spirv, "
-              "hlsl, msl or glsl-es)\n");
+              "hlsl, msl, glsl-es or wgsl)\n");
     EXPECT_FALSE(fs::exists(scratch / "out"));
 }
 

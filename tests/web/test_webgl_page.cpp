@@ -19,95 +19,34 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "leanfade/io/image_io.hpp"
-#include "leanfade/io/ktx2.hpp"
 #include "leanfade/test/cell_comparison.hpp"
 #include "leanfade/test/scratch.hpp"
+#include "page_capture.hpp"
 
 namespace leanfade::test {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kSize = 128;  // pixels of a cell, both sides
-const std::vector<std::string> kCells = {"bump@3",  "lean@3",  "two-lobe@3",  "three-lean@3",
+const std::vector<std::string> kWebGlCells = {"bump@3",  "lean@3",  "two-lobe@3",  "three-lean@3",
                                          "bump@12", "lean@12", "two-lobe@12", "three-lean@12"};
-
-// A capture of the page: kSize x kSize RGBA floats, rows bottom first (readPixels), as an RGB
-// image with rows top first (io::read_image's order).
-Image read_capture(const fs::path& file) {
-    const std::string bytes = read_text(file);
-    Image image(kSize, kSize, 3);
-    if (bytes.size() != std::size_t(kSize) * kSize * 16) return Image();
-    const auto* floats = reinterpret_cast<const float*>(bytes.data());
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x)
-            for (int c = 0; c < 3; ++c)
-                image.pixels[image.index(x, kSize - 1 - y, c)] =
-                    floats[(std::size_t(y) * kSize + std::size_t(x)) * 4 + std::size_t(c)];
-    return image;
-}
 
 class WebGlPage : public testing::Test {
   protected:
     static void SetUpTestSuite() {
-        scratch_ = new fs::path(scratch_folder_for_this_selection("webgl_page"));
-        setup_ = new std::string;
-        const fs::path& s = *scratch_;
-        const fs::path data = s / "data";
-        fs::create_directories(data);
-        fs::create_directories(s / "capture");
-        auto run = [&](const std::string& args) {
-            const RunResult r = run_leanfade(args, s);
-            if (r.exit_code != 0) *setup_ += "leanfade " + args + ": " + r.err;
-        };
-        run("bake --builtin bumps --size 128 --bits 16f -o " + shell_quote(data / "bumps.ktx2") +
-            " --plateau-out " + shell_quote(data / "bumps.plateau.ktx2"));
-        // The page reads `bake`'s default files: Zstandard-supercompressed levels.
-        if (setup_->empty() &&
-            io::inspect_ktx2((data / "bumps.ktx2").string()).supercompression_scheme != 2)
-            *setup_ += "bumps.ktx2 is not Zstandard-supercompressed (bake's default)";
-        run("shaders --lang glsl-es -o " + shell_quote(data / "shaders"));
-        run("render --scene sphere --bumps " + shell_quote(data / "bumps.ktx2") +
-            " --techniques bump,lean,two-lobe --distances 3,12 --size " + std::to_string(kSize) +
-            "x" + std::to_string(kSize) + " --cells " + shell_quote(s / "cells") +
-            " --cell-format pfm -o " + shell_quote(s / "figure.png"));
-        if (!setup_->empty()) return;
-        std::string cells;
-        for (const std::string& c : kCells) cells += (cells.empty() ? "" : ",") + c;
-        const fs::path log = s / "serve.log";
-        const std::string command =
-            shell_quote(LEANFADE_NODE) + " " +
-            shell_quote((fs::path(LEANFADE_WEB_EXAMPLE) / "serve.mjs").string()) + " --data " +
-            shell_quote(data.string()) + " --capture " + shell_quote((s / "capture").string()) +
-            " --browser " + shell_quote(LEANFADE_CHROMIUM) + " --cells " + cells + " --size " +
-            std::to_string(kSize) + " --timeout 240 >" + shell_quote(log.string()) +
-            " 2>&1 </dev/null";
-        const int status = std::system(command.c_str());
-        if (status != 0) *setup_ += "serve.mjs --capture failed (" + std::to_string(status) +
-                                    "): " + read_text(log);
+        capture_ = new PageCapture(capture_page("webgl_page", "index.html",
+                                                "--lang glsl-es -o DATA/shaders", kWebGlCells));
     }
-    static void TearDownTestSuite() {
-        delete scratch_;
-        delete setup_;
-    }
-
+    static void TearDownTestSuite() { delete capture_; }
     void SetUp() override {
-        ASSERT_NE(std::string(LEANFADE_NODE).find('/'), std::string::npos)
-            << "Node.js is missing (scripts/install-deps.sh installs nodejs)";
-        ASSERT_NE(std::string(LEANFADE_CHROMIUM).find('/'), std::string::npos)
-            << "Chromium is missing (scripts/install-deps.sh installs chromium)";
         ASSERT_TRUE(fs::exists(fs::path(LEANFADE_WEB_EXAMPLE) / "node_modules" / "three"))
             << "three.js is missing: npm ci in examples/web (scripts/install-deps.sh does it)";
-        ASSERT_EQ(*setup_, "");
+        expect_page_ran(*capture_);
     }
-
-    static fs::path* scratch_;
-    static std::string* setup_;
+    static PageCapture* capture_;
 };
 
-fs::path* WebGlPage::scratch_ = nullptr;
-std::string* WebGlPage::setup_ = nullptr;
+PageCapture* WebGlPage::capture_ = nullptr;
 
 // The tolerance: over the object, RMSE <= 2 8-bit codes, and at most 0.5 % of the cell's pixels
 // more than 8 codes apart (measured: 1.6 and 0.07 % at 3 radii, 0.4 and 0 at 12; the Vulkan
@@ -118,47 +57,14 @@ std::string* WebGlPage::setup_ = nullptr;
 // with its own approximation, which shifts a glint's texels by a fraction of a level (9-19 codes
 // on a handful of pixels in the highlight).
 TEST_F(WebGlPage, DrawsTheViewsAsLeanfadeRenderInHeadlessChromium) {
-    const nlohmann::json report =
-        nlohmann::json::parse(read_text(*scratch_ / "capture" / "done.json"));
-    EXPECT_TRUE(report["errors"].empty()) << report.dump();
-    // The WebGL2 implementation the page ran on (SwiftShader in headless Chromium without a GPU).
-    const std::string renderer = report.value("renderer", "");
-    EXPECT_FALSE(renderer.empty()) << report.dump();
-    EXPECT_EQ(report.value("size", 0), kSize);
-    std::string figures;
-    for (const std::string& cell : kCells) {
-        const std::size_t at = cell.find('@');
-        const std::string technique = cell.substr(0, at), distance = cell.substr(at + 1);
-        const std::string drawn = technique + "_d" + distance;
-        const std::string reference_technique =
-            technique.rfind("three-", 0) == 0 ? technique.substr(6) : technique;
-        const Image image = read_capture(*scratch_ / "capture" / (drawn + ".f32"));
-        ASSERT_FALSE(image.empty()) << "no capture of " << cell;
-        const Image reference = io::read_image(
-            (*scratch_ / "cells" / (reference_technique + "_d" + distance + ".pfm")).string());
-        const CellComparison c = compare_cells(image, reference);
-        char line[400];
-        std::snprintf(line, sizeof line,
-                      "webgl2 %-10s d=%-3s on %s: vs leanfade render: RMSE %.3f 8-bit codes "
-                      "over the object (%.1f%% of the cell), %.3f over the cell, %.2f%% of "
-                      "pixels > 8 codes, max %d\n",
-                      technique.c_str(), distance.c_str(), renderer.c_str(), c.object_rmse,
-                      100.0 * c.covered, c.rmse, 100.0 * c.far_fraction, c.max_difference);
-        std::fputs(line, stdout);
-        figures += line;
-        EXPECT_LE(c.object_rmse, 2.0) << cell;
-        EXPECT_LE(c.far_fraction, 0.005) << cell;
-        // Not a comparison of two empty images: the sphere covers the cell's middle.
-        EXPECT_GT(c.covered, distance == "3" ? 0.25 : 0.01) << cell;
-    }
-    std::ofstream(fs::path(LEANFADE_TEST_TMP) / "webgl_figures.txt") << figures;
+    expect_cells_match_render(*capture_, "webgl2", kWebGlCells, "webgl_figures.txt");
 }
 
 // The techniques differ on the page as they do in leanfade render: the captures are not one
 // picture drawn three times (LEAN's filtered highlight against bump mapping's, far away).
 TEST_F(WebGlPage, TheTechniquesDrawDifferentPictures) {
-    const Image bump = read_capture(*scratch_ / "capture" / "bump_d12.f32");
-    const Image lean = read_capture(*scratch_ / "capture" / "lean_d12.f32");
+    const Image bump = read_capture(capture_->folder / "capture" / "bump_d12.f32");
+    const Image lean = read_capture(capture_->folder / "capture" / "lean_d12.f32");
     ASSERT_FALSE(bump.empty());
     ASSERT_FALSE(lean.empty());
     const CellComparison c = compare_cells(bump, lean);

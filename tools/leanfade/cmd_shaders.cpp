@@ -181,8 +181,17 @@ nlohmann::json index_json(gl::ShaderLanguage language,
     j["language"] = gl::to_string(language);
     // A block's binding (SPIR-V) or register (b, [[buffer]]) = this + its OpenGL block binding;
     // textures keep their OpenGL units everywhere.
+    const bool wgsl = language == gl::ShaderLanguage::Wgsl;
     j["uniform_block_binding_offset"] =
-        language == gl::ShaderLanguage::Spirv ? gl::kSpirvUniformBlockBase : 0u;
+        language == gl::ShaderLanguage::Spirv || wgsl ? gl::kSpirvUniformBlockBase : 0u;
+    if (wgsl) {
+        // WGSL has no combined samplers: each texture's sampler has a binding of its own.
+        j["sampler_binding_offset"] = gl::kWgslSamplerBindingOffset;
+        j["translator"] = "naga (npm naga-wasm) from the optimised SPIR-V, samplers split";
+        j["bindings"] =
+            "@group(0): a texture at its OpenGL unit, its sampler at sampler_binding_offset + "
+            "that unit, a uniform block at uniform_block_binding_offset + its block binding";
+    }
     nlohmann::json list = nlohmann::json::array();
     const bool spirv = language == gl::ShaderLanguage::Spirv;
     if (spirv) j["optimizer"] = "SPIRV-Tools performance passes (spirv-opt -O)";
@@ -201,7 +210,7 @@ nlohmann::json index_json(gl::ShaderLanguage language,
             entry["size"] = s.bytes.size();
         }
         if (spirv) entry["unoptimised_size"] = s.unoptimised_size;
-        if (spirv || es) entry["reflection"] = reflection_json(s.reflection);
+        if (spirv || es || wgsl) entry["reflection"] = reflection_json(s.reflection);
         list.push_back(entry);
     }
     j["shaders"] = list;
@@ -223,7 +232,9 @@ int run_shaders(const ShadersArgs& args) {
     const std::string index_path = (fs::path(args.out_dir) / kIndexFile).string();
     plan.add_output(index_path, "the index");
     // The output names do not depend on the compilation: checked first.
-    const std::vector<gl::ExportedShader> shaders = gl::export_shaders(sources, language);
+    const std::vector<gl::ExportedShader> shaders = gl::export_shaders(
+        sources, language,
+        language == gl::ShaderLanguage::Wgsl ? gl::find_wgsl_translator() : std::string());
     std::size_t written = 0;
     for (const gl::ExportedShader& s : shaders) {
         if (!s.omitted.empty()) continue;
@@ -262,13 +273,14 @@ int run_shaders(const ShadersArgs& args) {
 }
 
 const CommandRegistration registration{
-    "shaders", "Write the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL, GLSL ES)",
+    "shaders", "Write the shading code of every technique for other APIs (GLSL, SPIR-V, HLSL, MSL, GLSL ES, WGSL)",
     [](CLI::App& app) -> Runner {
         auto args = std::make_shared<ShadersArgs>();
         app.add_option("--lang", args->lang,
                        "glsl (OpenGL 4.5 source), spirv (Vulkan 1.0, by glslang, optimised, "
                        "reflected in shaders.json), hlsl (shader model 5.0), msl (Metal) or "
-                       "glsl-es (GLSL ES 3.00 for WebGL2, reflected; the three by SPIRV-Cross)")
+                       "glsl-es (GLSL ES 3.00 for WebGL2, reflected; the three by SPIRV-Cross) or wgsl "
+                       "(WebGPU, by naga under Node.js, reflected)")
             ->required();
         app.add_option("-o,--out-dir", args->out_dir,
                        "folder for one file per stage and variant and shaders.json (created when "

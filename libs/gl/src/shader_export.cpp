@@ -21,6 +21,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/text.hpp"
+#include "spirv_samplers.hpp"
 
 namespace leanfade::gl {
 namespace {
@@ -517,6 +518,28 @@ class Reflector {
         return out;
     }
 
+    // A texture or a sampler of a module whose combined samplers were split (WGSL's types).
+    ShaderResource separate(const spvc_reflected_resource& r, bool sampler) const {
+        ShaderResource out;
+        out.name = r.name != nullptr ? r.name : "";
+        out.descriptor_type = sampler ? "sampler" : "sampled_texture";
+        out.set = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationDescriptorSet);
+        out.binding = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationBinding);
+        out.array_size = array_elements(spvc_compiler_get_type_handle(compiler_, r.type_id));
+        if (sampler) {
+            out.type = "sampler";
+        } else {
+            const spvc_type image = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
+            const SpvDim dim = spvc_type_get_image_dimension(image);
+            out.type = std::string(dim == SpvDim3D     ? "texture_3d"
+                                   : dim == SpvDimCube ? "texture_cube"
+                                   : dim == SpvDim1D   ? "texture_1d"
+                                                       : "texture_2d") +
+                       (spvc_type_get_image_arrayed(image) ? "_array<f32>" : "<f32>");
+        }
+        return out;
+    }
+
     // A stage input or output: a variable, or a block's members at consecutive locations (each
     // scalar, vector or matrix column takes one). Built-ins are left out.
     void interface_variable(const spvc_reflected_resource& r,
@@ -591,15 +614,19 @@ ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const st
         out.resources.push_back(reflector.resource(r, true));
     for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_SAMPLED_IMAGE))
         out.resources.push_back(reflector.resource(r, false));
+    // Split samplers (WGSL's): textures and samplers apart.
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE))
+        out.resources.push_back(reflector.separate(r, false));
+    for (const spvc_reflected_resource& r : list(SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS))
+        out.resources.push_back(reflector.separate(r, true));
     // Resources of other kinds would need descriptors this reflection does not describe.
     for (const spvc_resource_type other :
          {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, SPVC_RESOURCE_TYPE_STORAGE_IMAGE,
-          SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS,
           SPVC_RESOURCE_TYPE_PUSH_CONSTANT, SPVC_RESOURCE_TYPE_SUBPASS_INPUT})
         if (!list(other).empty())
             throw Error(file,
                         "the module has a resource of a kind that leanfade does not reflect "
-                        "(only uniform blocks and combined image samplers)");
+                        "(only uniform blocks, textures and samplers)");
     std::sort(out.resources.begin(), out.resources.end(),
               [](const ShaderResource& a, const ShaderResource& b) {
                   return std::tie(a.set, a.binding) < std::tie(b.set, b.binding);
@@ -622,6 +649,21 @@ std::vector<std::uint8_t> text_bytes(const std::string& text) {
     return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
+std::vector<std::uint8_t> spirv_bytes(const std::vector<std::uint32_t>& words) {
+    std::vector<std::uint8_t> bytes;
+    bytes.reserve(words.size() * 4);
+    for (const std::uint32_t w : words)
+        for (int shift = 0; shift < 32; shift += 8) bytes.push_back(std::uint8_t(w >> shift));
+    return bytes;
+}
+
+std::vector<std::uint32_t> spirv_words(const std::vector<std::uint8_t>& bytes) {
+    std::vector<std::uint32_t> words(bytes.size() / 4, 0u);
+    for (std::size_t i = 0; i < words.size() * 4; ++i)
+        words[i / 4] |= std::uint32_t(bytes[i]) << (8 * (i % 4));
+    return words;
+}
+
 ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* variant,
                             ShaderLanguage language) {
     const bool fragment = variant != nullptr;
@@ -630,6 +672,7 @@ ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* v
     out.stage = fragment ? "frag" : "vert";
     out.source = fragment ? kFragmentFile : kVertexFile;
     if (fragment) out.defines = variant->defines;
+    if (language == ShaderLanguage::Wgsl) out.defines.push_back("LF_SEPARATE_VARYINGS");
     out.file_name = out.variant + "." + out.stage + file_extension(language);
     const ResolvedSource resolved = sources.resolve(out.source, out.defines);
     if (language == ShaderLanguage::Glsl) {
@@ -642,10 +685,7 @@ ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* v
         const std::vector<std::uint32_t> optimised = optimise_spirv(out.source, words);
         out.unoptimised_size = words.size() * 4;
         out.reflection = reflect_spirv(optimised, out.source);
-        out.bytes.reserve(optimised.size() * 4);
-        for (const std::uint32_t w : optimised)
-            for (int shift = 0; shift < 32; shift += 8)
-                out.bytes.push_back(std::uint8_t(w >> shift));
+        out.bytes = spirv_bytes(optimised);
         return out;
     }
     if (language == ShaderLanguage::GlslEs) {
@@ -671,6 +711,29 @@ ExportedShader export_stage(const ShaderSources& sources, const ShaderVariant* v
         out.bytes = text_bytes(text);
         return out;
     }
+    if (language == ShaderLanguage::Wgsl) {
+        // The module as SPIR-V exports it, its samplers split; the text comes from naga
+        // (export_shaders translates every module in one run).
+        cross_compile(out.source, words, ShaderLanguage::Spirv);  // checks the bindings
+        const SplitSamplers split =
+            split_combined_image_samplers(optimise_spirv(out.source, words), kWgslSamplerBindingOffset);
+        if (!split.refused.empty()) {
+            out.omitted = "no WGSL form: " + split.refused;
+            return out;
+        }
+        spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_0);
+        std::string messages;
+        tools.SetMessageConsumer([&messages](spv_message_level_t, const char*,
+                                             const spv_position_t&, const char* message) {
+            if (messages.empty()) messages = message;
+        });
+        if (!tools.Validate(split.words))
+            throw Error(out.source, "the SPIR-V with split samplers does not validate: " +
+                                        one_line(messages.c_str()));
+        out.reflection = reflect_spirv(split.words, out.source);
+        out.bytes = spirv_bytes(split.words);
+        return out;
+    }
     out.bytes = text_bytes(cross_compile(out.source, words, language));
     return out;
 }
@@ -682,7 +745,8 @@ const char* to_string(ShaderLanguage language) {
 }
 
 const std::vector<std::string>& shader_language_names() {
-    static const std::vector<std::string> names{"glsl", "spirv", "hlsl", "msl", "glsl-es"};
+    static const std::vector<std::string> names{"glsl", "spirv", "hlsl", "msl", "glsl-es",
+                                                "wgsl"};
     return names;
 }
 
@@ -706,16 +770,46 @@ const char* file_extension(ShaderLanguage language) {
             return ".metal";
         case ShaderLanguage::GlslEs:
             return ".essl";
+        case ShaderLanguage::Wgsl:
+            return ".wgsl";
     }
     return "";
 }
 
-std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language) {
+std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language,
+                                           const std::string& wgsl_translator) {
+    if (language == ShaderLanguage::Wgsl && wgsl_translator.empty())
+        throw Error("lang",
+                    "WGSL is translated by naga (npm package naga-wasm, run by Node.js), and no "
+                    "translator was found beside the program (share/leanfade/wgsl; "
+                    "scripts/install-deps.sh installs it)");
     std::vector<ExportedShader> shaders;
     shaders.push_back(export_stage(sources, nullptr, language));
     for (const ShaderVariant& variant : shader_variants())
         if (variant.vertex == kVertexFile && variant.fragment == kFragmentFile)
             shaders.push_back(export_stage(sources, &variant, language));
+    if (language == ShaderLanguage::Wgsl) {
+        std::vector<std::vector<std::uint32_t>> modules;
+        std::vector<std::string> names;
+        for (const ExportedShader& s : shaders)
+            if (s.omitted.empty()) {
+                modules.push_back(spirv_words(s.bytes));
+                names.push_back(s.file_name);
+            }
+        const std::vector<WgslTranslation> texts =
+            translate_spirv_to_wgsl(modules, names, wgsl_translator);
+        std::size_t next = 0;
+        for (ExportedShader& s : shaders) {
+            if (!s.omitted.empty()) continue;
+            const WgslTranslation& t = texts[next++];
+            if (t.refused.empty()) {
+                s.bytes = text_bytes(t.text);
+            } else {
+                s.bytes.clear();
+                s.omitted = "naga refuses the translation: " + t.refused;
+            }
+        }
+    }
     return shaders;
 }
 

@@ -26,6 +26,15 @@
 //          by name, are named lf_vertex_<member> in both. A variant ES 3.00 cannot express (the
 //          roughness MIPs query the LOD and the level count) is listed with the reason
 //          (ExportedShader::omitted) and no file.
+//   wgsl   WGSL for WebGPU, translated by naga (the npm package naga-wasm, run by Node.js) from
+//          the optimised SPIR-V with each combined sampler split into a texture at its OpenGL unit
+//          and a sampler at kWgslSamplerBindingOffset + that unit (WGSL has no combined
+//          samplers), uniform blocks at kSpirvUniformBlockBase + their block binding, all in
+//          @group(0). The files start with `diagnostic(off, derivative_uniformity);`: the
+//          shaders sample with implicit derivatives in branches that are uniform in practice
+//          (per-material settings), which WGSL's static analysis cannot prove. Reflected like
+//          SPIR-V. Variants with arrays of textures (bump layers; WebGPU has none) and
+//          those naga refuses (a LOD query: the roughness MIPs) are omitted with the reason.
 // Block, struct, member and sampler names are those of the GLSL (LfShadingBlock, u_shading,
 // LfParams, u_lean, ...). GL-free: the tool's own library, not linked by the renderer.
 #include <cstddef>
@@ -38,14 +47,14 @@
 
 namespace leanfade::gl {
 
-enum class ShaderLanguage { Glsl, Spirv, Hlsl, Msl, GlslEs };
+enum class ShaderLanguage { Glsl, Spirv, Hlsl, Msl, GlslEs, Wgsl };
 
-const char* to_string(ShaderLanguage language);  // "glsl", "spirv", "hlsl", "msl", "glsl-es"
+const char* to_string(ShaderLanguage language);  // "glsl", "spirv", "hlsl", "msl", "glsl-es", "wgsl"
 // Every language's name, in enum order.
 const std::vector<std::string>& shader_language_names();
 // Throws leanfade::Error(setting, cause) for a name that is not a language's.
 ShaderLanguage parse_shader_language(std::string_view name, const std::string& setting = "lang");
-// The file extension of a language's files: ".glsl", ".spv", ".hlsl", ".metal", ".essl".
+// The file extension of a language's files: ".glsl", ".spv", ".hlsl", ".metal", ".essl", ".wgsl".
 const char* file_extension(ShaderLanguage language);
 
 // A uniform block's SPIR-V binding is this + its OpenGL block binding: OpenGL numbers texture units
@@ -53,6 +62,8 @@ const char* file_extension(ShaderLanguage language);
 // it (16 is OpenGL's minimum GL_MAX_TEXTURE_IMAGE_UNITS); a shader with a texture at 16 or above is
 // refused.
 inline constexpr unsigned kSpirvUniformBlockBase = 16;
+// WGSL: a texture's sampler is at this + its unit (after the blocks' bindings).
+inline constexpr unsigned kWgslSamplerBindingOffset = 32;
 
 // A member of a uniform block, nested structs flattened ("u_shading.params.light_color").
 struct ShaderBlockMember {
@@ -68,8 +79,12 @@ struct ShaderBlockMember {
 // A resource a module reads: one descriptor of a Vulkan pipeline layout.
 struct ShaderResource {
     std::string name;             // the sampler ("u_lean") or the block's type ("LfShadingBlock")
-    std::string descriptor_type;  // "combined_image_sampler" or "uniform_buffer"
-    std::string type;             // "sampler2D", "sampler2DArray", or the block's name
+    // "combined_image_sampler" or "uniform_buffer"; WGSL: "sampled_texture" and "sampler"
+    // instead of a combined one
+    std::string descriptor_type;
+    // "sampler2D", "sampler2DArray", or the block's name; WGSL: "texture_2d<f32>",
+    // "texture_2d_array<f32>" and "sampler"
+    std::string type;
     std::uint32_t set = 0;
     std::uint32_t binding = 0;
     std::uint32_t array_size = 1;            // descriptors (u_layer_maps[4]: 4)
@@ -108,8 +123,8 @@ struct ExportedShader {
     // bindings).
     std::size_t unoptimised_size = 0;
     ShaderReflection reflection;
-    // GLSL ES only: why the variant has no GLSL ES 3.00 form ("" when it has one; then `bytes`
-    // is empty and no file is written).
+    // GLSL ES and WGSL only: why the variant has no form in the language ("" when it has one;
+    // otherwise `bytes` is empty and no file is written).
     std::string omitted;
 };
 
@@ -119,7 +134,29 @@ ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const st
 
 // The vertex stage, then every scene variant's fragment stage, in shader_variants() order.
 // Throws leanfade::Error(<shader file>, <compiler message>) when glslang or SPIRV-Cross refuses a
-// stage (a shader the renderer compiles is not refused).
-std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language);
+// stage (a shader the renderer compiles is not refused). WGSL needs `wgsl_translator`, the
+// translator script (find_wgsl_translator); Error("lang", ...) without it or without Node.js,
+// Error(<variant file>, <naga's message>) when naga refuses a module.
+std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language,
+                                           const std::string& wgsl_translator = {});
+
+// The WGSL translator installed with the program that runs (the `leanfade` executable or one
+// that links this library): spirv_to_wgsl.mjs in <its folder>/wgsl/ (a build tree) or
+// <its folder>/../share/leanfade/wgsl/ (an installed package), with its node_modules. "" when
+// neither has it.
+std::string find_wgsl_translator();
+
+// One module's WGSL, or why naga refused it (a construct WGSL lacks: a LOD query).
+struct WgslTranslation {
+    std::string text;
+    std::string refused;
+};
+
+// SPIR-V modules (split samplers) -> WGSL, all in one run of `node <translator> IN OUT` (no
+// shell) over a private temporary folder. Returns one translation per module, in order. Throws
+// Error("lang", ...) without Node.js, Error(<translator>, ...) when the translator cannot run.
+std::vector<WgslTranslation> translate_spirv_to_wgsl(
+    const std::vector<std::vector<std::uint32_t>>& modules, const std::vector<std::string>& names,
+    const std::string& translator);
 
 }  // namespace leanfade::gl
