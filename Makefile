@@ -60,6 +60,7 @@ web: build
 	$(LEANFADE) bake --builtin bumps --size 512 --bits 16f -o examples/web/data/bumps.ktx2 \
 		--plateau-out examples/web/data/bumps.plateau.ktx2
 	$(LEANFADE) shaders --lang glsl-es -o examples/web/data/shaders
+	$(LEANFADE) shaders --lang wgsl -o examples/web/data/wgsl
 	node examples/web/serve.mjs --data examples/web/data --port $(WEB_PORT)
 
 # The portable platform layer (leanfade/core/platform.hpp) forced on Linux, in its own build

@@ -2,13 +2,13 @@
 // LEAN through the three.js material, at the distance the slider sets. With ?capture=CELLS it
 // draws each cell ("technique@distance", "three-lean@distance") once, posts its linear floats to
 // the server (serve.mjs --capture) and reports when done: the suite's WebGL2 test.
-import * as THREE from './node_modules/three/build/three.module.js';
+import * as THREE from 'three';
+import { leanfadeCamera, LeanMaterial, leanMesh } from '@leanfade/three';
 
 import {
   createFloatTarget, LeanfadeScene, loadShaders, makeSphere, parseLeanMap, parseTexture,
   readFloats, viewAtDistance,
 } from './leanfade_webgl.js';
-import { leanfadeCamera, LeanMaterial, leanMesh } from './three_material.js';
 
 const params = new URLSearchParams(location.search);
 const dataUrl = params.get('data') ?? 'data';
@@ -112,6 +112,11 @@ async function main() {
   const threeScene = new THREE.Scene();
   const material = new LeanMaterial(shaders, shaders.index.defaults.variants.lean, leanMap);
   threeScene.add(leanMesh(mesh, material));
+  // The light of `leanfade render` as a three.js DirectionalLight, which LeanMaterial follows.
+  const blockValue = (block, name) => shaders.index.defaults.blocks[block].find((v) => v.name === name).value;
+  const sun = new THREE.DirectionalLight(new THREE.Color(...blockValue('LfShadingBlock', 'u_shading.params.light_color')), 1);
+  sun.position.set(...blockValue('LfObjectBlock', 'u_light_world'));
+  threeScene.add(sun);
   const threeTarget = new THREE.WebGLRenderTarget(size, size, { type: THREE.FloatType, depthBuffer: true });
   const presentScene = new THREE.Scene();
   const presentMaterial = new THREE.RawShaderMaterial({

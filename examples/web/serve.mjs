@@ -16,6 +16,8 @@ import { dirname, extname, join, sep } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
+// The three.js package of this repository (examples/three), which the pages import.
+const threePackage = realpathSync(join(here, '..', 'three'));
 
 function fail(message) {
   process.stderr.write(`serve.mjs: ${message}\n`);
@@ -129,8 +131,8 @@ function serve(request, response) {
     response.writeHead(405).end();
     return;
   }
-  const file = path.startsWith('/data/')
-    ? fileInside(dataRoot, path.slice('/data/'.length))
+  const file = path.startsWith('/data/') ? fileInside(dataRoot, path.slice('/data/'.length))
+    : path.startsWith('/three/') ? fileInside(threePackage, path.slice('/three/'.length))
     : fileInside(here, path === '/' ? 'index.html' : path.slice(1));
   if (file === null) {
     response.writeHead(404).end();

@@ -82,8 +82,9 @@ TEST_F(WebGpuPage, TheWgslParsesWithAnIndependentParserAndBindsAsReflected) {
             const std::string binding = std::to_string(r["binding"].get<int>());
             ASSERT_TRUE(p["bindings"].contains(binding)) << file << " binding " << binding;
             EXPECT_EQ(p["bindings"][binding]["group"], r["set"]) << file;
-            if (r["descriptor_type"] != "uniform_buffer")  // blocks lose their instance name
+            if (r["descriptor_type"] != "uniform_buffer") {  // blocks lose their instance name
                 EXPECT_EQ(p["bindings"][binding]["name"], r["name"]) << file;
+            }
             ++resources;
         }
         EXPECT_EQ(p["bindings"].size(), resources) << file;
@@ -96,7 +97,9 @@ TEST_F(WebGpuPage, TheWgslParsesWithAnIndependentParserAndBindsAsReflected) {
         bool found = false;
         for (const nlohmann::json& s : index["shaders"])
             if (s["variant"] == variant && !s.contains("omitted")) found = true;
-        if (technique != "roughness") EXPECT_TRUE(found) << technique << " (" << variant << ")";
+        if (technique != "roughness") {
+            EXPECT_TRUE(found) << technique << " (" << variant << ")";
+        }
     }
 }
 

@@ -1,44 +1,12 @@
-// A three.js material on leanfade's exported GLSL ES 3.00 shaders: a RawShaderMaterial of the
-// vertex stage and one fragment variant, the LEAN map as a half-float array texture with every
-// level leanfade baked (three.js would otherwise make its own MIPs, which is what LEAN mapping
-// replaces), and the two uniform blocks as three.js UniformsGroups built from shaders.json's
-// reflection. docs/integration.md, "WebGL2 and three.js".
-import * as THREE from './node_modules/three/build/three.module.js';
+// leanfade's own shading in three.js's WebGLRenderer: a RawShaderMaterial of the exported GLSL ES
+// 3.00 vertex stage and one fragment variant (`leanfade shaders --lang glsl-es`), the LEAN map
+// (and the plateau layer two-lobe reads) with every level leanfade baked, and the two uniform
+// blocks as three.js UniformsGroups built from shaders.json's reflection. It draws what
+// `leanfade render` draws, lit by the scene's first DirectionalLight.
+import * as THREE from 'three';
 
-import { bottomRowFirst, LeanfadeError } from './leanfade_webgl.js';
-
-// Levels of a parsed KTX2 (parseLeanMap, parseTexture) as three.js mipmaps, rows bottom first.
-function mipmaps(texture) {
-  return texture.levels.map((level) => ({
-    data: bottomRowFirst(level, texture.layers),
-    width: level.width,
-    height: level.height,
-  }));
-}
-
-function sampled(texture) {
-  texture.minFilter = THREE.LinearMipmapLinearFilter;
-  texture.magFilter = THREE.LinearFilter;
-  texture.wrapS = THREE.RepeatWrapping;
-  texture.wrapT = THREE.RepeatWrapping;
-  texture.generateMipmaps = false;
-  texture.flipY = false;
-  texture.needsUpdate = true;
-  return texture;
-}
-
-// The LEAN map (parseLeanMap) as a three.js texture: a 2D array of two layers, RGBA16F, every
-// level uploaded as baked (three.js uploads a CompressedArrayTexture's mipmaps as given).
-export function leanMapTexture(map) {
-  return sampled(new THREE.CompressedArrayTexture(mipmaps(map), map.width, map.height, 2,
-                                                  THREE.RGBAFormat, THREE.HalfFloatType));
-}
-
-// A 2D texture of RGBA half floats with its levels (parseTexture: the plateau layer).
-export function halfFloatTexture(texture) {
-  return sampled(new THREE.CompressedTexture(mipmaps(texture), texture.width, texture.height,
-                                             THREE.RGBAFormat, THREE.HalfFloatType));
-}
+import { LeanfadeError } from './lean_map.js';
+import { halfFloatTexture, leanMapTexture } from './textures.js';
 
 // The BufferGeometry of a leanfade mesh (makeSphere): the vertex stage's inputs by their names.
 export function meshGeometry(mesh) {
@@ -96,16 +64,17 @@ function uniformsGroup(resource, defaults) {
 }
 
 // The material of `variant` (a name in shaders.json, e.g. defaults.variants.lean) for the LEAN map
-// `map` (parseLeanMap) and, for two-lobe, the plateau layer `plateau` (parseTexture).
+// `map` (parseLeanMap) and, for two-lobe, the plateau layer `plateau` (parseTexture, or the map's
+// own: map.plateau).
 export class LeanMaterial extends THREE.RawShaderMaterial {
-  constructor(shaders, variant, map, plateau = null) {
+  constructor(shaders, variant, map, plateau = map.plateau ?? null) {
     const fragment = shaders.entry(variant, 'frag');
     const vertex = shaders.vertex;
     // three.js writes the #version line of GLSL3 materials itself.
     const body = (file) => shaders.sources.get(file).replace(/^#version 300 es\s*\n/, '');
-    const white = sampled(new THREE.DataTexture(new Uint16Array([15360, 15360, 15360, 15360]), 1, 1,
-                                                THREE.RGBAFormat, THREE.HalfFloatType));
-    white.minFilter = THREE.LinearFilter;
+    const white = new THREE.DataTexture(new Uint16Array([15360, 15360, 15360, 15360]), 1, 1,
+                                        THREE.RGBAFormat, THREE.HalfFloatType);
+    white.needsUpdate = true;
     const textures = {
       u_lean: leanMapTexture(map),
       u_base_color: white,
@@ -136,6 +105,18 @@ export class LeanMaterial extends THREE.RawShaderMaterial {
     assign(entry.uniform, value);
   }
 
+  // The light from the scene's first visible DirectionalLight, if it has one: the direction
+  // toward it (world) and its colour times its intensity (LfParams::light_color).
+  updateLight(scene) {
+    let light = null;
+    scene.traverseVisible((o) => { if (!light && o.isDirectionalLight) light = o; });
+    if (!light) return;
+    const from = light.getWorldPosition(new THREE.Vector3());
+    const to = light.target.getWorldPosition(new THREE.Vector3());
+    this.set('LfObjectBlock', 'u_light_world', from.sub(to).normalize().toArray());
+    this.set('LfShadingBlock', 'u_shading.params.light_color', light.color.clone().multiplyScalar(light.intensity).toArray());
+  }
+
   // The object block from the mesh's world matrix and the camera, as leanfade's renderer fills it
   // (call before each render: Mesh.onBeforeRender).
   updateObject(mesh, camera) {
@@ -159,7 +140,7 @@ export class LeanMaterial extends THREE.RawShaderMaterial {
   }
 }
 
-// A mesh of leanfade's geometry with a LeanMaterial that updates its object block each frame,
+// A mesh of leanfade's geometry with a LeanMaterial that updates its object block and light each frame,
 // scaled to the unit sphere about its centre (the renderer's model transform).
 export function leanMesh(mesh, material) {
   const object = new THREE.Mesh(meshGeometry(mesh), material);
@@ -168,7 +149,10 @@ export function leanMesh(mesh, material) {
   object.scale.setScalar(1 / radius);
   object.position.set(...centre.map((c) => -c / radius));
   object.frustumCulled = false;
-  object.onBeforeRender = (renderer, scene, camera) => material.updateObject(object, camera);
+  object.onBeforeRender = (renderer, scene, camera) => {
+    material.updateLight(scene);
+    material.updateObject(object, camera);
+  };
   return object;
 }
 
