@@ -51,6 +51,9 @@ test: build
 	@if [ -f $(BUILD_DIR)/test-tmp/vulkan_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/vulkan_figures.txt; fi
 	@# The WebGL2 page's figures (headless Chromium against leanfade render).
 	@if [ -f $(BUILD_DIR)/test-tmp/webgl_figures.txt ]; then cat $(BUILD_DIR)/test-tmp/webgl_figures.txt; fi
+	@# The WebGPU page's and the three.js package's figures (headless Chromium).
+	@for f in webgpu_figures three_gpu_figures three_energy_figures; do \
+		if [ -f $(BUILD_DIR)/test-tmp/$$f.txt ]; then cat $(BUILD_DIR)/test-tmp/$$f.txt; fi; done
 
 # The WebGL2 example (examples/web, docs/integration.md): its data baked and exported, then
 # served on http://127.0.0.1:$(WEB_PORT)/ until interrupted.

@@ -7,6 +7,7 @@
 // test.)
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -75,16 +76,23 @@ TEST_F(ThreeModule, WebGlMaterialAndWebGpuNodesDrawTheSamePicture) {
     const nlohmann::json report =
         nlohmann::json::parse(read_text(capture_->folder / "capture" / "done.json"));
     EXPECT_TRUE(report["errors"].empty()) << report.dump();
+    std::string figures;
     for (const std::string& d : kDistances) {
         const Image webgl = cell("standard-webgl", d), webgpu = cell("standard-webgpu", d);
         ASSERT_FALSE(webgl.empty() || webgpu.empty()) << d;
         const CellComparison c = compare_cells(webgpu, webgl);
-        std::printf("three.js standard material d=%-3s WebGPU (TSL) vs WebGL: RMSE %.3f codes over "
-                    "the cell, max %d\n", d.c_str(), c.rmse, c.max_difference);
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "three.js standard material d=%-3s WebGPU (TSL) vs WebGL: RMSE %.3f codes "
+                      "over the cell, max %d\n",
+                      d.c_str(), c.rmse, c.max_difference);
+        std::fputs(line, stdout);
+        figures += line;
         EXPECT_LE(c.rmse, 0.5) << d;
         EXPECT_LE(c.max_difference, 4) << d;
         EXPECT_GT(c.covered, 0.001) << d;
     }
+    std::ofstream(fs::path(LEANFADE_TEST_TMP) / "three_gpu_figures.txt") << figures;
 }
 
 // Against the supersampled truth of the same three.js material, LEAN's filtered normal and
@@ -96,6 +104,7 @@ TEST_F(ThreeModule, KeepsTheTruthsEnergyAtEveryDistance) {
         nlohmann::json::parse(read_text(capture_->folder / "capture" / "done.json"));
     const nlohmann::json& background = report["background"];
     ASSERT_EQ(background.size(), 3u) << report.dump();
+    std::string figures;
     for (const std::string& d : kDistances) {
         const Image truth = cell("truth", d);
         ASSERT_FALSE(truth.empty()) << d;
@@ -104,14 +113,20 @@ TEST_F(ThreeModule, KeepsTheTruthsEnergyAtEveryDistance) {
             ASSERT_FALSE(image.empty()) << name << " " << d;
             const double ratio = energy_ratio(image, truth, background);
             const CellComparison c = compare_cells(image, truth);
-            std::printf("three.js %-14s d=%-3s energy / truth %.3f, RMSE %.3f codes over the "
-                        "object\n", name.c_str(), d.c_str(), ratio, c.object_rmse);
+            char line[200];
+            std::snprintf(line, sizeof line,
+                          "three.js %-14s d=%-3s energy / truth %.3f, RMSE %.3f codes over the "
+                          "object\n",
+                          name.c_str(), d.c_str(), ratio, c.object_rmse);
+            std::fputs(line, stdout);
+            figures += line;
             if (name == "standard-webgl") {
                 EXPECT_GE(ratio, 0.8) << d;
                 EXPECT_LE(ratio, 1.25) << d;
             }
         }
     }
+    std::ofstream(fs::path(LEANFADE_TEST_TMP) / "three_energy_figures.txt") << figures;
 }
 
 }  // namespace
