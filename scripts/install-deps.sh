@@ -47,14 +47,15 @@ if [[ "$have" != "$wanted" ]]; then
   (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
-# The WGSL translator's packages (naga-wasm; wgsl_reflect for the tests), as its lockfile pins them.
-wgsl=tools/wgsl
-for package in naga-wasm wgsl_reflect; do
-  wanted=$(node -p "require('./$wgsl/package-lock.json').packages['node_modules/$package'].version")
-  have=$(node -p "try { require('./$wgsl/node_modules/$package/package.json').version } catch { '' }")
+# The Node.js scripts' packages (tools/node: naga-wasm for WGSL, ktx2-encoder and ktx-parse for
+# Basis Universal; wgsl_reflect for the tests), as their lockfile pins them.
+node_tools=tools/node
+for package in naga-wasm ktx2-encoder ktx-parse wgsl_reflect; do
+  wanted=$(node -p "require('./$node_tools/package-lock.json').packages['node_modules/$package'].version")
+  have=$(node -p "try { require('./$node_tools/node_modules/$package/package.json').version } catch { '' }")
   if [[ "$have" != "$wanted" ]]; then
-    echo "install-deps: npm ci in $wgsl ($package $wanted)"
-    (cd "$wgsl" && npm ci --no-audit --no-fund --loglevel=error)
+    echo "install-deps: npm ci in $node_tools ($package $wanted)"
+    (cd "$node_tools" && npm ci --no-audit --no-fund --loglevel=error)
     break
   fi
 done

@@ -303,12 +303,16 @@ TEST(BlockCompression, DamagedDdsRefusedWithItsName) {
 }
 
 TEST(BlockCompression, NamesAndFormats) {
-    EXPECT_EQ(block_compression_names().size(), 3u);
+    EXPECT_EQ(block_compression_names().size(), 4u);
+    EXPECT_STREQ(to_string(BlockCompression::Basis), "basis");
     EXPECT_EQ(block_format(BlockCompression::Bc, EngineTexture::Roughness).vk_format, 139u);
     EXPECT_EQ(block_format(BlockCompression::Bc, EngineTexture::Normal).vk_format, 141u);
     EXPECT_EQ(block_format(BlockCompression::Bc, EngineTexture::Anisotropy).vk_format, 131u);
     EXPECT_EQ(block_format(BlockCompression::Astc, EngineTexture::Normal).vk_format, 157u);
     EXPECT_THROW(block_format(BlockCompression::None, EngineTexture::Normal), Error);
+    // Basis Universal has no fixed block format: write_ktx2_uastc writes it.
+    EXPECT_THROW(block_format(BlockCompression::Basis, EngineTexture::Normal), Error);
+    EXPECT_THROW(compress_levels({}, BlockCompression::Basis, EngineTexture::Normal), Error);
 }
 
 }  // namespace

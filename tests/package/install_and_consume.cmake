@@ -77,16 +77,22 @@ if(tree_paths)
 endif()
 message(STATUS "${installed_count} installed files: none names the build or source tree")
 
-# The installed program finds its WGSL translator in share/leanfade/wgsl (the npm package is
-# installed with it when the source tree has it: scripts/install-deps.sh runs npm ci there).
-if(EXISTS ${SOURCE_DIR}/tools/wgsl/node_modules/naga-wasm/package.json)
-  if(NOT EXISTS ${prefix}/share/leanfade/wgsl/node_modules/naga-wasm/package.json)
-    message(FATAL_ERROR "the install has no share/leanfade/wgsl/node_modules/naga-wasm")
+# The installed program finds its Node.js scripts in share/leanfade/node (the npm packages are
+# installed with them when the source tree has them: scripts/install-deps.sh runs npm ci there).
+if(EXISTS ${SOURCE_DIR}/tools/node/node_modules/naga-wasm/package.json)
+  if(NOT EXISTS ${prefix}/share/leanfade/node/node_modules/naga-wasm/package.json)
+    message(FATAL_ERROR "the install has no share/leanfade/node/node_modules/naga-wasm")
   endif()
   step("installed leanfade shaders --lang wgsl"
        ${prefix}/bin/leanfade shaders --lang wgsl -o ${WORK_DIR}/out/wgsl)
   if(NOT EXISTS ${WORK_DIR}/out/wgsl/scene_lean_plain.frag.wgsl)
     message(FATAL_ERROR "the installed leanfade wrote no WGSL: ${step_output}")
+  endif()
+  step("installed leanfade bake --compress basis"
+       ${prefix}/bin/leanfade bake --builtin bumps --size 32 --roughness-out
+       ${WORK_DIR}/out/basis.ktx2 --compress basis)
+  if(NOT EXISTS ${WORK_DIR}/out/basis.normal.ktx2)
+    message(FATAL_ERROR "the installed leanfade wrote no Basis Universal texture: ${step_output}")
   endif()
 endif()
 

@@ -31,8 +31,8 @@ class WebGpuPage : public testing::Test {
     }
     static void TearDownTestSuite() { delete capture_; }
     void SetUp() override {
-        ASSERT_TRUE(fs::exists(fs::path(LEANFADE_WGSL_TRANSLATOR) / "node_modules" / "naga-wasm"))
-            << "naga-wasm is missing: npm ci in tools/wgsl (scripts/install-deps.sh does it)";
+        ASSERT_TRUE(fs::exists(fs::path(LEANFADE_NODE_TOOLS) / "node_modules" / "naga-wasm"))
+            << "naga-wasm is missing: npm ci in tools/node (scripts/install-deps.sh does it)";
         expect_page_ran(*capture_);
     }
     static PageCapture* capture_;
@@ -56,7 +56,7 @@ TEST_F(WebGpuPage, TheWgslParsesWithAnIndependentParserAndBindsAsReflected) {
     const std::string command =
         shell_quote(LEANFADE_NODE) + " " +
         shell_quote((fs::path(LEANFADE_WEB_TESTS) / "parse_wgsl.mjs").string()) + " " +
-        shell_quote((fs::path(LEANFADE_WGSL_TRANSLATOR) / "node_modules" / "wgsl_reflect" /
+        shell_quote((fs::path(LEANFADE_NODE_TOOLS) / "node_modules" / "wgsl_reflect" /
                      "wgsl_reflect.module.js")
                         .string()) +
         " " + shell_quote(wgsl.string()) + " >" + shell_quote(output.string());

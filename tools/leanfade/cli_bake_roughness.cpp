@@ -8,6 +8,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/node_tool.hpp"
 #include "leanfade/version.hpp"
 #include "leanfade/core/input_text.hpp"
 
@@ -66,9 +67,10 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
                    "the slope covariance) with every level, as FILE.ktx2 or FILE.dds");
     app.add_option("--compress", args.compression,
                    "Block-compress the engine textures (--roughness-out, --anisotropy-out): bc "
-                   "(desktop: BC4 roughness, BC5 normal, BC1 anisotropy) or astc (mobile: ASTC "
-                   "4x4), every level from its own filtered level; LEAN maps stay uncompressed "
-                   "(docs/compression.md)")
+                   "(desktop: BC4 roughness, BC5 normal, BC1 anisotropy), astc (mobile: ASTC "
+                   "4x4) or basis (Basis Universal UASTC, KTX2 only, transcoded by any GPU: the "
+                   "web, glTF's KHR_texture_basisu; needs Node.js), every level from its own "
+                   "filtered level; LEAN maps stay uncompressed (docs/compression.md)")
         ->transform(CLI::CheckedTransformer(io::block_compression_names()))
         ->default_str("none")
         ->each([&args](const std::string&) { args.compression_given = true; });
@@ -116,6 +118,8 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
             throw Error(*out, "roughness and anisotropy outputs are .ktx2 or .dds files");
         if (is_dds(*out) && args.compression == io::BlockCompression::Astc)
             throw Error(*out, "DDS has no ASTC formats: write .ktx2 with --compress astc");
+        if (is_dds(*out) && args.compression == io::BlockCompression::Basis)
+            throw Error(*out, "DDS has no Basis Universal form: write .ktx2 with --compress basis");
     }
     if (!args.roughness_map.empty()) plan.add_input(args.roughness_map);
     if (!args.roughness_out.empty()) {
@@ -200,6 +204,11 @@ void RoughnessExport::write_texture(const std::string& path, const std::vector<R
                                  content(content_name));
         return;
     }
+    if (args_.compression == io::BlockCompression::Basis) {
+        // Encoded with the others by write(); the normal's and anisotropy's A is 1 (RGB).
+        uastc_.push_back({staged, &levels, false});
+        return;
+    }
     const io::BlockFormat& format = io::block_format(args_.compression, texture);
     const std::vector<io::CompressedLevel> compressed =
         io::compress_levels(levels, args_.compression, texture, threads_, path);
@@ -237,6 +246,7 @@ int RoughnessExport::write() {
     }
     if (!args_.anisotropy_out.empty())
         write_all(args_.anisotropy_out, textures.anisotropy, io::EngineTexture::Anisotropy);
+    io::write_ktx2_uastc(uastc_, writer_string(), io::find_node_script(io::kUastcEncoderScript));
     return levels;
 }
 

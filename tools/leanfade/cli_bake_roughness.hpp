@@ -12,6 +12,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/io/basis_universal.hpp"
 #include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
@@ -85,6 +86,8 @@ class RoughnessExport {
     // not).
     void write_texture(const std::string& path, const std::vector<Rgba8Image>& levels,
                        io::EngineTexture texture, const std::string& content_name);
+    // --compress basis: the textures to encode, all in one run of the encoder (write()).
+    std::vector<io::UastcTexture> uastc_;
     int threads_ = 0;
     bool in_memory_ = false;  // the textures are kept in memory (not written in place)
     // The mapped KTX2 files (none with --roughness-levels, --compress or DDS): roughness, normal,

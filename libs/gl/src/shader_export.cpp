@@ -781,7 +781,7 @@ std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderL
     if (language == ShaderLanguage::Wgsl && wgsl_translator.empty())
         throw Error("lang",
                     "WGSL is translated by naga (npm package naga-wasm, run by Node.js), and no "
-                    "translator was found beside the program (share/leanfade/wgsl; "
+                    "translator was found beside the program (share/leanfade/node; "
                     "scripts/install-deps.sh installs it)");
     std::vector<ExportedShader> shaders;
     shaders.push_back(export_stage(sources, nullptr, language));

@@ -1,15 +1,7 @@
 // SPIR-V -> WGSL by naga (npm package naga-wasm) under Node.js: the translator script
-// (tools/wgsl/spirv_to_wgsl.mjs, installed as share/leanfade/wgsl/) run once over a private
-// temporary folder, without a shell: its arguments are the script and two folders this function
-// made.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
+// (tools/node/spirv_to_wgsl.mjs, installed in share/leanfade/node/) run once over a private
+// temporary folder, without a shell: its arguments are two folders this function made.
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -19,8 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/shader_export.hpp"
-
-extern char** environ;
+#include "leanfade/io/node_tool.hpp"
 
 namespace leanfade::gl {
 namespace {
@@ -28,28 +19,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kTranslatorFile = "spirv_to_wgsl.mjs";
-
-// A folder of its own under the system's temporary folder, removed with everything in it.
-class TemporaryFolder {
-  public:
-    TemporaryFolder() {
-        std::string pattern = (fs::temp_directory_path() / "leanfade-wgsl-XXXXXX").string();
-        if (::mkdtemp(pattern.data()) == nullptr)
-            throw Error(fs::temp_directory_path().string(),
-                        "cannot make a temporary folder for the WGSL translation");
-        path_ = pattern;
-    }
-    ~TemporaryFolder() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TemporaryFolder(const TemporaryFolder&) = delete;
-    TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-    const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
 
 std::string read_all(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
@@ -64,23 +33,12 @@ std::string module_file(std::size_t index) {
 
 }  // namespace
 
-std::string find_wgsl_translator() {
-    std::error_code error;
-    const fs::path program = fs::read_symlink("/proc/self/exe", error);
-    if (error) return {};
-    const fs::path folder = program.parent_path();
-    for (const fs::path& candidate :
-         {folder / "wgsl" / kTranslatorFile,
-          folder / ".." / "share" / "leanfade" / "wgsl" / kTranslatorFile}) {
-        if (fs::is_regular_file(candidate, error)) return fs::weakly_canonical(candidate).string();
-    }
-    return {};
-}
+std::string find_wgsl_translator() { return io::find_node_script(kTranslatorFile); }
 
 std::vector<WgslTranslation> translate_spirv_to_wgsl(
     const std::vector<std::vector<std::uint32_t>>& modules, const std::vector<std::string>& names,
     const std::string& translator) {
-    const TemporaryFolder scratch;
+    const io::ScratchFolder scratch("leanfade-wgsl");
     const fs::path in = scratch.path() / "spirv", out = scratch.path() / "wgsl";
     fs::create_directories(in);
     fs::create_directories(out);
@@ -91,29 +49,10 @@ std::vector<WgslTranslation> translate_spirv_to_wgsl(
         if (!file) throw Error(in.string(), "cannot write a SPIR-V module for the translation");
     }
     const std::string log = (scratch.path() / "node.log").string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-    const std::string in_text = in.string(), out_text = out.string();
-    std::vector<char*> argv{const_cast<char*>("node"), const_cast<char*>(translator.c_str()),
-                            const_cast<char*>(in_text.c_str()), const_cast<char*>(out_text.c_str()),
-                            nullptr};
-    pid_t child = 0;
-    const int spawned = ::posix_spawnp(&child, "node", &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (spawned != 0)
-        throw Error("lang", spawned == ENOENT
-                                ? "WGSL is translated under Node.js, and `node` is not on the PATH "
-                                  "(Debian package nodejs)"
-                                : "cannot start Node.js for the WGSL translation");
-    int status = 0;
-    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        std::string message = read_all(log);
-        message = message.substr(0, message.find('\n'));
+    const int status =
+        io::run_node_script(translator, {in.string(), out.string()}, log, "lang");
+    if (status != 0) {
+        const std::string message = io::first_line_of(log);
         throw Error(translator, "the WGSL translator failed: " +
                                     (message.empty() ? std::string("no message") : message));
     }

@@ -375,7 +375,10 @@ std::vector<std::uint8_t> dds_head(std::uint32_t dxgi_format, int width, int hei
 
 const std::vector<std::pair<std::string, BlockCompression>>& block_compression_names() {
     static const std::vector<std::pair<std::string, BlockCompression>> names = {
-        {"none", BlockCompression::None}, {"bc", BlockCompression::Bc}, {"astc", BlockCompression::Astc}};
+        {"none", BlockCompression::None},
+        {"bc", BlockCompression::Bc},
+        {"astc", BlockCompression::Astc},
+        {"basis", BlockCompression::Basis}};
     return names;
 }
 
@@ -404,7 +407,9 @@ const BlockFormat& block_format(BlockCompression compression, EngineTexture text
     }
     if (compression == BlockCompression::Astc)
         return texture == EngineTexture::Normal ? kAstcNormal : kAstcRgba;
-    throw Error("compress", "uncompressed textures have no block format");
+    throw Error("compress", compression == BlockCompression::Basis
+                                ? "Basis Universal textures are written by write_ktx2_uastc"
+                                : "uncompressed textures have no block format");
 }
 
 std::vector<CompressedLevel> compress_levels(const std::vector<Rgba8Level>& levels,

@@ -140,10 +140,9 @@ ShaderReflection reflect_spirv(const std::vector<std::uint32_t>& words, const st
 std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language,
                                            const std::string& wgsl_translator = {});
 
-// The WGSL translator installed with the program that runs (the `leanfade` executable or one
-// that links this library): spirv_to_wgsl.mjs in <its folder>/wgsl/ (a build tree) or
-// <its folder>/../share/leanfade/wgsl/ (an installed package), with its node_modules. "" when
-// neither has it.
+// The WGSL translator installed with the program that runs (io::find_node_script of
+// spirv_to_wgsl.mjs: tools/node in a build tree, share/leanfade/node when installed). "" when
+// neither place has it.
 std::string find_wgsl_translator();
 
 // One module's WGSL, or why naga refused it (a construct WGSL lacks: a LOD query).

@@ -24,11 +24,12 @@
 
 namespace leanfade::io {
 
-// How engine textures are stored: RGBA8 as computed, or block-compressed for desktop GPUs (BC)
-// or mobile GPUs (ASTC).
-enum class BlockCompression { None, Bc, Astc };
+// How engine textures are stored: RGBA8 as computed, block-compressed for desktop GPUs (BC) or
+// mobile GPUs (ASTC), or Basis Universal UASTC, which every GPU transcodes to one of its formats
+// (the web, glTF's KHR_texture_basisu; basis_universal.hpp: it has no fixed block format here).
+enum class BlockCompression { None, Bc, Astc, Basis };
 
-// The names of `bake --compress`: "none", "bc", "astc".
+// The names of `bake --compress`: "none", "bc", "astc", "basis".
 const std::vector<std::pair<std::string, BlockCompression>>& block_compression_names();
 const char* to_string(BlockCompression compression);
 
@@ -47,7 +48,8 @@ struct BlockFormat {
     const char* swizzle = "";   // KTXswizzle: how the stored channels map to the texture's RGBA
 };
 
-// The format of `texture` under `compression` (not None). Throws leanfade::Error for None.
+// The format of `texture` under `compression` (Bc or Astc). Throws leanfade::Error for None and
+// Basis.
 const BlockFormat& block_format(BlockCompression compression, EngineTexture texture);
 
 // One level's blocks, rows of blocks top first: ceil(width / bw) * ceil(height / bh) blocks.
