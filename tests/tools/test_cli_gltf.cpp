@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "leanfade/io/basis_universal.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
@@ -251,6 +252,82 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
             EXPECT_EQ(j["meshes"].size(), 5u);
             EXPECT_EQ(j["accessors"].size(), gltf_out::gltf_json(input)["accessors"].size());
         }
+}
+
+// `bake SCENE -o OUT --compress basis`: every KHR_texture_basisu image is what the extension
+// requires (KTX2 of Basis Universal UASTC, Zstandard or none, one UASTC RGB channel, primaries
+// unspecified and linear transfer for non-colour data, sizes multiples of 4, no KTXswizzle) with
+// the full chain of levels; the Khronos glTF-Validator finds no error; a second run takes the same
+// bytes from the cache. --compress bc is refused for a glTF, and --compress without -o.
+TEST(CliGltfOut, CompressBasisWritesKhrTextureBasisuImagesOfBasisUniversal) {
+    ASSERT_NE(std::string(LEANFADE_NODE).find('/'), std::string::npos) << "Node.js is missing";
+    const fs::path dir = cli_gltf_folder("out_basis");
+    GltfTestFile file = scene_file();
+    file.images.push_back(gltf_out::bumpy_normal_png());
+    file.materials.push_back({"ribbed", glm::vec4(1.0f), -1, 2, 1.0f, 0.2f, 1.0f});
+    file.meshes.push_back({scene::test::unit_quad(4)});
+    const fs::path input = dir / "scene.gltf";
+    scene::test::write_gltf(file, input.string(), GltfStorage::External);
+    fs::create_directories(dir / "out");
+    fs::create_directories(dir / "again");
+    const auto bake = [&](const std::string& output, const std::string& flags) {
+        return test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
+                                         test::shell_quote((dir / output).string()) + flags,
+                                     dir, {}, test::cache_env(dir));
+    };
+    const test::RunResult r = bake("out/filtered.gltf", " --compress basis");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = gltf_out::gltf_json(dir / "out" / "filtered.gltf");
+    std::size_t images = 0;
+    for (const auto& texture : j["textures"]) {
+        if (!texture.contains("extensions")) continue;
+        const auto& ktx2 =
+            j["images"][texture["extensions"]["KHR_texture_basisu"]["source"].get<std::size_t>()];
+        const fs::path path = dir / "out" / ktx2["uri"].get<std::string>();
+        const io::UastcFileInfo info = io::inspect_ktx2_uastc(path.string());
+        EXPECT_TRUE(info.zstd) << path;
+        EXPECT_TRUE(info.linear) << path;
+        EXPECT_TRUE(info.primaries_unspecified) << path;
+        EXPECT_FALSE(info.alpha) << path;
+        EXPECT_EQ(info.width % 4, 0) << path;
+        EXPECT_EQ(info.height % 4, 0) << path;
+        int chain = 1;
+        for (int side = std::max(info.width, info.height); side > 1; side /= 2) ++chain;
+        EXPECT_EQ(info.levels, chain) << path;
+        EXPECT_EQ(test::read_text(path).find("KTXswizzle"), std::string::npos) << path;
+        ++images;
+    }
+    // Roughness and normal of the two normal textures, and the ribbed one's anisotropy.
+    EXPECT_EQ(images, 2u * 3u + 1u);
+    // The Khronos glTF-Validator: no error (it does not read KTX2: the checks above do).
+    const fs::path report = dir / "validator.json";
+    const std::string command =
+        test::shell_quote(LEANFADE_NODE) + " " + test::shell_quote(LEANFADE_GLTF_VALIDATOR_SCRIPT) +
+        " " + test::shell_quote(LEANFADE_GLTF_VALIDATOR) + " " +
+        test::shell_quote((dir / "out" / "filtered.gltf").string()) + " >" +
+        test::shell_quote(report.string());
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    const nlohmann::json issues = nlohmann::json::parse(test::read_text(report))["issues"];
+    EXPECT_EQ(issues["numErrors"], 0) << issues.dump(1);
+    // From the cache: the same bytes.
+    const test::RunResult again = bake("again/filtered.gltf", " --compress basis");
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    for (const auto& e : fs::directory_iterator(dir / "out"))
+        if (e.path().extension() == ".ktx2")
+            EXPECT_EQ(test::read_text(e.path()),
+                      test::read_text(dir / "again" / e.path().filename()))
+                << e.path();
+    for (const std::string flags : {" --compress bc", " --compress astc"}) {
+        const test::RunResult refused = bake("out/bc.gltf", flags);
+        EXPECT_EQ(refused.exit_code, 1) << flags;
+        EXPECT_NE(refused.err.find("--compress"), std::string::npos) << refused.err;
+        EXPECT_FALSE(fs::exists(dir / "out" / "bc.gltf"));
+    }
+    const test::RunResult no_output = test::run_leanfade_in(
+        "bake " + test::shell_quote(input.string()) + " --compress basis", dir, {},
+        test::cache_env(dir));
+    EXPECT_EQ(no_output.exit_code, 1);
+    EXPECT_NE(no_output.err.find("--compress"), std::string::npos) << no_output.err;
 }
 
 // `bake SCENE -o OUT` keeps where every texture reference samples: the references it leaves

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "leanfade/io/image_io.hpp"
+#include "leanfade/io/block_compression.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/material.hpp"
 
@@ -24,6 +25,9 @@ struct GltfBakeArgs {
     // The LEAN maps' KTX2 supercompression (--supercompression, --zstd-level).
     io::Supercompression supercompression = io::Supercompression::Zstandard;
     int zstd_level = 3;
+    // -o OUT.gltf|glb: how the engine textures' KTX2 files are stored (--compress none|basis):
+    // RGBA8, or Basis Universal UASTC as KHR_texture_basisu requires.
+    io::BlockCompression compression = io::BlockCompression::None;
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;
 };

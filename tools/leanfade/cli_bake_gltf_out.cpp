@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
@@ -21,8 +23,10 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/basis_universal.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
+#include "leanfade/io/node_tool.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
@@ -290,7 +294,8 @@ constexpr std::uint64_t kMaxOutputManifestBytes = 4096;
 // strict normals, supercompression) and the versions of leanfade and of its bake (lean_cache_key).
 std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
                              const scene::GltfBakeSettings& settings,
-                             const io::WriteOptions& write_options) {
+                             const io::WriteOptions& write_options,
+                             io::BlockCompression compression) {
     static const std::vector<std::uint8_t> none;
     const std::span<const std::uint8_t> sources[] = {
         gltf.images[std::size_t(m.normal_image)].bytes,
@@ -306,7 +311,8 @@ std::string output_cache_key(const scene::GltfScene& gltf, const scene::GltfMate
                     " supercompression=" + io::to_string(write_options.supercompression) +
                     (write_options.supercompression == io::Supercompression::Zstandard
                          ? ":" + std::to_string(write_options.zstd_level)
-                         : std::string()));
+                         : std::string()) +
+                    " compress=" + io::to_string(compression));
 }
 
 std::optional<CachedOutputs> find_cached_outputs(const scene::LeanMapCache& cache,
@@ -363,11 +369,19 @@ std::string store_outputs(const scene::LeanMapCache& cache, const std::string& k
                             std::vector<std::uint8_t>(manifest.begin(), manifest.end()));
 }
 
+std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                    std::istreambuf_iterator<char>());
+    if (!in.eof() && in.fail()) throw Error(path, "cannot read the encoded texture");
+    return bytes;
+}
+
 // A material's engine textures from its LEAN map (the map as stored) and its own roughness.
 EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
                                     const PackedLeanMap& packed, const io::ReadOptions& read_options,
                                     int threads, const std::string& writer,
-                                    const std::string& input) {
+                                    const std::string& input, io::BlockCompression compression) {
     const LeanMap lean = unpack_lean_map(packed);
     const int w = lean.levels.front().width, h = lean.levels.front().height;
     // The material's own roughness, r = roughnessFactor x G of its texture; its R, B
@@ -401,14 +415,39 @@ EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::G
     t.anisotropic = larger > 1e-8f && t.anisotropy_ratio >= kAnisotropyThreshold;
     const RoughnessTexturesRgba8 textures =
         roughness_textures_rgba8(lean, ro, &metallic_roughness, {true, t.anisotropic});
-    const auto add = [&](const std::vector<Rgba8Image>& levels, const char* content) {
-        t.files.push_back(io::encode_ktx2_rgba8(levels, writer, content,
-                                                {{io::kKeyTextureContent, std::string(content) + " v1"}}));
-        t.files.push_back(io::encode_png_rgba8(levels.front(), content));
-    };
-    add(textures.metallic_roughness, "roughness");
-    add(textures.normal, "normal");
-    if (t.anisotropic) add(textures.anisotropy, "anisotropy");
+    std::vector<const std::vector<Rgba8Image>*> chains{&textures.metallic_roughness,
+                                                       &textures.normal};
+    std::vector<const char*> contents{"roughness", "normal"};
+    if (t.anisotropic) {
+        chains.push_back(&textures.anisotropy);
+        contents.push_back("anisotropy");
+    }
+    // Basis Universal UASTC (KHR_texture_basisu's payload): every chain in one run of the
+    // encoder, through a private folder.
+    std::vector<std::vector<std::uint8_t>> basis_files;
+    if (compression == io::BlockCompression::Basis) {
+        if (w % 4 != 0 || h % 4 != 0)
+            throw Error(gltf.images[std::size_t(m.normal_image)].name,
+                        "is " + std::to_string(w) + " x " + std::to_string(h) +
+                            ": KHR_texture_basisu images have sides that are multiples of 4 "
+                            "(use --compress none)");
+        const io::ScratchFolder scratch("leanfade-gltf-basis");
+        std::vector<io::UastcTexture> uastc;
+        for (std::size_t i = 0; i < chains.size(); ++i)
+            uastc.push_back({(scratch.path() / (std::string(contents[i]) + ".ktx2")).string(),
+                             chains[i], false});
+        io::write_ktx2_uastc(uastc, writer, io::find_node_script(io::kUastcEncoderScript));
+        for (const io::UastcTexture& u : uastc) basis_files.push_back(read_file_bytes(u.output));
+    }
+    for (std::size_t i = 0; i < chains.size(); ++i) {
+        const std::vector<Rgba8Image>& levels = *chains[i];
+        t.files.push_back(basis_files.empty()
+                              ? io::encode_ktx2_rgba8(levels, writer, contents[i],
+                                                      {{io::kKeyTextureContent,
+                                                        std::string(contents[i]) + " v1"}})
+                              : std::move(basis_files[i]));
+        t.files.push_back(io::encode_png_rgba8(levels.front(), contents[i]));
+    }
     return t;
 }
 
@@ -423,6 +462,10 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const std::string extension = fs::path(output).extension().string();
     if (extension != ".gltf" && extension != ".glb")
         throw Error(output, "a glTF output is a .gltf or .glb file");
+    if (args.compression != io::BlockCompression::None &&
+        args.compression != io::BlockCompression::Basis)
+        throw Error("--compress", "a glTF's KHR_texture_basisu images are basis (Basis Universal "
+                                  "UASTC) or none (RGBA8 KTX2)");
     const bool binary_out = extension == ".glb";
 
     const scene::GltfScene gltf = scene::load_gltf(args.input);
@@ -474,7 +517,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
         for (std::size_t j = 0; j < jobs.size(); ++j) {
             MaterialFiles& f = jobs[j];
             f.cache_key = output_cache_key(gltf, gltf.materials[std::size_t(f.material)], settings,
-                                           write_options);
+                                           write_options, args.compression);
             const auto [it, added] = first_of.emplace(f.cache_key, int(j));
             if (added) continue;
             // The first material's file names; its own index, name part and key.
@@ -591,8 +634,9 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                 const PackedLeanMap packed =
                     scene::bake_normal_texture(gltf, m.normal_image, m.normal_scale, settings);
                 io::write_ktx2(staged(0), packed, write_options);
-                const EngineTextures textures = make_engine_textures(
-                    gltf, m, packed, read_options, args.threads, writer, args.input);
+                const EngineTextures textures =
+                    make_engine_textures(gltf, m, packed, read_options, args.threads, writer,
+                                         args.input, args.compression);
                 result.emplace();
                 result->bytes.push_back(fs::file_size(staged(0)));
                 result->sha256.push_back(scene::sha256_file_hex(staged(0)));

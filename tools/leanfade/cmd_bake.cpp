@@ -63,10 +63,13 @@ int run_gltf_bake(const BakeArgs& given) {
     GltfBakeArgs gltf{given.inputs[0],      given.out_dir,          given.bits,
                       given.threads,        given.max_size,         given.json,
                       given.fsync,          given.strict_normals,   given.supercompression,
-                      given.zstd_level,     {}};
-    const std::string refused = first_inapplicable(
+                      given.zstd_level,     given.roughness.compression, {}};
+    std::string refused = first_inapplicable(
         given, {"inputs", "--out-dir", "--output", "--bits", "--threads", "--max-size", "--json",
-                "--fsync", "--strict-normals", "--supercompression", "--zstd-level"});
+                "--fsync", "--strict-normals", "--supercompression", "--zstd-level", "--compress"});
+    // --compress: the engine textures of the filtered copy (-o) only.
+    if (refused.empty() && given.output.empty() && given.roughness.compression_given)
+        refused = "--compress";
     if (!refused.empty()) gltf.refused_flags.push_back(refused);
     // -o OUT.gltf|OUT.glb: a filtered copy of the scene (cli_bake_gltf_out.hpp).
     if (!given.output.empty()) return run_bake_gltf_out(gltf, given.output);
