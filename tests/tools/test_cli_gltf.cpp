@@ -149,6 +149,28 @@ nlohmann::json gltf_json(const fs::path& path) {
     return nlohmann::json::parse(bytes.substr(20, length));
 }
 
+// The bytes an image or LEANFADE_lean_map entry of `gltf` stands for: the file its uri names
+// beside it, or its buffer view in a .glb's binary chunk (buffer 0).
+std::string resource_bytes(const fs::path& gltf, const nlohmann::json& entry) {
+    if (entry.contains("uri")) return test::read_text(gltf.parent_path() / entry["uri"].get<std::string>());
+    const std::string bytes = test::read_text(gltf);
+    std::uint32_t json_length = 0, bin_length = 0;
+    std::memcpy(&json_length, bytes.data() + 12, 4);
+    std::memcpy(&bin_length, bytes.data() + 20 + json_length, 4);
+    const std::string bin = bytes.substr(28 + json_length, bin_length);
+    const nlohmann::json view =
+        gltf_json(gltf)["bufferViews"][entry["bufferView"].get<std::size_t>()];
+    EXPECT_EQ(view["buffer"], 0);
+    return bin.substr(view.value("byteOffset", std::size_t(0)), view["byteLength"].get<std::size_t>());
+}
+
+// The same bytes as a file (for the readers that take a path).
+fs::path resource_file(const fs::path& gltf, const nlohmann::json& entry, const std::string& name) {
+    const fs::path file = gltf.parent_path() / ("resource." + name);
+    std::ofstream(file, std::ios::binary) << resource_bytes(gltf, entry);
+    return file;
+}
+
 }  // namespace gltf_out
 
 // `bake SCENE -o OUT`: the materials point at filtered roughness and normal MIPs (KTX2 under
@@ -212,17 +234,21 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
                                                               .get<std::size_t>()];
                     EXPECT_EQ(png["mimeType"], "image/png");
                     EXPECT_EQ(ktx2["mimeType"], "image/ktx2");
-                    const fs::path ktx2_file = output.parent_path() / ktx2["uri"].get<std::string>();
+                    // A .glb holds them in its binary chunk, a .gltf names files beside it.
+                    EXPECT_EQ(ktx2.contains("bufferView"), output.extension() == ".glb");
+                    EXPECT_EQ(png.contains("bufferView"), output.extension() == ".glb");
+                    const fs::path ktx2_file = gltf_out::resource_file(output, ktx2, "ktx2");
                     const io::Ktx2Info info_ktx2 = io::inspect_ktx2(ktx2_file.string());
                     EXPECT_EQ(info_ktx2.vk_format, io::kVkFormatR8G8B8A8Unorm);
                     EXPECT_EQ(info_ktx2.level_count, m == 4 ? 6u : 5u) << ktx2_file;
-                    EXPECT_TRUE(fs::exists(output.parent_path() / png["uri"].get<std::string>()));
+                    EXPECT_EQ(gltf_out::resource_bytes(output, png).substr(1, 3), "PNG");
                     const auto& sampler = j["samplers"][texture["sampler"].get<std::size_t>()];
                     EXPECT_EQ(sampler["minFilter"], 9987);  // every level is used
                 }
                 const auto& lean = material["extensions"]["LEANFADE_lean_map"];
+                EXPECT_EQ(lean.contains("bufferView"), output.extension() == ".glb");
                 const PackedLeanMap map =
-                    io::read_ktx2((output.parent_path() / lean["uri"].get<std::string>()).string());
+                    io::read_ktx2(gltf_out::resource_file(output, lean, "lean.ktx2").string());
                 EXPECT_EQ(map.levels.size(), m == 4 ? 6u : 5u);
                 anisotropic += material["extensions"].contains("KHR_materials_anisotropy");
             }
@@ -235,7 +261,7 @@ TEST(CliGltfOut, WritesAFilteredCopyOfTheSceneAsGltfAndGlb) {
                 const auto& ktx2 = j["images"][texture["extensions"]["KHR_texture_basisu"]["source"]
                                                    .get<std::size_t>()];
                 const auto levels = io::read_ktx2_rgba8(
-                    (output.parent_path() / ktx2["uri"].get<std::string>()).string());
+                    gltf_out::resource_file(output, ktx2, "mr.ktx2").string());
                 for (std::size_t t = 0; t < levels[0].texels.size(); t += 4)
                     ASSERT_NEAR(int(levels[0].texels[t + 2]), blue, 1) << "material " << m;
             }
@@ -398,6 +424,33 @@ TEST(CliGltfOut, TheFilteredCopyRendersAsTheScene) {
     ASSERT_EQ(a.exit_code, 0) << a.err;
     ASSERT_EQ(b.exit_code, 0) << b.err;
     EXPECT_EQ(test::read_text(dir / "scene.png"), test::read_text(dir / "filtered.png"));
+    // A .glb output holds its LEAN maps in its binary chunk: drawn from there, the same pixels,
+    // and nothing written beside it but the .glb.
+    const fs::path glb = dir / "glb" / "filtered.glb";
+    fs::create_directories(glb.parent_path());
+    ASSERT_EQ(test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
+                                        test::shell_quote(glb.string()),
+                                    dir, {}, test::cache_env(dir))
+                  .exit_code,
+              0);
+    EXPECT_EQ(std::distance(fs::directory_iterator(glb.parent_path()), fs::directory_iterator()), 1);
+    const test::RunResult c = render(glb, "embedded.png");
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_EQ(test::read_text(dir / "scene.png"), test::read_text(dir / "embedded.png"));
+    // A buffer view that is not one, or runs past its buffer: a one-line error naming it.
+    for (const int view : {99, -1}) {
+        nlohmann::json root = gltf_out::gltf_json(output);
+        for (auto& material : root["materials"])
+            if (material.contains("extensions"))
+                material["extensions"]["LEANFADE_lean_map"] = {{"bufferView", view}};
+        const fs::path bad = dir / "out" / "bad_view.gltf";
+        std::ofstream(bad) << root.dump();
+        const test::RunResult r = render(bad, "bad.png");
+        EXPECT_NE(r.exit_code, 0);
+        EXPECT_NE(r.err.find("LEANFADE_lean_map bufferView"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    }
     // A LEAN map the file names that is missing is an error naming it, not a silent bake.
     fs::remove(dir / "out" / "filtered.metal.lean.ktx2");
     const test::RunResult missing = render(output, "missing.png");
@@ -470,7 +523,7 @@ TEST(CliGltfOut, ASecondRunTakesItsOutputsFromTheCache) {
     const auto run = [&](const std::string& out) {
         const test::RunResult r = test::run_leanfade_in(
             "bake " + test::shell_quote(input.string()) + " -o " +
-                test::shell_quote((dir / (out + ".glb")).string()) + " --json " +
+                test::shell_quote((dir / (out + ".gltf")).string()) + " --json " +
                 test::shell_quote((dir / (out + ".json")).string()),
             dir, {}, test::cache_env(dir));
         EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -489,12 +542,7 @@ TEST(CliGltfOut, ASecondRunTakesItsOutputsFromTheCache) {
         EXPECT_EQ(e.path().filename().string().find("brick_again"), std::string::npos)
             << e.path();
     {
-        const std::string glb = test::read_text(dir / "a.glb");
-        const std::uint32_t json_length = std::uint32_t(std::uint8_t(glb[12])) |
-                                          std::uint32_t(std::uint8_t(glb[13])) << 8 |
-                                          std::uint32_t(std::uint8_t(glb[14])) << 16 |
-                                          std::uint32_t(std::uint8_t(glb[15])) << 24;
-        const nlohmann::json root = nlohmann::json::parse(glb.substr(20, json_length));
+        const nlohmann::json root = gltf_out::gltf_json(dir / "a.gltf");
         const nlohmann::json& materials = root["materials"];
         EXPECT_EQ(materials[2]["normalTexture"]["index"], materials[0]["normalTexture"]["index"]);
         EXPECT_EQ(materials[2]["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"],

@@ -42,6 +42,8 @@ using nlohmann::json;
 constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
 constexpr std::uint32_t kGlbChunkJson = 0x4E4F534A;  // "JSON"
 constexpr std::uint32_t kGlbChunkBin = 0x004E4942;   // "BIN\0"
+// The largest binary chunk a GLB holds: its length is a 32-bit field, and so is the file's.
+constexpr std::size_t kMaxGlbBinBytes = 0xFFFFFF00u;
 constexpr std::uint64_t kMaxGltfFileBytes = std::uint64_t(1) << 30;
 // A material's bumps count as anisotropic, and get a KHR_materials_anisotropy texture, when the
 // slope covariance of the whole map (its 1 x 1 level) has axes this far apart (the larger
@@ -218,6 +220,62 @@ std::string glb_bytes(const json& root, const std::string* bin) {
     append_u32(out, 2);
     append_u32(out, std::uint32_t(12 + body.size()));
     return out + body;
+}
+
+// A .glb output holds the files this run writes (LEAN maps, KTX2 and PNG textures) in its binary
+// chunk (glTF 2.0 §4.4: buffer 0 without a uri): each image or LEANFADE_lean_map whose uri is a
+// key of `files` (uri -> the file written) becomes a buffer view of `bin`, 4-byte aligned; an
+// input whose buffer 0 names a file gets a new buffer 0 (the others and their views renumbered).
+void embed_in_binary_chunk(json& root, std::string& bin, bool has_bin,
+                           const std::map<std::string, std::string>& files,
+                           const std::string& output) {
+    json& buffers = root["buffers"];
+    if (!buffers.is_array()) buffers = json::array();
+    if (!has_bin) {
+        buffers.insert(buffers.begin(), json{{"byteLength", 0}});
+        if (const auto views = root.find("bufferViews"); views != root.end() && views->is_array())
+            for (json& view : *views)
+                if (view.is_object() && view.contains("buffer") && view["buffer"].is_number_integer())
+                    view["buffer"] = view["buffer"].get<int>() + 1;
+    }
+    json& views = root["bufferViews"];
+    if (!views.is_array()) views = json::array();
+    const auto embed = [&](const std::string& uri) -> int {
+        const std::string& path = files.at(uri);
+        std::ifstream in(path, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (!in.eof() && in.fail()) throw Error(output, "cannot read back " + uri + " to embed it");
+        while (bin.size() % 4 != 0) bin += '\0';
+        if (bin.size() + bytes.size() > kMaxGlbBinBytes)
+            throw Error(output, "a GLB's binary chunk is at most " + std::to_string(kMaxGlbBinBytes) +
+                                    " bytes: write .gltf");
+        views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes.size()}});
+        bin += bytes;
+        return int(views.size()) - 1;
+    };
+    if (const auto images = root.find("images"); images != root.end() && images->is_array())
+        for (json& image : *images) {
+            const auto uri = image.find("uri");
+            if (uri == image.end() || !uri->is_string() || !files.count(uri->get<std::string>()))
+                continue;
+            const std::string name = uri->get<std::string>();
+            image["bufferView"] = embed(name);
+            if (!image.contains("mimeType"))
+                image["mimeType"] = name.ends_with(".png") ? "image/png" : "image/ktx2";
+            image.erase("uri");
+        }
+    if (const auto materials = root.find("materials"); materials != root.end() && materials->is_array())
+        for (json& material : *materials) {
+            if (!material.is_object() || !material.contains("extensions")) continue;
+            json& extensions = material["extensions"];
+            if (!extensions.is_object() || !extensions.contains(scene::kGltfLeanMapExtension)) continue;
+            json& lean = extensions[scene::kGltfLeanMapExtension];
+            const auto uri = lean.find("uri");
+            if (uri == lean.end() || !uri->is_string() || !files.count(uri->get<std::string>()))
+                continue;
+            lean = json{{"bufferView", embed(uri->get<std::string>())}};
+        }
+    buffers[0]["byteLength"] = bin.size();
 }
 
 void add_extension_used(json& root, const std::string& name) {
@@ -543,8 +601,11 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     for (const std::string& file : scene::gltf_referenced_files(args.input)) plan.add_input(file);
     plan.add_output(output, "-o");
     if (writes_bin) plan.add_output(beside(bin_name), "-o (the binary chunk)");
+    // A .glb holds the files this run writes in its binary chunk (embed_in_binary_chunk): they
+    // are written into a private folder first, never beside it.
+    const bool embeds = binary_out;
     for (const MaterialFiles& f : jobs) {
-        if (f.same_as >= 0) continue;  // the files of an earlier material
+        if (f.same_as >= 0 || embeds) continue;  // the files of an earlier material, or embedded
         for (const std::string* file : {&f.lean, &f.roughness, &f.roughness_png, &f.normal,
                                         &f.normal_png, &f.anisotropy, &f.anisotropy_png})
             plan.add_output(beside(*file), "material '" + gltf.materials[std::size_t(f.material)].name + "'");
@@ -562,6 +623,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
     const bool progress = stderr_is_terminal();
     const scene::LeanMapCache cache(settings.cache_folder);
     std::map<std::string, std::string> staged_paths;  // an output's file name -> its temporary
+    const io::ScratchFolder embedded("leanfade-glb");  // a .glb's files before they are embedded
 
     // One trilinear, repeating sampler for the filtered textures (every level is used).
     json& samplers = root["samplers"];
@@ -586,7 +648,11 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
             const auto staged = [&](std::size_t file) -> const std::string& {
                 auto it = staged_paths.find(*names[file]);
                 if (it == staged_paths.end())
-                    it = staged_paths.emplace(*names[file], outputs.stage(beside(*names[file]))).first;
+                    it = staged_paths
+                             .emplace(*names[file],
+                                      embeds ? (embedded.path() / fs::path(*names[file]).filename()).string()
+                                             : outputs.stage(beside(*names[file])))
+                             .first;
                 return it->second;
             };
             // The files of an earlier run for the same textures and factors, copied from the
@@ -662,7 +728,7 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                     print_warnings(args.input,
                                    {"cache: " + std::string(outputs.named(Error("", warning)).cause())});
             }
-            if (f.same_as < 0)
+            if (f.same_as < 0 && !embeds)
                 for (std::size_t i = 0; i < result->bytes.size(); ++i)
                     written.push_back(beside(*names[i]));
             // The convention warning of every bake path, from the cache too.
@@ -710,6 +776,9 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
                                  {"anisotropy", anisotropic ? json(beside(f.anisotropy)) : json()},
                                  {"anisotropy_ratio", anisotropy},
                                  {"textures_from_cache", from_cache},
+                                 // In a .glb: the files are buffer views of its binary chunk,
+                                 // named here as they would be beside it.
+                                 {"embedded", embeds},
                                  {"same_files_as",
                                   f.same_as >= 0
                                       ? json(gltf.materials[std::size_t(jobs[std::size_t(f.same_as)].material)].name)
@@ -723,6 +792,12 @@ int run_bake_gltf_out(const GltfBakeArgs& args, const std::string& output) {
         add_extension_used(root, "KHR_texture_basisu");
         add_extension_used(root, scene::kGltfLeanMapExtension);
 
+        if (embeds) {
+            std::map<std::string, std::string> files;  // uri -> the file written
+            for (const auto& [name, path] : staged_paths) files.emplace(uri_of(name), path);
+            embed_in_binary_chunk(root, container.bin, container.has_bin, files, output);
+            container.has_bin = true;
+        }
         const std::string bytes =
             binary_out ? glb_bytes(root, container.has_bin ? &container.bin : nullptr)
                        : json_text(root);

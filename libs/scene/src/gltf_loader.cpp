@@ -480,7 +480,8 @@ glm::vec3 face_normal(const Mesh& mesh, const std::uint32_t* corner) {
 // texture's stands for the LEAN map too (a LEANFADE_lean_map file is sampled as it would be).
 std::array<std::pair<int, const GltfTextureTransform*>, 6> material_textures(
     const GltfMaterial& m) {
-    const int normal = m.normal_image >= 0 || !m.lean_map_file.empty() ? 0 : -1;
+    const int normal =
+        m.normal_image >= 0 || !m.lean_map_file.empty() || !m.lean_map_bytes.empty() ? 0 : -1;
     return {{{normal, &m.normal_transform},
              {m.base_color_image, &m.base_color_transform},
              {m.metallic_roughness_image, &m.metallic_roughness_transform},
@@ -495,7 +496,8 @@ std::array<std::pair<int, const GltfTextureTransform*>, 6> material_textures(
 // texture's, whose directions are in the same tangent frame (KHR_materials_anisotropy); else
 // TEXCOORD_0.
 int tangent_set(const GltfMaterial& m) {
-    if (m.normal_image >= 0 || !m.lean_map_file.empty()) return m.normal_transform.tex_coord;
+    if (m.normal_image >= 0 || !m.lean_map_file.empty() || !m.lean_map_bytes.empty())
+        return m.normal_transform.tex_coord;
     if (m.anisotropy_image >= 0) return m.anisotropy_transform.tex_coord;
     return 0;
 }
@@ -800,7 +802,26 @@ int Converter::material_index(int gltf_material) {
                 image_of_texture(pbr.metallicRoughnessTexture.index, where + " metallicRoughnessTexture");
             supported_set(where + ": metallicRoughnessTexture", m.metallic_roughness_transform);
         }
-        if (const auto ext = gm.extensions.find(kGltfLeanMapExtension); ext != gm.extensions.end()) {
+        if (const auto ext = gm.extensions.find(kGltfLeanMapExtension);
+            ext != gm.extensions.end() && ext->second.Has("bufferView")) {
+            // In the binary chunk of a .glb (or any buffer): the view's bytes, checked as an
+            // accessor's view is.
+            const tinygltf::Value& index = ext->second.Get("bufferView");
+            const std::string named = where + ": " + kGltfLeanMapExtension + " bufferView";
+            if (!index.IsInt() || index.Get<int>() < 0 ||
+                std::size_t(index.Get<int>()) >= model_.bufferViews.size())
+                throw std::runtime_error(named + " is not a buffer view of the file");
+            const tinygltf::BufferView& view = model_.bufferViews[std::size_t(index.Get<int>())];
+            if (view.buffer < 0 || std::size_t(view.buffer) >= model_.buffers.size())
+                throw std::runtime_error(named + " names no buffer");
+            const std::vector<unsigned char>& data = model_.buffers[std::size_t(view.buffer)].data;
+            if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset ||
+                view.byteLength == 0)
+                throw std::runtime_error(named + " runs past its buffer");
+            m.lean_map_bytes.assign(data.begin() + std::ptrdiff_t(view.byteOffset),
+                                    data.begin() + std::ptrdiff_t(view.byteOffset + view.byteLength));
+            m.lean_map_view = index.Get<int>();
+        } else if (ext != gm.extensions.end()) {
             const tinygltf::Value& uri = ext->second.Get("uri");
             if (!uri.IsString())
                 throw std::runtime_error(where + ": " + kGltfLeanMapExtension + " has no uri");

@@ -233,18 +233,26 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
         if (gm.anisotropy_image >= 0)
             m.map(MapKind::Anisotropy) = image_map(MapKind::Anisotropy, gm.anisotropy_image,
                                                    "an anisotropy texture", 3, detail::linear_rgb);
-        if (!gm.lean_map_file.empty()) {
-            // The map the file names (`bake SCENE -o OUT`): drawn as written.
-            auto found = files.find(gm.lean_map_file);
+        if (!gm.lean_map_file.empty() || !gm.lean_map_bytes.empty()) {
+            // The map the file names or holds (`bake SCENE -o OUT`): drawn as written.
+            const std::string key = !gm.lean_map_file.empty()
+                                        ? gm.lean_map_file
+                                        : "bufferView " + std::to_string(gm.lean_map_view);
+            auto found = files.find(key);
             if (found == files.end()) {
-                scene.lean_maps.push_back(io::read_ktx2(gm.lean_map_file));
+                scene.lean_maps.push_back(
+                    !gm.lean_map_file.empty()
+                        ? io::read_ktx2(gm.lean_map_file)
+                        : io::read_ktx2_from_memory(gm.lean_map_bytes,
+                                                    gltf.path + " (" + std::string(kGltfLeanMapExtension) +
+                                                        " " + key + ")"));
                 for (const PackedLevel& level : scene.lean_maps.back().levels)
                     map_bytes += level.lean1.size() + level.lean2.size();
                 if (map_bytes > settings.max_lean_map_bytes)
                     throw Error(gltf.path, "the LEAN maps of its materials exceed " +
                                                std::to_string(settings.max_lean_map_bytes) +
                                                " bytes");
-                found = files.emplace(gm.lean_map_file, int(scene.lean_maps.size()) - 1).first;
+                found = files.emplace(key, int(scene.lean_maps.size()) - 1).first;
             }
             m.lean_map = found->second;
         } else if (gm.normal_image >= 0) {

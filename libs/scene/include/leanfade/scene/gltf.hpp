@@ -104,6 +104,10 @@ struct GltfMaterial {
     // The LEAN map the material's kGltfLeanMapExtension names (a path beside the glTF file,
     // checked as every URI is), drawn instead of a bake of its normal texture; "" when none.
     std::string lean_map_file;
+    // Or the map's KTX2 bytes, from the buffer view the extension names ({"bufferView": N}: a
+    // .glb of `bake SCENE -o OUT.glb`); empty when none. lean_map_view is N (-1: none).
+    std::vector<std::uint8_t> lean_map_bytes;
+    int lean_map_view = -1;
 };
 
 struct GltfObject {
