@@ -356,6 +356,25 @@ TEST(CliGltfOut, CompressBasisWritesKhrTextureBasisuImagesOfBasisUniversal) {
     EXPECT_NE(no_output.err.find("--compress"), std::string::npos) << no_output.err;
 }
 
+// -o into a folder that does not exist creates it, as for any bake; a run that fails removes it
+// again.
+TEST(CliGltfOut, OutputFolderIsCreatedAndRemovedOnFailure) {
+    const fs::path dir = cli_gltf_folder("out_new_folder");
+    const fs::path input = dir / "scene.glb";
+    scene::test::write_gltf(scene_file(), input.string(), GltfStorage::Binary);
+    const auto bake = [&](const std::string& output, const std::string& flags) {
+        return test::run_leanfade_in("bake " + test::shell_quote(input.string()) + " -o " +
+                                         test::shell_quote((dir / output).string()) + flags,
+                                     dir, {}, test::cache_env(dir));
+    };
+    const test::RunResult ok = bake("new/deeper/filtered.glb", "");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_TRUE(fs::is_regular_file(dir / "new" / "deeper" / "filtered.glb"));
+    const test::RunResult refused = bake("other/filtered.glb", " --compress bc");
+    EXPECT_EQ(refused.exit_code, 1);
+    EXPECT_FALSE(fs::exists(dir / "other"));
+}
+
 // `bake SCENE -o OUT` keeps where every texture reference samples: the references it leaves
 // alone (base colour, occlusion, emissive) as they were, texCoord and KHR_texture_transform
 // (its texCoord override included); the filtered textures it adds (metallic-roughness, normal)

@@ -71,6 +71,11 @@ int run_gltf_bake(const BakeArgs& given) {
     if (refused.empty() && given.output.empty() && given.roughness.compression_given)
         refused = "--compress";
     if (!refused.empty()) gltf.refused_flags.push_back(refused);
+    // The folder of -o, or a missing --out-dir, is created as for any bake, and removed again if
+    // the run writes nothing into it.
+    const io::CreatedFolders out_folder(given.out_dir);
+    const io::CreatedFolders output_folder(
+        given.output.empty() ? std::string() : std::filesystem::path(given.output).parent_path().string());
     // -o OUT.gltf|OUT.glb: a filtered copy of the scene (cli_bake_gltf_out.hpp).
     if (!given.output.empty()) return run_bake_gltf_out(gltf, given.output);
     return run_bake_gltf(gltf);
