@@ -25,9 +25,9 @@ struct GltfBakeArgs {
     // The LEAN maps' KTX2 supercompression (--supercompression, --zstd-level).
     io::Supercompression supercompression = io::Supercompression::Zstandard;
     int zstd_level = 3;
-    // -o OUT.gltf|glb: how the engine textures' KTX2 files are stored (--compress none|basis):
-    // RGBA8, or Basis Universal UASTC as KHR_texture_basisu requires.
-    io::BlockCompression compression = io::BlockCompression::None;
+    // -o OUT.gltf|glb: how the engine textures' KTX2 files are stored (--compress basis|none):
+    // Basis Universal UASTC as KHR_texture_basisu requires (bake's default for a glTF), or RGBA8.
+    io::BlockCompression compression = io::BlockCompression::Basis;
     // Flags of `bake` that have no meaning for a glTF scene and were given (refused by name).
     std::vector<std::string> refused_flags;
 };

@@ -63,7 +63,11 @@ int run_gltf_bake(const BakeArgs& given) {
     GltfBakeArgs gltf{given.inputs[0],      given.out_dir,          given.bits,
                       given.threads,        given.max_size,         given.json,
                       given.fsync,          given.strict_normals,   given.supercompression,
-                      given.zstd_level,     given.roughness.compression, {}};
+                      given.zstd_level,
+                      // KHR_texture_basisu's images are Basis Universal unless --compress none.
+                      given.roughness.compression_given ? given.roughness.compression
+                                                        : io::BlockCompression::Basis,
+                      {}};
     std::string refused = first_inapplicable(
         given, {"inputs", "--out-dir", "--output", "--bits", "--threads", "--max-size", "--json",
                 "--fsync", "--strict-normals", "--supercompression", "--zstd-level", "--compress"});
