@@ -24,7 +24,7 @@ PORTABLE_BUILD_DIR ?= build-portable
 # The interpreter of the Python module's benchmark (Debian's, with NumPy and Dask).
 PYTHON ?= /usr/bin/python3
 
-.PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds web \
+.PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds web cli-doc \
 	clean format
 
 all: build
@@ -58,6 +58,10 @@ test: build
 # The WebGL2 example (examples/web, docs/integration.md): its data baked and exported, then
 # served on http://127.0.0.1:$(WEB_PORT)/ until interrupted.
 WEB_PORT ?= 8080
+# docs/cli.md from the program's --help (the test docs.CliReferenceIsCurrent compares them).
+cli-doc: build
+	cmake -DLEANFADE=$(LEANFADE) -DOUTPUT=docs/cli.md -P cmake/GenerateCliDoc.cmake
+
 web: build
 	@mkdir -p examples/web/data
 	$(LEANFADE) bake --builtin bumps --size 512 --bits 16f -o examples/web/data/bumps.ktx2 \
