@@ -273,11 +273,12 @@ export function objectBlockValues(model, camera, aspect) {
 
 // --- Programs and drawing.
 
-// shaders.json and the sources of the variants `variants` names (and the vertex stage).
-export async function loadShaders(baseUrl, variants) {
+// shaders.json and the sources of the variants `variants` names (and the vertex stage), of
+// `leanfade shaders --lang LANGUAGE` (glsl-es here; wgsl for WebGPU, leanfade_webgpu.js).
+export async function loadShaders(baseUrl, variants, language = 'glsl-es') {
   const index = await (await fetch(`${baseUrl}/shaders.json`)).json();
-  if (index.language !== 'glsl-es')
-    throw new LeanfadeError(`${baseUrl}/shaders.json`, `is ${index.language}, not glsl-es (leanfade shaders --lang glsl-es)`);
+  if (index.language !== language)
+    throw new LeanfadeError(`${baseUrl}/shaders.json`, `is ${index.language}, not ${language} (leanfade shaders --lang ${language})`);
   const entry = (variant, stage) => {
     const e = index.shaders.find((s) => s.variant === variant && s.stage === stage);
     if (e === undefined) throw new LeanfadeError(`${baseUrl}/shaders.json`, `has no ${stage} stage of ${variant}`);
@@ -347,6 +348,12 @@ export function createVertexArray(gl, mesh, inputs) {
   return { vao, count: mesh.indices.length };
 }
 
+// A parsed texture (parseTexture, or a LEAN map's `plateau`) that is two-lobe LEAN's plateau layer.
+export function checkPlateau(plateau) {
+  if (plateau.content !== 'plateau v1')
+    throw new LeanfadeError('plateau layer', `holds ${plateau.content ?? 'no LEANFADEcontent'}, not the plateau layer`);
+}
+
 // Draws leanfade's scenes of one object with the exported variants: a LEAN map (and the plateau
 // layer two-lobe reads) on the sphere, each technique's program set up once.
 export class LeanfadeScene {
@@ -366,8 +373,7 @@ export class LeanfadeScene {
     };
     this.mapBits = 0;
     if (plateau) {
-      if (plateau.content !== 'plateau v1')
-        throw new LeanfadeError('plateau layer', `holds ${plateau.content ?? 'no LEANFADEcontent'}, not the plateau layer`);
+      checkPlateau(plateau);
       this.textures.u_plateau = { target: gl.TEXTURE_2D, texture: uploadTexture(gl, plateau) };
       this.plateauBit = 4;  // LF_MAP_PLATEAU of shaders/bindings.glsl
     }

@@ -3,7 +3,8 @@
 // layout of shaders.json, the camera of `leanfade render`. The KTX2 reading, the mesh, the
 // camera and the uniform-block bytes are those of the WebGL2 module (leanfade_webgl.js).
 import {
-  bottomRowFirst, LeanfadeError, makeSphere, mat4, objectBlockValues, UniformBlock, viewAtDistance,
+  bottomRowFirst, checkPlateau, LeanfadeError, loadShaders, makeSphere, mat4, objectBlockValues,
+  UniformBlock, viewAtDistance,
 } from './leanfade_webgl.js';
 
 // shaders.json's vertex attribute formats (Vulkan names) as WebGPU vertex formats.
@@ -13,21 +14,8 @@ const kVertexFormats = {
 
 // shaders.json of `leanfade shaders --lang wgsl` and the WGSL of the variants `variants` names
 // (and the vertex stage).
-export async function loadWgslShaders(baseUrl, variants) {
-  const index = await (await fetch(`${baseUrl}/shaders.json`)).json();
-  if (index.language !== 'wgsl')
-    throw new LeanfadeError(`${baseUrl}/shaders.json`, `is ${index.language}, not wgsl (leanfade shaders --lang wgsl)`);
-  const entry = (variant, stage) => {
-    const e = index.shaders.find((s) => s.variant === variant && s.stage === stage);
-    if (e === undefined) throw new LeanfadeError(`${baseUrl}/shaders.json`, `has no ${stage} stage of ${variant}`);
-    if (e.omitted) throw new LeanfadeError(`${baseUrl}/shaders.json`, `${variant}: ${e.omitted}`);
-    return e;
-  };
-  const vertex = index.shaders.find((s) => s.stage === 'vert');
-  const sources = new Map();
-  for (const e of [vertex, ...variants.map((v) => entry(v, 'frag'))])
-    sources.set(e.file, await (await fetch(`${baseUrl}/${e.file}`)).text());
-  return { index, vertex, entry, sources };
+export function loadWgslShaders(baseUrl, variants) {
+  return loadShaders(baseUrl, variants, 'wgsl');
 }
 
 // The LEAN map as the renderer uploads it: a 2D array of two layers, rgba16float, every level,
@@ -140,8 +128,7 @@ export class LeanfadeWebGpuScene {
     };
     this.fallbackView = this.views.u_base_color;
     if (plateau) {
-      if (plateau.content !== 'plateau v1')
-        throw new LeanfadeError('plateau layer', `holds ${plateau.content ?? 'no LEANFADEcontent'}, not the plateau layer`);
+      checkPlateau(plateau);
       this.views.u_plateau = uploadTexture(device, plateau).createView();
     }
     // The bit of each map by its texture's binding (shaders.json's maps[]).

@@ -9,19 +9,11 @@ import {
   createFloatTarget, LeanfadeScene, loadShaders, makeSphere, parseLeanMap, parseTexture,
   readFloats, viewAtDistance,
 } from './leanfade_webgl.js';
+import { fetchBytes, pageParams } from './page.js';
 
-const params = new URLSearchParams(location.search);
-const dataUrl = params.get('data') ?? 'data';
-const mapName = params.get('map') ?? 'bumps';
-const size = Math.min(1024, Math.max(16, Number(params.get('size') ?? 256)));
-const capture = params.get('capture');
+const { dataUrl, mapName, size, capture } = pageParams();
 const techniques = ['bump', 'lean', 'two-lobe'];
 
-async function fetchBytes(url) {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
-  return response.arrayBuffer();
-}
 
 // Linear radiance to sRGB, as `leanfade render` encodes its figures.
 const PRESENT_VERTEX = `#version 300 es

@@ -12,14 +12,11 @@ import { leanStandardNodes } from '@leanfade/three/webgpu';
 
 import { fromHalf } from './three/src/lean_map.js';
 import { makeSphere, viewAtDistance } from './leanfade_webgl.js';
+import { pageParams } from './page.js';
 
-const params = new URLSearchParams(location.search);
-const dataUrl = params.get('data') ?? 'data';
-const mapName = params.get('map') ?? 'bumps';
-const size = Math.min(512, Math.max(16, Number(params.get('size') ?? 256)));
-const capture = params.get('capture');
+const { params, dataUrl, mapName, size, capture } = pageParams(256, 512);
 const kSupersampling = 8;
-const kRoughness = Number(params.get("roughness") ?? 0.25);  // the material's perceptual roughness (α0 = r²)
+const kRoughness = Number(params.get('roughness') ?? 0.25);  // the material's perceptual roughness (α0 = r²)
 const kBackground = [0.05, 0.05, 0.06];
 
 // The normals of the map's finest level, normalize(B.x, B.y, 1), as an RGBA half-float texture

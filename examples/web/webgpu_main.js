@@ -3,20 +3,12 @@
 // once, posts its linear floats to the server (serve.mjs --capture) and reports when done: the
 // suite's WebGPU test.
 import { parseLeanMap, parseTexture } from './leanfade_webgl.js';
+import { fetchBytes, pageParams } from './page.js';
 import { createTarget, LeanfadeWebGpuScene, loadWgslShaders, readFloats } from './leanfade_webgpu.js';
 
-const params = new URLSearchParams(location.search);
-const dataUrl = params.get('data') ?? 'data';
-const mapName = params.get('map') ?? 'bumps';
-const size = Math.min(1024, Math.max(16, Number(params.get('size') ?? 256)));
-const capture = params.get('capture');
+const { dataUrl, mapName, size, capture } = pageParams();
 const techniques = ['bump', 'lean', 'two-lobe'];
 
-async function fetchBytes(url) {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${url}: ${response.status} ${response.statusText}`);
-  return response.arrayBuffer();
-}
 
 // Linear radiance of a float target to sRGB in the canvas, as `leanfade render` encodes figures.
 const PRESENT = `

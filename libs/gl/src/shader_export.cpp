@@ -490,13 +490,7 @@ class Reflector {
     }
 
     ShaderResource resource(const spvc_reflected_resource& r, bool block) const {
-        ShaderResource out;
-        out.name = r.name != nullptr ? r.name : "";
-        out.descriptor_type = block ? "uniform_buffer" : "combined_image_sampler";
-        out.set = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationDescriptorSet);
-        out.binding = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationBinding);
-        const spvc_type type = spvc_compiler_get_type_handle(compiler_, r.type_id);
-        out.array_size = array_elements(type);
+        ShaderResource out = located(r, block ? "uniform_buffer" : "combined_image_sampler");
         if (block) {
             const spvc_type base = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
             size_t size = 0;
@@ -506,38 +500,43 @@ class Reflector {
             out.block_size = std::uint32_t(size);
             block_members(r.base_type_id, "", 0, out.members);
         } else {
-            const spvc_type image = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
-            const SpvDim dim = spvc_type_get_image_dimension(image);
-            out.type = dim == SpvDim1D     ? "sampler1D"
-                       : dim == SpvDim2D   ? "sampler2D"
-                       : dim == SpvDim3D   ? "sampler3D"
-                       : dim == SpvDimCube ? "samplerCube"
-                                           : "sampler";
-            if (spvc_type_get_image_arrayed(image)) out.type += "Array";
+            out.type = image_type_name(r, false);
         }
         return out;
     }
 
     // A texture or a sampler of a module whose combined samplers were split (WGSL's types).
     ShaderResource separate(const spvc_reflected_resource& r, bool sampler) const {
+        ShaderResource out = located(r, sampler ? "sampler" : "sampled_texture");
+        out.type = sampler ? "sampler" : image_type_name(r, true);
+        return out;
+    }
+
+    // The resource's name, descriptor type, set, binding and array size.
+    ShaderResource located(const spvc_reflected_resource& r, const char* descriptor_type) const {
         ShaderResource out;
         out.name = r.name != nullptr ? r.name : "";
-        out.descriptor_type = sampler ? "sampler" : "sampled_texture";
+        out.descriptor_type = descriptor_type;
         out.set = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationDescriptorSet);
         out.binding = spvc_compiler_get_decoration(compiler_, r.id, SpvDecorationBinding);
         out.array_size = array_elements(spvc_compiler_get_type_handle(compiler_, r.type_id));
-        if (sampler) {
-            out.type = "sampler";
-        } else {
-            const spvc_type image = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
-            const SpvDim dim = spvc_type_get_image_dimension(image);
-            out.type = std::string(dim == SpvDim3D     ? "texture_3d"
-                                   : dim == SpvDimCube ? "texture_cube"
-                                   : dim == SpvDim1D   ? "texture_1d"
-                                                       : "texture_2d") +
-                       (spvc_type_get_image_arrayed(image) ? "_array<f32>" : "<f32>");
-        }
         return out;
+    }
+
+    // A texture's type: GLSL's sampler ("sampler2DArray") or WGSL's ("texture_2d_array<f32>").
+    std::string image_type_name(const spvc_reflected_resource& r, bool wgsl) const {
+        const spvc_type image = spvc_compiler_get_type_handle(compiler_, r.base_type_id);
+        const bool arrayed = spvc_type_get_image_arrayed(image);
+        const char* glsl = "sampler2D";
+        const char* wgsl_name = "texture_2d";
+        switch (spvc_type_get_image_dimension(image)) {
+            case SpvDim1D: glsl = "sampler1D", wgsl_name = "texture_1d"; break;
+            case SpvDim3D: glsl = "sampler3D", wgsl_name = "texture_3d"; break;
+            case SpvDimCube: glsl = "samplerCube", wgsl_name = "texture_cube"; break;
+            default: break;
+        }
+        if (wgsl) return std::string(wgsl_name) + (arrayed ? "_array<f32>" : "<f32>");
+        return std::string(glsl) + (arrayed ? "Array" : "");
     }
 
     // A stage input or output: a variable, or a block's members at consecutive locations (each
