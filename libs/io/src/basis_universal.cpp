@@ -1,13 +1,15 @@
 // Basis Universal UASTC KTX2 files (basis_universal.hpp): the levels handed to the encoder script
-// as raw RGBA8 files in a private folder with a JSON job, the script run once by Node.js, the
-// headers read back by inspect_ktx2_uastc (KTX2 §3, the header and index; the Khronos Data
-// Format Specification's basic descriptor block for the DFD).
+// as raw RGBA8 files in a private folder with JSON jobs, the script run by Node.js (a process per
+// hardware thread at most), the headers read back by inspect_ktx2_uastc (KTX2 §3, the header and
+// index; the Khronos Data Format Specification's basic descriptor block for the DFD).
 #include "leanfade/io/basis_universal.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -63,12 +65,27 @@ void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::stri
                                    {"channels", texture.alpha ? "rgba" : "rgb"},
                                    {"levels", levels}});
     }
-    const fs::path job_file = scratch.path() / "job.json";
-    std::ofstream(job_file) << job.dump();
-    const std::string log = (scratch.path() / "encoder.log").string();
-    if (run_node_script(encoder, {job_file.string()}, log, "compress") != 0) {
+    // One encoder process per texture, up to one per hardware thread (the WebAssembly encoder is
+    // single-threaded): the textures dealt round-robin into that many jobs.
+    const std::size_t processes = std::clamp<std::size_t>(
+        std::thread::hardware_concurrency(), 1, job["textures"].size());
+    std::vector<nlohmann::json> jobs(processes, nlohmann::json{{"writer", writer},
+                                                               {"textures", nlohmann::json::array()}});
+    for (std::size_t t = 0; t < job["textures"].size(); ++t)
+        jobs[t % processes]["textures"].push_back(job["textures"][t]);
+    std::vector<std::vector<std::string>> arguments;
+    std::vector<std::string> logs;
+    for (std::size_t p = 0; p < processes; ++p) {
+        const fs::path job_file = scratch.path() / ("job" + std::to_string(p) + ".json");
+        std::ofstream(job_file) << jobs[p].dump();
+        arguments.push_back({job_file.string()});
+        logs.push_back((scratch.path() / ("encoder" + std::to_string(p) + ".log")).string());
+    }
+    const std::vector<int> statuses = run_node_scripts(encoder, arguments, logs, "compress");
+    for (std::size_t p = 0; p < processes; ++p) {
+        if (statuses[p] == 0) continue;
         // The script names the texture: "<output>: <cause>".
-        const std::string message = first_line_of(log);
+        const std::string message = first_line_of(logs[p]);
         for (const UastcTexture& texture : textures)
             if (message.rfind(texture.output + ": ", 0) == 0)
                 throw Error(texture.output, "the Basis Universal encoder failed: " +

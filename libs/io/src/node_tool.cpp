@@ -43,8 +43,11 @@ std::string find_node_script(const std::string& file_name) {
     return {};
 }
 
-int run_node_script(const std::string& script, const std::vector<std::string>& arguments,
-                    const std::string& log_file, const std::string& setting) {
+namespace {
+
+// Starts `node <script> <arguments...>` without a shell, its output into `log_file`.
+pid_t spawn_node(const std::string& script, const std::vector<std::string>& arguments,
+                 const std::string& log_file, const std::string& setting) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(),
@@ -62,10 +65,38 @@ int run_node_script(const std::string& script, const std::vector<std::string>& a
                                  ? "needs Node.js, and `node` is not on the PATH (Debian package "
                                    "nodejs)"
                                  : "cannot start Node.js");
+    return child;
+}
+
+int wait_for(pid_t child) {
     int status = 0;
     while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
     }
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+int run_node_script(const std::string& script, const std::vector<std::string>& arguments,
+                    const std::string& log_file, const std::string& setting) {
+    return wait_for(spawn_node(script, arguments, log_file, setting));
+}
+
+std::vector<int> run_node_scripts(const std::string& script,
+                                  const std::vector<std::vector<std::string>>& arguments,
+                                  const std::vector<std::string>& log_files,
+                                  const std::string& setting) {
+    std::vector<pid_t> children;
+    std::vector<int> statuses;
+    try {
+        for (std::size_t i = 0; i < arguments.size(); ++i)
+            children.push_back(spawn_node(script, arguments[i], log_files.at(i), setting));
+    } catch (...) {
+        for (const pid_t child : children) wait_for(child);  // none left behind
+        throw;
+    }
+    for (const pid_t child : children) statuses.push_back(wait_for(child));
+    return statuses;
 }
 
 std::string first_line_of(const std::string& file) {

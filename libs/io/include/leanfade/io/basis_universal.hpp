@@ -22,8 +22,9 @@ struct UastcTexture {
     bool alpha = false;                      // RGBA (its A is used) or RGB
 };
 
-// Encodes every texture in one run of the encoder script `encoder` (find_node_script of
-// kUastcEncoderScript). Throws leanfade::Error("compress", ...) without Node.js or the script's
+// Encodes every texture with the encoder script `encoder` (find_node_script of
+// kUastcEncoderScript), the textures shared out among up to one process per hardware thread (the
+// WebAssembly encoder is single-threaded). Throws leanfade::Error("compress", ...) without Node.js or the script's
 // packages, Error(<output>, cause) when a texture cannot be encoded.
 inline constexpr const char* kUastcEncoderScript = "encode_uastc.mjs";
 void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::string& writer,

@@ -34,6 +34,13 @@ std::string find_node_script(const std::string& file_name);
 int run_node_script(const std::string& script, const std::vector<std::string>& arguments,
                     const std::string& log_file, const std::string& setting);
 
+// Runs `node <script> <arguments[i]...>` for every i at once (one process each, as
+// run_node_script), each with its own log file, and waits for all. Returns their exit statuses.
+std::vector<int> run_node_scripts(const std::string& script,
+                                  const std::vector<std::vector<std::string>>& arguments,
+                                  const std::vector<std::string>& log_files,
+                                  const std::string& setting);
+
 // The first line of a file (a script's message), "" when it cannot be read.
 std::string first_line_of(const std::string& file);
 
