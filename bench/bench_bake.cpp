@@ -34,6 +34,7 @@
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
+#include "leanfade/io/basis_universal.hpp"
 #include "leanfade/io/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
@@ -445,7 +446,9 @@ BENCHMARK(BM_CliAgainstNvcompress)
 
 // Block compression of the engine textures (leanfade/io/block_compression.hpp): the normal
 // texture's full chain of a bench_size() map compressed on 2 threads. Arg 0: BC5 (libsquish),
-// 1: ASTC 4x4 (libastcenc, medium effort). Counter: texels per second (all levels).
+// 1: ASTC 4x4 (libastcenc, medium effort), 2: Basis Universal UASTC (basis_universal.hpp: its
+// WebAssembly encoder under Node.js, one process: the chain is one texture; Zstandard included).
+// Counter: texels per second (all levels).
 void BM_CompressNormalTexture(benchmark::State& state) {
     static const RoughnessTexturesRgba8 textures = [] {
         BakeOptions options;
@@ -454,11 +457,17 @@ void BM_CompressNormalTexture(benchmark::State& state) {
         roughness.base_roughness = 0.3f;
         return roughness_textures_rgba8(map, roughness, nullptr, {true, false});
     }();
-    const io::BlockCompression compression =
-        state.range(0) == 0 ? io::BlockCompression::Bc : io::BlockCompression::Astc;
+    const io::BlockCompression compression = state.range(0) == 0   ? io::BlockCompression::Bc
+                                             : state.range(0) == 1 ? io::BlockCompression::Astc
+                                                                   : io::BlockCompression::Basis;
     std::uint64_t texels = 0;
     for (const Rgba8Image& level : textures.normal) texels += std::uint64_t(level.width) * level.height;
     for (auto _ : state) {
+        if (compression == io::BlockCompression::Basis) {
+            io::write_ktx2_uastc({{(work_dir() / "normal.uastc.ktx2").string(), &textures.normal, false}},
+                                 "leanfade bench", LEANFADE_UASTC_ENCODER);
+            continue;
+        }
         const auto blocks = io::compress_levels(textures.normal, compression, io::EngineTexture::Normal, 2);
         benchmark::DoNotOptimize(blocks.data());
     }
@@ -467,6 +476,7 @@ void BM_CompressNormalTexture(benchmark::State& state) {
         benchmark::Counter(double(texels) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_CompressNormalTexture)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_CompressNormalTexture)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // `leanfade bake N.png --roughness-out R.ktx2 --compress bc` (the bake's moments, roughness and
 // normal MIPs, BC4 + BC5 of every level) against `nvcompress -normal -bc5` (MIP chain and BC5 of
