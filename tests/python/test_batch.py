@@ -140,7 +140,13 @@ class DaskBatch(unittest.TestCase):
         self.assertIn(f"{MAPS} jobs", stdout)
         with open(os.path.join(self.dir, "results.json")) as f:
             results = json.load(f)
-        self.assertEqual(sorted(r["status"] for r in results), ["baked"] * MAPS)
+        # Every job baked; the one the killed worker (one thread) had in hand may have written
+        # its output before the kill: run again elsewhere, it finds that output complete and
+        # reports it "done" (the kill races with the write).
+        statuses = sorted(r["status"] for r in results)
+        self.assertEqual(len(statuses), MAPS)
+        self.assertLessEqual(set(statuses), {"baked", "done"}, statuses)
+        self.assertLessEqual(statuses.count("done"), 1, statuses)
         self.assert_outputs_match(jobs)
 
         # Second run, outputs removed: every one served from the cache.
