@@ -18,7 +18,7 @@ constexpr std::string_view kOtherSettings[] = {
     "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from", "texture_size",
     "max_size",
     "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
-    "layer-weight-map", "strict_normals",
+    "layer-weight-map", "strict_normals", "lang", "compress",
 };
 
 // Flags whose names are shorter than their settings'.
