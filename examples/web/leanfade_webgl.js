@@ -348,6 +348,19 @@ export function createVertexArray(gl, mesh, inputs) {
   return { vao, count: mesh.indices.length };
 }
 
+// What a scene of one object keeps of its shaders and LEAN map, in any API: the render defaults,
+// the model transform of `leanfade render` and how the map's moments are encoded.
+export function sceneBasics(shaders, leanMap, mesh) {
+  return {
+    shaders,
+    defaults: shaders.index.defaults,
+    model: mat4.fitToUnitSphere(mesh.bounds),
+    scale: leanMap.scale,
+    leanOffset: leanMap.leanOffset,
+    roughnessBaked: leanMap.roughnessBaked,
+  };
+}
+
 // A parsed texture (parseTexture, or a LEAN map's `plateau`) that is two-lobe LEAN's plateau layer.
 export function checkPlateau(plateau) {
   if (plateau.content !== 'plateau v1')
@@ -359,13 +372,8 @@ export function checkPlateau(plateau) {
 export class LeanfadeScene {
   constructor(gl, shaders, { leanMap, plateau, mesh = makeSphere() }) {
     this.gl = gl;
-    this.shaders = shaders;
-    this.defaults = shaders.index.defaults;
     this.mesh = mesh;
-    this.model = mat4.fitToUnitSphere(mesh.bounds);
-    this.scale = leanMap.scale;
-    this.leanOffset = leanMap.leanOffset;
-    this.roughnessBaked = leanMap.roughnessBaked;
+    Object.assign(this, sceneBasics(shaders, leanMap, mesh));
     this.textures = {
       u_lean: { target: gl.TEXTURE_2D_ARRAY, texture: uploadLeanMap(gl, leanMap) },
       u_base_color: { target: gl.TEXTURE_2D, texture: uploadConstant(gl, [1, 1, 1, 1]) },

@@ -3,8 +3,8 @@
 // layout of shaders.json, the camera of `leanfade render`. The KTX2 reading, the mesh, the
 // camera and the uniform-block bytes are those of the WebGL2 module (leanfade_webgl.js).
 import {
-  bottomRowFirst, checkPlateau, LeanfadeError, loadShaders, makeSphere, mat4, objectBlockValues,
-  UniformBlock, viewAtDistance,
+  bottomRowFirst, checkPlateau, LeanfadeError, loadShaders, makeSphere, objectBlockValues,
+  sceneBasics, UniformBlock, viewAtDistance,
 } from './leanfade_webgl.js';
 
 // shaders.json's vertex attribute formats (Vulkan names) as WebGPU vertex formats.
@@ -113,13 +113,8 @@ export async function createPipeline(device, shaders, fragment, colorFormat) {
 export class LeanfadeWebGpuScene {
   constructor(device, shaders, { leanMap, plateau, mesh = makeSphere(), colorFormat = 'rgba32float' }) {
     this.device = device;
-    this.shaders = shaders;
-    this.defaults = shaders.index.defaults;
     this.colorFormat = colorFormat;
-    this.model = mat4.fitToUnitSphere(mesh.bounds);
-    this.scale = leanMap.scale;
-    this.leanOffset = leanMap.leanOffset;
-    this.roughnessBaked = leanMap.roughnessBaked;
+    Object.assign(this, sceneBasics(shaders, leanMap, mesh));
     const lean = uploadLeanMap(device, leanMap);
     const white = uploadConstant(device, [1, 1, 1, 1]);
     this.views = {

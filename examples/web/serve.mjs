@@ -40,7 +40,7 @@ if (options.capture && !options.browser) fail('--capture needs --browser');
 if (!/^[a-z_]+\.html$/.test(options.page)) fail(`--page ${options.page} is not a page of this folder`);
 
 const types = {
-  '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
+  '.html': 'text/html', '.css': 'text/css', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
   '.essl': 'text/plain', '.wgsl': 'text/wgsl', '.ktx2': 'image/ktx2',
 };
 
