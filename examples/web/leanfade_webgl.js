@@ -361,6 +361,20 @@ export function sceneBasics(shaders, leanMap, mesh) {
   };
 }
 
+// A uniform block of one draw: the render defaults, then the object block's transforms `values`
+// (objectBlockValues) or the shading block's map encoding (`scene`: sceneBasics) and map bits.
+export function fillBlock(block, scene, values, maps) {
+  block.setDefaults(scene.defaults.blocks);
+  if (block.name === 'LfObjectBlock') for (const [name, v] of Object.entries(values)) block.set(name, v);
+  if (block.name === 'LfShadingBlock') {
+    block.set('u_shading.scale', scene.scale);
+    block.set('u_shading.lean_offset', scene.leanOffset);
+    // A map with 1/s baked into its moments: none added again at shading time.
+    if (scene.roughnessBaked) block.set('u_shading.params.inv_s_shading', 0);
+    block.set('u_shading.maps', maps);
+  }
+}
+
 // A parsed texture (parseTexture, or a LEAN map's `plateau`) that is two-lobe LEAN's plateau layer.
 export function checkPlateau(plateau) {
   if (plateau.content !== 'plateau v1')
@@ -417,15 +431,7 @@ export class LeanfadeScene {
     let maps = 0;
     for (const sampler of p.samplers) if (sampler.name === 'u_plateau' && this.textures.u_plateau) maps |= this.plateauBit;
     for (const block of p.blocks.values()) {
-      block.setDefaults(this.defaults.blocks);
-      if (block.name === 'LfObjectBlock') for (const [name, v] of Object.entries(values)) block.set(name, v);
-      if (block.name === 'LfShadingBlock') {
-        block.set('u_shading.scale', this.scale);
-        block.set('u_shading.lean_offset', this.leanOffset);
-        // A map with 1/s baked into its moments: none added again at shading time.
-        if (this.roughnessBaked) block.set('u_shading.params.inv_s_shading', 0);
-        block.set('u_shading.maps', maps);
-      }
+      fillBlock(block, this, values, maps);
       const buffer = this.uniformBuffer(block.binding);
       gl.bindBuffer(gl.UNIFORM_BUFFER, buffer);
       gl.bufferData(gl.UNIFORM_BUFFER, block.bytes, gl.DYNAMIC_DRAW);

@@ -3,8 +3,8 @@
 // layout of shaders.json, the camera of `leanfade render`. The KTX2 reading, the mesh, the
 // camera and the uniform-block bytes are those of the WebGL2 module (leanfade_webgl.js).
 import {
-  bottomRowFirst, checkPlateau, LeanfadeError, loadShaders, makeSphere, objectBlockValues,
-  sceneBasics, UniformBlock, viewAtDistance,
+  bottomRowFirst, checkPlateau, fillBlock, LeanfadeError, loadShaders, makeSphere,
+  objectBlockValues, sceneBasics, UniformBlock, viewAtDistance,
 } from './leanfade_webgl.js';
 
 // shaders.json's vertex attribute formats (Vulkan names) as WebGPU vertex formats.
@@ -187,15 +187,7 @@ export class LeanfadeWebGpuScene {
     for (const r of p.resources) {
       if (r.descriptor_type !== 'uniform_buffer' || blocks.has(r.name)) continue;
       const block = new UniformBlock(r);
-      block.setDefaults(this.defaults.blocks);
-      if (block.name === 'LfObjectBlock') for (const [name, v] of Object.entries(values)) block.set(name, v);
-      if (block.name === 'LfShadingBlock') {
-        block.set('u_shading.scale', this.scale);
-        block.set('u_shading.lean_offset', this.leanOffset);
-        // A map with 1/s baked into its moments: none added again at shading time.
-        if (this.roughnessBaked) block.set('u_shading.params.inv_s_shading', 0);
-        block.set('u_shading.maps', maps);
-      }
+      fillBlock(block, this, values, maps);
       blocks.set(block.name, block);
     }
     const background = this.defaults.camera.background;
