@@ -3,7 +3,7 @@
 // what it needs: the KTX2 readers, the uploads, the uniform blocks written at the reflected
 // offsets, the camera that `leanfade render` uses. docs/integration.md, "WebGL2 and three.js".
 export {
-  bottomRowFirst, LeanfadeError, parseLeanMap, parseTexture, plateauFromLeanMap,
+  bottomRowFirst, LeanfadeError, parseLeanMap, parseTexture, plateauFromLeanMap, toHalf,
 } from '../three/src/lean_map.js';
 import { bottomRowFirst, LeanfadeError } from '../three/src/lean_map.js';
 

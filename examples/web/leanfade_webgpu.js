@@ -4,7 +4,7 @@
 // camera and the uniform-block bytes are those of the WebGL2 module (leanfade_webgl.js).
 import {
   bottomRowFirst, checkPlateau, fillBlock, LeanfadeError, loadShaders, makeSphere,
-  objectBlockValues, sceneBasics, UniformBlock, viewAtDistance,
+  objectBlockValues, sceneBasics, toHalf, UniformBlock, viewAtDistance,
 } from './leanfade_webgl.js';
 
 // shaders.json's vertex attribute formats (Vulkan names) as WebGPU vertex formats.
@@ -56,19 +56,6 @@ export function uploadConstant(device, rgba) {
   return texture;
 }
 
-// A float as the nearest half float's bits (normal range and zero; what constant textures need).
-function toHalf(value) {
-  if (value === 0) return 0;
-  const f32 = new Float32Array([value]);
-  const bits = new Uint32Array(f32.buffer)[0];
-  const sign = (bits >>> 16) & 0x8000;
-  const exponent = ((bits >>> 23) & 0xff) - 127 + 15;
-  if (exponent <= 0) return sign;
-  if (exponent >= 31) return sign | 0x7c00;
-  const mantissa = bits & 0x7fffff;
-  const rounded = (exponent << 10) + (mantissa >>> 13) + ((mantissa >>> 12) & 1);
-  return sign | rounded;
-}
 
 // A render pipeline of the vertex stage and the fragment variant `fragment` (shaders.json
 // entries) drawing into `colorFormat` with depth. The layout is the shaders' own ('auto'): the

@@ -6,11 +6,11 @@
 // cell's linear floats (rows bottom first) to the server and reports when done.
 import * as THREE from 'three';
 import * as GPU from 'three/webgpu';
-import { leanfadeCamera, leanMapTexture, meshGeometry, parseLeanMap } from '@leanfade/three';
-import { leanStandardMaterial } from '@leanfade/three';
+import {
+  fromHalf, leanfadeCamera, leanMapTexture, leanStandardMaterial, meshGeometry, parseLeanMap, toHalf,
+} from '@leanfade/three';
 import { leanStandardNodes } from '@leanfade/three/webgpu';
 
-import { fromHalf } from './three/src/lean_map.js';
 import { makeSphere, viewAtDistance } from './leanfade_webgl.js';
 import { pageParams } from './page.js';
 
@@ -26,14 +26,6 @@ function normalTexture(map, mips) {
   const texels = level.width * level.height;
   const data = new Uint16Array(texels * 4);
   const o = map.leanOffset, gain = 1 + o;
-  const one = 0x3c00;
-  const half = (v) => {
-    const f = new Float32Array([v]);
-    const bits = new Uint32Array(f.buffer)[0];
-    const e = ((bits >>> 23) & 0xff) - 112;
-    if (e <= 0) return 0;
-    return ((bits >>> 16) & 0x8000) | (e << 10) | ((bits >>> 13) & 0x3ff);
-  };
   for (let y = 0; y < level.height; ++y)
     for (let x = 0; x < level.width; ++x) {
       const src = (y * level.width + x) * 4 + texels * 4;  // lean2
@@ -41,10 +33,10 @@ function normalTexture(map, mips) {
       const by = (gain * fromHalf(level.data[src + 1]) - o) * map.scale;
       const l = Math.hypot(bx, by, 1);
       const dst = ((level.height - 1 - y) * level.width + x) * 4;
-      data[dst] = half(0.5 * bx / l + 0.5);
-      data[dst + 1] = half(0.5 * by / l + 0.5);
-      data[dst + 2] = half(0.5 / l + 0.5);
-      data[dst + 3] = one;
+      data[dst] = toHalf(0.5 * bx / l + 0.5);
+      data[dst + 1] = toHalf(0.5 * by / l + 0.5);
+      data[dst + 2] = toHalf(0.5 / l + 0.5);
+      data[dst + 3] = toHalf(1);
     }
   const texture = new THREE.DataTexture(data, level.width, level.height, THREE.RGBAFormat, THREE.HalfFloatType);
   texture.wrapS = texture.wrapT = THREE.RepeatWrapping;

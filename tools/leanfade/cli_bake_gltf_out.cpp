@@ -222,6 +222,16 @@ std::string glb_bytes(const json& root, const std::string* bin) {
     return out + body;
 }
 
+// A file this run wrote into a private folder, read back whole; `failure` is thrown when it
+// cannot be (it names what the user knows, not the private path).
+std::vector<std::uint8_t> read_file_bytes(const std::string& path, const Error& failure) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                    std::istreambuf_iterator<char>());
+    if (!in) throw failure;  // not opened (istreambuf_iterator sets no state of its own)
+    return bytes;
+}
+
 // A .glb output holds the files this run writes (LEAN maps, KTX2 and PNG textures) in its binary
 // chunk (glTF 2.0 §4.4: buffer 0 without a uri): each image or LEANFADE_lean_map whose uri is a
 // key of `files` (uri -> the file written) becomes a buffer view of `bin`, 4-byte aligned; an
@@ -241,16 +251,14 @@ void embed_in_binary_chunk(json& root, std::string& bin, bool has_bin,
     json& views = root["bufferViews"];
     if (!views.is_array()) views = json::array();
     const auto embed = [&](const std::string& uri) -> int {
-        const std::string& path = files.at(uri);
-        std::ifstream in(path, std::ios::binary);
-        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        if (!in.eof() && in.fail()) throw Error(output, "cannot read back " + uri + " to embed it");
+        const std::vector<std::uint8_t> bytes = read_file_bytes(
+            files.at(uri), Error(output, "cannot read back " + uri + " to embed it"));
         while (bin.size() % 4 != 0) bin += '\0';
         if (bin.size() + bytes.size() > kMaxGlbBinBytes)
             throw Error(output, "a GLB's binary chunk is at most " + std::to_string(kMaxGlbBinBytes) +
                                     " bytes: write .gltf");
         views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes.size()}});
-        bin += bytes;
+        bin.append(bytes.begin(), bytes.end());
         return int(views.size()) - 1;
     };
     if (const auto images = root.find("images"); images != root.end() && images->is_array())
@@ -427,14 +435,6 @@ std::string store_outputs(const scene::LeanMapCache& cache, const std::string& k
                             std::vector<std::uint8_t>(manifest.begin(), manifest.end()));
 }
 
-std::vector<std::uint8_t> read_file_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                    std::istreambuf_iterator<char>());
-    if (!in.eof() && in.fail()) throw Error(path, "cannot read the encoded texture");
-    return bytes;
-}
-
 // A material's engine textures from its LEAN map (the map as stored) and its own roughness.
 EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::GltfMaterial& m,
                                     const PackedLeanMap& packed, const io::ReadOptions& read_options,
@@ -495,7 +495,10 @@ EngineTextures make_engine_textures(const scene::GltfScene& gltf, const scene::G
             uastc.push_back({(scratch.path() / (std::string(contents[i]) + ".ktx2")).string(),
                              chains[i], false});
         io::write_ktx2_uastc(uastc, writer, io::find_node_script(io::kUastcEncoderScript));
-        for (const io::UastcTexture& u : uastc) basis_files.push_back(read_file_bytes(u.output));
+        for (const io::UastcTexture& u : uastc)
+            basis_files.push_back(read_file_bytes(
+                u.output, Error(input, "cannot read back the encoded " +
+                                           fs::path(u.output).stem().string() + " texture")));
     }
     for (std::size_t i = 0; i < chains.size(); ++i) {
         const std::vector<Rgba8Image>& levels = *chains[i];

@@ -246,7 +246,8 @@ int RoughnessExport::write() {
     }
     if (!args_.anisotropy_out.empty())
         write_all(args_.anisotropy_out, textures.anisotropy, io::EngineTexture::Anisotropy);
-    io::write_ktx2_uastc(uastc_, writer_string(), io::find_node_script(io::kUastcEncoderScript));
+    if (!uastc_.empty())
+        io::write_ktx2_uastc(uastc_, writer_string(), io::find_node_script(io::kUastcEncoderScript));
     return levels;
 }
 

@@ -42,7 +42,12 @@ void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::stri
                     "Node.js), and none was found beside the program (share/leanfade/node; "
                     "scripts/install-deps.sh installs it)");
     const ScratchFolder scratch("leanfade-basis");
-    nlohmann::json job{{"writer", writer}, {"textures", nlohmann::json::array()}};
+    // One encoder process per texture, up to one per hardware thread (the WebAssembly encoder is
+    // single-threaded): the textures dealt round-robin into that many jobs.
+    const std::size_t processes =
+        std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, textures.size());
+    std::vector<nlohmann::json> jobs(
+        processes, nlohmann::json{{"writer", writer}, {"textures", nlohmann::json::array()}});
     for (std::size_t t = 0; t < textures.size(); ++t) {
         const UastcTexture& texture = textures[t];
         nlohmann::json levels = nlohmann::json::array();
@@ -61,18 +66,10 @@ void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::stri
             levels.push_back(
                 {{"file", file.string()}, {"width", level.width}, {"height", level.height}});
         }
-        job["textures"].push_back({{"output", texture.output},
-                                   {"channels", texture.alpha ? "rgba" : "rgb"},
-                                   {"levels", levels}});
+        jobs[t % processes]["textures"].push_back({{"output", texture.output},
+                                                   {"channels", texture.alpha ? "rgba" : "rgb"},
+                                                   {"levels", levels}});
     }
-    // One encoder process per texture, up to one per hardware thread (the WebAssembly encoder is
-    // single-threaded): the textures dealt round-robin into that many jobs.
-    const std::size_t processes = std::clamp<std::size_t>(
-        std::thread::hardware_concurrency(), 1, job["textures"].size());
-    std::vector<nlohmann::json> jobs(processes, nlohmann::json{{"writer", writer},
-                                                               {"textures", nlohmann::json::array()}});
-    for (std::size_t t = 0; t < job["textures"].size(); ++t)
-        jobs[t % processes]["textures"].push_back(job["textures"][t]);
     std::vector<std::vector<std::string>> arguments;
     std::vector<std::string> logs;
     for (std::size_t p = 0; p < processes; ++p) {
