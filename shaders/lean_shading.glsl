@@ -607,6 +607,14 @@ LF_FN LfLobe lf_two_lobe_split(LfLobe lobe, LfMoments m, float inv_s) {
     return r;
 }
 
+// The two-lobe slope density at the half vector h (tangent space, unit): f N(h~; Bs, spike) +
+// (1 - f) N(h~; B_h, halo), in 1/slope^2 (Blinn-Phong's lobe; the bake's spike fit,
+// leanfade/core/plateau.hpp, measures with it too).
+LF_FN float lf_two_lobe_density(LfLobe lobe, vec3 h) {
+    return lobe.spike_weight * lf_lean_lobe(h, lobe.spike_mean, lobe.spike_sigma) +
+           (1.0f - lobe.spike_weight) * lf_lean_lobe(h, lobe.mean, lobe.sigma);
+}
+
 // Geometric specular antialiasing (Kaplanyan et al. 2016; Tokuyoshi and Kaplanyan 2019, Listing
 // 1; docs/math.md §11): the half vector's slope h~ = h.xy / h.z changes across a pixel with the
 // surface's curvature and the view; a Gaussian pixel filter of variance 1/(2 pi) pixel^2 spreads
@@ -724,9 +732,8 @@ LF_FN LfShade lf_shade_blinn_phong(LfLobe lobe, vec3 light_dir, vec3 view_unnorm
                           lf_toksvig_lobe(lobe.lobe_normal, h, lobe.exponent), 1.0f, p);
     }
     if (lobe.kind == LF_LOBE_TWO_LOBE) {
-        float d = lobe.spike_weight * lf_lean_lobe(h, lobe.spike_mean, lobe.spike_sigma) +
-                  (1.0f - lobe.spike_weight) * lf_lean_lobe(h, lobe.mean, lobe.sigma);
-        return lf_combine(lobe.tail_normal, light_dir, v, d, 1.0f, p);
+        return lf_combine(lobe.tail_normal, light_dir, v, lf_two_lobe_density(lobe, h), 1.0f,
+                          p);
     }
     return lf_shade_gaussian_blinn_phong(lobe, light_dir, view_unnormalised, v, h, p);
 }

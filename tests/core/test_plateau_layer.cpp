@@ -196,7 +196,12 @@ TEST(PlateauLayer, StoredLayerDecodesToThePlateauMipsWithinTheStoragesRounding) 
     const PackedLeanMap baked =
         bake_packed(bumps_height(64, 64), BakeSource::Height, options, Storage::Unorm16, "t")
             .packed;
-    const std::vector<Image> want = plateau_mips(packed_top_slopes(baked));
+    // The bake's rule: the plateaus of the map's size and the central window fitted to its slopes
+    // (16-bit UNORM's step is far below epsilon).
+    const Image slopes = packed_top_slopes(baked);
+    PlateauRule rule = plateau_rule_for(slopes);
+    rule.window = fit_spike_window(slopes, rule).window;
+    const std::vector<Image> want = plateau_mips(slopes, rule);
     const std::vector<Image> got = unpack_plateau_layer(baked);
     ASSERT_EQ(got.size(), want.size());
     const float sc = baked.scale;
@@ -210,17 +215,21 @@ TEST(PlateauLayer, StoredLayerDecodesToThePlateauMipsWithinTheStoragesRounding) 
                 << "level " << l << " value " << i;
     flat_fraction = got.back().pixels[0];
     EXPECT_GT(flat_fraction, 0.2) << "the bumps set is mostly flat ground";
+    EXPECT_NEAR(flat_fraction, plateau_fraction(baked), 1e-4);
     EXPECT_LT(flat_fraction, 0.95);
 }
 
 TEST(PlateauLayer, OffPlateauTexelsDecodeToExactlyZero) {
-    // A map with no plateau at all: steep noise everywhere (every neighbour differs).
+    // A map with no plateau at all: steep noise everywhere (every neighbour differs), with the
+    // plateaus alone forming the spike (no central window).
     Image slopes_height(32, 32, 1);
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x)
             slopes_height.at(x, y, 0) = 3.0f * std::sin(float(x * x + 7 * y * y + 3 * x * y));
+    BakeOptions options;
+    options.spike_fit = SpikeFit::Plateaus;
     const PackedLeanMap baked =
-        bake_packed(slopes_height, BakeSource::Height, BakeOptions{}, Storage::Unorm16, "t").packed;
+        bake_packed(slopes_height, BakeSource::Height, options, Storage::Unorm16, "t").packed;
     for (const Image& level : unpack_plateau_layer(baked))
         for (float v : level.pixels) ASSERT_EQ(v, 0.0f);
 }

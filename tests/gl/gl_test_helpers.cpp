@@ -71,14 +71,14 @@ PackedLeanMap make_constant_lean_map(glm::vec2 mean, glm::vec3 covariance, float
     return pack_lean_map(map, storage, "leanfade tests");
 }
 
-PackedLeanMap make_bumps_map(int size, float strength) {
+PackedLeanMap make_bumps_map(int size, float strength, SpikeFit spike) {
     BakeOptions options;
     options.strength = strength;
     const BakeResult baked =
         bake_lean_map(make_builtin_height("bumps", size, 1), BakeSource::Height, options, "bumps");
     // With the plateau layer, as `leanfade bake` writes it (bake_packed adds it by default).
     PackedLeanMap packed = pack_lean_map(baked.map, Storage::Unorm16, "leanfade tests");
-    add_plateau_layer(packed);
+    add_plateau_layer(packed, kDefaultPlateauEpsilon, 0, 0.0f, spike);
     return packed;
 }
 

@@ -40,7 +40,8 @@ PackedLeanMap make_constant_lean_map(glm::vec2 mean, glm::vec3 covariance, float
 
 // The built-in "bumps" set of `size` texels (seed 1), baked at `strength` and packed to 16 bits,
 // with its plateau layer (add_plateau_layer).
-PackedLeanMap make_bumps_map(int size, float strength = 1.0f);
+// The spike of its plateau layer: `spike` (bake's default: auto).
+PackedLeanMap make_bumps_map(int size, float strength = 1.0f, SpikeFit spike = SpikeFit::Auto);
 
 // Sum of all channels of all pixels.
 double image_sum(const Image& image);

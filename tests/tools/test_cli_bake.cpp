@@ -838,8 +838,9 @@ TEST(CliBakePrecision, DefaultStorageKeepsTheHighlightOfPlanksWithSteepGaps) {
     EXPECT_GE(on_the_fly, 50.0) << "render --bumps planks.png against the 32f bake";
 }
 
-// `bake` and `info` say how much of a map is flat; a map with nothing flat (noise) stores no
-// layer of zeros, and --plateau-out still writes its (zero) layer.
+// `bake` and `info` say how much of a map is flat and in the spike; a map with nothing flat (noise,
+// with the plateaus alone forming the spike) stores no layer of zeros, and --plateau-out still
+// writes its (zero) layer.
 TEST(CliBakePlateauLayer, ReportsTheFlatFractionAndStoresNoEmptyLayer) {
     const fs::path dir = test::scratch_dir("bake_plateau_fraction");
     const fs::path bumps = dir / "bumps.ktx2", noise = dir / "noise.ktx2";
@@ -848,8 +849,9 @@ TEST(CliBakePlateauLayer, ReportsTheFlatFractionAndStoresNoEmptyLayer) {
     EXPECT_THAT(flat.out, HasSubstr("flat (two-lobe LEAN's plateaus): "));
     EXPECT_THAT(flat.out, HasSubstr("radius 2x2 texels"));
     EXPECT_EQ(io::inspect_ktx2(bumps.string()).layer_count, 3u);
-    EXPECT_THAT(run_leanfade("info " + q(bumps), dir).out, HasSubstr("of the texels flat"));
-    const auto none = run_leanfade("bake --builtin noise --size 128 --plateau-out " +
+    EXPECT_THAT(flat.out, HasSubstr("spike's share (two-lobe LEAN's f): "));
+    EXPECT_THAT(run_leanfade("info " + q(bumps), dir).out, HasSubstr("of the texels in the spike"));
+    const auto none = run_leanfade("bake --builtin noise --size 128 --spike plateaus --plateau-out " +
                                        q(dir / "noise.plateau.ktx2") + " -o " + q(noise),
                                    dir);
     ASSERT_EQ(none.exit_code, 0) << none.err;

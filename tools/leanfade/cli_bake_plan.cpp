@@ -109,6 +109,7 @@ BakeSettings bake_settings(const BakeArgs& args) {
     options.threads = args.threads;
     options.strict_normals = args.strict_normals;
     options.plateau_epsilon = args.plateau_epsilon;
+    options.spike_fit = args.spike_fit;
     settings.source = parse_bake_source(args.from);
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float

@@ -33,6 +33,7 @@ struct BakeArgs {
     float bake_roughness = 0.0f;
     // The plateau layer's epsilon (slope units; 0 = no layer): BakeOptions::plateau_epsilon.
     float plateau_epsilon = kDefaultPlateauEpsilon;
+    SpikeFit spike_fit = SpikeFit::Auto;  // BakeOptions::spike_fit
     std::string wrap = "repeat";
     // KTX2 LEAN maps' supercompression (--supercompression, --zstd-level; docs/ktx2.md).
     io::Supercompression supercompression = io::Supercompression::Zstandard;

@@ -7,6 +7,7 @@
 
 #include "cli_flags.hpp"
 #include "leanfade/core/input_text.hpp"
+#include "leanfade/core/plateau.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -72,13 +73,24 @@ void print_bake_report(const BakeReport& report) {
     std::printf("  coarsest level: covariance (xx %.5f, yy %.5f, xy %.5f), anisotropy %.3g\n",
                 s.coarsest_covariance.x, s.coarsest_covariance.y, s.coarsest_covariance.z,
                 s.coarsest_anisotropy);
-    if (s.plateau_rule_epsilon > 0.0f)
+    if (s.plateau_rule_epsilon > 0.0f) {
         std::printf("  flat (two-lobe LEAN's plateaus): %.3g %% of the texels (epsilon %.3g, radius "
-                    "%dx%d texels)%s\n",
-                    100.0 * double(s.plateau_fraction), double(s.plateau_rule_epsilon),
-                    s.plateau_radius_x, s.plateau_radius_y,
+                    "%dx%d texels)\n",
+                    100.0 * double(s.flat_fraction), double(s.plateau_rule_epsilon),
+                    s.plateau_radius_x, s.plateau_radius_y);
+        if (s.spike_window.shape != SpikeWindowShape::None)
+            std::printf("  spike: the slopes within a %s of radius %.3g around the mean slope%s, "
+                        "by fit (far highlight within x%.3g of the map's own, x%.3g with the "
+                        "plateaus alone)\n",
+                        to_string(s.spike_window.shape), double(s.spike_window.radius),
+                        s.spike_window.with_plateaus ? " and the plateaus" : "",
+                        std::exp(double(s.spike_fit_error)),
+                        std::exp(double(s.plateaus_fit_error)));
+        std::printf("  spike's share (two-lobe LEAN's f): %.3g %%%s\n",
+                    100.0 * double(s.plateau_fraction),
                     s.plateau_fraction > 0.0f ? ""
                                               : "; no plateau layer stored: two-lobe shades as LEAN");
+    }
     if (report.clamped_texels > 0)
         std::printf("  %zu normals had z < %.4f and were raised to it\n", report.clamped_texels,
                     kMinNormalZ);
@@ -136,6 +148,18 @@ nlohmann::json bake_report_json(const BakeReport& report) {
             {"plateau",
              s.plateau_rule_epsilon > 0.0f
                  ? nlohmann::json{{"fraction", s.plateau_fraction},
+                                  {"flat_fraction", s.flat_fraction},
+                                  {"window",
+                                   s.spike_window.shape == SpikeWindowShape::None
+                                       ? nlohmann::json(nullptr)
+                                       : nlohmann::json{{"shape", to_string(s.spike_window.shape)},
+                                                        {"radius", s.spike_window.radius},
+                                                        {"anchor", {s.spike_window.anchor.x,
+                                                                    s.spike_window.anchor.y}},
+                                                        {"with_plateaus",
+                                                         s.spike_window.with_plateaus}}},
+                                  {"fit_error", s.spike_fit_error},
+                                  {"plateaus_fit_error", s.plateaus_fit_error},
                                   {"epsilon", s.plateau_rule_epsilon},
                                   {"radius", {s.plateau_radius_x, s.plateau_radius_y}},
                                   {"layer_stored", s.plateau_fraction > 0.0f}}

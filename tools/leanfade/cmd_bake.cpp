@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <map>
 #include <string>
 #include <utility>
 #include <variant>
@@ -355,6 +356,15 @@ const CommandRegistration registration{
                        "differs from each neighbour's by less than this per component is on a "
                        "plateau; 0 bakes no layer (two-lobe then shades as LEAN)")
             ->capture_default_str();
+        app.add_option("--spike", args->spike_fit,
+                       "Which texels form two-lobe LEAN's spike (docs/math.md §10): auto (the "
+                       "plateaus and/or a window around the mean slope, whichever fits the "
+                       "map's far highlight best) or plateaus (the plateaus alone, as leanfade "
+                       "0.2 baked)")
+            ->transform(CLI::CheckedTransformer(
+                std::map<std::string, SpikeFit>{{"auto", SpikeFit::Auto},
+                                                {"plateaus", SpikeFit::Plateaus}}))
+            ->default_str("auto");
         app.add_option("--sc", args->sc,
                        "Scale sc of the slopes: auto (the steepest slope except outliers, "
                        "texels at least twice as steep as the 99.9th percentile: counted, and "

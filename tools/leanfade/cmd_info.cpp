@@ -65,7 +65,7 @@ int run_info(const std::string& path, int max_size) {
                (map.has_plateau() ? ", with two-lobe LEAN's plateau layer (epsilon " +
                                         shortest_text(map.plateau_epsilon) + "): " +
                                         percent_text(plateau_fraction(map)) +
-                                        " of the texels flat"
+                                        " of the texels in the spike"
                                   : ", without a plateau layer (two-lobe LEAN shades it as LEAN)");
         char line[300];
         std::snprintf(line, sizeof line,

@@ -560,8 +560,14 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     if (packed.has_plateau()) {
         const detail::PlateauOutcome plateau = detail::pack_plateau_layer_to(
             packed, plan.targets.front().lean2, plan.targets, packed.plateau_epsilon, source_step,
-            options.threads);
+            options.spike_fit, options.threads);
         s.plateau_fraction = plateau.fraction;
+        s.spike_window = plateau.rule.window;
+        s.flat_fraction = plateau.rule.window.shape == SpikeWindowShape::None
+                              ? plateau.fraction
+                              : plateau.fit.plateau_fraction;
+        s.spike_fit_error = plateau.fit.error;
+        s.plateaus_fit_error = plateau.fit.plateaus_error;
         s.plateau_rule_epsilon = plateau.rule.epsilon;
         s.plateau_radius_x = plateau.rule.radius_x;
         s.plateau_radius_y = plateau.rule.radius_y;

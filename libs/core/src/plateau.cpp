@@ -9,6 +9,7 @@
 #include <functional>
 #include <iterator>
 #include <limits>
+#include <span>
 #include <string>
 #include <type_traits>
 
@@ -16,6 +17,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/memory.hpp"
 #include "leanfade/core/parallel.hpp"
+#include "leanfade/core/shading.hpp"
 #include "plateau_internal.hpp"
 
 namespace leanfade {
@@ -91,28 +93,42 @@ struct NoPacker {
     void pack_values(const float*, std::uint8_t*) const {}
 };
 
-// One plateau texel into `texel` (4 floats) and, packed by `packer`, into `packed`.
-template <typename Packer>
-inline void plateau_texel(const StencilRows& rows, int x, int left, int right, int far_left,
-                          int far_right, float epsilon, float* texel, const Packer& packer,
-                          std::uint8_t* packed) {
+// Whether texel x of the stencil's row lies on a plateau (PlateauRule).
+inline bool on_plateau(const StencilRows& rows, int x, int left, int right, int far_left,
+                       int far_right, float epsilon) {
     const float bx = rows.row[2 * x], by = rows.row[2 * x + 1];
     // Most texels of a bumpy map fail the first comparisons: tested in order, stopping there.
-    if (!(near_slope(rows.row, left, bx, by, epsilon) &&
-          near_slope(rows.row, right, bx, by, epsilon) &&
-          near_slope(rows.up, x, bx, by, epsilon) && near_slope(rows.down, x, bx, by, epsilon) &&
-          near_slope(rows.row, far_left, bx, by, epsilon) &&
-          near_slope(rows.row, far_right, bx, by, epsilon) &&
-          near_slope(rows.far_up, x, bx, by, epsilon) &&
-          near_slope(rows.far_down, x, bx, by, epsilon))) {
+    return near_slope(rows.row, left, bx, by, epsilon) &&
+           near_slope(rows.row, right, bx, by, epsilon) &&
+           near_slope(rows.up, x, bx, by, epsilon) && near_slope(rows.down, x, bx, by, epsilon) &&
+           near_slope(rows.row, far_left, bx, by, epsilon) &&
+           near_slope(rows.row, far_right, bx, by, epsilon) &&
+           near_slope(rows.far_up, x, bx, by, epsilon) &&
+           near_slope(rows.far_down, x, bx, by, epsilon);
+}
+
+// One plateau texel, w (1, B, |B|^2) with the spike weight w (1 on a plateau, else the central
+// window's), into `texel` (4 floats) and, packed by `packer`, into `packed`.
+template <typename Packer>
+inline void plateau_texel(const StencilRows& rows, int x, int left, int right, int far_left,
+                          int far_right, const PlateauRule& rule, float* texel,
+                          const Packer& packer, std::uint8_t* packed) {
+    const float bx = rows.row[2 * x], by = rows.row[2 * x + 1];
+    const float weight =
+        rule.window.with_plateaus &&
+                on_plateau(rows, x, left, right, far_left, far_right, rule.epsilon)
+            ? 1.0f
+            : spike_window_weight(rule.window, bx, by);
+    if (!(weight > 0.0f)) {
         texel[0] = texel[1] = texel[2] = texel[3] = 0.0f;
         packer.pack_off(packed);
         return;
     }
-    texel[0] = 1.0f;
-    texel[1] = bx;
-    texel[2] = by;
-    texel[3] = bx * bx + by * by;
+    // w = 1 gives (1, Bx, By, |B|^2) bit for bit.
+    texel[0] = weight;
+    texel[1] = weight * bx;
+    texel[2] = weight * by;
+    texel[3] = weight * (bx * bx + by * by);
     packer.pack_values(texel, packed);
 }
 
@@ -121,7 +137,6 @@ inline void plateau_texel(const StencilRows& rows, int x, int left, int right, i
 template <typename Packer = NoPacker>
 void plateau_row(const StencilRows& rows, int w, const PlateauRule& rule, float* out,
                  const Packer& packer = {}, std::uint8_t* packed = nullptr) {
-    const float epsilon = rule.epsilon;
     const int rx = rule.radius_x % w;
     constexpr std::size_t bytes = Packer::kTexelBytes;
     // The texels whose neighbours (1 and rx away) need no wrap, without index arithmetic;
@@ -130,12 +145,12 @@ void plateau_row(const StencilRows& rows, int w, const PlateauRule& rule, float*
     const int first = std::min(margin, w), end = std::max(first, w - margin);
     auto wrapped = [&](int x) {
         const int left = x == 0 ? w - 1 : x - 1, right = x == w - 1 ? 0 : x + 1;
-        plateau_texel(rows, x, left, right, (x - rx + w) % w, (x + rx) % w, epsilon, out + 4 * x,
+        plateau_texel(rows, x, left, right, (x - rx + w) % w, (x + rx) % w, rule, out + 4 * x,
                       packer, packed + std::size_t(x) * bytes);
     };
     for (int x = 0; x < first; ++x) wrapped(x);
     for (int x = first; x < end; ++x)
-        plateau_texel(rows, x, x - 1, x + 1, x - rx, x + rx, epsilon, out + 4 * x, packer,
+        plateau_texel(rows, x, x - 1, x + 1, x - rx, x + rx, rule, out + 4 * x, packer,
                       packed + std::size_t(x) * bytes);
     for (int x = end; x < w; ++x) wrapped(x);
 }
@@ -330,7 +345,225 @@ void check_rule(const PlateauRule& rule) {
         throw Error("plateau", "the rule's radius must be at least 1 texel");
 }
 
+
+// --- The central window's fit (fit_spike_window, plateau.hpp) ---
+
+constexpr long kFitMaxSamples = 65536;   // texels of the grid the fit measures on
+constexpr int kFitBlocksPerSide = 16;    // the middle footprints: a 16th of the map's side
+constexpr float kFitShininess[] = {128.0f, 1024.0f, 13777.0f};
+// The half vectors probed around the mean slope: a plane near its mirror direction sees slopes
+// within about this much of its mirror slope (slope units).
+constexpr float kFitProbeRadius = 0.05f;
+constexpr float kFitDiscRadii[] = {0.1f, 0.17f, 0.25f, 0.35f, 0.5f};   // x the slopes' std dev
+constexpr float kFitBiweightRadii[] = {1.0f, 1.5f, 2.0f, 2.5f};
+
+struct SlopeSamples {
+    int columns = 0, rows = 0;
+    std::vector<float> slopes;       // 2 per sample, rows top first
+    std::vector<std::uint8_t> flat;  // on a plateau (the rule's)
+};
+
+// The slopes and plateau flags of a regular grid of at most kFitMaxSamples texels of a w x h map
+// (texel centres of every stride-th row and column), decode(y, out) giving row y's slopes.
+template <typename Decode>
+SlopeSamples sample_slopes(int w, int h, const PlateauRule& rule, Decode decode, int threads) {
+    int stride = 1;
+    while (long(w / stride) * long(h / stride) > kFitMaxSamples) ++stride;
+    SlopeSamples samples;
+    samples.columns = std::max(1, w / stride);
+    samples.rows = std::max(1, h / stride);
+    const std::size_t count = std::size_t(samples.columns) * std::size_t(samples.rows);
+    samples.slopes.resize(2 * count);
+    samples.flat.resize(count);
+    const int rx = rule.radius_x % w, half = stride / 2;
+    parallel_for_rows(samples.rows, threads, [&](int first, int end) {
+        SlopeRowWindow window(w, h, 2 * rule.radius_y + 4, decode);
+        for (int j = first; j < end; ++j) {
+            const StencilRows rows = window.stencil(std::min(j * stride + half, h - 1), rule);
+            for (int i = 0; i < samples.columns; ++i) {
+                const int x = std::min(i * stride + half, w - 1);
+                const std::size_t at = std::size_t(j) * std::size_t(samples.columns) + std::size_t(i);
+                samples.slopes[2 * at] = rows.row[2 * x];
+                samples.slopes[2 * at + 1] = rows.row[2 * x + 1];
+                samples.flat[at] = on_plateau(rows, x, (x + w - 1) % w, (x + 1) % w,
+                                              (x - rx + w) % w, (x + rx) % w, rule.epsilon);
+            }
+        }
+    });
+    return samples;
+}
+
+// The moments of a set of samples under a window: the LEAN map's (B, M) and the spike layer's
+// (f, f Bs, f |Bs|^2), as sums.
+struct FitSums {
+    double n = 0, bx = 0, by = 0, mxx = 0, myy = 0, mxy = 0, f = 0, fbx = 0, fby = 0, fbb = 0;
+    void add(float x, float y, float weight) {
+        n += 1.0;
+        bx += x;
+        by += y;
+        mxx += double(x) * x;
+        myy += double(y) * y;
+        mxy += double(x) * y;
+        if (weight > 0.0f) {
+            f += weight;
+            fbx += double(weight) * x;
+            fby += double(weight) * y;
+            fbb += double(weight) * (double(x) * x + double(y) * y);
+        }
+    }
+    // Two-lobe LEAN's density (lf_two_lobe_density) at the half vectors `probes` summed, at
+    // Blinn-Phong's base roughness 1/s per axis.
+    double density(std::span<const glm::vec2> probes, float inv_s) const {
+        using namespace shading;
+        LfMoments m;
+        const double k = 1.0 / n;
+        m.normal = vec3(0.0f, 0.0f, 1.0f);
+        m.mean = vec2(float(bx * k), float(by * k));
+        m.second = vec3(float(mxx * k), float(myy * k), float(mxy * k));
+        m.plateau = vec4(float(f * k), float(fbx * k), float(fby * k), float(fbb * k));
+        LfLobe lobe;
+        lobe.kind = LF_LOBE_GAUSSIAN;
+        lobe.mean = m.mean;
+        lobe.sigma = lf_covariance(m.mean, m.second, inv_s);
+        lobe.spike_weight = 0.0f;
+        lobe.spike_mean = vec2(0.0f);
+        lobe.spike_sigma = vec3(0.0f);
+        lobe = lf_two_lobe_split(lobe, m, inv_s);
+        double sum = 0.0;
+        for (const glm::vec2& p : probes) sum += lf_two_lobe_density(lobe, vec3(p.x, p.y, 1.0f));
+        return sum;
+    }
+};
+
+SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
+    const std::size_t count = samples.flat.size();
+    const float* b = samples.slopes.data();
+    FitSums all;
+    for (std::size_t i = 0; i < count; ++i) all.add(b[2 * i], b[2 * i + 1], 0.0f);
+    const glm::vec2 mean(float(all.bx / all.n), float(all.by / all.n));
+    const double variance = std::max(0.0, (all.mxx + all.myy) / all.n -
+                                              double(mean.x) * mean.x - double(mean.y) * mean.y);
+    const float sd = float(std::sqrt(variance));
+    SpikeWindowFit result;
+    std::size_t flat = 0;
+    for (std::uint8_t v : samples.flat) flat += v;
+    result.plateau_fraction = float(double(flat) / double(std::max<std::size_t>(count, 1)));
+    if (!(sd > 0.0f)) return result;  // one slope everywhere: nothing to fit
+
+    // Probes: the mean slope, and rings of 6 at half and the whole probe radius.
+    std::vector<glm::vec2> probes{mean};
+    for (int ring = 1; ring <= 2; ++ring)
+        for (int k = 0; k < 6; ++k) {
+            const float angle = 1.04719755f * float(k) + (ring == 2 ? 0.52359878f : 0.0f);
+            probes.push_back(mean + 0.5f * float(ring) * kFitProbeRadius *
+                                        glm::vec2(std::cos(angle), std::sin(angle)));
+        }
+    // The truth: every sample's own lobe, summed (the supersampled footprint's density).
+    double truth[std::size(kFitShininess)] = {};
+    for (std::size_t si = 0; si < std::size(kFitShininess); ++si) {
+        const float inv_s = 1.0f / kFitShininess[si];
+        const shading::vec3 sigma(inv_s, inv_s, 0.0f);
+        double sum = 0.0;
+        for (std::size_t i = 0; i < count; ++i) {
+            const shading::vec2 bi(b[2 * i], b[2 * i + 1]);
+            for (const glm::vec2& p : probes)
+                sum += shading::lf_lean_lobe(shading::vec3(p.x, p.y, 1.0f), bi, sigma);
+        }
+        truth[si] = sum / double(count);
+    }
+    // A candidate's largest |ln(model / truth)| over the shininesses, for the whole map and for
+    // the middle footprints (their densities summed, as a picture's pixels sum them).
+    const int block_columns = std::max(1, samples.columns / kFitBlocksPerSide);
+    const int block_rows = std::max(1, samples.rows / kFitBlocksPerSide);
+    const int blocks_x = samples.columns / block_columns, blocks_y = samples.rows / block_rows;
+    auto error_of = [&](const SpikeWindow& window) {
+        std::vector<FitSums> blocks(std::size_t(blocks_x) * std::size_t(blocks_y));
+        FitSums whole;
+        for (int j = 0; j < samples.rows; ++j)
+            for (int i = 0; i < samples.columns; ++i) {
+                const std::size_t at = std::size_t(j) * std::size_t(samples.columns) + std::size_t(i);
+                const float x = b[2 * at], y = b[2 * at + 1];
+                const float weight = window.with_plateaus && samples.flat[at]
+                                         ? 1.0f
+                                         : spike_window_weight(window, x, y);
+                whole.add(x, y, weight);
+                const int bi = i / block_columns, bj = j / block_rows;
+                if (bi < blocks_x && bj < blocks_y)
+                    blocks[std::size_t(bj) * std::size_t(blocks_x) + std::size_t(bi)].add(x, y, weight);
+            }
+        double worst = 0.0;
+        for (std::size_t si = 0; si < std::size(kFitShininess); ++si) {
+            const float inv_s = 1.0f / kFitShininess[si];
+            double footprints = 0.0;
+            for (const FitSums& block : blocks) footprints += block.density(probes, inv_s);
+            const double ratios[2] = {whole.density(probes, inv_s) / truth[si],
+                                      footprints / double(blocks.size()) / truth[si]};
+            for (double ratio : ratios)
+                worst = std::max(worst, ratio > 0.0 && std::isfinite(ratio)
+                                            ? std::abs(std::log(ratio))
+                                            : std::numeric_limits<double>::infinity());
+        }
+        return worst;
+    };
+    SpikeWindow best;  // the plateaus alone
+    double best_error = error_of(best);
+    result.plateaus_error = float(best_error);
+    auto consider = [&](SpikeWindowShape shape, float radius_in_sd, bool with_plateaus) {
+        SpikeWindow window{shape, mean, radius_in_sd * sd, with_plateaus};
+        const double error = error_of(window);
+        if (error < best_error) {
+            best_error = error;
+            best = window;
+        }
+    };
+    for (bool with_plateaus : {true, false}) {
+        if (with_plateaus && !plateaus_found) continue;  // the same as without
+        for (float r : kFitDiscRadii) consider(SpikeWindowShape::Disc, r, with_plateaus);
+        for (float r : kFitBiweightRadii) consider(SpikeWindowShape::Biweight, r, with_plateaus);
+    }
+    result.window = best;
+    result.error = float(best_error);
+    return result;
+}
+
+template <typename Decode>
+SpikeWindowFit fit_with(int w, int h, const PlateauRule& rule, Decode decode, int threads) {
+    const SlopeSamples samples = sample_slopes(w, h, rule, decode, threads);
+    const bool plateaus_found =
+        std::any_of(samples.flat.begin(), samples.flat.end(), [](std::uint8_t v) { return v; });
+    SpikeWindowFit fit = fit_samples(samples, plateaus_found);
+    if (fit.window.shape == SpikeWindowShape::None) fit.window.with_plateaus = true;
+    return fit;
+}
+
 }  // namespace
+
+const char* to_string(SpikeWindowShape shape) {
+    switch (shape) {
+        case SpikeWindowShape::Disc: return "disc";
+        case SpikeWindowShape::Biweight: return "biweight";
+        case SpikeWindowShape::None: break;
+    }
+    return "none";
+}
+
+const char* to_string(SpikeFit fit) { return fit == SpikeFit::Auto ? "auto" : "plateaus"; }
+
+SpikeFit parse_spike_fit(const std::string& name, const std::string& setting) {
+    if (name == "auto") return SpikeFit::Auto;
+    if (name == "plateaus") return SpikeFit::Plateaus;
+    throw Error(setting, "'" + name + "' is not one of auto, plateaus");
+}
+
+SpikeWindowFit fit_spike_window(const Image& slopes, const PlateauRule& rule, int threads) {
+    check_rule(rule);
+    check_slopes(slopes);
+    return fit_with(slopes.width, slopes.height, rule,
+                    [&](int y, float* out) {
+                        std::memcpy(out, slopes.row(y), 2 * sizeof(float) * std::size_t(slopes.width));
+                    },
+                    threads);
+}
 
 PlateauRule plateau_rule(int width, int height, float epsilon, float quantisation_step) {
     check_epsilon(epsilon);
@@ -411,12 +644,14 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads) {
                            lean_offset(map.encoding), threads);
 }
 
-void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads, float source_step) {
+void add_plateau_layer(PackedLeanMap& map, float epsilon, int threads, float source_step,
+                       SpikeFit fit) {
     check_epsilon(epsilon);
     const Image slopes = packed_top_slopes(map, threads);
-    const PlateauRule rule =
+    PlateauRule rule =
         plateau_rule(slopes.width, slopes.height, epsilon,
                      std::max(source_step, storage_slope_step(map.storage, map.scale)));
+    if (fit == SpikeFit::Auto) rule.window = fit_spike_window(slopes, rule, threads).window;
     set_plateau_layer(map, plateau_mips(slopes, rule, threads), epsilon, threads);
 }
 
@@ -499,7 +734,7 @@ std::vector<Image> unpack_plateau_layer(const PackedLeanMap& map, int threads) {
 
 detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
                                    const std::vector<PackedLevelTarget>& targets, float epsilon,
-                                   float source_step, int threads) {
+                                   float source_step, SpikeFit fit, int threads) {
     check_epsilon(epsilon);
     const PackedLevel& top = layout.levels.front();
     const int w = top.width, h = top.height;
@@ -511,8 +746,13 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
     auto decode = [&](int y, float* out) {
         decode_slope_row(lean2_top + std::size_t(y) * row_bytes, w, storage, sc, offset, out);
     };
-    const PlateauRule rule =
+    PlateauRule rule =
         plateau_rule(w, h, epsilon, std::max(source_step, storage_slope_step(storage, sc)));
+    SpikeWindowFit fitted;
+    if (fit == SpikeFit::Auto) {
+        fitted = fit_with(w, h, rule, decode, threads);
+        rule.window = fitted.window;
+    }
     std::vector<Image> chain;
     if (w % 2 != 0 || h % 2 != 0) {
         // Odd sizes: the reference's chain (area filter of odd sizes from the finest level).
@@ -520,7 +760,7 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
                              threads);
         for (std::size_t l = 0; l < chain.size(); ++l)
             pack_plateau_level(chain[l], storage, sc, offset, targets[l].plateau, threads);
-        return {rule, mean_fraction(chain.back())};
+        return {rule, mean_fraction(chain.back()), fitted};
     }
     // Even sizes: levels 0 to `depth` made block by block (2^depth rows of the finest level,
     // from which each level's rows of the block are box-filtered, packed as they are made), with
@@ -569,7 +809,7 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
     for (std::size_t l = 1; l < chain.size(); ++l)
         pack_plateau_level(chain[l], storage, sc, offset, targets[std::size_t(depth) + l].plateau,
                            threads);
-    return {rule, mean_fraction(chain.back())};
+    return {rule, mean_fraction(chain.back()), fitted};
 }
 
 }  // namespace leanfade

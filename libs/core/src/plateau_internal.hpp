@@ -14,13 +14,15 @@ namespace leanfade::detail {
 // finest level's packed lean2 texels at `lean2_top`. epsilon: slope units, finite and > 0;
 // source_step: the source's quantisation step (source_slope_step), the rule also takes the
 // storage's (storage_slope_step).
-// Returns the rule it applied and the fraction of the texels on a plateau.
+// With SpikeFit::Auto the rule's central window is fitted first (fit_spike_window).
+// Returns the rule it applied, the spike's share of the map (the coarsest f) and the fit.
 struct PlateauOutcome {
     PlateauRule rule;
     float fraction = 0.0f;
+    SpikeWindowFit fit;
 };
 PlateauOutcome pack_plateau_layer_to(const PackedLeanMap& layout, const std::uint8_t* lean2_top,
                            const std::vector<PackedLevelTarget>& targets, float epsilon,
-                           float source_step, int threads);
+                           float source_step, SpikeFit fit, int threads);
 
 }  // namespace leanfade::detail

@@ -119,6 +119,27 @@ struct PackedLevel {
 // per component, in slope units.
 inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 
+// The spike of maps without flat ground (docs/math.md §10, "The central window"): the slopes of
+// natural ground, rock or worn bricks are peakier at their centre than a Gaussian of the same
+// covariance, which costs LEAN 20-90 % of a far highlight. Two-lobe LEAN's spike then takes the
+// texels whose slope lies near the map's mean slope, with a weight w in [0, 1] per texel:
+//   Disc      w = 1 where |B - anchor| < radius, 0 elsewhere;
+//   Biweight  w = (1 - |B - anchor|^2 / radius^2)^2 where positive, 0 elsewhere;
+// and a plateau texel has w = 1 when with_plateaus. The layer stores w (1, B, |B|^2), linear as
+// before, so the shaders and files do not change. None: the plateau rule alone.
+enum class SpikeWindowShape { None, Disc, Biweight };
+struct SpikeWindow {
+    SpikeWindowShape shape = SpikeWindowShape::None;
+    glm::vec2 anchor{0.0f};     // slope units: the map's mean slope
+    float radius = 0.0f;        // slope units, > 0 unless None
+    bool with_plateaus = true;  // plateau texels (PlateauRule) join the spike with w = 1
+};
+// How a bake chooses the spike's texels (BakeOptions::spike_fit).
+enum class SpikeFit {
+    Plateaus,  // the plateau rule alone (leanfade 0.2 and earlier)
+    Auto,      // the rule's plateaus and/or the central window that fit the map best
+};
+
 // What a packed LEAN map records besides its levels: the storage, sc and how it was baked (what
 // a KTX2 file keeps in its key/value data, docs/ktx2.md).
 struct PackedLeanMapMetadata {
@@ -175,6 +196,8 @@ struct BakeOptions {
     // The packed bakes (bake_packed*) add the plateau layer of two-lobe LEAN with this epsilon
     // (slope units, finite, >= 0; 0 = no layer). The float LeanMap has no such layer.
     float plateau_epsilon = kDefaultPlateauEpsilon;
+    // Which texels form two-lobe LEAN's spike (leanfade/core/plateau.hpp, fit_spike_window).
+    SpikeFit spike_fit = SpikeFit::Auto;
     // The largest code of the source's integer samples when a bake is given them as floats
     // (255 for 8 bits, 65535 for 16; 0: a bake of integer samples knows their own, float
     // samples have none). The plateau rule takes one code's slope as the map's quantisation
@@ -306,9 +329,17 @@ struct LeanMapSummary {
     // Two-lobe LEAN's plateau layer (leanfade/core/plateau.hpp), where the bake made one: the
     // fraction of the texels on a plateau, and the rule's epsilon (slope units) and radius
     // (texels, per axis) as the map's size and quantisation set them. 0 without a layer.
+    // plateau_fraction is the spike's share (the coarsest level's f: the plateaus plus the
+    // central window's weights); flat_fraction the share of the texels on a plateau (measured
+    // on the fit's grid when a window was fitted); spike_window the window (None: the plateaus
+    // alone), spike_fit_error and plateaus_fit_error the fit's largest |ln(two-lobe / truth)|
+    // with it and with the plateaus alone (0 when not fitted).
     float plateau_fraction = 0.0f;
     float plateau_rule_epsilon = 0.0f;
     int plateau_radius_x = 0, plateau_radius_y = 0;
+    float flat_fraction = 0.0f;
+    SpikeWindow spike_window;
+    float spike_fit_error = 0.0f, plateaus_fit_error = 0.0f;
 };
 LeanMapSummary summarize(const LeanMap& map);
 

@@ -4,7 +4,10 @@
 // shoulder of the bumps, which one Gaussian of the same moments cannot follow. The layer stores,
 // per texel, whether it lies on such a plateau and its slope, as values that filter linearly:
 // a MIP level of the layer is the layer of the filtered map. GL-free.
+#include <string>
 #include <vector>
+
+#include <glm/vec2.hpp>
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
@@ -31,12 +34,50 @@ namespace leanfade {
 inline constexpr int kPlateauReferenceTexels = 256;
 inline constexpr float kPlateauQuantisationSteps = 1.5f;
 
+// SpikeWindowShape, SpikeWindow and SpikeFit are declared in leanfade/core/lean_map.hpp.
+const char* to_string(SpikeWindowShape shape);  // "none", "disc", "biweight"
+
+// The window's weight w of a texel of slope (bx, by) (slope units), in [0, 1]; 0 for None.
+inline float spike_window_weight(const SpikeWindow& window, float bx, float by) {
+    if (window.shape == SpikeWindowShape::None) return 0.0f;
+    const float dx = bx - window.anchor.x, dy = by - window.anchor.y;
+    const float t = (dx * dx + dy * dy) / (window.radius * window.radius);
+    if (!(t < 1.0f)) return 0.0f;
+    if (window.shape == SpikeWindowShape::Disc) return 1.0f;
+    return (1.0f - t) * (1.0f - t);
+}
+
 struct PlateauRule {
     float epsilon = kDefaultPlateauEpsilon;  // slope units, > 0
     int radius_x = 1;                        // texels, >= 1
     int radius_y = 1;
     float quantisation_step = 0.0f;  // the measured step it was made for (slope units), or 0
+    SpikeWindow window;              // the central window; None (plateaus alone) unless fitted
 };
+
+const char* to_string(SpikeFit fit);  // "plateaus", "auto"
+// Throws leanfade::Error(setting, cause) for another name.
+SpikeFit parse_spike_fit(const std::string& name, const std::string& setting = "spike_fit");
+
+// What fit_spike_window measured: the window it chose and the fit of the far highlight
+// (the largest |ln(two-lobe / truth)| over its probes, 0 = exact) with it and with the plateaus
+// alone, and the fraction of the sampled texels on a plateau.
+struct SpikeWindowFit {
+    SpikeWindow window;
+    float error = 0.0f;
+    float plateaus_error = 0.0f;
+    float plateau_fraction = 0.0f;
+};
+
+// Chooses the central window for the 2-channel slopes of a map's finest level (slope units)
+// under `rule` (its plateaus), by measurement: on at most 65536 texels of a regular grid it
+// compares two-lobe LEAN's lobe (lf_two_lobe_split of the shading header) with the texels' own
+// lobes summed (the supersampled truth of the map's footprint) near the mean slope, for the whole
+// map and for footprints of a 16th of its side, at s = 128, 1024 and 13777 (Blinn-Phong's 1/s per
+// axis), and keeps the candidate with the least largest error: the plateaus alone; or a disc of
+// radius 0.1-0.5, or a biweight of radius 1-2.5, of the slopes' standard deviation sqrt(tr S),
+// each with and without the plateaus. Deterministic for any thread count.
+SpikeWindowFit fit_spike_window(const Image& slopes, const PlateauRule& rule, int threads = 0);
 
 // The rule for a map of width x height texels, the setting `epsilon` (slope units, finite and
 // > 0, else Error("plateau_epsilon", ...)) and the quantisation step of the map's slopes (slope
@@ -83,8 +124,10 @@ Image packed_top_slopes(const PackedLeanMap& map, int threads = 0);
 // (BakeOptions::plateau_epsilon) write exactly these bytes.
 // The rule: plateau_rule(the map's size, epsilon, the larger of source_step (the source's
 // quantisation, source_slope_step; 0 when unknown) and the storage's step).
+// With SpikeFit::Auto the rule's window is fitted to the map's slopes (fit_spike_window).
 void add_plateau_layer(PackedLeanMap& map, float epsilon = kDefaultPlateauEpsilon,
-                       int threads = 0, float source_step = 0.0f);
+                       int threads = 0, float source_step = 0.0f,
+                       SpikeFit fit = SpikeFit::Auto);
 // The plateau layer of `map` from its float chain (f, f Bs, f |Bs|^2), one 4-channel image per
 // level of the map's sizes, finest first, packed as add_plateau_layer packs it; sets
 // map.plateau_epsilon (the epsilon the chain was made with). Throws Error("plateau", ...) for a
@@ -94,8 +137,8 @@ void set_plateau_layer(PackedLeanMap& map, const std::vector<Image>& chain, floa
 // The map without its plateau layer (as maps of older versions are).
 void remove_plateau_layer(PackedLeanMap& map);
 
-// The fraction of `map`'s texels on a plateau (the coarsest level's f, in [0, 1]); 0 for a map
-// without the layer.
+// The spike's share of `map` (the coarsest level's f, in [0, 1]: the fraction of its texels on a
+// plateau, plus the central window's weights); 0 for a map without the layer.
 float plateau_fraction(const PackedLeanMap& map);
 
 // The stored plateau layer decoded to the renderer's floats (f, f Bs.x, f Bs.y, f |Bs|^2) (slope

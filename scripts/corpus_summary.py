@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""The corpus table of docs/results.md §9 from bake_off.py's rows.
+
+Reads one or more bake_off.json files (later files replace the rows of the same configuration
+and technique), keeps the cases whose truth is converged (reference_energy_error <= 5 %), and
+writes per map and view the min-max of energy_total per technique over shininess and distance,
+and how many of the recommended technique's cases lie within 0.8-1.25, as Markdown (stdout) and
+as CSV/JSON next to --out.
+
+Usage: scripts/corpus_summary.py ROWS.json [MORE.json ...] [--out STEM] [--techniques LIST]
+"""
+import argparse
+import csv
+import json
+import re
+
+LOW, HIGH, CONVERGED = 0.8, 1.25, 0.05
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("rows", nargs="+")
+    parser.add_argument("--out", default="")
+    parser.add_argument("--techniques", default="two-lobe,lean,toksvig,roughness,bump")
+    args = parser.parse_args()
+    techniques = args.techniques.split(",")
+    cases = {}
+    for path in args.rows:
+        with open(path) as f:
+            for r in json.load(f):
+                key = (r["configuration"], r["technique"], r["shininess"], r["distance"])
+                cases[key] = r
+    table = {}
+    for (configuration, technique, _, _), r in cases.items():
+        match = re.fullmatch(r"corpus_(.+)_(plane|teapot|teapot_back)_(bp|ct)", configuration)
+        if not match or technique not in techniques:
+            continue
+        error = r.get("reference_energy_error")
+        energy = r.get("energy_total")
+        if error is None or error > CONVERGED or energy is None or energy != energy:
+            continue
+        entry = table.setdefault((match.group(1), match.group(2), match.group(3)), {})
+        entry.setdefault(technique, []).append(energy)
+    rows = []
+    for (tag, view, brdf), entry in sorted(table.items()):
+        row = {"map": tag, "view": view, "brdf": brdf}
+        for t in techniques:
+            values = entry.get(t, [])
+            row[t] = f"{min(values):.2f}-{max(values):.2f}" if values else "-"
+        first = entry.get(techniques[0], [])
+        row["within"] = f"{sum(LOW <= v <= HIGH for v in first)}/{len(first)}"
+        rows.append(row)
+    header = ["map", "view", "brdf"] + techniques + [f"in {LOW}-{HIGH} ({techniques[0]})"]
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for row in rows:
+        print("| " + " | ".join(str(v) for v in row.values()) + " |")
+    totals = {t: [0, 0] for t in techniques}
+    for entry in table.values():
+        for t in techniques:
+            values = entry.get(t, [])
+            totals[t][0] += sum(LOW <= v <= HIGH for v in values)
+            totals[t][1] += len(values)
+    print()
+    print("; ".join(f"{t}: {a} of {b} converged cases within {LOW}-{HIGH}"
+                    for t, (a, b) in totals.items()))
+    if args.out:
+        with open(args.out + ".json", "w") as f:
+            json.dump(rows, f, indent=1)
+        with open(args.out + ".csv", "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            writer.writeheader()
+            writer.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()
