@@ -56,8 +56,9 @@ float finite_setting(const char* setting, double value) {
 BakeSettings make_settings(const std::string& from, std::optional<double> strength,
                            const std::string& strength_unit, const std::string& sc, bool directx,
                            bool strict_normals, const std::string& bits, double bake_roughness,
-                           double plateau_epsilon, const std::string& wrap, int threads,
-                           int max_size, const std::string& supercompression, int zstd_level) {
+                           double plateau_epsilon, const std::string& spike,
+                           const std::string& wrap, int threads, int max_size,
+                           const std::string& supercompression, int zstd_level) {
     BakeSettings settings;
     BakeOptions& options = settings.options;
     settings.source = parse_bake_source(from, "from");
@@ -83,6 +84,7 @@ BakeSettings make_settings(const std::string& from, std::optional<double> streng
     if (!(plateau_epsilon >= 0.0) || !std::isfinite(plateau_epsilon))
         throw Error("plateau_epsilon", "must be a finite number >= 0 (0: no plateau layer)");
     options.plateau_epsilon = float(plateau_epsilon);
+    options.spike_fit = parse_spike_fit(spike, "spike");
     if (wrap != "repeat" && wrap != "clamp")
         throw Error("wrap", "expected repeat or clamp, got '" + wrap + "'");
     options.wrap = wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
@@ -247,6 +249,13 @@ py::dict summary_dict(const LeanMapSummary& s) {
                                               s.coarsest_covariance.z);
     d["coarsest_anisotropy"] = s.coarsest_anisotropy;
     d["plateau_fraction"] = s.plateau_fraction;
+    d["flat_fraction"] = s.flat_fraction;
+    d["spike_window"] =
+        s.spike_window.shape == SpikeWindowShape::None
+            ? py::object(py::none())
+            : py::object(py::dict(py::arg("shape") = to_string(s.spike_window.shape),
+                                  py::arg("radius") = s.spike_window.radius,
+                                  py::arg("with_plateaus") = s.spike_window.with_plateaus));
     return d;
 }
 
@@ -347,7 +356,7 @@ PYBIND11_MODULE(_leanfade, m) {
              py::arg("sc") = "auto", py::arg("directx") = false, py::arg("strict_normals") = false,
              py::arg("bits") = "auto", py::arg("bake_roughness") = 0.0,
              py::arg("plateau_epsilon") = double(kDefaultPlateauEpsilon),
-             py::arg("wrap") = "repeat", py::arg("threads") = 0,
+             py::arg("spike") = "auto", py::arg("wrap") = "repeat", py::arg("threads") = 0,
              py::arg("max_size") = kDefaultMaxImageDimension, py::arg("supercompression") = "zstd",
              py::arg("zstd_level") = 3);
 

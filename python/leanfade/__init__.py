@@ -51,6 +51,7 @@ BAKE_SETTINGS: dict[str, Any] = {
     "bits": "auto",
     "bake_roughness": 0.0,
     "plateau_epsilon": 0.005,
+    "spike": "auto",
     "wrap": "repeat",
     "threads": 0,
     "max_size": 16384,

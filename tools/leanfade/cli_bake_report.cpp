@@ -79,10 +79,11 @@ void print_bake_report(const BakeReport& report) {
                     100.0 * double(s.flat_fraction), double(s.plateau_rule_epsilon),
                     s.plateau_radius_x, s.plateau_radius_y);
         if (s.spike_window.shape != SpikeWindowShape::None)
-            std::printf("  spike: the slopes within a %s of radius %.3g around the mean slope%s, "
+            std::printf("  spike: the slopes within a %s of radius %.3g around (%.3g, %.3g)%s, "
                         "by fit (far highlight within x%.3g of the map's own, x%.3g with the "
                         "plateaus alone)\n",
                         to_string(s.spike_window.shape), double(s.spike_window.radius),
+                        double(s.spike_window.anchor.x), double(s.spike_window.anchor.y),
                         s.spike_window.with_plateaus ? " and the plateaus" : "",
                         std::exp(double(s.spike_fit_error)),
                         std::exp(double(s.plateaus_fit_error)));

@@ -354,8 +354,11 @@ constexpr float kFitShininess[] = {128.0f, 1024.0f, 13777.0f};
 // The half vectors probed around the mean slope: a plane near its mirror direction sees slopes
 // within about this much of its mirror slope (slope units).
 constexpr float kFitProbeRadius = 0.05f;
-constexpr float kFitDiscRadii[] = {0.1f, 0.17f, 0.25f, 0.35f, 0.5f};   // x the slopes' std dev
-constexpr float kFitBiweightRadii[] = {1.0f, 1.5f, 2.0f, 2.5f};
+constexpr float kFitDiscRadii[] = {0.02f, 0.05f, 0.1f, 0.17f, 0.25f, 0.35f, 0.5f};  // x std dev
+constexpr float kFitBiweightRadii[] = {0.5f, 1.0f, 1.5f, 2.0f, 2.5f};
+// A probe's error is |ln((model + floor) / (truth + floor))| with floor this share of the truth's
+// largest probe: half vectors where the truth has next to nothing light next to nothing.
+constexpr double kFitFloor = 0.05;
 
 struct SlopeSamples {
     int columns = 0, rows = 0;
@@ -411,9 +414,9 @@ struct FitSums {
             fbb += double(weight) * (double(x) * x + double(y) * y);
         }
     }
-    // Two-lobe LEAN's density (lf_two_lobe_density) at the half vectors `probes` summed, at
-    // Blinn-Phong's base roughness 1/s per axis.
-    double density(std::span<const glm::vec2> probes, float inv_s) const {
+    // Two-lobe LEAN's density (lf_two_lobe_density) at each of the half vectors `probes`, added
+    // to `out`, at Blinn-Phong's base roughness 1/s per axis.
+    void add_density(std::span<const glm::vec2> probes, float inv_s, double* out) const {
         using namespace shading;
         LfMoments m;
         const double k = 1.0 / n;
@@ -429,11 +432,54 @@ struct FitSums {
         lobe.spike_mean = vec2(0.0f);
         lobe.spike_sigma = vec3(0.0f);
         lobe = lf_two_lobe_split(lobe, m, inv_s);
-        double sum = 0.0;
-        for (const glm::vec2& p : probes) sum += lf_two_lobe_density(lobe, vec3(p.x, p.y, 1.0f));
-        return sum;
+        for (std::size_t k = 0; k < probes.size(); ++k)
+            out[k] += lf_two_lobe_density(lobe, vec3(probes[k].x, probes[k].y, 1.0f));
     }
 };
+
+// The densest spot of the samples' slopes: the mean slope of the samples in the 3 x 3 bins of
+// a histogram (bins of a 50th of the standard deviation, over 3 of them around the mean) that hold
+// the most. On a map of flat faces, the faces' slope.
+glm::vec2 slope_mode(const float* b, std::size_t count, glm::vec2 mean, float sd) {
+    constexpr int kBins = 300;
+    const float bin = sd / 50.0f;
+    const glm::vec2 origin = mean - float(kBins / 2) * bin;
+    std::vector<std::uint32_t> histogram(std::size_t(kBins) * kBins, 0);
+    auto cell = [&](float x, float y, int& i, int& j) {
+        i = int(std::floor((x - origin.x) / bin));
+        j = int(std::floor((y - origin.y) / bin));
+        return i >= 0 && j >= 0 && i < kBins && j < kBins;
+    };
+    for (std::size_t k = 0; k < count; ++k) {
+        int i, j;
+        if (cell(b[2 * k], b[2 * k + 1], i, j)) ++histogram[std::size_t(j) * kBins + std::size_t(i)];
+    }
+    std::uint64_t best = 0;
+    int best_i = kBins / 2, best_j = kBins / 2;
+    for (int j = 1; j + 1 < kBins; ++j)
+        for (int i = 1; i + 1 < kBins; ++i) {
+            std::uint64_t sum = 0;
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di)
+                    sum += histogram[std::size_t(j + dj) * kBins + std::size_t(i + di)];
+            if (sum > best) {
+                best = sum;
+                best_i = i;
+                best_j = j;
+            }
+        }
+    double sx = 0, sy = 0, n = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        int i, j;
+        if (cell(b[2 * k], b[2 * k + 1], i, j) && std::abs(i - best_i) <= 1 &&
+            std::abs(j - best_j) <= 1) {
+            sx += b[2 * k];
+            sy += b[2 * k + 1];
+            n += 1;
+        }
+    }
+    return n > 0 ? glm::vec2(float(sx / n), float(sy / n)) : mean;
+}
 
 SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
     const std::size_t count = samples.flat.size();
@@ -449,33 +495,46 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
     for (std::uint8_t v : samples.flat) flat += v;
     result.plateau_fraction = float(double(flat) / double(std::max<std::size_t>(count, 1)));
     if (!(sd > 0.0f)) return result;  // one slope everywhere: nothing to fit
+    const glm::vec2 mode = slope_mode(b, count, mean, sd);
 
-    // Probes: the mean slope, and rings of 6 at half and the whole probe radius.
-    std::vector<glm::vec2> probes{mean};
+    // Probes: the mean slope, the densest slope, and rings of 6 around the mean at half and the
+    // whole probe radius.
+    std::vector<glm::vec2> probes{mean, mode};
     for (int ring = 1; ring <= 2; ++ring)
         for (int k = 0; k < 6; ++k) {
             const float angle = 1.04719755f * float(k) + (ring == 2 ? 0.52359878f : 0.0f);
             probes.push_back(mean + 0.5f * float(ring) * kFitProbeRadius *
                                         glm::vec2(std::cos(angle), std::sin(angle)));
         }
-    // The truth: every sample's own lobe, summed (the supersampled footprint's density).
-    double truth[std::size(kFitShininess)] = {};
-    for (std::size_t si = 0; si < std::size(kFitShininess); ++si) {
+    const std::size_t probe_count = probes.size();
+    // The truth: every sample's own lobe, averaged (the supersampled footprint's density), per
+    // shininess and probe.
+    constexpr std::size_t kShininesses = std::size(kFitShininess);
+    std::vector<double> truth(kShininesses * probe_count, 0.0);
+    double floor[kShininesses] = {};
+    for (std::size_t si = 0; si < kShininesses; ++si) {
         const float inv_s = 1.0f / kFitShininess[si];
         const shading::vec3 sigma(inv_s, inv_s, 0.0f);
-        double sum = 0.0;
+        double* t = &truth[si * probe_count];
         for (std::size_t i = 0; i < count; ++i) {
             const shading::vec2 bi(b[2 * i], b[2 * i + 1]);
-            for (const glm::vec2& p : probes)
-                sum += shading::lf_lean_lobe(shading::vec3(p.x, p.y, 1.0f), bi, sigma);
+            for (std::size_t k = 0; k < probe_count; ++k)
+                t[k] += shading::lf_lean_lobe(shading::vec3(probes[k].x, probes[k].y, 1.0f), bi,
+                                              sigma);
         }
-        truth[si] = sum / double(count);
+        double peak = 0.0;
+        for (std::size_t k = 0; k < probe_count; ++k) {
+            t[k] /= double(count);
+            peak = std::max(peak, t[k]);
+        }
+        floor[si] = kFitFloor * peak;
     }
-    // A candidate's largest |ln(model / truth)| over the shininesses, for the whole map and for
-    // the middle footprints (their densities summed, as a picture's pixels sum them).
+    // A candidate's largest probe error over the shininesses, for the whole map and for the
+    // middle footprints (their densities summed, as a picture's pixels sum them).
     const int block_columns = std::max(1, samples.columns / kFitBlocksPerSide);
     const int block_rows = std::max(1, samples.rows / kFitBlocksPerSide);
     const int blocks_x = samples.columns / block_columns, blocks_y = samples.rows / block_rows;
+    std::vector<double> model(2 * probe_count);
     auto error_of = [&](const SpikeWindow& window) {
         std::vector<FitSums> blocks(std::size_t(blocks_x) * std::size_t(blocks_y));
         FitSums whole;
@@ -492,35 +551,43 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
                     blocks[std::size_t(bj) * std::size_t(blocks_x) + std::size_t(bi)].add(x, y, weight);
             }
         double worst = 0.0;
-        for (std::size_t si = 0; si < std::size(kFitShininess); ++si) {
+        for (std::size_t si = 0; si < kShininesses; ++si) {
             const float inv_s = 1.0f / kFitShininess[si];
-            double footprints = 0.0;
-            for (const FitSums& block : blocks) footprints += block.density(probes, inv_s);
-            const double ratios[2] = {whole.density(probes, inv_s) / truth[si],
-                                      footprints / double(blocks.size()) / truth[si]};
-            for (double ratio : ratios)
-                worst = std::max(worst, ratio > 0.0 && std::isfinite(ratio)
-                                            ? std::abs(std::log(ratio))
-                                            : std::numeric_limits<double>::infinity());
+            std::fill(model.begin(), model.end(), 0.0);
+            whole.add_density(probes, inv_s, model.data());
+            for (const FitSums& block : blocks) block.add_density(probes, inv_s, model.data() + probe_count);
+            const double* t = &truth[si * probe_count];
+            for (std::size_t k = 0; k < probe_count; ++k) {
+                const double got[2] = {model[k], model[probe_count + k] / double(blocks.size())};
+                for (double g : got) {
+                    const double ratio = (g + floor[si]) / (t[k] + floor[si]);
+                    worst = std::max(worst, ratio > 0.0 && std::isfinite(ratio)
+                                                ? std::abs(std::log(ratio))
+                                                : std::numeric_limits<double>::infinity());
+                }
+            }
         }
         return worst;
     };
     SpikeWindow best;  // the plateaus alone
     double best_error = error_of(best);
     result.plateaus_error = float(best_error);
-    auto consider = [&](SpikeWindowShape shape, float radius_in_sd, bool with_plateaus) {
-        SpikeWindow window{shape, mean, radius_in_sd * sd, with_plateaus};
+    auto consider = [&](SpikeWindowShape shape, glm::vec2 anchor, float radius_in_sd,
+                        bool with_plateaus) {
+        SpikeWindow window{shape, anchor, radius_in_sd * sd, with_plateaus};
         const double error = error_of(window);
         if (error < best_error) {
             best_error = error;
             best = window;
         }
     };
-    for (bool with_plateaus : {true, false}) {
-        if (with_plateaus && !plateaus_found) continue;  // the same as without
-        for (float r : kFitDiscRadii) consider(SpikeWindowShape::Disc, r, with_plateaus);
-        for (float r : kFitBiweightRadii) consider(SpikeWindowShape::Biweight, r, with_plateaus);
-    }
+    for (glm::vec2 anchor : {mean, mode})
+        for (bool with_plateaus : {true, false}) {
+            if (with_plateaus && !plateaus_found) continue;  // the same as without
+            for (float r : kFitDiscRadii) consider(SpikeWindowShape::Disc, anchor, r, with_plateaus);
+            for (float r : kFitBiweightRadii)
+                consider(SpikeWindowShape::Biweight, anchor, r, with_plateaus);
+        }
     result.window = best;
     result.error = float(best_error);
     return result;

@@ -72,11 +72,13 @@ struct SpikeWindowFit {
 // Chooses the central window for the 2-channel slopes of a map's finest level (slope units)
 // under `rule` (its plateaus), by measurement: on at most 65536 texels of a regular grid it
 // compares two-lobe LEAN's lobe (lf_two_lobe_split of the shading header) with the texels' own
-// lobes summed (the supersampled truth of the map's footprint) near the mean slope, for the whole
-// map and for footprints of a 16th of its side, at s = 128, 1024 and 13777 (Blinn-Phong's 1/s per
-// axis), and keeps the candidate with the least largest error: the plateaus alone; or a disc of
-// radius 0.1-0.5, or a biweight of radius 1-2.5, of the slopes' standard deviation sqrt(tr S),
-// each with and without the plateaus. Deterministic for any thread count.
+// lobes averaged (the supersampled truth of the map's footprint) at 14 half vectors (the mean
+// slope, the densest slope, and rings within 0.05 of the mean), for the whole map and for
+// footprints of a 16th of its side, at s = 128, 1024 and 13777 (Blinn-Phong's 1/s per axis), and
+// keeps the candidate whose largest error |ln((two-lobe + c) / (truth + c))| is least (c: 5 % of
+// the truth's largest probe): the plateaus alone; or a disc of radius 0.02-0.5, or a biweight of
+// radius 0.5-2.5, of the slopes' standard deviation sqrt(tr S), around the mean or the densest
+// slope, each with and without the plateaus. Deterministic for any thread count.
 SpikeWindowFit fit_spike_window(const Image& slopes, const PlateauRule& rule, int threads = 0);
 
 // The rule for a map of width x height texels, the setting `epsilon` (slope units, finite and

@@ -26,7 +26,8 @@ namespace leanfade::scene {
 
 // Bumped whenever the bytes a bake produces for the same input and settings change (the baker's
 // math, packing or metadata): every older cache entry then misses.
-inline constexpr int kLeanBakeVersion = 2;  // 2: repaired normals, the convention warning
+inline constexpr int kLeanBakeVersion = 3;  // 2: repaired normals, the convention warning;
+                                            // 3: the spike window of the plateau layer
 
 // SHA-256 (FIPS 180-4) of `size` bytes, as 64 lowercase hexadecimal digits.
 std::string sha256_hex(const void* data, std::size_t size);
