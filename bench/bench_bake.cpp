@@ -137,10 +137,11 @@ std::size_t floor_bytes(const Image& input, std::size_t packed) {
 // layers lean1 and lean2 only unless plateau_epsilon > 0 (the plateau layer of two-lobe LEAN,
 // which `leanfade bake` adds by default: BM_BakeCoreWithPlateau).
 void bake_core(PackedBakeResult& result, const Image& input, int threads,
-               float plateau_epsilon = 0.0f) {
+               float plateau_epsilon = 0.0f, SpikeFit spike = SpikeFit::Auto) {
     BakeOptions options;
     options.threads = threads;
     options.plateau_epsilon = plateau_epsilon;
+    options.spike_fit = spike;
     bake_packed_into(result, input, BakeSource::Normal, options, Storage::Unorm16, "bench");
     benchmark::DoNotOptimize(result.packed.levels.data());
 }
@@ -173,6 +174,23 @@ void BM_BakeCoreWithPlateau(benchmark::State& state) {
     set_core_counters(state, input, packed_bytes(result.packed));
 }
 BENCHMARK(BM_BakeCoreWithPlateau)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+// The same with the plateaus alone forming the spike (`--spike plateaus`, leanfade 0.2's layer):
+// BM_BakeCoreWithPlateau / this is the time the central window's fit adds (docs/math.md §10).
+void BM_BakeCorePlateausOnly(benchmark::State& state) {
+    const Image& input = decoded_input();
+    PackedBakeResult result;
+    const int threads = int(state.range(0));
+    bake_core(result, input, threads, kDefaultPlateauEpsilon, SpikeFit::Plateaus);
+    for (auto _ : state) bake_core(result, input, threads, kDefaultPlateauEpsilon, SpikeFit::Plateaus);
+    set_core_counters(state, input, packed_bytes(result.packed));
+}
+BENCHMARK(BM_BakeCorePlateausOnly)
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)

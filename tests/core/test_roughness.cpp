@@ -12,6 +12,7 @@
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/shading.hpp"
+#include "test_helpers.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -21,19 +22,7 @@ Image slopes_of(const std::string& set, int size) {
 }
 
 // Covariance (xx, yy, xy) of all slopes, in double.
-glm::dvec3 slope_covariance(const Image& slopes) {
-    double mx = 0, my = 0, mxx = 0, myy = 0, mxy = 0;
-    const double n = double(slopes.texel_count());
-    for (std::size_t t = 0; t < slopes.texel_count(); ++t) {
-        const double x = slopes.pixels[2 * t], y = slopes.pixels[2 * t + 1];
-        mx += x / n;
-        my += y / n;
-        mxx += x * x / n;
-        myy += y * y / n;
-        mxy += x * y / n;
-    }
-    return {mxx - mx * mx, myy - my * my, mxy - mx * my};
-}
+glm::dvec3 slope_covariance(const Image& slopes) { return test::slope_moments(slopes).covariance(); }
 
 // The one-pass 8-bit textures are the float textures rounded as write_png rounds, byte for byte,
 // with a base roughness map and a metallic-roughness input, and without; each texture only when

@@ -12,6 +12,7 @@
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/plateau.hpp"
 #include "leanfade/core/shading.hpp"
+#include "test_helpers.hpp"
 
 namespace leanfade {
 namespace {
@@ -43,25 +44,17 @@ struct FarHighlight {
 FarHighlight far_highlight(const Image& slopes, glm::vec4 plateau, float s) {
     using namespace shading;
     const float inv_s = 1.0f / s;
-    double bx = 0, by = 0, mxx = 0, myy = 0, mxy = 0;
+    const test::SlopeMoments moments = test::slope_moments(slopes);
     const double n = double(slopes.texel_count());
-    for (std::size_t i = 0; i < slopes.texel_count(); ++i) {
-        const double x = slopes.pixels[2 * i], y = slopes.pixels[2 * i + 1];
-        bx += x / n;
-        by += y / n;
-        mxx += x * x / n;
-        myy += y * y / n;
-        mxy += x * y / n;
-    }
-    const vec3 h(float(bx), float(by), 1.0f);
+    const vec3 h(float(moments.mean.x), float(moments.mean.y), 1.0f);
     FarHighlight out;
     for (std::size_t i = 0; i < slopes.texel_count(); ++i)
         out.truth += lf_lean_lobe(h, vec2(slopes.pixels[2 * i], slopes.pixels[2 * i + 1]),
                                   vec3(inv_s, inv_s, 0.0f)) / n;
     LfMoments m;
     m.normal = vec3(0.0f, 0.0f, 1.0f);
-    m.mean = vec2(float(bx), float(by));
-    m.second = vec3(float(mxx), float(myy), float(mxy));
+    m.mean = vec2(moments.mean);
+    m.second = vec3(moments.second);
     m.plateau = plateau;
     LfParams p = lf_default_params();
     p.inv_s_shading = inv_s;

@@ -106,8 +106,10 @@ class SameBytesAsTheCli(unittest.TestCase):
         self.assertTrue(lean.has_plateau)
         self.assertGreater(lean.summary["plateau_fraction"], 0.0)
         noise = np.random.default_rng(6).integers(0, 256, (128, 128), dtype=np.uint8)
-        lean = self.check("noise.png", noise, {}, [])
-        self.assertFalse(lean.has_plateau)  # nothing flat: no layer of zeros stored
+        # Nothing flat, and the plateaus alone form the spike: no layer of zeros stored.
+        lean = self.check("noise.png", noise, {"spike": "plateaus"}, ["--spike", "plateaus"])
+        self.assertFalse(lean.has_plateau)
+        self.assertIsNone(lean.summary["spike_window"])
 
     def test_png_pair_same_bytes(self):
         source = self.path("h.png")
@@ -207,6 +209,7 @@ class Errors(unittest.TestCase):
         self.assert_error("strength", leanfade.bake, height_map(8, 1), strength=float("nan"))
         self.assert_error("strength", leanfade.bake, height_map(8, 1), strength=0.0)
         self.assert_error("plateau_epsilon", leanfade.bake, height_map(8, 1), plateau_epsilon=-1)
+        self.assert_error("spike", leanfade.bake, height_map(8, 1), spike="window")
         self.assert_error("wrap", leanfade.bake, height_map(8, 1), wrap="mirror")
         self.assert_error("colour", leanfade.bake, height_map(8, 1), colour=1)
         self.assert_error("array", leanfade.bake, np.zeros((0, 4), np.uint8))

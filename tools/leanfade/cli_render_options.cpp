@@ -14,6 +14,7 @@
 #include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parameters.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/technique.hpp"
 #include "leanfade/core/text.hpp"
@@ -183,6 +184,14 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         f.strength_unit == StrengthUnit::Uv ? "uv" : "texel")
         ->check(CLI::IsMember({"texel", "uv"}))
         ->group(group);
+    add_typed_option(
+        app, "--spike", f.spike,
+        [](const std::string& text) { return parse_spike_fit(text, "--spike"); },
+        "Two-lobe LEAN's spike in on-the-fly bakes, as bake --spike: auto (the plateaus and/or "
+        "a window around the mean or densest slope, by fit) or plateaus (the plateaus alone)",
+        to_string(f.spike))
+        ->check(CLI::IsMember({"auto", "plateaus"}))
+        ->group(group);
     app.add_option("--seed", f.seed, "Seed of the built-in bump set")
         ->capture_default_str()
         ->group(group);
@@ -224,6 +233,7 @@ BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSetti
     options.strength_unit = f.strength_unit;
     options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.strict_normals = f.strict_normals;
+    options.spike_fit = f.spike;
     return options;
 }
 

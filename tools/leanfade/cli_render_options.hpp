@@ -57,6 +57,7 @@ struct LeanSourceFlags : BumpSource {
     bool bumps_given = false;     // --bumps on the command line (an OBJ's MTL bumps otherwise)
     bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)
     StrengthUnit strength_unit = StrengthUnit::Texel;  // height maps (as bake's --strength-unit)
+    SpikeFit spike = SpikeFit::Auto;  // BakeOptions::spike_fit of on-the-fly bakes
     int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
     // --roughness-map: Cook-Torrance's base roughness per texel, a grey image of perceptual r in
     // [0, 1] or a glTF metallic-roughness texture (r in G), on the material of --bumps or

@@ -214,7 +214,8 @@ void add_layered_material(scene::Scene& result, const RenderSourceFlags& flags,
         result.lean_maps.push_back(pack_lean_map(mixed, storage_of(mixed), generator));
         // The mixed map's own plateau layer, as a bake of it would store it (docs/math.md §10:
         // exact for the height method, which mixes the slopes themselves).
-        add_plateau_layer(result.lean_maps.back(), options.plateau_epsilon);
+        add_plateau_layer(result.lean_maps.back(), options.plateau_epsilon, 0, 0.0f,
+                          flags.bumps.spike);
         result.materials.push_back(std::move(material));
         return;
     }

@@ -122,7 +122,8 @@ inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 // The spike of maps without flat ground (docs/math.md §10, "The central window"): the slopes of
 // natural ground, rock or worn bricks are peakier at their centre than a Gaussian of the same
 // covariance, which costs LEAN 20-90 % of a far highlight. Two-lobe LEAN's spike then takes the
-// texels whose slope lies near the map's mean slope, with a weight w in [0, 1] per texel:
+// texels whose slope lies near the map's mean or densest slope (`anchor`), with a weight w in
+// [0, 1] per texel:
 //   Disc      w = 1 where |B - anchor| < radius, 0 elsewhere;
 //   Biweight  w = (1 - |B - anchor|^2 / radius^2)^2 where positive, 0 elsewhere;
 // and a plateau texel has w = 1 when with_plateaus. The layer stores w (1, B, |B|^2), linear as
@@ -130,7 +131,7 @@ inline constexpr float kDefaultPlateauEpsilon = 0.005f;
 enum class SpikeWindowShape { None, Disc, Biweight };
 struct SpikeWindow {
     SpikeWindowShape shape = SpikeWindowShape::None;
-    glm::vec2 anchor{0.0f};     // slope units: the map's mean slope
+    glm::vec2 anchor{0.0f};     // slope units: the map's mean or densest slope
     float radius = 0.0f;        // slope units, > 0 unless None
     bool with_plateaus = true;  // plateau texels (PlateauRule) join the spike with w = 1
 };
