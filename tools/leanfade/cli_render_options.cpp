@@ -14,7 +14,6 @@
 #include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/parameters.hpp"
-#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/technique.hpp"
 #include "leanfade/core/text.hpp"
@@ -184,13 +183,8 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         f.strength_unit == StrengthUnit::Uv ? "uv" : "texel")
         ->check(CLI::IsMember({"texel", "uv"}))
         ->group(group);
-    add_typed_option(
-        app, "--spike", f.spike,
-        [](const std::string& text) { return parse_spike_fit(text, "--spike"); },
-        "Two-lobe LEAN's spike in on-the-fly bakes, as bake --spike: auto (the plateaus and/or "
-        "a window around the mean or densest slope, by fit) or plateaus (the plateaus alone)",
-        to_string(f.spike))
-        ->check(CLI::IsMember({"auto", "plateaus"}))
+    add_spike_option(app, f.spike,
+                     "Two-lobe LEAN's spike in on-the-fly bakes, as bake --spike")
         ->group(group);
     app.add_option("--seed", f.seed, "Seed of the built-in bump set")
         ->capture_default_str()

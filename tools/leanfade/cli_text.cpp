@@ -3,9 +3,21 @@
 
 #include "leanfade/core/camera.hpp"
 #include "leanfade/core/error.hpp"
+#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/text.hpp"
 
 namespace leanfade::cli {
+
+CLI::Option* add_spike_option(CLI::App& app, SpikeFit& value, const std::string& help) {
+    return add_typed_option(
+               app, "--spike", value,
+               [](const std::string& text) { return parse_spike_fit(text, "--spike"); },
+               help + ": auto (the plateaus and/or a window around the mean or densest slope, "
+                      "whichever fits the map's far highlight best) or plateaus (the plateaus "
+                      "alone, as leanfade 0.2 baked)",
+               to_string(value))
+        ->check(CLI::IsMember(spike_fit_names()));
+}
 
 std::string long_flag(const std::string& names) {
     const std::size_t comma = names.rfind(',');

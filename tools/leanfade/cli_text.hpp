@@ -10,6 +10,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "leanfade/core/lean_map.hpp"
+
 namespace leanfade::cli {
 
 // A framebuffer's or a cell's size in pixels (`--size WIDTHxHEIGHT`).
@@ -32,6 +34,10 @@ CLI::Option* add_typed_option(CLI::App& app, const std::string& flag, T& value, 
     if (!default_text.empty()) option->default_str(default_text);
     return option;
 }
+
+// `--spike auto|plateaus` (two-lobe LEAN's spike, BakeOptions::spike_fit) into `value`, with
+// `help` before the choices' description; bake's and the on-the-fly bakes' flag.
+CLI::Option* add_spike_option(CLI::App& app, SpikeFit& value, const std::string& help);
 
 // The flag's name as CLI11 stores it from "-o,--output": its long name ("--output").
 std::string long_flag(const std::string& names);

@@ -25,7 +25,6 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
 #include "leanfade/core/procedural.hpp"
 #include "leanfade/core/text.hpp"
 #include "leanfade/io/atomic_file.hpp"
@@ -357,14 +356,8 @@ const CommandRegistration registration{
                        "differs from each neighbour's by less than this per component is on a "
                        "plateau; 0 bakes no layer (two-lobe then shades as LEAN)")
             ->capture_default_str();
-        add_typed_option(
-            app, "--spike", args->spike_fit,
-            [](const std::string& text) { return parse_spike_fit(text, "--spike"); },
-            "Which texels form two-lobe LEAN's spike (docs/math.md §10): auto (the plateaus "
-            "and/or a window around the mean or densest slope, whichever fits the map's far "
-            "highlight best) or plateaus (the plateaus alone, as leanfade 0.2 baked)",
-            to_string(args->spike_fit))
-            ->check(CLI::IsMember({"auto", "plateaus"}));
+        add_spike_option(app, args->spike_fit,
+                         "Which texels form two-lobe LEAN's spike (docs/math.md §10)");
         app.add_option("--sc", args->sc,
                        "Scale sc of the slopes: auto (the steepest slope except outliers, "
                        "texels at least twice as steep as the 99.9th percentile: counted, and "

@@ -415,8 +415,10 @@ struct FitSums {
         }
     }
     // Two-lobe LEAN's density (lf_two_lobe_density) at each of the half vectors `probes`, added
-    // to `out`, at Blinn-Phong's base roughness 1/s per axis.
-    void add_density(std::span<const glm::vec2> probes, float inv_s, double* out) const {
+    // to `out`, with the lobe the shaders set up (lf_lobe_setup) at Blinn-Phong's base roughness
+    // `params` (1/s per axis).
+    void add_density(std::span<const glm::vec2> probes, const shading::LfParams& params,
+                     double* out) const {
         using namespace shading;
         LfMoments m;
         const double k = 1.0 / n;
@@ -424,16 +426,9 @@ struct FitSums {
         m.mean = vec2(float(bx * k), float(by * k));
         m.second = vec3(float(mxx * k), float(myy * k), float(mxy * k));
         m.plateau = vec4(float(f * k), float(fbx * k), float(fby * k), float(fbb * k));
-        LfLobe lobe;
-        lobe.kind = LF_LOBE_GAUSSIAN;
-        lobe.mean = m.mean;
-        lobe.sigma = lf_covariance(m.mean, m.second, inv_s);
-        lobe.spike_weight = 0.0f;
-        lobe.spike_mean = vec2(0.0f);
-        lobe.spike_sigma = vec3(0.0f);
-        lobe = lf_two_lobe_split(lobe, m, inv_s);
-        for (std::size_t k = 0; k < probes.size(); ++k)
-            out[k] += lf_two_lobe_density(lobe, vec3(probes[k].x, probes[k].y, 1.0f));
+        const LfLobe lobe = lf_lobe_setup(LF_TECHNIQUE_TWO_LOBE, m, params);
+        for (std::size_t i = 0; i < probes.size(); ++i)
+            out[i] += lf_two_lobe_density(lobe, vec3(probes[i].x, probes[i].y, 1.0f));
     }
 };
 
@@ -481,7 +476,7 @@ glm::vec2 slope_mode(const float* b, std::size_t count, glm::vec2 mean, float sd
     return n > 0 ? glm::vec2(float(sx / n), float(sy / n)) : mean;
 }
 
-SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
+SpikeWindowFit fit_samples(const SlopeSamples& samples) {
     const std::size_t count = samples.flat.size();
     const float* b = samples.slopes.data();
     FitSums all;
@@ -494,6 +489,7 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
     std::size_t flat = 0;
     for (std::uint8_t v : samples.flat) flat += v;
     result.plateau_fraction = float(double(flat) / double(std::max<std::size_t>(count, 1)));
+    const bool plateaus_found = flat > 0;
     if (!(sd > 0.0f)) return result;  // one slope everywhere: nothing to fit
     const glm::vec2 mode = slope_mode(b, count, mean, sd);
 
@@ -512,8 +508,12 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
     constexpr std::size_t kShininesses = std::size(kFitShininess);
     std::vector<double> truth(kShininesses * probe_count, 0.0);
     double floor[kShininesses] = {};
+    shading::LfParams params[kShininesses];
     for (std::size_t si = 0; si < kShininesses; ++si) {
         const float inv_s = 1.0f / kFitShininess[si];
+        params[si] = shading::lf_default_params();
+        params[si].shininess = kFitShininess[si];
+        params[si].inv_s_shading = inv_s;
         const shading::vec3 sigma(inv_s, inv_s, 0.0f);
         double* t = &truth[si * probe_count];
         for (std::size_t i = 0; i < count; ++i) {
@@ -552,10 +552,10 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
             }
         double worst = 0.0;
         for (std::size_t si = 0; si < kShininesses; ++si) {
-            const float inv_s = 1.0f / kFitShininess[si];
             std::fill(model.begin(), model.end(), 0.0);
-            whole.add_density(probes, inv_s, model.data());
-            for (const FitSums& block : blocks) block.add_density(probes, inv_s, model.data() + probe_count);
+            whole.add_density(probes, params[si], model.data());
+            for (const FitSums& block : blocks)
+                block.add_density(probes, params[si], model.data() + probe_count);
             const double* t = &truth[si * probe_count];
             for (std::size_t k = 0; k < probe_count; ++k) {
                 const double got[2] = {model[k], model[probe_count + k] / double(blocks.size())};
@@ -593,16 +593,6 @@ SpikeWindowFit fit_samples(const SlopeSamples& samples, bool plateaus_found) {
     return result;
 }
 
-template <typename Decode>
-SpikeWindowFit fit_with(int w, int h, const PlateauRule& rule, Decode decode, int threads) {
-    const SlopeSamples samples = sample_slopes(w, h, rule, decode, threads);
-    const bool plateaus_found =
-        std::any_of(samples.flat.begin(), samples.flat.end(), [](std::uint8_t v) { return v; });
-    SpikeWindowFit fit = fit_samples(samples, plateaus_found);
-    if (fit.window.shape == SpikeWindowShape::None) fit.window.with_plateaus = true;
-    return fit;
-}
-
 }  // namespace
 
 const char* to_string(SpikeWindowShape shape) {
@@ -616,20 +606,27 @@ const char* to_string(SpikeWindowShape shape) {
 
 const char* to_string(SpikeFit fit) { return fit == SpikeFit::Auto ? "auto" : "plateaus"; }
 
+const std::vector<std::string>& spike_fit_names() {
+    static const std::vector<std::string> names{to_string(SpikeFit::Auto),
+                                                to_string(SpikeFit::Plateaus)};
+    return names;
+}
+
 SpikeFit parse_spike_fit(const std::string& name, const std::string& setting) {
-    if (name == "auto") return SpikeFit::Auto;
-    if (name == "plateaus") return SpikeFit::Plateaus;
+    for (SpikeFit fit : {SpikeFit::Auto, SpikeFit::Plateaus})
+        if (name == to_string(fit)) return fit;
     throw Error(setting, "'" + name + "' is not one of auto, plateaus");
 }
 
 SpikeWindowFit fit_spike_window(const Image& slopes, const PlateauRule& rule, int threads) {
     check_rule(rule);
     check_slopes(slopes);
-    return fit_with(slopes.width, slopes.height, rule,
-                    [&](int y, float* out) {
-                        std::memcpy(out, slopes.row(y), 2 * sizeof(float) * std::size_t(slopes.width));
-                    },
-                    threads);
+    return fit_samples(sample_slopes(
+        slopes.width, slopes.height, rule,
+        [&](int y, float* out) {
+            std::memcpy(out, slopes.row(y), 2 * sizeof(float) * std::size_t(slopes.width));
+        },
+        threads));
 }
 
 PlateauRule plateau_rule(int width, int height, float epsilon, float quantisation_step) {
@@ -817,7 +814,7 @@ detail::PlateauOutcome detail::pack_plateau_layer_to(const PackedLeanMap& layout
         plateau_rule(w, h, epsilon, std::max(source_step, storage_slope_step(storage, sc)));
     SpikeWindowFit fitted;
     if (fit == SpikeFit::Auto) {
-        fitted = fit_with(w, h, rule, decode, threads);
+        fitted = fit_samples(sample_slopes(w, h, rule, decode, threads));
         rule.window = fitted.window;
     }
     std::vector<Image> chain;

@@ -56,6 +56,8 @@ struct PlateauRule {
 };
 
 const char* to_string(SpikeFit fit);  // "plateaus", "auto"
+// The names parse_spike_fit takes: "auto", "plateaus".
+const std::vector<std::string>& spike_fit_names();
 // Throws leanfade::Error(setting, cause) for another name.
 SpikeFit parse_spike_fit(const std::string& name, const std::string& setting = "spike_fit");
 
