@@ -219,6 +219,9 @@ TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
         {" --roughness-out " + shell_quote((dir / "rough.dds").string()) + " --compress basis",
          "DDS has no Basis Universal"},
         {rough + " --compress ''", "--compress"},
+        // The names only: the enumerators' numbers are no values of the flags.
+        {rough + " --compress 1", "--compress"},
+        {rough + " --supercompression 0", "--supercompression"},
         {" --roughness-out " + shell_quote((dir / "rough.dds").string()) + " --compress astc",
          "DDS has no ASTC"},
     };

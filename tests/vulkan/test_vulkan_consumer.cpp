@@ -38,6 +38,7 @@
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/vertex_layout.hpp"
 #include "leanfade/test/cell_comparison.hpp"
 #include "leanfade/test/scratch.hpp"
 
@@ -656,21 +657,22 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
     // --- Pipeline: vertex input from the reflection, the conventions of docs/integration.md
     // (clip-space correction in u_clip, counter-clockwise front faces, back faces culled).
     const scene::Mesh mesh = scene::make_sphere();
-    std::map<std::string, std::uint32_t> vertex_offsets{
-        {"a_position", offsetof(scene::Vertex, position)},
-        {"a_normal", offsetof(scene::Vertex, normal)},
-        {"a_uv", offsetof(scene::Vertex, uv)},
-        {"a_tangent", offsetof(scene::Vertex, tangent)},
-        {"a_uv1", offsetof(scene::Vertex, uv1)}};
+    // The vertex layout as a C++ engine reads it (scene::kVertexAttributes), matched by name and
+    // location to the stage's reflected inputs.
+    std::map<std::string, const scene::VertexAttribute*> vertex_attributes;
+    for (const scene::VertexAttribute& a : scene::kVertexAttributes)
+        vertex_attributes[std::string("a_") + a.name] = &a;
     std::vector<VkVertexInputAttributeDescription> attributes;
     for (const json& input : vert["reflection"]["inputs"]) {
         const std::string name = input["name"];
-        ASSERT_EQ(vertex_offsets.count(name), 1u) << name;
+        ASSERT_EQ(vertex_attributes.count(name), 1u) << name;
+        const scene::VertexAttribute& a = *vertex_attributes[name];
+        ASSERT_EQ(input["location"].get<int>(), a.location) << name;
         const VkFormat format = vk_format(input["format"]);
         ASSERT_NE(format, VK_FORMAT_UNDEFINED) << input.dump();
-        attributes.push_back({input["location"], 0, format, vertex_offsets[name]});
+        attributes.push_back({std::uint32_t(a.location), 0, format, std::uint32_t(a.offset)});
     }
-    ASSERT_EQ(attributes.size(), 5u);
+    ASSERT_EQ(attributes.size(), std::size(scene::kVertexAttributes));
     const VkVertexInputBindingDescription vertex_binding{0, sizeof(scene::Vertex),
                                                          VK_VERTEX_INPUT_RATE_VERTEX};
     auto vertex_input = vk_info<VkPipelineVertexInputStateCreateInfo>(

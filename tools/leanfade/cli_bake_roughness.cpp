@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli_text.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/ktx2_texture.hpp"
@@ -65,14 +66,13 @@ void add_roughness_bake_options(CLI::App& app, RoughnessBakeArgs& args) {
     app.add_option("--anisotropy-out", args.anisotropy_out,
                    "Also write the KHR_materials_anisotropy texture (direction and strength from "
                    "the slope covariance) with every level, as FILE.ktx2 or FILE.dds");
-    app.add_option("--compress", args.compression,
+    add_named_option(app, "--compress", args.compression, io::block_compression_names(),
                    "Block-compress the engine textures (--roughness-out, --anisotropy-out): bc "
                    "(desktop: BC4 roughness, BC5 normal, BC1 anisotropy), astc (mobile: ASTC "
                    "4x4) or basis (Basis Universal UASTC, KTX2 only, transcoded by any GPU: the "
                    "web, glTF's KHR_texture_basisu; needs Node.js), every level from its own "
-                   "filtered level; LEAN maps stay uncompressed (docs/compression.md)")
-        ->transform(CLI::CheckedTransformer(io::block_compression_names()))
-        ->default_str("none")
+                   "filtered level; LEAN maps stay uncompressed (docs/compression.md)",
+                   io::to_string(args.compression))
         ->each([&args](const std::string&) { args.compression_given = true; });
     app.add_option("--roughness", args.roughness,
                    "Base perceptual roughness r0 in [0, 1] of the roughness MIPs (alpha0 = r0^2)")

@@ -4,12 +4,14 @@
 // help texts, reports and file names. Numbers use leanfade/core/text.hpp. Every parser throws
 // leanfade::Error(flag, cause) naming the flag and what was wrong.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 
 namespace leanfade::cli {
@@ -33,6 +35,24 @@ CLI::Option* add_typed_option(CLI::App& app, const std::string& flag, T& value, 
         flag, [&value, parse](const std::string& text) { value = parse(text); }, help);
     if (!default_text.empty()) option->default_str(default_text);
     return option;
+}
+
+// A flag whose value is one of the names of `names` (name -> typed value, as the libraries list
+// them: io::supercompression_names() ...): the help shows "TEXT:{a,b}", any other text is refused
+// naming the flag, and the value is converted once, when CLI11 parses it.
+template <typename T>
+CLI::Option* add_named_option(CLI::App& app, const std::string& flag, T& value,
+                              const std::vector<std::pair<std::string, T>>& names,
+                              const std::string& help, const std::string& default_text = {}) {
+    std::vector<std::string> keys;
+    for (const auto& entry : names) keys.push_back(entry.first);
+    auto parse = [names, flag](const std::string& text) {
+        for (const auto& entry : names)
+            if (entry.first == text) return entry.second;
+        throw Error(flag, "unknown value '" + text + "'");
+    };
+    return add_typed_option(app, flag, value, parse, help, default_text)
+        ->check(CLI::IsMember(keys));
 }
 
 // `--spike auto|plateaus` (two-lobe LEAN's spike, BakeOptions::spike_fit) into `value`, with

@@ -367,12 +367,12 @@ const CommandRegistration registration{
         app.add_option("--wrap", args->wrap, "Border handling of the slope filter")
             ->check(CLI::IsMember({"repeat", "clamp"}))
             ->capture_default_str();
-        app.add_option("--supercompression", args->supercompression,
-                       "KTX2 LEAN maps: zstd (each MIP level a Zstandard frame, KTX2 scheme 2: "
-                       "smaller files, the same GPU memory; read by leanfade, libktx and "
-                       "three.js's KTX2Loader) or none (the level data as the GPU takes it)")
-            ->transform(CLI::CheckedTransformer(io::supercompression_names()))
-            ->default_str("zstd");
+        add_named_option(app, "--supercompression", args->supercompression,
+                         io::supercompression_names(),
+                         "KTX2 LEAN maps: zstd (each MIP level a Zstandard frame, KTX2 scheme 2: "
+                         "smaller files, the same GPU memory; read by leanfade, libktx and "
+                         "three.js's KTX2Loader) or none (the level data as the GPU takes it)",
+                         io::to_string(args->supercompression));
         app.add_option("--zstd-level", args->zstd_level,
                        "Zstandard level: 1 (fastest) to 19 (smallest; several times slower)")
             ->check(CLI::Range(1, 19))
