@@ -63,10 +63,13 @@ const int LF_BINDING_LAYER_BLOCK = 2;  // uniform block LfLayerBlock (LfLayerUni
 //   view_t     Vt: vector to the eye, tangent space, world units (not normalised)
 //   eye_depth  distance along the view axis, world units
 //   uv1        tiled texture coordinates, set 1
+//   linear_normal_change  how far the mesh's normal field is linear (scene::Vertex)
 // WGSL has no interface blocks: with LF_SEPARATE_VARYINGS (`leanfade shaders --lang wgsl`) the
 // members are variables lf_vertex_<name> at the same locations, copied from/to a private
 // VertexData.
-#define LF_VERTEX_DATA(X) X(vec2, uv) X(vec3, light_t) X(vec3, view_t) X(float, eye_depth) X(vec2, uv1)
+#define LF_VERTEX_DATA(X)                                                              \
+    X(vec2, uv) X(vec3, light_t) X(vec3, view_t) X(float, eye_depth) X(vec2, uv1) \
+    X(float, linear_normal_change)
 #define LF_VERTEX_MEMBER(type, name) type name;
 #define LF_VERTEX_OUTPUT(type, name) out type lf_vertex_##name;
 #define LF_VERTEX_INPUT(type, name) in type lf_vertex_##name;

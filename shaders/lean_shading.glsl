@@ -627,6 +627,22 @@ LF_FN vec3 lf_footprint_covariance(vec2 dslope_dx, vec2 dslope_dy, float kappa) 
     return vec3(min(variance.x, limit), min(variance.y, limit), 0.0f);
 }
 
+// How much of the footprint covariance a pixel may add (docs/math.md §11). The derivatives
+// extrapolate one triangle's interpolated normal across the pixel; that is the pixel's spread
+// only while the pixel's 2 x 2 quad lies within the triangle or the normals are smooth beyond
+// it. linear_change: the largest trusted change of the normal's slope per pixel
+// (scene::Vertex::linear_normal_change; 0: smooth, always trusted). Beyond it the pixel spans
+// several triangles of normals that are not smooth: its interpolated normal is then already one
+// sample of the pixel's normals, and adding their spread again brightens the tail of the image's
+// normal distribution (a hilly terrain's far highlight 1.3-3.6x). The weight is 1 up to that
+// change and falls as (linear_change / change)^4 beyond it.
+LF_FN float lf_footprint_trust(vec2 dslope_dx, vec2 dslope_dy, float linear_change) {
+    if (linear_change <= 0.0f) return 1.0f;
+    float change_squared = max(dot(dslope_dx, dslope_dx), dot(dslope_dy, dslope_dy));
+    float ratio = change_squared / (linear_change * linear_change);
+    return ratio <= 1.0f ? 1.0f : 1.0f / (ratio * ratio);
+}
+
 // The footprint covariance added to a lobe: each Gaussian's covariance grows by it, and an
 // isotropic lobe's alpha^2 by its trace (Blinn-Phong: the per-axis variance 1/s by half of it).
 // A zero footprint leaves the lobe as it is, bit for bit.

@@ -253,8 +253,11 @@ void main() {
     // The half vector's slope and its change to the neighbouring pixels (docs/math.md §11).
     vec3 half_t = normalize(light_dir + normalize(view_t));
     vec2 half_slope = half_t.xy / max(half_t.z, 1e-3);
-    moments.footprint = lf_footprint_covariance(dFdx(half_slope), dFdy(half_slope),
-                                                u_shading.geometric_aa_kappa);
+    vec2 dslope_dx = dFdx(half_slope);
+    vec2 dslope_dy = dFdy(half_slope);
+    moments.footprint =
+        lf_footprint_covariance(dslope_dx, dslope_dy, u_shading.geometric_aa_kappa) *
+        lf_footprint_trust(dslope_dx, dslope_dy, v_in.linear_normal_change);
 #endif
     // The surface maps' texels, then the material's surface, its parameters and the shade
     // (lf_surface, lf_shade_surface).

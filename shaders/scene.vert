@@ -14,6 +14,9 @@ layout(location = 2) in vec2 a_uv;        // mesh texture coordinates, set 0
 layout(location = 3) in vec4 a_tangent;   // object space xyz (unit, along +u of the normal
                                           // texture's set), w = handedness
 layout(location = 4) in vec2 a_uv1;       // mesh texture coordinates, set 1 (glTF TEXCOORD_1)
+// How far the normal field is linear around the vertex (scene::Vertex::linear_normal_change; 0:
+// as far as measured), read by geometric antialiasing (docs/math.md §11).
+layout(location = 5) in float a_linear_normal_change;
 
 // Everything the vertex stage reads per draw, as one std140 block (mirrored in C++ by
 // LfObjectUniforms, libs/gl/include/leanfade/gl/shading_block.hpp).
@@ -47,6 +50,7 @@ void main() {
     v_out.light_t = vec3(dot(t, u_light_world), dot(b, u_light_world), dot(n, u_light_world));
     v_out.view_t = vec3(dot(t, to_eye), dot(b, to_eye), dot(n, to_eye));
     v_out.eye_depth = -(u_view * world).z;
+    v_out.linear_normal_change = a_linear_normal_change;
     gl_Position = u_clip * world;
 #if defined(LF_SEPARATE_VARYINGS)
     LF_VERTEX_DATA(LF_VERTEX_STORE)

@@ -52,9 +52,10 @@ export function uploadConstant(gl, rgba) {
 
 // --- The mesh: leanfade's built-in sphere (scene::make_sphere), its vertices as the renderer
 // uploads them: position, normal, uv, tangent (xyz, handedness w), uv1 (the second texture
-// coordinate set, a copy of uv: the sphere has one), 14 floats each.
+// coordinate set, a copy of uv: the sphere has one), linear_normal_change (0: a sphere's normals
+// are smooth, docs/math.md §11), 15 floats each.
 export function makeSphere(segments = 32, stacks = 32) {
-  const floatsPerVertex = 14;
+  const floatsPerVertex = 15;
   const positions = [];
   const normals = [];
   const uvs = [];
@@ -95,7 +96,7 @@ export function makeSphere(segments = 32, stacks = 32) {
   const P = positions.map(f32), N = normals.map(f32);
   const tangents = tangentFrames(P, N, uvs, indices);
   const vertices = new Float32Array(P.length * floatsPerVertex);
-  P.forEach((p, k) => vertices.set([...p, ...N[k], ...uvs[k], ...tangents[k], ...uvs[k]], k * floatsPerVertex));
+  P.forEach((p, k) => vertices.set([...p, ...N[k], ...uvs[k], ...tangents[k], ...uvs[k], 0], k * floatsPerVertex));
   const used = new Set(indices);
   const min = [Infinity, Infinity, Infinity], max = [-Infinity, -Infinity, -Infinity];
   for (const k of used) for (let c = 0; c < 3; ++c) {
@@ -334,8 +335,8 @@ export function createVertexArray(gl, mesh, inputs) {
   const buffer = gl.createBuffer();
   gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
   gl.bufferData(gl.ARRAY_BUFFER, mesh.vertices, gl.STATIC_DRAW);
-  const offsets = { a_position: 0, a_normal: 3, a_uv: 6, a_tangent: 8, a_uv1: 12 };
-  const sizes = { vec2: 2, vec3: 3, vec4: 4 };
+  const offsets = { a_position: 0, a_normal: 3, a_uv: 6, a_tangent: 8, a_uv1: 12, a_linear_normal_change: 14 };
+  const sizes = { float: 1, vec2: 2, vec3: 3, vec4: 4 };
   for (const input of inputs) {
     if (!(input.name in offsets)) throw new LeanfadeError('vertex stage', `unknown input ${input.name}`);
     gl.enableVertexAttribArray(input.location);

@@ -191,6 +191,22 @@ TEST(GeometricAa, FootprintIsTheFilteredDerivativesClampedAtKappa) {
     EXPECT_EQ(lf_footprint_covariance(vec2(3.0f), vec2(3.0f), 0.0f), vec3(0.0f));
 }
 
+// The bound of docs/math.md §11: full trust up to the vertex's change per pixel (and always
+// without one), (S / c)^4 beyond, c the larger axis's change.
+TEST(GeometricAa, TrustIsOneUpToTheMeshsChangeAndFallsAsTheFourthPowerBeyond) {
+    EXPECT_EQ(lf_footprint_trust(vec2(5.0f, 0.0f), vec2(0.0f, 5.0f), 0.0f), 1.0f);
+    EXPECT_EQ(lf_footprint_trust(vec2(0.1f, 0.0f), vec2(0.0f, 0.2f), 0.2f), 1.0f);
+    EXPECT_NEAR(lf_footprint_trust(vec2(0.4f, 0.0f), vec2(0.0f, 0.1f), 0.2f), 1.0 / 16.0, 1e-6);
+    EXPECT_NEAR(lf_footprint_trust(vec2(0.3f, 0.4f), vec2(0.0f), 0.25f), 1.0 / 16.0, 1e-6);
+    // Monotone: a larger change per pixel is trusted less.
+    float previous = 1.0f;
+    for (float c = 0.05f; c < 2.0f; c += 0.05f) {
+        const float w = lf_footprint_trust(vec2(c, 0.0f), vec2(0.0f), 0.3f);
+        EXPECT_LE(w, previous);
+        previous = w;
+    }
+}
+
 TEST(GeometricAa, WidensEveryTechniquesLobe) {
     LfParams p = test::shading_test_params(800.0f);
     const vec3 l = normalize(vec3(0.3f, 0.1f, 0.9f));

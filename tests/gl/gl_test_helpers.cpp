@@ -33,7 +33,7 @@ scene::Mesh make_test_quad(float uv_scale) {
     mesh.name = "test quad";
     const glm::vec2 corners[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (const glm::vec2& c : corners) {
-        scene::Vertex v;
+        scene::Vertex v{};
         v.position = glm::vec3(c, 0.0f);
         v.normal = glm::vec3(0, 0, 1);
         v.uv = (c + 1.0f) * 0.5f * uv_scale;

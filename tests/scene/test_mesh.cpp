@@ -17,17 +17,17 @@ Mesh quad(glm::vec2 uv00, glm::vec2 uv10, glm::vec2 uv11, glm::vec2 uv01) {
     Mesh m;
     m.name = "quad";
     const glm::vec3 n(0.0f, 0.0f, 1.0f);
-    m.vertices = {{{0, 0, 0}, n, uv00, {}, uv00},
-                  {{1, 0, 0}, n, uv10, {}, uv10},
-                  {{1, 1, 0}, n, uv11, {}, uv11},
-                  {{0, 1, 0}, n, uv01, {}, uv01}};
+    m.vertices = {{{0, 0, 0}, n, uv00, {}, uv00, 0.0f},
+                  {{1, 0, 0}, n, uv10, {}, uv10, 0.0f},
+                  {{1, 1, 0}, n, uv11, {}, uv11, 0.0f},
+                  {{0, 1, 0}, n, uv01, {}, uv01, 0.0f}};
     m.indices = {0, 1, 2, 0, 2, 3};
     return m;
 }
 
 TEST(MeshTypes, VertexIsFourteenTightlyPackedFloats) {
     EXPECT_TRUE(std::is_standard_layout_v<Vertex>);
-    EXPECT_EQ(sizeof(Vertex), 56u);
+    EXPECT_EQ(sizeof(Vertex), 60u);
     EXPECT_EQ(offsetof(Vertex, position), 0u);
     EXPECT_EQ(offsetof(Vertex, normal), 12u);
     EXPECT_EQ(offsetof(Vertex, uv), 24u);
@@ -125,7 +125,7 @@ TEST(GenerateTangents, DegenerateUvsFallBackToAnyOrthonormalTangent) {
 
 TEST(GenerateTangents, UnreferencedVertexStillGetsAFrame) {
     Mesh m = quad({0, 0}, {1, 0}, {1, 1}, {0, 1});
-    m.vertices.push_back({{2, 2, 2}, glm::normalize(glm::vec3(1, 1, 1)), {0, 0}, {}, {0, 0}});
+    m.vertices.push_back({{2, 2, 2}, glm::normalize(glm::vec3(1, 1, 1)), {0, 0}, {}, {0, 0}, 0.0f});
     generate_tangents(m);
     const auto f = test::frame_stats(m);
     EXPECT_EQ(f.non_finite, 0u);

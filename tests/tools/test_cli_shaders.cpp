@@ -268,18 +268,19 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
         const std::set<int> numbers(declared.begin(), declared.end());
         if (stage_of(s) == "vert") {
             const auto& inputs = r["inputs"];
-            ASSERT_EQ(inputs.size(), 5u);
-            const char* names[] = {"a_position", "a_normal", "a_uv", "a_tangent", "a_uv1"};
+            ASSERT_EQ(inputs.size(), 6u);
+            const char* names[] = {"a_position", "a_normal", "a_uv",
+                                   "a_tangent",  "a_uv1",    "a_linear_normal_change"};
             const char* formats[] = {"R32G32B32_SFLOAT", "R32G32B32_SFLOAT", "R32G32_SFLOAT",
-                                     "R32G32B32A32_SFLOAT", "R32G32_SFLOAT"};
-            for (int i = 0; i < 5; ++i) {
+                                     "R32G32B32A32_SFLOAT", "R32G32_SFLOAT", "R32_SFLOAT"};
+            for (int i = 0; i < 6; ++i) {
                 EXPECT_EQ(inputs[i]["name"], names[i]);
                 EXPECT_EQ(inputs[i]["location"], i);
                 EXPECT_EQ(inputs[i]["format"], formats[i]);
             }
             vertex_outputs = r["outputs"];
             vertex_inputs = inputs;
-            EXPECT_EQ(vertex_outputs.size(), 5u);  // VertexData; gl_Position is a built-in
+            EXPECT_EQ(vertex_outputs.size(), 6u);  // VertexData; gl_Position is a built-in
             continue;
         }
         EXPECT_EQ(r["inputs"], vertex_outputs) << file;
@@ -296,9 +297,9 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
             << file;
     }
     // The index's vertex layout is the vertex stage's interface: each attribute at its location
-    // with the reflected format's component count, interleaved in one binding of 56 bytes.
+    // with the reflected format's component count, interleaved in one binding of 60 bytes.
     const auto& layout = e.index["vertex_layout"];
-    EXPECT_EQ(layout["stride"], 56);
+    EXPECT_EQ(layout["stride"], 60);
     ASSERT_EQ(layout["attributes"].size(), vertex_inputs.size());
     std::size_t offset = 0;
     for (std::size_t i = 0; i < vertex_inputs.size(); ++i) {
@@ -311,7 +312,7 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
         EXPECT_EQ(a["offset"], offset);
         offset += 4 * a["components"].get<std::size_t>();
     }
-    EXPECT_EQ(offset, 56u);
+    EXPECT_EQ(offset, 60u);
     // The index's surface maps: distinct bits of u_shading.maps, each bound where some variant
     // samples it, with a uv transform slot and what to bind in its absence.
     int bits = 0;
@@ -469,7 +470,8 @@ TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflectio
         for (std::sregex_iterator it(text.begin(), text.end(), interface_variable), end; it != end;
              ++it)
             if ((*it)[1] == direction) mine.insert((*it)[3]);
-        EXPECT_EQ(mine.size(), 5u) << file;  // uv, light_t, view_t, eye_depth, uv1
+        // uv, light_t, view_t, eye_depth, uv1, linear_normal_change
+        EXPECT_EQ(mine.size(), 6u) << file;
         if (names.empty()) names = mine;
         EXPECT_EQ(mine, names) << file;
         // The reflection: OpenGL numbers (blocks below the SPIR-V offset), the blocks' layout.

@@ -17,6 +17,7 @@ export function meshGeometry(mesh) {
   geometry.setAttribute('a_uv', new THREE.InterleavedBufferAttribute(interleaved, 2, 6));
   geometry.setAttribute('a_tangent', new THREE.InterleavedBufferAttribute(interleaved, 4, 8));
   geometry.setAttribute('a_uv1', new THREE.InterleavedBufferAttribute(interleaved, 2, 12));
+  geometry.setAttribute('a_linear_normal_change', new THREE.InterleavedBufferAttribute(interleaved, 1, 14));
   geometry.setIndex(new THREE.BufferAttribute(mesh.indices, 1));
   return geometry;
 }

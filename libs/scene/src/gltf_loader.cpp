@@ -713,6 +713,7 @@ Mesh Converter::primitive_mesh(int mesh_index, int primitive_index, const GltfMa
         ++out_.primitives_generated_tangents;
     }
     try {
+        measure_normal_linearity(mesh);
         compute_bounds(mesh);
     } catch (const Error& e) {
         throw std::runtime_error(where + ": " + e.cause());

@@ -170,6 +170,7 @@ void center_on_origin(Mesh& mesh) {
 void finish(Mesh& mesh) {
     for (Vertex& v : mesh.vertices) v.uv1 = v.uv;
     generate_tangents(mesh);
+    measure_normal_linearity(mesh);
     compute_bounds(mesh);
 }
 

@@ -27,7 +27,8 @@ void remove_unused_vertices(Mesh& mesh);
 void center_on_origin(Mesh& mesh);
 
 // uv1 = uv (the built-in meshes and OBJ files have one texture coordinate set), then
-// generate_tangents() and compute_bounds(): the last step of every builder.
+// generate_tangents(), measure_normal_linearity() and compute_bounds(): the last step of every
+// builder.
 void finish(Mesh& mesh);
 
 // Which edges of a parameter grid collapse to a single point (a pole).

@@ -18,8 +18,8 @@
 
 namespace leanfade::scene {
 
-// One vertex: 14 tightly packed floats (56 bytes), standard layout, uploaded as is (offsets 0,
-// 12, 24, 32 and 48).
+// One vertex: 15 tightly packed floats (60 bytes), standard layout, uploaded as is (offsets 0,
+// 12, 24, 32, 48 and 56).
 struct Vertex {
     glm::vec3 position;  // object space, world units
     glm::vec3 normal;    // object space, unit length, pointing out of the surface
@@ -31,9 +31,17 @@ struct Vertex {
                          // tangent.xyz) points along that set's +v
     glm::vec2 uv1;       // texture coordinates, set 1: glTF's TEXCOORD_1 (UvTransform::set 1
                          // samples it); a copy of uv for every mesh with one set
+    // The largest change per pixel of the normal's slope (dimensionless) up to which geometric
+    // antialiasing trusts a pixel's normal derivatives here (docs/math.md §11): half the
+    // normal's change to the neighbouring vertices where the mesh's normals are not smooth
+    // over a few rings of neighbours (measure_normal_linearity); 0: smooth, or not measured
+    // (the derivatives are always trusted).
+    float linear_normal_change;
 };
 static_assert(std::is_standard_layout_v<Vertex>, "Vertex is uploaded to GL as raw floats");
-static_assert(sizeof(Vertex) == 14 * sizeof(float), "Vertex must be 14 tightly packed floats");
+static_assert(sizeof(Vertex) == 15 * sizeof(float), "Vertex must be 15 tightly packed floats");
+static_assert(offsetof(Vertex, linear_normal_change) == 14 * sizeof(float),
+              "linear_normal_change follows uv1");
 static_assert(offsetof(Vertex, uv1) == 12 * sizeof(float), "uv1 follows the tangent");
 
 // Axis-aligned bounding box in object space (world units).
@@ -69,6 +77,18 @@ struct Mesh {
 // Throws leanfade::Error(mesh.name, cause) if an index is out of range or the index count is not
 // a multiple of 3. Vertex normals must be unit length (they are not modified).
 void generate_tangents(Mesh& mesh);
+
+// Sets Vertex::linear_normal_change of every vertex from the mesh's own normals (object space;
+// the result is dimensionless, independent of the mesh's scale). Around each vertex, over its
+// 1, 2, ... kLinearityRings rings of neighbours (by index: split normals are separate regions),
+// the neighbours' normals, as slopes in the vertex's tangent frame, are fitted as a quadratic
+// function of their offsets in its tangent plane. Where a ring's fit leaves a residual above a
+// quarter of the slopes' spread, the normals are not smooth at the mesh's resolution and the
+// vertex gets half its largest slope change to its first ring: a triangle's derivatives hold
+// inside it, and the 2 x 2 pixels they come from fit in it while a pixel spans at most half an
+// edge. Smooth vertices (a plane, a sphere, a torus) get 0. docs/math.md §11.
+inline constexpr int kLinearityRings = 4;
+void measure_normal_linearity(Mesh& mesh);
 
 // Sets mesh.bounds to the axis-aligned box of all vertex positions (object space, world units);
 // an empty mesh gets a zero box at the origin. Throws leanfade::Error(mesh.name, cause) when the

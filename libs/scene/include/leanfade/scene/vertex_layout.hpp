@@ -21,6 +21,7 @@ inline constexpr VertexAttribute kVertexAttributes[] = {
     {2, "uv", 2, offsetof(Vertex, uv)},
     {3, "tangent", 4, offsetof(Vertex, tangent)},
     {4, "uv1", 2, offsetof(Vertex, uv1)},
+    {5, "linear_normal_change", 1, offsetof(Vertex, linear_normal_change)},
 };
 
 }  // namespace leanfade::scene
