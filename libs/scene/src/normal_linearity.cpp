@@ -15,6 +15,10 @@ namespace {
 // A neighbourhood is smooth while its quadratic fit's residual stays within this share of the
 // slopes' spread.
 constexpr double kSmoothResidualShare = 0.25;
+// At most this many neighbours per vertex (four rings of a regular grid are 60): a fan of a
+// hundred thousand triangles around one vertex (a hostile OBJ face) costs each of its vertices
+// this much, not the whole fan.
+constexpr std::size_t kMaxNeighbourhood = 128;
 
 // Each vertex's neighbours through one triangle edge, as offsets into one list (CSR).
 struct Adjacency {
@@ -143,7 +147,9 @@ void measure_normal_linearity(Mesh& mesh) {
         for (int ring = 1; ring <= kLinearityRings && !frontier.empty(); ++ring) {
             next.clear();
             for (const std::uint32_t u : frontier) {
+                if (offsets.size() >= kMaxNeighbourhood) break;
                 for (std::uint32_t k = adjacency.first[u]; k < adjacency.first[u + 1]; ++k) {
+                    if (offsets.size() >= kMaxNeighbourhood) break;
                     const std::uint32_t w = adjacency.neighbours[k];
                     if (seen[w] == stamp) continue;
                     seen[w] = stamp;
