@@ -154,24 +154,26 @@ void set_core_counters(benchmark::State& state, const Image& input, std::size_t 
     state.counters["simd"] = bake_simd_active() ? 1 : 0;
 }
 
-void BM_BakeCore(benchmark::State& state) {
+// The core bake at state.range(0) threads with the plateau layer's settings (bake_core).
+void run_bake_core(benchmark::State& state, float plateau_epsilon, SpikeFit spike) {
     const Image& input = decoded_input();
     PackedBakeResult result;
+    const int threads = int(state.range(0));
     // Untimed first bake: allocates (and faults in) the output, as BM_MemoryCopy's buffers are.
-    bake_core(result, input, int(state.range(0)));
-    for (auto _ : state) bake_core(result, input, int(state.range(0)));
+    bake_core(result, input, threads, plateau_epsilon, spike);
+    for (auto _ : state) bake_core(result, input, threads, plateau_epsilon, spike);
     set_core_counters(state, input, packed_bytes(result.packed));
+}
+
+void BM_BakeCore(benchmark::State& state) {
+    run_bake_core(state, 0.0f, SpikeFit::Auto);
 }
 BENCHMARK(BM_BakeCore)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 // The same bake with two-lobe LEAN's plateau layer (docs/math.md §10), as `leanfade bake` writes
 // by default: BM_BakeCoreWithPlateau / BM_BakeCore is the time the layer adds to a bake.
 void BM_BakeCoreWithPlateau(benchmark::State& state) {
-    const Image& input = decoded_input();
-    PackedBakeResult result;
-    bake_core(result, input, int(state.range(0)), kDefaultPlateauEpsilon);
-    for (auto _ : state) bake_core(result, input, int(state.range(0)), kDefaultPlateauEpsilon);
-    set_core_counters(state, input, packed_bytes(result.packed));
+    run_bake_core(state, kDefaultPlateauEpsilon, SpikeFit::Auto);
 }
 BENCHMARK(BM_BakeCoreWithPlateau)
     ->Arg(1)
@@ -183,12 +185,7 @@ BENCHMARK(BM_BakeCoreWithPlateau)
 // The same with the plateaus alone forming the spike (`--spike plateaus`, leanfade 0.2's layer):
 // BM_BakeCoreWithPlateau / this is the time the central window's fit adds (docs/math.md §10).
 void BM_BakeCorePlateausOnly(benchmark::State& state) {
-    const Image& input = decoded_input();
-    PackedBakeResult result;
-    const int threads = int(state.range(0));
-    bake_core(result, input, threads, kDefaultPlateauEpsilon, SpikeFit::Plateaus);
-    for (auto _ : state) bake_core(result, input, threads, kDefaultPlateauEpsilon, SpikeFit::Plateaus);
-    set_core_counters(state, input, packed_bytes(result.packed));
+    run_bake_core(state, kDefaultPlateauEpsilon, SpikeFit::Plateaus);
 }
 BENCHMARK(BM_BakeCorePlateausOnly)
     ->Arg(1)

@@ -9,14 +9,17 @@
 namespace leanfade::cli {
 
 CLI::Option* add_spike_option(CLI::App& app, SpikeFit& value, const std::string& help) {
-    return add_typed_option(
-               app, "--spike", value,
-               [](const std::string& text) { return parse_spike_fit(text, "--spike"); },
-               help + ": auto (the plateaus and/or a window around the mean or densest slope, "
-                      "whichever fits the map's far highlight best) or plateaus (the plateaus "
-                      "alone, as leanfade 0.2 baked)",
-               to_string(value))
-        ->check(CLI::IsMember(spike_fit_names()));
+    static const std::vector<std::pair<std::string, SpikeFit>> names = [] {
+        std::vector<std::pair<std::string, SpikeFit>> table;
+        for (const std::string& name : spike_fit_names())
+            table.emplace_back(name, parse_spike_fit(name));
+        return table;
+    }();
+    return add_named_option(app, "--spike", value, names,
+                            help + ": auto (the plateaus and/or a window around the mean or "
+                                   "densest slope, whichever fits the map's far highlight best) "
+                                   "or plateaus (the plateaus alone, as leanfade 0.2 baked)",
+                            to_string(value));
 }
 
 std::string long_flag(const std::string& names) {

@@ -34,23 +34,29 @@ std::size_t Mesh::triangle_count() const {
     return indices.size() / 3;
 }
 
-void generate_tangents(Mesh& mesh) {
-    const std::size_t n = mesh.vertices.size();
-    if (mesh.indices.size() % 3 != 0) {
+namespace detail {
+
+void require_triangle_indices(const Mesh& mesh) {
+    if (mesh.indices.size() % 3 != 0)
         throw Error(mesh.name, "index count " + std::to_string(mesh.indices.size()) +
                                    " is not a multiple of 3");
-    }
+    const std::size_t n = mesh.vertices.size();
+    for (const std::uint32_t index : mesh.indices)
+        if (index >= n)
+            throw Error(mesh.name, "index " + std::to_string(index) + " out of range (" +
+                                       std::to_string(n) + " vertices)");
+}
+
+}  // namespace detail
+
+void generate_tangents(Mesh& mesh) {
+    const std::size_t n = mesh.vertices.size();
+    detail::require_triangle_indices(mesh);
     // Accumulate in double: large meshes sum many small contributions.
     std::vector<glm::dvec3> tan_sum(n, glm::dvec3(0.0));
     std::vector<glm::dvec3> bit_sum(n, glm::dvec3(0.0));
     for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
         const std::uint32_t i[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
-        for (std::uint32_t k : i) {
-            if (k >= n) {
-                throw Error(mesh.name, "index " + std::to_string(k) + " out of range (" +
-                                           std::to_string(n) + " vertices)");
-            }
-        }
         const Vertex& v0 = mesh.vertices[i[0]];
         const Vertex& v1 = mesh.vertices[i[1]];
         const Vertex& v2 = mesh.vertices[i[2]];

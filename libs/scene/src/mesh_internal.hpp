@@ -17,6 +17,10 @@ void scale_normals(Image& normals, float scale);
 // function inverted, grey expanded, alpha kept (1 when absent).
 Image linear_base_colour(const Image& decoded);
 
+// Throws leanfade::Error(mesh.name, cause) unless the indices form whole triangles (a multiple
+// of 3) and each names a vertex of the mesh.
+void require_triangle_indices(const Mesh& mesh);
+
 // Any unit vector orthogonal to the unit vector n (Duff et al. 2017, branchless basis).
 glm::vec3 any_orthonormal(const glm::vec3& n);
 

@@ -61,13 +61,7 @@ void generate_mikktspace_tangents(Mesh& mesh, int uv_set) {
     if (uv_set != 0 && uv_set != 1)
         throw Error(mesh.name,
                     "texture coordinate set " + std::to_string(uv_set) + " is not 0 or 1");
-    if (mesh.indices.size() % 3 != 0)
-        throw Error(mesh.name, "index count " + std::to_string(mesh.indices.size()) +
-                                   " is not a multiple of 3");
-    for (std::uint32_t index : mesh.indices)
-        if (index >= vertex_count)
-            throw Error(mesh.name, "index " + std::to_string(index) + " out of range (" +
-                                       std::to_string(vertex_count) + " vertices)");
+    detail::require_triangle_indices(mesh);
 
     // Weld groups: one id per distinct (position, normal, uv of the set).
     std::vector<std::uint32_t> weld(vertex_count);

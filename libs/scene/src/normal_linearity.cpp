@@ -1,11 +1,10 @@
 // How far each vertex's normal field is linear (Vertex::linear_normal_change, docs/math.md §11).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
-#include <string>
 #include <vector>
 
-#include "leanfade/core/error.hpp"
 #include "leanfade/scene/mesh.hpp"
 #include "mesh_internal.hpp"
 
@@ -30,7 +29,7 @@ Adjacency adjacency_of(const Mesh& mesh) {
     const std::size_t n = mesh.vertices.size();
     std::vector<std::uint64_t> edges;
     edges.reserve(mesh.indices.size() * 2);
-    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
         for (int k = 0; k < 3; ++k) {
             const std::uint64_t a = mesh.indices[t + std::size_t(k)];
             const std::uint64_t b = mesh.indices[t + std::size_t((k + 1) % 3)];
@@ -59,7 +58,12 @@ struct RingFit {
     bool smooth = true;
 };
 
-constexpr std::size_t kTerms = 5;  // dx, dy, dx^2, dx dy, dy^2
+constexpr std::size_t kTerms = 5;
+
+// The fit's terms of an offset d: dx, dy, dx^2, dx dy, dy^2.
+std::array<double, kTerms> quadratic_terms(const glm::dvec2& d) {
+    return {d.x, d.y, d.x * d.x, d.x * d.y, d.y * d.y};
+}
 
 RingFit fit_ring(const std::vector<glm::dvec2>& offsets, const std::vector<glm::dvec2>& slopes) {
     RingFit fit;
@@ -72,8 +76,7 @@ RingFit fit_ring(const std::vector<glm::dvec2>& offsets, const std::vector<glm::
     double b[kTerms][2] = {};
     double spread = 0.0;
     for (std::size_t i = 0; i < offsets.size(); ++i) {
-        const glm::dvec2 d = offsets[i] / radius;
-        const double phi[kTerms] = {d.x, d.y, d.x * d.x, d.x * d.y, d.y * d.y};
+        const std::array<double, kTerms> phi = quadratic_terms(offsets[i] / radius);
         for (std::size_t r = 0; r < kTerms; ++r) {
             for (std::size_t c = 0; c < kTerms; ++c) a[r][c] += phi[r] * phi[c];
             b[r][0] += phi[r] * slopes[i].x;
@@ -103,8 +106,7 @@ RingFit fit_ring(const std::vector<glm::dvec2>& offsets, const std::vector<glm::
     }
     double residual = 0.0;
     for (std::size_t i = 0; i < offsets.size(); ++i) {
-        const glm::dvec2 d = offsets[i] / radius;
-        const double phi[kTerms] = {d.x, d.y, d.x * d.x, d.x * d.y, d.y * d.y};
+        const std::array<double, kTerms> phi = quadratic_terms(offsets[i] / radius);
         glm::dvec2 predicted(0.0);
         for (std::size_t r = 0; r < kTerms; ++r)
             predicted += phi[r] * glm::dvec2(b[r][0], b[r][1]) / a[r][r];
@@ -121,11 +123,8 @@ RingFit fit_ring(const std::vector<glm::dvec2>& offsets, const std::vector<glm::
 }  // namespace
 
 void measure_normal_linearity(Mesh& mesh) {
+    detail::require_triangle_indices(mesh);
     const std::size_t n = mesh.vertices.size();
-    for (const std::uint32_t i : mesh.indices)
-        if (i >= n)
-            throw Error(mesh.name, "index " + std::to_string(i) + " is out of range (" +
-                                       std::to_string(n) + " vertices)");
     const Adjacency adjacency = adjacency_of(mesh);
     std::vector<std::uint32_t> seen(n, 0);
     std::uint32_t stamp = 0;
@@ -175,8 +174,7 @@ void measure_normal_linearity(Mesh& mesh) {
         // Not smooth within a few rings: a triangle's derivatives hold only inside it, and the
         // 2 x 2 pixels they come from fit in it while a pixel spans at most half an edge, over
         // which the normal's slope changes by half its change to the first ring.
-        const bool bounded = !smooth;
-        centre.linear_normal_change = bounded ? float(std::max(0.5 * change, 1e-6)) : 0.0f;
+        centre.linear_normal_change = smooth ? 0.0f : float(std::max(0.5 * change, 1e-6));
     }
 }
 
