@@ -201,9 +201,9 @@ TEST(Ocean, RefusesBadSettings) {
     };
     OceanSettings s;
     s.layers = 1;
-    refused(s, "ocean-layers");
+    refused(s, "ocean_layers");
     s.layers = 5;
-    refused(s, "ocean-layers");
+    refused(s, "ocean_layers");
     s = OceanSettings{};
     s.extent = std::nanf("");
     refused(s, "ocean-extent");
@@ -212,8 +212,8 @@ TEST(Ocean, RefusesBadSettings) {
     refused(s, "ocean-loop");
     s = OceanSettings{};
     s.texture_size = 8;
-    refused(s, "texture-size");
+    refused(s, "texture_size");
     s = OceanSettings{};
     s.flow = OceanFlow::Image;  // without a field
-    refused(s, "flow-map");
+    refused(s, "flow");
 }

@@ -36,7 +36,7 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
     plan.add_output(args.output, "-o");
     plan.check();
 
-    LeanSourceFlags flags;
+    scene::BumpMapSource flags;
     flags.from = parse_bake_source(args.from, "--from");
     flags.directx = args.directx;
     flags.texture_size = args.size;
@@ -44,8 +44,10 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
     flags.max_size = args.max_size;
     ShadingSettings settings;
     settings.bump_strength = args.strength;
-    const Image bi = top_slopes(load_layer_map(sources[0], flags, settings));
-    const Image bj = top_slopes(load_layer_map(sources[1], flags, settings));
+    scene::SceneSourceReport report;
+    const Image bi = scene::top_slopes(scene::load_layer_map(sources[0], flags, settings, &report));
+    const Image bj = scene::top_slopes(scene::load_layer_map(sources[1], flags, settings, &report));
+    print_scene_report({}, report);
     if (bi.width != bj.width || bi.height != bj.height)
         throw Error("--cross-terms", "the two layers must be aligned: '" + sources[0] + "' is " +
                                          std::to_string(bi.width) + "x" +

@@ -17,6 +17,7 @@
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
+#include "leanfade/scene/gltf_writer.hpp"
 #include "leanfade/scene/lean_map_cache.hpp"
 
 namespace leanfade::cli {
@@ -32,21 +33,6 @@ std::string gltf_convention_warning(const std::string& image) {
            " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
            "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
            "from the wrong side, flip the texture's green channel";
-}
-
-std::string file_name_part(const std::string& name) {
-    std::string out;
-    for (char c : name.substr(0, 64))
-        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-    return out.empty() ? "material" : out;
-}
-
-std::string unique_name(const std::string& base, const std::string& suffix,
-                        std::set<std::string>& taken) {
-    std::string name = base + suffix;
-    for (int n = 2; taken.count(name) != 0; ++n) name = base + "-" + std::to_string(n) + suffix;
-    taken.insert(name);
-    return name;
 }
 
 scene::GltfBakeSettings gltf_bake_settings(const std::string& bits, int max_size, int threads,
@@ -98,7 +84,7 @@ int run_bake_gltf(const GltfBakeArgs& args) {
         if (m.normal_image < 0) continue;
         if (seen.count({m.normal_image, m.normal_scale}) != 0) continue;
         seen[{m.normal_image, m.normal_scale}] = jobs.size();
-        const std::string name = unique_name(file_name_part(m.name), "", names);
+        const std::string name = scene::unique_name(scene::file_name_part(m.name), "", names);
         jobs.push_back({m.normal_image, m.normal_scale, m.name,
                         (folder / (stem + "." + name + ".ktx2")).string()});
     }
@@ -178,22 +164,6 @@ int run_bake_gltf(const GltfBakeArgs& args) {
     outputs.publish();
     std::fwrite(report.data(), 1, report.size(), stdout);
     return 0;
-}
-
-scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
-                                    int max_size, bool strict_normals) {
-    const scene::GltfScene gltf = scene::load_gltf(path);
-    print_warnings(path, gltf.warnings);
-    scene::GltfBakeReport report;
-    scene::Scene result =
-        scene::make_render_scene(gltf, gltf_bake_settings(storage_bits, max_size, 0, strict_normals),
-                                 &report);
-    print_warnings(path, report.warnings);
-    for (const std::string& image : report.other_convention)
-        print_warnings(path, {gltf_convention_warning(image)});
-    for (const auto& [image, repairs] : report.repaired)
-        print_warnings(path, {normal_repairs_note(image, repairs)});
-    return result;
 }
 
 }  // namespace leanfade::cli

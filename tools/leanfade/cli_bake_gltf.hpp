@@ -33,12 +33,6 @@ struct GltfBakeArgs {
 };
 
 // What the glTF commands share (cli_bake_gltf.cpp, cli_bake_gltf_out.cpp):
-// A material's (or file's) name as part of a file name: letters, digits, '-' and '_' kept, the
-// rest '_', at most 64 characters, "material" when nothing is left.
-std::string file_name_part(const std::string& name);
-// `base` + `suffix`, or `base`-2 + `suffix`, -3, ...: the first not in `taken`, which it joins.
-std::string unique_name(const std::string& base, const std::string& suffix,
-                        std::set<std::string>& taken);
 // The bake settings of --bits (8, 16, 16f, 32f), --max-size (0: the default), --threads and
 // --strict-normals, through the LEAN-map cache.
 scene::GltfBakeSettings gltf_bake_settings(const std::string& bits, int max_size, int threads,
@@ -54,12 +48,5 @@ std::string gltf_convention_warning(const std::string& image);
 // stores each in the LEAN-map cache so that a later render does not bake it again. Prints one
 // line per map; returns 0. Throws leanfade::Error naming the file or the flag.
 int run_bake_gltf(const GltfBakeArgs& args);
-
-// The scene of a glTF file for the rendering commands (scene::make_render_scene), baking through
-// the LEAN-map cache in `storage_bits` (8, 16, 16f, 32f) with images limited to `max_size` texels
-// per side. Prints the loader's warnings, cache problems and the normal textures' repaired
-// texels as "leanfade: PATH: ..." lines on stderr. Throws leanfade::Error naming the file.
-scene::Scene load_gltf_render_scene(const std::string& path, const std::string& storage_bits,
-                                    int max_size, bool strict_normals = false);
 
 }  // namespace leanfade::cli

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "leanfade/core/parameters.hpp"
+#include "leanfade/scene/map_kinds.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -18,8 +19,16 @@ constexpr std::string_view kOtherSettings[] = {
     "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from", "texture_size",
     "max_size",
     "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
-    "layer-weight-map", "strict_normals", "lang", "compress",
+    "layer-weight-map", "strict_normals", "lang", "compress", "ocean_layers", "flow",
+    "bake_roughness",
 };
+
+// The surface maps' settings ("roughness-map"), from the map kinds' table.
+bool is_map_setting(std::string_view name) {
+    for (const scene::MapKindInfo& row : scene::kMapKinds)
+        if (!row.setting.empty() && row.setting == name) return true;
+    return false;
+}
 
 // Flags whose names are shorter than their settings'.
 constexpr std::pair<std::string_view, std::string_view> kShortFlags[] = {
@@ -33,7 +42,7 @@ constexpr std::pair<std::string_view, std::string_view> kShortFlags[] = {
 std::string flag_for_setting(std::string_view name) {
     for (const auto& [setting, flag] : kShortFlags)
         if (name == setting) return std::string(flag);
-    const bool known = find_shading_parameter(name) != nullptr ||
+    const bool known = find_shading_parameter(name) != nullptr || is_map_setting(name) ||
                        std::find(std::begin(kOtherSettings), std::end(kOtherSettings), name) !=
                            std::end(kOtherSettings);
     if (!known) return {};

@@ -12,54 +12,21 @@
 
 namespace leanfade::cli {
 
-bool is_ocean_scene(const std::string& scene) {
-    return scene == kOceanSceneName;
-}
-
-void add_ocean_options(CLI::App& app, OceanFlags& flags) {
+void add_ocean_options(CLI::App& app, scene::OceanSource& source, std::vector<std::string>& views) {
     const std::string group = "Ocean (--scene ocean, docs/ocean.md)";
-    app.add_option("--ocean-layers", flags.layers,
+    app.add_option("--ocean-layers", source.layers,
                    "Wave layers of Gabor noise, each moving its own way (2-4)")
         ->capture_default_str()
         ->group(group);
-    app.add_option("--flow", flags.flow,
+    app.add_option("--flow", source.flow,
                    "Layer weights: none (equal), gyre (a clockwise current) or a flow-map image "
                    "(red = +u, green = +v, 0.5 = still)")
         ->capture_default_str()
         ->group(group);
-    add_typed_option(app, "--views", flags.views, parse_names,
+    add_typed_option(app, "--views", views, parse_names,
                      "Rows of `render`: the ocean's cameras near, mid, far, comma-separated",
-                     join(flags.views))
+                     join(views))
         ->group(group);
-}
-
-scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps) {
-    scene::OceanSettings settings;
-    settings.layers = flags.layers;
-    check_texture_size(bumps.texture_size, bumps.max_size, true);
-    settings.texture_size = bumps.texture_size;
-    settings.seed = bumps.seed;
-    if (flags.flow == "none") {
-        settings.flow = scene::OceanFlow::None;
-    } else if (flags.flow == "gyre") {
-        settings.flow = scene::OceanFlow::Gyre;
-    } else {
-        io::ReadOptions read_options;
-        read_options.max_dimension = bumps.max_size;
-        settings.flow = scene::OceanFlow::Image;
-        settings.flow_field = flow_from_rg(io::read_image(flags.flow, read_options), flags.flow);
-    }
-    try {
-        scene::validate(settings);
-    } catch (const Error& e) {
-        // Name the flag behind the setting.
-        const std::string flag = e.file() == "ocean-layers"   ? "--ocean-layers"
-                                 : e.file() == "texture-size" ? "--texture-size"
-                                 : e.file() == "flow-map"     ? "--flow"
-                                                              : e.file();
-        throw Error(flag, e.cause());
-    }
-    return settings;
 }
 
 void apply_ocean_shading(ShadingFlags& shading, const CLI::App& app, const scene::OceanSettings& settings,

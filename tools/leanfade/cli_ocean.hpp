@@ -12,26 +12,14 @@
 #include "cli_render_options.hpp"
 #include "leanfade/gl/figure.hpp"
 #include "leanfade/scene/ocean.hpp"
+#include "leanfade/scene/scene_source.hpp"
 
 namespace leanfade::cli {
 
-// The scene name of the ocean.
-inline constexpr const char* kOceanSceneName = "ocean";
-bool is_ocean_scene(const std::string& scene);
-
-struct OceanFlags {
-    int layers = 2;                      // --ocean-layers: 2..4 wave layers
-    std::string flow = "none";           // --flow: none | gyre | an RG flow-map image
-    std::vector<std::string> views{"near", "mid", "far"};  // --views: rows of `render --scene ocean`
-};
-
-// --ocean-layers --flow --views, in the "Ocean (--scene ocean)" group.
-void add_ocean_options(CLI::App& app, OceanFlags& flags);
-
-// The ocean's settings from the flags (the wave tiles' size and seed from the bump flags
-// --texture-size and --seed; a --flow image read with --max-size). Throws leanfade::Error naming
-// the flag or the file.
-scene::OceanSettings ocean_settings(const OceanFlags& flags, const LeanSourceFlags& bumps);
+// --ocean-layers --flow (the ocean's source, leanfade/scene/scene_source.hpp) and --views (the
+// rows of `render --scene ocean`: its cameras near, mid, far), in the "Ocean (--scene ocean)"
+// group.
+void add_ocean_options(CLI::App& app, scene::OceanSource& source, std::vector<std::string>& views);
 
 // The ocean's shading (scene::ocean_shading) for images of width / height `aspect` becomes the
 // value of every shading flag not given on the command line.

@@ -24,11 +24,11 @@ std::string map_setting_key(scene::MapKind kind) {
 // The flags' file of each map kind given as a flag (the rows with a setting).
 struct MapFlagFile {
     scene::MapKind kind;
-    std::string LeanSourceFlags::*path;
+    std::string scene::BumpMapSource::*path;
 };
 constexpr MapFlagFile kMapFlagFiles[] = {
-    {scene::MapKind::BaseRoughness, &LeanSourceFlags::roughness_map},
-    {scene::MapKind::RoughnessMips, &LeanSourceFlags::roughness_mips},
+    {scene::MapKind::BaseRoughness, &scene::BumpMapSource::roughness_map},
+    {scene::MapKind::RoughnessMips, &scene::BumpMapSource::roughness_mips},
 };
 
 std::string map_setting_keys() {
@@ -43,7 +43,7 @@ std::string map_setting_keys() {
 void set_source_defaults(const Preset& preset, const std::string& file, const CLI::App& app,
                          RenderSourceFlags& flags, ShadingFlags& shading) {
     set_unless_given(app, "--scene", flags.scene, preset.scene);
-    LeanSourceFlags& b = flags.bumps;
+    scene::BumpMapSource& b = flags.bumps;
     set_unless_given(app, "--bumps", b.source, preset.bumps.source);
     set_unless_given(app, "--from", b.from, preset.bumps.from);
     set_unless_given(app, "--directx", b.directx, preset.bumps.directx);

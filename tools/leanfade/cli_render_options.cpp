@@ -26,19 +26,6 @@
 namespace leanfade::cli {
 namespace {
 
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-    if (s.size() < suffix.size()) return false;
-    for (std::size_t i = 0; i < suffix.size(); ++i)
-        if (std::tolower(static_cast<unsigned char>(s[s.size() - suffix.size() + i])) != suffix[i])
-            return false;
-    return true;
-}
-
-}  // namespace
-
-namespace {
-
 // "<help> (<unit>; <range>; <equation>)" from a schema row.
 std::string parameter_help(const ParameterInfo& row) {
     std::string notes(row.unit);
@@ -141,7 +128,7 @@ void set_shading_defaults(const ShadingSettings& settings, const CLI::App& app,
     }
 }
 
-void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
+void add_lean_source_options(CLI::App& app, scene::BumpMapSource& f) {
     const std::string group = "Bumps";
     std::string names;
     for (const std::string& n : builtin_bump_names()) names += (names.empty() ? "" : ", ") + n;
@@ -151,7 +138,7 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
                        "(an OBJ scene with MTL materials uses their bump maps unless --bumps "
                        "is given)")
         ->capture_default_str()
-        ->each([&f](const std::string&) { f.bumps_given = true; })
+        ->each([&f](const std::string&) { f.replaces_obj_maps = true; })
         ->group(group);
     add_typed_option(
         app, "--from", f.from,
@@ -212,74 +199,8 @@ void add_lean_source_options(CLI::App& app, LeanSourceFlags& f) {
         ->group(group);
 }
 
-bool is_builtin_bumps(const std::string& source) {
-    const auto& builtins = builtin_bump_names();
-    return std::find(builtins.begin(), builtins.end(), source) != builtins.end();
-}
-
 std::string map_flag(scene::MapKind kind) {
     return "--" + std::string(scene::info(kind).setting);
-}
-
-BakeOptions on_the_fly_bake_options(const LeanSourceFlags& f, const ShadingSettings& settings) {
-    BakeOptions options;
-    options.strength = settings.bump_strength;
-    options.strength_unit = f.strength_unit;
-    options.convention = f.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
-    options.strict_normals = f.strict_normals;
-    options.spike_fit = f.spike;
-    return options;
-}
-
-PackedLeanMap load_lean_map(const LeanSourceFlags& f, const ShadingSettings& settings) {
-    const std::string generator = std::string(LEANFADE_GENERATOR);
-    check_texture_size(f.texture_size, f.max_size, is_builtin_bumps(f.source));
-    io::ReadOptions read_options;
-    read_options.max_dimension = f.max_size;
-    if (ends_with(f.source, ".ktx2")) return io::read_ktx2(f.source, read_options);
-    if (!io::lean_png_pair_base(f.source).empty())  // NAME.lean1.png from `bake --format png`
-        return io::read_lean_png_pair(f.source, read_options);
-
-    BakeOptions options = on_the_fly_bake_options(f, settings);
-    // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
-    // --bits auto: baked again as 16f or 32f where the StorageProbe finds it better, as
-    // `leanfade bake` does.
-    auto bake = [&](const Image& input, BakeSource kind) {
-        return bake_with_auto_storage(
-            f.bits.storage, f.bits.automatic, input.width, input.height,
-            [&](Storage s, const MomentRunSink& probe) {
-                return bake_packed(input, kind, options, s, generator, f.source, probe);
-            });
-    };
-    if (is_builtin_bumps(f.source))
-        return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
-            .packed;
-    // Integer samples keep their bit depth for the plateau rule (BakeOptions::source_max_code).
-    std::variant<Image, UnormImage> read = io::read_image_compact(f.source, read_options);
-    if (const UnormImage* samples = std::get_if<UnormImage>(&read)) {
-        options.source_max_code =
-            samples->effective_max_code(f.from == BakeSource::Height ? 1 : 3);
-        read = samples->to_float();
-    }
-    const Image& image = std::get<Image>(read);
-    PackedBakeResult baked = bake(image, f.from);
-    // A strength other than the default was given (flag or preset) for a normal map.
-    const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
-    if (baked.source == BakeSource::Normal && strength_given)
-        throw Error(f.source, "is a normal map: --strength applies to height maps only");
-    if (baked.packed.normal_repairs.any())
-        std::fprintf(stderr, "leanfade: %s\n",
-                     normal_repairs_note(f.source, baked.packed.normal_repairs).c_str());
-    if (baked.source == BakeSource::Normal) {
-        const NormalConventionCheck check = check_normal_convention(image, options.convention);
-        if (check.looks_flipped())
-            std::fprintf(stderr, "leanfade: warning: %s\n",
-                         convention_warning(f.source, f.directx,
-                                            check.curl_as_read /
-                                                std::max(check.curl_flipped, 1e-30))
-                             .c_str());
-    }
-    return std::move(baked.packed);
 }
 
 gl::ContextOptions context_options(const GlFlags& flags) {

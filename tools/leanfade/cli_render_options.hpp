@@ -22,6 +22,7 @@
 #include "leanfade/gl/context.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/scene/scene_source.hpp"
 
 namespace leanfade::cli {
 
@@ -51,35 +52,10 @@ glm::vec3 plane_glint_light(glm::vec3 view_dir);
 void apply_scene_light(ShadingFlags& flags, const CLI::App& app, const std::string& scene,
                        glm::vec3 view_dir);
 
-// The bump source (--bumps --from --directx --bits --seed --texture-size) and the other settings
-// of on-the-fly bakes.
-struct LeanSourceFlags : BumpSource {
-    bool bumps_given = false;     // --bumps on the command line (an OBJ's MTL bumps otherwise)
-    bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)
-    StrengthUnit strength_unit = StrengthUnit::Texel;  // height maps (as bake's --strength-unit)
-    SpikeFit spike = SpikeFit::Auto;  // BakeOptions::spike_fit of on-the-fly bakes
-    int max_size = kDefaultMaxImageDimension;  // --max-size: images and .ktx2 maps, per side
-    // --roughness-map: Cook-Torrance's base roughness per texel, a grey image of perceptual r in
-    // [0, 1] or a glTF metallic-roughness texture (r in G), on the material of --bumps or
-    // --layers (load_render_scene); empty: the uniform --roughness.
-    std::string roughness_map;
-    // --roughness-mips NAME_0.png: another tool's roughness MIPs (one file per level, perceptual r
-    // linear in the first channel or in G), read by the roughness technique in place of its own
-    // r (scene::MapKind::RoughnessMips); empty: none.
-    std::string roughness_mips;
-};
-
-// --bumps --from --directx --strict-normals --bits --strength-unit --seed --texture-size --max-size, in the
-// "Bumps" group, and --roughness-map and --roughness-mips.
-void add_lean_source_options(CLI::App& app, LeanSourceFlags& flags);
-// True for the name of a built-in bump set.
-bool is_builtin_bumps(const std::string& source);
-// BakeOptions of on-the-fly bakes: strength (settings.bump_strength) in --strength-unit, the
-// normal-map convention and --strict-normals.
-BakeOptions on_the_fly_bake_options(const LeanSourceFlags& flags, const ShadingSettings& settings);
-// Reads a .ktx2 LEAN map (recognised by its extension), or bakes one from a built-in set or an
-// image with `settings.bump_strength`. Throws leanfade::Error naming the file or flag.
-PackedLeanMap load_lean_map(const LeanSourceFlags& flags, const ShadingSettings& settings);
+// --bumps --from --directx --strict-normals --bits --strength-unit --spike --seed --texture-size
+// --max-size, in the "Bumps" group, and --roughness-map and --roughness-mips: the bump source of
+// the scene (leanfade/scene/scene_source.hpp).
+void add_lean_source_options(CLI::App& app, scene::BumpMapSource& flags);
 
 // A comma-separated list of techniques, parsed by parse_techniques (leanfade/core/technique.hpp)
 // naming `flag`; the help shows the list's initial value as the default (none when empty).

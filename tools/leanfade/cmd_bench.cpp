@@ -132,7 +132,7 @@ int run_bench(const BenchArgs& args) {
     if (!args.json.empty()) {
         // Checked before anything is measured (docs/robustness.md).
         io::OutputPlan plan;
-        for (const std::string& input : render_source_inputs(args.input)) plan.add_input(input);
+        for (const std::string& input : scene::scene_source_inputs(args.input)) plan.add_input(input);
         plan.add_output(args.json, "--json");
         plan.check();
     }

@@ -91,7 +91,7 @@ int run_calibrate(const CalibrateArgs& args) {
     const PlotFiles files = args.plot.empty() ? PlotFiles{} : plot_files(args.plot);
     // Every output is checked before anything is read or rendered (docs/robustness.md).
     io::OutputPlan plan;
-    for (const std::string& input : render_source_inputs(args.input))
+    for (const std::string& input : scene::scene_source_inputs(args.input))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     if (!args.plot.empty()) {
         plan.add_output(files.plot.string(), "--plot", ".png");

@@ -172,14 +172,14 @@ int run_eval(const EvalArgs& args) {
     if (args.seeds < 1 || args.seeds > kMaxEvalSeeds)
         throw Error("--seeds", "must be 1 to " + std::to_string(kMaxEvalSeeds) + ", got " +
                                    std::to_string(args.seeds));
-    if (args.seeds > 1 && (!is_builtin_bumps(args.input.bumps.source) ||
-                           !args.input.layers.empty() || is_ocean_scene(args.input.scene)))
+    if (args.seeds > 1 && (!scene::is_builtin_bumps(args.input.bumps.source) ||
+                           !args.input.layers.empty() || scene::is_ocean_scene(args.input.scene)))
         throw Error("--seeds", "independent maps come from a built-in bump set (--bumps one of " +
                                    join(builtin_bump_names()) + "), without --layers");
 
     // The report folder is checked before anything is read or rendered (docs/robustness.md).
     io::OutputPlan plan;
-    for (const std::string& input : render_source_inputs(args.input))
+    for (const std::string& input : scene::scene_source_inputs(args.input))
         if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
     plan.add_output_folder(args.out, false, "the report");
     add_report_outputs(plan, args.out, true);

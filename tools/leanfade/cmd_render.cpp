@@ -124,13 +124,13 @@ int run_render(const RenderArgs& args) {
         throw Error("--fps", "must be in (0, 1000] frames per second");
     if (args.frames > 1 && !args.cells.empty())
         throw Error("--cells", "is for one frame; not with --frames");
-    const bool ocean = is_ocean_scene(args.input.scene);
+    const bool ocean = scene::is_ocean_scene(args.input.scene);
     // The ocean's rows are its cameras (--views), checked here before anything is read.
-    if (ocean) ocean_views(args.input.ocean.views, scene::OceanSettings{}, glm::mat4(1.0f));
+    if (ocean) ocean_views(args.input.ocean_views, scene::OceanSettings{}, glm::mat4(1.0f));
     // The picture holds every cell (and a zoom row for each): bounded before any is rendered.
     {
         const std::uint64_t rows =
-            ocean ? args.input.ocean.views.size() : request.distances.size();
+            ocean ? args.input.ocean_views.size() : request.distances.size();
         const std::uint64_t cells = rows * request.techniques.size() * (args.zoom ? 2 : 1);
         const std::uint64_t pixels =
             cells * std::uint64_t(request.cell_width) * std::uint64_t(request.cell_height);
@@ -150,7 +150,7 @@ int run_render(const RenderArgs& args) {
         MixingFigureArgs mixing_args = args.mixings;
         mixing_args.output = args.output;
         return run_mixing_figure(mixing_args, args.input, request, args.gl,
-                                 render_source_inputs(args.input, args.preset));
+                                 scene::scene_source_inputs(args.input, args.preset));
     }
     // Every output is checked before anything is read or rendered: a regular file (or a new one)
     // in a writable folder, not an input, not another output (docs/robustness.md).
@@ -159,14 +159,14 @@ int run_render(const RenderArgs& args) {
                (view.empty() ? "_d" + gl::distance_text(distance) : "_" + view);
     };
     io::OutputPlan plan;
-    for (const std::string& input : render_source_inputs(args.input, args.preset))
+    for (const std::string& input : scene::scene_source_inputs(args.input, args.preset))
         if (!input.empty() && fs::exists(input)) plan.add_input(input);
     for (const std::string& picture : pictures) plan.add_output(picture, "-o", ".png");
     if (!args.cells.empty()) {
         plan.add_output_folder(args.cells, true);
         std::vector<std::pair<float, std::string>> rows;
         if (ocean)
-            for (const std::string& view : args.input.ocean.views)
+            for (const std::string& view : args.input.ocean_views)
                 rows.emplace_back(0.0f, view);
         else
             for (float distance : request.distances) rows.emplace_back(distance, "");
@@ -190,7 +190,7 @@ int run_render(const RenderArgs& args) {
     gl::Renderer renderer(context, shader_sources(args.gl));
     renderer.set_scene(scene);
     if (ocean)
-        request.views = ocean_views(args.input.ocean.views, scene::OceanSettings{},
+        request.views = ocean_views(args.input.ocean_views, scene::OceanSettings{},
                                     renderer.model_matrix());
 
     // The pictures (a frame sequence: one per frame, frame k at --time + k / --fps) and the cells
@@ -302,12 +302,12 @@ const CommandRegistration registration{
         app.add_option("--table", args->mixings.table,
                        "With --mixings: also write the metrics as this CSV (and JSON beside it)")
             ->group("Bump layers (docs/math.md §6)");
-        add_ocean_options(app, args->input.ocean);
+        add_ocean_options(app, args->input.ocean, args->input.ocean_views);
         add_gl_options(app, args->gl);
         return [args, &app] {
             apply_scene_light(args->shading, app, args->input.scene, args->view_dir);
             if (!args->preset.empty()) apply_preset(*args, app);
-            if (is_ocean_scene(args->input.scene)) {
+            if (scene::is_ocean_scene(args->input.scene)) {
                 // The ocean's defaults: 16:9 cells and its shading (docs/ocean.md); flags given
                 // on the command line win.
                 set_unless_given(app, "--size", args->size, FramebufferSize{480, 270});

@@ -122,7 +122,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
     if (!args.screenshot.empty()) {
         // The screenshot is an output: checked before the window opens (docs/robustness.md).
         io::OutputPlan plan;
-        for (const std::string& input : render_source_inputs(args.input, args.preset))
+        for (const std::string& input : scene::scene_source_inputs(args.input, args.preset))
             if (!input.empty() && std::filesystem::exists(input)) plan.add_input(input);
         plan.add_output(args.screenshot, "--screenshot", ".png");
         plan.check();
@@ -139,22 +139,22 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
                      "window's OpenGL context\n");
     set_preset_source(args.input, p);
     const bool builtin =
-        is_builtin_bumps(p.bumps.source) ||
-        std::any_of(p.layers.sources.begin(), p.layers.sources.end(), is_builtin_bumps);
+        scene::is_builtin_bumps(p.bumps.source) ||
+        std::any_of(p.layers.sources.begin(), p.layers.sources.end(), scene::is_builtin_bumps);
     // The flags' ranges by their names first (validate(Preset) would name the preset keys).
     check_texture_size(p.bumps.texture_size, args.input.bumps.max_size, builtin);
     validate(p.layers);
     validate(p, "view");
 
-    const LeanSourceFlags bake_flags = args.input.bumps;  // --max-size, --strict-normals, ...
+    const scene::BumpMapSource bake_flags = args.input.bumps;  // --max-size, --strict-normals, ...
     options.load_bumps = [bake_flags](const BumpSource& source, const ShadingSettings& settings) {
-        LeanSourceFlags flags = bake_flags;
+        scene::BumpMapSource flags = bake_flags;
         static_cast<BumpSource&>(flags) = source;
-        return load_lean_map(flags, settings);
+        return load_lean_map_and_report(flags, settings);
     };
     const RenderSourceFlags& input = args.input;
     options.scene = load_render_scene(input, p.shading);
-    if (is_ocean_scene(input.scene)) {
+    if (scene::is_ocean_scene(input.scene)) {
         // The ocean moves (a time slider and pause) and is seen from its own cameras, in the
         // renderer's world: the scene scaled to its unit bounding sphere.
         const scene::Bounds bounds = scene::scene_bounds(options.scene);
@@ -163,7 +163,7 @@ int run_view(const ViewArgs& args, const std::shared_ptr<Preset>& loaded) {
             glm::translate(glm::mat4(1.0f), -bounds.center());
         const scene::OceanSettings ocean;
         options.loop_seconds = ocean.loop_seconds;
-        for (const auto& named : ocean_views(args.input.ocean.views, ocean, model))
+        for (const auto& named : ocean_views(args.input.ocean_views, ocean, model))
             options.scene_views.emplace_back(named.name, named.view);
     }
     return viewer::run_viewer(std::move(options));
@@ -234,7 +234,7 @@ const CommandRegistration registration{
         add_shading_options(app, args->shading);
         add_lean_source_options(app, args->input.bumps);
         add_layer_options(app, args->input.layers);
-        add_ocean_options(app, args->input.ocean);
+        add_ocean_options(app, args->input.ocean, args->input.ocean_views);
         add_gl_options(app, args->gl);
         return [args, &app] {
             apply_scene_light(args->shading, app, args->input.scene, args->view_dir);
@@ -243,7 +243,7 @@ const CommandRegistration registration{
                 loaded = std::make_shared<Preset>(read_preset(args->preset));
                 apply_preset(*loaded, *args, app);
             }
-            if (is_ocean_scene(args->input.scene)) {
+            if (scene::is_ocean_scene(args->input.scene)) {
                 // The ocean's shading (docs/ocean.md) for the panes' shape (the window less the
                 // panel, about 30%, shared by the techniques); flags given here win.
                 const float panes = float(

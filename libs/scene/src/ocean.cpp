@@ -44,19 +44,19 @@ void validate(const OceanSettings& s) {
                     "more than 8000 wave tiles across the ocean (texture "
                     "coordinates would lose precision)");
     if (s.texture_size < 16 || s.texture_size > 4096)
-        throw Error("texture-size", "the ocean's wave tiles are 16..4096 texels, got " +
+        throw Error("texture_size", "the ocean's wave tiles are 16..4096 texels, got " +
                                         std::to_string(s.texture_size));
     if (s.layers < 2 || s.layers > kMaxLayers)
-        throw Error("ocean-layers", "2.." + std::to_string(kMaxLayers) + " wave layers, got " +
+        throw Error("ocean_layers", "2.." + std::to_string(kMaxLayers) + " wave layers, got " +
                                         std::to_string(s.layers));
     if (!(s.loop_seconds > 0.0f) || !std::isfinite(s.loop_seconds) || s.loop_seconds > 1e6f)
         throw Error("ocean-loop", "must be in (0, 1e6] seconds");
     if (s.flow == OceanFlow::Image) {
         if (s.flow_field.channels != 2 || s.flow_field.empty())
-            throw Error("flow-map", "the flow field needs 2 channels and at least one texel");
+            throw Error("flow", "the flow field needs 2 channels and at least one texel");
         if (s.flow_field.width > kDefaultMaxImageDimension ||
             s.flow_field.height > kDefaultMaxImageDimension)
-            throw Error("flow-map", "larger than " + std::to_string(kDefaultMaxImageDimension) +
+            throw Error("flow", "larger than " + std::to_string(kDefaultMaxImageDimension) +
                                         " texels on a side");
     }
     if (s.flow == OceanFlow::Gyre && (s.flow_size < 4 || s.flow_size > 4096))

@@ -21,7 +21,7 @@ enum class TimingMode {
 
 struct ViewerOptions {
     Preset preset;          // the initial parameters (valid: validate(Preset))
-    scene::Scene scene;     // preset.scene with preset.bumps, already loaded (load_render_scene)
+    scene::Scene scene;     // preset.scene with preset.bumps, already loaded (scene::build_scene)
     BumpLoader load_bumps;  // for bumps chosen later in the panel
     // Shader folder for hot reload; empty: ./shaders when run from a checkout, else the source
     // tree the binary was built from if it still exists, else the built-in shaders.

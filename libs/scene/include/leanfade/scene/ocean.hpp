@@ -47,7 +47,7 @@ struct OceanSettings {
 };
 
 // Throws leanfade::Error(setting, cause) for settings outside the ranges above (settings named
-// "ocean-extent", "ocean-tile", "texture-size", "ocean-layers", "ocean-loop", "flow-map",
+// "ocean-extent", "ocean-tile", "texture_size", "ocean_layers", "ocean-loop", "flow",
 // "flow-size", "ocean-strength").
 void validate(const OceanSettings& settings);
 
