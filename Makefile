@@ -70,7 +70,7 @@ web: build
 	$(LEANFADE) shaders --lang wgsl -o examples/web/data/wgsl
 	node examples/web/serve.mjs --data examples/web/data --port $(WEB_PORT)
 
-# The portable platform layer (leanfade/core/platform.hpp) forced on Linux, in its own build
+# The portable platform layer (leanfade/core/detail/platform.hpp) forced on Linux, in its own build
 # folder: only the libraries and test programs of core, io and scene are built, and their tests
 # run (labels core, io, scene: no OpenGL), with platform.PortableCallsNoLinuxFunction.
 test-portable: deps

@@ -31,11 +31,11 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/basis_universal.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 
@@ -459,7 +459,7 @@ BENCHMARK(BM_CliAgainstNvcompress)
     ->UseManualTime()
     ->Iterations(5);
 
-// Block compression of the engine textures (leanfade/io/block_compression.hpp): the normal
+// Block compression of the engine textures (leanfade/io/detail/block_compression.hpp): the normal
 // texture's full chain of a bench_size() map compressed on 2 threads. Arg 0: BC5 (libsquish),
 // 1: ASTC 4x4 (libastcenc, medium effort), 2: Basis Universal UASTC (basis_universal.hpp: its
 // WebAssembly encoder under Node.js, one process: the chain is one texture; Zstandard included).

@@ -26,9 +26,9 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 
 using namespace leanfade;
 namespace fs = std::filesystem;

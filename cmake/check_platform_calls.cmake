@@ -1,6 +1,6 @@
 # cmake -P script of the test platform.PortableCallsNoLinuxFunction (top-level CMakeLists.txt, the
 # portable build only): fails when LIBRARIES (a list of static libraries or objects) call a
-# function that the portable platform layer replaces (leanfade/core/platform.hpp).
+# function that the portable platform layer replaces (leanfade/core/detail/platform.hpp).
 cmake_minimum_required(VERSION 3.25)
 foreach(var NM LIBRARIES)
   if(NOT DEFINED ${var})

@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 
 using namespace leanfade;
 

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     leanfade::Preset preset;

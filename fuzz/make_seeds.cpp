@@ -17,11 +17,11 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/preset.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/preset.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 #include "../tests/io/format_writers.hpp"
 
 using namespace leanfade;

@@ -1,12 +1,12 @@
 // Texture units, uniform-block binding points and texture-array slices shared by the renderer
-// (C++, libs/gl/include/leanfade/gl/shading_block.hpp) and the shaders: each is named once, here.
+// (C++, libs/gl/include/leanfade/gl/detail/shading_block.hpp) and the shaders: each is named once, here.
 #ifndef LEANFADE_BINDINGS_GLSL
 #define LEANFADE_BINDINGS_GLSL
 
 const int LF_BINDING_LEAN_MAP = 0;       // texture unit of the LEAN map (2D array, 2 slices)
 const int LF_BINDING_SHADING_BLOCK = 0;  // uniform block LfShadingBlock (LfShadingUniforms)
 const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the vertex stage
-// The material's surface maps (leanfade/scene/map_kinds.hpp): each a texture unit and a bit of
+// The material's surface maps (leanfade/scene/detail/map_kinds.hpp): each a texture unit and a bit of
 // LfShadingUniforms::maps, set when the material has the map and the shader reads it.
 // Base colour (2D, linear RGBA; Kd is multiplied by its RGB; a 1x1 white texture for materials
 // without one).

@@ -53,7 +53,7 @@ const int LF_BRDF_COOK_TORRANCE = 1;  // D G F / (4 (n.l)(n.v)), Beckmann D, Smi
 // Shading parameters (docs/math.md §4). Colours are linear RGB. Each vec3 is followed by a scalar
 // so that the std140 layout of the renderer's uniform block (LfShadingUniforms below) equals the
 // C++ layout of the same struct with glm (checked in
-// libs/gl/include/leanfade/gl/shading_block.hpp).
+// libs/gl/include/leanfade/gl/detail/shading_block.hpp).
 struct LfParams {
     vec3 light_color;     // radiance scale of the light
     float shininess;      // Blinn-Phong exponent s (> 0)
@@ -73,7 +73,7 @@ struct LfParams {
 };
 
 // Texture coordinate transforms of LfShadingUniforms::uv_transforms (two rows each): the LEAN
-// map's (its plateau layer's too) and each surface map kind's (leanfade/scene/map_kinds.hpp,
+// map's (its plateau layer's too) and each surface map kind's (leanfade/scene/detail/map_kinds.hpp,
 // MapKindInfo::uv_transform).
 const int LF_UV_LEAN_MAP = 0;
 const int LF_UV_BASE_COLOR = 1;
@@ -241,7 +241,7 @@ LF_FN LfMoments lf_mix_end(LfMoments mixed) {
     return r;
 }
 
-// Mixing methods of a layered material (leanfade/core/layers.hpp, kLayerMixings): where the
+// Mixing methods of a layered material (leanfade/core/detail/layers.hpp, kLayerMixings): where the
 // cross terms C_ij come from. HEIGHT materials are drawn from one map mixed before filtering.
 const int LF_MIXING_HEIGHT = 0;
 const int LF_MIXING_TEXTURES = 1;  // the pair's cross-term texture (its slice of the array)
@@ -609,7 +609,7 @@ LF_FN LfLobe lf_two_lobe_split(LfLobe lobe, LfMoments m, float inv_s) {
 
 // The two-lobe slope density at the half vector h (tangent space, unit): f N(h~; Bs, spike) +
 // (1 - f) N(h~; B_h, halo), in 1/slope^2 (Blinn-Phong's lobe; the bake's spike fit,
-// leanfade/core/plateau.hpp, measures with it too).
+// leanfade/core/detail/plateau.hpp, measures with it too).
 LF_FN float lf_two_lobe_density(LfLobe lobe, vec3 h) {
     return lobe.spike_weight * lf_lean_lobe(h, lobe.spike_mean, lobe.spike_sigma) +
            (1.0f - lobe.spike_weight) * lf_lean_lobe(h, lobe.mean, lobe.sigma);

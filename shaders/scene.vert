@@ -19,7 +19,7 @@ layout(location = 4) in vec2 a_uv1;       // mesh texture coordinates, set 1 (gl
 layout(location = 5) in float a_linear_normal_change;
 
 // Everything the vertex stage reads per draw, as one std140 block (mirrored in C++ by
-// LfObjectUniforms, libs/gl/include/leanfade/gl/shading_block.hpp).
+// LfObjectUniforms, libs/gl/include/leanfade/gl/detail/shading_block.hpp).
 layout(std140, binding = LF_BINDING_OBJECT_BLOCK) uniform LfObjectBlock {
     mat4 u_model;          // object -> world
     mat4 u_view;           // world -> eye (no scale: eye depths are in world units)

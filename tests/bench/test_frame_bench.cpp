@@ -5,8 +5,8 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/frame_bench.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/gl/detail/frame_bench.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -9,10 +9,10 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/shading.hpp"
-#include "leanfade/gl/generate.hpp"
+#include "leanfade/gl/detail/generate.hpp"
 
 namespace leanfade::test {
 namespace {

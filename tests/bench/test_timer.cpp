@@ -4,9 +4,9 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/frame_bench.hpp"
-#include "leanfade/gl/timer.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/gl/detail/frame_bench.hpp"
+#include "leanfade/gl/detail/timer.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

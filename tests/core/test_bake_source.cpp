@@ -14,7 +14,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 using namespace leanfade;
 using ::testing::HasSubstr;

@@ -9,7 +9,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/shading.hpp"

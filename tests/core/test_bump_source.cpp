@@ -1,4 +1,4 @@
-// Typed bump sources and layers (leanfade/core/bump_source.hpp): the storage choice with auto as
+// Typed bump sources and layers (leanfade/core/detail/bump_source.hpp): the storage choice with auto as
 // a value, the one texture-size rule, the layers' checks naming their settings, and presets that
 // keep layers and surface maps.
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "leanfade/core/bump_source.hpp"
+#include "leanfade/core/detail/bump_source.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 
 namespace leanfade {
 namespace {

@@ -1,10 +1,10 @@
-// The camera's settings, one rule each (leanfade/core/camera.hpp): the renderer, presets, eval
+// The camera's settings, one rule each (leanfade/core/detail/camera.hpp): the renderer, presets, eval
 // and every command line check distances and the field of view through these.
 #include <gtest/gtest.h>
 
 #include <limits>
 
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/error.hpp"
 
 namespace leanfade {

@@ -1,4 +1,4 @@
-// Flow maps (leanfade/core/flow_map.hpp) and the layer weights of the shared shading header
+// Flow maps (leanfade/core/detail/flow_map.hpp) and the layer weights of the shared shading header
 // (lf_flow_weights, shaders/lean_shading.glsl): the weights sum to 1, favour the layers moving
 // with the flow, and share equally where no layer does.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/flow_map.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
 #include "leanfade/core/shading.hpp"
 
 using namespace leanfade;

@@ -1,4 +1,4 @@
-// Periodic Gabor noise (leanfade/core/gabor_noise.hpp): deterministic, tiles exactly, its
+// Periodic Gabor noise (leanfade/core/detail/gabor_noise.hpp): deterministic, tiles exactly, its
 // spectrum peaks at the chosen wave vector, its RMS slope is the one asked for.
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/gabor_noise.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/gabor_noise.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 using namespace leanfade;
 

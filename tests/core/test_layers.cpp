@@ -1,4 +1,4 @@
-// Bump layers (leanfade/core/layers.hpp, LEAN §3.5): the mixed moments equal the moments of the
+// Bump layers (leanfade/core/detail/layers.hpp, LEAN §3.5): the mixed moments equal the moments of the
 // mixed height field, exactly for the height method, at every MIP level for mixing textures, at
 // the finest level only for the approximation; coherent layers (sine and its negation) mix to a
 // flat surface except under the approximation.
@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/layers.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/layers.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade::test {

@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/shading.hpp"
 #include "test_helpers.hpp"
 

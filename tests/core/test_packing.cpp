@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 using namespace leanfade;
 

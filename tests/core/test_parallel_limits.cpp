@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 
 namespace leanfade {
 namespace {

@@ -1,4 +1,4 @@
-// The shading parameter schema (leanfade/core/parameters.hpp): every row reaches its field,
+// The shading parameter schema (leanfade/core/detail/parameters.hpp): every row reaches its field,
 // validates its range by its key, round-trips through text and presets.
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <set>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/core/detail/preset.hpp"
 #include "leanfade/core/settings.hpp"
 
 namespace leanfade::test {

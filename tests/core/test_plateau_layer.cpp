@@ -1,4 +1,4 @@
-// The plateau layer as a packed LEAN map stores it (leanfade/core/plateau.hpp, docs/math.md §10):
+// The plateau layer as a packed LEAN map stores it (leanfade/core/detail/plateau.hpp, docs/math.md §10):
 // the packed bakes write exactly add_plateau_layer's bytes, the stored values filter as the layer
 // does, f = 0 decodes to exactly 0, and maps without the layer stay without it.
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 namespace leanfade {
 namespace {

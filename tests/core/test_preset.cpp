@@ -11,8 +11,8 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/preset.hpp"
 
 namespace leanfade {
 namespace {

@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/core/shading.hpp"
 #include "test_helpers.hpp"

@@ -12,7 +12,7 @@
 #include <tuple>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 
 namespace leanfade::test {

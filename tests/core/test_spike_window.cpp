@@ -1,4 +1,4 @@
-// Two-lobe LEAN's central window (leanfade/core/plateau.hpp, docs/math.md §10): on a map whose
+// Two-lobe LEAN's central window (leanfade/core/detail/plateau.hpp, docs/math.md §10): on a map whose
 // slopes are peakier than a Gaussian and have nothing flat, the fitted window puts the peak in
 // the spike and the far highlight comes back; the window's layer filters linearly; the plateaus
 // alone are the layer of earlier versions.
@@ -10,7 +10,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/shading.hpp"
 #include "test_helpers.hpp"
 

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 namespace {

@@ -1,12 +1,12 @@
 // Two-lobe LEAN (docs/math.md §10) and geometric specular antialiasing (§11): the plateau layer
-// (leanfade/core/plateau.hpp) and the lobes of the shared shading header compiled as C++.
+// (leanfade/core/detail/plateau.hpp) and the lobes of the shared shading header compiled as C++.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/shading.hpp"
 #include "shading_test_params.hpp"
 

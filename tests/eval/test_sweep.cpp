@@ -5,10 +5,10 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/eval/metrics.hpp"
 #include "leanfade/eval/runner.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 namespace leanfade::test {
 

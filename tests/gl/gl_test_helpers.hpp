@@ -10,9 +10,9 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/detail/context.hpp"
 #include "leanfade/gl/renderer.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::test {
 

@@ -9,7 +9,7 @@
 
 #include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 

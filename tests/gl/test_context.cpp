@@ -6,7 +6,7 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -20,7 +20,7 @@
 
 #include "gl_test_helpers.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "leanfade/scene/material.hpp"
 
 namespace leanfade::test {

@@ -5,11 +5,11 @@
 #include <ostream>
 
 #include "gl_test_helpers.hpp"
-#include "leanfade/core/layers.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/layers.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/shading.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "gl_test_helpers.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -11,7 +11,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

@@ -10,7 +10,7 @@
 #include "gl_test_helpers.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/shader_library.hpp"
-#include "leanfade/gl/shading_block.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
 
 namespace leanfade::test {
 namespace {
@@ -236,7 +236,7 @@ TEST_F(GlShaders, EveryVariantCompilesAndLinks) {
 }
 
 // The fragment stage's uniform block as the driver lays it out equals its C++ mirror
-// (leanfade/gl/shading_block.hpp): every member at the C++ offset, the block within the buffer
+// (leanfade/gl/detail/shading_block.hpp): every member at the C++ offset, the block within the buffer
 // the renderer allocates, and the binding points of shaders/bindings.glsl.
 // One std140 block of a program: the driver's offsets equal the C++ mirror's, every member of the
 // block is in the mirror, the binding point is the one of shaders/bindings.glsl and the block fits
@@ -266,7 +266,7 @@ void check_block(GLuint p, const std::string& variant, const char* block_name,
 }
 
 // The uniform blocks as the driver lays them out equal their C++ mirrors
-// (leanfade/gl/shading_block.hpp), and the LEAN map's sampler is on its named unit.
+// (leanfade/gl/detail/shading_block.hpp), and the LEAN map's sampler is on its named unit.
 TEST_F(GlShaders, UniformBlocksMatchTheirCppMirrors) {
     const gl::ShaderSources sources = gl::ShaderSources::embedded();
     int checked_programs = 0;

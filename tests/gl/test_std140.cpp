@@ -1,10 +1,10 @@
-// std140 offsets computed from a field list (leanfade/gl/std140.hpp), against the rules of the
+// std140 offsets computed from a field list (leanfade/gl/detail/std140.hpp), against the rules of the
 // OpenGL 4.5 specification §7.6.2.2, and the member names the driver lists for a block. The
 // real blocks are checked against the driver in test_shaders.cpp.
 #include <gtest/gtest.h>
 
-#include "leanfade/gl/shading_block.hpp"
-#include "leanfade/gl/std140.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
+#include "leanfade/gl/detail/std140.hpp"
 
 namespace leanfade::gl {
 namespace {

@@ -4,10 +4,10 @@
 #include <cmath>
 
 #include "gl_test_helpers.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::test {
 namespace {

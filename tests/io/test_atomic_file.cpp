@@ -7,7 +7,7 @@
 
 #include "io_test_helpers.hpp"
 #include "leanfade/core/image.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 

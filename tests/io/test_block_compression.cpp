@@ -1,4 +1,4 @@
-// Block-compressed engine textures (leanfade/io/block_compression.hpp): every level of the
+// Block-compressed engine textures (leanfade/io/detail/block_compression.hpp): every level of the
 // roughness, normal and anisotropy MIPs of a bake compressed to BC4/BC5/BC1 (libsquish) and ASTC
 // 4x4 (libastcenc) decodes within the stated error of the uncompressed level (docs/compression.md);
 // the bytes do not depend on the thread count; the KTX2 and DDS files carry the format and every
@@ -13,9 +13,9 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/test/scratch.hpp"
 

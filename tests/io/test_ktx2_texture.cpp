@@ -1,4 +1,4 @@
-// Plain 2D KTX2 textures (leanfade/io/ktx2_texture.hpp): RGBA8 and RGBA half floats written with
+// Plain 2D KTX2 textures (leanfade/io/detail/ktx2_texture.hpp): RGBA8 and RGBA half floats written with
 // every level, their key/values sorted after KTXorientation and KTXwriter, read back texel for
 // texel (half floats: the nearest half of each value); broken chains, values a half cannot hold
 // and reserved or repeated keys are refused with the file's name.
@@ -14,7 +14,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 #include "leanfade/test/scratch.hpp"
 
 namespace leanfade::io {

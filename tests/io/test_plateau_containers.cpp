@@ -7,10 +7,10 @@
 
 #include "io_test_helpers.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 
 namespace leanfade::io {
 namespace {

@@ -6,6 +6,7 @@
 # and examples/plugin (a shared object linking the package, loaded by a host program) with both;
 # runs the programs, and fails on the first step that fails. Nothing is downloaded; the package
 # is found in the prefix only (no user package registry, the prefix first on every search path).
+cmake_policy(SET CMP0057 NEW)  # if(... IN_LIST ...)
 foreach(var BUILD_DIR SOURCE_DIR WORK_DIR CONSUMER_DIR PLUGIN_DIR LIBDIR GENERATOR CXX MAKE
             PKG_CONFIG NM OBJCOPY SYMBOLS)
   if(NOT DEFINED ${var})
@@ -36,6 +37,36 @@ foreach(file IN LISTS expected)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "the install has no ${file}")
   endif()
+endforeach()
+
+# The public API is at most 16 headers: every other installed header lies in a detail/ folder
+# (installed because the public ones include them, not a promise). The consumers and plugins
+# below include public headers only, so each of them compiles against those alone.
+set(max_public_headers 16)
+file(GLOB_RECURSE headers LIST_DIRECTORIES false RELATIVE ${prefix}/include
+     ${prefix}/include/leanfade/*.hpp)
+set(public_headers "")
+foreach(header IN LISTS headers)
+  if(NOT header MATCHES "/detail/")
+    list(APPEND public_headers ${header})
+  endif()
+endforeach()
+list(LENGTH public_headers public_count)
+list(JOIN public_headers "\n  " shown)
+if(public_count GREATER max_public_headers OR public_count EQUAL 0)
+  message(FATAL_ERROR "${public_count} public headers installed (at most ${max_public_headers}):"
+                      "\n  ${shown}")
+endif()
+message(STATUS "${public_count} public headers:\n  ${shown}")
+file(GLOB example_sources ${CONSUMER_DIR}/*.cpp ${PLUGIN_DIR}/*.cpp)
+foreach(source IN LISTS example_sources)
+  file(STRINGS ${source} includes REGEX "^#include [<\"]leanfade/")
+  foreach(line IN LISTS includes)
+    string(REGEX REPLACE "^#include [<\"]([^>\"]+)[>\"].*$" "\\1" header "${line}")
+    if(NOT header IN_LIST public_headers)
+      message(FATAL_ERROR "${source} includes ${header}, which is not a public header")
+    endif()
+  endforeach()
 endforeach()
 
 # Relocatable: no installed file names the build or the source tree (a compiled-in path, a run

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene::test {
 

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "mesh_checks.hpp"
 
 namespace leanfade::scene {

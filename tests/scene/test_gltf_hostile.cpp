@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 #include "test_gltf_builder.hpp"
 
 namespace leanfade::scene {

@@ -1,5 +1,5 @@
 // glTF scenes for the renderer (make_render_scene, bake_normal_texture; leanfade/scene/gltf.hpp)
-// and the LEAN-map cache (leanfade/scene/lean_map_cache.hpp).
+// and the LEAN-map cache (leanfade/scene/detail/lean_map_cache.hpp).
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -11,7 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 #include "test_gltf_builder.hpp"
 
 namespace leanfade::scene {

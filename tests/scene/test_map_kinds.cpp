@@ -1,4 +1,4 @@
-// The surface-map table (leanfade/scene/map_kinds.hpp) and the scene rules derived from it:
+// The surface-map table (leanfade/scene/detail/map_kinds.hpp) and the scene rules derived from it:
 // every kind has its own unit and mask bit, and validate() holds each kind's textures to the
 // kind's channels and MIP rule and each material's slots to the scene's textures.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "leanfade/scene/material.hpp"
 
 namespace leanfade::scene {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 #include "mesh_checks.hpp"
 
 namespace leanfade::scene {

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "leanfade/scene/generators.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/generators.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene {
 namespace {

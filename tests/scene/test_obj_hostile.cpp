@@ -18,7 +18,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 
 namespace leanfade::scene {
 namespace {

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/obj_loader.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 #include "mesh_checks.hpp"
 
 namespace leanfade::scene {

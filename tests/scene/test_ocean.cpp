@@ -1,4 +1,4 @@
-// The built-in ocean (leanfade/scene/ocean.hpp): a layered water plane reaching the horizon, its
+// The built-in ocean (leanfade/scene/detail/ocean.hpp): a layered water plane reaching the horizon, its
 // moving Gabor wave layers, flow weights, cameras and shading. Rendering: test_ocean_render.cpp.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <glm/glm.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/flow_map.hpp"
-#include "leanfade/scene/ocean.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
+#include "leanfade/scene/detail/ocean.hpp"
 
 using namespace leanfade;
 using namespace leanfade::scene;

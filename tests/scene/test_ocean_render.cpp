@@ -12,9 +12,9 @@
 #include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
 #include "leanfade/gl/renderer.hpp"
-#include "leanfade/gl/scene_view.hpp"
+#include "leanfade/gl/detail/scene_view.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/scene/ocean.hpp"
+#include "leanfade/scene/detail/ocean.hpp"
 
 using namespace leanfade;
 

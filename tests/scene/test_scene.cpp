@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::scene {
 namespace {

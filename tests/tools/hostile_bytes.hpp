@@ -17,7 +17,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/ktx2.hpp"
 
 namespace leanfade::test {

@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "tools_test_helpers.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 
 #include <nlohmann/json.hpp>
 

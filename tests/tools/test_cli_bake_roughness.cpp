@@ -17,15 +17,15 @@
 #include <glm/gtc/packing.hpp>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/basis_universal.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "tools_test_helpers.hpp"
 
 using namespace leanfade;

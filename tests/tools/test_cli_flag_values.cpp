@@ -19,7 +19,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 #include "tools_test_helpers.hpp"
 
 using namespace leanfade;

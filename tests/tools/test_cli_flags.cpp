@@ -4,7 +4,7 @@
 
 #include "cli_flags.hpp"
 #include "cli_runner.hpp"
-#include "leanfade/core/parameters.hpp"
+#include "leanfade/core/detail/parameters.hpp"
 #include "tools_test_helpers.hpp"
 
 namespace leanfade::test {

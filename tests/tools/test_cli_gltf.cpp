@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
-#include "leanfade/io/basis_universal.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 #include "test_gltf_builder.hpp"
 #include "leanfade/test/scratch.hpp"
 

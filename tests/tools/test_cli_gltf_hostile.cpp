@@ -15,7 +15,7 @@
 #include "cli_runner.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "test_gltf_builder.hpp"
 
 namespace leanfade {

@@ -9,9 +9,9 @@
 
 #include "cli_runner.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 #include "tools_test_helpers.hpp"
 
 namespace leanfade::test {

@@ -31,8 +31,8 @@
 #include "hostile_bytes.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/version.hpp"
@@ -568,7 +568,7 @@ TEST_P(Determinism, SameBytesForAnyThreadCountAndRunAndAsTheLibrary) {
     const BakeResult baked =
         bake_lean_map(io::read_image(input.string()), BakeSource::Auto, options);
     const fs::path reference = dir / "reference.ktx2";
-    // With the plateau layer the packed bake adds (leanfade/core/plateau.hpp).
+    // With the plateau layer the packed bake adds (leanfade/core/detail/plateau.hpp).
     PackedLeanMap packed =
         pack_lean_map(baked.map, storage, std::string("leanfade ") + LEANFADE_VERSION);
     // The rule takes the PNG's quantisation step (8-bit normals, 16-bit heights).

@@ -11,7 +11,7 @@
 #include <fstream>
 
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 #include "tools_test_helpers.hpp"
 
 using namespace leanfade;

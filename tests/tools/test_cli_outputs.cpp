@@ -23,10 +23,10 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
-#include "leanfade/core/preset.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/preset.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 #include "tools_test_helpers.hpp"
 
 using namespace leanfade;

@@ -21,9 +21,9 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/technique.hpp"
-#include "leanfade/gl/shader_export.hpp"
+#include "leanfade/gl/detail/shader_export.hpp"
 #include "leanfade/gl/shader_library.hpp"
-#include "leanfade/gl/shading_block.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
 #include "tools_test_helpers.hpp"
 
 namespace leanfade::test {

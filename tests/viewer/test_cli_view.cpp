@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "cli_runner.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/test/scratch.hpp"
 

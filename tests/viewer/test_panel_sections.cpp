@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "leanfade/core/parameters.hpp"
+#include "leanfade/core/detail/parameters.hpp"
 #include "leanfade/viewer/panel_sections.hpp"
 
 namespace leanfade::viewer {

@@ -11,11 +11,11 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/procedural.hpp"
-#include "leanfade/gl/context.hpp"
+#include "leanfade/core/detail/procedural.hpp"
+#include "leanfade/gl/detail/context.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 #include "leanfade/viewer/session.hpp"
 #include "leanfade/test/scratch.hpp"
 

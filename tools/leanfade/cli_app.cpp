@@ -14,7 +14,7 @@
 #include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {

@@ -7,10 +7,10 @@
 
 #include "cli_render_scene.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/layers.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/layers.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {

@@ -12,13 +12,13 @@
 #include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/gltf_writer.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/material.hpp"
 

@@ -6,8 +6,8 @@
 
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/scene/gltf_writer.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::cli {
 

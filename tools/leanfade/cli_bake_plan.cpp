@@ -10,8 +10,8 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/output_plan.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {

@@ -4,10 +4,10 @@
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {

@@ -1,6 +1,6 @@
 #pragma once
 // `leanfade bake MAP -o OUT --plateau-out FILE.ktx2`: the plateau layer of two-lobe LEAN
-// (docs/math.md §10, leanfade/core/plateau.hpp) as a 2D half-float KTX2 texture with its MIP
+// (docs/math.md §10, leanfade/core/detail/plateau.hpp) as a 2D half-float KTX2 texture with its MIP
 // chain, computed from the LEAN map as stored (the values `leanfade render` computes when it loads
 // the map), for engines and WebGL2 pages that load it as a texture (docs/ktx2.md).
 #include <cstddef>
@@ -10,7 +10,7 @@
 
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 
 namespace leanfade::cli {
 

@@ -6,8 +6,8 @@
 #include <cstdio>
 
 #include "cli_flags.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 
 namespace leanfade::cli {
 namespace {

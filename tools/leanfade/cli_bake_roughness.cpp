@@ -8,10 +8,10 @@
 #include "cli_text.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
-#include "leanfade/io/node_tool.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
+#include "leanfade/io/detail/node_tool.hpp"
 #include "leanfade/version.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 
 namespace leanfade::cli {
 namespace {

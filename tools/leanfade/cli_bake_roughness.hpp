@@ -12,11 +12,11 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/basis_universal.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 
 namespace leanfade::cli {
 

@@ -9,8 +9,8 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 namespace leanfade::cli {
 namespace {

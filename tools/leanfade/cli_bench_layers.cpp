@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/layers.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/layers.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/gl/renderer.hpp"
 
 namespace leanfade::cli {

@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_render_scene.hpp"
-#include "leanfade/gl/context.hpp"
-#include "leanfade/gl/frame_bench.hpp"
+#include "leanfade/gl/detail/context.hpp"
+#include "leanfade/gl/detail/frame_bench.hpp"
 
 namespace leanfade::cli {
 

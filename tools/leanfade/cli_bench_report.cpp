@@ -8,7 +8,7 @@
 #include <fstream>
 #include <thread>
 
-#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/detail/figure.hpp"
 
 namespace leanfade::cli {
 namespace {

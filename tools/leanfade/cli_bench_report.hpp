@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_bench_bake.hpp"
-#include "leanfade/gl/frame_bench.hpp"
+#include "leanfade/gl/detail/frame_bench.hpp"
 
 namespace leanfade::cli {
 

@@ -5,14 +5,14 @@
 #include <cstdio>
 #include <utility>
 
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
 
 namespace leanfade::cli {
 namespace {
 
 // Settings outside the shading schema that the libraries name: camera, sweep and benchmark
-// settings, the built-in bump sets and the bump layers (leanfade/core/layers.hpp, whose setting
+// settings, the built-in bump sets and the bump layers (leanfade/core/detail/layers.hpp, whose setting
 // names are their flags' already).
 constexpr std::string_view kOtherSettings[] = {
     "techniques", "distances", "spp", "frames", "motion", "size", "timing", "warmup", "scenes",

@@ -5,9 +5,9 @@
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/flow_map.hpp"
-#include "leanfade/core/text.hpp"
-#include "leanfade/gl/scene_view.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
+#include "leanfade/core/detail/text.hpp"
+#include "leanfade/gl/detail/scene_view.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::cli {

@@ -1,5 +1,5 @@
 #pragma once
-// The built-in `ocean` scene on the command line (leanfade/scene/ocean.hpp, docs/ocean.md): its
+// The built-in `ocean` scene on the command line (leanfade/scene/detail/ocean.hpp, docs/ocean.md): its
 // flags, the ocean's shading as the defaults of the shading flags, its near / mid / far cameras
 // as the rows of `render`, and the frame sequences of `render --frames`.
 #include <cstdint>
@@ -10,8 +10,8 @@
 #include <glm/glm.hpp>
 
 #include "cli_render_options.hpp"
-#include "leanfade/gl/figure.hpp"
-#include "leanfade/scene/ocean.hpp"
+#include "leanfade/gl/detail/figure.hpp"
+#include "leanfade/scene/detail/ocean.hpp"
 #include "leanfade/scene/scene_source.hpp"
 
 namespace leanfade::cli {

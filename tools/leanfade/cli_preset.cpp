@@ -4,8 +4,8 @@
 #include <algorithm>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
 
 namespace leanfade::cli {
 

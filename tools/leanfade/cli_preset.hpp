@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_render_scene.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 
 namespace leanfade::cli {
 

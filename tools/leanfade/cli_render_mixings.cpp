@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/eval/metrics.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 
 namespace leanfade::cli {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "cli_render_scene.hpp"
-#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/detail/figure.hpp"
 
 namespace leanfade::cli {
 

@@ -11,16 +11,16 @@
 #include <vector>
 
 #include "cli_flags.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/eval/results.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {

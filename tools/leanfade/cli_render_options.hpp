@@ -2,7 +2,7 @@
 // Command-line binding of the shading settings, of the LEAN map source and of the GL context,
 // shared by the subcommands that render (`render`, `view`, `eval`, `calibrate`, `bench`).
 //
-// The shading flags are derived from the parameter schema (leanfade/core/parameters.hpp): one
+// The shading flags are derived from the parameter schema (leanfade/core/detail/parameters.hpp): one
 // flag per row, named by flag_for_setting (cli_flags.hpp). CLI11 parses every flag into the typed
 // structs below once (cli_text.hpp: add_typed_option); the ranges are checked by the libraries
 // that own them (validate, check_texture_size, ...), whose leanfade::Error(setting, cause) the
@@ -15,13 +15,13 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_text.hpp"
-#include "leanfade/core/bump_source.hpp"
+#include "leanfade/core/detail/bump_source.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/detail/context.hpp"
 #include "leanfade/gl/shader_library.hpp"
-#include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
 #include "leanfade/scene/scene_source.hpp"
 
 namespace leanfade::cli {

@@ -6,8 +6,8 @@
 #include "cli_bake_gltf.hpp"
 #include "cli_flags.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::cli {

@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_render_options.hpp"
-#include "leanfade/core/layers.hpp"
+#include "leanfade/core/detail/layers.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/scene/scene_source.hpp"
 

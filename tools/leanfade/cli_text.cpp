@@ -1,10 +1,10 @@
 // The command line's text (cli_text.hpp).
 #include "cli_text.hpp"
 
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade::cli {
 

@@ -1,7 +1,7 @@
 #pragma once
 // The command line's text, in one place: the flags' values are converted to typed values once,
 // when CLI11 parses them (add_typed_option), and typed values are written back as text only for
-// help texts, reports and file names. Numbers use leanfade/core/text.hpp. Every parser throws
+// help texts, reports and file names. Numbers use leanfade/core/detail/text.hpp. Every parser throws
 // leanfade::Error(flag, cause) naming the flag and what was wrong.
 #include <string>
 #include <utility>
@@ -72,7 +72,7 @@ FramebufferSize parse_size(const std::string& text, const std::string& flag);
 glm::vec3 parse_vector(const std::string& text, const std::string& flag);
 // "u:v,u:v" -> one velocity per layer, uv units per second.
 std::vector<glm::vec2> parse_velocities(const std::string& text, const std::string& flag);
-// "3,6,18" -> camera distances, each checked by check_camera_distance (leanfade/core/camera.hpp).
+// "3,6,18" -> camera distances, each checked by check_camera_distance (leanfade/core/detail/camera.hpp).
 std::vector<float> parse_distances(const std::string& text, const std::string& flag);
 // "1024,2048" -> whole numbers in [low, high] (texels per side).
 std::vector<int> parse_sizes(const std::string& text, const std::string& flag, int low, int high);

@@ -6,13 +6,13 @@
 #include <optional>
 
 #include "command.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/text.hpp"
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/text.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 
 namespace leanfade::cli {
 namespace {
@@ -33,7 +33,7 @@ std::optional<io::EngineTexture> engine_texture_of(const std::string& content) {
 }
 
 // An engine texture's levels: RGBA8, or the block format of `texture` under --compress
-// (leanfade/io/block_compression.hpp).
+// (leanfade/io/detail/block_compression.hpp).
 void read_engine_texture(const std::string& path, const io::Ktx2Info& info,
                          io::EngineTexture texture) {
     for (const io::BlockCompression compression : {io::BlockCompression::Bc, io::BlockCompression::Astc}) {

@@ -9,17 +9,17 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/detail/figure.hpp"
 #include "leanfade/gl/renderer.hpp"
-#include "leanfade/gl/shader_export.hpp"
-#include "leanfade/gl/shading_block.hpp"
-#include "leanfade/io/atomic_file.hpp"
-#include "leanfade/io/output_plan.hpp"
-#include "leanfade/scene/map_kinds.hpp"
-#include "leanfade/scene/mesh.hpp"
-#include "leanfade/scene/vertex_layout.hpp"
+#include "leanfade/gl/detail/shader_export.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
+#include "leanfade/scene/detail/vertex_layout.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {
@@ -137,7 +137,7 @@ nlohmann::json defaults_json() {
          "uploaded bottom first (+v up)"}};
 }
 
-// The surface maps a variant may sample, from the map-kind table (leanfade/scene/map_kinds.hpp):
+// The surface maps a variant may sample, from the map-kind table (leanfade/scene/detail/map_kinds.hpp):
 // where each is bound, its bit in u_shading.maps and its slot of u_shading.uv_transforms, and what
 // to bind when a material has none.
 nlohmann::json maps_json() {

@@ -1,6 +1,6 @@
 // leanfade: bake LEAN maps, render, view, evaluate and benchmark specular fading.
 #include "cli_app.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 int main(int argc, char** argv) {
     // An interrupted run (Ctrl-C, kill) leaves no temporary file behind.

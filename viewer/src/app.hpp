@@ -7,8 +7,8 @@
 #include <string_view>
 
 #include "display.hpp"
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/gl/context.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/gl/detail/context.hpp"
 #include "leanfade/viewer/session.hpp"
 #include "leanfade/viewer/viewer.hpp"
 

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 
 namespace leanfade::viewer {
 

@@ -8,10 +8,10 @@
 #include "app.hpp"
 #include "imgui_stdlib.h"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/eval/runner.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 #include "leanfade/viewer/panel_sections.hpp"
 #include "leanfade/core/technique.hpp"
 
@@ -214,7 +214,7 @@ void App::panel_camera() {
     f.far_distance = std::max(f.far_distance, f.near_distance * 1.01f);
 }
 
-// The widget of one row of the parameter schema (leanfade/core/parameters.hpp): a slider over
+// The widget of one row of the parameter schema (leanfade/core/detail/parameters.hpp): a slider over
 // its widget range (logarithmic where it spans decades), a colour editor, a direction or a list.
 // Returns true when the value changed.
 bool App::parameter_widget(const ParameterInfo& row, ShadingSettings& s) {

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "leanfade/core/parameters.hpp"
+#include "leanfade/core/detail/parameters.hpp"
 
 namespace leanfade::viewer {
 

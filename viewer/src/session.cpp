@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/atomic_file.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::viewer {
 namespace {

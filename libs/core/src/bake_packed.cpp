@@ -33,9 +33,9 @@
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/memory.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/memory.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 #include "plateau_internal.hpp"
 
 namespace leanfade {

@@ -1,14 +1,14 @@
-// Typed bump sources and bump layers, and their checks (leanfade/core/bump_source.hpp).
-#include "leanfade/core/bump_source.hpp"
+// Typed bump sources and bump layers, and their checks (leanfade/core/detail/bump_source.hpp).
+#include "leanfade/core/detail/bump_source.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/settings.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 

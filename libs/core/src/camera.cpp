@@ -1,10 +1,10 @@
-// The camera's settings (leanfade/core/camera.hpp).
-#include "leanfade/core/camera.hpp"
+// The camera's settings (leanfade/core/detail/camera.hpp).
+#include "leanfade/core/detail/camera.hpp"
 
 #include <cmath>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 

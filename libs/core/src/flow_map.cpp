@@ -1,4 +1,4 @@
-#include "leanfade/core/flow_map.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
 
 #include <algorithm>
 #include <cmath>

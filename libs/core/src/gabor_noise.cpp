@@ -1,4 +1,4 @@
-#include "leanfade/core/gabor_noise.hpp"
+#include "leanfade/core/detail/gabor_noise.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/core/random.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/core/detail/random.hpp"
 
 namespace leanfade {
 namespace {

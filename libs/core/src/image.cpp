@@ -5,7 +5,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "leanfade/core/memory.hpp"
+#include "leanfade/core/detail/memory.hpp"
 
 namespace leanfade {
 

@@ -1,4 +1,4 @@
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,6 +1,6 @@
 // Bump layers: slopes mixed for the "height" method, cross-term textures, and the moments of
-// aligned layers mixed per texel with the shared header's formulas (leanfade/core/layers.hpp).
-#include "leanfade/core/layers.hpp"
+// aligned layers mixed per texel with the shared header's formulas (leanfade/core/detail/layers.hpp).
+#include "leanfade/core/detail/layers.hpp"
 
 #include <algorithm>
 #include <array>

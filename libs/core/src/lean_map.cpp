@@ -13,9 +13,9 @@
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 #include "leanfade/core/shading.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 

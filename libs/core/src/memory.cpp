@@ -1,8 +1,8 @@
-#include "leanfade/core/memory.hpp"
+#include "leanfade/core/detail/memory.hpp"
 
 #include <cstdint>
 
-#include "leanfade/core/platform.hpp"
+#include "leanfade/core/detail/platform.hpp"
 
 namespace leanfade {
 

@@ -1,4 +1,4 @@
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,5 +1,5 @@
-// The shading parameter schema (leanfade/core/parameters.hpp).
-#include "leanfade/core/parameters.hpp"
+// The shading parameter schema (leanfade/core/detail/parameters.hpp).
+#include "leanfade/core/detail/parameters.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/settings.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 namespace {

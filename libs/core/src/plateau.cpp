@@ -1,5 +1,5 @@
-// The plateau layer of two-lobe LEAN (leanfade/core/plateau.hpp, docs/math.md §10).
-#include "leanfade/core/plateau.hpp"
+// The plateau layer of two-lobe LEAN (leanfade/core/detail/plateau.hpp, docs/math.md §10).
+#include "leanfade/core/detail/plateau.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -15,8 +15,8 @@
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/memory.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/memory.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 #include "leanfade/core/shading.hpp"
 #include "plateau_internal.hpp"
 

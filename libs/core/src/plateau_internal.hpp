@@ -1,12 +1,12 @@
 #pragma once
 // The plateau layer written by the packed bakes (bake_packed.cpp) straight into their output, the
-// bytes of add_plateau_layer (leanfade/core/plateau.hpp) without its float images of the finest
+// bytes of add_plateau_layer (leanfade/core/detail/plateau.hpp) without its float images of the finest
 // level.
 #include <cstdint>
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 
 namespace leanfade::detail {
 

@@ -1,6 +1,6 @@
-// The platform layer on Linux (leanfade/core/platform.hpp): transparent huge pages, output files
+// The platform layer on Linux (leanfade/core/detail/platform.hpp): transparent huge pages, output files
 // mapped into memory, folder trees removed with getdents64, file copies in the kernel.
-#include "leanfade/core/platform.hpp"
+#include "leanfade/core/detail/platform.hpp"
 
 #include <fcntl.h>
 #include <linux/fs.h>

@@ -1,6 +1,6 @@
-// The portable platform layer (leanfade/core/platform.hpp): ordinary allocation and writes,
+// The portable platform layer (leanfade/core/detail/platform.hpp): ordinary allocation and writes,
 // standard C and C++ only, plus POSIX.1 write, unlink and rmdir.
-#include "leanfade/core/platform.hpp"
+#include "leanfade/core/detail/platform.hpp"
 
 #include "platform_common.hpp"
 

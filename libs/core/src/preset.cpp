@@ -1,6 +1,6 @@
 // Presets as JSON: strict reading (unknown and repeated keys, types, finiteness, ranges) and
 // writing with the shortest exact numbers.
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -14,12 +14,12 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/parameters.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 
 namespace leanfade {
 namespace {

@@ -1,4 +1,4 @@
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 
 #include <algorithm>
 #include <array>
@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/gabor_noise.hpp"
-#include "leanfade/core/random.hpp"
+#include "leanfade/core/detail/gabor_noise.hpp"
+#include "leanfade/core/detail/random.hpp"
 
 namespace leanfade {
 namespace {

@@ -9,8 +9,8 @@
 #include <glm/geometric.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/memory.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/memory.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade {

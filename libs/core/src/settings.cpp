@@ -7,7 +7,7 @@
 #include <glm/common.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parameters.hpp"
+#include "leanfade/core/detail/parameters.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade {
@@ -79,7 +79,7 @@ int to_shader_constant(Brdf brdf) {
                                       : shading::LF_BRDF_BLINN_PHONG;
 }
 
-// Names from the parameter schema's choices (leanfade/core/parameters.hpp), listed in enum
+// Names from the parameter schema's choices (leanfade/core/detail/parameters.hpp), listed in enum
 // order.
 const char* to_string(FadeDistance mode) {
     return find_shading_parameter("fade_distance")->choices[std::size_t(mode)].data();

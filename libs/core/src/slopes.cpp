@@ -8,7 +8,7 @@
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 
 namespace leanfade {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "lean_map_internal.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/parallel.hpp"
+#include "leanfade/core/detail/parallel.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade {

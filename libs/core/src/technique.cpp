@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 namespace leanfade {
 

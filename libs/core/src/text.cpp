@@ -1,4 +1,4 @@
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -10,7 +10,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/shading.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/eval/results.hpp"
 
 namespace leanfade::eval {

@@ -24,13 +24,13 @@
 #include "results_internal.hpp"
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/eval/metrics.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 
 namespace leanfade::eval {
 

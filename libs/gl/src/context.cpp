@@ -1,5 +1,5 @@
 // EGL headless context creation (device platform, Mesa surfaceless) and GL_KHR_debug output.
-#include "leanfade/gl/context.hpp"
+#include "leanfade/gl/detail/context.hpp"
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>

@@ -1,5 +1,5 @@
 // Comparison figures: cells, zoom rows, labels, sRGB encoding and a 5 x 7 bitmap font.
-#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/detail/figure.hpp"
 
 #include <algorithm>
 #include <array>

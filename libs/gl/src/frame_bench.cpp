@@ -1,5 +1,5 @@
 // Frame-time benchmark of the techniques: fill view plus distances, interleaved rounds.
-#include "leanfade/gl/frame_bench.hpp"
+#include "leanfade/gl/detail/frame_bench.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/figure.hpp"
+#include "leanfade/gl/detail/figure.hpp"
 
 namespace leanfade::gl {
 namespace {

@@ -1,7 +1,7 @@
 // LEAN map generation on the GPU: compute pass for the top level, glGenerateMipmap for the rest.
-#include "leanfade/gl/generate.hpp"
+#include "leanfade/gl/detail/generate.hpp"
 
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/gl/renderer.hpp"
 

@@ -6,7 +6,7 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/gl/renderer.hpp"
-#include "leanfade/scene/map_kinds.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
 
 namespace leanfade::gl {
 

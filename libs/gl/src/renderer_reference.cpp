@@ -9,7 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/shading_block.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
 #include "renderer_internal.hpp"
 
 namespace leanfade::gl {

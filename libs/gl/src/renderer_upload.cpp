@@ -10,8 +10,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/shading_block.hpp"
-#include "leanfade/scene/vertex_layout.hpp"
+#include "leanfade/gl/detail/shading_block.hpp"
+#include "leanfade/scene/detail/vertex_layout.hpp"
 #include "renderer_internal.hpp"
 
 namespace leanfade::gl {

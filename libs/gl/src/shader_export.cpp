@@ -2,7 +2,7 @@
 // library (its C interface) optimised and validated by SPIRV-Tools (its C++ API, linked with
 // glslang's SPIR-V back end), HLSL and MSL by SPIRV-Cross (its C interface, the shared library
 // libspirv-cross-c-shared), which also reflects the SPIR-V modules.
-#include "leanfade/gl/shader_export.hpp"
+#include "leanfade/gl/detail/shader_export.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -19,8 +19,8 @@
 #include <spirv-tools/optimizer.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "spirv_samplers.hpp"
 
 namespace leanfade::gl {

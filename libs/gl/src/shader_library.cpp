@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 
 namespace leanfade::embedded {
 const std::map<std::string, std::string_view>& shader_files();

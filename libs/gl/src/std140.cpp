@@ -1,5 +1,5 @@
-// std140 block members from a field list (leanfade/gl/std140.hpp).
-#include "leanfade/gl/std140.hpp"
+// std140 block members from a field list (leanfade/gl/detail/std140.hpp).
+#include "leanfade/gl/detail/std140.hpp"
 
 #include <cstdint>
 #include <cstring>

@@ -1,5 +1,5 @@
 // GL_TIME_ELAPSED queries or glFinish + steady_clock, and frame-time statistics.
-#include "leanfade/gl/timer.hpp"
+#include "leanfade/gl/detail/timer.hpp"
 
 #include <algorithm>
 #include <cctype>

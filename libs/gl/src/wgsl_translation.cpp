@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/gl/shader_export.hpp"
-#include "leanfade/io/node_tool.hpp"
+#include "leanfade/gl/detail/shader_export.hpp"
+#include "leanfade/io/detail/node_tool.hpp"
 
 namespace leanfade::gl {
 namespace {

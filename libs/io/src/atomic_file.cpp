@@ -1,4 +1,4 @@
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,7 +13,7 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/platform.hpp"
+#include "leanfade/core/detail/platform.hpp"
 
 namespace leanfade::io {
 namespace {
@@ -114,7 +114,7 @@ std::uint8_t* AtomicFile::map(std::size_t size) {
         throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (too large)");
     }
     // Linux reserves the blocks first: a full disk must be an error here, not a SIGBUS while the
-    // caller fills the mapping (leanfade/core/platform.hpp).
+    // caller fills the mapping (leanfade/core/detail/platform.hpp).
     const platform::OutputMapping mapping = platform::map_output_file(descriptor_, size);
     if (mapping.reserve_failed) {
         throw Error(path_, "cannot reserve " + std::to_string(size) + " bytes (" +

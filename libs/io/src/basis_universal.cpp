@@ -2,7 +2,7 @@
 // as raw RGBA8 files in a private folder with JSON jobs, the script run by Node.js (a process per
 // hardware thread at most), the headers read back by inspect_ktx2_uastc (KTX2 §3, the header and
 // index; the Khronos Data Format Specification's basic descriptor block for the DFD).
-#include "leanfade/io/basis_universal.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,7 +15,7 @@
 
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/node_tool.hpp"
+#include "leanfade/io/detail/node_tool.hpp"
 
 namespace leanfade::io {
 

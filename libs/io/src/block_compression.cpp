@@ -1,6 +1,6 @@
-// Block-compressed engine textures (leanfade/io/block_compression.hpp): libsquish for BC1, BC4 and
+// Block-compressed engine textures (leanfade/io/detail/block_compression.hpp): libsquish for BC1, BC4 and
 // BC5, libastcenc for ASTC; the KTX2 and DDS containers.
-#include "leanfade/io/block_compression.hpp"
+#include "leanfade/io/detail/block_compression.hpp"
 
 #include <algorithm>
 #include <array>
@@ -18,8 +18,8 @@
 #include "input_file.hpp"
 #include "ktx2_internal.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 
 namespace leanfade::io {

@@ -15,7 +15,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 
 namespace leanfade::io::detail {
 namespace {

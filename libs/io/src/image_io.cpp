@@ -7,8 +7,8 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/text.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/text.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 namespace leanfade::io {
 namespace {

@@ -11,8 +11,8 @@
 #include <new>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/memory.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/memory.hpp"
 
 namespace leanfade::io::detail {
 

@@ -18,9 +18,9 @@
 
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 #include <zstd.h>
 

@@ -1,5 +1,5 @@
-// Plain 2D textures with MIPs as KTX 2.0 (leanfade/io/ktx2_texture.hpp).
-#include "leanfade/io/ktx2_texture.hpp"
+// Plain 2D textures with MIPs as KTX 2.0 (leanfade/io/detail/ktx2_texture.hpp).
+#include "leanfade/io/detail/ktx2_texture.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "ktx2_internal.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/version.hpp"
 

@@ -20,10 +20,10 @@
 
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/parallel.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/parallel.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/version.hpp"
 
 #include <zstd.h>

@@ -1,6 +1,6 @@
 // Scripts under Node.js (node_tool.hpp): found relative to the running program, never by a path
 // of the build, and started by posix_spawnp with an argument list.
-#include "leanfade/io/node_tool.hpp"
+#include "leanfade/io/detail/node_tool.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>

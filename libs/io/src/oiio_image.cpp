@@ -28,7 +28,7 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/memory.hpp"
+#include "leanfade/core/detail/memory.hpp"
 
 namespace leanfade::io::detail {
 namespace {

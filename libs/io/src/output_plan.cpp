@@ -1,4 +1,4 @@
-#include "leanfade/io/output_plan.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -14,7 +14,7 @@
 #include <system_error>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 
 namespace leanfade::io {
 namespace {

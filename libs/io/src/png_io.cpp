@@ -17,12 +17,12 @@
 #include "formats.hpp"
 #include "input_file.hpp"
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/core/plateau.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/shading.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 
 namespace leanfade::io::detail {
 namespace {

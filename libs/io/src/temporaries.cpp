@@ -16,8 +16,8 @@
 #include <string>
 #include <system_error>
 
-#include "leanfade/core/platform.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/platform.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 namespace leanfade::io {
 namespace {

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/random.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/core/detail/random.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gltf_internal.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/scene/gltf.hpp"
 
 namespace leanfade::scene::gltf_detail {

@@ -33,7 +33,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "gltf_internal.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "mesh_internal.hpp"

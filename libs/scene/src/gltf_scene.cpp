@@ -8,11 +8,11 @@
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/core/text.hpp"
+#include "leanfade/core/detail/text.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 #include "leanfade/version.hpp"
 #include "mesh_internal.hpp"
 

@@ -1,5 +1,5 @@
-// A filtered copy of a glTF scene (gltf_writer.hpp).
-#include "leanfade/scene/gltf_writer.hpp"
+// A filtered copy of a glTF scene (gltf.hpp, write_filtered_gltf).
+#include "leanfade/scene/gltf.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -18,17 +18,17 @@
 #include <nlohmann/json.hpp>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/atomic_file.hpp"
-#include "leanfade/io/basis_universal.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
+#include "leanfade/io/detail/basis_universal.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
-#include "leanfade/io/node_tool.hpp"
-#include "leanfade/io/output_plan.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
+#include "leanfade/io/detail/node_tool.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::scene {

@@ -1,5 +1,5 @@
-// The LEAN-map cache (leanfade/scene/lean_map_cache.hpp) and its SHA-256 key (OpenSSL libcrypto).
-#include "leanfade/scene/lean_map_cache.hpp"
+// The LEAN-map cache (leanfade/scene/detail/lean_map_cache.hpp) and its SHA-256 key (OpenSSL libcrypto).
+#include "leanfade/scene/detail/lean_map_cache.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -14,8 +14,8 @@
 #include <filesystem>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/version.hpp"
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

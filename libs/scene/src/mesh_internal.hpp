@@ -5,7 +5,7 @@
 #include <glm/glm.hpp>
 
 #include "leanfade/core/image.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene::detail {
 

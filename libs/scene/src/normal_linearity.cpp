@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

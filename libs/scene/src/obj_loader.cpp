@@ -18,8 +18,8 @@
 #include <tiny_obj_loader.h>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::scene {

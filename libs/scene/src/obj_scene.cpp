@@ -1,4 +1,4 @@
-// The renderer's scene of an OBJ model with MTL materials (leanfade/scene/obj_loader.hpp).
+// The renderer's scene of an OBJ model with MTL materials (leanfade/scene/detail/obj_loader.hpp).
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/input_text.hpp"
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 #include "leanfade/version.hpp"
 #include "mesh_internal.hpp"
 

@@ -1,4 +1,4 @@
-#include "leanfade/scene/ocean.hpp"
+#include "leanfade/scene/detail/ocean.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,9 +7,9 @@
 #include <string>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/flow_map.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::scene {

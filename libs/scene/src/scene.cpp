@@ -1,4 +1,4 @@
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -8,18 +8,18 @@
 #include <variant>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/core/flow_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/core/procedural.hpp"
+#include "leanfade/core/detail/flow_map.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/output_plan.hpp"
-#include "leanfade/io/png_io.hpp"
+#include "leanfade/io/detail/output_plan.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "leanfade/scene/lean_map_cache.hpp"
-#include "leanfade/scene/map_kinds.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/lean_map_cache.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::scene {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/scene/generators.hpp"
+#include "leanfade/scene/detail/generators.hpp"
 #include "mesh_internal.hpp"
 
 namespace leanfade::embedded {

@@ -3,7 +3,7 @@
 // (the renderer scales every object to a unit bounding sphere at the origin), y is up.
 #include <glm/vec3.hpp>
 
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 #include "leanfade/gl/renderer.hpp"
 
 namespace leanfade::viewer {

@@ -1,6 +1,6 @@
 #pragma once
 // The viewer panel's collapsing headers and the shading-parameter groups each one shows, derived
-// from the parameter schema (leanfade/core/parameters.hpp): a group of the schema that no named
+// from the parameter schema (leanfade/core/detail/parameters.hpp): a group of the schema that no named
 // section claims gets a header of its own, so every parameter has a widget.
 #include <string>
 #include <string_view>

@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/preset.hpp"
-#include "leanfade/gl/context.hpp"
+#include "leanfade/core/detail/preset.hpp"
+#include "leanfade/gl/detail/context.hpp"
 #include "leanfade/gl/renderer.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 #include "leanfade/viewer/camera.hpp"
 
 namespace leanfade::viewer {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/preset.hpp"
+#include "leanfade/core/detail/preset.hpp"
 #include "leanfade/scene/material.hpp"
 #include "leanfade/viewer/session.hpp"
 

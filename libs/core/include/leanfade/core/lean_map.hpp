@@ -110,11 +110,11 @@ struct PackedLevel {
     // (f, 0.5 f Bs / sc + 0.5, 0.5 f |Bs|^2 / sc^2) (Offset) or (f, f Bs / sc, f |Bs|^2 / sc^2)
     // (Signed) with f the fraction of the texel's footprint on a plateau and Bs its slope; every
     // channel affine in (f, f Bs, f |Bs|^2), so filtering the stored values filters the layer
-    // (leanfade/core/plateau.hpp).
+    // (leanfade/core/detail/plateau.hpp).
     std::vector<std::uint8_t> plateau;
 };
 
-// The plateau rule's threshold a bake uses unless told otherwise (leanfade/core/plateau.hpp): a
+// The plateau rule's threshold a bake uses unless told otherwise (leanfade/core/detail/plateau.hpp): a
 // texel is on a plateau when its slope differs from each of its four neighbours' by less than this
 // per component, in slope units.
 inline constexpr float kDefaultPlateauEpsilon = 0.005f;
@@ -197,12 +197,12 @@ struct BakeOptions {
     // The packed bakes (bake_packed*) add the plateau layer of two-lobe LEAN with this epsilon
     // (slope units, finite, >= 0; 0 = no layer). The float LeanMap has no such layer.
     float plateau_epsilon = kDefaultPlateauEpsilon;
-    // Which texels form two-lobe LEAN's spike (leanfade/core/plateau.hpp, fit_spike_window).
+    // Which texels form two-lobe LEAN's spike (leanfade/core/detail/plateau.hpp, fit_spike_window).
     SpikeFit spike_fit = SpikeFit::Auto;
     // The largest code of the source's integer samples when a bake is given them as floats
     // (255 for 8 bits, 65535 for 16; 0: a bake of integer samples knows their own, float
     // samples have none). The plateau rule takes one code's slope as the map's quantisation
-    // step (leanfade/core/plateau.hpp).
+    // step (leanfade/core/detail/plateau.hpp).
     int source_max_code = 0;
 };
 
@@ -255,7 +255,7 @@ LeanMap build_lean_map(const Image& slopes, const BakeOptions& options);
 
 // The MIP chain of any linear 4-channel quantity (level 0 = `top`), filtered exactly as
 // build_lean_map filters the moments, so that sums of such chains and of moments commute with
-// filtering (the cross-term textures of bump layers, leanfade/core/layers.hpp). `threads` as
+// filtering (the cross-term textures of bump layers, leanfade/core/detail/layers.hpp). `threads` as
 // BakeOptions::threads.
 std::vector<Image> build_mip_chain(const Image& top, int threads = 0);
 
@@ -327,7 +327,7 @@ struct LeanMapSummary {
     float max_slope = 0.0f;   // max |B| over the top level
     glm::vec3 coarsest_covariance{0.0f};  // (Sxx, Syy, Sxy) of the 1x1 level, M - B B^T
     float coarsest_anisotropy = 1.0f;     // sqrt(lambda_max / lambda_min) of that covariance
-    // Two-lobe LEAN's plateau layer (leanfade/core/plateau.hpp), where the bake made one: the
+    // Two-lobe LEAN's plateau layer (leanfade/core/detail/plateau.hpp), where the bake made one: the
     // fraction of the texels on a plateau, and the rule's epsilon (slope units) and radius
     // (texels, per axis) as the map's size and quantisation set them. 0 without a layer.
     // plateau_fraction is the spike's share (the coarsest level's f: the plateaus plus the

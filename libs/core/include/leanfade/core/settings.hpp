@@ -115,7 +115,7 @@ inline constexpr float kMaxColourComponent = 1e6f;
 inline constexpr float kMaxTiling = 1e6f;
 
 // Throws leanfade::Error(<setting>, cause) naming the first value outside its range in the
-// parameter schema (leanfade/core/parameters.hpp: the setting is the row's key, e.g.
+// parameter schema (leanfade/core/detail/parameters.hpp: the setting is the row's key, e.g.
 // "shininess"), then fog_end > fog_start for linear fog and msaa in {1, 2, 4, 8, 16}.
 void validate(const ShadingSettings& settings);
 
@@ -132,7 +132,7 @@ int to_shader_constant(FogMode mode);
 int to_shader_constant(Brdf brdf);  // LF_BRDF_*
 
 // Names in presets and on the command line: "tangent-z" | "eye"; "none" | "linear" | "exp" |
-// "exp2" (the choices of the parameter schema, leanfade/core/parameters.hpp, which also parses
+// "exp2" (the choices of the parameter schema, leanfade/core/detail/parameters.hpp, which also parses
 // them).
 const char* to_string(FadeDistance mode);
 const char* to_string(FogMode mode);

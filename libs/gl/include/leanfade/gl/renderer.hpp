@@ -16,17 +16,17 @@
 
 #include <glm/glm.hpp>
 
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/gl/context.hpp"
-#include "leanfade/gl/generate.hpp"
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/context.hpp"
+#include "leanfade/gl/detail/generate.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 #include "leanfade/gl/shader_library.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::gl {
 
@@ -64,7 +64,7 @@ struct View {
 };
 
 // Default viewing direction of the figures: from the front (+z), slightly above.
-using leanfade::kDefaultViewDirection;  // leanfade/core/camera.hpp
+using leanfade::kDefaultViewDirection;  // leanfade/core/detail/camera.hpp
 
 // A camera looking at `target` (default: the world origin, the object's centre) from `distance`
 // world units (object bounding radii, > 1) along `direction` (from the target toward the eye, any
@@ -231,7 +231,7 @@ class Renderer {
     Texture white_;                      // 1x1 white: the base colour of the others
     glm::mat4 model_{1.0f};  // scene -> world: the unit bounding sphere
     VertexArray empty_vertex_array_;
-    Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/shading_block.hpp)
+    Buffer shading_block_;  // LfShadingUniforms, std140 (leanfade/gl/detail/shading_block.hpp)
     Buffer object_block_;   // LfObjectUniforms, std140
     Buffer layer_block_;    // LfLayerUniforms, std140 (layered materials)
     std::unique_ptr<Target> target_;

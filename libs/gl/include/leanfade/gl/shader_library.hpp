@@ -17,7 +17,7 @@
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 
 namespace leanfade::gl {
 

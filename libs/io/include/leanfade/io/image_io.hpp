@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "leanfade/core/image.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 namespace leanfade::io {
 

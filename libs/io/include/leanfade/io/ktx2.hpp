@@ -48,7 +48,7 @@ inline constexpr const char* kConventionWarningKey = "LEANFADEconventionWarning"
 // The value of the LEANFADElayout key of a LEAN map of two layers (lean1, lean2) ...
 inline constexpr const char* kLeanLayoutName = "lean1,lean2 v1";
 // ... and of one with two-lobe LEAN's plateau layer as a third (PackedLevel::plateau,
-// leanfade/core/plateau.hpp), made with the epsilon of LEANFADEplateauEpsilon. A reader that
+// leanfade/core/detail/plateau.hpp), made with the epsilon of LEANFADEplateauEpsilon. A reader that
 // takes only the first two layers reads it as the two-layer map.
 inline constexpr const char* kLeanPlateauLayoutName = "lean1,lean2,plateau v1";
 // Version 2 of both: the signed encoding of float storages (LeanEncoding::Signed, leanfade 0.2):

@@ -3,7 +3,7 @@
 // maps and the parameters that differ from the frame's shading settings). GL-free.
 //
 // A material has one bump map, a LEAN map (leanfade/core/lean_map.hpp), or 2..kMaxLayers bump
-// layers (leanfade/core/layers.hpp, docs/math.md §6) whose moments are mixed at shading time.
+// layers (leanfade/core/detail/layers.hpp, docs/math.md §6) whose moments are mixed at shading time.
 // Its parameters override ShadingSettings for the objects that use it; those it leaves unset come
 // from the frame's settings.
 #include <array>
@@ -14,11 +14,11 @@
 #include <glm/glm.hpp>
 
 #include "leanfade/core/image.hpp"
-#include "leanfade/core/layers.hpp"
+#include "leanfade/core/detail/layers.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/core/plateau.hpp"
-#include "leanfade/scene/map_kinds.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/core/detail/plateau.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene {
 
@@ -66,7 +66,7 @@ struct Material {
     std::optional<glm::vec3> specular;  // Ks, linear RGB
     std::optional<float> shininess;     // Blinn-Phong exponent s > 0
     MaterialLayers layered;             // bump layers instead of lean_map when not empty
-    // Its surface maps (leanfade/scene/map_kinds.hpp), one slot per kind: an index into
+    // Its surface maps (leanfade/scene/detail/map_kinds.hpp), one slot per kind: an index into
     // Scene::maps[kind], or -1 for none. Base colour: Kd is multiplied by the texture (a glTF
     // base colour texture) at the surface's tiled uv. Base roughness: with Cook-Torrance the base
     // roughness comes per texel from the map (α0², docs/math.md §9) instead of the frame's
@@ -141,11 +141,11 @@ struct Scene {
 };
 
 // The size of the map the "height" method generates for `material`'s layers (mixed_map_size of
-// leanfade/core/layers.hpp over the top levels of their LEAN maps and their tilings). Throws
+// leanfade/core/detail/layers.hpp over the top levels of their LEAN maps and their tilings). Throws
 // mixed_map_size's errors, and Error("scene", cause) for a layer map without levels.
 // Gives every material drawn from one LEAN map (not from bump layers) that has no plateau map
 // the plateau layer its LEAN map stores (MapKind::Plateau, unpack_plateau_layer of
-// leanfade/core/plateau.hpp: two-lobe LEAN's spike, docs/math.md §10), decoded once per map. A
+// leanfade/core/detail/plateau.hpp: two-lobe LEAN's spike, docs/math.md §10), decoded once per map. A
 // LEAN map without the layer (a file of an older version, a bake with plateau_epsilon 0) gives
 // none, and neither do materials of bump layers: two-lobe shades them as LEAN (f = 0).
 void add_plateau_maps(Scene& scene);

@@ -11,12 +11,12 @@
 #include <utility>
 #include <vector>
 
-#include "leanfade/core/bump_source.hpp"
+#include "leanfade/core/detail/bump_source.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/settings.hpp"
-#include "leanfade/scene/ocean.hpp"
-#include "leanfade/scene/scene.hpp"
+#include "leanfade/scene/detail/ocean.hpp"
+#include "leanfade/scene/detail/scene.hpp"
 
 namespace leanfade::scene {
 

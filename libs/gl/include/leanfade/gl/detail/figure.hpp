@@ -30,7 +30,7 @@ struct FigureRequest {
     float time = 0.0f;  // seconds: moving bump layers' offsets (RenderRequest::time)
     OutputMode output = OutputMode::Color;  // what each cell shows (RenderRequest::output)
     // Rows given as cameras instead of distances (a scene's own views, such as the ocean's near,
-    // mid and far, leanfade/scene/ocean.hpp): when not empty, `distances`, the field of view,
+    // mid and far, leanfade/scene/detail/ocean.hpp): when not empty, `distances`, the field of view,
     // view_direction, target and zoom are not used, and each row is labelled with its name.
     struct NamedView {
         std::string name;

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 
 namespace leanfade::io {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "leanfade/core/gabor_noise.hpp"
+#include "leanfade/core/detail/gabor_noise.hpp"
 #include "leanfade/core/image.hpp"
 
 namespace leanfade {

@@ -33,8 +33,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "leanfade/core/bump_source.hpp"
-#include "leanfade/core/camera.hpp"
+#include "leanfade/core/detail/bump_source.hpp"
+#include "leanfade/core/detail/camera.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/core/technique.hpp"
 

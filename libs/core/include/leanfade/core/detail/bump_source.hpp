@@ -12,7 +12,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "leanfade/core/layers.hpp"
+#include "leanfade/core/detail/layers.hpp"
 #include "leanfade/core/lean_map.hpp"
 
 namespace leanfade {

@@ -4,7 +4,7 @@
 // arrays (libs/gl) and by `leanfade shaders`' index (shaders.json `vertex_layout`).
 #include <cstddef>
 
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene {
 

@@ -19,7 +19,7 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 #include "leanfade/io/image_io.hpp"
 
 namespace leanfade::io {

@@ -1,7 +1,7 @@
 #pragma once
 // The shading parameters of leanfade, described once: each row names a field of ShadingSettings
 // (leanfade/core/settings.hpp) with its type, range, unit, help text and the equation it enters.
-// validate(ShadingSettings), the preset keys (leanfade/core/preset.hpp), the command-line options
+// validate(ShadingSettings), the preset keys (leanfade/core/detail/preset.hpp), the command-line options
 // of `render`, `view`, `eval`, `calibrate` and `bench` (tools/leanfade/cli_render_options.cpp)
 // and the viewer's widgets (viewer/src/panel.cpp) are derived from these rows.
 //

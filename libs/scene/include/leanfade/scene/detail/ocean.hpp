@@ -1,8 +1,8 @@
 #pragma once
 // The built-in `ocean` scene (LEAN Fig. 1 and 11): a flat water plane reaching the horizon whose
-// material mixes 2 to 4 layers of periodic Gabor waves (leanfade/core/gabor_noise.hpp), each
+// material mixes 2 to 4 layers of periodic Gabor waves (leanfade/core/detail/gabor_noise.hpp), each
 // moving along its own wave direction, weighted equally or by a flow map (a built-in gyre or an
-// image; leanfade/core/flow_map.hpp). Also the near / mid / far cameras of LEAN Fig. 1 (a, b, c)
+// image; leanfade/core/detail/flow_map.hpp). Also the near / mid / far cameras of LEAN Fig. 1 (a, b, c)
 // and the sun just off-screen to their right. GL-free.
 //
 // Units and spaces: scene space in metres, y up, the water at y = 0, centred on the origin, the
@@ -15,9 +15,9 @@
 
 #include <glm/glm.hpp>
 
-#include "leanfade/core/gabor_noise.hpp"
+#include "leanfade/core/detail/gabor_noise.hpp"
 #include "leanfade/core/image.hpp"
-#include "leanfade/core/layers.hpp"
+#include "leanfade/core/detail/layers.hpp"
 #include "leanfade/core/settings.hpp"
 #include "leanfade/scene/material.hpp"
 

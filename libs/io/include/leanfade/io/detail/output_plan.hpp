@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "leanfade/core/error.hpp"
-#include "leanfade/io/atomic_file.hpp"
+#include "leanfade/io/detail/atomic_file.hpp"
 
 namespace leanfade::io {
 

@@ -1,5 +1,5 @@
 #pragma once
-// A camera given in a scene's own space and units (metres for the ocean, leanfade/scene/ocean.hpp)
+// A camera given in a scene's own space and units (metres for the ocean, leanfade/scene/detail/ocean.hpp)
 // as the renderer's View in world space (Renderer::model_matrix(): the scene moved and scaled to
 // its unit bounding sphere, without rotation).
 #include <glm/glm.hpp>

@@ -3,7 +3,7 @@
 // hundreds of megabytes of a 4096² bake that is a large share of the time. Buffers of a few MiB
 // and more are therefore advised to use transparent huge pages (2 MiB, Linux) before their first
 // touch: 512 times fewer page faults (docs/perf.md). Elsewhere, and in the portable build
-// (leanfade/core/platform.hpp), these are ordinary allocations.
+// (leanfade/core/detail/platform.hpp), these are ordinary allocations.
 #include <cstddef>
 #include <vector>
 

@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <string_view>
 
-#include "leanfade/core/bindings.hpp"
+#include "leanfade/core/detail/bindings.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade::scene {

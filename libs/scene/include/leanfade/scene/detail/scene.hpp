@@ -6,9 +6,9 @@
 #include <string_view>
 #include <vector>
 
-#include "leanfade/scene/generators.hpp"
-#include "leanfade/scene/mesh.hpp"
-#include "leanfade/scene/obj_loader.hpp"
+#include "leanfade/scene/detail/generators.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
+#include "leanfade/scene/detail/obj_loader.hpp"
 
 namespace leanfade::scene {
 

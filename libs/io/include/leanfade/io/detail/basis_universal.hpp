@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "leanfade/io/ktx2_texture.hpp"
+#include "leanfade/io/detail/ktx2_texture.hpp"
 
 namespace leanfade::io {
 

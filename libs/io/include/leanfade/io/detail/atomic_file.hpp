@@ -56,7 +56,7 @@ class TemporaryRegistration {
 // registered temporary, then restore the default action and raise the signal again, so that the
 // process ends as it would have without the handler. Async-signal-safe: unlink, openat, getdents64,
 // unlinkat, close, sigaction and raise on preallocated paths. The portable build
-// (leanfade/core/platform.hpp) removes a registered folder only when it is empty; what it holds
+// (leanfade/core/detail/platform.hpp) removes a registered folder only when it is empty; what it holds
 // is left to remove_stale_temporaries. Also ignores SIGXFSZ: a write beyond the file size limit
 // (`ulimit -f`) then fails with EFBIG, which the writers report as one line naming the output
 // and clean up after, instead of killing the process with its temporaries left behind. Call
@@ -103,7 +103,7 @@ class AtomicFile {
 
     // Fills the temporary file with the bytes of the regular file `source`, which must hold
     // exactly `size` bytes: in the kernel, with the blocks shared where the file system can
-    // (leanfade/core/platform.hpp, copy_file_contents). Only once per file, and not after write()
+    // (leanfade/core/detail/platform.hpp, copy_file_contents). Only once per file, and not after write()
     // or map(). Throws Error(source, cause) when the source is missing, not a regular file or of
     // another size, Error(path, cause) when the copy fails.
     void copy_from(const std::string& source, std::uint64_t size);

@@ -9,7 +9,7 @@
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene {
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "leanfade/gl/context.hpp"
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/context.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 
 namespace leanfade::gl {
 

@@ -18,9 +18,9 @@
 
 #include "leanfade/core/settings.hpp"
 #include "leanfade/gl/renderer.hpp"
-#include "leanfade/gl/timer.hpp"
+#include "leanfade/gl/detail/timer.hpp"
 #include "leanfade/scene/material.hpp"
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::gl {
 

@@ -13,10 +13,10 @@
 
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
-#include "leanfade/gl/context.hpp"
-#include "leanfade/gl/objects.hpp"
+#include "leanfade/gl/detail/context.hpp"
+#include "leanfade/gl/detail/objects.hpp"
 #include "leanfade/gl/shader_library.hpp"
-#include "leanfade/gl/timer.hpp"
+#include "leanfade/gl/detail/timer.hpp"
 
 namespace leanfade::gl {
 
@@ -37,7 +37,7 @@ struct GenerateOptions {
     Storage storage = Storage::Unorm16;     // texel format of both slices
     // Two-lobe LEAN's plateau layer (docs/math.md §10) of the generated map, with this epsilon
     // (slope units; 0 = none): a second pass (shaders/generate_plateau.comp) from the generated
-    // top level, as plateau_texels of leanfade/core/plateau.hpp.
+    // top level, as plateau_texels of leanfade/core/detail/plateau.hpp.
     float plateau_epsilon = kDefaultPlateauEpsilon;
 };
 
@@ -56,7 +56,7 @@ class LeanGenerator {
 
     // The "height" method's per-frame source: the mixed slopes sum t_i k_i B_i(uv tiling_i +
     // offset_i) of a layered material at the texel centres of a width x height map over the
-    // surface's uv square (mix_slopes_at of leanfade/core/layers.hpp computes the same on the
+    // surface's uv square (mix_slopes_at of leanfade/core/detail/layers.hpp computes the same on the
     // CPU). The layers are read from what is bound when write_top_level runs: their LEAN maps at
     // units LF_BINDING_LAYER_MAPS + i, the weight map at LF_BINDING_LAYER_WEIGHTS and an
     // LfLayerUniforms block at LF_BINDING_LAYER_BLOCK (shaders/bindings.glsl), as the renderer

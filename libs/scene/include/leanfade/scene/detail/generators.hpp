@@ -8,7 +8,7 @@
 // Invalid arguments throw leanfade::Error(object name, cause).
 #include <cstdint>
 
-#include "leanfade/scene/mesh.hpp"
+#include "leanfade/scene/detail/mesh.hpp"
 
 namespace leanfade::scene {
 

@@ -2,7 +2,7 @@
 // The C++ side of the uniform blocks and texture bindings (shaders/bindings.glsl, the structs
 // LfParams, LfShadingUniforms and LfLayerUniforms of shaders/lean_shading.glsl, LfObjectBlock of
 // shaders/scene.vert). Both sides compile the same struct definitions; each block's members are
-// listed once below, std140 offsets are computed from the list (leanfade/gl/std140.hpp) and
+// listed once below, std140 offsets are computed from the list (leanfade/gl/detail/std140.hpp) and
 // checked against the C++ layout at compile time, and against the GL driver's reported offsets
 // in tests/gl/test_shaders.cpp.
 #include <cstddef>
@@ -10,9 +10,9 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "leanfade/core/bindings.hpp"
+#include "leanfade/core/detail/bindings.hpp"
 #include "leanfade/core/shading.hpp"
-#include "leanfade/gl/std140.hpp"
+#include "leanfade/gl/detail/std140.hpp"
 
 namespace leanfade::gl {
 
