@@ -37,7 +37,7 @@ int run_bake_cross_terms(const CrossTermBakeArgs& args) {
     plan.check();
 
     scene::BumpMapSource flags;
-    flags.from = parse_bake_source(args.from, "--from");
+    flags.from = args.from;
     flags.directx = args.directx;
     flags.texture_size = args.size;
     flags.seed = args.seed;

@@ -4,12 +4,14 @@
 // docs/ktx2.md, "Cross-term textures").
 #include <string>
 
+#include "leanfade/core/lean_map.hpp"
+
 namespace leanfade::cli {
 
 struct CrossTermBakeArgs {
     std::string sources;  // "A,B": built-in sets, height/normal images or .ktx2 LEAN maps
     std::string output;   // .ktx2
-    std::string from = "auto";
+    BakeSource from = BakeSource::Auto;
     bool directx = false;
     float strength = 1.0f;  // height per texel spacing of height maps
     int size = 256;         // built-in sets

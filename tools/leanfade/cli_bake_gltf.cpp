@@ -17,7 +17,7 @@
 #include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/detail/output_plan.hpp"
 #include "leanfade/scene/gltf.hpp"
-#include "leanfade/scene/gltf_writer.hpp"
+#include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/detail/lean_map_cache.hpp"
 
 namespace leanfade::cli {
@@ -35,12 +35,12 @@ std::string gltf_convention_warning(const std::string& image) {
            "from the wrong side, flip the texture's green channel";
 }
 
-scene::GltfBakeSettings gltf_bake_settings(const std::string& bits, int max_size, int threads,
+scene::GltfBakeSettings gltf_bake_settings(const BakeStorage& bits, int max_size, int threads,
                                            bool strict_normals) {
     scene::GltfBakeSettings settings;
     settings.strict_normals = strict_normals;
     // "auto" (bake's choice per map) is 16-bit UNORM here: normal textures have bounded slopes.
-    settings.storage = parse_bake_storage(bits, "--bits");
+    settings.storage = bits.automatic ? Storage::Unorm16 : bits.storage;
     if (max_size > 0) settings.max_image_size = max_size;
     settings.threads = threads;
     settings.cache_folder = scene::default_lean_cache_folder();

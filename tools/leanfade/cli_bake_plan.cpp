@@ -19,23 +19,31 @@ namespace {
 
 namespace fs = std::filesystem;
 
+const char* format_name(LeanFileFormat format) {
+    return format == LeanFileFormat::Png ? "png" : "ktx2";
+}
+
 // The output format: --format, else png for an -o named .png, else ktx2. An -o whose extension
 // (.png or .ktx2) contradicts --format is refused.
-std::string resolve_format(const BakeArgs& args) {
+LeanFileFormat resolve_format(const BakeArgs& args) {
     const bool png_name = !args.output.empty() && io::has_extension(args.output, ".png");
     const bool ktx2_name = !args.output.empty() && io::has_extension(args.output, ".ktx2");
-    if (args.format.empty()) return png_name ? "png" : "ktx2";
-    if ((args.format == "png" && ktx2_name) || (args.format == "ktx2" && png_name))
-        throw Error("-o", "'" + args.output + "' does not name a " + args.format +
-                              " output (--format " + args.format + ")");
-    return args.format;
+    if (!args.format) return png_name ? LeanFileFormat::Png : LeanFileFormat::Ktx2;
+    if ((args.format == LeanFileFormat::Png && ktx2_name) ||
+        (args.format == LeanFileFormat::Ktx2 && png_name)) {
+        const std::string name = format_name(*args.format);
+        throw Error("-o", "'" + args.output + "' does not name a " + name + " output (--format " +
+                              name + ")");
+    }
+    return *args.format;
 }
 
 // Where one input's output goes: -o, else --out-dir or the input's folder, named after the input.
 std::string output_base(const BakeArgs& args, const std::string& input_name, bool from_file) {
     if (!args.output.empty()) {
         fs::path out(args.output);
-        if (args.format == "png" && io::has_extension(args.output, ".png")) out.replace_extension();
+        if (args.format == LeanFileFormat::Png && io::has_extension(args.output, ".png"))
+            out.replace_extension();
         return out.string();
     }
     fs::path stem = fs::path(input_name).stem();
@@ -65,7 +73,7 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
     if (!std::isfinite(args.strength)) throw Error("--strength", "must be a finite number");
     if (args.strength == 0.0f)
         throw Error("--strength", "must not be 0 (a negative strength inverts the heights)");
-    if (args.strength_given && args.from == "normal")
+    if (args.strength_given && args.from == BakeSource::Normal)
         throw Error("--strength", "applies to height maps; --from normal bakes normal maps");
     if (!(args.bake_roughness >= 0.0f) || !std::isfinite(args.bake_roughness))
         throw Error("--bake-roughness", "must be a positive shininess");
@@ -78,7 +86,7 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
     };
     // A PNG pair is deflated by PNG itself: KTX2's supercompression does not apply to it.
     for (const char* flag : {"--supercompression", "--zstd-level"})
-        if (args.format == "png" && given_flag(flag))
+        if (args.format == LeanFileFormat::Png && given_flag(flag))
             throw Error(flag, "applies to KTX2 LEAN maps, not to a PNG pair (--format png)");
     if (given_flag("--zstd-level") && args.supercompression != io::Supercompression::Zstandard)
         throw Error("--zstd-level", "needs --supercompression zstd");
@@ -90,31 +98,33 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
             "-o", "one output for " + std::to_string(jobs) + " inputs; use --out-dir for a batch");
     args.writes_lean_map = !(args.roughness.requested() && args.output.empty() &&
                              args.out_dir.empty() && args.plateau_out.empty() &&
-                             args.format != "png");
+                             args.format != LeanFileFormat::Png);
     return args;
 }
 
 BakeSettings bake_settings(const BakeArgs& args) {
-    if (args.format == "png" && args.bits != "8" && args.bits != "16" && args.bits != "auto")
-        throw Error("--bits",
-                    "a PNG pair holds 8 or 16 bits; " + args.bits + " needs --format ktx2");
+    const bool png_bits = args.bits.automatic || args.bits.storage == Storage::Unorm8 ||
+                          args.bits.storage == Storage::Unorm16;
+    if (args.format == LeanFileFormat::Png && !png_bits)
+        throw Error("--bits", "a PNG pair holds 8 or 16 bits; " + std::string(to_string(args.bits)) +
+                                  " needs --format ktx2");
     BakeSettings settings;
     BakeOptions& options = settings.options;
     options.strength = args.strength;
-    options.strength_unit = args.strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
-    options.scale_excludes_outliers = args.sc == "auto";
-    options.wrap = args.wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
+    options.strength_unit = args.strength_unit;
+    options.scale_excludes_outliers = args.sc_excludes_outliers;
+    options.wrap = args.wrap;
     options.convention = args.directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
     options.bake_roughness_shininess = args.bake_roughness;
     options.threads = args.threads;
     options.strict_normals = args.strict_normals;
     options.plateau_epsilon = args.plateau_epsilon;
     options.spike_fit = args.spike_fit;
-    settings.source = parse_bake_source(args.from);
+    settings.source = args.from;
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float
     // (leanfade::StorageProbe; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
-    settings.storage = parse_storage_policy(args.bits);
+    settings.storage = StoragePolicy{args.bits.storage, args.bits.automatic};
     settings.read_options.max_dimension = args.max_size;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only
     settings.write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;
@@ -140,7 +150,7 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
         const std::string base =
             output_base(args, j.from_file ? j.name : args.builtin, j.from_file);
         // A PNG pair (and the plateau layer's PNG when there is one), else one .ktx2.
-        if (args.format == "png") {
+        if (args.format == LeanFileFormat::Png) {
             j.outputs = {base + ".lean1.png", base + ".lean2.png"};
             if (args.plateau_epsilon > 0.0f) j.outputs.push_back(base + io::kPlateauPngSuffix);
         } else {
@@ -156,14 +166,14 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
                 continue;
             }
             plan.add_output(output, "the output of " + j.name,
-                            args.format == "png" ? ".png" : ".ktx2");
+                            args.format == LeanFileFormat::Png ? ".png" : ".ktx2");
         }
     }
     if (!args.json.empty()) plan.add_output(args.json, "--json");
     plan_roughness_outputs(args.roughness, job_count(args), args.bake_roughness, plan);
     plan_plateau_output(args.plateau_out, job_count(args), plan);
     if (args.ktx2_2d) {
-        if (job_count(args) != 1 || args.format != "ktx2" || !args.writes_lean_map)
+        if (job_count(args) != 1 || args.format != LeanFileFormat::Ktx2 || !args.writes_lean_map)
             throw Error("--ktx2-2d", "needs one input baked to a .ktx2 LEAN map");
         const auto [lean1, lean2] = layer_texture_paths(jobs.front().outputs.front());
         plan.add_output(lean1, "--ktx2-2d");
@@ -171,6 +181,18 @@ std::vector<BakeJob> plan_bake_jobs(const BakeArgs& args) {
     }
     plan.check();
     return jobs;
+}
+
+const std::vector<std::pair<std::string, LeanFileFormat>>& lean_file_format_names() {
+    static const std::vector<std::pair<std::string, LeanFileFormat>> names{
+        {format_name(LeanFileFormat::Ktx2), LeanFileFormat::Ktx2},
+        {format_name(LeanFileFormat::Png), LeanFileFormat::Png}};
+    return names;
+}
+
+const std::vector<std::pair<std::string, bool>>& scale_rule_names() {
+    static const std::vector<std::pair<std::string, bool>> names{{"auto", true}, {"max", false}};
+    return names;
 }
 
 std::string generator_string() {

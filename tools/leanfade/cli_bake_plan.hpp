@@ -5,40 +5,50 @@
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <utility>
 #include <string_view>
 #include <vector>
 
 #include "cli_bake_roughness.hpp"
+#include "leanfade/core/detail/bump_source.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/image_io.hpp"
-#include "leanfade/io/image_io.hpp"
 
 namespace leanfade::cli {
+
+// Where `bake` writes a LEAN map: a KTX2 file, or the top level as a PNG pair (NAME.lean1.png,
+// NAME.lean2.png).
+enum class LeanFileFormat { Ktx2, Png };
+const std::vector<std::pair<std::string, LeanFileFormat>>& lean_file_format_names();
+// --sc: auto (the steepest slope except outliers) or max (the steepest slope), as
+// BakeOptions::scale_excludes_outliers.
+const std::vector<std::pair<std::string, bool>>& scale_rule_names();
 
 struct BakeArgs {
     std::vector<std::string> inputs;
     std::string output;
     std::string out_dir;
-    std::string from = "auto";
+    BakeSource from = BakeSource::Auto;
     float strength = 1.0f;
     bool strength_given = false;  // --strength on the command line (an error for normal maps)
-    std::string strength_unit = "texel";
-    std::string sc = "auto";
+    StrengthUnit strength_unit = StrengthUnit::Texel;
+    bool sc_excludes_outliers = true;  // --sc auto (true) or max
     bool directx = false;
     bool strict_normals = false;
-    std::string bits = "auto";  // auto: 16, or 16f for a map with outliers beyond sc
+    BakeStorage bits;  // auto: 16, or 16f for a map with outliers beyond sc
     float bake_roughness = 0.0f;
     // The plateau layer's epsilon (slope units; 0 = no layer): BakeOptions::plateau_epsilon.
     float plateau_epsilon = kDefaultPlateauEpsilon;
     SpikeFit spike_fit = SpikeFit::Auto;  // BakeOptions::spike_fit
-    std::string wrap = "repeat";
+    Wrap wrap = Wrap::Repeat;
     // KTX2 LEAN maps' supercompression (--supercompression, --zstd-level; docs/ktx2.md).
     io::Supercompression supercompression = io::Supercompression::Zstandard;
     int zstd_level = 3;
-    std::string format;  // ktx2 or png; "" = from -o's extension, else ktx2
+    // --format; none: from -o's extension, else ktx2 (checked_bake_args resolves it).
+    std::optional<LeanFileFormat> format;
     int threads = 0;
     bool fsync = false;
     std::string builtin;

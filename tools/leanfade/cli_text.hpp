@@ -39,16 +39,17 @@ CLI::Option* add_typed_option(CLI::App& app, const std::string& flag, T& value, 
 
 // A flag whose value is one of the names of `names` (name -> typed value, as the libraries list
 // them: io::supercompression_names() ...): the help shows "TEXT:{a,b}", any other text is refused
-// naming the flag, and the value is converted once, when CLI11 parses it.
-template <typename T>
+// naming the flag, and the value is converted once, when CLI11 parses it. `value` may be of
+// another type that the names' values convert to (a std::optional of them, for one).
+template <typename T, typename U>
 CLI::Option* add_named_option(CLI::App& app, const std::string& flag, T& value,
-                              const std::vector<std::pair<std::string, T>>& names,
+                              const std::vector<std::pair<std::string, U>>& names,
                               const std::string& help, const std::string& default_text = {}) {
     std::vector<std::string> keys;
     for (const auto& entry : names) keys.push_back(entry.first);
-    auto parse = [names, flag](const std::string& text) {
+    auto parse = [names, flag](const std::string& text) -> T {
         for (const auto& entry : names)
-            if (entry.first == text) return entry.second;
+            if (entry.first == text) return T(entry.second);
         throw Error(flag, "unknown value '" + text + "'");
     };
     return add_typed_option(app, flag, value, parse, help, default_text)

@@ -110,7 +110,7 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
                                   const BakeSettings& settings, io::OutputTransaction& outputs,
                                   const MomentRunSink& moments) {
     StagedBake result;
-    if (args.format == "png") {
+    if (args.format == LeanFileFormat::Png) {
         Image converted;
         BakeOptions options = settings.options;
         const Image* floats = std::get_if<Image>(&input);
@@ -234,7 +234,7 @@ class BakeRun {
         if (!args_.plateau_out.empty() || args_.ktx2_2d) {
             // From the map as stored: a KTX2 bake keeps no copy of it in memory.
             const PackedLeanMap stored =
-                args_.format == "png" ? baked.packed
+                args_.format == LeanFileFormat::Png ? baked.packed
                                       : io::read_ktx2(staged.staged, settings_.read_options);
             if (!args_.plateau_out.empty())
                 write_plateau_output(args_.plateau_out, stored, settings_.options.plateau_epsilon,
@@ -318,36 +318,39 @@ const CommandRegistration registration{
                        "Output file (one input only; a missing folder is created); with --format "
                        "png, the name before .lean1.png/.lean2.png");
         app.add_option("--out-dir", args->out_dir, "Folder for the outputs of a batch");
-        app.add_option("--from", args->from,
-                       "Input kind: " + name_list(bake_source_names()) +
-                           " (auto: 1-2 channels = height, 3-4 = normal)")
+        add_typed_option(
+            app, "--from", args->from,
+            [](const std::string& text) { return parse_bake_source(text, "--from"); },
+            "Input kind: " + name_list(bake_source_names()) +
+                " (auto: 1-2 channels = height, 3-4 = normal)")
             ->check(CLI::IsMember(bake_source_names()));
         CLI::Option* strength =
             app.add_option("--strength", args->strength,
                            "Height maps: the height of one unit of value, in --strength-unit "
                            "(not 0; negative inverts the heights; an error for normal maps)")
                 ->capture_default_str();
-        app.add_option("--strength-unit", args->strength_unit,
-                       "Unit of --strength: texel (height per texel spacing, the default: "
-                       "slopes halve at twice the resolution) or uv (height per UV unit, the "
-                       "map's width along u and height along v: the same slopes at any "
-                       "resolution)")
-            ->check(CLI::IsMember({"texel", "uv"}))
-            ->capture_default_str();
+        add_named_option(app, "--strength-unit", args->strength_unit, strength_unit_names(),
+                         "Unit of --strength: texel (height per texel spacing, the default: "
+                         "slopes halve at twice the resolution) or uv (height per UV unit, the "
+                         "map's width along u and height along v: the same slopes at any "
+                         "resolution)",
+                         to_string(args->strength_unit));
         app.add_flag("--directx", args->directx,
                      "Normal maps use the DirectX convention (green = -v, \"-Y\"; how to tell: "
                      "README, quick start)");
         app.add_flag("--strict-normals", args->strict_normals,
                      "Normal maps: refuse texels with z <= 0 instead of taking (0, 0, 0) padding "
                      "as flat and raising the others (counted and reported)");
-        app.add_option("--bits", args->bits,
-                       "Storage: " + name_list(bake_storage_names()) +
-                           " (8, 16: UNORM; 16f, 32f: float; auto: 16, or 16f for a map with "
-                           "outliers beyond sc, which 16 would clamp, or 16f/32f where 16's "
-                           "rounding of the moments would hide the base roughness, docs/ktx2.md; "
-                           "a PNG pair: 16)")
-            ->check(CLI::IsMember(bake_storage_names()))
-            ->capture_default_str();
+        add_typed_option(
+            app, "--bits", args->bits,
+            [](const std::string& text) { return parse_bake_storage_choice(text, "--bits"); },
+            "Storage: " + name_list(bake_storage_names()) +
+                " (8, 16: UNORM; 16f, 32f: float; auto: 16, or 16f for a map with "
+                "outliers beyond sc, which 16 would clamp, or 16f/32f where 16's "
+                "rounding of the moments would hide the base roughness, docs/ktx2.md; "
+                "a PNG pair: 16)",
+            to_string(args->bits))
+            ->check(CLI::IsMember(bake_storage_names()));
         app.add_option("--bake-roughness", args->bake_roughness,
                        "Bake the base roughness 1/S of Blinn-Phong exponent S (LEAN eq. 6)")
             ->check(CLI::PositiveNumber);
@@ -358,15 +361,13 @@ const CommandRegistration registration{
             ->capture_default_str();
         add_spike_option(app, args->spike_fit,
                          "Which texels form two-lobe LEAN's spike (docs/math.md §10)");
-        app.add_option("--sc", args->sc,
-                       "Scale sc of the slopes: auto (the steepest slope except outliers, "
-                       "texels at least twice as steep as the 99.9th percentile: counted, and "
-                       "clamped in 8/16-bit maps) or max (the steepest slope)")
-            ->check(CLI::IsMember({"auto", "max"}))
-            ->capture_default_str();
-        app.add_option("--wrap", args->wrap, "Border handling of the slope filter")
-            ->check(CLI::IsMember({"repeat", "clamp"}))
-            ->capture_default_str();
+        add_named_option(app, "--sc", args->sc_excludes_outliers, scale_rule_names(),
+                         "Scale sc of the slopes: auto (the steepest slope except outliers, "
+                         "texels at least twice as steep as the 99.9th percentile: counted, and "
+                         "clamped in 8/16-bit maps) or max (the steepest slope)",
+                         "auto");
+        add_named_option(app, "--wrap", args->wrap, wrap_names(),
+                         "Border handling of the slope filter", to_string(args->wrap));
         add_named_option(app, "--supercompression", args->supercompression,
                          io::supercompression_names(),
                          "KTX2 LEAN maps: zstd (each MIP level a Zstandard frame, KTX2 scheme 2: "
@@ -377,12 +378,11 @@ const CommandRegistration registration{
                        "Zstandard level: 1 (fastest) to 19 (smallest; several times slower)")
             ->check(CLI::Range(1, 19))
             ->capture_default_str();
-        app.add_option("--format", args->format,
-                       "ktx2 (GPU-ready, every MIP level) or png (the top level as two RGBA PNGs "
-                       "of --bits 8 or 16 with sc, and NAME.plateau.png with the plateau layer; "
-                       "loads back with --bumps NAME.lean1.png); default: from -o's extension, "
-                       "else ktx2")
-            ->check(CLI::IsMember({"ktx2", "png"}));
+        add_named_option(app, "--format", args->format, lean_file_format_names(),
+                         "ktx2 (GPU-ready, every MIP level) or png (the top level as two RGBA "
+                         "PNGs of --bits 8 or 16 with sc, and NAME.plateau.png with the plateau "
+                         "layer; loads back with --bumps NAME.lean1.png); default: from -o's "
+                         "extension, else ktx2");
         app.get_option("--output")
             ->description("Output (one input only; a missing folder is created, and removed if "
                           "the bake fails): NAME.ktx2, or NAME.png for the PNG pair "

@@ -80,6 +80,23 @@ const char* to_string(BakeSource source) {
     return "?";
 }
 
+const std::vector<std::pair<std::string, Wrap>>& wrap_names() {
+    static const std::vector<std::pair<std::string, Wrap>> names{
+        {to_string(Wrap::Repeat), Wrap::Repeat}, {to_string(Wrap::Clamp), Wrap::Clamp}};
+    return names;
+}
+
+const char* to_string(StrengthUnit unit) {
+    return unit == StrengthUnit::Uv ? "uv" : "texel";
+}
+
+const std::vector<std::pair<std::string, StrengthUnit>>& strength_unit_names() {
+    static const std::vector<std::pair<std::string, StrengthUnit>> names{
+        {to_string(StrengthUnit::Texel), StrengthUnit::Texel},
+        {to_string(StrengthUnit::Uv), StrengthUnit::Uv}};
+    return names;
+}
+
 const std::vector<std::string>& bake_source_names() {
     static const std::vector<std::string> names{to_string(BakeSource::Auto),
                                                 to_string(BakeSource::Height),

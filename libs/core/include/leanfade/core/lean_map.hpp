@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -27,6 +28,8 @@ enum class NormalConvention { OpenGL, DirectX };  // DirectX: green is -v, flipp
 enum class Storage { Unorm8, Unorm16, Float16, Float32 };
 
 const char* to_string(Wrap);
+// "repeat", "clamp" with their values: the border handling's choices as settings name them.
+const std::vector<std::pair<std::string, Wrap>>& wrap_names();
 const char* to_string(NormalConvention);
 const char* to_string(Storage);  // "8", "16", "16f", "32f": the bits of a channel
 // Every storage's name, in enum order.
@@ -178,6 +181,9 @@ enum class StrengthUnit {
     Uv,     // height per UV unit (the map's width along u, its height along v): the same slopes
             // at any resolution of the same map
 };
+// "texel", "uv" with their values.
+const std::vector<std::pair<std::string, StrengthUnit>>& strength_unit_names();
+const char* to_string(StrengthUnit unit);
 
 struct BakeOptions {
     float strength = 1.0f;  // height of one unit of value in strength_unit (height maps only);
