@@ -25,7 +25,7 @@ PORTABLE_BUILD_DIR ?= build-portable
 PYTHON ?= /usr/bin/python3
 
 .PHONY: all deps configure build demo test test-portable bench sanitize fuzz fuzz-build fuzz-seeds web cli-doc \
-	clean format
+	shader-tables clean format
 
 all: build
 
@@ -61,6 +61,12 @@ WEB_PORT ?= 8080
 # docs/cli.md from the program's --help (the test docs.CliReferenceIsCurrent compares them).
 cli-doc: build
 	cmake -DLEANFADE=$(LEANFADE) -DOUTPUT=docs/cli.md -P cmake/GenerateCliDoc.cmake
+
+# shaders/map_kinds.glsl and map_samplers.glsl written again from the map-kind table
+# (leanfade/scene/detail/map_kinds.hpp); the test MapKinds.ShaderFilesAreTheTable checks them.
+shader-tables: build
+	LEANFADE_UPDATE_SHADER_TABLES=1 $(BUILD_DIR)/tests/scene/leanfade_scene_tests \
+		--gtest_filter=MapKinds.ShaderFilesAreTheTable
 
 web: build
 	@mkdir -p examples/web/data

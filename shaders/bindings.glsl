@@ -6,42 +6,9 @@
 const int LF_BINDING_LEAN_MAP = 0;       // texture unit of the LEAN map (2D array, 2 slices)
 const int LF_BINDING_SHADING_BLOCK = 0;  // uniform block LfShadingBlock (LfShadingUniforms)
 const int LF_BINDING_OBJECT_BLOCK = 1;   // uniform block LfObjectBlock of the vertex stage
-// The material's surface maps (leanfade/scene/detail/map_kinds.hpp): each a texture unit and a bit of
-// LfShadingUniforms::maps, set when the material has the map and the shader reads it.
-// Base colour (2D, linear RGBA; Kd is multiplied by its RGB; a 1x1 white texture for materials
-// without one).
-const int LF_BINDING_BASE_COLOR = 1;
-const int LF_MAP_BASE_COLOR = 1;
-// Base roughness (2D, R32F: alpha0^2 per texel with its MIP chain filtered as the moments,
-// docs/math.md §9), read with Cook-Torrance when its bit is set.
-const int LF_BINDING_BASE_ROUGHNESS = 2;
-const int LF_MAP_BASE_ROUGHNESS = 2;
-// Plateau layer of two-lobe LEAN (2D, RGBA16F: (f, f Bs.x, f Bs.y, f |Bs|^2) with its MIP chain
-// filtered as the moments are, docs/math.md §10), read by the two-lobe technique when its bit is
-// set; without it f = 0 and two-lobe shades as LEAN.
-const int LF_BINDING_PLATEAU = 3;
-const int LF_MAP_PLATEAU = 4;
-// Metalness (2D, R32F: the glTF metallic-roughness texture's B), times the material's metallic
-// factor (LfMaterialFactors::metallic); a 1x1 white texture for materials without one.
-const int LF_BINDING_METALLIC = 4;
-const int LF_MAP_METALLIC = 8;
-// Ambient occlusion (2D, R32F: the glTF occlusion texture's R), weighed by the material's
-// occlusion strength (LfMaterialFactors::occlusion_strength); white for materials without one.
-const int LF_BINDING_OCCLUSION = 5;
-const int LF_MAP_OCCLUSION = 16;
-// Emission (2D, linear RGBA, sRGB decoded), times the material's emissive factor
-// (LfMaterialFactors::emissive); white for materials without one.
-const int LF_BINDING_EMISSIVE = 6;
-const int LF_MAP_EMISSIVE = 32;
-// Anisotropy of the base roughness (2D, RGBA16F: KHR_materials_anisotropy's texture, RG the
-// direction in [0, 1] encoding, B the strength), read with Cook-Torrance when its bit is set;
-// without it the direction is the tangent's and the strength the material's.
-const int LF_BINDING_ANISOTROPY = 7;
-const int LF_MAP_ANISOTROPY = 64;
-// Another tool's roughness MIPs (2D, R32F, every level: perceptual r), read by the roughness
-// technique in place of its own r when its bit is set (`--roughness-mips`, docs/roughness.md).
-const int LF_BINDING_ROUGHNESS_MIPS = 9;
-const int LF_MAP_ROUGHNESS_MIPS = 128;
+// The material's surface maps: a texture unit LF_BINDING_* and a bit LF_MAP_* of
+// LfShadingUniforms::maps each, generated from their table (leanfade/scene/detail/map_kinds.hpp).
+#include "map_kinds.glsl"
 
 // Slices of the LEAN map's texture array (docs/math.md §3).
 const float LF_SLICE_LEAN1 = 0.0f;  // (0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)

@@ -40,31 +40,10 @@ in VertexData { LF_VERTEX_DATA(LF_VERTEX_MEMBER) } v_in;  // bindings.glsl
 // Mxx / sc^2, Myy / sc^2) (docs/math.md §3). The baseline's normal map is lean1.rgb.
 layout(binding = LF_BINDING_LEAN_MAP) uniform sampler2DArray u_lean;
 
-// The material's base colour (linear RGBA, white when it has none): Kd times its RGB, as a glTF
-// base colour texture multiplies the base colour factor.
-layout(binding = LF_BINDING_BASE_COLOR) uniform sampler2D u_base_color;
-
-// The material's base roughness (Cook-Torrance, bit LF_MAP_BASE_ROUGHNESS): alpha0^2 = r^4 per
-// texel, its MIP chain filtered linearly as the moments are (docs/math.md §9), at the LEAN map's
-// uv with the same sampler state.
-layout(binding = LF_BINDING_BASE_ROUGHNESS) uniform sampler2D u_base_roughness;
-
-// A glTF material's metalness (the metallic-roughness texture's B), ambient occlusion (the
-// occlusion texture's R) and emission (linear RGB): each times the material's factor
-// (u_shading.material, lf_surface); white for a material without the map.
-layout(binding = LF_BINDING_METALLIC) uniform sampler2D u_metallic;
-layout(binding = LF_BINDING_OCCLUSION) uniform sampler2D u_occlusion;
-layout(binding = LF_BINDING_EMISSIVE) uniform sampler2D u_emissive;
-
-// KHR_materials_anisotropy's texture (Cook-Torrance, bit LF_MAP_ANISOTROPY): RG the direction,
-// B the strength of the base roughness's stretch.
-layout(binding = LF_BINDING_ANISOTROPY) uniform sampler2D u_anisotropy;
-
-#if defined(LF_READS_PLATEAU)
-// Two-lobe LEAN's plateau layer (bit LF_MAP_PLATEAU): (f, f Bs, f |Bs|^2), filtered as the
-// moments are, at the LEAN map's uv with the same sampler state (docs/math.md §10).
-layout(binding = LF_BINDING_PLATEAU) uniform sampler2D u_plateau;
-#endif
+// The material's surface maps, one sampler u_<name> each (map_samplers.glsl, generated from
+// kMapKinds; what each texel holds: map_kinds.glsl). The base roughness, the plateau layer and
+// the roughness MIPs are read at the LEAN map's uv with its sampler state.
+#include "map_samplers.glsl"
 
 layout(std140, binding = LF_BINDING_SHADING_BLOCK) uniform LfShadingBlock {
     LfShadingUniforms u_shading;
@@ -98,10 +77,8 @@ bool has_roughness_map() {
 }
 
 #if defined(LF_ROUGHNESS_MIPS)
-// Another tool's roughness MIPs (bit LF_MAP_ROUGHNESS_MIPS, `--roughness-mips`): perceptual r per
-// level, read in place of the r the engine texel derives from the LEAN map.
-layout(binding = LF_BINDING_ROUGHNESS_MIPS) uniform sampler2D u_roughness_mips;
-
+// Another tool's roughness MIPs (u_roughness_mips, bit LF_MAP_ROUGHNESS_MIPS, `--roughness-mips`):
+// perceptual r per level, read in place of the r the engine texel derives from the LEAN map.
 // The texel of `map` (a full MIP chain) under the LEAN map's texel p of `level`: the same texel
 // when both are of one size, else the map's level of the same footprint at the texel's centre.
 float texel_under_lean_texel(sampler2D map, ivec2 p, int level) {

@@ -398,7 +398,7 @@ export class LeanfadeScene {
     if (plateau) {
       checkPlateau(plateau);
       this.textures.u_plateau = { target: gl.TEXTURE_2D, texture: uploadTexture(gl, plateau) };
-      this.plateauBit = 4;  // LF_MAP_PLATEAU of shaders/bindings.glsl
+      this.plateauBit = 4;  // LF_MAP_PLATEAU of shaders/map_kinds.glsl
     }
     this.programs = new Map();
     this.buffers = new Map();

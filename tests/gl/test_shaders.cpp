@@ -83,10 +83,12 @@ TEST(ShaderSources, EveryVariantHasItsOwnKeyAndName) {
 TEST(ShaderSources, FragmentStageIncludesTheSharedHeaderOnce) {
     const gl::ShaderSources sources = gl::ShaderSources::embedded();
     const gl::ResolvedSource r = sources.resolve("scene.frag", {"LF_TECHNIQUE 1"});
-    ASSERT_EQ(r.files.size(), 3u);
+    ASSERT_EQ(r.files.size(), 5u);
     EXPECT_EQ(r.files[0], "scene.frag");
     EXPECT_EQ(r.files[1], "lean_shading.glsl");
     EXPECT_EQ(r.files[2], "bindings.glsl");
+    EXPECT_EQ(r.files[3], "map_kinds.glsl");     // generated from kMapKinds
+    EXPECT_EQ(r.files[4], "map_samplers.glsl");  // generated from kMapKinds
     EXPECT_EQ(r.text.rfind("#version 450 core\n#define LF_TECHNIQUE 1\n", 0), 0u) << r.text;
     EXPECT_EQ(count(r.text, "LF_FN LfShade lf_shade("), 1u);
     EXPECT_EQ(count(r.text, "#include"), 0u);

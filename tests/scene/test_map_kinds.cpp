@@ -3,8 +3,12 @@
 // kind's channels and MIP rule and each material's slots to the scene's textures.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <fstream>
 #include <set>
+#include <sstream>
 
+#include "leanfade/core/detail/bindings.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
 #include "leanfade/scene/detail/generators.hpp"
@@ -23,10 +27,50 @@ TEST(MapKinds, EachKindHasItsOwnUnitBitAndName) {
         // One bit each, and not the LEAN map's unit.
         EXPECT_EQ(kind.mask_bit & (kind.mask_bit - 1), 0) << kind.name;
         EXPECT_GT(kind.mask_bit, 0) << kind.name;
-        EXPECT_NE(kind.binding, map_bindings::LF_BINDING_LEAN_MAP) << kind.name;
+        // Not a unit of the LEAN map or the bump layers (bindings.glsl).
+        EXPECT_NE(kind.binding, bindings::LF_BINDING_LEAN_MAP) << kind.name;
+        EXPECT_TRUE(kind.binding < bindings::LF_BINDING_LAYER_MAPS ||
+                    kind.binding > bindings::LF_BINDING_LAYER_WEIGHTS)
+            << kind.name;
+        EXPECT_FALSE(kind.glsl_name.empty()) << kind.name;
         EXPECT_TRUE(kind.channels == 1 || kind.channels == 4) << kind.name;
         EXPECT_FALSE(kind.meaning.empty()) << kind.name;
         EXPECT_EQ(&info(kind.kind), &kind);
+    }
+}
+
+// shaders/map_kinds.glsl and map_samplers.glsl are what the table generates (run with
+// LEANFADE_UPDATE_SHADER_TABLES=1, as `make shader-tables` does, to write them again).
+TEST(MapKinds, ShaderFilesAreTheTable) {
+    const std::pair<std::string, std::string> files[] = {
+        {"map_kinds.glsl", map_kinds_glsl()}, {"map_samplers.glsl", map_samplers_glsl()}};
+    for (const auto& [name, text] : files) {
+        const std::string path = std::string(LEANFADE_SOURCE_DIR) + "/shaders/" + name;
+        if (std::getenv("LEANFADE_UPDATE_SHADER_TABLES") != nullptr)
+            std::ofstream(path, std::ios::binary) << text;
+        std::ifstream in(path, std::ios::binary);
+        std::stringstream stored;
+        stored << in.rdbuf();
+        EXPECT_EQ(stored.str(), text) << path << " is not the table's: run `make shader-tables`";
+    }
+    // The shaders' constants (bindings.glsl's C++ view includes map_kinds.glsl) are the rows'.
+    EXPECT_EQ(bindings::LF_BINDING_PLATEAU, info(MapKind::Plateau).binding);
+    EXPECT_EQ(bindings::LF_MAP_PLATEAU, info(MapKind::Plateau).mask_bit);
+    EXPECT_EQ(bindings::LF_BINDING_ROUGHNESS_MIPS, info(MapKind::RoughnessMips).binding);
+    EXPECT_EQ(bindings::LF_MAP_BASE_COLOR, info(MapKind::BaseColor).mask_bit);
+    // Every row's sampler, named from the row, once; a variant's map within its #if.
+    const std::string samplers = map_samplers_glsl();
+    for (const MapKindInfo& kind : kMapKinds) {
+        std::string sampler = "u_" + std::string(kind.glsl_name);
+        for (char& c : sampler) c = char(std::tolower(static_cast<unsigned char>(c)));
+        const std::size_t at = samplers.find("uniform sampler2D " + sampler + ";");
+        ASSERT_NE(at, std::string::npos) << sampler;
+        EXPECT_EQ(samplers.find("uniform sampler2D " + sampler + ";", at + 1), std::string::npos);
+        if (!kind.variant_define.empty()) {
+            EXPECT_NE(samplers.rfind("#if defined(" + std::string(kind.variant_define) + ")\n", at),
+                      std::string::npos)
+                << sampler;
+        }
     }
 }
 

@@ -5,7 +5,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "cli_render_scene.hpp"
+#include "cli_flags.hpp"
+#include "leanfade/scene/scene_source.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/layers.hpp"
 #include "leanfade/core/detail/text.hpp"

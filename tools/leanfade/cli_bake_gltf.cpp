@@ -27,14 +27,6 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
-// glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
-std::string gltf_convention_warning(const std::string& image) {
-    return "warning: " + image +
-           " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
-           "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
-           "from the wrong side, flip the texture's green channel";
-}
-
 scene::GltfBakeSettings gltf_bake_settings(const BakeStorage& bits, int max_size, int threads,
                                            bool strict_normals) {
     scene::GltfBakeSettings settings;

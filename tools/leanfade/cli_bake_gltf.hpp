@@ -40,9 +40,6 @@ scene::GltfBakeSettings gltf_bake_settings(const BakeStorage& bits, int max_size
                                            bool strict_normals);
 // Each of `warnings` as a "leanfade: PATH: ..." line on stderr.
 void print_warnings(const std::string& path, const std::vector<std::string>& warnings);
-// The warning for a glTF normal texture that looks like a DirectX (-Y) normal map (glTF's are
-// OpenGL, +Y, by the specification: --directx does not apply).
-std::string gltf_convention_warning(const std::string& image);
 
 // Bakes every normal texture of the scene (one per material and normal scale) to
 // `<out>/<stem>.<material>.ktx2`, all published together (nothing is written on an error), and

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 
+#include "cli_flags.hpp"
 #include "command.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/input_text.hpp"

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <utility>
 
+#include "leanfade/core/detail/input_text.hpp"
 #include "leanfade/core/detail/parameters.hpp"
+#include "leanfade/scene/gltf.hpp"
 #include "leanfade/scene/detail/map_kinds.hpp"
 
 namespace leanfade::cli {
@@ -115,6 +117,29 @@ std::string normal_repairs_note(const std::string& name, const NormalRepairs& re
     if (repairs.raised_texels > 0)
         note += std::to_string(repairs.raised_texels) + " texels with z <= 0 raised";
     return note + " (--strict-normals refuses them)";
+}
+
+// glTF normal textures are OpenGL (+Y) by the specification: --directx does not apply.
+std::string gltf_convention_warning(const std::string& image) {
+    return "warning: " + image +
+           " looks like a DirectX (-Y) normal map (its slopes fit a height field clearly better "
+           "with green flipped), but glTF normal textures are OpenGL (+Y): if its bumps look lit "
+           "from the wrong side, flip the texture's green channel";
+}
+
+void print_scene_report(const std::string& scene_file, const scene::SceneSourceReport& report) {
+    auto print = [](const std::string& line) {
+        std::fprintf(stderr, "leanfade: %s\n", terminal_text(line).c_str());
+    };
+    for (const std::string& warning : report.warnings) print(scene_file + ": " + warning);
+    // A glTF scene's normal textures are named by the image, within the scene file.
+    const std::string image_context = scene::is_gltf_path(scene_file) ? scene_file + ": " : "";
+    for (const auto& [file, repairs] : report.repaired)
+        print(image_context + normal_repairs_note(file, repairs));
+    for (const scene::ConventionDoubt& doubt : report.doubts)
+        print(doubt.gltf ? scene_file + ": " + gltf_convention_warning(doubt.file)
+                         : "warning: " + convention_warning(doubt.file, doubt.read_as_directx,
+                                                            doubt.ratio));
 }
 
 }  // namespace leanfade::cli

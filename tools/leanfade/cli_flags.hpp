@@ -1,11 +1,14 @@
 #pragma once
-// Command-line flags of the settings that the libraries name in their errors. The libraries say
-// "shininess: must be > 0"; the command line says "--shininess: must be > 0".
+// Command-line flags of the settings that the libraries name in their errors (the libraries say
+// "shininess: must be > 0"; the command line says "--shininess: must be > 0"), and the lines
+// that word what the libraries report as data (repaired normals, convention doubts), shared by
+// every subcommand.
 #include <string>
 #include <string_view>
 
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/scene/scene_source.hpp"
 
 namespace leanfade::cli {
 
@@ -27,5 +30,13 @@ std::string normal_repairs_note(const std::string& name, const NormalRepairs& re
 // "NAME looks like a DirectX (-Y) normal map (...); bake it with --directx if ...". `directx`:
 // the convention it was read in.
 std::string convention_warning(const std::string& name, bool directx, double ratio);
+
+// The warning for a glTF normal texture that looks like a DirectX (-Y) normal map (glTF's are
+// OpenGL, +Y, by the specification: --directx does not apply).
+std::string gltf_convention_warning(const std::string& image);
+
+// Prints what a build found (scene::SceneSourceReport) as "leanfade: ..." lines on stderr: the
+// scene file's warnings, the normal maps' repaired texels and the convention doubts.
+void print_scene_report(const std::string& scene_file, const scene::SceneSourceReport& report);
 
 }  // namespace leanfade::cli

@@ -3,7 +3,6 @@
 
 #include <cstdio>
 
-#include "cli_bake_gltf.hpp"
 #include "cli_flags.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/input_text.hpp"
@@ -56,21 +55,6 @@ void add_layer_options(CLI::App& app, LayerSettings& f) {
 
 std::string layers_text(const LayerSettings& layers) {
     return join(layers.sources) + " (" + to_string(layers.mixing) + ")";
-}
-
-void print_scene_report(const std::string& scene_file, const scene::SceneSourceReport& report) {
-    auto print = [](const std::string& line) {
-        std::fprintf(stderr, "leanfade: %s\n", terminal_text(line).c_str());
-    };
-    for (const std::string& warning : report.warnings) print(scene_file + ": " + warning);
-    // A glTF scene's normal textures are named by the image, within the scene file.
-    const std::string image_context = scene::is_gltf_path(scene_file) ? scene_file + ": " : "";
-    for (const auto& [file, repairs] : report.repaired)
-        print(image_context + normal_repairs_note(file, repairs));
-    for (const scene::ConventionDoubt& doubt : report.doubts)
-        print(doubt.gltf ? scene_file + ": " + gltf_convention_warning(doubt.file)
-                         : "warning: " + convention_warning(doubt.file, doubt.read_as_directx,
-                                                            doubt.ratio));
 }
 
 scene::Scene load_render_scene(const scene::SceneSource& source, const ShadingSettings& settings) {

@@ -26,10 +26,6 @@ void add_layer_options(CLI::App& app, LayerSettings& layers);
 // "--layers" and "--mixing"'s text as a report names them: "bumps,noise (textures)".
 std::string layers_text(const LayerSettings& layers);
 
-// Prints what a build found (scene::SceneSourceReport) as "leanfade: ..." lines on stderr: the
-// scene file's warnings, the normal maps' repaired texels and the convention doubts.
-void print_scene_report(const std::string& scene_file, const scene::SceneSourceReport& report);
-
 // scene::build_scene of the flags, its report printed (also when it throws). Throws
 // leanfade::Error naming the file or the setting.
 scene::Scene load_render_scene(const scene::SceneSource& source, const ShadingSettings& settings);

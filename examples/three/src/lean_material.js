@@ -97,7 +97,7 @@ export class LeanMaterial extends THREE.RawShaderMaterial {
     this.set('LfShadingBlock', 'u_shading.lean_offset', map.leanOffset);  // parseLeanMap's
     if (map.roughnessBaked) this.set('LfShadingBlock', 'u_shading.params.inv_s_shading', 0);
     if (plateau && textures.u_plateau && 'u_plateau' in uniforms)
-      this.set('LfShadingBlock', 'u_shading.maps', 4);  // LF_MAP_PLATEAU of shaders/bindings.glsl
+      this.set('LfShadingBlock', 'u_shading.maps', 4);  // LF_MAP_PLATEAU of shaders/map_kinds.glsl
   }
 
   set(block, name, value) {

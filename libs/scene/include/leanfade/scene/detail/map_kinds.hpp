@@ -9,14 +9,12 @@
 // texture of each kind or at none (Material::maps, -1).
 #include <array>
 #include <cstddef>
+#include <string>
 #include <string_view>
 
-#include "leanfade/core/detail/bindings.hpp"
 #include "leanfade/core/shading.hpp"
 
 namespace leanfade::scene {
-
-namespace map_bindings = ::leanfade::bindings;
 
 enum class MapKind {
     BaseColor,
@@ -52,8 +50,11 @@ struct MapKindInfo {
     std::string_view name;     // for people and messages: "base colour"
     std::string_view setting;  // the setting (and flag, `--` + setting) that gives the map to
                                // the bump source's material, or "" when none does
-    int binding;               // texture unit (shaders/bindings.glsl)
-    int mask_bit;              // its bit in LfShadingUniforms::maps (shaders/bindings.glsl)
+    // The shaders' name: LF_BINDING_<name> (its unit), LF_MAP_<name> (its bit) and the sampler
+    // u_<name in lower case>, generated into shaders/map_kinds.glsl (map_kinds_glsl()).
+    std::string_view glsl_name;
+    int binding;               // texture unit
+    int mask_bit;              // its bit in LfShadingUniforms::maps
     int uv_transform;          // its texture coordinate transform in
                                // LfShadingUniforms::uv_transforms (LF_UV_* of
                                // shaders/lean_shading.glsl)
@@ -64,50 +65,50 @@ struct MapKindInfo {
     bool cook_torrance_only;   // read by the Cook-Torrance BRDF only (Blinn-Phong ignores it)
     bool lean_sampler_state;   // takes the LEAN map's MIP bias and anisotropy (read with the
                                // moments, as one texture)
+    // The shader variants that declare its sampler: those that define this ("" : every one).
+    std::string_view variant_define;
     std::string_view gltf_source;  // where a glTF material's map comes from, or ""
     std::string_view meaning;      // what a texel holds (units), one line for docs and help
 };
 
 inline constexpr std::array<MapKindInfo, kMapKindCount> kMapKinds{{
-    {MapKind::BaseColor, "base colour texture", "", map_bindings::LF_BINDING_BASE_COLOR,
-     map_bindings::LF_MAP_BASE_COLOR, shading::LF_UV_BASE_COLOR, 4, MapFormat::Rgba16f,
-     MapMips::Generated, MapFallback::White, false, false, "pbrMetallicRoughness.baseColorTexture",
+    // kind, name, setting, GLSL name, unit, bit, uv transform, channels, format, mips, fallback,
+    // Cook-Torrance only, LEAN sampler state, variant define, glTF source, meaning
+    {MapKind::BaseColor, "base colour texture", "", "BASE_COLOR", 1, 1,
+     shading::LF_UV_BASE_COLOR, 4, MapFormat::Rgba16f, MapMips::Generated, MapFallback::White,
+     false, false, "", "pbrMetallicRoughness.baseColorTexture",
      "linear RGB (sRGB decoded) and alpha; Kd is multiplied by its RGB"},
-    {MapKind::BaseRoughness, "roughness map", "roughness-map",
-     map_bindings::LF_BINDING_BASE_ROUGHNESS, map_bindings::LF_MAP_BASE_ROUGHNESS,
+    {MapKind::BaseRoughness, "roughness map", "roughness-map", "BASE_ROUGHNESS", 2, 2,
      shading::LF_UV_BASE_ROUGHNESS, 1, MapFormat::R32f, MapMips::Given, MapFallback::None, true,
-     true, "",
+     true, "", "",
      "Cook-Torrance's alpha0^2 = r^4 (dimensionless), filtered linearly like the moments "
      "(docs/math.md §9)"},
-    {MapKind::Plateau, "plateau layer", "", map_bindings::LF_BINDING_PLATEAU,
-     map_bindings::LF_MAP_PLATEAU, shading::LF_UV_LEAN_MAP, 4, MapFormat::Rgba16f,
-     MapMips::Given, MapFallback::None, false, true, "",
+    {MapKind::Plateau, "plateau layer", "", "PLATEAU", 3, 4, shading::LF_UV_LEAN_MAP, 4,
+     MapFormat::Rgba16f, MapMips::Given, MapFallback::None, false, true, "LF_READS_PLATEAU", "",
      "two-lobe LEAN's (f, f Bs.x, f Bs.y, f |Bs|^2): the fraction of texels on a plateau and "
      "their slopes (slope units), filtered linearly like the moments (docs/math.md §10)"},
-    {MapKind::Metallic, "metallic map", "", map_bindings::LF_BINDING_METALLIC,
-     map_bindings::LF_MAP_METALLIC, shading::LF_UV_METALLIC, 1, MapFormat::R32f,
-     MapMips::Generated, MapFallback::White, false, false,
+    {MapKind::Metallic, "metallic map", "", "METALLIC", 4, 8, shading::LF_UV_METALLIC, 1,
+     MapFormat::R32f, MapMips::Generated, MapFallback::White, false, false, "",
      "pbrMetallicRoughness.metallicRoughnessTexture (B)",
      "metalness in [0, 1], times the material's metallic factor: F0 = mix(f0, base colour, m) "
      "and Kd (1 - m) with Cook-Torrance, Ks = mix(Ks, base colour, m) with Blinn-Phong"},
-    {MapKind::Occlusion, "occlusion map", "", map_bindings::LF_BINDING_OCCLUSION,
-     map_bindings::LF_MAP_OCCLUSION, shading::LF_UV_OCCLUSION, 1, MapFormat::R32f,
-     MapMips::Generated, MapFallback::White, false, false, "occlusionTexture (R)",
+    {MapKind::Occlusion, "occlusion map", "", "OCCLUSION", 5, 16, shading::LF_UV_OCCLUSION, 1,
+     MapFormat::R32f, MapMips::Generated, MapFallback::White, false, false, "",
+     "occlusionTexture (R)",
      "ambient occlusion in [0, 1]: the ambient term Ka times 1 + strength (occlusion - 1)"},
-    {MapKind::Emissive, "emissive texture", "", map_bindings::LF_BINDING_EMISSIVE,
-     map_bindings::LF_MAP_EMISSIVE, shading::LF_UV_EMISSIVE, 4, MapFormat::Rgba16f,
-     MapMips::Generated, MapFallback::White, false, false, "emissiveTexture",
+    {MapKind::Emissive, "emissive texture", "", "EMISSIVE", 6, 32, shading::LF_UV_EMISSIVE, 4,
+     MapFormat::Rgba16f, MapMips::Generated, MapFallback::White, false, false, "",
+     "emissiveTexture",
      "linear RGB (sRGB decoded) times the material's emissive factor: radiance added to the "
      "colour"},
-    {MapKind::Anisotropy, "anisotropy texture", "", map_bindings::LF_BINDING_ANISOTROPY,
-     map_bindings::LF_MAP_ANISOTROPY, shading::LF_UV_ANISOTROPY, 4, MapFormat::Rgba16f,
-     MapMips::Generated, MapFallback::None, true, false,
-     "KHR_materials_anisotropy.anisotropyTexture",
+    {MapKind::Anisotropy, "anisotropy texture", "", "ANISOTROPY", 7, 64,
+     shading::LF_UV_ANISOTROPY, 4, MapFormat::Rgba16f, MapMips::Generated, MapFallback::None,
+     true, false, "", "KHR_materials_anisotropy.anisotropyTexture",
      "RG: the direction of the base roughness's stretch in tangent space (2 RG - 1, rotated by "
      "the material's anisotropy rotation), B: its strength (times the material's); alpha 1"},
-    {MapKind::RoughnessMips, "engine roughness MIPs", "roughness-mips",
-     map_bindings::LF_BINDING_ROUGHNESS_MIPS, map_bindings::LF_MAP_ROUGHNESS_MIPS,
-     shading::LF_UV_LEAN_MAP, 1, MapFormat::R32f, MapMips::Given, MapFallback::None, false, true, "",
+    {MapKind::RoughnessMips, "engine roughness MIPs", "roughness-mips", "ROUGHNESS_MIPS", 9, 128,
+     shading::LF_UV_LEAN_MAP, 1, MapFormat::R32f, MapMips::Given, MapFallback::None, false, true,
+     "LF_ROUGHNESS_MIPS", "",
      "another tool's glTF perceptual roughness r in [0, 1] per MIP level (Filament's "
      "roughness-prefilter, for one): the roughness technique reads it in place of the r it "
      "derives from the LEAN map (docs/roughness.md)"},
@@ -132,5 +133,14 @@ constexpr bool map_kind_table_is_ordered() {
 static_assert(map_kind_table_is_ordered());
 
 constexpr const MapKindInfo& info(MapKind kind) { return kMapKinds[std::size_t(kind)]; }
+
+// The shader files the table makes, generated, never edited (MapKinds.ShaderFilesAreTheTable
+// compares them; `make shader-tables` writes them again):
+// shaders/map_kinds.glsl: per row its unit LF_BINDING_<name> and bit LF_MAP_<name> (included by
+// shaders/bindings.glsl, so also by its C++ view, leanfade::bindings);
+std::string map_kinds_glsl();
+// shaders/map_samplers.glsl: every row's sampler u_<name>, within #if defined(<variant define>)
+// where the row has one (included by scene.frag, which reads the maps).
+std::string map_samplers_glsl();
 
 }  // namespace leanfade::scene
