@@ -80,6 +80,38 @@ TEST(ShaderSources, EveryVariantHasItsOwnKeyAndName) {
     EXPECT_EQ(keys.count(gl::VariantKey::constant_color()), 1u);
 }
 
+// The variant bits' table (kSceneVariantBits) gives the names, the scopes and the defines: the
+// names as they were before the table, each bit only on the techniques of its scope, and each
+// row's defines in the variants with its bit.
+TEST(ShaderSources, VariantBitsFollowTheirTable) {
+    using gl::VariantKey;
+    EXPECT_EQ(gl::variant_name(VariantKey::scene(Technique::Fade, gl::kPlainColor | gl::kFadeFast |
+                                                                      gl::kCookTorrance)),
+              "scene_fade_plain_fast_ct");
+    EXPECT_EQ(gl::variant_name(VariantKey::scene(Technique::TwoLobe, gl::kLayered |
+                                                                         gl::kGeometricAa)),
+              "scene_two-lobe_layered_gaa");
+    EXPECT_EQ(gl::variant_name(VariantKey::scene(Technique::Reference, gl::kLeanModel)),
+              "scene_reference_leanmodel");
+    EXPECT_EQ(gl::kAllSceneVariantFlags, 63u);
+    EXPECT_FALSE(gl::has_variant(VariantKey::scene(Technique::Lean, gl::kFadeFast)));
+    EXPECT_FALSE(gl::has_variant(VariantKey::scene(Technique::Reference, gl::kPlainColor)));
+    EXPECT_FALSE(gl::has_variant(VariantKey::scene(Technique::Reference, gl::kGeometricAa)));
+    EXPECT_FALSE(gl::has_variant(VariantKey::scene(Technique::Lean, gl::kLeanModel)));
+    EXPECT_FALSE(gl::has_variant(VariantKey::scene(Technique::Lean, 64u)));
+    EXPECT_TRUE(gl::has_variant(VariantKey::scene(Technique::Fade, gl::kFadeFast)));
+    for (const gl::ShaderVariant& variant : gl::shader_variants()) {
+        if (!variant.key.is_scene()) continue;
+        for (const gl::SceneVariantBit& bit : gl::kSceneVariantBits)
+            for (const std::string_view define : bit.defines) {
+                if (define.empty()) continue;
+                const bool has = std::find(variant.defines.begin(), variant.defines.end(),
+                                           std::string(define)) != variant.defines.end();
+                EXPECT_EQ(has, (variant.key.flags & bit.bit) != 0) << variant.name << " " << define;
+            }
+    }
+}
+
 TEST(ShaderSources, FragmentStageIncludesTheSharedHeaderOnce) {
     const gl::ShaderSources sources = gl::ShaderSources::embedded();
     const gl::ResolvedSource r = sources.resolve("scene.frag", {"LF_TECHNIQUE 1"});

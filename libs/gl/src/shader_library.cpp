@@ -323,12 +323,8 @@ std::string variant_name(const VariantKey& key) {
         case VariantKey::Program::Scene: break;
     }
     std::string name = "scene_" + std::string(info(key.technique).name);
-    if (key.flags & kPlainColor) name += "_plain";
-    if (key.flags & kFadeFast) name += "_fast";
-    if (key.flags & kCookTorrance) name += "_ct";
-    if (key.flags & kLeanModel) name += "_leanmodel";
-    if (key.flags & kLayered) name += "_layered";
-    if (key.flags & kGeometricAa) name += "_gaa";
+    for (const SceneVariantBit& row : kSceneVariantBits)
+        if (key.flags & row.bit) name += row.suffix;
     return name;
 }
 
@@ -353,12 +349,14 @@ bool has_variant(const VariantKey& key) {
     const TechniqueInfo& row = info(key.technique);
     const SceneVariantFlags flags = key.flags;
     if ((flags & ~kAllSceneVariantFlags) != 0) return false;
-    // The supersampled reference is drawn through the general path only; the fast fading path
-    // exists for the techniques that fade.
-    if ((flags & kPlainColor) && row.supersampled) return false;
-    if ((flags & kFadeFast) && !row.fades) return false;
-    if ((flags & kLeanModel) && !row.supersampled) return false;
-    if ((flags & kGeometricAa) && row.supersampled) return false;
+    for (const SceneVariantBit& bit : kSceneVariantBits) {
+        if ((flags & bit.bit) == 0) continue;
+        const bool in_scope = bit.scope == VariantScope::Every ||
+                              (bit.scope == VariantScope::NotSupersampled && !row.supersampled) ||
+                              (bit.scope == VariantScope::Supersampled && row.supersampled) ||
+                              (bit.scope == VariantScope::Fading && row.fades);
+        if (!in_scope) return false;
+    }
     return true;
 }
 
@@ -380,18 +378,11 @@ std::vector<std::string> scene_defines(const VariantKey& key) {
     if (technique == shading::LF_TECHNIQUE_ROUGHNESS_MIPS) defines.push_back("LF_ROUGHNESS_MIPS");
     if (row.supersampled) defines.push_back("LF_FINEST_LEVEL_ONLY");
     if (row.reads_plateau) defines.push_back("LF_READS_PLATEAU");
-    if (flags & kGeometricAa) defines.push_back("LF_GEOMETRIC_AA");
-    // The renderer's ordinary frames (colour output, no fog): the same images without the output
-    // and fog branches (docs/perf.md).
-    if (flags & kPlainColor) defines.push_back("LF_PLAIN_COLOR");
-    // Moments mixed from the bump layers of a layered material (docs/math.md §6).
-    if (flags & kLayered) defines.push_back("LF_LAYERED");
-    // Fading with its defaults (p = 2, tangent-z distance) while it is on (Fade > 0, Pmax > 1):
-    // (d Fade)^2 as a product, no distance-mode test, and NdotL^sf D in one exponential without
-    // the exact sf == 1 path (lean_shading.glsl).
-    if (flags & kFadeFast)
-        defines.insert(defines.end(),
-                       {"LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY", "LF_FADE_ACTIVE"});
+    // The bits' own defines (kSceneVariantBits).
+    for (const SceneVariantBit& bit : kSceneVariantBits)
+        if (flags & bit.bit)
+            for (const std::string_view define : bit.defines)
+                if (!define.empty()) defines.emplace_back(define);
     return defines;
 }
 

@@ -8,6 +8,7 @@
 // variant's `#define`s inserted right after the `#version` line. `#line` directives keep compiler
 // messages pointing at the right file and line: source string 0 is the main file, 1, 2, ... the
 // included files in ResolvedSource::files order.
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -51,17 +52,66 @@ class ShaderSources {
     std::string origin_;
 };
 
-// Variants of the scene program of a technique, as bits (shaders/scene.frag).
+// Variants of the scene program of a technique, as bits (shaders/scene.frag), each described once
+// in kSceneVariantBits: its part of the variant's name, the defines it adds and the techniques
+// that have it. A new bit is its constant and its row.
 using SceneVariantFlags = unsigned;
-inline constexpr SceneVariantFlags kPlainColor = 1u;  // colour output without fog, no branches
-inline constexpr SceneVariantFlags kFadeFast = 2u;    // fading on with p = 2 and d = Vt.z
-inline constexpr SceneVariantFlags kCookTorrance = 4u;  // the Cook-Torrance BRDF (LF_BRDF 1)
-inline constexpr SceneVariantFlags kLeanModel = 8u;  // the reference shades with LEAN's lobe
-// The material's moments mixed from bump layers (LF_LAYERED; Renderer picks it per material).
+inline constexpr SceneVariantFlags kPlainColor = 1u;
+inline constexpr SceneVariantFlags kFadeFast = 2u;
+inline constexpr SceneVariantFlags kCookTorrance = 4u;
+inline constexpr SceneVariantFlags kLeanModel = 8u;
 inline constexpr SceneVariantFlags kLayered = 16u;
-// Geometric specular antialiasing (LF_GEOMETRIC_AA, docs/math.md §11; not for the reference).
 inline constexpr SceneVariantFlags kGeometricAa = 32u;
-inline constexpr SceneVariantFlags kAllSceneVariantFlags = 63u;
+
+// Which techniques' programs have a variant bit (TechniqueInfo's columns).
+enum class VariantScope { Every, NotSupersampled, Supersampled, Fading };
+
+struct SceneVariantBit {
+    SceneVariantFlags bit;
+    std::string_view suffix;                  // its part of variant_name ("_plain")
+    std::array<std::string_view, 3> defines;  // the defines it adds ("" unused)
+    VariantScope scope;
+    std::string_view description;
+};
+
+inline constexpr std::array<SceneVariantBit, 6> kSceneVariantBits{{
+    {kPlainColor, "_plain", {"LF_PLAIN_COLOR", "", ""}, VariantScope::NotSupersampled,
+     "the renderer's ordinary frames: colour output without fog, without the output and fog "
+     "branches (docs/perf.md)"},
+    {kFadeFast, "_fast", {"LF_FADE_EXPONENT_2", "LF_FADE_TANGENT_Z_ONLY", "LF_FADE_ACTIVE"},
+     VariantScope::Fading,
+     "fading on with its defaults (p = 2, d = Vt.z; Fade > 0, Pmax > 1): (d Fade)^2 as a "
+     "product, no distance-mode test, NdotL^sf D in one exponential without the exact sf == 1 "
+     "path"},
+    // LF_BRDF's value (1) rather than a define of its own (scene_defines).
+    {kCookTorrance, "_ct", {"", "", ""}, VariantScope::Every, "the Cook-Torrance BRDF"},
+    // LF_TECHNIQUE's value (LEAN's) and LF_READS_MOMENTS (scene_defines).
+    {kLeanModel, "_leanmodel", {"", "", ""}, VariantScope::Supersampled,
+     "the reference shades with LEAN's lobe at the finest level (docs/math.md §7)"},
+    {kLayered, "_layered", {"LF_LAYERED", "", ""}, VariantScope::Every,
+     "the material's moments mixed from bump layers (docs/math.md §6; Renderer picks it per "
+     "material)"},
+    {kGeometricAa, "_gaa", {"LF_GEOMETRIC_AA", "", ""}, VariantScope::NotSupersampled,
+     "geometric specular antialiasing (docs/math.md §11)"},
+}};
+
+// Every bit of the table.
+constexpr SceneVariantFlags all_scene_variant_flags() {
+    SceneVariantFlags all = 0;
+    for (const SceneVariantBit& row : kSceneVariantBits) all |= row.bit;
+    return all;
+}
+inline constexpr SceneVariantFlags kAllSceneVariantFlags = all_scene_variant_flags();
+// One bit per row, in ascending order (the order of the names' parts).
+constexpr bool scene_variant_bits_are_ordered() {
+    SceneVariantFlags previous = 0;
+    for (const SceneVariantBit& row : kSceneVariantBits) {
+        if (row.bit == 0 || (row.bit & (row.bit - 1)) != 0 || row.bit <= previous) return false;
+        previous = row.bit;
+    }
+    return true;
+}
+static_assert(scene_variant_bits_are_ordered());
 
 // Which program of the renderer: a technique's scene program with its variant bits, or one of
 // the fixed programs. Programs are found and cached by this key; its name is for logs, file
