@@ -53,59 +53,157 @@ float finite_setting(const char* setting, double value) {
     return float(value);
 }
 
-BakeSettings make_settings(const std::string& from, std::optional<double> strength,
-                           const std::string& strength_unit, const std::string& sc, bool directx,
-                           bool strict_normals, const std::string& bits, double bake_roughness,
-                           double plateau_epsilon, const std::string& spike,
-                           const std::string& wrap, int threads, int max_size,
-                           const std::string& supercompression, int zstd_level) {
+// A setting's value as T, or leanfade::Error naming the setting.
+template <typename T>
+T value_of(const char* setting, py::handle value, const char* expected) {
+    try {
+        return py::cast<T>(value);
+    } catch (const py::cast_error&) {
+        throw Error(setting, std::string("expected ") + expected + ", got " +
+                                 std::string(py::str(py::type::of(value).attr("__name__"))));
+    }
+}
+std::string text_of(const char* setting, py::handle value) {
+    if (!py::isinstance<py::str>(value))
+        throw Error(setting, "expected a string, got " +
+                                 std::string(py::str(py::type::of(value).attr("__name__"))));
+    return py::cast<std::string>(value);
+}
+double number_of(const char* setting, py::handle value) {
+    return value_of<double>(setting, value, "a number");
+}
+// A name of `names` (a library's name table) as its value.
+template <typename T>
+T named(const char* setting, py::handle value, const std::vector<std::pair<std::string, T>>& names) {
+    const std::string text = text_of(setting, value);
+    std::string expected;
+    for (const auto& [name, typed] : names) {
+        if (name == text) return typed;
+        expected += (expected.empty() ? "" : " or ") + name;
+    }
+    throw Error(setting, "expected " + expected + ", got '" + text + "'");
+}
+
+// One row per bake setting: `leanfade bake`'s flag without the dashes ("from_" for --from), its
+// default, and what it sets in BakeSettings, checked (in the table's order: `from_` before
+// `strength`, which depends on it). BakeSettings(**settings), the module's BAKE_SETTINGS and
+// leanfade.BAKE_SETTINGS (python/leanfade/__init__.py) read this table.
+struct BakeSettingSpec {
+    const char* name;
+    py::object (*default_value)();
+    void (*apply)(BakeSettings& settings, py::handle value);
+};
+
+const std::vector<BakeSettingSpec>& bake_setting_specs() {
+    static const std::vector<BakeSettingSpec> specs{
+        {"from_", [] { return py::object(py::str("auto")); },
+         [](BakeSettings& s, py::handle v) {
+             s.source = parse_bake_source(text_of("from", v), "from");
+         }},
+        {"strength", [] { return py::object(py::none()); },
+         [](BakeSettings& s, py::handle v) {
+             if (v.is_none()) return;  // not given: 1, and no error for normal maps
+             s.options.strength = finite_setting("strength", number_of("strength", v));
+             if (s.options.strength == 0.0f)
+                 throw Error("strength", "must not be 0 (a negative strength inverts the heights)");
+             if (s.source == BakeSource::Normal)
+                 throw Error("strength", "applies to height maps; from='normal' bakes normal maps");
+             s.strength_given = true;
+         }},
+        {"strength_unit", [] { return py::object(py::str("texel")); },
+         [](BakeSettings& s, py::handle v) {
+             s.options.strength_unit = named("strength_unit", v, strength_unit_names());
+         }},
+        {"sc", [] { return py::object(py::str("auto")); },
+         [](BakeSettings& s, py::handle v) {
+             s.options.scale_excludes_outliers =
+                 named<bool>("sc", v, {{"auto", true}, {"max", false}});
+         }},
+        {"directx", [] { return py::object(py::bool_(false)); },
+         [](BakeSettings& s, py::handle v) {
+             s.options.convention = value_of<bool>("directx", v, "a bool")
+                                        ? NormalConvention::DirectX
+                                        : NormalConvention::OpenGL;
+         }},
+        {"strict_normals", [] { return py::object(py::bool_(false)); },
+         [](BakeSettings& s, py::handle v) {
+             s.options.strict_normals = value_of<bool>("strict_normals", v, "a bool");
+         }},
+        {"bits", [] { return py::object(py::str("auto")); },
+         [](BakeSettings& s, py::handle v) {
+             s.storage = parse_storage_policy(text_of("bits", v), "bits");
+         }},
+        {"bake_roughness", [] { return py::object(py::float_(0.0)); },
+         [](BakeSettings& s, py::handle v) {
+             const double shininess = number_of("bake_roughness", v);
+             if (!(shininess >= 0.0) || !std::isfinite(shininess))
+                 throw Error("bake_roughness", "must be a positive shininess (0: none)");
+             s.options.bake_roughness_shininess = float(shininess);
+         }},
+        {"plateau_epsilon", [] { return py::object(py::float_(double(kDefaultPlateauEpsilon))); },
+         [](BakeSettings& s, py::handle v) {
+             const double epsilon = number_of("plateau_epsilon", v);
+             if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
+                 throw Error("plateau_epsilon",
+                             "must be a finite number >= 0 (0: no plateau layer)");
+             s.options.plateau_epsilon = float(epsilon);
+         }},
+        {"spike", [] { return py::object(py::str(to_string(SpikeFit::Auto))); },
+         [](BakeSettings& s, py::handle v) {
+             s.options.spike_fit = parse_spike_fit(text_of("spike", v), "spike");
+         }},
+        {"wrap", [] { return py::object(py::str("repeat")); },
+         [](BakeSettings& s, py::handle v) { s.options.wrap = named("wrap", v, wrap_names()); }},
+        {"threads", [] { return py::object(py::int_(0)); },
+         [](BakeSettings& s, py::handle v) {
+             const int threads = value_of<int>("threads", v, "an integer");
+             if (threads < 0 || threads > 256)
+                 throw Error("threads", "must be in [0, 256] (0 = all cores)");
+             s.options.threads = threads;
+             s.write_options.threads = threads;
+         }},
+        {"max_size", [] { return py::object(py::int_(kDefaultMaxImageDimension)); },
+         [](BakeSettings& s, py::handle v) {
+             const int max_size = value_of<int>("max_size", v, "an integer");
+             if (max_size < 1 || max_size > (1 << 20))
+                 throw Error("max_size", "must be in [1, 1048576]");
+             s.read_options.max_dimension = max_size;
+         }},
+        // The KTX2 file's supercompression (save, to_bytes), as `bake --supercompression`.
+        {"supercompression", [] { return py::object(py::str("zstd")); },
+         [](BakeSettings& s, py::handle v) {
+             s.write_options.supercompression =
+                 named("supercompression", v, io::supercompression_names());
+         }},
+        {"zstd_level", [] { return py::object(py::int_(3)); },
+         [](BakeSettings& s, py::handle v) {
+             const int level = value_of<int>("zstd_level", v, "an integer");
+             if (level < 1 || level > 19) throw Error("zstd_level", "must be in [1, 19]");
+             s.write_options.zstd_level = level;
+         }},
+    };
+    return specs;
+}
+
+// The settings of `given` (keyword -> value), every other at its default. Throws
+// leanfade::Error naming an unknown or bad setting.
+BakeSettings make_settings(const py::kwargs& given) {
+    std::string names;
+    for (const BakeSettingSpec& spec : bake_setting_specs())
+        names += std::string(names.empty() ? "" : ", ") + spec.name;
+    for (const auto& [key, value] : given) {
+        const std::string name = py::cast<std::string>(key);
+        bool known = false;
+        for (const BakeSettingSpec& spec : bake_setting_specs()) known = known || name == spec.name;
+        if (!known) throw Error(name, "not a bake setting (expected one of " + names + ")");
+    }
     BakeSettings settings;
-    BakeOptions& options = settings.options;
-    settings.source = parse_bake_source(from, "from");
-    if (strength) {
-        options.strength = finite_setting("strength", *strength);
-        if (options.strength == 0.0f)
-            throw Error("strength", "must not be 0 (a negative strength inverts the heights)");
-        if (settings.source == BakeSource::Normal)
-            throw Error("strength", "applies to height maps; from='normal' bakes normal maps");
-        settings.strength_given = true;
-    }
-    if (strength_unit != "texel" && strength_unit != "uv")
-        throw Error("strength_unit", "expected texel or uv, got '" + strength_unit + "'");
-    options.strength_unit = strength_unit == "uv" ? StrengthUnit::Uv : StrengthUnit::Texel;
-    if (sc != "auto" && sc != "max") throw Error("sc", "expected auto or max, got '" + sc + "'");
-    options.scale_excludes_outliers = sc == "auto";
-    options.convention = directx ? NormalConvention::DirectX : NormalConvention::OpenGL;
-    options.strict_normals = strict_normals;
-    settings.storage = parse_storage_policy(bits, "bits");
-    if (!(bake_roughness >= 0.0) || !std::isfinite(bake_roughness))
-        throw Error("bake_roughness", "must be a positive shininess (0: none)");
-    options.bake_roughness_shininess = float(bake_roughness);
-    if (!(plateau_epsilon >= 0.0) || !std::isfinite(plateau_epsilon))
-        throw Error("plateau_epsilon", "must be a finite number >= 0 (0: no plateau layer)");
-    options.plateau_epsilon = float(plateau_epsilon);
-    options.spike_fit = parse_spike_fit(spike, "spike");
-    if (wrap != "repeat" && wrap != "clamp")
-        throw Error("wrap", "expected repeat or clamp, got '" + wrap + "'");
-    options.wrap = wrap == "clamp" ? Wrap::Clamp : Wrap::Repeat;
-    if (threads < 0 || threads > 256) throw Error("threads", "must be in [0, 256] (0 = all cores)");
-    options.threads = threads;
-    settings.write_options.threads = threads;
-    if (max_size < 1 || max_size > (1 << 20))
-        throw Error("max_size", "must be in [1, 1048576]");
-    settings.read_options.max_dimension = max_size;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only, as the CLI reads them
-    // The KTX2 file's supercompression (save, to_bytes), as `bake --supercompression`.
-    bool known = false;
-    for (const auto& [text, value] : io::supercompression_names()) {
-        if (text != supercompression) continue;
-        settings.write_options.supercompression = value;
-        known = true;
+    for (const BakeSettingSpec& spec : bake_setting_specs()) {
+        const py::object value = given.contains(spec.name) ? py::object(given[spec.name])
+                                                           : spec.default_value();
+        spec.apply(settings, value);
     }
-    if (!known)
-        throw Error("supercompression", "expected zstd or none, got '" + supercompression + "'");
-    if (zstd_level < 1 || zstd_level > 19) throw Error("zstd_level", "must be in [1, 19]");
-    settings.write_options.zstd_level = zstd_level;
     return settings;
 }
 
@@ -351,14 +449,11 @@ PYBIND11_MODULE(_leanfade, m) {
 
     py::class_<BakeSettings>(m, "BakeSettings",
                              "The settings of one bake: `leanfade bake`'s flags, checked.")
-        .def(py::init(&make_settings), py::kw_only(), py::arg("from_") = "auto",
-             py::arg("strength") = py::none(), py::arg("strength_unit") = "texel",
-             py::arg("sc") = "auto", py::arg("directx") = false, py::arg("strict_normals") = false,
-             py::arg("bits") = "auto", py::arg("bake_roughness") = 0.0,
-             py::arg("plateau_epsilon") = double(kDefaultPlateauEpsilon),
-             py::arg("spike") = "auto", py::arg("wrap") = "repeat", py::arg("threads") = 0,
-             py::arg("max_size") = kDefaultMaxImageDimension, py::arg("supercompression") = "zstd",
-             py::arg("zstd_level") = 3);
+        .def(py::init([](const py::kwargs& settings) { return make_settings(settings); }));
+    // Every setting with its default (bake_setting_specs).
+    py::dict defaults;
+    for (const BakeSettingSpec& spec : bake_setting_specs()) defaults[spec.name] = spec.default_value();
+    m.attr("BAKE_SETTINGS") = defaults;
 
     py::class_<LeanMapObject, std::shared_ptr<LeanMapObject>>(
         m, "LeanMap",

@@ -40,24 +40,9 @@ __all__ = [
 Source = Union[str, "os.PathLike[str]", Any]
 
 # The settings of a bake, with their defaults: `leanfade bake`'s flags (docs/cli.md) without the
-# dashes. None for strength: not given (1.0; an error for normal maps when given).
-BAKE_SETTINGS: dict[str, Any] = {
-    "from_": "auto",
-    "strength": None,
-    "strength_unit": "texel",
-    "sc": "auto",
-    "directx": False,
-    "strict_normals": False,
-    "bits": "auto",
-    "bake_roughness": 0.0,
-    "plateau_epsilon": 0.005,
-    "spike": "auto",
-    "wrap": "repeat",
-    "threads": 0,
-    "max_size": 16384,
-    "supercompression": "zstd",
-    "zstd_level": 3,
-}
+# dashes, from the module's table of settings. None for strength: not given (1.0; an error for
+# normal maps when given).
+BAKE_SETTINGS: dict[str, Any] = dict(_leanfade.BAKE_SETTINGS)
 
 
 def _error(subject: str, cause: str) -> Error:

@@ -14,13 +14,13 @@ class Error(ValueError):
     subject: str  # the file, or the setting ("bits", "strength", ...)
     cause: str
 
+# Every bake setting with its default (from_, strength, strength_unit, sc, directx,
+# strict_normals, bits, bake_roughness, plateau_epsilon, spike, wrap, threads, max_size,
+# supercompression, zstd_level).
+BAKE_SETTINGS: dict[str, Any]
+
 class BakeSettings:
-    def __init__(self, *, from_: str = "auto", strength: Optional[float] = None,
-                 strength_unit: str = "texel", sc: str = "auto", directx: bool = False,
-                 strict_normals: bool = False, bits: str = "auto", bake_roughness: float = 0.0,
-                 plateau_epsilon: float = 0.005, wrap: str = "repeat", threads: int = 0,
-                 max_size: int = 16384, supercompression: str = "zstd",
-                 zstd_level: int = 3) -> None: ...
+    def __init__(self, **settings: Any) -> None: ...
 
 class LeanMap:
     @property

@@ -219,6 +219,22 @@ class Errors(unittest.TestCase):
         self.assert_error("array", leanfade.bake, np.zeros((40, 40), np.uint8), max_size=32)
         self.assert_error("bytes", leanfade.bake, b"not an image")
 
+    def test_settings_come_from_the_modules_table(self):
+        # leanfade.BAKE_SETTINGS is the module's table of settings and defaults (module.cpp).
+        self.assertEqual(leanfade.BAKE_SETTINGS, leanfade._leanfade.BAKE_SETTINGS)
+        self.assertEqual(leanfade.BAKE_SETTINGS["spike"], "auto")
+        self.assertEqual(leanfade.BAKE_SETTINGS["bits"], "auto")
+        self.assertIsNone(leanfade.BAKE_SETTINGS["strength"])
+        self.assertEqual(len(leanfade.BAKE_SETTINGS), 15)
+        # A value of the wrong type or name is refused naming its setting.
+        self.assert_error("threads", leanfade.bake, height_map(8, 1), threads="4")
+        self.assert_error("directx", leanfade.bake, height_map(8, 1), directx="yes")
+        self.assert_error("strength_unit", leanfade.bake, height_map(8, 1), strength_unit="px")
+        self.assert_error("sc", leanfade.bake, height_map(8, 1), sc="min")
+        self.assert_error("supercompression", leanfade.bake, height_map(8, 1),
+                          supercompression="lz4")
+        self.assert_error("bits", leanfade.bake, height_map(8, 1), bits=16)
+
     def test_an_output_never_replaces_its_input(self):
         with tempfile.TemporaryDirectory(dir=os.environ.get("LEANFADE_TEST_TMP")) as folder:
             png = os.path.join(folder, "h.png")
