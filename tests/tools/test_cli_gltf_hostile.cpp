@@ -360,6 +360,7 @@ TEST(CliHostileFlags, OptionsABakeWouldIgnoreAreRefusedByName) {
         {"--roughness-out r.ktx2", "--roughness-out"},
         {"--format png", "--format"},
         {"--bits 8", "--bits"},
+        {"--wrap clamp", "--wrap"},
     };
     for (const auto& [option, name] : cross) {
         const test::RunResult r = test::run_leanfade_in(

@@ -59,12 +59,27 @@ std::size_t job_count(const BakeArgs& args) {
 
 }  // namespace
 
-std::string first_inapplicable(const BakeArgs& args,
-                               std::initializer_list<std::string_view> applicable) {
+bool flag_applies(std::string_view flag, BakeKind kind) {
+    for (const BakeFlagScope& row : kBakeFlagScopes)
+        if (row.flag == flag) return (row.kinds & kind) != 0;
+    return kind == kImageBake;
+}
+
+std::string first_inapplicable(const BakeArgs& args, BakeKind kind) {
     for (const std::string& option : args.given)
-        if (std::find(applicable.begin(), applicable.end(), option) == applicable.end())
-            return option;
+        if (!flag_applies(option, kind)) return option;
     return {};
+}
+
+std::string applicable_flags_text(BakeKind kind) {
+    std::vector<std::string> flags;
+    for (const BakeFlagScope& row : kBakeFlagScopes)
+        if ((row.kinds & kind) != 0 && row.flag != "inputs")
+            flags.emplace_back(row.flag == "--output" ? "-o" : row.flag);
+    std::string text;
+    for (std::size_t i = 0; i < flags.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == flags.size() ? " and " : ", ") + flags[i];
+    return text;
 }
 
 BakeArgs checked_bake_args(const BakeArgs& given) {

@@ -70,9 +70,46 @@ struct BakeArgs {
 // OUT.lean2.ktx2.
 std::pair<std::string, std::string> layer_texture_paths(const std::string& ktx2_output);
 
-// The first option given that is not one of `applicable` ("" when all are).
-std::string first_inapplicable(const BakeArgs& args,
-                               std::initializer_list<std::string_view> applicable);
+// The kinds of run `leanfade bake` makes, as bits: images and built-in sets into LEAN maps, a
+// glTF scene's normal textures (or its filtered copy), the cross-term texture of two layers.
+enum BakeKind : unsigned { kImageBake = 1u, kGltfBake = 2u, kCrossTermsBake = 4u };
+inline constexpr unsigned kEveryBake = kImageBake | kGltfBake | kCrossTermsBake;
+
+// Which kinds of run honour a flag of `bake`, by its long name as CLI11 stores it ("inputs" for
+// the files): the flags that other kinds than images honour. Every flag not listed honours image
+// bakes only; each kind refuses, by name, a flag given that it does not honour (rather than
+// ignore an output asked for and never written).
+struct BakeFlagScope {
+    std::string_view flag;
+    unsigned kinds;
+};
+inline constexpr BakeFlagScope kBakeFlagScopes[] = {
+    {"inputs", kImageBake | kGltfBake},
+    {"--output", kEveryBake},
+    {"--out-dir", kImageBake | kGltfBake},
+    {"--max-size", kEveryBake},
+    {"--from", kImageBake | kCrossTermsBake},
+    {"--directx", kImageBake | kCrossTermsBake},
+    {"--strength", kImageBake | kCrossTermsBake},
+    {"--size", kImageBake | kCrossTermsBake},
+    {"--seed", kImageBake | kCrossTermsBake},
+    {"--cross-terms", kCrossTermsBake},
+    {"--bits", kImageBake | kGltfBake},
+    {"--threads", kImageBake | kGltfBake},
+    {"--json", kImageBake | kGltfBake},
+    {"--fsync", kImageBake | kGltfBake},
+    {"--strict-normals", kImageBake | kGltfBake},
+    {"--supercompression", kImageBake | kGltfBake},
+    {"--zstd-level", kImageBake | kGltfBake},
+    {"--compress", kImageBake | kGltfBake},
+};
+// Whether a run of `kind` honours `flag`.
+bool flag_applies(std::string_view flag, BakeKind kind);
+// The first option given that a run of `kind` does not honour ("" when it honours all).
+std::string first_inapplicable(const BakeArgs& args, BakeKind kind);
+// The flags a run of `kind` honours, as a message lists them ("-o, --from and --max-size"; the
+// files are not named).
+std::string applicable_flags_text(BakeKind kind);
 
 // The flags checked before any file is touched, with the output format resolved: --format, else
 // png for an -o named .png, else ktx2. Throws leanfade::Error(flag, cause).

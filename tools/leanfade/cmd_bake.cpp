@@ -42,14 +42,10 @@ namespace {
 // kind of bake does not honour is refused by name, rather than ignored (an output asked for and
 // never written).
 int run_cross_terms_bake(const BakeArgs& given) {
-    const std::string refused =
-        first_inapplicable(given, {"--cross-terms", "--output", "--from", "--directx", "--strength",
-                                   "--size", "--seed", "--max-size"});
+    const std::string refused = first_inapplicable(given, kCrossTermsBake);
     if (!refused.empty())
-        throw Error(refused,
-                    "does not apply to --cross-terms (it writes the one texture of "
-                    "-o, from --from, --directx, --strength, --size, --seed and "
-                    "--max-size)");
+        throw Error(refused, "does not apply to --cross-terms (it takes " +
+                                 applicable_flags_text(kCrossTermsBake) + ")");
     return run_bake_cross_terms({given.cross_terms, given.output, given.from, given.directx,
                                  given.strength, given.size, given.seed, given.max_size});
 }
@@ -69,9 +65,7 @@ int run_gltf_bake(const BakeArgs& given) {
                       given.roughness.compression_given ? given.roughness.compression
                                                         : io::BlockCompression::Basis,
                       {}};
-    std::string refused = first_inapplicable(
-        given, {"inputs", "--out-dir", "--output", "--bits", "--threads", "--max-size", "--json",
-                "--fsync", "--strict-normals", "--supercompression", "--zstd-level", "--compress"});
+    std::string refused = first_inapplicable(given, kGltfBake);
     // --compress: the engine textures of the filtered copy (-o) only.
     if (refused.empty() && given.output.empty() && given.roughness.compression_given)
         refused = "--compress";
