@@ -250,6 +250,14 @@ TEST(Roughness, RenderTimeMapChannelAndErrors) {
         }
     }
     EXPECT_THROW(base_alpha_squared_mips(Image{}), Error);
+    // The caller's name for the map (its file) is what the errors name.
+    Image over(2, 2, 1, 2.0f);
+    try {
+        base_alpha_squared_mips(over, 0, "rough.exr");
+        FAIL() << "2 must be refused";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), "rough.exr");
+    }
 }
 
 }  // namespace

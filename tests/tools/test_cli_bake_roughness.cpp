@@ -207,7 +207,14 @@ TEST(CliBakeRoughness, BadFlagsAndInputsWriteNothing) {
     };
     Image small(8, 8, 1, 0.5f);
     io::write_png((dir / "small.png").string(), small, 8);
+    // A float map with a roughness beyond 1: the library's error names the map's file (the map is
+    // resampled to the LEAN map's size first, so the value reported is an interpolated one).
+    Image over(8, 8, 1, 0.5f);
+    over.at(3, 2) = 1.5f;
+    io::write_pfm((dir / "over.pfm").string(), over);
     const Bad cases[] = {
+        {rough + " --roughness-map " + shell_quote((dir / "over.pfm").string()),
+         "over.pfm: roughness 1."},
         {rough + " --roughness 1.5", "--roughness"},
         {rough + " --roughness 0.2 --roughness-map " + shell_quote((dir / "small.png").string()),
          "not both"},

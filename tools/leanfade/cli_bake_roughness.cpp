@@ -142,6 +142,7 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
                  is_dds(args.roughness_out) || is_dds(args.anisotropy_out)) {
     RoughnessOptions roughness;
     roughness.base_roughness = args.roughness;
+    roughness.roughness_map_name = args.roughness_map;  // errors name the map's file
     roughness.threads = options.threads;
     const Image* metallic_roughness = nullptr;
     if (!args.roughness_map.empty()) {
@@ -175,16 +176,9 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
         mapped(normal_output_path(args.roughness_out), "normal", normal_file_, targets.normal);
     }
     mapped(args.anisotropy_out, "anisotropy", anisotropy_file_, targets.anisotropy);
-    try {
-        builder_ = std::make_unique<RoughnessTextureBuilder>(
-            width, height, roughness, metallic_roughness,
-            RoughnessTextureSet{!args.roughness_out.empty(), !args.anisotropy_out.empty()},
-            targets);
-    } catch (const Error& e) {
-        // Name the file for the map's errors.
-        if (e.file() == "roughness map") throw Error(args.roughness_map, e.cause());
-        throw;
-    }
+    builder_ = std::make_unique<RoughnessTextureBuilder>(
+        width, height, roughness, metallic_roughness,
+        RoughnessTextureSet{!args.roughness_out.empty(), !args.anisotropy_out.empty()}, targets);
 }
 
 void RoughnessExport::bake_alone(const std::variant<Image, UnormImage>& input, BakeSource source,

@@ -25,14 +25,15 @@ std::vector<Image> base_alpha_squared_map(int width, int height, const Roughness
     std::vector<Image> levels;
     const Image& r = *options.roughness_map;
     if (r.width != width || r.height != height || r.channels < 1)
-        throw Error("roughness map", "must be " + std::to_string(width) + "x" +
-                                         std::to_string(height) +
-                                         " texels like the LEAN map, got " +
-                                         std::to_string(r.width) + "x" + std::to_string(r.height));
+        throw Error(options.roughness_map_name,
+                    "must be " + std::to_string(width) + "x" + std::to_string(height) +
+                        " texels like the LEAN map, got " + std::to_string(r.width) + "x" +
+                        std::to_string(r.height));
     Image first(r.width, r.height, 1);
     for (std::size_t t = 0; t < r.texel_count(); ++t)
         first.pixels[t] = r.pixels[t * std::size_t(r.channels)];
-    for (Image& level : base_alpha_squared_mips(first, options.threads)) {
+    const std::string& name = options.roughness_map_name;
+    for (Image& level : base_alpha_squared_mips(first, options.threads, name)) {
         Image rgba(level.width, level.height, 4);
         for (std::size_t t = 0; t < level.texel_count(); ++t) rgba.pixels[4 * t] = level.pixels[t];
         levels.push_back(std::move(rgba));
@@ -108,12 +109,13 @@ std::uint8_t unorm8(float v) {
 
 // R, B, A of the input metallic-roughness texture at every level (G unused): its MIP chain
 // filtered as the moments, level 0 the input's values exactly; empty without an input.
-std::vector<Image> kept_channels(const Image* input, int width, int height, int threads) {
+std::vector<Image> kept_channels(const Image* input, int width, int height, int threads,
+                                 const std::string& name = "roughness map") {
     std::vector<Image> kept;
     if (input == nullptr) return kept;
     const Image& in = *input;
     if (in.width != width || in.height != height || in.channels < 3)
-        throw Error("roughness map",
+        throw Error(name,
                     "a metallic-roughness texture of 3 or 4 channels and " +
                         std::to_string(width) + "x" + std::to_string(height) +
                         " texels is needed, got " + std::to_string(in.width) + "x" +
@@ -154,15 +156,15 @@ Image base_roughness_channel(const Image& map) {
     return r;
 }
 
-std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads) {
-    if (roughness.empty() || roughness.channels < 1)
-        throw Error("roughness map", "the map has no texels");
+std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads,
+                                           const std::string& name) {
+    if (roughness.empty() || roughness.channels < 1) throw Error(name, "the map has no texels");
     const std::size_t channels = std::size_t(roughness.channels);
     Image a2(roughness.width, roughness.height, 4);
     for (std::size_t t = 0; t < roughness.texel_count(); ++t) {
         const float v = roughness.pixels[t * channels];
         if (!unit_interval(v))
-            throw Error("roughness map", "roughness " + std::to_string(v) + " at texel (" +
+            throw Error(name, "roughness " + std::to_string(v) + " at texel (" +
                                              std::to_string(t % std::size_t(roughness.width)) +
                                              ", " +
                                              std::to_string(t / std::size_t(roughness.width)) +
@@ -259,7 +261,8 @@ RoughnessTextureBuilder::RoughnessTextureBuilder(int width, int height,
         throw Error("roughness",
                     "must be in [0, 1], got " + std::to_string(options.base_roughness));
     if (!constant_base_) base_ = base_alpha_squared_map(width, height, options);
-    kept_ = kept_channels(metallic_roughness_input, width, height, options.threads);
+    kept_ = kept_channels(metallic_roughness_input, width, height, options.threads,
+                          options.roughness_map_name);
     const int count = mip_level_count(width, height);
     // Each texture's level l: the caller's target, or a level of its own (out_).
     const auto destination = [count](const std::vector<std::uint8_t*>& given,

@@ -200,14 +200,10 @@ void add_roughness_map(Scene& result, const BumpMapSource& bumps) {
     if (path.empty()) return;
     io::ReadOptions read_options = read_options_within(bumps.max_size);
     read_options.drop_alpha = false;  // a glTF metallic-roughness texture keeps its channels
-    const Image image = io::read_image(path, read_options);  // its errors name the file
-    std::vector<Image> chain;
-    try {
-        chain = base_alpha_squared_mips(base_roughness_channel(image));
-    } catch (const Error& e) {
-        throw Error(path, e.cause());  // the map's values: named by the file
-    }
-    const int slot = result.add_map(MapKind::BaseRoughness, std::move(chain));
+    const int slot = result.add_map(
+        MapKind::BaseRoughness,
+        base_alpha_squared_mips(base_roughness_channel(io::read_image(path, read_options)), 0,
+                                path));
     for (Material& material : result.materials) material.map(MapKind::BaseRoughness) = slot;
 }
 

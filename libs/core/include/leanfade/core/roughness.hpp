@@ -11,6 +11,7 @@
 //   r = √α (glTF perceptual roughness), normal = normalize(B.x, B.y, 1)
 // With a roughness map, α0² is MIP-filtered linearly with the moments' own filter.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -27,6 +28,8 @@ struct RoughnessOptions {
     // Optional per-texel base roughness: a 1-channel image of perceptual r in [0, 1] of the
     // LEAN map's top-level size (a glTF metallic-roughness texture's G channel, for example).
     const Image* roughness_map = nullptr;
+    // What errors about the roughness map (and a metallic-roughness input) name: its file.
+    std::string roughness_map_name = "roughness map";
     int threads = 0;  // as BakeOptions::threads
 };
 
@@ -149,9 +152,10 @@ inline float base_alpha_squared(float r) {
 // `roughness` (base_roughness_channel's 1 channel of r in [0, 1]), then its MIP chain filtered
 // linearly with the moments' own filter (build_mip_chain): α0² enters the covariance as a sum, so
 // its filtered value is the mean α0² of the footprint, as Σ's is. Level 0 first, 1-channel
-// float images, rows as the input's. Throws leanfade::Error("roughness map", cause) for a value
-// outside [0, 1] or not finite (naming the texel) or an empty image.
-std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads = 0);
+// float images, rows as the input's. Throws leanfade::Error(name, cause) for a value outside
+// [0, 1] or not finite (naming the texel) or an empty image: `name` is the map's file.
+std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads = 0,
+                                           const std::string& name = "roughness map");
 
 // glTF perceptual roughness of a Beckmann α: √α.
 float perceptual_roughness(float alpha);
