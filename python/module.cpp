@@ -49,7 +49,7 @@ struct BakeSettings {
 };
 
 float finite_setting(const char* setting, double value) {
-    if (!std::isfinite(value)) throw Error(setting, "must be a finite number");
+    if (!std::isfinite(value)) throw Error::setting(setting, "must be a finite number");
     return float(value);
 }
 
@@ -59,13 +59,13 @@ T value_of(const char* setting, py::handle value, const char* expected) {
     try {
         return py::cast<T>(value);
     } catch (const py::cast_error&) {
-        throw Error(setting, std::string("expected ") + expected + ", got " +
+        throw Error::setting(setting, std::string("expected ") + expected + ", got " +
                                  std::string(py::str(py::type::of(value).attr("__name__"))));
     }
 }
 std::string text_of(const char* setting, py::handle value) {
     if (!py::isinstance<py::str>(value))
-        throw Error(setting, "expected a string, got " +
+        throw Error::setting(setting, "expected a string, got " +
                                  std::string(py::str(py::type::of(value).attr("__name__"))));
     return py::cast<std::string>(value);
 }
@@ -81,7 +81,7 @@ T named(const char* setting, py::handle value, const std::vector<std::pair<std::
         if (name == text) return typed;
         expected += (expected.empty() ? "" : " or ") + name;
     }
-    throw Error(setting, "expected " + expected + ", got '" + text + "'");
+    throw Error::setting(setting, "expected " + expected + ", got '" + text + "'");
 }
 
 // One row per bake setting: `leanfade bake`'s flag without the dashes ("from_" for --from), its
@@ -105,9 +105,9 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              if (v.is_none()) return;  // not given: 1, and no error for normal maps
              s.options.strength = finite_setting("strength", number_of("strength", v));
              if (s.options.strength == 0.0f)
-                 throw Error("strength", "must not be 0 (a negative strength inverts the heights)");
+                 throw Error::setting("strength", "must not be 0 (a negative strength inverts the heights)");
              if (s.source == BakeSource::Normal)
-                 throw Error("strength", "applies to height maps; from='normal' bakes normal maps");
+                 throw Error::setting("strength", "applies to height maps; from='normal' bakes normal maps");
              s.strength_given = true;
          }},
         {"strength_unit", [] { return py::object(py::str("texel")); },
@@ -137,14 +137,14 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
          [](BakeSettings& s, py::handle v) {
              const double shininess = number_of("bake_roughness", v);
              if (!(shininess >= 0.0) || !std::isfinite(shininess))
-                 throw Error("bake_roughness", "must be a positive shininess (0: none)");
+                 throw Error::setting("bake_roughness", "must be a positive shininess (0: none)");
              s.options.bake_roughness_shininess = float(shininess);
          }},
         {"plateau_epsilon", [] { return py::object(py::float_(double(kDefaultPlateauEpsilon))); },
          [](BakeSettings& s, py::handle v) {
              const double epsilon = number_of("plateau_epsilon", v);
              if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
-                 throw Error("plateau_epsilon",
+                 throw Error::setting("plateau_epsilon",
                              "must be a finite number >= 0 (0: no plateau layer)");
              s.options.plateau_epsilon = float(epsilon);
          }},
@@ -158,7 +158,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
          [](BakeSettings& s, py::handle v) {
              const int threads = value_of<int>("threads", v, "an integer");
              if (threads < 0 || threads > 256)
-                 throw Error("threads", "must be in [0, 256] (0 = all cores)");
+                 throw Error::setting("threads", "must be in [0, 256] (0 = all cores)");
              s.options.threads = threads;
              s.write_options.threads = threads;
          }},
@@ -166,7 +166,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
          [](BakeSettings& s, py::handle v) {
              const int max_size = value_of<int>("max_size", v, "an integer");
              if (max_size < 1 || max_size > (1 << 20))
-                 throw Error("max_size", "must be in [1, 1048576]");
+                 throw Error::setting("max_size", "must be in [1, 1048576]");
              s.read_options.max_dimension = max_size;
          }},
         // The KTX2 file's supercompression (save, to_bytes), as `bake --supercompression`.
@@ -178,7 +178,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
         {"zstd_level", [] { return py::object(py::int_(3)); },
          [](BakeSettings& s, py::handle v) {
              const int level = value_of<int>("zstd_level", v, "an integer");
-             if (level < 1 || level > 19) throw Error("zstd_level", "must be in [1, 19]");
+             if (level < 1 || level > 19) throw Error::setting("zstd_level", "must be in [1, 19]");
              s.write_options.zstd_level = level;
          }},
     };
@@ -442,6 +442,9 @@ PYBIND11_MODULE(_leanfade, m) {
         } catch (const Error& e) {
             py::object instance = py::handle(error_type.ptr())(e.what());
             instance.attr("subject") = e.file();
+            instance.attr("kind") = e.kind() == ErrorKind::Setting ? "setting" : "file";
+            instance.attr("setting") = e.setting();
+            instance.attr("mentioned_settings") = e.mentioned_settings();
             instance.attr("cause") = e.cause();
             PyErr_SetObject(error_type.ptr(), instance.ptr());
         }
@@ -581,7 +584,7 @@ PYBIND11_MODULE(_leanfade, m) {
         [](const py::object& source, const BakeSettings& settings, double base_roughness,
            const std::string& name) {
             if (!(base_roughness >= 0.0 && base_roughness <= 1.0))
-                throw Error("base_roughness", "must be in [0, 1]");
+                throw Error::setting("base_roughness", "must be in [0, 1]");
             Source input = read_source(source, name, settings);
             RoughnessTexturesRgba8 textures;
             {

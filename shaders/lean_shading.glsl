@@ -837,6 +837,7 @@ struct LfSurface {
     vec3 emission;             // linear RGB radiance added to the colour
     vec2 anisotropy_direction;  // unit, tangent space: where the base roughness stretches
     float anisotropy;          // its strength in [0, 1]
+    vec3 specular_color;       // the specular map's linear RGB, scaling Ks or F0 (1 without one)
 };
 
 // The surface from the texels the caller fetched (shaders/scene.frag: filtered reads at each
@@ -864,23 +865,26 @@ LF_FN LfSurface lf_surface(vec4 base_color, bool has_base_roughness, float alpha
     float length_rotated = length(rotated);
     s.anisotropy_direction = (length_rotated > 0.0f) ? rotated / length_rotated : vec2(1.0f, 0.0f);
     s.anisotropy = clamp(anisotropy_texel.z * f.anisotropy_strength, 0.0f, 1.0f);
+    s.specular_color = vec3(1.0f);  // the caller sets the specular map's texel where it has one
     return s;
 }
 
 // The material's parameters on the surface: lf_material_params (Kd times the base colour, the
 // roughness map's alpha0^2), then the metal-roughness model of glTF 2.0 Appendix B with the base
 // colour c = Kd x texture: the diffuse Kd = c (1 - metallic), and the specular colour metals
-// reflect, F0 = mix(f0, c, metallic) with Cook-Torrance (f0 the dielectric's, 0.04 by default);
-// Blinn-Phong, which has no F0, takes the same rule on Ks: Ks = mix(Ks, c, metallic). The ambient
-// term Ka is multiplied by the occlusion factor (the renderer's one indirect term).
+// reflect, F0 = mix(f0 spec, c, metallic) with Cook-Torrance (f0 the dielectric's, 0.04 by
+// default; spec the specular map's colour, as KHR_materials_specular's specularColorTexture scales
+// the dielectric's F0); Blinn-Phong, which has no F0, takes the same rule on Ks:
+// Ks = mix(Ks spec, c, metallic). The ambient term Ka is multiplied by the occlusion factor (the
+// renderer's one indirect term).
 LF_FN LfParams lf_surface_params(LfParams p, LfSurface s) {
     LfParams r = lf_material_params(p, s.base_color, s.has_base_roughness, s.alpha0_squared);
     vec3 base = r.kd;
     r.kd = base * (1.0f - s.metallic);
     if (p.brdf == LF_BRDF_COOK_TORRANCE) {
-        r.f0 = mix(p.f0, base, s.metallic);
+        r.f0 = mix(p.f0 * s.specular_color, base, s.metallic);
     } else {
-        r.ks = mix(p.ks, base, s.metallic);
+        r.ks = mix(p.ks * s.specular_color, base, s.metallic);
     }
     r.ambient = p.ambient * s.occlusion;
     return r;

@@ -46,4 +46,9 @@ const int LF_MAP_ANISOTROPY = 64;
 const int LF_BINDING_ROUGHNESS_MIPS = 9;
 const int LF_MAP_ROUGHNESS_MIPS = 128;
 
+// specular map: linear RGB in [0, 1] that scales the specular colour: Ks with Blinn-Phong, the
+// dielectric's F0 with Cook-Torrance (as KHR_materials_specular's specular colour)
+const int LF_BINDING_SPECULAR = 8;
+const int LF_MAP_SPECULAR = 256;
+
 #endif  // LEANFADE_MAP_KINDS_GLSL

@@ -19,5 +19,6 @@ layout(binding = LF_BINDING_ANISOTROPY) uniform sampler2D u_anisotropy;
 #if defined(LF_ROUGHNESS_MIPS)
 layout(binding = LF_BINDING_ROUGHNESS_MIPS) uniform sampler2D u_roughness_mips;
 #endif
+layout(binding = LF_BINDING_SPECULAR) uniform sampler2D u_specular;
 
 #endif  // LEANFADE_MAP_SAMPLERS_GLSL

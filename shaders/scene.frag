@@ -252,6 +252,8 @@ void main() {
                                    LF_SAMPLE(u_occlusion, map_uv(LF_UV_OCCLUSION)).r,
                                    LF_SAMPLE(u_emissive, map_uv(LF_UV_EMISSIVE)), anisotropy,
                                    u_shading.material);
+    if ((u_shading.maps & LF_MAP_SPECULAR) != 0)
+        surface.specular_color = LF_SAMPLE(u_specular, map_uv(LF_UV_LEAN_MAP)).rgb;
     LfParams params = u_shading.params;
     params.brdf = LF_BRDF;  // a constant: the other BRDF's code is compiled out
     LfShade shade = lf_shade_surface(LF_TECHNIQUE, moments, surface, light_dir, view_t, params);

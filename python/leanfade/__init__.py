@@ -45,9 +45,10 @@ Source = Union[str, "os.PathLike[str]", Any]
 BAKE_SETTINGS: dict[str, Any] = dict(_leanfade.BAKE_SETTINGS)
 
 
-def _error(subject: str, cause: str) -> Error:
-    error = Error(f"{subject}: {cause}")
-    error.subject, error.cause = subject, cause
+def _setting_error(setting: str, cause: str) -> Error:
+    error = Error(f"{setting}: {cause}")
+    error.subject, error.cause = setting, cause
+    error.kind, error.setting, error.mentioned_settings = "setting", setting, []
     return error
 
 
@@ -58,7 +59,7 @@ def _normalized(settings: dict[str, Any]) -> dict[str, Any]:
         if key == "from":
             key = "from_"
         if key not in values:
-            raise _error(name, "not a bake setting (expected one of "
+            raise _setting_error(name, "not a bake setting (expected one of "
                          f"{', '.join(sorted(BAKE_SETTINGS))})")
         values[key] = value
     return values

@@ -12,6 +12,9 @@ Source = Union[PathLike, bytes, npt.ArrayLike]
 class Error(ValueError):
     """leanfade's one-line error: str(e) == f"{e.subject}: {e.cause}"."""
     subject: str  # the file, or the setting ("bits", "strength", ...)
+    kind: str  # "file" or "setting"
+    setting: str  # the setting's name for kind "setting", else ""
+    mentioned_settings: list[str]  # the settings the cause quotes ('strict_normals')
     cause: str
 
 # Every bake setting with its default (from_, strength, strength_unit, sc, directx,

@@ -145,7 +145,7 @@ TEST(BakeSource, NormalRefusedForZBelowZeroSuggestsTheHeightSetting) {
             EXPECT_THAT(error.cause(), HasSubstr("normal with z <= 0 at texel (0, 0)"));
             EXPECT_THAT(error.cause(), HasSubstr("refused by 'strict_normals'"));
             EXPECT_THAT(error.cause(),
-                        HasSubstr("a height map stored as colour? set 'from' to 'height'"));
+                        HasSubstr("a height map stored as colour? read it with 'from' height"));
         }
     };
     BakeOptions strict;

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -109,6 +112,17 @@ TEST(GnuplotScripts, TechniqueTitlesAreTheTablesNames) {
     for (Technique t : techniques)
         EXPECT_NE(script.find(std::string("title '") + to_string(t) + "'"), std::string::npos)
             << to_string(t) << "\n" << script;
+    // Each technique's line has a colour of its own, the same in every panel.
+    std::map<std::string, std::set<std::string>> colors_of;
+    const std::regex line_color("lc rgb '(#[0-9a-f]{6})' title '([a-z-]+)'");
+    for (auto it = std::sregex_iterator(script.begin(), script.end(), line_color);
+         it != std::sregex_iterator(); ++it)
+        colors_of[(*it)[2]].insert((*it)[1]);
+    std::set<std::string> colors;
+    for (Technique t : techniques) {
+        ASSERT_EQ(colors_of[to_string(t)].size(), 1u) << to_string(t);
+        EXPECT_TRUE(colors.insert(*colors_of[to_string(t)].begin()).second) << to_string(t);
+    }
 }
 
 TEST(GnuplotScripts, CalibrationPlotNamesAreLiteralsAndFiles) {

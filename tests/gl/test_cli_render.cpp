@@ -139,15 +139,17 @@ TEST(CliRender, RoughnessMap) {
     }
 
     const std::string common = "--size 32x32 --distances 3 --texture-size 32 ";
-    RunResult r = run_render(common + "--scene sphere --techniques lean,roughness,reference "
-                                      "--ref-samples 2 "
-                                      "--brdf cook-torrance --roughness-map rough.png -o map.png",
+    RunResult r = run_render(common +
+                                 "--scene sphere --techniques lean,roughness,reference "
+                                 "--ref-samples 2 "
+                                 "--brdf cook-torrance --roughness-map rough.png -o map.png",
                              dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "map.png"));
-    r = run_render(common + "--scene sphere --techniques lean --layers sine,flat "
-                            "--brdf cook-torrance "
-                            "--roughness-map mr.png -o layers.png",
+    r = run_render(common +
+                       "--scene sphere --techniques lean --layers sine,flat "
+                       "--brdf cook-torrance "
+                       "--roughness-map mr.png -o layers.png",
                    dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "layers.png"));
@@ -173,12 +175,94 @@ TEST(CliRender, RoughnessMap) {
     }
     // The map is an input: an output never overwrites it.
     const std::string before = read_text(dir / "rough.png");
-    r = run_render(common + "--scene sphere --techniques lean --brdf cook-torrance "
-                            "--roughness-map rough.png -o rough.png",
+    r = run_render(common +
+                       "--scene sphere --techniques lean --brdf cook-torrance "
+                       "--roughness-map rough.png -o rough.png",
                    dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_EQ(read_text(dir / "rough.png"), before);
+}
+
+// --specular-map (a row of the map-kind table read generically): a linear RGB factor on Ks
+// (Blinn-Phong) or on the dielectric's F0 (Cook-Torrance), per texel at the bumps' uv. A constant
+// map of 0.5 renders exactly as --ks 0.5 or --f0 0.02 (half of 0.04) do, in every technique,
+// the supersampled truth included; bad maps are one-line errors with no output.
+TEST(CliRender, SpecularMapScalesTheSpecularColour) {
+    const fs::path dir = scratch_dir("cli_render_specular_map");
+    io::write_pfm((dir / "half.pfm").string(), Image(8, 8, 3, 0.5f));
+    Image grey(16, 16, 1, 0.5f);  // a grey 16-bit PNG: 0.5 is no 16-bit code, 32768/65535 is
+    io::write_png((dir / "grey.png").string(), grey, 16);
+    Image negative(8, 8, 1, 0.5f);
+    negative.at(2, 3) = -0.25f;
+    io::write_pfm((dir / "negative.pfm").string(), negative);
+
+    const std::string view =
+        "--scene sphere --techniques lean,two-lobe,reference --ref-samples 2 "
+        "--distances 3 --size 40x40 --texture-size 64 --cell-format pfm ";
+    auto render = [&](const std::string& args, const std::string& name) {
+        const RunResult r =
+            run_render(view + args + " --cells " + name + " -o " + name + ".png", dir);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        std::vector<Image> cells;
+        for (const char* cell : {"lean_d3", "two-lobe_d3", "reference_d3"})
+            cells.push_back(io::read_image((dir / name / (std::string(cell) + ".pfm")).string()));
+        return cells;
+    };
+    auto expect_same = [](const std::vector<Image>& a, const std::vector<Image>& b,
+                          const std::string& what) {
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a[i].pixels.size(), b[i].pixels.size()) << what;
+            std::size_t differing = 0;
+            for (std::size_t k = 0; k < a[i].pixels.size(); ++k)
+                differing += a[i].pixels[k] != b[i].pixels[k] ? 1 : 0;
+            EXPECT_EQ(differing, 0u) << what << ", cell " << i;
+        }
+    };
+    const auto plain = render("", "plain");
+    const auto mapped = render("--specular-map half.pfm", "mapped");
+    expect_same(mapped, render("--ks 0.5,0.5,0.5", "ks"), "Blinn-Phong");
+    const auto ct_mapped = render("--brdf cook-torrance --specular-map half.pfm", "ct_mapped");
+    expect_same(ct_mapped, render("--brdf cook-torrance --f0 0.02", "ct_f0"), "Cook-Torrance");
+    // The map does something: the sphere's highlight is darker than without it.
+    double with = 0.0, without = 0.0;
+    for (std::size_t k = 0; k < plain[0].pixels.size(); ++k) {
+        with += mapped[0].pixels[k];
+        without += plain[0].pixels[k];
+    }
+    EXPECT_LT(with, without);
+    // A grey PNG is replicated to RGB.
+    const RunResult png = run_render(view + "--specular-map grey.png -o grey_out.png", dir);
+    EXPECT_EQ(png.exit_code, 0) << png.err;
+
+    const struct {
+        std::string args;
+        std::string named;  // what the message names
+    } cases[] = {
+        {"--specular-map missing.png", "missing.png"},
+        {"--specular-map negative.pfm", "negative.pfm: value -0.25 at texel (2, 3)"},
+        {"--specular-map half.pfm --scene ocean", "--specular-map"},
+    };
+    for (const auto& c : cases) {
+        const std::string scene =
+            c.args.find("--scene") == std::string::npos ? "--scene sphere " : "";
+        const RunResult r = run_render("--size 32x32 --distances 3 --texture-size 32 " + scene +
+                                           "--techniques lean " + c.args + " -o never.png",
+                                       dir);
+        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "never.png")) << c.args;
+    }
+    // The map is an input: an output never replaces it.
+    const std::string before = read_text(dir / "half.pfm");
+    const RunResult r = run_render(
+        "--size 32x32 --distances 3 --texture-size 32 --scene sphere --techniques lean "
+        "--specular-map half.pfm -o half.pfm",
+        dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(read_text(dir / "half.pfm"), before);
 }
 
 // `--mixings`: a column per mixing method, and the metrics against the first as CSV and JSON;
@@ -213,8 +297,8 @@ TEST(CliRender, MixingsWritesTheLayerFigureAndItsTable) {
 // products, layer 1 the two mean slopes, whose products equal layer 0 at the finest level only.
 TEST(CliRender, BakeWritesTheCrossTermTexture) {
     const fs::path dir = scratch_dir("cli_bake_cross_terms");
-    const RunResult r = run_leanfade_in("bake --cross-terms bumps,noise --size 32 -o pair.ktx2",
-                                        dir, dir);
+    const RunResult r =
+        run_leanfade_in("bake --cross-terms bumps,noise --size 32 -o pair.ktx2", dir, dir);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const PackedLeanMap pair = io::read_cross_term_ktx2((dir / "pair.ktx2").string());
     ASSERT_EQ(pair.levels.size(), 6u);
@@ -232,8 +316,7 @@ TEST(CliRender, BakeWritesTheCrossTermTexture) {
             }
     EXPECT_LT(level0, 1e-6);
     EXPECT_GT(level2, 1e-4);
-    const RunResult bad =
-        run_leanfade_in("bake --cross-terms bumps -o never.ktx2", dir, dir);
+    const RunResult bad = run_leanfade_in("bake --cross-terms bumps -o never.ktx2", dir, dir);
     EXPECT_EQ(bad.exit_code, 1);
     EXPECT_EQ(lines(bad.err), 1u) << bad.err;
     EXPECT_FALSE(fs::exists(dir / "never.ktx2"));
@@ -339,8 +422,8 @@ TEST(CliRenderGlFaults, NoEglDisplay) {
     const fs::path dir = scratch_dir("cli_render_no_display");
     // glvnd's libEGL with no vendor library: every platform gives EGL_NO_DISPLAY.
     const RunResult r = run_render("--scene sphere --size 32x32 -o never.png", dir,
-                                "-u LEANFADE_EGL_DEVICE "
-                                "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/no-vendor.json");
+                                   "-u LEANFADE_EGL_DEVICE "
+                                   "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/no-vendor.json");
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_EQ(r.err.rfind("leanfade render: EGL: no EGL display", 0), 0u) << r.err;
@@ -353,9 +436,10 @@ TEST(CliRenderGlFaults, ContextBelowOpenGl45) {
     const std::string mesa = mesa_egl_vendor_file();
     ASSERT_FALSE(mesa.empty()) << "Mesa's EGL vendor file was not found (Debian: libegl-mesa0)";
     // Mesa only (llvmpipe), told to offer OpenGL 3.3 at most: a driver too old for leanfade.
-    const RunResult r = run_render("--scene sphere --size 32x32 -o never.png", dir,
-                                "-u LEANFADE_EGL_DEVICE __EGL_VENDOR_LIBRARY_FILENAMES='" + mesa +
-                                    "' LIBGL_ALWAYS_SOFTWARE=1 MESA_GL_VERSION_OVERRIDE=3.3");
+    const RunResult r =
+        run_render("--scene sphere --size 32x32 -o never.png", dir,
+                   "-u LEANFADE_EGL_DEVICE __EGL_VENDOR_LIBRARY_FILENAMES='" + mesa +
+                       "' LIBGL_ALWAYS_SOFTWARE=1 MESA_GL_VERSION_OVERRIDE=3.3");
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_EQ(r.err.rfind("leanfade render: EGL: no OpenGL 4.5 core context could be made", 0), 0u)
@@ -380,8 +464,8 @@ TEST(CliRenderGlFaults, ShaderThatDoesNotCompileFromShaderDir) {
     std::ofstream(shaders / "lean_shading.glsl", std::ios::binary | std::ios::trunc) << text;
 
     const RunResult r = run_render("--scene sphere --size 32x32 --techniques lean --shader-dir '" +
-                                    shaders.string() + "' -o never.png",
-                                dir);
+                                       shaders.string() + "' -o never.png",
+                                   dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     const std::string where = "leanfade render: " + (shaders / "lean_shading.glsl").string() +
@@ -453,8 +537,9 @@ TEST(CliRender, ObjMaterialsFromTheMtlAreUsed) {
     EXPECT_GT(right.y, 0.05f);
     EXPECT_GT(right.y, 3.0f * right.x) << "map_Kd of 'Textured Wood'";
     // --bumps flat replaces every MTL map and material: the default colours, no bumps.
-    const RunResult flat = run_render(view + "--bumps flat --cells flat --cell-format pfm -o "
-                                             "flat.png",
+    const RunResult flat = run_render(view +
+                                          "--bumps flat --cells flat --cell-format pfm -o "
+                                          "flat.png",
                                       dir);
     ASSERT_EQ(flat.exit_code, 0) << flat.err;
     const Image plain = io::read_image((dir / "flat" / "lean_d2.5.pfm").string());
@@ -474,9 +559,10 @@ TEST(CliRender, ObjMaterialsFromTheMtlAreUsed) {
                                   const std::string& expected) {
         std::ofstream(dir / "bad.obj") << obj_text;
         if (!mtl_text.empty()) std::ofstream(dir / "bad.mtl") << mtl_text;
-        const RunResult e = run_render("--scene bad.obj --techniques lean --distances 2.5 "
-                                       "--size 16x16 -o bad.png",
-                                       dir);
+        const RunResult e = run_render(
+            "--scene bad.obj --techniques lean --distances 2.5 "
+            "--size 16x16 -o bad.png",
+            dir);
         EXPECT_EQ(e.exit_code, 1) << expected;
         EXPECT_NE(e.err.find(expected), std::string::npos) << e.err;
         EXPECT_EQ(lines(e.err), 1u) << e.err;
@@ -504,11 +590,12 @@ TEST(CliRender, PlaneTilesAMapOfOnesOwnFiveTimesAcross) {
     ASSERT_EQ(run_leanfade_in("bake --builtin bumps --size 256 -o bumps.ktx2", dir, dir).exit_code,
               0);
     // The light of earlier versions' plane (now the plane's default is near the mirror).
-    const std::string view = "--scene plane --techniques bump --distances 1.2 --size 64x64 "
-                             "--light-dir -1,1,1 --cell-format pfm ";
+    const std::string view =
+        "--scene plane --techniques bump --distances 1.2 --size 64x64 "
+        "--light-dir -1,1,1 --cell-format pfm ";
     auto render = [&](const std::string& args, const std::string& name) {
-        const RunResult r = run_render(view + args + " --cells " + name + " -o " + name + ".png",
-                                       dir);
+        const RunResult r =
+            run_render(view + args + " --cells " + name + " -o " + name + ".png", dir);
         EXPECT_EQ(r.exit_code, 0) << r.err;
         return io::read_image((dir / name / "bump_d1.2.pfm").string());
     };
@@ -547,8 +634,9 @@ namespace leanfade::test {
 // default bumps.
 TEST(CliRender, NotesAReferenceThatHasNotConverged) {
     const fs::path dir = scratch_dir("cli_render_reference_noise");
-    const std::string view = "--scene sphere --techniques lean,reference --distances 1.6,12 "
-                             "--size 64x64 --ref-samples 8 ";
+    const std::string view =
+        "--scene sphere --techniques lean,reference --distances 1.6,12 "
+        "--size 64x64 --ref-samples 8 ";
     const RunResult steep =
         run_render(view + "--bumps noise --strength 6 --shininess 13777 -o steep.png", dir);
     ASSERT_EQ(steep.exit_code, 0) << steep.err;

@@ -64,6 +64,37 @@ TEST(PlateauContainers, Ktx2HoldsTheLayerAsAThirdArrayLayerBitForBit) {
     }
 }
 
+// The layer table (kLeanLayers) orders the containers: the KTX2 file's array layers of each level
+// are the map's slices in the table's order, the first layer_count() rows, and a PNG pair's
+// files are named and tagged by the rows' names.
+TEST(PlateauContainers, LayersFollowTheLayerTable) {
+    const std::string folder = scratch_folder();
+    PackedLeanMap map = bumps_map(Storage::Unorm16);
+    ASSERT_TRUE(map.has_plateau());
+    EXPECT_EQ(map.layer_count(), int(kLeanLayerCount));
+    for (const LeanLayerInfo& row : kLeanLayers) EXPECT_TRUE(map.has_layer(row.layer));
+    const std::string path = folder + "/table.ktx2";
+    write_ktx2(path, map);  // no supercompression: the layers lie in the file as they are
+    const std::vector<std::uint8_t> bytes = read_bytes(path);
+    const Ktx2Info info = inspect_ktx2(path);
+    ASSERT_EQ(info.levels.size(), map.levels.size());
+    for (std::size_t l = 0; l < map.levels.size(); ++l) {
+        const std::size_t layer_bytes = map.levels[l].lean1.size();
+        for (std::size_t i = 0; i < kLeanLayerCount; ++i) {
+            const std::vector<std::uint8_t>& slice = map.levels[l].slice(kLeanLayers[i].layer);
+            ASSERT_EQ(slice.size(), layer_bytes);
+            const auto first = bytes.begin() + std::ptrdiff_t(info.levels[l].byte_offset +
+                                                              i * layer_bytes);
+            EXPECT_TRUE(std::equal(slice.begin(), slice.end(), first))
+                << "level " << l << ", " << kLeanLayers[i].name;
+        }
+    }
+    remove_plateau_layer(map);
+    EXPECT_EQ(map.layer_count(), 2);
+    EXPECT_FALSE(map.has_layer(LeanLayer::Plateau));
+    EXPECT_TRUE(map.has_layer(LeanLayer::Lean1) && map.has_layer(LeanLayer::Lean2));
+}
+
 TEST(PlateauContainers, MapsWithoutTheLayerStayTwoLayerFilesAndLoadWithoutIt) {
     const std::string folder = scratch_folder();
     PackedLeanMap map = bumps_map(Storage::Unorm16);

@@ -189,6 +189,11 @@ class Errors(unittest.TestCase):
             call(*args, **kwargs)
         self.assertEqual(raised.exception.subject, subject)
         self.assertEqual(str(raised.exception), f"{subject}: {raised.exception.cause}")
+        # A setting error names its setting; an error about the input (a file, an array, bytes)
+        # names none.
+        is_input = os.sep in subject or subject in ("missing.png", "array", "bytes")
+        self.assertEqual(raised.exception.kind, "file" if is_input else "setting")
+        self.assertEqual(raised.exception.setting, "" if is_input else subject)
         return raised.exception
 
     def test_bad_inputs_and_settings(self):

@@ -92,7 +92,7 @@ TEST_F(SceneSourceTest, LayersAndOceanBuildTheirMaterials) {
 
 TEST_F(SceneSourceTest, RefusalsNameTheSetting) {
     SceneSource source = builtin_source("sphere");
-    source.bumps.roughness_map = path("missing.png");
+    source.bumps.map_file(MapKind::BaseRoughness) = path("missing.png");
     // Blinn-Phong's base roughness is 1/s: the map needs Cook-Torrance (checked before any read).
     EXPECT_EQ(refused_subject([&] { build_scene(source, ShadingSettings{}); }), "roughness-map");
     ShadingSettings cook_torrance;
@@ -100,7 +100,7 @@ TEST_F(SceneSourceTest, RefusalsNameTheSetting) {
     EXPECT_EQ(refused_subject([&] { build_scene(source, cook_torrance); }), path("missing.png"));
 
     SceneSource mips = builtin_source("sphere");
-    mips.bumps.roughness_mips = path("r_0.png");
+    mips.bumps.map_file(MapKind::RoughnessMips) = path("r_0.png");
     mips.layers.sources = {"bumps", "noise"};
     EXPECT_EQ(refused_subject([&] { build_scene(mips, ShadingSettings{}); }), "roughness-mips");
 
@@ -144,7 +144,7 @@ TEST_F(SceneSourceTest, InputsAreTheExistingFilesItReads) {
     source.bumps.source = path("height.png");
     source.layers.sources = {"bumps", path("height.png")};
     source.layers.weight_map = path("weights.png");
-    source.bumps.roughness_map = path("not-there.png");
+    source.bumps.map_file(MapKind::BaseRoughness) = path("not-there.png");
     const std::vector<std::string> inputs = scene_source_inputs(source, path("preset.json"));
     EXPECT_EQ(inputs, (std::vector<std::string>{path("height.png"), path("weights.png"),
                                                 path("height.png")}));

@@ -767,7 +767,7 @@ TEST(CliBakeImperfectNormals, PaddingAndNegativeZAreRepairedReportedAndStoredUnl
     EXPECT_EQ(strict.exit_code, 1);
     EXPECT_THAT(strict.err, HasSubstr("padded.png: normal with z <= 0 at texel (48, 0)"));
     EXPECT_THAT(strict.err, HasSubstr("refused by --strict-normals"));
-    EXPECT_THAT(strict.err, HasSubstr("use --from height"));
+    EXPECT_THAT(strict.err, HasSubstr("read it with --from height"));
     EXPECT_THAT(strict.err, Not(HasSubstr("'from'")));
     EXPECT_EQ(std::count(strict.err.begin(), strict.err.end(), '\n'), 1) << strict.err;
     EXPECT_FALSE(fs::exists(dir / "strict.ktx2"));

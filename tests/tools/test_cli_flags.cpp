@@ -19,13 +19,29 @@ TEST(CliFlags, SettingsMapToTheirFlags) {
     EXPECT_EQ(cli::flag_for_setting("distances"), "--distances");
     EXPECT_EQ(cli::flag_for_setting("layer-tiling"), "--layer-tiling");
     EXPECT_EQ(cli::flag_for_setting("layers"), "--layers");
-    // Anything else (a file name, "GL") is kept as it is.
-    EXPECT_EQ(cli::flag_for_setting("a.png"), "");
-    EXPECT_EQ(cli::flag_for_setting("GL"), "");
-    EXPECT_EQ(cli::with_flag_name(Error("shininess", "must be > 0")).what(),
+    EXPECT_EQ(cli::flag_for_setting("--from"), "--from") << "a flag already";
+    // A setting error names the flag; a file error (a file name, "GL") keeps its subject, even
+    // one spelled like a setting: the kind says which it is, not the name.
+    EXPECT_EQ(cli::with_flag_name(Error::setting("shininess", "must be > 0")).what(),
               std::string("--shininess: must be > 0"));
     EXPECT_EQ(cli::with_flag_name(Error("a.png", "empty file")).what(),
               std::string("a.png: empty file"));
+    EXPECT_EQ(cli::with_flag_name(Error("size", "a file named size")).what(),
+              std::string("size: a file named size"));
+    // The settings a cause quotes are flags where the library listed them, and only there.
+    const Error mentioning = Error::file_mentioning(
+        "n.png", "refused by 'strict_normals' (read it with 'from' height; 'size' is a word)",
+        {"strict_normals", "from"});
+    EXPECT_EQ(mentioning.kind(), ErrorKind::File);
+    EXPECT_EQ(mentioning.setting(), "");
+    EXPECT_EQ(cli::with_flag_name(mentioning).what(),
+              std::string("n.png: refused by --strict-normals (read it with --from height; "
+                          "'size' is a word)"));
+    const Error setting = Error::setting("layer-tiling", "as 'tiling', 'tiling'", {"tiling"});
+    EXPECT_EQ(setting.kind(), ErrorKind::Setting);
+    EXPECT_EQ(setting.setting(), "layer-tiling");
+    EXPECT_EQ(cli::with_flag_name(setting).what(),
+              std::string("--layer-tiling: as --tiling, --tiling"));
 }
 
 // Every row of the schema is a flag of the commands that render, with its help text.

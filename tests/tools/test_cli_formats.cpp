@@ -172,7 +172,7 @@ TEST(CliFormats, GreyColourImagesBakeAsHeightMapsUnderAuto) {
     EXPECT_EQ(forced.run.exit_code, 1);
     EXPECT_THAT(forced.run.err, HasSubstr("grey_rgb.png: normal with z <= 0"));
     EXPECT_THAT(forced.run.err, HasSubstr("refused by --strict-normals"));
-    EXPECT_THAT(forced.run.err, HasSubstr("a height map stored as colour? use --from height)"));
+    EXPECT_THAT(forced.run.err, HasSubstr("a height map stored as colour? read it with --from height)"));
     EXPECT_EQ(std::count(forced.run.err.begin(), forced.run.err.end(), '\n'), 1);
     EXPECT_TRUE(forced.map.empty());
 }

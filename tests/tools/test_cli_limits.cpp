@@ -231,7 +231,7 @@ TEST(CliTypedFlags, PresetLayersAndMapsAreChecked) {
         {R"({"layers": {"sources": ["bumps", "noise"], "weights": [0.3, 0.3]}})",
          "key 'layers.weights': weights must sum to 1"},
         {R"({"maps": {"base_color_map": "x.png"}})",
-         "key 'maps.base_color_map': unknown map (expected roughness_map, roughness_mips)"},
+         "key 'maps.base_color_map': unknown map (expected roughness_map, roughness_mips, specular_map)"},
     };
     for (const auto& c : cases) {
         {

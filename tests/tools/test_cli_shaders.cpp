@@ -1,18 +1,19 @@
-// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL, MSL, GLSL ES and WGSL, checked with
-// the tools Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its HLSL front end),
-// spirv-val validates every SPIR-V module (the exported ones, optimised, and the HLSL compiled
-// back), spirv-dis shows the bindings and names they keep, and the index's reflection of each
-// module agrees with the disassembly and the C++ mirrors of the blocks. Debian 12 has no Metal
-// compiler: the MSL files get a structural check (entry point, block, sampler and struct names,
-// resource indices), which is not a compile. Errors: a bad --lang, an output that cannot be
+// leanfade shaders: every stage and variant in GLSL, SPIR-V, HLSL, MSL, GLSL ES and WGSL, checked
+// with the tools Debian has: glslangValidator compiles the GLSL (OpenGL) and the HLSL back (its
+// HLSL front end), spirv-val validates every SPIR-V module (the exported ones, optimised, and the
+// HLSL compiled back), spirv-dis shows the bindings and names they keep, and the index's reflection
+// of each module agrees with the disassembly and the C++ mirrors of the blocks. Debian 12 has no
+// Metal compiler: the MSL files get a structural check (entry point, block, sampler and struct
+// names, resource indices), which is not a compile. Errors: a bad --lang, an output that cannot be
 // written, a shader that does not compile: one line, exit 1, nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
-#include <algorithm>
 #include <set>
 #include <sstream>
 #include <string>
@@ -22,8 +23,9 @@
 
 #include "leanfade/core/technique.hpp"
 #include "leanfade/gl/detail/shader_export.hpp"
-#include "leanfade/gl/shader_library.hpp"
 #include "leanfade/gl/detail/shading_block.hpp"
+#include "leanfade/gl/shader_library.hpp"
+#include "leanfade/scene/detail/map_kinds.hpp"
 #include "tools_test_helpers.hpp"
 
 namespace leanfade::test {
@@ -89,9 +91,8 @@ void expect_complete_index(const Export& e, const std::string& lang, const std::
     }
     // Every technique of the table has its ordinary fragment stage.
     for (const TechniqueInfo& row : kTechniques)
-        EXPECT_TRUE(
-            fs::is_regular_file(e.folder / (gl::variant_name(gl::VariantKey::scene(row.id)) +
-                                            ".frag" + ext)))
+        EXPECT_TRUE(fs::is_regular_file(
+            e.folder / (gl::variant_name(gl::VariantKey::scene(row.id)) + ".frag" + ext)))
             << row.name;
 }
 
@@ -256,11 +257,15 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
                 EXPECT_EQ(res["descriptor_type"], "combined_image_sampler") << name;
                 sampled.insert(res["binding"].get<int>());
                 EXPECT_EQ(res["array_size"], name == "u_layer_maps" ? 4 : 1) << name;
-                const bool two_d = name == "u_base_color" || name == "u_base_roughness" ||
-                                   name == "u_layer_weights" || name == "u_plateau" ||
-                                   name == "u_metallic" || name == "u_occlusion" ||
-                                   name == "u_emissive" || name == "u_anisotropy" ||
-                                   name == "u_roughness_mips";
+                // The surface maps' samplers (u_ + their table's GLSL name) are 2D, as are the
+                // layer weights; the LEAN maps are arrays of slices.
+                bool two_d = name == "u_layer_weights";
+                for (const scene::MapKindInfo& row : scene::kMapKinds) {
+                    std::string sampler = "u_" + std::string(row.glsl_name);
+                    std::transform(sampler.begin(), sampler.end(), sampler.begin(),
+                                   [](unsigned char c) { return char(std::tolower(c)); });
+                    two_d = two_d || name == sampler;
+                }
                 EXPECT_EQ(res["type"], two_d ? "sampler2D" : "sampler2DArray") << name;
             }
         }
@@ -271,8 +276,8 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
             ASSERT_EQ(inputs.size(), 6u);
             const char* names[] = {"a_position", "a_normal", "a_uv",
                                    "a_tangent",  "a_uv1",    "a_linear_normal_change"};
-            const char* formats[] = {"R32G32B32_SFLOAT", "R32G32B32_SFLOAT", "R32G32_SFLOAT",
-                                     "R32G32B32A32_SFLOAT", "R32G32_SFLOAT", "R32_SFLOAT"};
+            const char* formats[] = {"R32G32B32_SFLOAT",    "R32G32B32_SFLOAT", "R32G32_SFLOAT",
+                                     "R32G32B32A32_SFLOAT", "R32G32_SFLOAT",    "R32_SFLOAT"};
             for (int i = 0; i < 6; ++i) {
                 EXPECT_EQ(inputs[i]["name"], names[i]);
                 EXPECT_EQ(inputs[i]["location"], i);
@@ -326,7 +331,7 @@ TEST(ShadersCli, SpirvIsOptimisedAndReflectedInTheIndex) {
         EXPECT_LT(m["uv_transform"].get<int>(), 7);
         EXPECT_FALSE(m["when_absent"].get<std::string>().empty());
     }
-    EXPECT_EQ(e.index["maps"].size(), 8u);
+    EXPECT_EQ(e.index["maps"].size(), scene::kMapKindCount);
 
     // The whole set: optimisation takes out most of what glslang writes.
     EXPECT_LT(after * 3, before) << after << " of " << before << " bytes";
@@ -447,8 +452,7 @@ TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflectio
         const auto& s = shaders[i];
         const std::string variant = s["variant"];
         // The roughness MIPs of one LEAN map (bump layers mix moments instead).
-        const bool roughness = i > 0 &&
-                               variants[i - 1]->key.technique == Technique::Roughness &&
+        const bool roughness = i > 0 && variants[i - 1]->key.technique == Technique::Roughness &&
                                variant.find("_layered") == std::string::npos;
         if (roughness) {
             // The one construct ES 3.00 lacks, named.
@@ -486,9 +490,9 @@ TEST(ShadersCli, GlslEsCompilesAsEs300ForWebGl2WithMatchingInterfaceAndReflectio
         }
         EXPECT_EQ(shading_block, stage_of(s) == "frag") << file;
         std::string output;
-        EXPECT_EQ(run_tool("glslangValidator -S " + stage_of(s) + " " + shell_quote(file), log,
-                           &output),
-                  0)
+        EXPECT_EQ(
+            run_tool("glslangValidator -S " + stage_of(s) + " " + shell_quote(file), log, &output),
+            0)
             << file << ": " << output;
     }
     EXPECT_EQ(vertex_outputs, fragment_inputs);
@@ -524,8 +528,8 @@ TEST(ShadersCli, WgslSplitsSamplersAndSaysWhyAVariantHasNoForm) {
         const bool roughness =
             i > 0 && variants[i - 1]->key.technique == Technique::Roughness && !layered;
         if (layered || roughness) {
-            EXPECT_NE(s.value("omitted", "").find(layered ? "array of combined image samplers"
-                                                          : "ImageQueryLod"),
+            EXPECT_NE(s.value("omitted", "")
+                          .find(layered ? "array of combined image samplers" : "ImageQueryLod"),
                       std::string::npos)
                 << variant << ": " << s.value("omitted", "");
             EXPECT_FALSE(s.contains("file")) << variant;

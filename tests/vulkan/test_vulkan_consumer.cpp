@@ -899,11 +899,11 @@ void VulkanConsumer::draw(const std::string& variant, float distance, VkFrontFac
             w.pBufferInfo = &buffer_infos[slot];
         } else {
             // The glTF material maps: the renderer's white fallback (metallic, occlusion and
-            // emissive times factors of 0) or, for the anisotropy texture whose bit is clear,
-            // any valid texture.
+            // emissive times factors of 0) or, for the anisotropy texture and the specular map
+            // whose bits are clear, any valid texture.
             const bool white_fallback = b.name == "u_base_color" || b.name == "u_metallic" ||
                                         b.name == "u_occlusion" || b.name == "u_emissive" ||
-                                        b.name == "u_anisotropy";
+                                        b.name == "u_anisotropy" || b.name == "u_specular";
             const Texture* texture = b.name == "u_lean"             ? &lean
                                      : white_fallback               ? &white
                                      : b.name == "u_base_roughness" ? &roughness

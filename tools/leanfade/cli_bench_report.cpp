@@ -91,9 +91,9 @@ std::string OverheadRatio::name() const {
 std::vector<OverheadRatio> view_ratios(const gl::ViewResult& view) {
     std::vector<OverheadRatio> ratios;
     for (const TechniqueInfo& row : kTechniques)
-        if (row.overhead_of != row.id && view.find(row.id) != nullptr &&
-            view.find(row.overhead_of) != nullptr)
-            ratios.push_back({row.id, row.overhead_of, view.ratio(row.id, row.overhead_of)});
+        if (row.builds_on != row.id && view.find(row.id) != nullptr &&
+            view.find(row.builds_on) != nullptr)
+            ratios.push_back({row.id, row.builds_on, view.ratio(row.id, row.builds_on)});
     if (view.floor() != nullptr)
         for (const gl::TechniqueTiming& t : view.timings)
             if (t.technique)

@@ -13,25 +13,6 @@
 namespace leanfade::cli {
 namespace {
 
-// Settings outside the shading schema that the libraries name: camera, sweep and benchmark
-// settings, the built-in bump sets and the bump layers (leanfade/core/detail/layers.hpp, whose setting
-// names are their flags' already).
-constexpr std::string_view kOtherSettings[] = {
-    "techniques", "distances", "spp", "frames", "motion", "size", "timing", "warmup", "scenes",
-    "fov", "view_dir", "target", "ref_samples", "builtin", "bits", "from", "texture_size",
-    "max_size",
-    "layers", "layer-weights", "layer-strengths", "layer-tiling", "layer-velocity",
-    "layer-weight-map", "strict_normals", "lang", "compress", "ocean_layers", "flow",
-    "bake_roughness",
-};
-
-// The surface maps' settings ("roughness-map"), from the map kinds' table.
-bool is_map_setting(std::string_view name) {
-    for (const scene::MapKindInfo& row : scene::kMapKinds)
-        if (!row.setting.empty() && row.setting == name) return true;
-    return false;
-}
-
 // Flags whose names are shorter than their settings'.
 constexpr std::pair<std::string_view, std::string_view> kShortFlags[] = {
     {"light_direction", "--light-dir"},
@@ -41,62 +22,27 @@ constexpr std::pair<std::string_view, std::string_view> kShortFlags[] = {
 
 }  // namespace
 
-std::string flag_for_setting(std::string_view name) {
+std::string flag_for_setting(std::string_view id) {
+    if (id.empty() || id.substr(0, 2) == "--") return std::string(id);  // a flag already
     for (const auto& [setting, flag] : kShortFlags)
-        if (name == setting) return std::string(flag);
-    const bool known = find_shading_parameter(name) != nullptr || is_map_setting(name) ||
-                       std::find(std::begin(kOtherSettings), std::end(kOtherSettings), name) !=
-                           std::end(kOtherSettings);
-    if (!known) return {};
-    std::string flag = "--" + std::string(name);
+        if (id == setting) return std::string(flag);
+    std::string flag = "--" + std::string(id);
     std::replace(flag.begin(), flag.end(), '_', '-');
     return flag;
 }
 
-namespace {
-
-// `text` with "set 'NAME' to 'VALUE'" turned into "use --flag VALUE" and any other quoted
-// 'NAME' of a setting into its flag.
-std::string quoted_settings_as_flags(const std::string& text) {
-    std::string out;
-    std::size_t i = 0;
-    while (i < text.size()) {
-        const std::size_t open = text.find('\'', i);
-        const std::size_t close = open == std::string::npos ? open : text.find('\'', open + 1);
-        if (close == std::string::npos) break;
-        const std::string flag = flag_for_setting(text.substr(open + 1, close - open - 1));
-        if (flag.empty()) {
-            out.append(text, i, close - i);  // the closing quote may open the next name
-            i = close;
-            continue;
-        }
-        std::size_t start = open, end = close + 1;
-        std::string replacement = flag;
-        constexpr std::string_view kSet = "set ", kTo = " to '";
-        if (start >= kSet.size() && text.compare(start - kSet.size(), kSet.size(), kSet) == 0 &&
-            text.compare(end, kTo.size(), kTo) == 0) {
-            const std::size_t value_end = text.find('\'', end + kTo.size());
-            if (value_end != std::string::npos) {
-                start -= kSet.size();
-                replacement = "use " + flag + " " +
-                              text.substr(end + kTo.size(), value_end - end - kTo.size());
-                end = value_end + 1;
-            }
-        }
-        out.append(text, i, start - i);
-        out += replacement;
-        i = end;
-    }
-    out.append(text, i, std::string::npos);
-    return out;
-}
-
-}  // namespace
-
 Error with_flag_name(const Error& error) {
-    const std::string flag = flag_for_setting(error.file());
-    const std::string cause = quoted_settings_as_flags(error.cause());
-    return Error(flag.empty() ? error.file() : flag, cause);
+    // The settings the cause quotes, as the library listed them: 'id' -> --flag.
+    std::string cause = error.cause();
+    for (const std::string& id : error.mentioned_settings()) {
+        const std::string quoted = "'" + id + "'", flag = flag_for_setting(id);
+        for (std::size_t at = cause.find(quoted); at != std::string::npos;
+             at = cause.find(quoted, at + flag.size()))
+            cause.replace(at, quoted.size(), flag);
+    }
+    const std::string subject =
+        error.kind() == ErrorKind::Setting ? flag_for_setting(error.setting()) : error.file();
+    return Error(error.kind(), subject, cause, {});
 }
 
 std::string convention_warning(const std::string& name, bool directx, double ratio) {

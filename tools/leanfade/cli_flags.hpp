@@ -12,14 +12,14 @@
 
 namespace leanfade::cli {
 
-// The flag of a setting: "--" and the name with '-' for '_' ("fade_exponent" ->
+// The flag of a setting id: "--" and the id with '-' for '_' ("fade_exponent" ->
 // "--fade-exponent"), but for the few flags with shorter names ("light_direction" ->
-// "--light-dir"); "" when `name` is no setting (a file name, "GL", ...).
-std::string flag_for_setting(std::string_view name);
+// "--light-dir"); an id that is a flag already ("--from") as it is.
+std::string flag_for_setting(std::string_view id);
 
-// `error` with its subject replaced by the flag when it names a setting, and the settings its
-// cause quotes ("set 'from' to 'height'", "'strict_normals'") by their flags ("use --from height",
-// "--strict-normals").
+// `error` worded for the command line: a setting error's subject is its flag, and the settings
+// its cause quotes by id (Error::mentioned_settings: 'strict_normals') are their flags
+// (--strict-normals). A file error keeps its file. Nothing is read from the sentence itself.
 Error with_flag_name(const Error& error);
 
 // The one line that reports what a bake repaired in a normal map (NormalRepairs):

@@ -43,7 +43,7 @@ std::vector<gl::FigureRequest::NamedView> ocean_views(const std::vector<std::str
         try {
             camera = scene::ocean_camera(name, settings);
         } catch (const Error& e) {
-            throw Error("--views", e.cause());
+            throw Error::setting("--views", e.cause());
         }
         result.push_back(
             {name, gl::view_in_scene(model, camera.eye, camera.target, camera.fov_y_degrees,
@@ -78,7 +78,7 @@ std::string frame_path(const std::string& pattern, int index, const std::string&
             if (j == digits_start) width = 0;
         }
         if (j >= pattern.size() || pattern[j] != 'd')
-            throw Error(flag, "'" + pattern +
+            throw Error::setting(flag, "'" + pattern +
                                   "': only %d, %0Nd and %% are allowed in a frame "
                                   "file name");
         std::string number = std::to_string(index);
@@ -88,7 +88,7 @@ std::string frame_path(const std::string& pattern, int index, const std::string&
         i = j;
     }
     if (fields != 1)
-        throw Error(flag, "'" + pattern +
+        throw Error::setting(flag, "'" + pattern +
                               "': a frame sequence's file name needs one %d or %0Nd "
                               "field (e.g. out/ocean_%03d.png)");
     return result;

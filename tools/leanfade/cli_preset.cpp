@@ -3,13 +3,15 @@
 
 #include <algorithm>
 
-#include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/input_text.hpp"
+#include "leanfade/core/error.hpp"
 #include "leanfade/scene/detail/map_kinds.hpp"
 
 namespace leanfade::cli {
 
-bool given(const CLI::App& app, const std::string& flag) { return app.count(flag) > 0; }
+bool given(const CLI::App& app, const std::string& flag) {
+    return app.count(flag) > 0;
+}
 
 namespace {
 
@@ -21,20 +23,11 @@ std::string map_setting_key(scene::MapKind kind) {
     return setting;
 }
 
-// The flags' file of each map kind given as a flag (the rows with a setting).
-struct MapFlagFile {
-    scene::MapKind kind;
-    std::string scene::BumpMapSource::*path;
-};
-constexpr MapFlagFile kMapFlagFiles[] = {
-    {scene::MapKind::BaseRoughness, &scene::BumpMapSource::roughness_map},
-    {scene::MapKind::RoughnessMips, &scene::BumpMapSource::roughness_mips},
-};
-
+// The preset keys of the map kinds the rendering commands take as flags (the rows with a setting).
 std::string map_setting_keys() {
     std::string keys;
-    for (const MapFlagFile& m : kMapFlagFiles)
-        keys += (keys.empty() ? "" : ", ") + map_setting_key(m.kind);
+    for (const scene::MapKindInfo& row : scene::kMapKinds)
+        if (!row.setting.empty()) keys += (keys.empty() ? "" : ", ") + map_setting_key(row.kind);
     return keys;
 }
 
@@ -63,13 +56,13 @@ void set_source_defaults(const Preset& preset, const std::string& file, const CL
         set_unless_given(app, "--mixing", l.mixing, preset.layers.mixing);
     }
     for (const MapFile& map : preset.maps) {
-        const MapFlagFile* known = nullptr;
-        for (const MapFlagFile& m : kMapFlagFiles)
-            if (map.kind == map_setting_key(m.kind)) known = &m;
+        const scene::MapKindInfo* known = nullptr;
+        for (const scene::MapKindInfo& row : scene::kMapKinds)
+            if (!row.setting.empty() && map.kind == map_setting_key(row.kind)) known = &row;
         if (known == nullptr)
             throw Error(file, "key 'maps." + escape_text(map.kind) + "': unknown map (expected " +
                                   map_setting_keys() + ")");
-        set_unless_given(app, map_flag(known->kind), b.*(known->path), map.path);
+        set_unless_given(app, map_flag(known->kind), b.map_file(known->kind), map.path);
     }
     set_shading_defaults(preset.shading, app, shading);
 }
@@ -79,9 +72,9 @@ void set_preset_source(const RenderSourceFlags& flags, Preset& preset) {
     preset.bumps = flags.bumps;  // the BumpSource part of the flags
     preset.layers = flags.layers;
     preset.maps.clear();
-    for (const MapFlagFile& m : kMapFlagFiles)
-        if (!(flags.bumps.*(m.path)).empty())
-            preset.maps.push_back({map_setting_key(m.kind), flags.bumps.*(m.path)});
+    for (const scene::MapKindInfo& row : scene::kMapKinds)
+        if (!row.setting.empty() && !flags.bumps.map_file(row.kind).empty())
+            preset.maps.push_back({map_setting_key(row.kind), flags.bumps.map_file(row.kind)});
 }
 
 }  // namespace leanfade::cli

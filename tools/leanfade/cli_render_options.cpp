@@ -12,15 +12,15 @@
 
 #include "cli_flags.hpp"
 #include "leanfade/core/detail/camera.hpp"
-#include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/parameters.hpp"
 #include "leanfade/core/detail/procedural.hpp"
-#include "leanfade/core/technique.hpp"
 #include "leanfade/core/detail/text.hpp"
+#include "leanfade/core/error.hpp"
+#include "leanfade/core/technique.hpp"
 #include "leanfade/eval/results.hpp"
+#include "leanfade/io/detail/png_io.hpp"
 #include "leanfade/io/image_io.hpp"
 #include "leanfade/io/ktx2.hpp"
-#include "leanfade/io/detail/png_io.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::cli {
@@ -170,8 +170,7 @@ void add_lean_source_options(CLI::App& app, scene::BumpMapSource& f) {
         f.strength_unit == StrengthUnit::Uv ? "uv" : "texel")
         ->check(CLI::IsMember({"texel", "uv"}))
         ->group(group);
-    add_spike_option(app, f.spike,
-                     "Two-lobe LEAN's spike in on-the-fly bakes, as bake --spike")
+    add_spike_option(app, f.spike, "Two-lobe LEAN's spike in on-the-fly bakes, as bake --spike")
         ->group(group);
     app.add_option("--seed", f.seed, "Seed of the built-in bump set")
         ->capture_default_str()
@@ -185,18 +184,11 @@ void add_lean_source_options(CLI::App& app, scene::BumpMapSource& f) {
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str()
         ->group(group);
-    app.add_option(map_flag(scene::MapKind::BaseRoughness), f.roughness_map,
-                   "Base roughness per texel with --brdf cook-torrance, instead of --roughness: a "
-                   "grey image of perceptual r in [0, 1] or a glTF metallic-roughness texture (r "
-                   "in G), at the bumps' uv; alpha0^2 = r^4 is MIP-filtered linearly, as the "
-                   "moments (docs/roughness.md)")
-        ->group(group);
-    app.add_option(map_flag(scene::MapKind::RoughnessMips), f.roughness_mips,
-                   "Another tool's roughness MIPs for the roughness technique, NAME_0.png with "
-                   "NAME_1.png ... down to 1 x 1 (Filament's roughness-prefilter --linear "
-                   "writes them): linear perceptual r (grey, or G of RGB), read in place of the "
-                   "r the technique derives from the LEAN map (docs/roughness.md)")
-        ->group(group);
+    // A flag per surface map that a setting gives (the map kinds' table: its setting and help).
+    for (const scene::MapKindInfo& row : scene::kMapKinds)
+        if (!row.setting.empty())
+            app.add_option(map_flag(row.kind), f.map_file(row.kind), std::string(row.flag_help))
+                ->group(group);
 }
 
 std::string map_flag(scene::MapKind kind) {
@@ -249,10 +241,10 @@ void add_camera_options(CLI::App& app, float& fov, glm::vec3& view_dir, const ch
             return degrees;
         },
         "Vertical field of view in degrees", number_text(fov));
-    add_typed_option(app, "--view-dir", view_dir, parse_view_direction,
-                     std::string("Direction from ") + view_from +
-                         " toward the eye, world space (y up)",
-                     vector_text(view_dir));
+    add_typed_option(
+        app, "--view-dir", view_dir, parse_view_direction,
+        std::string("Direction from ") + view_from + " toward the eye, world space (y up)",
+        vector_text(view_dir));
     if (target != nullptr) {
         add_typed_option(
             app, "--target", *target,

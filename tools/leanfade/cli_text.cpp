@@ -35,7 +35,7 @@ namespace {
 
 float parse_number(const std::string& text, const std::string& flag) {
     const std::optional<float> value = parse_finite_float(text);
-    if (!value) throw Error(flag, "expected a finite number, got '" + text + "'");
+    if (!value) throw Error::setting(flag, "expected a finite number, got '" + text + "'");
     return *value;
 }
 
@@ -58,10 +58,10 @@ FramebufferSize parse_size(const std::string& text, const std::string& flag) {
     FramebufferSize size;
     if (x == std::string::npos || !parse_int(text.substr(0, x), size.width) ||
         !parse_int(text.substr(x + 1), size.height))
-        throw Error(flag, "expected WIDTHxHEIGHT in pixels, got '" + text + "'");
+        throw Error::setting(flag, "expected WIDTHxHEIGHT in pixels, got '" + text + "'");
     if (size.width < kMinFramebufferSide || size.height < kMinFramebufferSide ||
         size.width > kMaxFramebufferSide || size.height > kMaxFramebufferSide)
-        throw Error(flag, "each side must be in [16, 8192] pixels, got '" + text + "'");
+        throw Error::setting(flag, "each side must be in [16, 8192] pixels, got '" + text + "'");
     return size;
 }
 
@@ -72,10 +72,10 @@ glm::vec3 parse_vector(const std::string& text, const std::string& flag) {
         const std::size_t comma = text.find(',', start);
         const bool last = i == 2;
         if ((comma == std::string::npos) != last)
-            throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+            throw Error::setting(flag, "expected X,Y,Z, got '" + text + "'");
         const std::string part = text.substr(start, last ? std::string::npos : comma - start);
         const std::optional<float> value = parse_finite_float(part);
-        if (!value) throw Error(flag, "expected X,Y,Z, got '" + text + "'");
+        if (!value) throw Error::setting(flag, "expected X,Y,Z, got '" + text + "'");
         v[i] = *value;
         start = comma + 1;
     }
@@ -86,7 +86,7 @@ std::vector<glm::vec2> parse_velocities(const std::string& text, const std::stri
     std::vector<glm::vec2> values;
     for (const std::string& part : split(text, ',')) {
         const std::vector<std::string> uv = split(part, ':');
-        if (uv.size() != 2) throw Error(flag, "expected U:V per layer, got '" + part + "'");
+        if (uv.size() != 2) throw Error::setting(flag, "expected U:V per layer, got '" + part + "'");
         values.emplace_back(parse_number(uv[0], flag), parse_number(uv[1], flag));
     }
     return values;
@@ -97,7 +97,7 @@ std::vector<float> parse_distances(const std::string& text, const std::string& f
     for (const std::string& part : split(text, ',')) {
         float d = 0.0f;
         if (!parse_finite(part, d))
-            throw Error(flag, "expected comma-separated numbers, got '" + text + "'");
+            throw Error::setting(flag, "expected comma-separated numbers, got '" + text + "'");
         check_camera_distance(d, flag, part);
         result.push_back(d);
     }
@@ -110,9 +110,9 @@ std::vector<int> parse_sizes(const std::string& text, const std::string& flag, i
         char* end = nullptr;
         const long value = std::strtol(part.c_str(), &end, 10);
         if (part.empty() || *end != 0)
-            throw Error(flag, "expected comma-separated sizes in texels, got '" + text + "'");
+            throw Error::setting(flag, "expected comma-separated sizes in texels, got '" + text + "'");
         if (value < low || value > high)
-            throw Error(flag, "sizes must be in [" + std::to_string(low) + ", " +
+            throw Error::setting(flag, "sizes must be in [" + std::to_string(low) + ", " +
                                   std::to_string(high) + "], got " + part);
         sizes.push_back(int(value));
     }

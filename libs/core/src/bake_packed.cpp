@@ -368,9 +368,10 @@ void size_slice(std::vector<std::uint8_t>& slice, std::size_t bytes) {
 // first touch.
 void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
     const std::size_t count = packed.levels.size();
-    const int slices = packed.has_plateau() ? 3 : 2;
-    if (!packed.has_plateau())
-        for (PackedLevel& level : packed.levels) level.plateau = {};
+    const int slices = packed.layer_count();  // the first rows of kLeanLayers
+    for (const LeanLayerInfo& row : kLeanLayers)
+        if (!packed.has_layer(row.layer))
+            for (PackedLevel& level : packed.levels) level.slice(row.layer) = {};
     parallel_for_rows(int(std::size_t(slices) * count), std::min(threads, slices),
                       [&](int first, int end) {
         for (int job = first; job < end; ++job) {
@@ -379,7 +380,7 @@ void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
             PackedLevel& out = packed.levels[l];
             const std::size_t bytes =
                 std::size_t(out.width) * std::size_t(out.height) * std::size_t(texel_bytes);
-            size_slice(slice == 0 ? out.lean1 : slice == 1 ? out.lean2 : out.plateau, bytes);
+            size_slice(out.slice(kLeanLayers[slice].layer), bytes);
         }
     });
 }
@@ -388,9 +389,14 @@ void size_output(PackedLeanMap& packed, int texel_bytes, int threads) {
 std::vector<PackedLevelTarget> sized_targets(PackedLeanMap& packed, Storage storage, int threads) {
     size_output(packed, bytes_per_texel(storage), threads);
     std::vector<PackedLevelTarget> targets;
-    for (PackedLevel& level : packed.levels)
-        targets.push_back({level.lean1.data(), level.lean2.data(),
-                           level.plateau.empty() ? nullptr : level.plateau.data()});
+    for (PackedLevel& level : packed.levels) {
+        PackedLevelTarget target;
+        for (const LeanLayerInfo& row : kLeanLayers) {
+            std::vector<std::uint8_t>& slice = level.slice(row.layer);
+            target.slice(row.layer) = slice.empty() ? nullptr : slice.data();
+        }
+        targets.push_back(target);
+    }
     return targets;
 }
 
@@ -438,7 +444,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
     if (!std::isfinite(options.plateau_epsilon) || options.plateau_epsilon < 0.0f)
-        throw Error("plateau_epsilon", "must be finite and >= 0 (0: no plateau layer)");
+        throw Error::setting("plateau_epsilon", "must be finite and >= 0 (0: no plateau layer)");
 
     Plan plan;
     plan.top.green_sign = options.convention == NormalConvention::DirectX ? -1.0f : 1.0f;
@@ -622,9 +628,8 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
          [&](PackedLeanMap& packed, int threads) {
              for (std::size_t l = 0; l < std::min(previous.size(), packed.levels.size()); ++l) {
-                 packed.levels[l].lean1 = std::move(previous[l].lean1);
-                 packed.levels[l].lean2 = std::move(previous[l].lean2);
-                 packed.levels[l].plateau = std::move(previous[l].plateau);
+                 for (const LeanLayerInfo& row : kLeanLayers)
+                     packed.levels[l].slice(row.layer) = std::move(previous[l].slice(row.layer));
              }
              return sized_targets(packed, storage, threads);
          },

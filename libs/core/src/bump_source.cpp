@@ -25,10 +25,12 @@ void check_texture_size(int texture_size, int max_size, bool builtin, const std:
     const int largest =
         builtin ? std::min(max_size, kDefaultMaxImageDimension) : kDefaultMaxImageDimension;
     if (texture_size < kMinTextureSize || texture_size > largest)
-        throw Error(setting, "must be in [" + std::to_string(kMinTextureSize) + ", " +
+        throw Error::setting(setting,
+                             "must be in [" + std::to_string(kMinTextureSize) + ", " +
                                  std::to_string(largest) + "]" +
                                  (largest < kDefaultMaxImageDimension ? " ('max_size')" : "") +
-                                 ", got " + std::to_string(texture_size));
+                                 ", got " + std::to_string(texture_size),
+                             {"max_size"});
 }
 
 namespace {
@@ -48,7 +50,7 @@ std::string joined(const std::vector<std::string>& names) {
 void check_count(std::size_t values, std::size_t layers, const std::string& setting,
                  const std::string& what) {
     if (values != 0 && values != layers)
-        throw Error(setting, "one " + what + " per layer: " + std::to_string(layers) + " layers, " +
+        throw Error::setting(setting, "one " + what + " per layer: " + std::to_string(layers) + " layers, " +
                                  std::to_string(values) + " values");
 }
 
@@ -74,12 +76,12 @@ void validate(const LayerSettings& layers) {
     if (layers.empty()) return;
     const std::size_t n = layers.sources.size();
     if (n < 2 || n > std::size_t(kMaxLayers))
-        throw Error("layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
+        throw Error::setting("layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
                                   std::to_string(n) +
                                   " (a single map is the bump source, not a layer)");
     for (std::size_t i = 0; i < n; ++i)
         if (layers.sources[i].empty())
-            throw Error("layers", "source " + std::to_string(i + 1) + " of " + std::to_string(n) +
+            throw Error::setting("layers", "source " + std::to_string(i + 1) + " of " + std::to_string(n) +
                                       " is empty ('" + escape_text(joined(layers.sources)) + "')");
     check_count(layers.weights.size(), n, "layer-weights", "value");
     check_count(layers.strengths.size(), n, "layer-strengths", "value");
@@ -88,14 +90,16 @@ void validate(const LayerSettings& layers) {
     // A texture offset of velocity times time: bounded as the tiling is, so that it stays finite.
     for (const glm::vec2& v : layers.velocity)
         if (!(std::abs(v.x) <= kMaxTiling) || !(std::abs(v.y) <= kMaxTiling))
-            throw Error("layer-velocity",
+            throw Error::setting("layer-velocity",
                         "each component must be in [-1e+06, 1e+06] uv units per second, got " +
                             shortest_text(v.x) + ":" + shortest_text(v.y));
     validate(layer_blend(layers));
     for (float t : layers.tiling)
         if (!(t > 0.0f) || !(t <= kMaxTiling))
-            throw Error("layer-tiling",
-                        "each tiling must be in (0, 1e+06], as 'tiling', got " + shortest_text(t));
+            throw Error::setting(
+                "layer-tiling",
+                "each tiling must be in (0, 1e+06], as 'tiling', got " + shortest_text(t),
+                {"tiling"});
 }
 
 }  // namespace leanfade

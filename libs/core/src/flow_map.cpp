@@ -11,9 +11,9 @@ namespace leanfade {
 
 Image make_gyre_flow(int size, float core_radius) {
     if (size < 4 || size > 16384)
-        throw Error("size", "must be in [4, 16384] texels, got " + std::to_string(size));
+        throw Error::setting("size", "must be in [4, 16384] texels, got " + std::to_string(size));
     if (!(core_radius > 0.0f && core_radius <= 0.5f))
-        throw Error("core-radius", "must be in (0, 0.5] (uv units)");
+        throw Error::setting("core-radius", "must be in (0, 0.5] (uv units)");
     Image flow(size, size, 2);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
@@ -49,7 +49,7 @@ Image flow_from_rg(const Image& rg, const std::string& file) {
 }
 
 Image flow_to_rg(const Image& flow) {
-    if (flow.channels != 2) throw Error("flow", "a flow field has 2 channels");
+    if (flow.channels != 2) throw Error::setting("flow", "a flow field has 2 channels");
     Image rg(flow.width, flow.height, 2);
     for (std::size_t i = 0; i < flow.pixels.size(); ++i)
         rg.pixels[i] = std::clamp(0.5f * flow.pixels[i] + 0.5f, 0.0f, 1.0f);
@@ -58,13 +58,13 @@ Image flow_to_rg(const Image& flow) {
 
 Image flow_weights(const Image& flow, std::span<const glm::vec2> velocities) {
     if (flow.channels != 2 || flow.empty())
-        throw Error("flow", "a flow field has 2 channels and at least one texel");
+        throw Error::setting("flow", "a flow field has 2 channels and at least one texel");
     if (velocities.empty() || velocities.size() > 4)
-        throw Error("layer-velocities", "1 to 4 layers, got " + std::to_string(velocities.size()));
+        throw Error::setting("layer-velocities", "1 to 4 layers, got " + std::to_string(velocities.size()));
     glm::vec2 v[4] = {glm::vec2(0.0f), glm::vec2(0.0f), glm::vec2(0.0f), glm::vec2(0.0f)};
     for (std::size_t i = 0; i < velocities.size(); ++i) {
         if (!std::isfinite(velocities[i].x) || !std::isfinite(velocities[i].y))
-            throw Error("layer-velocities", "layer " + std::to_string(i) + "'s is not finite");
+            throw Error::setting("layer-velocities", "layer " + std::to_string(i) + "'s is not finite");
         v[i] = velocities[i];
     }
     const int count = int(velocities.size());
@@ -73,7 +73,7 @@ Image flow_weights(const Image& flow, std::span<const glm::vec2> velocities) {
         for (int x = 0; x < flow.width; ++x) {
             const glm::vec2 f(flow.at(x, y, 0), flow.at(x, y, 1));
             if (!std::isfinite(f.x) || !std::isfinite(f.y))
-                throw Error("flow", "texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                throw Error::setting("flow", "texel (" + std::to_string(x) + ", " + std::to_string(y) +
                                         ") is not finite");
             const glm::vec4 t = shading::lf_flow_weights(f, v[0], v[1], v[2], v[3], count);
             for (int c = 0; c < 4; ++c) weights.at(x, y, c) = t[c];

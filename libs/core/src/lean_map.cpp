@@ -46,7 +46,7 @@ const std::vector<std::string>& storage_names() {
 Storage parse_storage(std::string_view name, const std::string& setting) {
     for (Storage s : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32})
         if (name == to_string(s)) return s;
-    throw Error(setting,
+    throw Error::setting(setting,
                 "expected " + name_list(storage_names()) + ", got '" + std::string(name) + "'");
 }
 
@@ -63,7 +63,7 @@ Storage parse_bake_storage(std::string_view name, const std::string& setting) {
     if (name == "auto") return Storage::Unorm16;
     const auto& names = bake_storage_names();
     if (std::find(names.begin(), names.end(), name) == names.end())
-        throw Error(setting,
+        throw Error::setting(setting,
                     "expected " + name_list(names) + ", got '" + std::string(name) + "'");
     return parse_storage(name, setting);
 }
@@ -107,7 +107,7 @@ const std::vector<std::string>& bake_source_names() {
 BakeSource parse_bake_source(std::string_view name, const std::string& setting) {
     for (BakeSource s : {BakeSource::Auto, BakeSource::Height, BakeSource::Normal})
         if (name == to_string(s)) return s;
-    throw Error(setting,
+    throw Error::setting(setting,
                 "expected " + name_list(bake_source_names()) + ", got '" + std::string(name) + "'");
 }
 
@@ -397,7 +397,7 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, LeanEncoding encoding,
                             const std::string& generator) {
     if (encoding == LeanEncoding::Signed && default_encoding(storage) != LeanEncoding::Signed)
-        throw Error("bits", std::string("the signed encoding needs a float storage, not ") +
+        throw Error::setting("bits", std::string("the signed encoding needs a float storage, not ") +
                                 to_string(storage));
     PackedLeanMap packed;
     packed.storage = storage;
@@ -461,7 +461,7 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, LeanEncoding en
 
 glm::vec4 fetch_packed_texel(const PackedLeanMap& map, int level, int slice, int x, int y) {
     const PackedLevel& l = map.levels.at(std::size_t(level));
-    const auto& bytes = slice == 0 ? l.lean1 : slice == 1 ? l.lean2 : l.plateau;
+    const auto& bytes = l.slice(kLeanLayers.at(std::size_t(slice)).layer);
     const int bpt = bytes_per_texel(map.storage);
     const std::uint8_t* t =
         &bytes.at((std::size_t(y) * std::size_t(l.width) + std::size_t(x)) * std::size_t(bpt));

@@ -54,7 +54,7 @@ int set_thread_start_limit_for_testing(int limit) {
 
 int resolve_thread_count(int requested) {
     if (requested > kMaxThreads)
-        throw Error("threads", "at most " + std::to_string(kMaxThreads) +
+        throw Error::setting("threads", "at most " + std::to_string(kMaxThreads) +
                                    " worker threads, got " + std::to_string(requested));
     if (requested > 0) return requested;
     const unsigned hw = std::thread::hardware_concurrency();

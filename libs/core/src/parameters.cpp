@@ -195,21 +195,21 @@ std::string exact(float value) { return shortest_text(value); }
 
 void require_finite(const ParameterInfo& row, float value) {
     if (!std::isfinite(value))
-        throw Error(std::string(row.key), "must be a finite number, got " + text(value));
+        throw Error::setting(std::string(row.key), "must be a finite number, got " + text(value));
 }
 
 void check_range(const ParameterInfo& row, float v) {
     const std::string key(row.key);
-    if (row.nonzero && v == 0.0f) throw Error(key, "must not be 0, got " + text(v));
+    if (row.nonzero && v == 0.0f) throw Error::setting(key, "must not be 0, got " + text(v));
     const bool below = row.min_exclusive ? !(v > row.min) : !(v >= row.min);
     const bool above = !(v <= row.max);
     if (!below && !above) return;
     // A positive lower bound that is only a float-safety limit: say first that it must be > 0.
-    if (row.min > 0.0f && !(v > 0.0f)) throw Error(key, "must be > 0, got " + text(v));
+    if (row.min > 0.0f && !(v > 0.0f)) throw Error::setting(key, "must be > 0, got " + text(v));
     if (std::isinf(row.max))
-        throw Error(key, std::string("must be ") + (row.min_exclusive ? "> " : ">= ") +
+        throw Error::setting(key, std::string("must be ") + (row.min_exclusive ? "> " : ">= ") +
                              text(row.min) + ", got " + text(v));
-    throw Error(key, "must be in " + std::string(row.min_exclusive ? "(" : "[") + text(row.min) +
+    throw Error::setting(key, "must be in " + std::string(row.min_exclusive ? "(" : "[") + text(row.min) +
                          ", " + text(row.max) + "], got " + text(v));
 }
 
@@ -255,7 +255,7 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
     switch (row.kind) {
         case ParameterKind::Scalar: {
             float v = 0.0f;
-            if (!parse_finite(value, v)) throw Error(key, "expected a number, got '" + value + "'");
+            if (!parse_finite(value, v)) throw Error::setting(key, "expected a number, got '" + value + "'");
             s.*row.scalar = v;
             return;
         }
@@ -263,7 +263,7 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
             char* end = nullptr;
             const long v = std::strtol(value.c_str(), &end, 10);
             if (value.empty() || *end != 0 || v < -1000000 || v > 1000000)
-                throw Error(key, "expected an integer, got '" + value + "'");
+                throw Error::setting(key, "expected an integer, got '" + value + "'");
             s.*row.integer = int(v);
             return;
         }
@@ -281,7 +281,7 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
                 s.*row.vector = v;
                 return;
             }
-            throw Error(key, std::string("expected ") + (colour ? "R,G,B or one value" : "X,Y,Z") +
+            throw Error::setting(key, std::string("expected ") + (colour ? "R,G,B or one value" : "X,Y,Z") +
                                  ", got '" + value + "'");
         }
         case ParameterKind::Choice: {
@@ -291,7 +291,7 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
                     return;
                 }
             }
-            throw Error(key, "unknown " + std::string(row.label) + " '" + value + "' (expected " +
+            throw Error::setting(key, "unknown " + std::string(row.label) + " '" + value + "' (expected " +
                                  name_list(row.choices) + ")");
         }
     }
@@ -309,7 +309,7 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
         case ParameterKind::Integer: {
             const int v = s.*row.integer;
             if (v < int(row.min) || v > int(row.max))
-                throw Error(key, "must be in [" + std::to_string(int(row.min)) + ", " +
+                throw Error::setting(key, "must be in [" + std::to_string(int(row.min)) + ", " +
                                      std::to_string(int(row.max)) + "], got " + std::to_string(v));
             return;
         }
@@ -318,10 +318,10 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
             for (int i = 0; i < 3; ++i) {
                 require_finite(row, c[i]);
                 if (c[i] < row.min)
-                    throw Error(key, "colour components must be >= " + text(row.min) + ", got " +
+                    throw Error::setting(key, "colour components must be >= " + text(row.min) + ", got " +
                                          text(c[i]));
                 if (c[i] > row.max)
-                    throw Error(key, "colour components must be <= " + text(row.max) + ", got " +
+                    throw Error::setting(key, "colour components must be <= " + text(row.max) + ", got " +
                                          text(c[i]));
             }
             return;
@@ -329,19 +329,19 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
         case ParameterKind::Direction: {
             const glm::vec3 d = s.*row.vector;
             for (int i = 0; i < 3; ++i) require_finite(row, d[i]);
-            if (d == glm::vec3(0.0f)) throw Error(key, "must not be the zero vector");
+            if (d == glm::vec3(0.0f)) throw Error::setting(key, "must not be the zero vector");
             // It is normalised in float: its squared length must neither underflow nor overflow.
             const double length =
                 std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
             if (!(length >= row.min && length <= row.max))
-                throw Error(key, "its length must be in [" + text(row.min) + ", " + text(row.max) +
+                throw Error::setting(key, "its length must be in [" + text(row.min) + ", " + text(row.max) +
                                      "] (it is normalised), got " + text(float(length)));
             return;
         }
         case ParameterKind::Choice: {
             const int i = row.get_choice(s);
             if (i < 0 || i >= int(row.choices.size()))
-                throw Error(key, "not one of the choices");
+                throw Error::setting(key, "not one of the choices");
             return;
         }
     }

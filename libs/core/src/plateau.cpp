@@ -28,7 +28,7 @@ constexpr int kMaxStreamedLevels = 4;
 
 void check_epsilon(float epsilon) {
     if (!std::isfinite(epsilon) || epsilon <= 0.0f)
-        throw Error("plateau_epsilon", "must be finite and > 0");
+        throw Error::setting("plateau_epsilon", "must be finite and > 0");
 }
 
 // Calls body(std::integral_constant<Storage, S>) for the storage S = `storage`, so that the
@@ -615,7 +615,7 @@ const std::vector<std::string>& spike_fit_names() {
 SpikeFit parse_spike_fit(const std::string& name, const std::string& setting) {
     for (SpikeFit fit : {SpikeFit::Auto, SpikeFit::Plateaus})
         if (name == to_string(fit)) return fit;
-    throw Error(setting, "'" + name + "' is not one of auto, plateaus");
+    throw Error::setting(setting, "'" + name + "' is not one of auto, plateaus");
 }
 
 SpikeWindowFit fit_spike_window(const Image& slopes, const PlateauRule& rule, int threads) {

@@ -216,7 +216,7 @@ PaneLayout parse_pane_layout(std::string_view name, const std::string& setting) 
     const auto& layouts = preset_layouts();
     for (std::size_t i = 0; i < layouts.size(); ++i)
         if (name == layouts[i]) return PaneLayout(i);
-    throw Error(setting,
+    throw Error::setting(setting,
                 "expected " + name_list(layouts) + ", got '" + std::string(name) + "'");
 }
 
@@ -263,8 +263,8 @@ void validate(const Preset& p, const std::string& file) {
         validate(l);
     } catch (const Error& e) {
         // The settings of the layers are the keys of "layers".
-        const std::string& setting = e.file();
-        const std::string key = setting == "layers" ? "sources"
+        const std::string& setting = e.setting();
+        const std::string key = setting == "layers" || setting.empty() ? "sources"
                                 : setting.rfind("layer-", 0) == 0 ? setting.substr(6)
                                                                   : setting;
         fail(file, "layers." + key, e.cause());
@@ -280,8 +280,8 @@ void validate(const Preset& p, const std::string& file) {
     try {
         validate(p.shading);
     } catch (const Error& e) {
-        if (find_shading_parameter(e.file()) != nullptr)
-            fail(file, "shading." + e.file(), e.cause());
+        if (e.kind() == ErrorKind::Setting && find_shading_parameter(e.setting()) != nullptr)
+            fail(file, "shading." + e.setting(), e.cause());
         fail(file, "shading", e.what());
     }
 

@@ -185,7 +185,7 @@ GaborNoiseSettings builtin_gabor_settings(int size, std::uint32_t seed) {
 
 Image make_builtin_height(const std::string& name, int size, std::uint32_t seed) {
     if (size < 4 || size > kDefaultMaxImageDimension)
-        throw Error("builtin", "'" + name + "': size " + std::to_string(size) +
+        throw Error::setting("builtin", "'" + name + "': size " + std::to_string(size) +
                                              " outside [4, " +
                                              std::to_string(kDefaultMaxImageDimension) + "]");
     Rng rng(seed);
@@ -199,7 +199,7 @@ Image make_builtin_height(const std::string& name, int size, std::uint32_t seed)
     if (name == "gabor") return make_gabor_noise(builtin_gabor_settings(size, seed));
     std::string valid;
     for (const auto& n : builtin_bump_names()) valid += (valid.empty() ? "" : ", ") + n;
-    throw Error("builtin", "unknown bump set '" + name + "' (valid: " + valid + ")");
+    throw Error::setting("builtin", "unknown bump set '" + name + "' (valid: " + valid + ")");
 }
 
 }  // namespace leanfade

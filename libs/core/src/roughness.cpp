@@ -64,7 +64,7 @@ void check_roughness_inputs(const LeanMap& map, const RoughnessOptions& options)
                     "its second moments hold a baked roughness (1/s); bake it "
                     "without one for roughness MIPs, the base roughness is added here");
     if (!unit_interval(options.base_roughness))
-        throw Error("roughness",
+        throw Error::setting("roughness",
                     "must be in [0, 1], got " + std::to_string(options.base_roughness));
 }
 
@@ -223,7 +223,7 @@ std::vector<RoughnessLevel> roughness_mips(const LeanMap& map, const RoughnessOp
 
 RoughnessTextures roughness_textures(const std::vector<RoughnessLevel>& levels,
                                      const Image* metallic_roughness_input, int threads) {
-    if (levels.empty()) throw Error("roughness", "no levels");
+    if (levels.empty()) throw Error::setting("roughness", "no levels");
     const std::vector<Image> kept = kept_channels(metallic_roughness_input, levels.front().width,
                                                   levels.front().height, threads);
     RoughnessTextures out;
@@ -256,9 +256,9 @@ RoughnessTextureBuilder::RoughnessTextureBuilder(int width, int height,
                                                  const RoughnessTextureTargets& targets)
     : constant_base_(options.roughness_map == nullptr),
       constant_a2_(std::pow(options.base_roughness, 4.0f)) {
-    if (width <= 0 || height <= 0) throw Error("roughness", "the map has no texels");
+    if (width <= 0 || height <= 0) throw Error::setting("roughness", "the map has no texels");
     if (!unit_interval(options.base_roughness))
-        throw Error("roughness",
+        throw Error::setting("roughness",
                     "must be in [0, 1], got " + std::to_string(options.base_roughness));
     if (!constant_base_) base_ = base_alpha_squared_map(width, height, options);
     kept_ = kept_channels(metallic_roughness_input, width, height, options.threads,

@@ -14,10 +14,10 @@ namespace leanfade {
 void validate(const ShadingSettings& s) {
     for (const ParameterInfo& row : shading_parameters()) validate_parameter(row, s);
     if (s.fog == FogMode::Linear && !(s.fog_end > s.fog_start))
-        throw Error("fog_end", "must be greater than the fog start for linear fog");
+        throw Error::setting("fog_end", "must be greater than the fog start for linear fog");
     const int m = s.msaa;
     if (!(m == 1 || m == 2 || m == 4 || m == 8 || m == 16))
-        throw Error("msaa", "must be 1, 2, 4, 8 or 16, got " + std::to_string(m));
+        throw Error::setting("msaa", "must be 1, 2, 4, 8 or 16, got " + std::to_string(m));
 }
 
 shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
@@ -38,9 +38,10 @@ shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
     p.f0 = glm::vec3(s.f0);
     if (s.brdf == Brdf::CookTorrance) {
         if (roughness_baked)
-            throw Error("brdf",
+            throw Error::setting("brdf",
                         "cook-torrance takes its base roughness from 'roughness', but the LEAN map "
-                        "has a baked 1/s in its second moments (bake it without one)");
+                        "has a baked 1/s in its second moments (bake it without one)",
+                        {"roughness"});
         // docs/math.md §9: a0 = r^2, per-axis slope variance a0^2 / 2 in place of 1/s.
         const float alpha0 = s.roughness * s.roughness;
         p.inv_s_shading = 0.5f * alpha0 * alpha0;

@@ -77,11 +77,12 @@ void throw_steep_slope(const std::string& source_name, int x, int y, float slope
 void throw_negative_normal_z(const std::string& source_name, int x, int y, float z) {
     // Reached only with strict_normals (the bakes repair such texels otherwise). A height map
     // stored as colour (not grey, or it would have been taken as one) fails here too.
-    throw Error(source_name, "normal with z <= 0 at " + texel_name(x, y) + " (z = " +
-                                 std::to_string(z) +
-                                 ") refused by 'strict_normals' (without it, (0, 0, 0) padding "
-                                 "is taken as flat and z <= 0 raised; a height map stored as "
-                                 "colour? set 'from' to 'height')");
+    throw Error::file_mentioning(
+        source_name,
+        "normal with z <= 0 at " + texel_name(x, y) + " (z = " + std::to_string(z) +
+            ") refused by 'strict_normals' (without it, (0, 0, 0) padding is taken as flat and "
+            "z <= 0 raised; a height map stored as colour? read it with 'from' height)",
+        {"strict_normals", "from"});
 }
 
 }  // namespace detail

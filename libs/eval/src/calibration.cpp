@@ -134,10 +134,10 @@ FadeTarget parse_fade_target(const std::string& text, const std::string& flag) {
             target.sigma = *sigma;
             return target;
         }
-        throw Error(
+        throw Error::setting(
             flag, "exp:SIGMA needs a finite SIGMA >= 0 (per bounding radius), got '" + value + "'");
     }
-    throw Error(flag, "expected exp:SIGMA, fog or reference, got '" + text + "'");
+    throw Error::setting(flag, "expected exp:SIGMA, fog or reference, got '" + text + "'");
 }
 
 std::string to_string(const FadeTarget& target) {
@@ -152,11 +152,11 @@ std::vector<double> target_attenuation(const FadeTarget& target,
                                        const std::vector<float>& distances,
                                        const ShadingSettings& settings) {
     if (target.kind == FadeTarget::Kind::Reference)
-        throw Error("target",
+        throw Error::setting("target",
                     "reference: the truth's energy is measured by rendering "
                     "(measure_reference_ratio)");
     if (target.kind == FadeTarget::Kind::Fog && settings.fog == FogMode::None)
-        throw Error("target",
+        throw Error::setting("target",
                     "fog: the scene has no fog (set the fog mode to linear, exp or exp2, and its parameters)");
     std::vector<double> values;
     for (float d : distances) {

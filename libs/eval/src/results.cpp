@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -84,8 +85,17 @@ std::string html_escape(const std::string& text) {
     return out;
 }
 
+// The plots' colours, a technique's at its position in kTechniques (bump red, Toksvig purple,
+// CLEAN brown, LEAN blue, fade green, roughness MIPs orange, two-lobe cyan, the truth black); a
+// technique added to the table takes the next spare one.
+constexpr std::array<std::string_view, 12> kPlotColors{
+    "#d62728", "#9467bd", "#8c564b", "#1f77b4", "#2ca02c", "#ff7f0e",
+    "#17becf", "#000000", "#e377c2", "#7f7f7f", "#bcbd22", "#aec7e8",
+};
+static_assert(kPlotColors.size() >= kTechniques.size(), "a plot colour for every technique");
+
 std::string technique_color(Technique technique) {
-    return std::string(info(technique).plot_color);
+    return std::string(kPlotColors[std::size_t(technique)]);
 }
 
 std::vector<Technique> technique_order(const std::vector<CaseResult>& cases) {
@@ -205,9 +215,9 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
         double a = 0.0, b = 0.0, n = 0.0;
         if (!parse_finite(range[0], a) || !parse_finite(range[1], b) ||
             !parse_finite(range[2], n) || n != std::floor(n))
-            throw Error(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
+            throw Error::setting(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
         if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxCameraDistance)
-            throw Error(flag,
+            throw Error::setting(flag,
                         "A:B:N needs 1 < A < B <= 1e4 and 1 <= N <= 1000 (distances in bounding "
                         "radii), got '" +
                             text + "'");
@@ -223,7 +233,7 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
             if (std::adjacent_find(result.begin(), result.end()) == result.end()) break;
         }
         if (std::adjacent_find(result.begin(), result.end()) != result.end())
-            throw Error(flag, "A:B:N: " + range[2] + " distances from " + range[0] + " to " +
+            throw Error::setting(flag, "A:B:N: " + range[2] + " distances from " + range[0] + " to " +
                                   range[1] +
                                   " are closer than float numbers tell apart; give fewer or a "
                                   "wider range");
@@ -231,17 +241,17 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
         for (const std::string& part : split(text, ',')) {
             double d = 0.0;
             if (!parse_finite(part, d))
-                throw Error(flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
+                throw Error::setting(flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
             check_camera_distance(d, flag, part);
             result.push_back(float(d));
         }
     } else {
-        throw Error(flag, "expected A:B:N or a comma list, got '" + text + "'");
+        throw Error::setting(flag, "expected A:B:N or a comma list, got '" + text + "'");
     }
     for (std::size_t i = 0; i < result.size(); ++i)
         for (std::size_t j = 0; j < i; ++j)
             if (result[i] == result[j])
-                throw Error(flag, "distance " + short_number(result[i]) + " given twice");
+                throw Error::setting(flag, "distance " + short_number(result[i]) + " given twice");
     return result;
 }
 
@@ -251,9 +261,9 @@ std::vector<float> parse_shininess_list(const std::string& text, const std::stri
     for (const std::string& part : split(text, ',')) {
         double s = 0.0;
         if (!parse_finite(part, s) || !(s > 0.0) || s > 1e7)
-            throw Error(flag, "expected comma-separated exponents in (0, 1e7], got '" + text + "'");
+            throw Error::setting(flag, "expected comma-separated exponents in (0, 1e7], got '" + text + "'");
         if (std::find(result.begin(), result.end(), float(s)) != result.end())
-            throw Error(flag, "shininess " + part + " given twice");
+            throw Error::setting(flag, "shininess " + part + " given twice");
         result.push_back(float(s));
     }
     return result;

@@ -25,28 +25,28 @@ int crop_side(int frame, int half) {
 }
 
 void validate(const SweepRequest& r) {
-    if (r.techniques.empty()) throw Error("techniques", "no technique to measure");
+    if (r.techniques.empty()) throw Error::setting("techniques", "no technique to measure");
     for (gl::Technique t : r.techniques)
         if (info(t).supersampled)
-            throw Error("techniques", std::string("the ") + to_string(t) +
+            throw Error::setting("techniques", std::string("the ") + to_string(t) +
                                             " is what every technique is measured against; it "
                                             "cannot be one of them");
-    if (r.distances.empty()) throw Error("distances", "no distance");
+    if (r.distances.empty()) throw Error::setting("distances", "no distance");
     for (float d : r.distances)
         if (!(d > 1.0f) || !(d <= 1e4f))
-            throw Error("distances", "distances must be in (1, 1e4] bounding radii");
-    if (r.shininesses.empty()) throw Error("shininess", "no shininess");
+            throw Error::setting("distances", "distances must be in (1, 1e4] bounding radii");
+    if (r.shininesses.empty()) throw Error::setting("shininess", "no shininess");
     for (float s : r.shininesses)
-        if (!(s > 0.0f) || !std::isfinite(s)) throw Error("shininess", "must be > 0");
+        if (!(s > 0.0f) || !std::isfinite(s)) throw Error::setting("shininess", "must be > 0");
     if (r.reference_samples < 1 || r.reference_samples > kMaxReferenceSamples)
-        throw Error("spp", "the reference takes k x k samples per pixel with k in [1, " +
+        throw Error::setting("spp", "the reference takes k x k samples per pixel with k in [1, " +
                                std::to_string(kMaxReferenceSamples) + "]");
     if (r.frames < 2 || r.frames > 1000)
-        throw Error("frames", "flicker needs 2 to 1000 frames, got " + std::to_string(r.frames));
+        throw Error::setting("frames", "flicker needs 2 to 1000 frames, got " + std::to_string(r.frames));
     if (!(r.motion_pixels > 0.0f && r.motion_pixels <= 4.0f))
-        throw Error("motion", "the pan per frame must be in (0, 4] pixels");
+        throw Error::setting("motion", "the pan per frame must be in (0, 4] pixels");
     if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
-        throw Error("size", "each side must be in [16, 8192] pixels");
+        throw Error::setting("size", "each side must be in [16, 8192] pixels");
 }
 
 std::string number_text(double v) {
@@ -248,7 +248,7 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                 const Mask covered = covered_pixels(colors[0]);
                 const Mask mask = erode(covered);
                 if (frame == 0 && mask.count() == 0)
-                    throw Error("distances",
+                    throw Error::setting("distances",
                                 "at distance " + number_text(distance) +
                                     " the object covers no whole pixel of the " +
                                     std::to_string(request.width) + "x" +
@@ -425,10 +425,10 @@ std::vector<double> measure_reference_ratio(gl::Renderer& renderer, const Camera
 }
 
 FadeCalibration calibrate_fade(gl::Renderer& renderer, const FadeCalibrationRequest& request) {
-    if (request.cameras.distances.empty()) throw Error("distances", "no distance");
+    if (request.cameras.distances.empty()) throw Error::setting("distances", "no distance");
     for (float d : request.cameras.distances)
         if (!(d > 1.0f) || !(d <= 1e4f))
-            throw Error("distances", "distances must be in (1, 1e4] bounding radii");
+            throw Error::setting("distances", "distances must be in (1, 1e4] bounding radii");
     leanfade::validate(request.settings);
     FadeCalibration result;
     result.distances = request.cameras.distances;

@@ -30,15 +30,15 @@ double spread(const std::vector<double>& values) {
 }  // namespace
 
 std::vector<CaseResult> combine_seeds(const std::vector<std::vector<CaseResult>>& sweeps) {
-    if (sweeps.empty()) throw Error("seeds", "no sweep to combine");
+    if (sweeps.empty()) throw Error::setting("seeds", "no sweep to combine");
     const std::vector<CaseResult>& first = sweeps.front();
     for (const std::vector<CaseResult>& sweep : sweeps) {
         if (sweep.size() != first.size())
-            throw Error("seeds", "the sweeps hold different numbers of cases");
+            throw Error::setting("seeds", "the sweeps hold different numbers of cases");
         for (std::size_t i = 0; i < sweep.size(); ++i)
             if (sweep[i].technique != first[i].technique ||
                 sweep[i].distance != first[i].distance || sweep[i].shininess != first[i].shininess)
-                throw Error("seeds", "the sweeps hold different cases");
+                throw Error::setting("seeds", "the sweeps hold different cases");
     }
     std::vector<CaseResult> combined;
     for (std::size_t i = 0; i < first.size(); ++i) {

@@ -152,12 +152,12 @@ void draw_text(Image& image, int x, int y, const std::string& text, int scale,
 
 Figure render_figure(Renderer& renderer, const FigureRequest& request,
                      const std::function<void(int, int)>& progress) {
-    if (request.techniques.empty()) throw Error("techniques", "no technique given");
+    if (request.techniques.empty()) throw Error::setting("techniques", "no technique given");
     if (request.distances.empty() && request.views.empty())
-        throw Error("distances", "no distance given");
+        throw Error::setting("distances", "no distance given");
     if (request.cell_width < 16 || request.cell_height < 16 || request.cell_width > 8192 ||
         request.cell_height > 8192)
-        throw Error("size", "cells must be 16..8192 pixels on each side, got " +
+        throw Error::setting("size", "cells must be 16..8192 pixels on each side, got " +
                                   std::to_string(request.cell_width) + "x" +
                                   std::to_string(request.cell_height));
     const int cw = request.cell_width, ch = request.cell_height;

@@ -188,26 +188,26 @@ const ViewResult* SceneResult::find(const std::string& view_name) const {
 
 void validate_frame_bench(const FrameBenchRequest& r) {
     if (r.width < 16 || r.height < 16 || r.width > kMaxBenchSize || r.height > kMaxBenchSize)
-        throw Error("size", "must be 16..8192 pixels on a side, got " + std::to_string(r.width) +
+        throw Error::setting("size", "must be 16..8192 pixels on a side, got " + std::to_string(r.width) +
                                   "x" + std::to_string(r.height));
-    if (r.techniques.empty() && !r.floor) throw Error("techniques", "nothing to measure");
+    if (r.techniques.empty() && !r.floor) throw Error::setting("techniques", "nothing to measure");
     for (Technique t : r.techniques)
         if (info(t).supersampled)
-            throw Error("techniques",
+            throw Error::setting("techniques",
                         std::string("the ") + to_string(t) +
                             " is an offline supersampled image, not a real-time technique; "
                             "choose among " +
                             technique_names(approximating_techniques()));
     if (r.frames < 1 || r.frames > 100000)
-        throw Error("frames", "must be in [1, 100000], got " + std::to_string(r.frames));
+        throw Error::setting("frames", "must be in [1, 100000], got " + std::to_string(r.frames));
     if (r.warmup < 0 || r.warmup > 100000)
-        throw Error("warmup", "must be in [0, 100000], got " + std::to_string(r.warmup));
-    if (!r.fill && r.distances.empty()) throw Error("distances", "no view to measure");
+        throw Error::setting("warmup", "must be in [0, 100000], got " + std::to_string(r.warmup));
+    if (!r.fill && r.distances.empty()) throw Error::setting("distances", "no view to measure");
     if (!(r.seconds_per_round >= 0.0f) || !std::isfinite(r.seconds_per_round))
-        throw Error("seconds-per-round", "must be a finite number of seconds >= 0");
+        throw Error::setting("seconds-per-round", "must be a finite number of seconds >= 0");
     for (float d : r.distances)
         if (!(d > 1.0f) || !std::isfinite(d))
-            throw Error("distances", "distances are in bounding radii and must be > 1, got " +
+            throw Error::setting("distances", "distances are in bounding radii and must be > 1, got " +
                                            std::to_string(d));
     leanfade::validate(r.settings);
 }
@@ -241,14 +241,14 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
                                  const FrameBenchRequest& request,
                                  const std::function<void(int done, int total)>& progress) {
     validate_frame_bench(request);
-    if (scenes.empty()) throw Error("scenes", "no scene to measure");
+    if (scenes.empty()) throw Error::setting("scenes", "no scene to measure");
     for (const FrameBenchScene& s : scenes)
         if (s.mesh == nullptr && s.scene == nullptr)
-            throw Error("scenes", "scene '" + s.name + "' has no mesh");
+            throw Error::setting("scenes", "scene '" + s.name + "' has no mesh");
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
     if (request.width > max_size || request.height > max_size)
-        throw Error("size",
+        throw Error::setting("size",
                     "larger than GL_MAX_RENDERBUFFER_SIZE (" + std::to_string(max_size) + ")");
 
     FrameBenchResult result;

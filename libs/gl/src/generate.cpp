@@ -256,7 +256,7 @@ std::vector<Image> LeanGenerator::read_back_plateau() const {
 
 GenerationTimes time_generation(LeanGenerator& generator, const GenerateOptions& options,
                                 int frames, int warmup, IntervalTimer& timer) {
-    if (frames < 1) throw Error("frames", "must be at least 1");
+    if (frames < 1) throw Error::setting("frames", "must be at least 1");
     for (int i = 0; i < warmup; ++i) generator.generate(options);
     GenerationTimes times;
     for (int i = 0; i < frames; ++i) {

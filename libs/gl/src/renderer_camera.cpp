@@ -22,9 +22,9 @@ View view_at_distance(float distance, float fov_y_degrees, glm::vec3 direction, 
     check_camera_distance(distance, "distances");
     check_field_of_view(fov_y_degrees, "fov");
     if (!(glm::length(direction) > 0.0f) || !std::isfinite(glm::length(direction)))
-        throw Error("view_dir", "must be a finite, non-zero vector");
+        throw Error::setting("view_dir", "must be a finite, non-zero vector");
     if (!std::isfinite(target.x) || !std::isfinite(target.y) || !std::isfinite(target.z))
-        throw Error("target", "must be finite");
+        throw Error::setting("target", "must be finite");
     View v;
     const glm::vec3 unit = glm::normalize(direction);
     v.eye = target + unit * distance;

@@ -296,7 +296,7 @@ Renderer::GpuLayers Renderer::upload_layers(const scene::Scene& scene,
     if (l.weight_map >= 0) {
         const Image& image = scene.weight_maps[std::size_t(l.weight_map)];
         if (image.width > max_size || image.height > max_size)
-            throw Error("layer-weight-map", "larger than GL_MAX_TEXTURE_SIZE");
+            throw Error::setting("layer-weight-map", "larger than GL_MAX_TEXTURE_SIZE");
         const int levels = mip_level_count(image.width, image.height);
         result.weights = create_texture(GL_TEXTURE_2D);
         glTextureStorage2D(result.weights.get(), levels, GL_RGBA32F, image.width, image.height);
@@ -340,11 +340,14 @@ Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
     for (GLsizei i = 0; i < levels; ++i) {
         const PackedLevel& level = map.levels[std::size_t(i)];
         const std::size_t row_bytes = std::size_t(level.width) * texel_bytes;
-        const std::vector<std::uint8_t>* slices[2] = {&level.lean1, &level.lean2};
-        for (int slice = 0; slice < 2; ++slice) {
-            const std::vector<std::uint8_t> rows = flipped(*slices[slice], row_bytes, level.height);
-            glTextureSubImage3D(texture.get(), i, 0, 0, slice, level.width, level.height, 1,
-                                GL_RGBA, format.type, rows.data());
+        // The layers every map has (lean1, lean2: kLeanLayers' first rows) are the array's
+        // slices; the plateau layer becomes its surface map (MapKind::Plateau, decoded).
+        for (const LeanLayerInfo& row : kLeanLayers) {
+            if (row.optional) continue;
+            const std::vector<std::uint8_t> rows =
+                flipped(level.slice(row.layer), row_bytes, level.height);
+            glTextureSubImage3D(texture.get(), i, 0, 0, GLint(row.layer), level.width,
+                                level.height, 1, GL_RGBA, format.type, rows.data());
         }
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);

@@ -753,7 +753,7 @@ ShaderLanguage parse_shader_language(std::string_view name, const std::string& s
     const std::vector<std::string>& names = shader_language_names();
     for (std::size_t i = 0; i < names.size(); ++i)
         if (name == names[i]) return ShaderLanguage(i);
-    throw Error(setting, "unknown shader language '" + escape_text(std::string(name)) +
+    throw Error::setting(setting, "unknown shader language '" + escape_text(std::string(name)) +
                              "' (expected " + name_list(names) + ")");
 }
 
@@ -778,7 +778,7 @@ const char* file_extension(ShaderLanguage language) {
 std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language,
                                            const std::string& wgsl_translator) {
     if (language == ShaderLanguage::Wgsl && wgsl_translator.empty())
-        throw Error("lang",
+        throw Error::setting("lang",
                     "WGSL is translated by naga (npm package naga-wasm, run by Node.js), and no "
                     "translator was found beside the program (share/leanfade/node; "
                     "scripts/install-deps.sh installs it)");

@@ -49,7 +49,7 @@ TimingMethod parse_timing_method(const std::string& text, const std::string& fla
     for (TimingMethod m :
          {TimingMethod::Auto, TimingMethod::Gpu, TimingMethod::Cpu, TimingMethod::CpuTime})
         if (text == to_string(m)) return m;
-    throw Error(flag, "expected auto, gpu, cpu or cputime, got '" + text + "'");
+    throw Error::setting(flag, "expected auto, gpu, cpu or cputime, got '" + text + "'");
 }
 
 bool is_software_renderer(const std::string& renderer) {
@@ -76,7 +76,7 @@ TimingChoice choose_timing(TimingMethod requested, const Context& context,
     switch (requested) {
         case TimingMethod::Gpu:
             if (bits <= 0)
-                throw Error(flag, "gpu timing needs GL_TIME_ELAPSED queries, and " +
+                throw Error::setting(flag, "gpu timing needs GL_TIME_ELAPSED queries, and " +
                                       context.renderer() + " has no timer counter bits");
             choice.method = TimingMethod::Gpu;
             choice.description = queries + ", forced" +

@@ -407,7 +407,7 @@ const BlockFormat& block_format(BlockCompression compression, EngineTexture text
     }
     if (compression == BlockCompression::Astc)
         return texture == EngineTexture::Normal ? kAstcNormal : kAstcRgba;
-    throw Error("compress", compression == BlockCompression::Basis
+    throw Error::setting("compress", compression == BlockCompression::Basis
                                 ? "Basis Universal textures are written by write_ktx2_uastc"
                                 : "uncompressed textures have no block format");
 }

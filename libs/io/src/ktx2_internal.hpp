@@ -30,8 +30,14 @@ constexpr std::uint32_t kSchemeNone = 0;
 constexpr std::uint32_t kSchemeZstandard = 2;
 
 constexpr std::uint32_t kMaxLevelCount = 32;  // a uint32 size has at most 32 levels
-constexpr std::uint32_t kLayerCount = 2;         // lean1, lean2
-constexpr std::uint32_t kPlateauLayerCount = 3;  // lean1, lean2, plateau
+// The array layers of a LEAN map's file: the layers of kLeanLayers a map always has (lean1,
+// lean2), or all of them (with the plateau layer).
+constexpr std::uint32_t kLayerCount = [] {
+    std::uint32_t count = 0;
+    for (const LeanLayerInfo& row : kLeanLayers) count += row.optional ? 0 : 1;
+    return count;
+}();
+constexpr std::uint32_t kPlateauLayerCount = std::uint32_t(kLeanLayerCount);
 
 // Khronos Data Format (KDFWG) constants used by the basic descriptor block.
 constexpr std::uint32_t kDfdVersion13 = 2;

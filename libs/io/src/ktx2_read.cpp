@@ -88,9 +88,8 @@ void validate_lean_header(const std::string& path, const Ktx2Info& info,
 void check_finite_texels(const std::string& path, const FormatInfo& format,
                          const PackedLevel& level, std::uint32_t level_number) {
     if (!format.is_float) return;
-    const std::vector<std::uint8_t>* layers[3] = {&level.lean1, &level.lean2, &level.plateau};
-    for (int layer = 0; layer < 3; ++layer) {
-        const std::vector<std::uint8_t>& bytes = *layers[layer];
+    for (const LeanLayerInfo& layer : kLeanLayers) {
+        const std::vector<std::uint8_t>& bytes = level.slice(layer.layer);
         const std::size_t values = bytes.size() / format.type_size;
         for (std::size_t i = 0; i < values; ++i) {
             bool finite = true, nan = false;
@@ -107,8 +106,7 @@ void check_finite_texels(const std::string& path, const FormatInfo& format,
             const std::size_t texel = i / 4;
             throw Error(path, std::string(nan ? "NaN" : "infinity") + " in level " +
                                   std::to_string(level_number) + " of " +
-                                  (layer == 2 ? std::string("the plateau layer")
-                                              : "lean" + std::to_string(layer + 1)) +
+                                  std::string(layer.label) +
                                   " at texel (" +
                                   std::to_string(texel % std::size_t(level.width)) + ", " +
                                   std::to_string(texel / std::size_t(level.width)) + ")");
@@ -449,7 +447,9 @@ PackedLeanMap read_open_file(const detail::InputFile& file, const ReadOptions& o
         PackedLevel packed;
         packed.width = int(entry.width);
         packed.height = int(entry.height);
-        std::vector<std::uint8_t>* targets[3] = {&packed.lean1, &packed.lean2, &packed.plateau};
+        std::vector<std::uint8_t>* targets[kLeanLayerCount];  // the layers in the table's order
+        for (std::size_t i = 0; i < kLeanLayerCount; ++i)
+            targets[i] = &packed.slice(kLeanLayers[i].layer);
         if (zstd) {
             if (!decompressor) decompressor.reset(ZSTD_createDCtx());
             if (!decompressor) throw Error(path, "cannot allocate a Zstandard decompressor");

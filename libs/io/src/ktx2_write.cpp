@@ -112,7 +112,7 @@ Ktx2FilePlan plan_ktx2_file(const std::string& path, const PackedLeanMap& layout
     key_values.emplace_back(kLayoutKey, std::strcmp(layout_name, kLeanLayoutName) == 0
                                             ? lean_layout_name(layout.encoding, plateau)
                                             : layout_name);
-    plan.layer_count = plateau ? kPlateauLayerCount : kLayerCount;
+    plan.layer_count = std::uint32_t(layout.layer_count());
     std::sort(key_values.begin(), key_values.end());  // by key bytes, as the spec requires
     for (const auto& [key, value] : key_values) append_key_value(plan.key_values, key, value);
 
@@ -208,11 +208,12 @@ Ktx2Writer::Ktx2Writer(std::string path, const PackedLeanMap& layout, const Writ
     Ktx2FilePlan plan = plan_ktx2_file(path, layout, check_layers, layout_name);
     const auto add_targets = [&](std::uint8_t* base, const std::vector<std::uint64_t>& offsets) {
         for (std::size_t level = 0; level < offsets.size(); ++level) {
-            std::uint8_t* lean1 = base + offsets[level];
+            // The level's layers one after the other, in the table's order (kLeanLayers).
             const std::uint64_t layer = plan.level_lengths[level] / plan.layer_count;
-            targets_.push_back(
-                {lean1, lean1 + layer,
-                 plan.layer_count == kPlateauLayerCount ? lean1 + 2 * layer : nullptr});
+            PackedLevelTarget target;
+            for (std::uint32_t i = 0; i < plan.layer_count; ++i)
+                target.slice(kLeanLayers[i].layer) = base + offsets[level] + i * layer;
+            targets_.push_back(target);
         }
     };
     if (options.supercompression == Supercompression::Zstandard) {
@@ -361,8 +362,9 @@ std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const s
     const Ktx2FilePlan plan = plan_ktx2_file(name, map, true);
     const bool zstd = options.supercompression == Supercompression::Zstandard;
     const auto layers = [&](const PackedLevel& packed) {
-        std::vector<std::span<const std::uint8_t>> spans = {packed.lean1, packed.lean2};
-        if (map.has_plateau()) spans.emplace_back(packed.plateau);
+        std::vector<std::span<const std::uint8_t>> spans;
+        for (const LeanLayerInfo& row : kLeanLayers)
+            if (map.has_layer(row.layer)) spans.emplace_back(packed.slice(row.layer));
         return spans;
     };
     // Supercompressed: each level's frame, then the file; else the layers straight into it.
@@ -412,12 +414,10 @@ void write_ktx2_as(const std::string& path, const PackedLeanMap& map, const Writ
     std::vector<Chunk> chunks;
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
         const PackedLevel& packed = map.levels[level];
-        for (int layer = 0; layer < (map.has_plateau() ? 3 : 2); ++layer) {
-            const std::vector<std::uint8_t>& source =
-                layer == 0 ? packed.lean1 : layer == 1 ? packed.lean2 : packed.plateau;
-            std::uint8_t* destination = layer == 0   ? targets[level].lean1
-                                        : layer == 1 ? targets[level].lean2
-                                                     : targets[level].plateau;
+        for (const LeanLayerInfo& row : kLeanLayers) {
+            if (!map.has_layer(row.layer)) continue;
+            const std::vector<std::uint8_t>& source = packed.slice(row.layer);
+            std::uint8_t* destination = targets[level].slice(row.layer);
             for (std::size_t first = 0; first < source.size(); first += kChunkBytes) {
                 chunks.push_back({source.data() + first, destination + first,
                                   std::min(kChunkBytes, source.size() - first)});

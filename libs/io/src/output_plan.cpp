@@ -335,7 +335,7 @@ Error OutputTransaction::named(const Error& error) const {
             for (std::size_t at = text->find(staged->temporary); at != std::string::npos;
                  at = text->find(staged->temporary, at + staged->target.size()))
                 text->replace(at, staged->temporary.size(), staged->target);
-    return Error(file, cause);
+    return Error(error.kind(), file, cause, error.mentioned_settings());
 }
 
 std::string OutputTransaction::stage_folder(const std::string& path) {

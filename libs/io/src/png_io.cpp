@@ -529,7 +529,6 @@ namespace {
 // The keys of the KTX2 file's metadata (ktx2.hpp, docs/ktx2.md), plus the layer of this file.
 constexpr const char* kLayerKey = "LEANFADElayer";
 constexpr const char* kSoftwareKey = "Software";  // a PNG's standard keyword
-constexpr const char* kLayerNames[3] = {"lean1", "lean2", "plateau"};
 
 // Shortest decimal that reads back as the same float.
 std::string exact_text(float value) {
@@ -611,7 +610,7 @@ void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2
     if (packed.levels.empty()) throw Error(lean1_path, "the LEAN map has no level");
     const int bits = packed.storage == Storage::Unorm8 ? 8 : 16;
     const PackedLevel& top = packed.levels.front();
-    const int layer_count = packed.has_plateau() ? 3 : 2;
+    const int layer_count = packed.layer_count();  // the first rows of kLeanLayers
     for (int layer = 0; layer < layer_count; ++layer) {
         Image image(top.width, top.height, 4);
         for (int y = 0; y < top.height; ++y)
@@ -621,7 +620,7 @@ void write_lean_png_pair(const std::string& lean1_path, const std::string& lean2
             }
         std::vector<PngText> text = {
             {kLayoutKey, packed.has_plateau() ? kLeanPlateauLayoutName : kLeanLayoutName},
-            {kLayerKey, kLayerNames[layer]},
+            {kLayerKey, std::string(kLeanLayers[std::size_t(layer)].name)},
             {kScaleKey, exact_text(packed.scale)},
             {kRoughnessBakedKey, packed.roughness_baked ? "1" : "0"},
             {kBakedShininessKey,
@@ -652,10 +651,11 @@ PackedLeanMap read_lean_png_pair(const std::string& path, const ReadOptions& opt
         const char* expected = layer_count == 3 ? kLeanPlateauLayoutName : kLeanLayoutName;
         if (layout != expected)
             throw Error(p, "layout '" + escape_text(layout) + "' is not '" + expected + "'");
-        if (require_text(p, text[layer], kLayerKey) != kLayerNames[layer])
+        const std::string_view layer_name = kLeanLayers[std::size_t(layer)].name;
+        if (require_text(p, text[layer], kLayerKey) != layer_name)
             throw Error(p, std::string("holds layer '") +
                                escape_text(*find_text(text[layer], kLayerKey)) + "', expected " +
-                               kLayerNames[layer]);
+                               std::string(layer_name));
         if (layers[layer].channels != 4)
             throw Error(p, "a LEAN map PNG is RGBA, this one has " +
                                std::to_string(layers[layer].channels) + " channels");

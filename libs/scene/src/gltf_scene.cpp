@@ -36,7 +36,7 @@ Image decode(const GltfScene& gltf, const GltfImage& image, const GltfBakeSettin
     try {
         return io::read_image_from_memory(image.bytes, image.name, options);
     } catch (const Error& e) {
-        throw Error(gltf.path, e.what());
+        throw Error::file_mentioning(gltf.path, e.what(), e.mentioned_settings());
     }
 }
 
@@ -154,7 +154,7 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
                           generator_string(), image.name)
                   .packed;
     } catch (const Error& e) {
-        throw Error(gltf.path, e.what());
+        throw Error::file_mentioning(gltf.path, e.what(), e.mentioned_settings());
     }
     map.normal_repairs = repairs;
     map.source_looks_flipped = looks_flipped;
@@ -341,7 +341,7 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
     try {
         validate(scene);
     } catch (const Error& e) {
-        throw Error(gltf.path, e.what());
+        throw Error::file_mentioning(gltf.path, e.what(), e.mentioned_settings());
     }
     return scene;
 }

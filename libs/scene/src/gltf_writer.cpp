@@ -537,7 +537,7 @@ void write_filtered_gltf(const std::string& input, const std::string& output,
         throw Error(output, "a glTF output is a .gltf or .glb file");
     if (settings_in.compression != io::BlockCompression::None &&
         settings_in.compression != io::BlockCompression::Basis)
-        throw Error("compress", "a glTF's KHR_texture_basisu images are basis (Basis Universal "
+        throw Error::setting("compress", "a glTF's KHR_texture_basisu images are basis (Basis Universal "
                                   "UASTC) or none (RGBA8 KTX2)");
     const bool binary_out = extension == ".glb";
 

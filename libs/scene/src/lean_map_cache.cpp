@@ -336,13 +336,14 @@ std::string LeanMapCache::store(const std::string& key, const PackedLeanMap& map
             if (map.levels[l].lean1.size() != layer || map.levels[l].lean2.size() != layer)
                 throw Error(entry_path(key),
                             "level " + std::to_string(l) + " does not have the size of its layers");
-            std::memcpy(targets[l].lean1, map.levels[l].lean1.data(), layer);
-            std::memcpy(targets[l].lean2, map.levels[l].lean2.data(), layer);
-            if (map.has_plateau()) {
-                if (map.levels[l].plateau.size() != layer)
+            for (const LeanLayerInfo& row : kLeanLayers) {
+                if (!map.has_layer(row.layer)) continue;
+                const std::vector<std::uint8_t>& bytes = map.levels[l].slice(row.layer);
+                if (bytes.size() != layer)
                     throw Error(entry_path(key), "level " + std::to_string(l) +
-                                                     " does not have the size of its plateau layer");
-                std::memcpy(targets[l].plateau, map.levels[l].plateau.data(), layer);
+                                                     " does not have the size of " +
+                                                     std::string(row.label));
+                std::memcpy(targets[l].slice(row.layer), bytes.data(), layer);
             }
         }
         writer.commit();

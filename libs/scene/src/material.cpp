@@ -33,13 +33,13 @@ void validate_layers(const Scene& scene, const Material& m) {
                                      std::to_string(layer.lean_map) + " of " +
                                      std::to_string(scene.lean_maps.size()));
         if (!(layer.tiling > 0.0f) || !std::isfinite(layer.tiling))
-            throw Error("layer-tiling", "each layer's tiling must be finite and > 0");
+            throw Error::setting("layer-tiling", "each layer's tiling must be finite and > 0");
         if (!std::isfinite(layer.velocity.x) || !std::isfinite(layer.velocity.y))
-            throw Error("layer-velocity", "each layer's velocity must be finite");
+            throw Error::setting("layer-velocity", "each layer's velocity must be finite");
     }
     validate(blend);
     if (int(l.weights.size()) != n)
-        throw Error("layer-weights", std::to_string(l.weights.size()) + " weights for " +
+        throw Error::setting("layer-weights", std::to_string(l.weights.size()) + " weights for " +
                                          std::to_string(n) + " layers");
     if (l.weight_map >= int(scene.weight_maps.size()) || l.weight_map < -1)
         throw Error("scene", where + " uses weight map " + std::to_string(l.weight_map) + " of " +
@@ -47,7 +47,7 @@ void validate_layers(const Scene& scene, const Material& m) {
     if (l.weight_map >= 0) {
         const Image& w = scene.weight_maps[std::size_t(l.weight_map)];
         if (w.channels != 4 || w.width < 1 || w.height < 1)
-            throw Error("layer-weight-map", "a weight map has 4 channels (t_0..t_3), got " +
+            throw Error::setting("layer-weight-map", "a weight map has 4 channels (t_0..t_3), got " +
                                                 std::to_string(w.channels));
     }
     // Mixed into one generated map (docs/math.md §6): whole tilings, a bounded size.
@@ -73,26 +73,30 @@ void validate_layers(const Scene& scene, const Material& m) {
 // down to 1x1 for a kind whose MIPs are Given, level 0 alone for one the GPU generates), its
 // values are finite, and a roughness map's alpha0^2 is >= 0.
 void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& chain) {
-    const std::string setting = kind.setting.empty() ? "scene" : std::string(kind.setting);
+    // A map a setting gives is that setting's error; any other is the scene's.
+    const auto fail = [&kind](const std::string& cause) {
+        return kind.setting.empty() ? Error("scene", cause)
+                                    : Error::setting(std::string(kind.setting), cause);
+    };
     const std::string what = "a " + std::string(kind.name);
-    if (chain.empty() || chain.front().empty()) throw Error(setting, what + " has no levels");
+    if (chain.empty() || chain.front().empty()) throw fail(what + " has no levels");
     int w = chain.front().width, h = chain.front().height;
     const std::size_t levels = kind.mips == MapMips::Given ? std::size_t(mip_level_count(w, h)) : 1;
     if (chain.size() != levels)
-        throw Error(setting, what + (kind.mips == MapMips::Given ? " needs its full MIP chain: "
+        throw fail(what + (kind.mips == MapMips::Given ? " needs its full MIP chain: "
                                                                  : " holds level 0 only: ") +
                                  std::to_string(levels) + " levels, got " +
                                  std::to_string(chain.size()));
     for (const Image& level : chain) {
         if (level.width != w || level.height != h || level.channels != kind.channels)
-            throw Error(setting, what + "'s levels are " + std::to_string(kind.channels) +
+            throw fail(what + "'s levels are " + std::to_string(kind.channels) +
                                      "-channel and halve in size");
         for (float v : level.pixels) {
-            if (!std::isfinite(v)) throw Error(setting, what + " has a value that is not finite");
+            if (!std::isfinite(v)) throw fail(what + " has a value that is not finite");
             if (kind.kind == MapKind::BaseRoughness && !(v >= 0.0f))
-                throw Error(setting, what + "'s alpha0^2 must be finite and >= 0");
+                throw fail(what + "'s alpha0^2 must be finite and >= 0");
             if (kind.kind == MapKind::RoughnessMips && !(v >= 0.0f && v <= 1.0f))
-                throw Error(setting, what + "' perceptual roughness must be in [0, 1]");
+                throw fail(what + "' perceptual roughness must be in [0, 1]");
         }
         w = std::max(1, w / 2);
         h = std::max(1, h / 2);

@@ -242,7 +242,7 @@ Scene make_obj_render_scene(const ObjModel& model, const ObjBakeSettings& settin
     try {
         validate(b.scene);
     } catch (const Error& e) {
-        throw Error(model.path, e.what());
+        throw Error::file_mentioning(model.path, e.what(), e.mentioned_settings());
     }
     return std::move(b.scene);
 }

@@ -7,26 +7,31 @@
 #include <optional>
 #include <variant>
 
-#include "leanfade/core/error.hpp"
 #include "leanfade/core/detail/flow_map.hpp"
 #include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/detail/procedural.hpp"
+#include "leanfade/core/detail/text.hpp"
+#include "leanfade/core/error.hpp"
 #include "leanfade/core/roughness.hpp"
-#include "leanfade/io/image_io.hpp"
-#include "leanfade/io/ktx2.hpp"
 #include "leanfade/io/detail/output_plan.hpp"
 #include "leanfade/io/detail/png_io.hpp"
-#include "leanfade/scene/gltf.hpp"
+#include "leanfade/io/image_io.hpp"
+#include "leanfade/io/ktx2.hpp"
 #include "leanfade/scene/detail/lean_map_cache.hpp"
 #include "leanfade/scene/detail/map_kinds.hpp"
 #include "leanfade/scene/detail/obj_loader.hpp"
+#include "leanfade/scene/gltf.hpp"
 #include "leanfade/version.hpp"
 
 namespace leanfade::scene {
 namespace {
 
-bool is_ktx2_path(const std::string& path) { return io::has_extension(path, ".ktx2"); }
-bool is_obj_path(const std::string& path) { return io::has_extension(path, ".obj"); }
+bool is_ktx2_path(const std::string& path) {
+    return io::has_extension(path, ".ktx2");
+}
+bool is_obj_path(const std::string& path) {
+    return io::has_extension(path, ".obj");
+}
 
 io::ReadOptions read_options_within(int max_size) {
     io::ReadOptions options;
@@ -34,11 +39,15 @@ io::ReadOptions read_options_within(int max_size) {
     return options;
 }
 
-std::string map_setting(MapKind kind) { return std::string(info(kind).setting); }
+std::string map_setting(MapKind kind) {
+    return std::string(info(kind).setting);
+}
 
 }  // namespace
 
-bool is_ocean_scene(const std::string& scene) { return scene == kOceanSceneName; }
+bool is_ocean_scene(const std::string& scene) {
+    return scene == kOceanSceneName;
+}
 
 bool is_builtin_bumps(const std::string& source) {
     const auto& builtins = builtin_bump_names();
@@ -69,11 +78,11 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // automatic storage: baked again as 16f or 32f where the StorageProbe finds it better, as
     // `leanfade bake` does.
     auto bake = [&](const Image& input, BakeSource kind) {
-        return bake_with_auto_storage(
-            f.bits.storage, f.bits.automatic, input.width, input.height,
-            [&](Storage s, const MomentRunSink& probe) {
-                return bake_packed(input, kind, options, s, generator, f.source, probe);
-            });
+        return bake_with_auto_storage(f.bits.storage, f.bits.automatic, input.width, input.height,
+                                      [&](Storage s, const MomentRunSink& probe) {
+                                          return bake_packed(input, kind, options, s, generator,
+                                                             f.source, probe);
+                                      });
     };
     if (is_builtin_bumps(f.source))
         return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
@@ -81,8 +90,7 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // Integer samples keep their bit depth for the plateau rule (BakeOptions::source_max_code).
     std::variant<Image, UnormImage> read = io::read_image_compact(f.source, read_options);
     if (const UnormImage* samples = std::get_if<UnormImage>(&read)) {
-        options.source_max_code =
-            samples->effective_max_code(f.from == BakeSource::Height ? 1 : 3);
+        options.source_max_code = samples->effective_max_code(f.from == BakeSource::Height ? 1 : 3);
         read = samples->to_float();
     }
     const Image& image = std::get<Image>(read);
@@ -90,15 +98,17 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // A strength other than the default was given for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)
-        throw Error(f.source, "is a normal map: 'bump_strength' applies to height maps only");
+        throw Error::file_mentioning(
+            f.source, "is a normal map: 'bump_strength' applies to height maps only",
+            {"bump_strength"});
     if (report != nullptr && baked.packed.normal_repairs.any())
         report->repaired.emplace_back(f.source, baked.packed.normal_repairs);
     if (report != nullptr && baked.source == BakeSource::Normal) {
         const NormalConventionCheck check = check_normal_convention(image, options.convention);
         if (check.looks_flipped())
-            report->doubts.push_back(
-                {f.source, f.directx,
-                 check.curl_as_read / std::max(check.curl_flipped, 1e-30), false});
+            report->doubts.push_back({f.source, f.directx,
+                                      check.curl_as_read / std::max(check.curl_flipped, 1e-30),
+                                      false});
     }
     return std::move(baked.packed);
 }
@@ -109,9 +119,11 @@ LeanMap load_layer_map(const std::string& source, const BumpMapSource& bumps,
     if (is_ktx2_path(source)) {
         LeanMap map = unpack_lean_map(io::read_ktx2(source, read_options));
         if (map.roughness_baked)
-            throw Error(source, "a bump layer's map must not have roughness baked in (bake it "
-                                "without 'bake_roughness'): the base roughness is added once, "
-                                "after mixing");
+            throw Error::file_mentioning(source,
+                                         "a bump layer's map must not have roughness baked in "
+                                         "(bake it without 'bake_roughness'): the base "
+                                         "roughness is added once, after mixing",
+                                         {"bake_roughness"});
         return map;
     }
     const BakeOptions options = on_the_fly_bake_options(bumps, settings.bump_strength);
@@ -184,40 +196,41 @@ Image load_weight_map(const std::string& path, int layers, int max_size) {
 // The roughness map's α0² chain (docs/math.md §9) on every material of the scene. Checked before
 // anything is baked: it needs Cook-Torrance and a scene whose material the settings build.
 void check_roughness_map(const SceneSource& source, const ShadingSettings& settings) {
-    if (source.bumps.roughness_map.empty()) return;
+    if (source.bumps.map_file(MapKind::BaseRoughness).empty()) return;
     if (settings.brdf != Brdf::CookTorrance)
-        throw Error(map_setting(MapKind::BaseRoughness),
+        throw Error::setting(map_setting(MapKind::BaseRoughness),
                     "needs 'brdf' cook-torrance (the base roughness of Blinn-Phong is 1/s, "
-                    "'shininess')");
+                    "'shininess')",
+                    {"brdf", "shininess"});
     if (is_ocean_scene(source.scene) || is_gltf_path(source.scene))
-        throw Error(map_setting(MapKind::BaseRoughness),
+        throw Error::setting(map_setting(MapKind::BaseRoughness),
                     "applies to the material of the bumps or layers, not to the ocean or a "
                     "glTF scene's own materials");
 }
 
 void add_roughness_map(Scene& result, const BumpMapSource& bumps) {
-    const std::string& path = bumps.roughness_map;
+    const std::string& path = bumps.map_file(MapKind::BaseRoughness);
     if (path.empty()) return;
     io::ReadOptions read_options = read_options_within(bumps.max_size);
     read_options.drop_alpha = false;  // a glTF metallic-roughness texture keeps its channels
-    const int slot = result.add_map(
-        MapKind::BaseRoughness,
-        base_alpha_squared_mips(base_roughness_channel(io::read_image(path, read_options)), 0,
-                                path));
+    const int slot =
+        result.add_map(MapKind::BaseRoughness,
+                       base_alpha_squared_mips(
+                           base_roughness_channel(io::read_image(path, read_options)), 0, path));
     for (Material& material : result.materials) material.map(MapKind::BaseRoughness) = slot;
 }
 
 // Another tool's roughness MIPs on every material of the bumps. Checked before anything is baked.
 void check_roughness_mips(const SceneSource& source) {
-    if (source.bumps.roughness_mips.empty()) return;
+    if (source.bumps.map_file(MapKind::RoughnessMips).empty()) return;
     if (is_ocean_scene(source.scene) || is_gltf_path(source.scene) || !source.layers.empty())
-        throw Error(map_setting(MapKind::RoughnessMips),
+        throw Error::setting(map_setting(MapKind::RoughnessMips),
                     "applies to the material of the bumps, not to layers, the ocean or a glTF "
                     "scene's own materials");
 }
 
 void add_roughness_mips(Scene& result, const BumpMapSource& bumps) {
-    const std::string& path = bumps.roughness_mips;
+    const std::string& path = bumps.map_file(MapKind::RoughnessMips);
     if (path.empty()) return;
     std::vector<Image> chain;
     for (const Image& level : io::read_mip_series(path, read_options_within(bumps.max_size)))
@@ -232,8 +245,55 @@ void add_roughness_mips(Scene& result, const BumpMapSource& bumps) {
     for (Material& material : result.materials) material.map(MapKind::RoughnessMips) = slot;
 }
 
-void add_layered_material(Scene& result, const SceneSource& source,
-                          const ShadingSettings& settings, SceneSourceReport* report) {
+// The maps whose rows read their file generically (MapFileRead::Image). Checked before anything
+// is baked: they go on the material the settings build.
+void check_image_maps(const SceneSource& source) {
+    for (const MapKindInfo& row : kMapKinds) {
+        if (row.file_read != MapFileRead::Image || source.bumps.map_file(row.kind).empty())
+            continue;
+        if (is_ocean_scene(source.scene) || is_gltf_path(source.scene))
+            throw Error::setting(std::string(row.setting),
+                        "applies to the material of the bumps or layers, not to the ocean or a "
+                        "glTF scene's own materials");
+    }
+}
+
+// `image` with the row's channel count: grey replicated to RGB, alpha 1 where absent (4
+// channels), or the first channel (1). Throws Error(path, cause) for a value that is not finite
+// or below 0.
+Image map_channels(const Image& image, int channels, const std::string& path) {
+    Image out(image.width, image.height, channels, 1.0f);
+    const int in = image.channels;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            for (int c = 0; c < in; ++c)
+                if (const float v = image.at(x, y, c); !std::isfinite(v) || v < 0.0f)
+                    throw Error(path, "value " + shortest_text(v) + " at texel (" +
+                                          std::to_string(x) + ", " + std::to_string(y) +
+                                          ") is not a finite value >= 0");
+            for (int c = 0; c < channels; ++c) {
+                if (c < 3)
+                    out.at(x, y, c) = image.at(x, y, in < 3 ? 0 : c);  // grey (+ alpha) -> RGB
+                else if (in == 2 || in == 4)
+                    out.at(x, y, c) = image.at(x, y, in - 1);
+            }
+        }
+    return out;
+}
+
+void add_image_maps(Scene& result, const BumpMapSource& bumps) {
+    for (const MapKindInfo& row : kMapKinds) {
+        const std::string& path = bumps.map_file(row.kind);
+        if (row.file_read != MapFileRead::Image || path.empty()) continue;
+        const int slot = result.add_map(
+            row.kind, {map_channels(io::read_image(path, read_options_within(bumps.max_size)),
+                                    row.channels, path)});
+        for (Material& material : result.materials) material.map(row.kind) = slot;
+    }
+}
+
+void add_layered_material(Scene& result, const SceneSource& source, const ShadingSettings& settings,
+                          SceneSourceReport* report) {
     const LayerSettings& f = source.layers;
     const BumpMapSource& bumps = source.bumps;
     const std::vector<std::string>& sources = f.sources;
@@ -297,7 +357,7 @@ void add_layered_material(Scene& result, const SceneSource& source,
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = i + 1; j < n; ++j) {
                 if (slopes[i].width != slopes[j].width || slopes[i].height != slopes[j].height)
-                    throw Error("layers", "mixing textures needs layers of one size: '" +
+                    throw Error::setting("layers", "mixing textures needs layers of one size: '" +
                                               sources[i] + "' and '" + sources[j] + "' differ");
                 material.layered.cross_terms.push_back(int(result.cross_terms.size()));
                 result.cross_terms.push_back(build_cross_terms(slopes[i], slopes[j]));
@@ -346,6 +406,7 @@ Scene build_scene_objects(const SceneSource& source, const ShadingSettings& sett
                           SceneSourceReport* report) {
     check_roughness_map(source, settings);
     check_roughness_mips(source);
+    check_image_maps(source);
     // The built-in ocean: a water plane with moving Gabor wave layers (ocean.hpp).
     if (is_ocean_scene(source.scene))
         return make_ocean_scene(ocean_settings(source.ocean, source.bumps));
@@ -370,6 +431,7 @@ Scene build_scene_objects(const SceneSource& source, const ShadingSettings& sett
         }
         add_roughness_map(result, source.bumps);
         add_roughness_mips(result, source.bumps);
+        add_image_maps(result, source.bumps);
         validate(result);
         return result;
     }
@@ -400,6 +462,7 @@ Scene build_scene_objects(const SceneSource& source, const ShadingSettings& sett
     }
     add_roughness_map(result, source.bumps);
     add_roughness_mips(result, source.bumps);
+    add_image_maps(result, source.bumps);
     validate(result);
     return result;
 }
@@ -417,12 +480,13 @@ Scene build_scene(const SceneSource& source, const ShadingSettings& settings,
 
 std::vector<std::string> scene_source_inputs(const SceneSource& source, const std::string& extra) {
     std::vector<std::string> paths{source.scene, source.bumps.source, extra,
-                                   source.layers.weight_map, source.bumps.roughness_map};
+                                   source.layers.weight_map};
     if (is_ocean_scene(source.scene)) paths.push_back(source.ocean.flow);
-    // Every level of a roughness MIP series.
-    if (!source.bumps.roughness_mips.empty())
-        for (const std::string& level : io::mip_series_files(source.bumps.roughness_mips))
-            paths.push_back(level);
+    // The surface maps' files; every level of a roughness MIP series.
+    for (const std::string& file : source.bumps.map_files) paths.push_back(file);
+    const std::string& mips = source.bumps.map_file(MapKind::RoughnessMips);
+    if (!mips.empty())
+        for (const std::string& level : io::mip_series_files(mips)) paths.push_back(level);
     // A glTF scene's buffers and images are inputs too.
     if (is_gltf_path(source.scene))
         for (const std::string& file : gltf_referenced_files(source.scene)) paths.push_back(file);

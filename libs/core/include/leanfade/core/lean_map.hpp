@@ -5,6 +5,8 @@
 // All vectors are in tangent space: x along +u, y along +v (OpenGL normal-map convention), z out
 // of the surface. Slopes B are projected normals n.xy / n.z (dimensionless). Image rows are stored
 // top row first (as in image files); the GL upload flips them so that +v points up.
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -98,9 +100,40 @@ struct LeanMap {
     NormalRepairs normal_repairs;     // what the bake repaired in its normal map
 };
 
-// One packed MIP level: two slices (lean1, lean2) of RGBA texels in the storage format, rows top
-// first, tightly packed (width * bytes_per_texel(storage) bytes per row). Float16/Float32 are IEEE
-// little-endian; Unorm16 is little-endian.
+// The layers of a packed LEAN map, described once: each a slice of RGBA texels of the map's
+// storage and size at every level, in this order in the containers (the KTX2 file's array layers,
+// the PNG files NAME.<name>.png), the renderer's texture arrays and the GPU generation. The
+// optional ones are present when the map has them (PackedLeanMap::has_layer).
+enum class LeanLayer { Lean1, Lean2, Plateau };
+inline constexpr std::size_t kLeanLayerCount = 3;
+struct LeanLayerInfo {
+    LeanLayer layer;
+    std::string_view name;   // "lean1": in file names (NAME.lean1.png) and messages
+    std::string_view label;  // for people: "the plateau layer"
+    bool optional;           // absent from maps without it (two-lobe LEAN's plateau layer)
+    std::string_view holds;  // what a texel holds (Offset encoding; Signed without 0.5 offsets)
+};
+inline constexpr std::array<LeanLayerInfo, kLeanLayerCount> kLeanLayers{{
+    {LeanLayer::Lean1, "lean1", "lean1", false, "(0.5 n + 0.5, 0.5 Mxy / sc^2 + 0.5)"},
+    {LeanLayer::Lean2, "lean2", "lean2", false, "(0.5 B / sc + 0.5, Mxx / sc^2, Myy / sc^2)"},
+    {LeanLayer::Plateau, "plateau", "the plateau layer", true,
+     "(f, 0.5 f Bs / sc + 0.5, 0.5 f |Bs|^2 / sc^2): two-lobe LEAN's spike (docs/math.md §10)"},
+}};
+constexpr const LeanLayerInfo& info(LeanLayer layer) { return kLeanLayers[std::size_t(layer)]; }
+constexpr bool lean_layer_table_is_ordered() {
+    for (std::size_t i = 0; i < kLeanLayers.size(); ++i) {
+        if (std::size_t(kLeanLayers[i].layer) != i) return false;
+        // The optional layers come last: a map's layers are always a prefix of the table.
+        if (i > 0 && kLeanLayers[i - 1].optional && !kLeanLayers[i].optional) return false;
+    }
+    return true;
+}
+static_assert(lean_layer_table_is_ordered());
+
+// One packed MIP level: the layers' slices (lean1, lean2 and, where the map has it, the plateau
+// layer) of RGBA texels in the storage format, rows top first, tightly packed
+// (width * bytes_per_texel(storage) bytes per row). Float16/Float32 are IEEE little-endian;
+// Unorm16 is little-endian.
 struct PackedLevel {
     int width = 0;
     int height = 0;
@@ -115,6 +148,14 @@ struct PackedLevel {
     // channel affine in (f, f Bs, f |Bs|^2), so filtering the stored values filters the layer
     // (leanfade/core/detail/plateau.hpp).
     std::vector<std::uint8_t> plateau;
+
+    // The slice of `layer` (kLeanLayers).
+    std::vector<std::uint8_t>& slice(LeanLayer layer) {
+        return layer == LeanLayer::Lean1 ? lean1 : layer == LeanLayer::Lean2 ? lean2 : plateau;
+    }
+    const std::vector<std::uint8_t>& slice(LeanLayer layer) const {
+        return const_cast<PackedLevel*>(this)->slice(layer);
+    }
 };
 
 // The plateau rule's threshold a bake uses unless told otherwise (leanfade/core/detail/plateau.hpp): a
@@ -164,6 +205,16 @@ struct PackedLeanMapMetadata {
     // as LEAN).
     float plateau_epsilon = 0.0f;
     bool has_plateau() const { return plateau_epsilon > 0.0f; }
+    // Whether the map has `layer` (every one that is not optional; the plateau layer with
+    // has_plateau()), and how many layers it has: the first layer_count() rows of kLeanLayers.
+    bool has_layer(LeanLayer layer) const {
+        return !info(layer).optional || (layer == LeanLayer::Plateau && has_plateau());
+    }
+    int layer_count() const {
+        int count = 0;
+        for (const LeanLayerInfo& row : kLeanLayers) count += has_layer(row.layer) ? 1 : 0;
+        return count;
+    }
 };
 
 // The metadata's fields are the map's own (map.scale, map.storage, ...); metadata() is all of
@@ -496,6 +547,14 @@ struct PackedLevelTarget {
     // The plateau layer's texels (as many bytes as lean1) when the layout has a plateau layer,
     // else unused (may be nullptr).
     std::uint8_t* plateau = nullptr;
+
+    // The target of `layer` (kLeanLayers).
+    std::uint8_t*& slice(LeanLayer layer) {
+        return layer == LeanLayer::Lean1 ? lean1 : layer == LeanLayer::Lean2 ? lean2 : plateau;
+    }
+    std::uint8_t* slice(LeanLayer layer) const {
+        return layer == LeanLayer::Lean1 ? lean1 : layer == LeanLayer::Lean2 ? lean2 : plateau;
+    }
 };
 // Called by bake_packed_to once sc is known (the input has been read and validated) and before
 // the first texel is packed, with the map's metadata and every level's width and height (its

@@ -1,8 +1,9 @@
 #pragma once
-// The shading techniques of leanfade, described once. Everything that lists, parses, names,
-// colours or compiles a technique (the command line and its help, presets, the viewer's lists,
-// eval's tables and plots, the benchmark's columns and ratios, the renderer's shader variants, the
-// CPU reference) reads this table; nothing else spells a technique's name.
+// The shading techniques of leanfade, described once. Everything that lists, parses, names or
+// compiles a technique (the command line and its help, presets, the viewer's lists, eval's tables
+// and plots, the benchmark's columns and ratios, the renderer's shader variants, the CPU
+// reference) reads this table; nothing else spells a technique's name. How they are drawn is the
+// drawing code's (eval's plot colours follow the table's order).
 //
 // Adding a technique: its lobe in shaders/lean_shading.glsl (a new LF_TECHNIQUE_* constant and a
 // branch of lf_shade), a row here, and its test (docs/architecture.md).
@@ -32,39 +33,38 @@ struct TechniqueInfo {
     bool reads_plateau;  // samples the material's plateau layer (MapKind::Plateau, two-lobe)
     // Gets geometric specular antialiasing under GeometricAa::Auto (docs/math.md §11).
     bool geometric_aa_by_default;
-    std::string_view plot_color;  // eval's plots and report, "#rrggbb"
-    // The technique this one's frame time is compared with in `leanfade bench` ("lean/bump"),
-    // or itself when it has none.
-    Technique overhead_of;
+    // The technique this one extends (LEAN the bump-mapping baseline; fading and two-lobe LEAN),
+    // or itself: `leanfade bench` reports a frame-time ratio to it ("lean/bump").
+    Technique builds_on;
 };
 
 inline constexpr std::array<TechniqueInfo, 8> kTechniques{{
     {Technique::Bump, "bump", "Blinn-Phong bump mapping",
      "Blinn-Phong around the trilinear-filtered normal map (the baseline)",
-     shading::LF_TECHNIQUE_BUMP, false, false, false, false, false, "#d62728", Technique::Bump},
+     shading::LF_TECHNIQUE_BUMP, false, false, false, false, false, Technique::Bump},
     {Technique::Toksvig, "toksvig", "Toksvig mapping",
      "Blinn-Phong with the exponent lowered by the filtered normal's length (Toksvig 2005)",
-     shading::LF_TECHNIQUE_TOKSVIG, false, false, false, false, false, "#9467bd", Technique::Toksvig},
+     shading::LF_TECHNIQUE_TOKSVIG, false, false, false, false, false, Technique::Toksvig},
     {Technique::Clean, "clean", "CLEAN mapping",
      "LEAN with one isotropic second moment (Baker 2011)", shading::LF_TECHNIQUE_CLEAN, true, false,
-     false, false, false, "#8c564b", Technique::Clean},
+     false, false, false, Technique::Clean},
     {Technique::Lean, "lean", "LEAN mapping",
      "a Gaussian over bump slopes from filtered first and second moments (Olano and Baker 2010)",
-     shading::LF_TECHNIQUE_LEAN, true, false, false, false, false, "#1f77b4", Technique::Bump},
+     shading::LF_TECHNIQUE_LEAN, true, false, false, false, false, Technique::Bump},
     {Technique::Fade, "fade", "LEAN + specular fading",
      "LEAN with the specular exponent raised with distance: NdotL^sf", shading::LF_TECHNIQUE_FADE,
-     true, true, false, false, false, "#2ca02c", Technique::Lean},
+     true, true, false, false, false, Technique::Lean},
     {Technique::Roughness, "roughness", "Roughness MIPs",
      "an engine's ordinary BRDF on roughness and normal MIPs baked from the moments, trilinear",
-     shading::LF_TECHNIQUE_ROUGHNESS_MIPS, true, false, false, false, false, "#ff7f0e", Technique::Bump},
+     shading::LF_TECHNIQUE_ROUGHNESS_MIPS, true, false, false, false, false, Technique::Bump},
     {Technique::TwoLobe, "two-lobe", "Two-lobe LEAN",
      "LEAN split into a plateau's mirror spike and the halo of the other slopes, with geometric "
      "specular antialiasing",
-     shading::LF_TECHNIQUE_TWO_LOBE, true, false, false, true, true, "#17becf", Technique::Lean},
+     shading::LF_TECHNIQUE_TWO_LOBE, true, false, false, true, true, Technique::Lean},
     {Technique::Reference, "reference", "Reference (supersampled)",
      "the baseline (or LEAN's lobe) at the finest MIP level, k x k samples per pixel, "
      "box-filtered (ground truth)",
-     shading::LF_TECHNIQUE_BUMP, false, false, true, false, false, "#000000", Technique::Reference},
+     shading::LF_TECHNIQUE_BUMP, false, false, true, false, false, Technique::Reference},
 }};
 
 // The supersampled reference takes k x k samples per pixel at the finest level, k in

@@ -7,6 +7,7 @@
 //
 // Errors name settings ("layers", "roughness-map", "ocean_layers") or files, never flags; what a
 // build repaired or doubts is returned in a SceneSourceReport, as data, for the caller to word.
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,14 +29,13 @@ struct BumpMapSource : BumpSource {
     bool strict_normals = false;  // normal maps: refuse texels with z <= 0 (NormalRepairs)
     StrengthUnit strength_unit = StrengthUnit::Texel;  // height maps: strength per texel or uv
     SpikeFit spike = SpikeFit::Auto;                   // BakeOptions::spike_fit
-    int max_size = kDefaultMaxImageDimension;  // images and .ktx2 maps, texels per side
-    // Cook-Torrance's base roughness per texel (MapKind::BaseRoughness): a grey image of
-    // perceptual r in [0, 1] or a glTF metallic-roughness texture (r in G), on the material of
-    // the bumps or layers; empty: the uniform roughness of the shading settings.
-    std::string roughness_map;
-    // Another tool's roughness MIPs, NAME_0.png, NAME_1.png, ... (MapKind::RoughnessMips; perceptual
-    // r linear in the first channel or in G), on the material of the bumps; empty: none.
-    std::string roughness_mips;
+    int max_size = kDefaultMaxImageDimension;          // images and .ktx2 maps, texels per side
+    // The surface maps that settings give the material of the bumps or layers, by kind: the file
+    // of each kMapKinds row with a setting ("roughness-map", "roughness-mips", "specular-map"),
+    // read as the row's file_read says; empty: none. Kinds without a setting stay empty.
+    std::array<std::string, kMapKindCount> map_files{};
+    std::string& map_file(MapKind kind) { return map_files[std::size_t(kind)]; }
+    const std::string& map_file(MapKind kind) const { return map_files[std::size_t(kind)]; }
 };
 
 // The built-in ocean's source settings (OceanSettings gets the wave tiles' size and seed from the
@@ -46,10 +46,11 @@ struct OceanSource {
 };
 
 struct SceneSource {
-    std::string scene = "teapot";  // a built-in object (kBuiltinScenes), an .obj, a .gltf/.glb, "ocean"
-    BumpMapSource bumps;           // the material's one map (built-in objects and OBJ files)
-    LayerSettings layers;          // 2-4 layers instead of `bumps` (docs/math.md §6)
-    OceanSource ocean;             // scene "ocean"
+    std::string scene =
+        "teapot";          // a built-in object (kBuiltinScenes), an .obj, a .gltf/.glb, "ocean"
+    BumpMapSource bumps;   // the material's one map (built-in objects and OBJ files)
+    LayerSettings layers;  // 2-4 layers instead of `bumps` (docs/math.md §6)
+    OceanSource ocean;     // scene "ocean"
 };
 
 // A normal map whose slopes fit the other convention clearly better (check_normal_convention).
