@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 #include "gl_test_helpers.hpp"
@@ -113,6 +115,26 @@ TEST(CliRender, BadInputsAreOneLineErrors) {
     EXPECT_FALSE(fs::exists(dir / "never.png"));
 }
 
+// Each bad surface-map flag (`args`, on the sphere unless they name a scene) is a one-line error
+// that names `named`, with exit 1 and no output.
+struct BadMapCase {
+    std::string args;
+    std::string named;  // what the message names
+};
+void expect_bad_map_errors(const fs::path& dir, const std::string& common,
+                           const std::vector<BadMapCase>& cases) {
+    for (const BadMapCase& c : cases) {
+        const std::string scene =
+            c.args.find("--scene") == std::string::npos ? "--scene sphere " : "";
+        const RunResult r =
+            run_render(common + scene + "--techniques lean " + c.args + " -o never.png", dir);
+        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_FALSE(fs::exists(dir / "never.png")) << c.args;
+    }
+}
+
 // --roughness-map (docs/roughness.md): Cook-Torrance's base roughness per texel, on one map or on
 // bump layers; a missing file, values outside [0, 1], NaN, Blinn-Phong, the ocean and the map as
 // the output are one-line errors with exit 1 and no output.
@@ -154,25 +176,15 @@ TEST(CliRender, RoughnessMap) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(fs::exists(dir / "layers.png"));
 
-    const struct {
-        std::string args;
-        std::string named;  // what the message names
-    } cases[] = {
-        {"--brdf cook-torrance --roughness-map missing.png", "missing.png"},
-        {"--brdf cook-torrance --roughness-map beyond.pfm", "beyond.pfm"},
-        {"--brdf cook-torrance --roughness-map nan.pfm", "nan.pfm"},
-        {"--roughness-map rough.png", "--roughness-map"},
-        {"--brdf cook-torrance --roughness-map rough.png --scene ocean", "--roughness-map"},
-    };
-    for (const auto& c : cases) {
-        const std::string scene =
-            c.args.find("--scene") == std::string::npos ? "--scene sphere " : "";
-        r = run_render(common + scene + "--techniques lean " + c.args + " -o never.png", dir);
-        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
-        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
-        EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
-        EXPECT_FALSE(fs::exists(dir / "never.png")) << c.args;
-    }
+    expect_bad_map_errors(dir, common,
+                          {
+                              {"--brdf cook-torrance --roughness-map missing.png", "missing.png"},
+                              {"--brdf cook-torrance --roughness-map beyond.pfm", "beyond.pfm"},
+                              {"--brdf cook-torrance --roughness-map nan.pfm", "nan.pfm"},
+                              {"--roughness-map rough.png", "--roughness-map"},
+                              {"--brdf cook-torrance --roughness-map rough.png --scene ocean",
+                               "--roughness-map"},
+                          });
     // The map is an input: an output never overwrites it.
     const std::string before = read_text(dir / "rough.png");
     r = run_render(common +
@@ -236,25 +248,13 @@ TEST(CliRender, SpecularMapScalesTheSpecularColour) {
     const RunResult png = run_render(view + "--specular-map grey.png -o grey_out.png", dir);
     EXPECT_EQ(png.exit_code, 0) << png.err;
 
-    const struct {
-        std::string args;
-        std::string named;  // what the message names
-    } cases[] = {
-        {"--specular-map missing.png", "missing.png"},
-        {"--specular-map negative.pfm", "negative.pfm: value -0.25 at texel (2, 3)"},
-        {"--specular-map half.pfm --scene ocean", "--specular-map"},
-    };
-    for (const auto& c : cases) {
-        const std::string scene =
-            c.args.find("--scene") == std::string::npos ? "--scene sphere " : "";
-        const RunResult r = run_render("--size 32x32 --distances 3 --texture-size 32 " + scene +
-                                           "--techniques lean " + c.args + " -o never.png",
-                                       dir);
-        EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.err;
-        EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
-        EXPECT_NE(r.err.find(c.named), std::string::npos) << c.args << ": " << r.err;
-        EXPECT_FALSE(fs::exists(dir / "never.png")) << c.args;
-    }
+    expect_bad_map_errors(dir, "--size 32x32 --distances 3 --texture-size 32 ",
+                          {
+                              {"--specular-map missing.png", "missing.png"},
+                              {"--specular-map negative.pfm",
+                               "negative.pfm: value -0.25 at texel (2, 3)"},
+                              {"--specular-map half.pfm --scene ocean", "--specular-map"},
+                          });
     // The map is an input: an output never replaces it.
     const std::string before = read_text(dir / "half.pfm");
     const RunResult r = run_render(
