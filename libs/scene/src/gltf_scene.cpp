@@ -65,15 +65,23 @@ void scale_normals(Image& normals, float scale) {
     }
 }
 
-Image linear_base_colour(const Image& decoded) {
-    Image rgba(decoded.width, decoded.height, 4, 1.0f);
-    for (std::size_t i = 0; i < decoded.texel_count(); ++i) {
-        const float* in = &decoded.pixels[i * std::size_t(decoded.channels)];
+Image rgba_of(const Image& image) {
+    Image rgba(image.width, image.height, 4, 1.0f);
+    for (std::size_t i = 0; i < image.texel_count(); ++i) {
+        const float* in = &image.pixels[i * std::size_t(image.channels)];
         float* out = &rgba.pixels[i * 4];
-        const bool gray = decoded.channels <= 2;
-        for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(in[gray ? 0 : c]);
-        if (decoded.channels == 2 || decoded.channels == 4) out[3] = in[decoded.channels - 1];
+        const bool gray = image.channels <= 2;
+        for (int c = 0; c < 3; ++c) out[c] = in[gray ? 0 : c];
+        if (image.channels == 2 || image.channels == 4) out[3] = in[image.channels - 1];
     }
+    return rgba;
+}
+
+Image linear_base_colour(const Image& decoded) {
+    Image rgba = rgba_of(decoded);
+    for (std::size_t i = 0; i < rgba.texel_count(); ++i)
+        for (int c = 0; c < 3; ++c) rgba.pixels[i * 4 + std::size_t(c)] =
+            srgb_to_linear(rgba.pixels[i * 4 + std::size_t(c)]);
     return rgba;
 }
 

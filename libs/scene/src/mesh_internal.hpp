@@ -13,8 +13,15 @@ namespace leanfade::scene::detail {
 // scaled, renormalised, encoded again): glTF's normalTexture.scale, an MTL norm's -bm.
 void scale_normals(Image& normals, float scale);
 
-// A decoded colour texture (1-4 channels, sRGB encoded) as linear RGBA: the sRGB transfer
-// function inverted, grey expanded, alpha kept (1 when absent).
+// Channel `channel` of `image` as a 1-channel image.
+Image image_channel(const Image& image, int channel);
+
+// An image of 1-4 channels as RGBA, values as they are: grey expanded to RGB, alpha kept (1 when
+// absent).
+Image rgba_of(const Image& image);
+
+// A decoded colour texture (1-4 channels, sRGB encoded) as linear RGBA: rgba_of with the sRGB
+// transfer function inverted on RGB.
 Image linear_base_colour(const Image& decoded);
 
 // Throws leanfade::Error(mesh.name, cause) unless the indices form whole triangles (a multiple

@@ -22,6 +22,7 @@
 #include "leanfade/scene/detail/obj_loader.hpp"
 #include "leanfade/scene/gltf.hpp"
 #include "leanfade/version.hpp"
+#include "mesh_internal.hpp"
 
 namespace leanfade::scene {
 namespace {
@@ -258,27 +259,18 @@ void check_image_maps(const SceneSource& source) {
     }
 }
 
-// `image` with the row's channel count: grey replicated to RGB, alpha 1 where absent (4
-// channels), or the first channel (1). Throws Error(path, cause) for a value that is not finite
-// or below 0.
+// `image` with the row's channel count: RGBA (detail::rgba_of: grey replicated to RGB, alpha 1
+// where absent) for 4, the first channel (detail::image_channel) for 1. Throws Error(path, cause) for a value that is not
+// finite or below 0.
 Image map_channels(const Image& image, int channels, const std::string& path) {
-    Image out(image.width, image.height, channels, 1.0f);
-    const int in = image.channels;
     for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            for (int c = 0; c < in; ++c)
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < image.channels; ++c)
                 if (const float v = image.at(x, y, c); !std::isfinite(v) || v < 0.0f)
                     throw Error(path, "value " + shortest_text(v) + " at texel (" +
                                           std::to_string(x) + ", " + std::to_string(y) +
                                           ") is not a finite value >= 0");
-            for (int c = 0; c < channels; ++c) {
-                if (c < 3)
-                    out.at(x, y, c) = image.at(x, y, in < 3 ? 0 : c);  // grey (+ alpha) -> RGB
-                else if (in == 2 || in == 4)
-                    out.at(x, y, c) = image.at(x, y, in - 1);
-            }
-        }
-    return out;
+    return channels == 4 ? detail::rgba_of(image) : detail::image_channel(image, 0);
 }
 
 void add_image_maps(Scene& result, const BumpMapSource& bumps) {
