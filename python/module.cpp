@@ -59,14 +59,16 @@ T value_of(const char* setting, py::handle value, const char* expected) {
     try {
         return py::cast<T>(value);
     } catch (const py::cast_error&) {
-        throw Error::setting(setting, std::string("expected ") + expected + ", got " +
+        throw Error::setting(setting,
+                             std::string("expected ") + expected + ", got " +
                                  std::string(py::str(py::type::of(value).attr("__name__"))));
     }
 }
 std::string text_of(const char* setting, py::handle value) {
     if (!py::isinstance<py::str>(value))
-        throw Error::setting(setting, "expected a string, got " +
-                                 std::string(py::str(py::type::of(value).attr("__name__"))));
+        throw Error::setting(
+            setting,
+            "expected a string, got " + std::string(py::str(py::type::of(value).attr("__name__"))));
     return py::cast<std::string>(value);
 }
 double number_of(const char* setting, py::handle value) {
@@ -105,9 +107,11 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              if (v.is_none()) return;  // not given: 1, and no error for normal maps
              s.options.strength = finite_setting("strength", number_of("strength", v));
              if (s.options.strength == 0.0f)
-                 throw Error::setting("strength", "must not be 0 (a negative strength inverts the heights)");
+                 throw Error::setting("strength",
+                                      "must not be 0 (a negative strength inverts the heights)");
              if (s.source == BakeSource::Normal)
-                 throw Error::setting("strength", "applies to height maps; from='normal' bakes normal maps");
+                 throw Error::setting("strength",
+                                      "applies to height maps; from='normal' bakes normal maps");
              s.strength_given = true;
          }},
         {"strength_unit", [] { return py::object(py::str("texel")); },
@@ -145,7 +149,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              const double epsilon = number_of("plateau_epsilon", v);
              if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
                  throw Error::setting("plateau_epsilon",
-                             "must be a finite number >= 0 (0: no plateau layer)");
+                                      "must be a finite number >= 0 (0: no plateau layer)");
              s.options.plateau_epsilon = float(epsilon);
          }},
         {"spike", [] { return py::object(py::str(to_string(SpikeFit::Auto))); },

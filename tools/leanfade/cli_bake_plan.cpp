@@ -102,7 +102,8 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
     // A PNG pair is deflated by PNG itself: KTX2's supercompression does not apply to it.
     for (const char* flag : {"--supercompression", "--zstd-level"})
         if (args.format == LeanFileFormat::Png && given_flag(flag))
-            throw Error::setting(flag, "applies to KTX2 LEAN maps, not to a PNG pair (--format png)");
+            throw Error::setting(flag,
+                                 "applies to KTX2 LEAN maps, not to a PNG pair (--format png)");
     if (given_flag("--zstd-level") && args.supercompression != io::Supercompression::Zstandard)
         throw Error("--zstd-level", "needs --supercompression zstd");
     if (args.inputs.empty() && args.builtin.empty())

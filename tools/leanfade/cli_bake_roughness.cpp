@@ -108,8 +108,10 @@ void plan_roughness_outputs(const RoughnessBakeArgs& args, std::size_t job_count
     const char* flag = !args.roughness_out.empty() ? "--roughness-out" : "--anisotropy-out";
     if (job_count != 1) throw Error::setting(flag, "needs exactly one input");
     if (bake_roughness > 0.0f)
-        throw Error::setting(flag, "needs a LEAN map without a baked roughness (drop --bake-roughness; the "
-                          "base roughness is --roughness or --roughness-map)");
+        throw Error::setting(
+            flag,
+            "needs a LEAN map without a baked roughness (drop --bake-roughness; the "
+            "base roughness is --roughness or --roughness-map)");
     if (args.roughness_given && !args.roughness_map.empty())
         throw Error("--roughness", "give --roughness or --roughness-map, not both");
     for (const std::string* out : {&args.roughness_out, &args.anisotropy_out}) {

@@ -79,8 +79,8 @@ std::string frame_path(const std::string& pattern, int index, const std::string&
         }
         if (j >= pattern.size() || pattern[j] != 'd')
             throw Error::setting(flag, "'" + pattern +
-                                  "': only %d, %0Nd and %% are allowed in a frame "
-                                  "file name");
+                                           "': only %d, %0Nd and %% are allowed in a frame "
+                                           "file name");
         std::string number = std::to_string(index);
         if (int(number.size()) < width) number.insert(0, std::size_t(width) - number.size(), '0');
         result += number;
@@ -89,8 +89,8 @@ std::string frame_path(const std::string& pattern, int index, const std::string&
     }
     if (fields != 1)
         throw Error::setting(flag, "'" + pattern +
-                              "': a frame sequence's file name needs one %d or %0Nd "
-                              "field (e.g. out/ocean_%03d.png)");
+                                       "': a frame sequence's file name needs one %d or %0Nd "
+                                       "field (e.g. out/ocean_%03d.png)");
     return result;
 }
 

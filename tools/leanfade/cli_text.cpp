@@ -86,7 +86,8 @@ std::vector<glm::vec2> parse_velocities(const std::string& text, const std::stri
     std::vector<glm::vec2> values;
     for (const std::string& part : split(text, ',')) {
         const std::vector<std::string> uv = split(part, ':');
-        if (uv.size() != 2) throw Error::setting(flag, "expected U:V per layer, got '" + part + "'");
+        if (uv.size() != 2)
+            throw Error::setting(flag, "expected U:V per layer, got '" + part + "'");
         values.emplace_back(parse_number(uv[0], flag), parse_number(uv[1], flag));
     }
     return values;
@@ -110,10 +111,11 @@ std::vector<int> parse_sizes(const std::string& text, const std::string& flag, i
         char* end = nullptr;
         const long value = std::strtol(part.c_str(), &end, 10);
         if (part.empty() || *end != 0)
-            throw Error::setting(flag, "expected comma-separated sizes in texels, got '" + text + "'");
+            throw Error::setting(flag,
+                                 "expected comma-separated sizes in texels, got '" + text + "'");
         if (value < low || value > high)
             throw Error::setting(flag, "sizes must be in [" + std::to_string(low) + ", " +
-                                  std::to_string(high) + "], got " + part);
+                                           std::to_string(high) + "], got " + part);
         sizes.push_back(int(value));
     }
     return sizes;

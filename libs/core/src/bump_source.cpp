@@ -50,8 +50,8 @@ std::string joined(const std::vector<std::string>& names) {
 void check_count(std::size_t values, std::size_t layers, const std::string& setting,
                  const std::string& what) {
     if (values != 0 && values != layers)
-        throw Error::setting(setting, "one " + what + " per layer: " + std::to_string(layers) + " layers, " +
-                                 std::to_string(values) + " values");
+        throw Error::setting(setting, "one " + what + " per layer: " + std::to_string(layers) +
+                                          " layers, " + std::to_string(values) + " values");
 }
 
 }  // namespace
@@ -77,12 +77,13 @@ void validate(const LayerSettings& layers) {
     const std::size_t n = layers.sources.size();
     if (n < 2 || n > std::size_t(kMaxLayers))
         throw Error::setting("layers", "2 to " + std::to_string(kMaxLayers) + " sources, got " +
-                                  std::to_string(n) +
-                                  " (a single map is the bump source, not a layer)");
+                                           std::to_string(n) +
+                                           " (a single map is the bump source, not a layer)");
     for (std::size_t i = 0; i < n; ++i)
         if (layers.sources[i].empty())
-            throw Error::setting("layers", "source " + std::to_string(i + 1) + " of " + std::to_string(n) +
-                                      " is empty ('" + escape_text(joined(layers.sources)) + "')");
+            throw Error::setting("layers", "source " + std::to_string(i + 1) + " of " +
+                                               std::to_string(n) + " is empty ('" +
+                                               escape_text(joined(layers.sources)) + "')");
     check_count(layers.weights.size(), n, "layer-weights", "value");
     check_count(layers.strengths.size(), n, "layer-strengths", "value");
     check_count(layers.tiling.size(), n, "layer-tiling", "value");
@@ -90,9 +91,10 @@ void validate(const LayerSettings& layers) {
     // A texture offset of velocity times time: bounded as the tiling is, so that it stays finite.
     for (const glm::vec2& v : layers.velocity)
         if (!(std::abs(v.x) <= kMaxTiling) || !(std::abs(v.y) <= kMaxTiling))
-            throw Error::setting("layer-velocity",
-                        "each component must be in [-1e+06, 1e+06] uv units per second, got " +
-                            shortest_text(v.x) + ":" + shortest_text(v.y));
+            throw Error::setting(
+                "layer-velocity",
+                "each component must be in [-1e+06, 1e+06] uv units per second, got " +
+                    shortest_text(v.x) + ":" + shortest_text(v.y));
     validate(layer_blend(layers));
     for (float t : layers.tiling)
         if (!(t > 0.0f) || !(t <= kMaxTiling))

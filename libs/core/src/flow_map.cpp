@@ -60,11 +60,13 @@ Image flow_weights(const Image& flow, std::span<const glm::vec2> velocities) {
     if (flow.channels != 2 || flow.empty())
         throw Error::setting("flow", "a flow field has 2 channels and at least one texel");
     if (velocities.empty() || velocities.size() > 4)
-        throw Error::setting("layer-velocities", "1 to 4 layers, got " + std::to_string(velocities.size()));
+        throw Error::setting("layer-velocities",
+                             "1 to 4 layers, got " + std::to_string(velocities.size()));
     glm::vec2 v[4] = {glm::vec2(0.0f), glm::vec2(0.0f), glm::vec2(0.0f), glm::vec2(0.0f)};
     for (std::size_t i = 0; i < velocities.size(); ++i) {
         if (!std::isfinite(velocities[i].x) || !std::isfinite(velocities[i].y))
-            throw Error::setting("layer-velocities", "layer " + std::to_string(i) + "'s is not finite");
+            throw Error::setting("layer-velocities",
+                                 "layer " + std::to_string(i) + "'s is not finite");
         v[i] = velocities[i];
     }
     const int count = int(velocities.size());
@@ -73,8 +75,8 @@ Image flow_weights(const Image& flow, std::span<const glm::vec2> velocities) {
         for (int x = 0; x < flow.width; ++x) {
             const glm::vec2 f(flow.at(x, y, 0), flow.at(x, y, 1));
             if (!std::isfinite(f.x) || !std::isfinite(f.y))
-                throw Error::setting("flow", "texel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                        ") is not finite");
+                throw Error::setting("flow", "texel (" + std::to_string(x) + ", " +
+                                                 std::to_string(y) + ") is not finite");
             const glm::vec4 t = shading::lf_flow_weights(f, v[0], v[1], v[2], v[3], count);
             for (int c = 0; c < 4; ++c) weights.at(x, y, c) = t[c];
         }

@@ -42,18 +42,21 @@ void validate(const GaborNoiseSettings& s) {
     if (s.size < 4 || s.size > 16384)
         throw Error::setting("size", "must be in [4, 16384] texels, got " + std::to_string(s.size));
     const int half = s.size / 2;
-    if (s.cycles_u == 0 && s.cycles_v == 0) throw Error::setting("cycles", "the wave vector is zero");
+    if (s.cycles_u == 0 && s.cycles_v == 0)
+        throw Error::setting("cycles", "the wave vector is zero");
     if (std::abs(s.cycles_u) > half || std::abs(s.cycles_v) > half)
-        throw Error::setting("cycles", "at most " + std::to_string(half) +
-                                  " cycles per period along u and v (2 texels per wavelength)");
+        throw Error::setting("cycles",
+                             "at most " + std::to_string(half) +
+                                 " cycles per period along u and v (2 texels per wavelength)");
     if (!(s.orientation_spread >= 0.0f && s.orientation_spread <= float(kPi)))
         throw Error::setting("orientation-spread", "must be in [0, pi] radians");
     if (!(s.kernel_wavelengths >= 0.5f && s.kernel_wavelengths <= 64.0f))
         throw Error::setting("kernel-wavelengths", "must be in [0.5, 64]");
     if (kernel_radius(s) > 0.5 * double(s.size))
-        throw Error::setting("kernel-wavelengths",
-                    "the kernel's radius (" + std::to_string(kernel_radius(s)) +
-                        " texels) exceeds half the period; use fewer wavelengths or more cycles");
+        throw Error::setting(
+            "kernel-wavelengths",
+            "the kernel's radius (" + std::to_string(kernel_radius(s)) +
+                " texels) exceeds half the period; use fewer wavelengths or more cycles");
     if (!(s.impulses_per_kernel > 0.0f && s.impulses_per_kernel <= 1000.0f))
         throw Error::setting("impulses-per-kernel", "must be in (0, 1000]");
     if (impulse_count(s) > kMaxImpulses)

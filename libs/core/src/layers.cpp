@@ -28,32 +28,35 @@ LayerMixing parse_layer_mixing(std::string_view name, const std::string& setting
         if (name == row.name) return row.id;
         names += (names.empty() ? "" : ", ") + std::string(row.name);
     }
-    throw Error::setting(setting, "unknown mixing method '" + std::string(name) + "' (expected " + names +
-                             ")");
+    throw Error::setting(
+        setting, "unknown mixing method '" + std::string(name) + "' (expected " + names + ")");
 }
 
 void validate(const LayerBlend& blend) {
     const std::size_t n = blend.weights.size();
     if (n < 1 || n > std::size_t(kMaxLayers))
         throw Error::setting("layer-weights", "1 to " + std::to_string(kMaxLayers) +
-                                         " layers are supported, got " + std::to_string(n));
+                                                  " layers are supported, got " +
+                                                  std::to_string(n));
     if (blend.strengths.size() != n)
-        throw Error::setting("layer-strengths", "one strength per layer: " + std::to_string(n) +
-                                           " layers, " + std::to_string(blend.strengths.size()) +
-                                           " strengths");
+        throw Error::setting("layer-strengths",
+                             "one strength per layer: " + std::to_string(n) + " layers, " +
+                                 std::to_string(blend.strengths.size()) + " strengths");
     double sum = 0.0;
     for (float t : blend.weights) {
         if (!(t >= 0.0f && t <= 1.0f))
-            throw Error::setting("layer-weights", "weights must be in [0, 1], got " + std::to_string(t));
+            throw Error::setting("layer-weights",
+                                 "weights must be in [0, 1], got " + std::to_string(t));
         sum += t;
     }
     if (!(std::abs(sum - 1.0) <= 1e-4))
         throw Error::setting("layer-weights", "weights must sum to 1, got " + std::to_string(sum));
     for (float k : blend.strengths)
         if (!std::isfinite(k) || k == 0.0f || std::abs(k) > 1e3f)
-            throw Error::setting("layer-strengths",
-                        "strengths must be finite, non-zero and at most 1000 in magnitude, got " +
-                            std::to_string(k));
+            throw Error::setting(
+                "layer-strengths",
+                "strengths must be finite, non-zero and at most 1000 in magnitude, got " +
+                    std::to_string(k));
 }
 
 namespace {
@@ -71,7 +74,7 @@ Image mix_slopes(std::span<const Image> slopes, const LayerBlend& blend) {
     validate(blend);
     if (slopes.size() != blend.weights.size())
         throw Error::setting("layers", std::to_string(slopes.size()) + " slope images for " +
-                                  std::to_string(blend.weights.size()) + " weights");
+                                           std::to_string(blend.weights.size()) + " weights");
     check_same_slopes(slopes);
     Image mixed(slopes[0].width, slopes[0].height, 2);
     for (std::size_t i = 0; i < slopes.size(); ++i) {
@@ -102,10 +105,13 @@ glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
         const float tiling = placements[i].tiling;
         if (!(tiling >= 1.0f) || tiling > float(kMaxMixedMapSize) ||
             std::abs(tiling - std::round(tiling)) > 1e-4f)
-            throw Error::setting("layer-tiling",
-                        "the height method generates one map repeating once per unit of uv: "
-                        "each tiling must be a whole number >= 1, got " + shortest(tiling));
-        if (sizes[i].x < 1 || sizes[i].y < 1) throw Error::setting("layers", "a layer has no texels");
+            throw Error::setting(
+                "layer-tiling",
+                "the height method generates one map repeating once per unit of uv: "
+                "each tiling must be a whole number >= 1, got " +
+                    shortest(tiling));
+        if (sizes[i].x < 1 || sizes[i].y < 1)
+            throw Error::setting("layers", "a layer has no texels");
         const long long whole = std::llround(tiling);
         size.x = int(std::min<long long>(std::max<long long>(size.x, sizes[i].x * whole),
                                          kMaxMixedMapSize + 1));
@@ -113,9 +119,10 @@ glm::ivec2 mixed_map_size(std::span<const glm::ivec2> sizes,
                                          kMaxMixedMapSize + 1));
     }
     if (size.x > kMaxMixedMapSize || size.y > kMaxMixedMapSize)
-        throw Error::setting("layers", "the mixed map would exceed " + std::to_string(kMaxMixedMapSize) +
-                                  " texels per side (layer size x tiling); use textures or "
-                                  "approx for finely tiled layers");
+        throw Error::setting("layers",
+                             "the mixed map would exceed " + std::to_string(kMaxMixedMapSize) +
+                                 " texels per side (layer size x tiling); use textures or "
+                                 "approx for finely tiled layers");
     return size;
 }
 
@@ -166,7 +173,7 @@ Image mix_slopes_at(std::span<const Image> slopes, const LayerBlend& blend,
             throw Error::setting("layers", "placements must be finite");
     if (width < 1 || height < 1 || width > kMaxMixedMapSize || height > kMaxMixedMapSize)
         throw Error::setting("layers", "the mixed map's size must be in [1, " +
-                                  std::to_string(kMaxMixedMapSize) + "]");
+                                           std::to_string(kMaxMixedMapSize) + "]");
     Image mixed(width, height, 2);
     for (int row = 0; row < height; ++row) {
         const int j = height - 1 - row;  // texel row counted from v = 0
@@ -203,7 +210,8 @@ std::vector<Image> build_cross_terms(const Image& slopes_i, const Image& slopes_
 
 int pair_index(int i, int j, int layer_count) {
     if (!(0 <= i && i < j && j < layer_count))
-        throw Error::setting("layers", "no pair (" + std::to_string(i) + ", " + std::to_string(j) + ")");
+        throw Error::setting("layers",
+                             "no pair (" + std::to_string(i) + ", " + std::to_string(j) + ")");
     // Pairs before row i: (n-1) + (n-2) + ... + (n-i).
     return i * (2 * layer_count - i - 1) / 2 + (j - i - 1);
 }
@@ -215,7 +223,7 @@ MomentLevel mix_layer_level(std::span<const LeanMap> layers,
     const int n = int(layers.size());
     if (std::size_t(n) != blend.weights.size())
         throw Error::setting("layers", std::to_string(n) + " maps for " +
-                                  std::to_string(blend.weights.size()) + " weights");
+                                           std::to_string(blend.weights.size()) + " weights");
     for (const LeanMap& m : layers) {
         if (level < 0 || level >= int(m.levels.size()) ||
             m.levels[std::size_t(level)].width != layers[0].levels[std::size_t(level)].width ||
@@ -223,23 +231,25 @@ MomentLevel mix_layer_level(std::span<const LeanMap> layers,
             throw Error::setting("layers", "the layers' maps must be aligned and of one size");
         if (m.roughness_baked)
             throw Error::setting("layers",
-                        "a layer's map has roughness baked in; the base roughness is "
-                        "added once, after mixing");
+                                 "a layer's map has roughness baked in; the base roughness is "
+                                 "added once, after mixing");
     }
     if (mixing == LayerMixing::Height)
         throw Error::setting("layers",
-                    "the height method mixes the slopes before baking (mix_slopes, "
-                    "then build_lean_map), not the maps");
+                             "the height method mixes the slopes before baking (mix_slopes, "
+                             "then build_lean_map), not the maps");
     const std::size_t pairs = std::size_t(n * (n - 1) / 2);
     if (mixing == LayerMixing::Textures) {
         if (cross.size() != pairs)
             throw Error::setting("layers", "mixing textures needs " + std::to_string(pairs) +
-                                      " cross-term chains, got " + std::to_string(cross.size()));
+                                               " cross-term chains, got " +
+                                               std::to_string(cross.size()));
         for (const std::vector<Image>& chain : cross)
             if (level >= int(chain.size()) ||
                 chain[std::size_t(level)].width != layers[0].levels[std::size_t(level)].width ||
                 chain[std::size_t(level)].height != layers[0].levels[std::size_t(level)].height)
-                throw Error::setting("layers", "a cross-term texture does not match the layers' size");
+                throw Error::setting("layers",
+                                     "a cross-term texture does not match the layers' size");
     }
 
     const MomentLevel& first = layers[0].levels[std::size_t(level)];

@@ -46,8 +46,8 @@ const std::vector<std::string>& storage_names() {
 Storage parse_storage(std::string_view name, const std::string& setting) {
     for (Storage s : {Storage::Unorm8, Storage::Unorm16, Storage::Float16, Storage::Float32})
         if (name == to_string(s)) return s;
-    throw Error::setting(setting,
-                "expected " + name_list(storage_names()) + ", got '" + std::string(name) + "'");
+    throw Error::setting(
+        setting, "expected " + name_list(storage_names()) + ", got '" + std::string(name) + "'");
 }
 
 const std::vector<std::string>& bake_storage_names() {
@@ -64,7 +64,7 @@ Storage parse_bake_storage(std::string_view name, const std::string& setting) {
     const auto& names = bake_storage_names();
     if (std::find(names.begin(), names.end(), name) == names.end())
         throw Error::setting(setting,
-                    "expected " + name_list(names) + ", got '" + std::string(name) + "'");
+                             "expected " + name_list(names) + ", got '" + std::string(name) + "'");
     return parse_storage(name, setting);
 }
 
@@ -107,8 +107,8 @@ const std::vector<std::string>& bake_source_names() {
 BakeSource parse_bake_source(std::string_view name, const std::string& setting) {
     for (BakeSource s : {BakeSource::Auto, BakeSource::Height, BakeSource::Normal})
         if (name == to_string(s)) return s;
-    throw Error::setting(setting,
-                "expected " + name_list(bake_source_names()) + ", got '" + std::string(name) + "'");
+    throw Error::setting(setting, "expected " + name_list(bake_source_names()) + ", got '" +
+                                      std::string(name) + "'");
 }
 
 int bytes_per_texel(Storage s) {
@@ -397,8 +397,9 @@ PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, const std::stri
 PackedLeanMap pack_lean_map(const LeanMap& map, Storage storage, LeanEncoding encoding,
                             const std::string& generator) {
     if (encoding == LeanEncoding::Signed && default_encoding(storage) != LeanEncoding::Signed)
-        throw Error::setting("bits", std::string("the signed encoding needs a float storage, not ") +
-                                to_string(storage));
+        throw Error::setting(
+            "bits",
+            std::string("the signed encoding needs a float storage, not ") + to_string(storage));
     PackedLeanMap packed;
     packed.storage = storage;
     packed.encoding = encoding;

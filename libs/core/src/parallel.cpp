@@ -55,7 +55,7 @@ int set_thread_start_limit_for_testing(int limit) {
 int resolve_thread_count(int requested) {
     if (requested > kMaxThreads)
         throw Error::setting("threads", "at most " + std::to_string(kMaxThreads) +
-                                   " worker threads, got " + std::to_string(requested));
+                                            " worker threads, got " + std::to_string(requested));
     if (requested > 0) return requested;
     const unsigned hw = std::thread::hardware_concurrency();
     return hw == 0 ? 1 : int(std::min(hw, unsigned(kMaxThreads)));

@@ -208,9 +208,9 @@ void check_range(const ParameterInfo& row, float v) {
     if (row.min > 0.0f && !(v > 0.0f)) throw Error::setting(key, "must be > 0, got " + text(v));
     if (std::isinf(row.max))
         throw Error::setting(key, std::string("must be ") + (row.min_exclusive ? "> " : ">= ") +
-                             text(row.min) + ", got " + text(v));
-    throw Error::setting(key, "must be in " + std::string(row.min_exclusive ? "(" : "[") + text(row.min) +
-                         ", " + text(row.max) + "], got " + text(v));
+                                      text(row.min) + ", got " + text(v));
+    throw Error::setting(key, "must be in " + std::string(row.min_exclusive ? "(" : "[") +
+                                  text(row.min) + ", " + text(row.max) + "], got " + text(v));
 }
 
 }  // namespace
@@ -255,7 +255,8 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
     switch (row.kind) {
         case ParameterKind::Scalar: {
             float v = 0.0f;
-            if (!parse_finite(value, v)) throw Error::setting(key, "expected a number, got '" + value + "'");
+            if (!parse_finite(value, v))
+                throw Error::setting(key, "expected a number, got '" + value + "'");
             s.*row.scalar = v;
             return;
         }
@@ -281,8 +282,9 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
                 s.*row.vector = v;
                 return;
             }
-            throw Error::setting(key, std::string("expected ") + (colour ? "R,G,B or one value" : "X,Y,Z") +
-                                 ", got '" + value + "'");
+            throw Error::setting(key, std::string("expected ") +
+                                          (colour ? "R,G,B or one value" : "X,Y,Z") + ", got '" +
+                                          value + "'");
         }
         case ParameterKind::Choice: {
             for (std::size_t i = 0; i < row.choices.size(); ++i) {
@@ -291,8 +293,8 @@ void parse_parameter(const ParameterInfo& row, const std::string& value, Shading
                     return;
                 }
             }
-            throw Error::setting(key, "unknown " + std::string(row.label) + " '" + value + "' (expected " +
-                                 name_list(row.choices) + ")");
+            throw Error::setting(key, "unknown " + std::string(row.label) + " '" + value +
+                                          "' (expected " + name_list(row.choices) + ")");
         }
     }
 }
@@ -310,7 +312,8 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
             const int v = s.*row.integer;
             if (v < int(row.min) || v > int(row.max))
                 throw Error::setting(key, "must be in [" + std::to_string(int(row.min)) + ", " +
-                                     std::to_string(int(row.max)) + "], got " + std::to_string(v));
+                                              std::to_string(int(row.max)) + "], got " +
+                                              std::to_string(v));
             return;
         }
         case ParameterKind::Colour: {
@@ -318,11 +321,11 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
             for (int i = 0; i < 3; ++i) {
                 require_finite(row, c[i]);
                 if (c[i] < row.min)
-                    throw Error::setting(key, "colour components must be >= " + text(row.min) + ", got " +
-                                         text(c[i]));
+                    throw Error::setting(key, "colour components must be >= " + text(row.min) +
+                                                  ", got " + text(c[i]));
                 if (c[i] > row.max)
-                    throw Error::setting(key, "colour components must be <= " + text(row.max) + ", got " +
-                                         text(c[i]));
+                    throw Error::setting(key, "colour components must be <= " + text(row.max) +
+                                                  ", got " + text(c[i]));
             }
             return;
         }
@@ -334,8 +337,9 @@ void validate_parameter(const ParameterInfo& row, const ShadingSettings& s) {
             const double length =
                 std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
             if (!(length >= row.min && length <= row.max))
-                throw Error::setting(key, "its length must be in [" + text(row.min) + ", " + text(row.max) +
-                                     "] (it is normalised), got " + text(float(length)));
+                throw Error::setting(key, "its length must be in [" + text(row.min) + ", " +
+                                              text(row.max) + "] (it is normalised), got " +
+                                              text(float(length)));
             return;
         }
         case ParameterKind::Choice: {

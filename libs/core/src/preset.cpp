@@ -217,7 +217,7 @@ PaneLayout parse_pane_layout(std::string_view name, const std::string& setting) 
     for (std::size_t i = 0; i < layouts.size(); ++i)
         if (name == layouts[i]) return PaneLayout(i);
     throw Error::setting(setting,
-                "expected " + name_list(layouts) + ", got '" + std::string(name) + "'");
+                         "expected " + name_list(layouts) + ", got '" + std::string(name) + "'");
 }
 
 bool layout_accepts(PaneLayout layout, std::size_t panes) {
@@ -265,8 +265,8 @@ void validate(const Preset& p, const std::string& file) {
         // The settings of the layers are the keys of "layers".
         const std::string& setting = e.setting();
         const std::string key = setting == "layers" || setting.empty() ? "sources"
-                                : setting.rfind("layer-", 0) == 0 ? setting.substr(6)
-                                                                  : setting;
+                                : setting.rfind("layer-", 0) == 0      ? setting.substr(6)
+                                                                       : setting;
         fail(file, "layers." + key, e.cause());
     }
     for (std::size_t i = 0; i < p.maps.size(); ++i) {

@@ -186,8 +186,8 @@ GaborNoiseSettings builtin_gabor_settings(int size, std::uint32_t seed) {
 Image make_builtin_height(const std::string& name, int size, std::uint32_t seed) {
     if (size < 4 || size > kDefaultMaxImageDimension)
         throw Error::setting("builtin", "'" + name + "': size " + std::to_string(size) +
-                                             " outside [4, " +
-                                             std::to_string(kDefaultMaxImageDimension) + "]");
+                                            " outside [4, " +
+                                            std::to_string(kDefaultMaxImageDimension) + "]");
     Rng rng(seed);
     if (name == "bumps") return make_bumps(size, rng);
     if (name == "ridges") return make_waves_along_u(size, ridge_parameters(size));

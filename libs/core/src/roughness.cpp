@@ -65,7 +65,7 @@ void check_roughness_inputs(const LeanMap& map, const RoughnessOptions& options)
                     "without one for roughness MIPs, the base roughness is added here");
     if (!unit_interval(options.base_roughness))
         throw Error::setting("roughness",
-                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+                             "must be in [0, 1], got " + std::to_string(options.base_roughness));
 }
 
 // One texel's roughness from its moments and base α0² (docs/roughness.md).
@@ -115,11 +115,10 @@ std::vector<Image> kept_channels(const Image* input, int width, int height, int 
     if (input == nullptr) return kept;
     const Image& in = *input;
     if (in.width != width || in.height != height || in.channels < 3)
-        throw Error(name,
-                    "a metallic-roughness texture of 3 or 4 channels and " +
-                        std::to_string(width) + "x" + std::to_string(height) +
-                        " texels is needed, got " + std::to_string(in.width) + "x" +
-                        std::to_string(in.height) + "x" + std::to_string(in.channels));
+        throw Error(name, "a metallic-roughness texture of 3 or 4 channels and " +
+                              std::to_string(width) + "x" + std::to_string(height) +
+                              " texels is needed, got " + std::to_string(in.width) + "x" +
+                              std::to_string(in.height) + "x" + std::to_string(in.channels));
     Image rgba(in.width, in.height, 4, 1.0f);
     for (std::size_t t = 0; t < in.texel_count(); ++t)
         for (int c = 0; c < in.channels && c < 4; ++c)
@@ -165,10 +164,9 @@ std::vector<Image> base_alpha_squared_mips(const Image& roughness, int threads,
         const float v = roughness.pixels[t * channels];
         if (!unit_interval(v))
             throw Error(name, "roughness " + std::to_string(v) + " at texel (" +
-                                             std::to_string(t % std::size_t(roughness.width)) +
-                                             ", " +
-                                             std::to_string(t / std::size_t(roughness.width)) +
-                                             ") is outside [0, 1]");
+                                  std::to_string(t % std::size_t(roughness.width)) + ", " +
+                                  std::to_string(t / std::size_t(roughness.width)) +
+                                  ") is outside [0, 1]");
         a2.pixels[4 * t] = base_alpha_squared(v);
     }
     // The moments' filter works on 4 channels: α0² rides in the first.
@@ -259,7 +257,7 @@ RoughnessTextureBuilder::RoughnessTextureBuilder(int width, int height,
     if (width <= 0 || height <= 0) throw Error::setting("roughness", "the map has no texels");
     if (!unit_interval(options.base_roughness))
         throw Error::setting("roughness",
-                    "must be in [0, 1], got " + std::to_string(options.base_roughness));
+                             "must be in [0, 1], got " + std::to_string(options.base_roughness));
     if (!constant_base_) base_ = base_alpha_squared_map(width, height, options);
     kept_ = kept_channels(metallic_roughness_input, width, height, options.threads,
                           options.roughness_map_name);

@@ -38,10 +38,11 @@ shading::LfParams to_lf_params(const ShadingSettings& s, bool roughness_baked) {
     p.f0 = glm::vec3(s.f0);
     if (s.brdf == Brdf::CookTorrance) {
         if (roughness_baked)
-            throw Error::setting("brdf",
-                        "cook-torrance takes its base roughness from 'roughness', but the LEAN map "
-                        "has a baked 1/s in its second moments (bake it without one)",
-                        {"roughness"});
+            throw Error::setting(
+                "brdf",
+                "cook-torrance takes its base roughness from 'roughness', but the LEAN map "
+                "has a baked 1/s in its second moments (bake it without one)",
+                {"roughness"});
         // docs/math.md §9: a0 = r^2, per-axis slope variance a0^2 / 2 in place of 1/s.
         const float alpha0 = s.roughness * s.roughness;
         p.inv_s_shading = 0.5f * alpha0 * alpha0;

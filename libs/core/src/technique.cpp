@@ -47,7 +47,7 @@ Technique parse_technique(std::string_view name, const std::string& setting) {
     for (const TechniqueInfo& row : kTechniques)
         if (name == row.name) return row.id;
     throw Error::setting(setting, "unknown technique '" + std::string(name) + "' (expected " +
-                             technique_names(all_techniques()) + ")");
+                                      technique_names(all_techniques()) + ")");
 }
 
 std::vector<Technique> parse_techniques(std::string_view list, const std::string& setting) {
@@ -57,7 +57,8 @@ std::vector<Technique> parse_techniques(std::string_view list, const std::string
         const std::size_t comma = std::min(list.find(',', start), list.size());
         const Technique t = parse_technique(list.substr(start, comma - start), setting);
         if (std::find(result.begin(), result.end(), t) != result.end())
-            throw Error::setting(setting, std::string("technique '") + to_string(t) + "' given twice");
+            throw Error::setting(setting,
+                                 std::string("technique '") + to_string(t) + "' given twice");
         result.push_back(t);
         start = comma + 1;
     }

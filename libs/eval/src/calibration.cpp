@@ -153,11 +153,12 @@ std::vector<double> target_attenuation(const FadeTarget& target,
                                        const ShadingSettings& settings) {
     if (target.kind == FadeTarget::Kind::Reference)
         throw Error::setting("target",
-                    "reference: the truth's energy is measured by rendering "
-                    "(measure_reference_ratio)");
+                             "reference: the truth's energy is measured by rendering "
+                             "(measure_reference_ratio)");
     if (target.kind == FadeTarget::Kind::Fog && settings.fog == FogMode::None)
         throw Error::setting("target",
-                    "fog: the scene has no fog (set the fog mode to linear, exp or exp2, and its parameters)");
+                             "fog: the scene has no fog (set the fog mode to linear, exp or exp2, "
+                             "and its parameters)");
     std::vector<double> values;
     for (float d : distances) {
         if (target.kind == FadeTarget::Kind::Exponential) {

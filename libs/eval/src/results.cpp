@@ -215,12 +215,14 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
         double a = 0.0, b = 0.0, n = 0.0;
         if (!parse_finite(range[0], a) || !parse_finite(range[1], b) ||
             !parse_finite(range[2], n) || n != std::floor(n))
-            throw Error::setting(flag, "expected A:B:N (N whole) or a comma list, got '" + text + "'");
-        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxCameraDistance)
             throw Error::setting(flag,
-                        "A:B:N needs 1 < A < B <= 1e4 and 1 <= N <= 1000 (distances in bounding "
-                        "radii), got '" +
-                            text + "'");
+                                 "expected A:B:N (N whole) or a comma list, got '" + text + "'");
+        if (!(a > 1.0) || !(b > a) || n < 1.0 || n > 1000.0 || b > kMaxCameraDistance)
+            throw Error::setting(
+                flag,
+                "A:B:N needs 1 < A < B <= 1e4 and 1 <= N <= 1000 (distances in bounding "
+                "radii), got '" +
+                    text + "'");
         const int count = int(n);
         // 3 significant digits, more when the steps are finer than that (2:1000:1000 steps by
         // 0.6 %): N distinct distances.
@@ -233,15 +235,16 @@ std::vector<float> parse_distance_sweep(const std::string& text, const std::stri
             if (std::adjacent_find(result.begin(), result.end()) == result.end()) break;
         }
         if (std::adjacent_find(result.begin(), result.end()) != result.end())
-            throw Error::setting(flag, "A:B:N: " + range[2] + " distances from " + range[0] + " to " +
-                                  range[1] +
-                                  " are closer than float numbers tell apart; give fewer or a "
-                                  "wider range");
+            throw Error::setting(
+                flag, "A:B:N: " + range[2] + " distances from " + range[0] + " to " + range[1] +
+                          " are closer than float numbers tell apart; give fewer or a "
+                          "wider range");
     } else if (range.size() == 1) {
         for (const std::string& part : split(text, ',')) {
             double d = 0.0;
             if (!parse_finite(part, d))
-                throw Error::setting(flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
+                throw Error::setting(
+                    flag, "expected A:B:N or comma-separated numbers, got '" + text + "'");
             check_camera_distance(d, flag, part);
             result.push_back(float(d));
         }
@@ -261,7 +264,8 @@ std::vector<float> parse_shininess_list(const std::string& text, const std::stri
     for (const std::string& part : split(text, ',')) {
         double s = 0.0;
         if (!parse_finite(part, s) || !(s > 0.0) || s > 1e7)
-            throw Error::setting(flag, "expected comma-separated exponents in (0, 1e7], got '" + text + "'");
+            throw Error::setting(
+                flag, "expected comma-separated exponents in (0, 1e7], got '" + text + "'");
         if (std::find(result.begin(), result.end(), float(s)) != result.end())
             throw Error::setting(flag, "shininess " + part + " given twice");
         result.push_back(float(s));

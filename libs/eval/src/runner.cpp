@@ -28,9 +28,10 @@ void validate(const SweepRequest& r) {
     if (r.techniques.empty()) throw Error::setting("techniques", "no technique to measure");
     for (gl::Technique t : r.techniques)
         if (info(t).supersampled)
-            throw Error::setting("techniques", std::string("the ") + to_string(t) +
-                                            " is what every technique is measured against; it "
-                                            "cannot be one of them");
+            throw Error::setting("techniques",
+                                 std::string("the ") + to_string(t) +
+                                     " is what every technique is measured against; it "
+                                     "cannot be one of them");
     if (r.distances.empty()) throw Error::setting("distances", "no distance");
     for (float d : r.distances)
         if (!(d > 1.0f) || !(d <= 1e4f))
@@ -40,9 +41,10 @@ void validate(const SweepRequest& r) {
         if (!(s > 0.0f) || !std::isfinite(s)) throw Error::setting("shininess", "must be > 0");
     if (r.reference_samples < 1 || r.reference_samples > kMaxReferenceSamples)
         throw Error::setting("spp", "the reference takes k x k samples per pixel with k in [1, " +
-                               std::to_string(kMaxReferenceSamples) + "]");
+                                        std::to_string(kMaxReferenceSamples) + "]");
     if (r.frames < 2 || r.frames > 1000)
-        throw Error::setting("frames", "flicker needs 2 to 1000 frames, got " + std::to_string(r.frames));
+        throw Error::setting("frames",
+                             "flicker needs 2 to 1000 frames, got " + std::to_string(r.frames));
     if (!(r.motion_pixels > 0.0f && r.motion_pixels <= 4.0f))
         throw Error::setting("motion", "the pan per frame must be in (0, 4] pixels");
     if (r.width < 16 || r.height < 16 || r.width > 8192 || r.height > 8192)
@@ -248,13 +250,13 @@ SweepOutput run_sweep(gl::Renderer& renderer, const SweepRequest& request,
                 const Mask covered = covered_pixels(colors[0]);
                 const Mask mask = erode(covered);
                 if (frame == 0 && mask.count() == 0)
-                    throw Error::setting("distances",
-                                "at distance " + number_text(distance) +
-                                    " the object covers no whole pixel of the " +
-                                    std::to_string(request.width) + "x" +
-                                    std::to_string(request.height) +
-                                    " frame: nothing to measure (use smaller distances or a "
-                                    "larger image size)");
+                    throw Error::setting(
+                        "distances", "at distance " + number_text(distance) +
+                                         " the object covers no whole pixel of the " +
+                                         std::to_string(request.width) + "x" +
+                                         std::to_string(request.height) +
+                                         " frame: nothing to measure (use smaller distances or a "
+                                         "larger image size)");
                 std::vector<Image> srgb(nt);
                 for (std::size_t t = 0; t < nt; ++t) {
                     colors[t] = fill_outside(colors[t], covered, bg.r, bg.g, bg.b);

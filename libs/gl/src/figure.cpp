@@ -158,8 +158,8 @@ Figure render_figure(Renderer& renderer, const FigureRequest& request,
     if (request.cell_width < 16 || request.cell_height < 16 || request.cell_width > 8192 ||
         request.cell_height > 8192)
         throw Error::setting("size", "cells must be 16..8192 pixels on each side, got " +
-                                  std::to_string(request.cell_width) + "x" +
-                                  std::to_string(request.cell_height));
+                                         std::to_string(request.cell_width) + "x" +
+                                         std::to_string(request.cell_height));
     const int cw = request.cell_width, ch = request.cell_height;
     const glm::vec3 background =
         request.settings.fog == FogMode::None ? request.background : request.settings.fog_color;

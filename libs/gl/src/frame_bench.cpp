@@ -188,16 +188,16 @@ const ViewResult* SceneResult::find(const std::string& view_name) const {
 
 void validate_frame_bench(const FrameBenchRequest& r) {
     if (r.width < 16 || r.height < 16 || r.width > kMaxBenchSize || r.height > kMaxBenchSize)
-        throw Error::setting("size", "must be 16..8192 pixels on a side, got " + std::to_string(r.width) +
-                                  "x" + std::to_string(r.height));
+        throw Error::setting("size", "must be 16..8192 pixels on a side, got " +
+                                         std::to_string(r.width) + "x" + std::to_string(r.height));
     if (r.techniques.empty() && !r.floor) throw Error::setting("techniques", "nothing to measure");
     for (Technique t : r.techniques)
         if (info(t).supersampled)
-            throw Error::setting("techniques",
-                        std::string("the ") + to_string(t) +
-                            " is an offline supersampled image, not a real-time technique; "
-                            "choose among " +
-                            technique_names(approximating_techniques()));
+            throw Error::setting(
+                "techniques", std::string("the ") + to_string(t) +
+                                  " is an offline supersampled image, not a real-time technique; "
+                                  "choose among " +
+                                  technique_names(approximating_techniques()));
     if (r.frames < 1 || r.frames > 100000)
         throw Error::setting("frames", "must be in [1, 100000], got " + std::to_string(r.frames));
     if (r.warmup < 0 || r.warmup > 100000)
@@ -207,8 +207,9 @@ void validate_frame_bench(const FrameBenchRequest& r) {
         throw Error::setting("seconds-per-round", "must be a finite number of seconds >= 0");
     for (float d : r.distances)
         if (!(d > 1.0f) || !std::isfinite(d))
-            throw Error::setting("distances", "distances are in bounding radii and must be > 1, got " +
-                                           std::to_string(d));
+            throw Error::setting(
+                "distances",
+                "distances are in bounding radii and must be > 1, got " + std::to_string(d));
     leanfade::validate(r.settings);
 }
 
@@ -248,8 +249,8 @@ FrameBenchResult run_frame_bench(Renderer& renderer, const std::vector<FrameBenc
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
     if (request.width > max_size || request.height > max_size)
-        throw Error::setting("size",
-                    "larger than GL_MAX_RENDERBUFFER_SIZE (" + std::to_string(max_size) + ")");
+        throw Error::setting(
+            "size", "larger than GL_MAX_RENDERBUFFER_SIZE (" + std::to_string(max_size) + ")");
 
     FrameBenchResult result;
     result.timing = choose_timing(request.timing, renderer.context());

@@ -360,23 +360,26 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
     if (objects_.empty()) throw Error("render", "no mesh was set");
     if (maps_.empty()) throw Error("render", "no LEAN map was set");
     validate(request.settings);
-    if (!std::isfinite(request.time)) throw Error::setting("time", "must be a finite number of seconds");
+    if (!std::isfinite(request.time))
+        throw Error::setting("time", "must be a finite number of seconds");
     const int max_size =
         std::min(gl_integer(GL_MAX_TEXTURE_SIZE), gl_integer(GL_MAX_RENDERBUFFER_SIZE));
     if (request.width < 1 || request.height < 1 || request.width > max_size ||
         request.height > max_size)
-        throw Error::setting("size", "image size must be 1.." + std::to_string(max_size) + " pixels, got " +
-                                std::to_string(request.width) + "x" +
-                                std::to_string(request.height));
+        throw Error::setting("size", "image size must be 1.." + std::to_string(max_size) +
+                                         " pixels, got " + std::to_string(request.width) + "x" +
+                                         std::to_string(request.height));
     if (request.technique == Technique::Reference &&
         (request.reference_samples < 1 || request.reference_samples > kMaxReferenceSamples))
-        throw Error::setting("ref_samples", "must be in [1, " + std::to_string(kMaxReferenceSamples) +
-                                       "], got " + std::to_string(request.reference_samples));
+        throw Error::setting("ref_samples", "must be in [1, " +
+                                                std::to_string(kMaxReferenceSamples) + "], got " +
+                                                std::to_string(request.reference_samples));
     const ShadingSettings& s = request.settings;
     int samples = request.technique == Technique::Reference ? 1 : s.msaa;
     if (samples > gl_integer(GL_MAX_SAMPLES))
-        throw Error::setting("msaa", std::to_string(samples) + " samples requested, the GL driver allows " +
-                                std::to_string(gl_integer(GL_MAX_SAMPLES)));
+        throw Error::setting("msaa", std::to_string(samples) +
+                                         " samples requested, the GL driver allows " +
+                                         std::to_string(gl_integer(GL_MAX_SAMPLES)));
 
     update_mixed_layers(request.time);
     apply_sampler_state(s);
@@ -415,7 +418,8 @@ Renderer::Target& Renderer::render_target(const RenderRequest& request) {
 void Renderer::apply_sampler_state(const ShadingSettings& s) {
     const float max_aniso = context_.max_anisotropy();
     if (s.anisotropy > 1 && max_aniso <= 1.0f)
-        throw Error::setting("aniso", "anisotropic filtering is not supported by " + context_.renderer());
+        throw Error::setting("aniso",
+                             "anisotropic filtering is not supported by " + context_.renderer());
     std::vector<GLuint> textures;
     for (const GpuMap& map : maps_) textures.push_back(map.texture.get());
     for (const GpuLayers& layers : material_layers_) {
@@ -449,7 +453,8 @@ void Renderer::draw(const RenderRequest& request, GLuint framebuffer,
     if (request.width < 1 || request.height < 1)
         throw Error::setting("size", "the viewport must be at least 1x1 pixels");
     validate(request.settings);
-    if (!std::isfinite(request.time)) throw Error::setting("time", "must be a finite number of seconds");
+    if (!std::isfinite(request.time))
+        throw Error::setting("time", "must be a finite number of seconds");
     const VariantKey key = variant.value_or(variant_for(request));
     program(key);  // built (or its error thrown) before any state changes
     update_mixed_layers(request.time);

@@ -346,8 +346,8 @@ Renderer::GpuMap Renderer::upload_map(const PackedLeanMap& map) {
             if (row.optional) continue;
             const std::vector<std::uint8_t> rows =
                 flipped(level.slice(row.layer), row_bytes, level.height);
-            glTextureSubImage3D(texture.get(), i, 0, 0, GLint(row.layer), level.width,
-                                level.height, 1, GL_RGBA, format.type, rows.data());
+            glTextureSubImage3D(texture.get(), i, 0, 0, GLint(row.layer), level.width, level.height,
+                                1, GL_RGBA, format.type, rows.data());
         }
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);

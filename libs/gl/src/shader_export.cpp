@@ -754,7 +754,7 @@ ShaderLanguage parse_shader_language(std::string_view name, const std::string& s
     for (std::size_t i = 0; i < names.size(); ++i)
         if (name == names[i]) return ShaderLanguage(i);
     throw Error::setting(setting, "unknown shader language '" + escape_text(std::string(name)) +
-                             "' (expected " + name_list(names) + ")");
+                                      "' (expected " + name_list(names) + ")");
 }
 
 const char* file_extension(ShaderLanguage language) {
@@ -778,10 +778,11 @@ const char* file_extension(ShaderLanguage language) {
 std::vector<ExportedShader> export_shaders(const ShaderSources& sources, ShaderLanguage language,
                                            const std::string& wgsl_translator) {
     if (language == ShaderLanguage::Wgsl && wgsl_translator.empty())
-        throw Error::setting("lang",
-                    "WGSL is translated by naga (npm package naga-wasm, run by Node.js), and no "
-                    "translator was found beside the program (share/leanfade/node; "
-                    "scripts/install-deps.sh installs it)");
+        throw Error::setting(
+            "lang",
+            "WGSL is translated by naga (npm package naga-wasm, run by Node.js), and no "
+            "translator was found beside the program (share/leanfade/node; "
+            "scripts/install-deps.sh installs it)");
     std::vector<ExportedShader> shaders;
     shaders.push_back(export_stage(sources, nullptr, language));
     for (const ShaderVariant& variant : shader_variants())

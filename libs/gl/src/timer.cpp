@@ -77,7 +77,7 @@ TimingChoice choose_timing(TimingMethod requested, const Context& context,
         case TimingMethod::Gpu:
             if (bits <= 0)
                 throw Error::setting(flag, "gpu timing needs GL_TIME_ELAPSED queries, and " +
-                                      context.renderer() + " has no timer counter bits");
+                                               context.renderer() + " has no timer counter bits");
             choice.method = TimingMethod::Gpu;
             choice.description = queries + ", forced" +
                                  (software ? "; on a software renderer they time only the "

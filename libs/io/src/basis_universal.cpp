@@ -37,10 +37,11 @@ void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::stri
                       const std::string& encoder) {
     if (textures.empty()) return;
     if (encoder.empty())
-        throw Error::setting("compress",
-                    "basis needs Basis Universal's encoder (npm package ktx2-encoder, run by "
-                    "Node.js), and none was found beside the program (share/leanfade/node; "
-                    "scripts/install-deps.sh installs it)");
+        throw Error::setting(
+            "compress",
+            "basis needs Basis Universal's encoder (npm package ktx2-encoder, run by "
+            "Node.js), and none was found beside the program (share/leanfade/node; "
+            "scripts/install-deps.sh installs it)");
     const ScratchFolder scratch("leanfade-basis");
     // One encoder process per texture, up to one per hardware thread (the WebAssembly encoder is
     // single-threaded): the textures dealt round-robin into that many jobs.
@@ -87,8 +88,9 @@ void write_ktx2_uastc(const std::vector<UastcTexture>& textures, const std::stri
             if (message.rfind(texture.output + ": ", 0) == 0)
                 throw Error(texture.output, "the Basis Universal encoder failed: " +
                                                 message.substr(texture.output.size() + 2));
-        throw Error::setting("compress", "the Basis Universal encoder failed: " +
-                                    (message.empty() ? std::string("no message") : message));
+        throw Error::setting("compress",
+                             "the Basis Universal encoder failed: " +
+                                 (message.empty() ? std::string("no message") : message));
     }
     for (const UastcTexture& texture : textures) {
         std::error_code error;

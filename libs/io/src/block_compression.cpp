@@ -407,9 +407,10 @@ const BlockFormat& block_format(BlockCompression compression, EngineTexture text
     }
     if (compression == BlockCompression::Astc)
         return texture == EngineTexture::Normal ? kAstcNormal : kAstcRgba;
-    throw Error::setting("compress", compression == BlockCompression::Basis
-                                ? "Basis Universal textures are written by write_ktx2_uastc"
-                                : "uncompressed textures have no block format");
+    throw Error::setting("compress",
+                         compression == BlockCompression::Basis
+                             ? "Basis Universal textures are written by write_ktx2_uastc"
+                             : "uncompressed textures have no block format");
 }
 
 std::vector<CompressedLevel> compress_levels(const std::vector<Rgba8Level>& levels,

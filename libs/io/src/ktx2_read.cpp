@@ -105,11 +105,9 @@ void check_finite_texels(const std::string& path, const FormatInfo& format,
             if (finite) continue;
             const std::size_t texel = i / 4;
             throw Error(path, std::string(nan ? "NaN" : "infinity") + " in level " +
-                                  std::to_string(level_number) + " of " +
-                                  std::string(layer.label) +
-                                  " at texel (" +
-                                  std::to_string(texel % std::size_t(level.width)) + ", " +
-                                  std::to_string(texel / std::size_t(level.width)) + ")");
+                                  std::to_string(level_number) + " of " + std::string(layer.label) +
+                                  " at texel (" + std::to_string(texel % std::size_t(level.width)) +
+                                  ", " + std::to_string(texel / std::size_t(level.width)) + ")");
         }
     }
 }

@@ -61,7 +61,8 @@ pid_t spawn_node(const std::string& script, const std::vector<std::string>& argu
     const int spawned = ::posix_spawnp(&child, "node", &actions, nullptr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&actions);
     if (spawned != 0)
-        throw Error::setting(setting, spawned == ENOENT
+        throw Error::setting(setting,
+                             spawned == ENOENT
                                  ? "needs Node.js, and `node` is not on the PATH (Debian package "
                                    "nodejs)"
                                  : "cannot start Node.js");

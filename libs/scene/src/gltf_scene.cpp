@@ -80,8 +80,9 @@ Image rgba_of(const Image& image) {
 Image linear_base_colour(const Image& decoded) {
     Image rgba = rgba_of(decoded);
     for (std::size_t i = 0; i < rgba.texel_count(); ++i)
-        for (int c = 0; c < 3; ++c) rgba.pixels[i * 4 + std::size_t(c)] =
-            srgb_to_linear(rgba.pixels[i * 4 + std::size_t(c)]);
+        for (int c = 0; c < 3; ++c)
+            rgba.pixels[i * 4 + std::size_t(c)] =
+                srgb_to_linear(rgba.pixels[i * 4 + std::size_t(c)]);
     return rgba;
 }
 

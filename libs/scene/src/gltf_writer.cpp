@@ -537,8 +537,9 @@ void write_filtered_gltf(const std::string& input, const std::string& output,
         throw Error(output, "a glTF output is a .gltf or .glb file");
     if (settings_in.compression != io::BlockCompression::None &&
         settings_in.compression != io::BlockCompression::Basis)
-        throw Error::setting("compress", "a glTF's KHR_texture_basisu images are basis (Basis Universal "
-                                  "UASTC) or none (RGBA8 KTX2)");
+        throw Error::setting("compress",
+                             "a glTF's KHR_texture_basisu images are basis (Basis Universal "
+                             "UASTC) or none (RGBA8 KTX2)");
     const bool binary_out = extension == ".glb";
 
     const GltfScene gltf = load_gltf(input);

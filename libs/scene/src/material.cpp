@@ -40,15 +40,16 @@ void validate_layers(const Scene& scene, const Material& m) {
     validate(blend);
     if (int(l.weights.size()) != n)
         throw Error::setting("layer-weights", std::to_string(l.weights.size()) + " weights for " +
-                                         std::to_string(n) + " layers");
+                                                  std::to_string(n) + " layers");
     if (l.weight_map >= int(scene.weight_maps.size()) || l.weight_map < -1)
         throw Error("scene", where + " uses weight map " + std::to_string(l.weight_map) + " of " +
                                  std::to_string(scene.weight_maps.size()));
     if (l.weight_map >= 0) {
         const Image& w = scene.weight_maps[std::size_t(l.weight_map)];
         if (w.channels != 4 || w.width < 1 || w.height < 1)
-            throw Error::setting("layer-weight-map", "a weight map has 4 channels (t_0..t_3), got " +
-                                                std::to_string(w.channels));
+            throw Error::setting(
+                "layer-weight-map",
+                "a weight map has 4 channels (t_0..t_3), got " + std::to_string(w.channels));
     }
     // Mixed into one generated map (docs/math.md §6): whole tilings, a bounded size.
     if (l.mixing == LayerMixing::Height) mixed_map_size(scene, m);
@@ -83,14 +84,14 @@ void validate_surface_map(const MapKindInfo& kind, const std::vector<Image>& cha
     int w = chain.front().width, h = chain.front().height;
     const std::size_t levels = kind.mips == MapMips::Given ? std::size_t(mip_level_count(w, h)) : 1;
     if (chain.size() != levels)
-        throw fail(what + (kind.mips == MapMips::Given ? " needs its full MIP chain: "
-                                                                 : " holds level 0 only: ") +
-                                 std::to_string(levels) + " levels, got " +
-                                 std::to_string(chain.size()));
+        throw fail(what +
+                   (kind.mips == MapMips::Given ? " needs its full MIP chain: "
+                                                : " holds level 0 only: ") +
+                   std::to_string(levels) + " levels, got " + std::to_string(chain.size()));
     for (const Image& level : chain) {
         if (level.width != w || level.height != h || level.channels != kind.channels)
             throw fail(what + "'s levels are " + std::to_string(kind.channels) +
-                                     "-channel and halve in size");
+                       "-channel and halve in size");
         for (float v : level.pixels) {
             if (!std::isfinite(v)) throw fail(what + " has a value that is not finite");
             if (kind.kind == MapKind::BaseRoughness && !(v >= 0.0f))

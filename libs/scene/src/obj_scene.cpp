@@ -139,9 +139,9 @@ struct MaterialBuilder {
         }
         if (!m.roughness_map.empty()) {
             const std::string path = confined_path(mtl, "map_Pr", m.roughness_map, folder);
-            out.map(MapKind::BaseRoughness) = scene.add_map(
-                MapKind::BaseRoughness,
-                base_alpha_squared_mips(base_roughness_channel(read(path)), 0, path));
+            out.map(MapKind::BaseRoughness) =
+                scene.add_map(MapKind::BaseRoughness,
+                              base_alpha_squared_mips(base_roughness_channel(read(path)), 0, path));
         } else if (m.roughness) {
             out.map(MapKind::BaseRoughness) = scene.add_map(
                 MapKind::BaseRoughness, base_alpha_squared_mips(Image(1, 1, 1, *m.roughness)));

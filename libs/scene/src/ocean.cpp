@@ -41,14 +41,14 @@ void validate(const OceanSettings& s) {
         throw Error::setting("ocean-extent", "must be in [1000, 1e6] metres");
     if (s.extent / s.tile_length > 8000.0f)
         throw Error::setting("ocean-extent",
-                    "more than 8000 wave tiles across the ocean (texture "
-                    "coordinates would lose precision)");
+                             "more than 8000 wave tiles across the ocean (texture "
+                             "coordinates would lose precision)");
     if (s.texture_size < 16 || s.texture_size > 4096)
         throw Error::setting("texture_size", "the ocean's wave tiles are 16..4096 texels, got " +
-                                        std::to_string(s.texture_size));
+                                                 std::to_string(s.texture_size));
     if (s.layers < 2 || s.layers > kMaxLayers)
-        throw Error::setting("ocean_layers", "2.." + std::to_string(kMaxLayers) + " wave layers, got " +
-                                        std::to_string(s.layers));
+        throw Error::setting("ocean_layers", "2.." + std::to_string(kMaxLayers) +
+                                                 " wave layers, got " + std::to_string(s.layers));
     if (!(s.loop_seconds > 0.0f) || !std::isfinite(s.loop_seconds) || s.loop_seconds > 1e6f)
         throw Error::setting("ocean-loop", "must be in (0, 1e6] seconds");
     if (s.flow == OceanFlow::Image) {
@@ -56,11 +56,13 @@ void validate(const OceanSettings& s) {
             throw Error::setting("flow", "the flow field needs 2 channels and at least one texel");
         if (s.flow_field.width > kDefaultMaxImageDimension ||
             s.flow_field.height > kDefaultMaxImageDimension)
-            throw Error::setting("flow", "larger than " + std::to_string(kDefaultMaxImageDimension) +
-                                        " texels on a side");
+            throw Error::setting(
+                "flow",
+                "larger than " + std::to_string(kDefaultMaxImageDimension) + " texels on a side");
     }
     if (s.flow == OceanFlow::Gyre && (s.flow_size < 4 || s.flow_size > 4096))
-        throw Error::setting("flow-size", "must be in [4, 4096] texels, got " + std::to_string(s.flow_size));
+        throw Error::setting("flow-size",
+                             "must be in [4, 4096] texels, got " + std::to_string(s.flow_size));
     if (!(s.wave_strength > 0.0f) || !std::isfinite(s.wave_strength) || s.wave_strength > 100.0f)
         throw Error::setting("ocean-strength", "must be in (0, 100]");
 }
@@ -155,7 +157,8 @@ glm::vec3 ocean_sky_colour() {
 
 ShadingSettings ocean_shading(const OceanSettings& s, float aspect) {
     validate(s);
-    if (!(aspect > 0.0f) || !std::isfinite(aspect)) throw Error::setting("size", "aspect must be > 0");
+    if (!(aspect > 0.0f) || !std::isfinite(aspect))
+        throw Error::setting("size", "aspect must be > 0");
     const float metres = ocean_metres_per_world_unit(s);
     ShadingSettings shading;
     // LEAN Fig. 1: "artist-selected shininess equivalent to a Blinn-Phong specular exponent of
@@ -208,7 +211,8 @@ OceanCamera ocean_camera(const std::string& name, const OceanSettings& s) {
         height = 300.0f;
         pitch = 18.0f;
     } else {
-        throw Error::setting("views", "unknown ocean view '" + name + "' (valid: near, mid or far)");
+        throw Error::setting("views",
+                             "unknown ocean view '" + name + "' (valid: near, mid or far)");
     }
     OceanCamera camera;
     camera.name = name;

@@ -99,9 +99,9 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // A strength other than the default was given for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)
-        throw Error::file_mentioning(
-            f.source, "is a normal map: 'bump_strength' applies to height maps only",
-            {"bump_strength"});
+        throw Error::file_mentioning(f.source,
+                                     "is a normal map: 'bump_strength' applies to height maps only",
+                                     {"bump_strength"});
     if (report != nullptr && baked.packed.normal_repairs.any())
         report->repaired.emplace_back(f.source, baked.packed.normal_repairs);
     if (report != nullptr && baked.source == BakeSource::Normal) {
@@ -199,14 +199,16 @@ Image load_weight_map(const std::string& path, int layers, int max_size) {
 void check_roughness_map(const SceneSource& source, const ShadingSettings& settings) {
     if (source.bumps.map_file(MapKind::BaseRoughness).empty()) return;
     if (settings.brdf != Brdf::CookTorrance)
-        throw Error::setting(map_setting(MapKind::BaseRoughness),
-                    "needs 'brdf' cook-torrance (the base roughness of Blinn-Phong is 1/s, "
-                    "'shininess')",
-                    {"brdf", "shininess"});
+        throw Error::setting(
+            map_setting(MapKind::BaseRoughness),
+            "needs 'brdf' cook-torrance (the base roughness of Blinn-Phong is 1/s, "
+            "'shininess')",
+            {"brdf", "shininess"});
     if (is_ocean_scene(source.scene) || is_gltf_path(source.scene))
-        throw Error::setting(map_setting(MapKind::BaseRoughness),
-                    "applies to the material of the bumps or layers, not to the ocean or a "
-                    "glTF scene's own materials");
+        throw Error::setting(
+            map_setting(MapKind::BaseRoughness),
+            "applies to the material of the bumps or layers, not to the ocean or a "
+            "glTF scene's own materials");
 }
 
 void add_roughness_map(Scene& result, const BumpMapSource& bumps) {
@@ -225,9 +227,10 @@ void add_roughness_map(Scene& result, const BumpMapSource& bumps) {
 void check_roughness_mips(const SceneSource& source) {
     if (source.bumps.map_file(MapKind::RoughnessMips).empty()) return;
     if (is_ocean_scene(source.scene) || is_gltf_path(source.scene) || !source.layers.empty())
-        throw Error::setting(map_setting(MapKind::RoughnessMips),
-                    "applies to the material of the bumps, not to layers, the ocean or a glTF "
-                    "scene's own materials");
+        throw Error::setting(
+            map_setting(MapKind::RoughnessMips),
+            "applies to the material of the bumps, not to layers, the ocean or a glTF "
+            "scene's own materials");
 }
 
 void add_roughness_mips(Scene& result, const BumpMapSource& bumps) {
@@ -253,15 +256,16 @@ void check_image_maps(const SceneSource& source) {
         if (row.file_read != MapFileRead::Image || source.bumps.map_file(row.kind).empty())
             continue;
         if (is_ocean_scene(source.scene) || is_gltf_path(source.scene))
-            throw Error::setting(std::string(row.setting),
-                        "applies to the material of the bumps or layers, not to the ocean or a "
-                        "glTF scene's own materials");
+            throw Error::setting(
+                std::string(row.setting),
+                "applies to the material of the bumps or layers, not to the ocean or a "
+                "glTF scene's own materials");
     }
 }
 
 // `image` with the row's channel count: RGBA (detail::rgba_of: grey replicated to RGB, alpha 1
-// where absent) for 4, the first channel (detail::image_channel) for 1. Throws Error(path, cause) for a value that is not
-// finite or below 0.
+// where absent) for 4, the first channel (detail::image_channel) for 1. Throws Error(path, cause)
+// for a value that is not finite or below 0.
 Image map_channels(const Image& image, int channels, const std::string& path) {
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x)
@@ -350,7 +354,8 @@ void add_layered_material(Scene& result, const SceneSource& source, const Shadin
             for (std::size_t j = i + 1; j < n; ++j) {
                 if (slopes[i].width != slopes[j].width || slopes[i].height != slopes[j].height)
                     throw Error::setting("layers", "mixing textures needs layers of one size: '" +
-                                              sources[i] + "' and '" + sources[j] + "' differ");
+                                                       sources[i] + "' and '" + sources[j] +
+                                                       "' differ");
                 material.layered.cross_terms.push_back(int(result.cross_terms.size()));
                 result.cross_terms.push_back(build_cross_terms(slopes[i], slopes[j]));
             }
