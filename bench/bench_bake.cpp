@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/detail/procedural.hpp"
@@ -329,9 +330,11 @@ void BM_BakeEndToEnd(benchmark::State& state) {
     io::WriteOptions write_options;
     write_options.threads = options.threads;
     for (auto _ : state) {
-        io::bake_to_ktx2(out, io::read_image_compact(input_png(), read_options),
-                         BakeSource::Normal, options, Storage::Unorm16, "bench", input_png(),
-                         write_options);
+        const std::variant<Image, UnormImage> samples =
+            io::read_image_compact(input_png(), read_options);
+        io::Ktx2FileSink file(out, write_options);
+        bake(BakeInput(samples, BakeSource::Normal, input_png()),
+             BakeSettings{options, {Storage::Unorm16, false}, "bench", true}, file);
     }
     state.counters["texels_per_s"] =
         benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),

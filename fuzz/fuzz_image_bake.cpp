@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fuzz_common.hpp"
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/io/image_io.hpp"

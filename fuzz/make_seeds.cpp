@@ -433,7 +433,7 @@ void preset_seeds(const fs::path& dir) {
     write_file(dir / "defaults.json", preset_to_json(preset));
     preset.scene = "sphere";
     preset.bumps.source = "ridges";
-    preset.bumps.bits = BakeStorage::fixed(Storage::Float16);
+    preset.bumps.bits = StoragePolicy::fixed(Storage::Float16);
     preset.shading.fog = FogMode::Exp2;
     preset.shading.fade_distance = FadeDistance::Eye;
     preset.shading.anisotropy = 8;

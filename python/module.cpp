@@ -39,7 +39,7 @@ namespace {
 
 // The settings of one bake, as `leanfade bake`'s flags set them (tools/leanfade/cli_bake_plan.cpp:
 // bake_settings): the same names without the dashes.
-struct BakeSettings {
+struct PyBakeSettings {
     BakeOptions options;
     BakeSource source = BakeSource::Auto;
     StoragePolicy storage;
@@ -87,23 +87,23 @@ T named(const char* setting, py::handle value, const std::vector<std::pair<std::
 }
 
 // One row per bake setting: `leanfade bake`'s flag without the dashes ("from_" for --from), its
-// default, and what it sets in BakeSettings, checked (in the table's order: `from_` before
+// default, and what it sets in PyBakeSettings, checked (in the table's order: `from_` before
 // `strength`, which depends on it). BakeSettings(**settings), the module's BAKE_SETTINGS and
 // leanfade.BAKE_SETTINGS (python/leanfade/__init__.py) read this table.
 struct BakeSettingSpec {
     const char* name;
     py::object (*default_value)();
-    void (*apply)(BakeSettings& settings, py::handle value);
+    void (*apply)(PyBakeSettings& settings, py::handle value);
 };
 
 const std::vector<BakeSettingSpec>& bake_setting_specs() {
     static const std::vector<BakeSettingSpec> specs{
         {"from_", [] { return py::object(py::str("auto")); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.source = parse_bake_source(text_of("from", v), "from");
          }},
         {"strength", [] { return py::object(py::none()); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              if (v.is_none()) return;  // not given: 1, and no error for normal maps
              s.options.strength = finite_setting("strength", number_of("strength", v));
              if (s.options.strength == 0.0f)
@@ -115,37 +115,37 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              s.strength_given = true;
          }},
         {"strength_unit", [] { return py::object(py::str("texel")); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.options.strength_unit = named("strength_unit", v, strength_unit_names());
          }},
         {"sc", [] { return py::object(py::str("auto")); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.options.scale_excludes_outliers =
                  named<bool>("sc", v, {{"auto", true}, {"max", false}});
          }},
         {"directx", [] { return py::object(py::bool_(false)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.options.convention = value_of<bool>("directx", v, "a bool")
                                         ? NormalConvention::DirectX
                                         : NormalConvention::OpenGL;
          }},
         {"strict_normals", [] { return py::object(py::bool_(false)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.options.strict_normals = value_of<bool>("strict_normals", v, "a bool");
          }},
         {"bits", [] { return py::object(py::str("auto")); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.storage = parse_storage_policy(text_of("bits", v), "bits");
          }},
         {"bake_roughness", [] { return py::object(py::float_(0.0)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              const double shininess = number_of("bake_roughness", v);
              if (!(shininess >= 0.0) || !std::isfinite(shininess))
                  throw Error::setting("bake_roughness", "must be a positive shininess (0: none)");
              s.options.bake_roughness_shininess = float(shininess);
          }},
         {"plateau_epsilon", [] { return py::object(py::float_(double(kDefaultPlateauEpsilon))); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              const double epsilon = number_of("plateau_epsilon", v);
              if (!(epsilon >= 0.0) || !std::isfinite(epsilon))
                  throw Error::setting("plateau_epsilon",
@@ -153,13 +153,13 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              s.options.plateau_epsilon = float(epsilon);
          }},
         {"spike", [] { return py::object(py::str(to_string(SpikeFit::Auto))); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.options.spike_fit = parse_spike_fit(text_of("spike", v), "spike");
          }},
         {"wrap", [] { return py::object(py::str("repeat")); },
-         [](BakeSettings& s, py::handle v) { s.options.wrap = named("wrap", v, wrap_names()); }},
+         [](PyBakeSettings& s, py::handle v) { s.options.wrap = named("wrap", v, wrap_names()); }},
         {"threads", [] { return py::object(py::int_(0)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              const int threads = value_of<int>("threads", v, "an integer");
              if (threads < 0 || threads > 256)
                  throw Error::setting("threads", "must be in [0, 256] (0 = all cores)");
@@ -167,7 +167,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
              s.write_options.threads = threads;
          }},
         {"max_size", [] { return py::object(py::int_(kDefaultMaxImageDimension)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              const int max_size = value_of<int>("max_size", v, "an integer");
              if (max_size < 1 || max_size > (1 << 20))
                  throw Error::setting("max_size", "must be in [1, 1048576]");
@@ -175,12 +175,12 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
          }},
         // The KTX2 file's supercompression (save, to_bytes), as `bake --supercompression`.
         {"supercompression", [] { return py::object(py::str("zstd")); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              s.write_options.supercompression =
                  named("supercompression", v, io::supercompression_names());
          }},
         {"zstd_level", [] { return py::object(py::int_(3)); },
-         [](BakeSettings& s, py::handle v) {
+         [](PyBakeSettings& s, py::handle v) {
              const int level = value_of<int>("zstd_level", v, "an integer");
              if (level < 1 || level > 19) throw Error::setting("zstd_level", "must be in [1, 19]");
              s.write_options.zstd_level = level;
@@ -191,7 +191,7 @@ const std::vector<BakeSettingSpec>& bake_setting_specs() {
 
 // The settings of `given` (keyword -> value), every other at its default. Throws
 // leanfade::Error naming an unknown or bad setting.
-BakeSettings make_settings(const py::kwargs& given) {
+PyBakeSettings make_settings(const py::kwargs& given) {
     std::string names;
     for (const BakeSettingSpec& spec : bake_setting_specs())
         names += std::string(names.empty() ? "" : ", ") + spec.name;
@@ -201,7 +201,7 @@ BakeSettings make_settings(const py::kwargs& given) {
         for (const BakeSettingSpec& spec : bake_setting_specs()) known = known || name == spec.name;
         if (!known) throw Error(name, "not a bake setting (expected one of " + names + ")");
     }
-    BakeSettings settings;
+    PyBakeSettings settings;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only, as the CLI reads them
     for (const BakeSettingSpec& spec : bake_setting_specs()) {
         const py::object value = given.contains(spec.name) ? py::object(given[spec.name])
@@ -277,7 +277,7 @@ struct Source {
     std::string file;  // the input file, when read from one
 };
 
-Source read_source(const py::object& source, const std::string& name, const BakeSettings& settings) {
+Source read_source(const py::object& source, const std::string& name, const PyBakeSettings& settings) {
     Source result;
     if (is_path(source)) {
         result.file = result.name = path_text(source);
@@ -395,7 +395,7 @@ void save_map(const LeanMapObject& map, const std::string& path, bool fsync) {
 }
 
 std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string& name,
-                                    const BakeSettings& settings) {
+                                    const PyBakeSettings& settings) {
     Source input = read_source(source, name, settings);
     auto map = std::make_shared<LeanMapObject>();
     map->input_file = input.file;
@@ -403,8 +403,8 @@ std::shared_ptr<LeanMapObject> bake(const py::object& source, const std::string&
     map->has_summary = true;
     {
         py::gil_scoped_release unlocked;
-        map->baked = bake_packed_image(input.image, settings.source, settings.options,
-                                       settings.storage, LEANFADE_GENERATOR, input.name);
+        map->baked = leanfade::bake(BakeInput(input.image, settings.source, input.name),
+                                    {settings.options, settings.storage, LEANFADE_GENERATOR});
     }
     if (settings.strength_given && map->baked.source == BakeSource::Normal)
         throw Error(input.name, "is a normal map: strength applies to height maps only");
@@ -454,7 +454,7 @@ PYBIND11_MODULE(_leanfade, m) {
         }
     });
 
-    py::class_<BakeSettings>(m, "BakeSettings",
+    py::class_<PyBakeSettings>(m, "BakeSettings",
                              "The settings of one bake: `leanfade bake`'s flags, checked.")
         .def(py::init([](const py::kwargs& settings) { return make_settings(settings); }));
     // Every setting with its default (bake_setting_specs).
@@ -517,7 +517,7 @@ PYBIND11_MODULE(_leanfade, m) {
 
     m.def(
         "bake",
-        [](const py::object& source, const BakeSettings& settings, const std::string& name) {
+        [](const py::object& source, const PyBakeSettings& settings, const std::string& name) {
             return bake(source, name, settings);
         },
         py::arg("source"), py::arg("settings"), py::arg("name") = "",
@@ -585,7 +585,7 @@ PYBIND11_MODULE(_leanfade, m) {
 
     m.def(
         "roughness_textures",
-        [](const py::object& source, const BakeSettings& settings, double base_roughness,
+        [](const py::object& source, const PyBakeSettings& settings, double base_roughness,
            const std::string& name) {
             if (!(base_roughness >= 0.0 && base_roughness <= 1.0))
                 throw Error::setting("base_roughness", "must be in [0, 1]");

@@ -73,9 +73,10 @@ int main(int argc, char** argv) {
         const int width = 96, height = 40;
         leanfade::BakeOptions options;
         options.strength = 1.0f;
-        const leanfade::PackedBakeResult baked =
-            leanfade::bake_packed(height_map(width, height), leanfade::BakeSource::Height, options,
-                                  leanfade::Storage::Unorm16, "leanfade consumer example");
+        const leanfade::Image heights = height_map(width, height);
+        const leanfade::PackedBakeResult baked = leanfade::bake(
+            leanfade::BakeInput(heights, leanfade::BakeSource::Height),
+            leanfade::BakeSettings{options, {leanfade::Storage::Unorm16}, "leanfade consumer example"});
         const leanfade::PackedLeanMap& map = baked.packed;
         check(map.levels.size() == std::size_t(leanfade::mip_level_count(width, height)),
               "the bake has every MIP level");
@@ -137,9 +138,9 @@ int main(int argc, char** argv) {
         std::string read_back;
         if (argc == 3) {
             const leanfade::Image image = leanfade::io::read_image(argv[2]);
-            const leanfade::PackedBakeResult from_file =
-                leanfade::bake_packed(image, leanfade::BakeSource::Auto, leanfade::BakeOptions{},
-                                      leanfade::Storage::Unorm16, "leanfade consumer example");
+            const leanfade::PackedBakeResult from_file = leanfade::bake(
+                leanfade::BakeInput(image, leanfade::BakeSource::Auto, argv[2]),
+                leanfade::BakeSettings{{}, {leanfade::Storage::Unorm16}, "leanfade consumer example"});
             check(from_file.packed.levels.size() ==
                       std::size_t(leanfade::mip_level_count(image.width, image.height)),
                   "the bake of the file has every MIP level");

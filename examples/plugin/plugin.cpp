@@ -17,9 +17,9 @@ extern "C" __attribute__((visibility("default"))) int leanfade_plugin_bake(int w
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x)
                 image.at(x, y) = std::sin(0.7f * float(x)) * std::cos(0.4f * float(y));
-        const leanfade::PackedBakeResult baked =
-            leanfade::bake_packed(image, leanfade::BakeSource::Height, leanfade::BakeOptions{},
-                                  leanfade::Storage::Unorm16, "leanfade plugin example");
+        const leanfade::PackedBakeResult baked = leanfade::bake(
+            leanfade::BakeInput(image, leanfade::BakeSource::Height),
+            leanfade::BakeSettings{{}, {leanfade::Storage::Unorm16}, "leanfade plugin example"});
         const std::vector<std::uint8_t> bytes = leanfade::io::write_ktx2_to_memory(baked.packed);
         const leanfade::PackedLeanMap read = leanfade::io::read_ktx2_from_memory(bytes, "memory");
         return int(read.levels.size());

@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/plateau.hpp"

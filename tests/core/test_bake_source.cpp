@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/image.hpp"
 #include "leanfade/core/lean_map.hpp"

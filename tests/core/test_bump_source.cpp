@@ -26,21 +26,22 @@ void expect_error(const std::function<void()>& f, const std::string& setting,
     }
 }
 
-TEST(BakeStorage, AutoIsAValueAndTheDefaultEverywhere) {
+TEST(StoragePolicy, AutoIsAValueAndTheDefaultEverywhere) {
     EXPECT_TRUE(BumpSource{}.bits.automatic);
     EXPECT_EQ(BumpSource{}.bits.storage, Storage::Unorm16);  // the first bake of auto
     EXPECT_EQ(Preset{}.bumps.bits, BumpSource{}.bits);
-    EXPECT_STREQ(to_string(BakeStorage{}), "auto");
+    EXPECT_STREQ(to_string(StoragePolicy::measured()), "auto");
+    EXPECT_EQ(BumpSource{}.bits, StoragePolicy::measured());
     EXPECT_NE(preset_to_json(Preset{}).find("\"bits\": \"auto\""), std::string::npos);
     for (const std::string& name : bake_storage_names()) {
-        const BakeStorage bits = parse_bake_storage_choice(name);
+        const StoragePolicy bits = parse_storage_policy(name);
         EXPECT_EQ(to_string(bits), name);
         EXPECT_EQ(bits.automatic, name == "auto") << name;
     }
-    EXPECT_EQ(parse_bake_storage_choice("16f"), BakeStorage::fixed(Storage::Float16));
-    EXPECT_NE(parse_bake_storage_choice("16"), BakeStorage{});  // 16 is not auto
-    expect_error([] { parse_bake_storage_choice("12"); }, "bits", "got");
-    expect_error([] { parse_bake_storage_choice("12", "--bits"); }, "--bits", "got");
+    EXPECT_EQ(parse_storage_policy("16f"), StoragePolicy::fixed(Storage::Float16));
+    EXPECT_NE(parse_storage_policy("16"), StoragePolicy::measured());  // 16 is not auto
+    expect_error([] { parse_storage_policy("12"); }, "bits", "got");
+    expect_error([] { parse_storage_policy("12", "--bits"); }, "--bits", "got");
 }
 
 TEST(TextureSize, OneRuleWithTheImageLimit) {
@@ -138,7 +139,7 @@ TEST(PresetLayers, LayersMapsAndTechniquesRoundTripTyped) {
     p.layers.mixing = LayerMixing::Approx;
     p.maps = {{"roughness_map", "rough.png"}};
     p.bumps.from = BakeSource::Height;
-    p.bumps.bits = BakeStorage::fixed(Storage::Unorm8);
+    p.bumps.bits = StoragePolicy::fixed(Storage::Unorm8);
     p.techniques = {Technique::Lean, Technique::Roughness};
     p.layout = PaneLayout::Split;
     const std::string text = preset_to_json(p);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/procedural.hpp"
 

@@ -23,7 +23,7 @@ Preset unusual_preset() {
     p.bumps.source = "ridges";
     p.bumps.from = BakeSource::Normal;
     p.bumps.directx = true;
-    p.bumps.bits = BakeStorage::fixed(Storage::Float16);
+    p.bumps.bits = StoragePolicy::fixed(Storage::Float16);
     p.bumps.seed = 4000000000u;
     p.bumps.texture_size = 128;
     ShadingSettings& s = p.shading;

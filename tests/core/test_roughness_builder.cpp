@@ -11,6 +11,7 @@
 #include <set>
 #include <tuple>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/core/roughness.hpp"

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/plateau.hpp"

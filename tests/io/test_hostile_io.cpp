@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io_test_helpers.hpp"
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/procedural.hpp"
 #include "leanfade/io/image_io.hpp"

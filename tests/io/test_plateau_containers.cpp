@@ -6,6 +6,7 @@
 #include <string>
 
 #include "io_test_helpers.hpp"
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/lean_map.hpp"
 #include "leanfade/core/detail/plateau.hpp"
 #include "leanfade/core/detail/procedural.hpp"

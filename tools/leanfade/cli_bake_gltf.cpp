@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
-scene::GltfBakeSettings gltf_bake_settings(const BakeStorage& bits, int max_size, int threads,
+scene::GltfBakeSettings gltf_bake_settings(const StoragePolicy& bits, int max_size, int threads,
                                            bool strict_normals) {
     scene::GltfBakeSettings settings;
     settings.strict_normals = strict_normals;

@@ -17,7 +17,7 @@ namespace leanfade::cli {
 struct GltfBakeArgs {
     std::string input;    // the .gltf or .glb
     std::string out_dir;  // empty: the glTF's folder
-    BakeStorage bits = BakeStorage::fixed(Storage::Unorm16);  // auto: 16 (bounded slopes)
+    StoragePolicy bits = StoragePolicy::fixed(Storage::Unorm16);  // auto: 16 (bounded slopes)
     int threads = 0;
     int max_size = 0;  // largest image side; 0: the default limit
     std::string json;  // also write the summaries as JSON
@@ -36,7 +36,7 @@ struct GltfBakeArgs {
 // What the glTF commands share (cli_bake_gltf.cpp, cli_bake_gltf_out.cpp):
 // The bake settings of --bits (8, 16, 16f, 32f), --max-size (0: the default), --threads and
 // --strict-normals, through the LEAN-map cache.
-scene::GltfBakeSettings gltf_bake_settings(const BakeStorage& bits, int max_size, int threads,
+scene::GltfBakeSettings gltf_bake_settings(const StoragePolicy& bits, int max_size, int threads,
                                            bool strict_normals);
 // Each of `warnings` as a "leanfade: PATH: ..." line on stderr.
 void print_warnings(const std::string& path, const std::vector<std::string>& warnings);

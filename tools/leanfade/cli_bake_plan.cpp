@@ -118,13 +118,13 @@ BakeArgs checked_bake_args(const BakeArgs& given) {
     return args;
 }
 
-BakeSettings bake_settings(const BakeArgs& args) {
+BakeRunSettings bake_settings(const BakeArgs& args) {
     const bool png_bits = args.bits.automatic || args.bits.storage == Storage::Unorm8 ||
                           args.bits.storage == Storage::Unorm16;
     if (args.format == LeanFileFormat::Png && !png_bits)
         throw Error("--bits", "a PNG pair holds 8 or 16 bits; " + std::string(to_string(args.bits)) +
                                   " needs --format ktx2");
-    BakeSettings settings;
+    BakeRunSettings settings;
     BakeOptions& options = settings.options;
     options.strength = args.strength;
     options.strength_unit = args.strength_unit;
@@ -140,7 +140,7 @@ BakeSettings bake_settings(const BakeArgs& args) {
     // auto: 16-bit UNORM; a map with outliers beyond sc (choose_lean_scale), or whose UNORM
     // second moments would round away the base roughness, is baked again as half float
     // (leanfade::StorageProbe; docs/ktx2.md, "Choosing storage and sc"). PNG pairs: 16.
-    settings.storage = StoragePolicy{args.bits.storage, args.bits.automatic};
+    settings.storage = args.bits;
     settings.read_options.max_dimension = args.max_size;
     settings.read_options.drop_alpha = true;  // normal maps use RGB only
     settings.write_options.durability = args.fsync ? io::Durability::Flush : io::Durability::Rename;

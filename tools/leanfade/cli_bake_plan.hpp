@@ -38,7 +38,7 @@ struct BakeArgs {
     bool sc_excludes_outliers = true;  // --sc auto (true) or max
     bool directx = false;
     bool strict_normals = false;
-    BakeStorage bits;  // auto: 16, or 16f for a map with outliers beyond sc
+    StoragePolicy bits = StoragePolicy::measured();  // auto: 16, or 16f by the probe
     float bake_roughness = 0.0f;
     // The plateau layer's epsilon (slope units; 0 = no layer): BakeOptions::plateau_epsilon.
     float plateau_epsilon = kDefaultPlateauEpsilon;
@@ -116,7 +116,7 @@ std::string applicable_flags_text(BakeKind kind);
 BakeArgs checked_bake_args(const BakeArgs& given);
 
 // What every bake of the run uses.
-struct BakeSettings {
+struct BakeRunSettings {
     BakeOptions options;
     BakeSource source = BakeSource::Auto;  // of the input files (built-in sets are height maps)
     StoragePolicy storage;  // leanfade::StoragePolicy of --bits
@@ -126,7 +126,7 @@ struct BakeSettings {
 
 // The settings of checked_bake_args' flags. Throws leanfade::Error("--bits", ...) for a PNG pair
 // of other than 8 or 16 bits.
-BakeSettings bake_settings(const BakeArgs& args);
+BakeRunSettings bake_settings(const BakeArgs& args);
 
 // One input of the run and where its outputs go.
 struct BakeJob {

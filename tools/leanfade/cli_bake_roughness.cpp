@@ -185,8 +185,8 @@ RoughnessExport::RoughnessExport(const RoughnessBakeArgs& args, int width, int h
 
 void RoughnessExport::bake_alone(const std::variant<Image, UnormImage>& input, BakeSource source,
                                  const BakeOptions& options, const std::string& source_name) {
-    std::visit([&](const auto& image) { bake_moments(image, source, options, source_name, sink()); },
-               input);
+    MomentsOnlySink moments(sink());
+    bake(BakeInput(input, source, source_name), BakeSettings{options}, moments);
 }
 
 void RoughnessExport::write_texture(const std::string& path, const std::vector<Rgba8Image>& levels,

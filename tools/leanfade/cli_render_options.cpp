@@ -155,7 +155,7 @@ void add_lean_source_options(CLI::App& app, scene::BumpMapSource& f) {
         ->group(group);
     add_typed_option(
         app, "--bits", f.bits,
-        [](const std::string& text) { return parse_bake_storage_choice(text, "--bits"); },
+        [](const std::string& text) { return parse_storage_policy(text, "--bits"); },
         "Storage of on-the-fly bakes: " + name_list(bake_storage_names()) +
             " (auto: 16, or 16f/32f by the predicted error, as bake)",
         to_string(f.bits))

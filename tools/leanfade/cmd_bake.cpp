@@ -82,7 +82,7 @@ int run_gltf_bake(const BakeArgs& given) {
 
 // One job's input: 8- and 16-bit files stay integer samples (half the memory of floats).
 std::variant<Image, UnormImage> read_job_input(const BakeJob& job, const BakeArgs& args,
-                                               const BakeSettings& settings) {
+                                               const BakeRunSettings& settings) {
     if (job.from_file) return io::read_image_compact(job.name, settings.read_options);
     return make_builtin_height(args.builtin, args.size, args.seed);
 }
@@ -101,21 +101,19 @@ struct StagedBake {
 // `moments`: the engine textures' sink, or empty.
 StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, UnormImage>& input,
                                   BakeSource kind, const BakeArgs& args,
-                                  const BakeSettings& settings, io::OutputTransaction& outputs,
+                                  const BakeRunSettings& settings, io::OutputTransaction& outputs,
                                   const MomentRunSink& moments) {
     StagedBake result;
+    const BakeInput samples(input, kind, job.name);
     if (args.format == LeanFileFormat::Png) {
-        Image converted;
-        BakeOptions options = settings.options;
-        const Image* floats = std::get_if<Image>(&input);
-        if (floats == nullptr) {
-            const UnormImage& samples = std::get<UnormImage>(input);
-            floats = &(converted = samples.to_float());
-            // The plateau rule's quantisation step: the samples' own precision.
-            options.source_max_code = samples.effective_max_code(kind == BakeSource::Height ? 1 : 3);
-        }
-        result.baked = bake_packed(*floats, kind, options, settings.storage.storage,
-                                   generator_string(), job.name, moments);
+        // The pair's files were planned with the plateau layer: it stays, empty or not.
+        PackedMapSink memory;
+        memory.threads = settings.options.threads;
+        memory.moments = moments;
+        result.baked = bake(samples,
+                            BakeSettings{settings.options, {settings.storage.storage, false},
+                                         generator_string(), true},
+                            memory);
         io::write_lean_png_pair(
             outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]), result.baked.packed,
             settings.write_options, job.outputs.size() > 2 ? outputs.stage(job.outputs[2]) : "");
@@ -125,9 +123,10 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
     }
     result.output = job.outputs[0];
     result.staged = outputs.stage(result.output);
-    result.baked = io::bake_image_to_ktx2(result.staged, input, kind, settings.options,
-                                          settings.storage, generator_string(), job.name,
-                                          settings.write_options, settings.read_options, moments);
+    io::Ktx2FileSink file(result.staged, settings.write_options, settings.read_options);
+    file.moments = moments;
+    result.baked =
+        bake(samples, BakeSettings{settings.options, settings.storage, generator_string()}, file);
     return result;
 }
 
@@ -149,7 +148,7 @@ std::vector<std::string> engine_outputs(const BakeArgs& args) {
 // input is reported and the others go on.
 class BakeRun {
   public:
-    BakeRun(const BakeArgs& args, const BakeSettings& settings, const std::vector<BakeJob>& jobs)
+    BakeRun(const BakeArgs& args, const BakeRunSettings& settings, const std::vector<BakeJob>& jobs)
         : args_(args),
           settings_(settings),
           jobs_(jobs),
@@ -276,7 +275,7 @@ class BakeRun {
     }
 
     const BakeArgs& args_;
-    const BakeSettings& settings_;
+    const BakeRunSettings& settings_;
     const std::vector<BakeJob>& jobs_;
     const bool one_group_;
     const bool progress_;
@@ -298,7 +297,7 @@ int run_bake(const BakeArgs& given) {
     const io::CreatedFolders out_folder(args.out_dir);
     const io::CreatedFolders output_folder(
         args.output.empty() ? std::string() : std::filesystem::path(args.output).parent_path().string());
-    const BakeSettings settings = bake_settings(args);
+    const BakeRunSettings settings = bake_settings(args);
     const std::vector<BakeJob> jobs = plan_bake_jobs(args);
     return BakeRun(args, settings, jobs).run();
 }
@@ -337,7 +336,7 @@ const CommandRegistration registration{
                      "as flat and raising the others (counted and reported)");
         add_typed_option(
             app, "--bits", args->bits,
-            [](const std::string& text) { return parse_bake_storage_choice(text, "--bits"); },
+            [](const std::string& text) { return parse_storage_policy(text, "--bits"); },
             "Storage: " + name_list(bake_storage_names()) +
                 " (8, 16: UNORM; 16f, 32f: float; auto: 16, or 16f for a map with "
                 "outliers beyond sc, which 16 would clamp, or 16f/32f where 16's "

@@ -359,7 +359,7 @@ void App::panel_bumps() {
     const std::vector<std::string>& bits = bake_storage_names();
     int bit = index_of(bits, to_string(bumps_field_.bits));
     if (combo("storage bits", bit, bits))
-        bumps_field_.bits = parse_bake_storage_choice(bits[std::size_t(bit)]);
+        bumps_field_.bits = parse_storage_policy(bits[std::size_t(bit)]);
     int seed = int(bumps_field_.seed);
     if (ImGui::InputInt("seed", &seed)) bumps_field_.seed = std::uint32_t(std::max(0, seed));
     static const std::vector<std::string> sizes{"64", "128", "256", "512", "1024", "2048"};

@@ -33,6 +33,7 @@
 #include "lean_map_internal.hpp"
 #include "leanfade/core/error.hpp"
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/detail/bake.hpp"
 #include "leanfade/core/detail/memory.hpp"
 #include "leanfade/core/detail/parallel.hpp"
 #include "leanfade/core/detail/plateau.hpp"
@@ -417,7 +418,7 @@ using TargetProvider =
     std::function<std::vector<PackedLevelTarget>(PackedLeanMap& packed, int threads)>;
 
 // The input: a float image, or integer samples (exactly one of the two is set).
-struct BakeInput {
+struct Samples {
     const Image* floats = nullptr;
     const UnormImage* unorm = nullptr;
     int width() const { return floats != nullptr ? floats->width : unorm->width; }
@@ -435,7 +436,7 @@ Image first_channel(const UnormImage& input) {
     return height;
 }
 
-void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource source,
+void bake_repaired(PackedBakeResult& result, const Samples& input, BakeSource source,
                    const BakeOptions& options, Storage storage, const std::string& generator,
                    const std::string& source_name, const TargetProvider& provide_targets,
                    const NormalRepairs& repairs, const MomentRunSink& moments,
@@ -582,7 +583,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
 
 // The bake of a normal map's repaired copy where it has texels to repair (NormalRepairs), else of
 // the input as it is.
-void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
+void bake_samples(PackedBakeResult& result, const Samples& input, BakeSource source,
           const BakeOptions& options, Storage storage, const std::string& generator,
           const std::string& source_name, const TargetProvider& provide_targets,
           const MomentRunSink& moments) {
@@ -613,8 +614,77 @@ void bake(PackedBakeResult& result, const BakeInput& input, BakeSource source,
     }
     const Image repaired = repair_normal_map(input.floats != nullptr ? *input.floats
                                                                      : input.unorm->to_float());
-    bake_repaired(result, BakeInput{&repaired, nullptr}, resolved, options, storage, generator,
+    bake_repaired(result, Samples{&repaired, nullptr}, resolved, options, storage, generator,
                   source_name, provide_targets, repairs, moments, source_step);
+}
+
+}  // namespace
+
+const char* to_string(const StoragePolicy& policy) {
+    return policy.automatic ? "auto" : to_string(policy.storage);
+}
+
+StoragePolicy parse_storage_policy(std::string_view name, const std::string& setting) {
+    return {parse_bake_storage(name, setting), name == "auto"};
+}
+
+std::vector<PackedLevelTarget> PackedMapSink::open(const PackedLeanMap& layout) {
+    // The map's levels, taking the buffers of the earlier ones (sized_targets keeps a buffer of
+    // the right size as it is).
+    PackedLeanMap map;
+    map.metadata() = layout.metadata();
+    map.levels.resize(layout.levels.size());
+    for (std::size_t l = 0; l < layout.levels.size(); ++l) {
+        map.levels[l].width = layout.levels[l].width;
+        map.levels[l].height = layout.levels[l].height;
+        if (l < levels_.size())
+            for (const LeanLayerInfo& row : kLeanLayers)
+                map.levels[l].slice(row.layer) = std::move(levels_[l].slice(row.layer));
+    }
+    std::vector<PackedLevelTarget> targets =
+        sized_targets(map, map.storage, resolve_thread_count(threads));
+    levels_ = std::move(map.levels);
+    return targets;
+}
+
+void PackedMapSink::finish(PackedBakeResult& result, bool drop_plateau) {
+    result.packed.levels = std::move(levels_);
+    levels_.clear();
+    if (drop_plateau) remove_plateau_layer(result.packed);
+}
+
+PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings, BakeSink& sink) {
+    const Samples samples{input.floats(), input.integers()};
+    BakeOptions options = settings.options;
+    StoragePolicy policy = settings.storage;
+    if (!sink.takes_map()) {
+        // Nothing is packed: no plateau layer, and the float moments need no storage choice.
+        options.plateau_epsilon = 0.0f;
+        policy = {Storage::Float32, false};
+    }
+    PackedBakeResult result = bake_with_auto_storage(
+        policy.storage, policy.automatic, samples.width(), samples.height(),
+        [&](Storage storage, const MomentRunSink& probe) {
+            PackedBakeResult baked;
+            bake_samples(baked, samples, input.read_as, options, storage, settings.generator,
+                         input.name,
+                         [&](PackedLeanMap& packed, int) { return sink.open(packed); },
+                         both_sinks(sink.moments, probe));
+            return baked;
+        });
+    // Nothing flat: the map keeps no layer of zeros (a third of its bytes).
+    const bool drop_plateau = !settings.keep_empty_plateau && result.packed.has_plateau() &&
+                              result.summary.plateau_fraction == 0.0f;
+    if (drop_plateau) result.packed.plateau_epsilon = 0.0f;
+    sink.finish(result, drop_plateau);
+    return result;
+}
+
+namespace {
+
+BakeSettings packed_settings(const BakeOptions& options, Storage storage,
+                             const std::string& generator) {
+    return BakeSettings{options, StoragePolicy{storage, false}, generator, true};
 }
 
 }  // namespace
@@ -624,36 +694,31 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
                       const std::string& source_name, const MomentRunSink& moments) {
     // Keep the buffers of a previous result: baking a map of the same size and storage again
     // allocates nothing.
-    std::vector<PackedLevel> previous = std::move(result.packed.levels);
-    bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
-         [&](PackedLeanMap& packed, int threads) {
-             for (std::size_t l = 0; l < std::min(previous.size(), packed.levels.size()); ++l) {
-                 for (const LeanLayerInfo& row : kLeanLayers)
-                     packed.levels[l].slice(row.layer) = std::move(previous[l].slice(row.layer));
-             }
-             return sized_targets(packed, storage, threads);
-         },
-         moments);
+    PackedMapSink sink(std::move(result.packed.levels));
+    sink.threads = options.threads;
+    sink.moments = moments;
+    result = bake(BakeInput(input, source, source_name),
+                  packed_settings(options, storage, generator), sink);
 }
 
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name,
                                 const MomentRunSink& moments) {
-    PackedBakeResult result;
-    bake(result, BakeInput{&input, nullptr}, source, options, storage, generator, source_name,
-         [&](PackedLeanMap& packed, int) { return open_output(packed); }, moments);
-    return result;
+    LevelTargetsSink sink(open_output);
+    sink.moments = moments;
+    return bake(BakeInput(input, source, source_name), packed_settings(options, storage, generator),
+                sink);
 }
 
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name,
                                 const MomentRunSink& moments) {
-    PackedBakeResult result;
-    bake(result, BakeInput{nullptr, &input}, source, options, storage, generator, source_name,
-         [&](PackedLeanMap& packed, int) { return open_output(packed); }, moments);
-    return result;
+    LevelTargetsSink sink(open_output);
+    sink.moments = moments;
+    return bake(BakeInput(input, source, source_name), packed_settings(options, storage, generator),
+                sink);
 }
 
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
@@ -664,36 +729,15 @@ PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOp
     return result;
 }
 
-StoragePolicy parse_storage_policy(std::string_view name, const std::string& setting) {
-    return {parse_bake_storage(name, setting), name == "auto"};
-}
-
 PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input, BakeSource source,
                                    const BakeOptions& options, StoragePolicy storage,
                                    const std::string& generator, const std::string& source_name,
                                    const MomentRunSink& moments) {
-    const BakeInput samples = std::visit(
-        [](const auto& image) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(image)>, Image>)
-                return BakeInput{&image, nullptr};
-            else
-                return BakeInput{nullptr, &image};
-        },
-        input);
-    PackedBakeResult result = bake_with_auto_storage(
-        storage.storage, storage.automatic, samples.width(), samples.height(),
-        [&](Storage s, const MomentRunSink& probe) {
-            PackedBakeResult baked;
-            bake(baked, samples, source, options, s, generator, source_name,
-                 [&](PackedLeanMap& packed, int threads) {
-                     return sized_targets(packed, s, threads);
-                 },
-                 both_sinks(moments, probe));
-            return baked;
-        });
-    if (result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f)
-        remove_plateau_layer(result.packed);
-    return result;
+    PackedMapSink sink;
+    sink.threads = options.threads;
+    sink.moments = moments;
+    return bake(BakeInput(input, source, source_name), BakeSettings{options, storage, generator},
+                sink);
 }
 
 }  // namespace leanfade

@@ -12,15 +12,6 @@
 
 namespace leanfade {
 
-const char* to_string(const BakeStorage& bits) {
-    return bits.automatic ? "auto" : to_string(bits.storage);
-}
-
-BakeStorage parse_bake_storage_choice(std::string_view name, const std::string& setting) {
-    const Storage storage = parse_bake_storage(name, setting);  // throws for another name
-    return name == "auto" ? BakeStorage{} : BakeStorage::fixed(storage);
-}
-
 void check_texture_size(int texture_size, int max_size, bool builtin, const std::string& setting) {
     const int largest =
         builtin ? std::min(max_size, kDefaultMaxImageDimension) : kDefaultMaxImageDimension;

@@ -1,5 +1,6 @@
 // LEAN moments, MIP chain and packing (docs/math.md §2-3; LEAN §3, §5).
 #include "leanfade/core/lean_map.hpp"
+#include "leanfade/core/detail/bake.hpp"
 
 #include <algorithm>
 #include <array>

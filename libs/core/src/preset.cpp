@@ -423,7 +423,7 @@ Preset preset_from_json(const std::string& text, const std::string& file) {
             {{"source", str(b.source)},
              {"from", named(b.from, parse_bake_source)},
              {"directx", [&](const json& x, const std::string& k) { b.directx = r.boolean(x, k); }},
-             {"bits", named(b.bits, parse_bake_storage_choice)},
+             {"bits", named(b.bits, parse_storage_policy)},
              {"seed",
               [&](const json& x, const std::string& k) {
                   b.seed = std::uint32_t(r.integer(x, k, 0, 0xFFFFFFFFll));

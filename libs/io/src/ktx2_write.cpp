@@ -282,79 +282,30 @@ void Ktx2Writer::commit() {
     file_.commit();
 }
 
-namespace {
+Ktx2FileSink::Ktx2FileSink(std::string path, const WriteOptions& write_options,
+                           const ReadOptions& read_options)
+    : path_(std::move(path)), write_options_(write_options), read_options_(read_options) {}
 
-// A bake into the (uncommitted) writer it opens once sc is known.
-struct WriterBake {
-    PackedBakeResult baked;
-    std::unique_ptr<Ktx2Writer> writer;
-};
+Ktx2FileSink::~Ktx2FileSink() = default;
 
-WriterBake bake_into_writer(const std::string& path, const std::variant<Image, UnormImage>& input,
-                            BakeSource source, const BakeOptions& options, Storage storage,
-                            const std::string& generator, const std::string& source_name,
-                            const WriteOptions& write_options, const MomentRunSink& moments) {
-    WriterBake result;
-    const auto open_output = [&](const PackedLeanMap& layout) {
-        result.writer = std::make_unique<Ktx2Writer>(path, layout, write_options);
-        return result.writer->targets();
-    };
-    result.baked = std::visit(
-        [&](const auto& image) {
-            return bake_packed_to(open_output, image, source, options, storage, generator,
-                                  source_name, moments);
-        },
-        input);
-    return result;
+std::vector<PackedLevelTarget> Ktx2FileSink::open(const PackedLeanMap& layout) {
+    // A bake that is not kept (the first of `--bits auto`) is discarded unwritten.
+    writer_.reset();
+    writer_ = std::make_unique<Ktx2Writer>(path_, layout, write_options_);
+    return writer_->targets();
 }
 
-}  // namespace
-
-PackedBakeResult bake_to_ktx2(const std::string& path, const std::variant<Image, UnormImage>& input,
-                              BakeSource source, const BakeOptions& options, Storage storage,
-                              const std::string& generator, const std::string& source_name,
-                              const WriteOptions& write_options, const MomentRunSink& moments) {
-    WriterBake bake = bake_into_writer(path, input, source, options, storage, generator,
-                                       source_name, write_options, moments);
-    bake.writer->commit();
-    return std::move(bake.baked);
-}
-
-PackedBakeResult bake_image_to_ktx2(const std::string& path,
-                                    const std::variant<Image, UnormImage>& input,
-                                    BakeSource source, const BakeOptions& options,
-                                    StoragePolicy storage, const std::string& generator,
-                                    const std::string& source_name,
-                                    const WriteOptions& write_options,
-                                    const ReadOptions& read_options,
-                                    const MomentRunSink& moments) {
-    const auto [width, height] = std::visit(
-        [](const auto& image) { return std::pair<int, int>(image.width, image.height); }, input);
-    // The policy's bakes each open a writer; one that is not kept is discarded unwritten.
-    std::unique_ptr<Ktx2Writer> writer;
-    PackedBakeResult result = bake_with_auto_storage(
-        storage.storage, storage.automatic, width, height,
-        [&](Storage s, const MomentRunSink& probe) {
-            writer.reset();
-            WriterBake bake = bake_into_writer(path, input, source, options, s, generator,
-                                               source_name, write_options,
-                                               both_sinks(moments, probe));
-            writer = std::move(bake.writer);
-            return std::move(bake.baked);
-        });
+void Ktx2FileSink::finish(PackedBakeResult&, bool drop_plateau) {
     // Nothing flat: the file keeps no layer of zeros (a third of its bytes). A supercompressed
     // file is written without it; an uncompressed one, whose size was fixed, is written again.
-    const bool empty_plateau =
-        result.packed.has_plateau() && result.summary.plateau_fraction == 0.0f;
-    const bool dropped = empty_plateau && writer->drop_plateau_layer();
-    writer->commit();
-    if (empty_plateau && !dropped) {
-        PackedLeanMap map = read_ktx2(path, read_options);
+    const bool dropped = drop_plateau && writer_->drop_plateau_layer();
+    writer_->commit();
+    writer_.reset();
+    if (drop_plateau && !dropped) {
+        PackedLeanMap map = read_ktx2(path_, read_options_);
         remove_plateau_layer(map);
-        write_ktx2(path, map, write_options);
+        write_ktx2(path_, map, write_options_);
     }
-    if (empty_plateau) result.packed.plateau_epsilon = 0.0f;
-    return result;
 }
 
 std::vector<std::uint8_t> write_ktx2_to_memory(const PackedLeanMap& map, const std::string& name,

@@ -159,8 +159,8 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     options.threads = settings.threads;
     PackedLeanMap map;
     try {
-        map = bake_packed(normals, BakeSource::Normal, options, settings.storage,
-                          generator_string(), image.name)
+        map = bake(BakeInput(normals, BakeSource::Normal, image.name),
+                   BakeSettings{options, {settings.storage, false}, generator_string(), true})
                   .packed;
     } catch (const Error& e) {
         throw Error::file_mentioning(gltf.path, e.what(), e.mentioned_settings());
@@ -297,10 +297,10 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                 Image normal = flat;
                 normal.pixels[2] = 1.0f;
                 BakeOptions options;
-                scene.lean_maps.push_back(bake_packed(normal, BakeSource::Normal, options,
-                                                      settings.storage, generator_string(),
-                                                      "flat")
-                                              .packed);
+                scene.lean_maps.push_back(
+                    bake(BakeInput(normal, BakeSource::Normal, "flat"),
+                         BakeSettings{options, {settings.storage, false}, generator_string(), true})
+                        .packed);
                 flat_map = int(scene.lean_maps.size()) - 1;
             }
             m.lean_map = flat_map;

@@ -61,12 +61,11 @@ struct MaterialBuilder {
 
     PackedLeanMap bake(const Image& input, BakeSource source, const BakeOptions& options,
                        const std::string& name) const {
-        return bake_with_auto_storage(settings.storage, settings.auto_storage, input.width,
-                                      input.height,
-                                      [&](Storage s, const MomentRunSink& probe) {
-                                          return bake_packed(input, source, options, s,
-                                                             generator_string(), name, probe);
-                                      })
+        return leanfade::bake(BakeInput(input, source, name),
+                              BakeSettings{options,
+                                           {settings.storage, settings.auto_storage},
+                                           generator_string(),
+                                           true})
             .packed;
     }
 

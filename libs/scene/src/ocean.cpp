@@ -124,7 +124,8 @@ Scene make_ocean_scene(const OceanSettings& s, int threads) {
     for (const OceanLayer& layer : layers) {
         const Image heights = make_gabor_noise(layer.waves, threads);
         scene.lean_maps.push_back(
-            bake_packed(heights, BakeSource::Height, bake, Storage::Unorm16, generator, "gabor")
+            leanfade::bake(BakeInput(heights, BakeSource::Height, "gabor"),
+                           BakeSettings{bake, {Storage::Unorm16, false}, generator, true})
                 .packed);
         MaterialLayer m;
         m.lean_map = int(scene.lean_maps.size()) - 1;

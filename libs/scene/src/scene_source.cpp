@@ -78,15 +78,12 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // The fused fast path of `leanfade bake` (the same bytes as bake_lean_map + pack_lean_map);
     // automatic storage: baked again as 16f or 32f where the StorageProbe finds it better, as
     // `leanfade bake` does.
-    auto bake = [&](const Image& input, BakeSource kind) {
-        return bake_with_auto_storage(f.bits.storage, f.bits.automatic, input.width, input.height,
-                                      [&](Storage s, const MomentRunSink& probe) {
-                                          return bake_packed(input, kind, options, s, generator,
-                                                             f.source, probe);
-                                      });
+    auto bake_map = [&](const Image& input, BakeSource kind) {
+        return bake(BakeInput(input, kind, f.source),
+                    BakeSettings{options, f.bits, generator, true});
     };
     if (is_builtin_bumps(f.source))
-        return bake(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
+        return bake_map(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
             .packed;
     // Integer samples keep their bit depth for the plateau rule (BakeOptions::source_max_code).
     std::variant<Image, UnormImage> read = io::read_image_compact(f.source, read_options);
@@ -95,7 +92,7 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
         read = samples->to_float();
     }
     const Image& image = std::get<Image>(read);
-    PackedBakeResult baked = bake(image, f.from);
+    PackedBakeResult baked = bake_map(image, f.from);
     // A strength other than the default was given for a normal map.
     const bool strength_given = settings.bump_strength != ShadingSettings{}.bump_strength;
     if (baked.source == BakeSource::Normal && strength_given)

@@ -3,9 +3,12 @@
 // maps, without OpenGL (find_package(leanfade) -> leanfade::leanfade, or pkg-config leanfade;
 // docs/integration.md).
 //
-//   Bake in memory   leanfade::bake_packed(image, source, options, storage, generator) ->
-//                    PackedBakeResult::packed, a PackedLeanMap: both layers (lean1, lean2) of every
-//                    MIP level, packed as the GPU samples them (docs/math.md §3), and sc.
+//   Bake             leanfade::bake(BakeInput(image, source), BakeSettings{options, storage,
+//                    generator}, sink) -> PackedBakeResult; the sink says where the map goes:
+//                    PackedMapSink (memory: result.packed, a PackedLeanMap of every MIP level's
+//                    layers, packed as the GPU samples them, docs/math.md §3, and sc),
+//                    io::Ktx2FileSink (a KTX2 file written in place), LevelTargetsSink (memory
+//                    the caller provides), MomentsOnlySink (the float moments only).
 //   Images           leanfade::io::read_image / read_image_from_memory (PNG, OpenEXR, PFM), or an
 //                    Image filled by the caller (height map: 1 channel; normal map: 3 channels).
 //   KTX2             leanfade::io::write_ktx2 / write_ktx2_to_memory, read_ktx2 /

@@ -485,60 +485,25 @@ class StorageProbe {
     std::mutex maxima_mutex_;
     double max_b_ = 0.0, max_m_ = 0.0;  // of the finest level (signed_encoding_scale)
 };
-PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
-                             Storage storage, const std::string& generator,
-                             const std::string& source_name = "",
-                             const MomentRunSink& moments = {});
-// `--bits auto` around any bake of a width x height map: `bake(storage, probe)` first (storage:
-// Unorm16 for auto), its float moments given to `probe` (a MomentRunSink the bake must call,
-// with its own, if any: both_sinks); with `automatic`, a second `bake(chosen, {})` when the
-// StorageProbe's choice is another storage, and the probe's scores in the result.
-template <typename Bake>
-PackedBakeResult bake_with_auto_storage(Storage storage, bool automatic, int width, int height,
-                                        Bake&& bake) {
-    if (!automatic) return bake(storage, MomentRunSink{});
-    StorageProbe probe(width, height);
-    PackedBakeResult result = bake(storage, probe.sink());
-    const StorageProbe::Scores scores = probe.scores(result.packed.scale);
-    const Storage chosen =
-        scores.unorm16 >= scores.float16 ? Storage::Unorm16 : Storage::Float16;
-    if (chosen != storage) result = bake(chosen, MomentRunSink{});
-    result.probe_unorm16_psnr = scores.unorm16;
-    result.probe_float16_psnr = scores.float16;
-    return result;
-}
-// A sink that gives each run to `first` and to `second` (either may be empty).
-MomentRunSink both_sinks(const MomentRunSink& first, const MomentRunSink& second);
-
 // How a bake stores its map: in `storage`, or, with `automatic` (`--bits auto`, docs/ktx2.md,
 // "Choosing storage and sc"), 16-bit UNORM first and baked again as half float where the
 // StorageProbe measures half floats closer to the float moments (bake_with_auto_storage).
 struct StoragePolicy {
-    Storage storage = Storage::Unorm16;
+    Storage storage = Storage::Unorm16;  // the storage; Unorm16 (the first bake's) when automatic
     bool automatic = false;
+
+    static constexpr StoragePolicy fixed(Storage storage) { return {storage, false}; }
+    // `--bits auto`: chosen by the StorageProbe.
+    static constexpr StoragePolicy measured() { return {Storage::Unorm16, true}; }
+    bool operator==(const StoragePolicy&) const = default;
 };
+// "auto", or the storage's name ("8", "16", "16f", "32f").
+const char* to_string(const StoragePolicy& policy);
 // The policy of a storage name: storage_names() or "auto". Throws leanfade::Error(setting, cause)
 // as parse_bake_storage does.
 StoragePolicy parse_storage_policy(std::string_view name, const std::string& setting = "bits");
 
-// One image baked as `leanfade bake` bakes it into a KTX2 file, in memory: the policy's bake
-// (bake_with_auto_storage), then, when the plateau rule found nothing flat, the empty plateau
-// layer removed (two-lobe LEAN shades a map without it as LEAN, as it would this one).
-// Integer samples (an 8- or 16-bit file's) bake as bake_packed_to's UnormImage overload does.
-// write_ktx2 of the result writes the bytes `leanfade bake` writes for the same input and
-// settings; io::bake_image_to_ktx2 writes them without the copy in memory.
-PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input, BakeSource source,
-                                   const BakeOptions& options, StoragePolicy storage,
-                                   const std::string& generator,
-                                   const std::string& source_name = "",
-                                   const MomentRunSink& moments = {});
-// The same into `result`, reusing its buffers: baking another map of the same size and storage
-// allocates no output memory.
-void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
-                      const BakeOptions& options, Storage storage, const std::string& generator,
-                      const std::string& source_name = "", const MomentRunSink& moments = {});
-
-// Where bake_packed_to writes each level's packed texels: the first byte of lean1, of lean2 and
+// Where a bake writes each level's packed texels: the first byte of lean1, of lean2 and
 // of the plateau layer, each width * height * bytes_per_texel(storage) bytes, rows top first,
 // tightly packed.
 struct PackedLevelTarget {
@@ -556,39 +521,140 @@ struct PackedLevelTarget {
         return layer == LeanLayer::Lean1 ? lean1 : layer == LeanLayer::Lean2 ? lean2 : plateau;
     }
 };
-// Called by bake_packed_to once sc is known (the input has been read and validated) and before
+// Called by a bake once sc is known (the input has been read and validated) and before
 // the first texel is packed, with the map's metadata and every level's width and height (its
 // slices empty); returns one target per level, level 0 first. It may throw (the bake then stops).
 using PackedOutputOpener = std::function<std::vector<PackedLevelTarget>(const PackedLeanMap&)>;
-// The same bake, written straight into memory the caller provides (e.g. a mapped output file:
-// `leanfade bake` writes the KTX2 file this way, with no copy of the map in between). The
-// returned result's packed map holds the metadata and the level sizes; its slices are empty.
-// `moments`, when set, sees the float moments of every level as they are made. Targets with a
-// null lean1 at every level pack nothing: the bake then only feeds `moments` (and needs
-// plateau_epsilon = 0).
-PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Image& input,
-                                BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name = "",
-                                const MomentRunSink& moments = {});
-// The same from integer samples (an 8- or 16-bit file's, half the memory of the float image):
-// exactly the bytes and summary of bake_packed_to(open_output, input.to_float(), ...) with
-// options.source_max_code = input.effective_max_code(...) (the plateau layer depends on it).
-PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
-                                BakeSource source, const BakeOptions& options, Storage storage,
-                                const std::string& generator, const std::string& source_name = "",
-                                const MomentRunSink& moments = {});
-// Only the float moments: the fused bake of `input` (Image or UnormImage) with nothing packed,
-// every run given to `moments` (plateau_epsilon is ignored). Validates and throws as
-// bake_lean_map; returns the summary and the source as bake_packed_to does.
-template <typename Input>
-PackedBakeResult bake_moments(const Input& input, BakeSource source, BakeOptions options,
-                              const std::string& source_name, const MomentRunSink& moments) {
-    options.plateau_epsilon = 0.0f;
-    return bake_packed_to(
-        [](const PackedLeanMap& layout) {
-            return std::vector<PackedLevelTarget>(layout.levels.size());
-        },
-        input, source, options, Storage::Float32, "", source_name, moments);
+
+// ---- The bake: bake(input, settings, sink) --------------------------------------------------
+// One entry for every bake of an image into a packed LEAN map: the fused fast path
+// (bake_packed.cpp, docs/perf.md), which makes the bytes of pack_lean_map(bake_lean_map(...)) and
+// the summary row by row with no float MIP chain in memory, for any thread count.
+
+// What a bake reads: float samples (Image), or integer samples (UnormImage: an 8- or 16-bit
+// file's, half the memory; the plateau rule takes their own quantisation step), how to read them
+// (a height map, a normal map, or Auto: resolve_bake_source), and the name errors give. It refers
+// to the image, which must outlive the bake.
+class BakeInput {
+  public:
+    BakeInput(const Image& image, BakeSource read_as = BakeSource::Auto, std::string name = "")
+        : floats_(&image), read_as(read_as), name(std::move(name)) {}
+    BakeInput(const UnormImage& image, BakeSource read_as = BakeSource::Auto,
+              std::string name = "")
+        : integers_(&image), read_as(read_as), name(std::move(name)) {}
+    BakeInput(const std::variant<Image, UnormImage>& image, BakeSource read_as = BakeSource::Auto,
+              std::string name = "")
+        : floats_(std::get_if<Image>(&image)), integers_(std::get_if<UnormImage>(&image)),
+          read_as(read_as), name(std::move(name)) {}
+    // Not from a temporary, which would be gone before the bake reads it.
+    BakeInput(Image&&, BakeSource = BakeSource::Auto, std::string = "") = delete;
+    BakeInput(UnormImage&&, BakeSource = BakeSource::Auto, std::string = "") = delete;
+    BakeInput(std::variant<Image, UnormImage>&&, BakeSource = BakeSource::Auto,
+              std::string = "") = delete;
+    // Exactly one of the two is set.
+    const Image* floats() const { return floats_; }
+    const UnormImage* integers() const { return integers_; }
+    int width() const { return floats_ != nullptr ? floats_->width : integers_->width; }
+    int height() const { return floats_ != nullptr ? floats_->height : integers_->height; }
+
+  private:
+    const Image* floats_ = nullptr;
+    const UnormImage* integers_ = nullptr;
+
+  public:
+    BakeSource read_as = BakeSource::Auto;
+    std::string name;  // the file (or any name) the errors give
+};
+
+// How to bake: what the map holds (options), how it is stored (a storage, or `--bits auto`), and
+// the generator the container records (e.g. "leanfade 0.3.0").
+struct BakeSettings {
+    BakeOptions options;
+    StoragePolicy storage;
+    std::string generator;
+    // A map whose plateau rule found nothing flat keeps its plateau layer of zeros (two-lobe
+    // LEAN shades it as LEAN either way). false: the layer is left out, as `leanfade bake` does.
+    bool keep_empty_plateau = false;
+};
+
+// Where a bake's map goes. A bake calls open() once sc is known (the input read and validated)
+// and before the first texel is packed, once per storage it tries (`--bits auto` may bake twice:
+// the later open replaces what the earlier one opened), then finish() with the result of the
+// bake it keeps. Sinks in the library: PackedMapSink (memory), LevelTargetsSink (memory the
+// caller provides), MomentsOnlySink (no map: the float moments only) and io::Ktx2FileSink (a
+// KTX2 file written in place).
+class BakeSink {
+  public:
+    virtual ~BakeSink() = default;
+    // One target per level of `layout` (its metadata and level sizes; slices empty), level 0
+    // first, each as large as PackedLevelTarget says. May throw (the bake then stops).
+    virtual std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) = 0;
+    // The kept bake is complete. `drop_plateau`: its plateau layer is empty and leaves the map
+    // (result.packed.plateau_epsilon is already 0). The sink may fill result.packed's slices.
+    virtual void finish(PackedBakeResult& result, bool drop_plateau) = 0;
+    // false: the sink takes no packed map (every target null); the bake then skips packing and
+    // the plateau layer and only feeds `moments`.
+    virtual bool takes_map() const { return true; }
+    // When set, sees the float moments of every level of the kept bake's storage as they are
+    // made, from the bake's threads (e.g. RoughnessTextureBuilder, leanfade/core/roughness.hpp).
+    MomentRunSink moments;
+};
+
+// The map in memory: finish() puts the layers into result.packed. `reuse`: the levels of an
+// earlier result (result.packed.levels), whose buffers a map of the same size and storage takes
+// without allocating.
+class PackedMapSink : public BakeSink {
+  public:
+    explicit PackedMapSink(std::vector<PackedLevel> reuse = {}) : levels_(std::move(reuse)) {}
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override;
+    void finish(PackedBakeResult& result, bool drop_plateau) override;
+
+    int threads = 0;  // threads that size (first touch) the buffers, as BakeOptions::threads
+
+  private:
+    std::vector<PackedLevel> levels_;
+};
+
+// The map written into memory the caller provides (e.g. a mapped output file): `open` gives the
+// targets; result.packed keeps the metadata and the level sizes, its slices empty. A plateau
+// layer to drop stays in the caller's memory: the caller leaves it out.
+class LevelTargetsSink : public BakeSink {
+  public:
+    explicit LevelTargetsSink(PackedOutputOpener open) : open_(std::move(open)) {}
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override {
+        return open_(layout);
+    }
+    void finish(PackedBakeResult&, bool) override {}
+
+  private:
+    PackedOutputOpener open_;
+};
+
+// No map: the bake validates the input, gives every run of float moments to `moments` and
+// returns the summary and the source (the engine textures without a LEAN map).
+class MomentsOnlySink : public BakeSink {
+  public:
+    explicit MomentsOnlySink(MomentRunSink runs) { moments = std::move(runs); }
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override {
+        return std::vector<PackedLevelTarget>(layout.levels.size());
+    }
+    void finish(PackedBakeResult&, bool) override {}
+    bool takes_map() const override { return false; }
+};
+
+// Bakes `input` with `settings` into `sink`: slopes (a normal map's repaired copy where it has
+// texels to repair, unless options.strict_normals), moments, the MIP chain, sc, packing, the
+// plateau layer with options.plateau_epsilon > 0, and the summary; under `--bits auto` first
+// 16-bit UNORM, measured by a StorageProbe, baked again as half floats where those render closer
+// (result.probe_*_psnr). Returns the result; its packed map holds the metadata and level sizes
+// (and the layers where the sink puts them there). Throws leanfade::Error naming input.name for
+// bad samples (NaN, a slope steeper than kMaxSlope, a rejected normal), and what the sink throws.
+PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings, BakeSink& sink);
+// bake() into memory (a PackedMapSink): result.packed holds the map.
+inline PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings) {
+    PackedMapSink sink;
+    sink.threads = settings.options.threads;
+    return bake(input, settings, sink);
 }
 
 // bake_packed uses AVX2 kernels where the CPU has them (checked at run time), else portable C++;

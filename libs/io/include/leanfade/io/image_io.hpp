@@ -36,7 +36,7 @@ const char* to_string(Supercompression supercompression);
 struct WriteOptions {
     Durability durability = Durability::Rename;  // Flush: fsync before the rename
     int threads = 0;                             // for copying large outputs; <= 0: all cores
-    // LEAN map KTX2 files only (write_ktx2, Ktx2Writer, bake_to_ktx2, write_ktx2_to_memory):
+    // LEAN map KTX2 files only (write_ktx2, Ktx2Writer, Ktx2FileSink, write_ktx2_to_memory):
     // other outputs ignore it (`leanfade bake --supercompression`).
     Supercompression supercompression = Supercompression::None;
     int zstd_level = 3;  // Zstandard's level, 1 (fastest) to 19 (smallest)

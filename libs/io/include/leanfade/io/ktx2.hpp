@@ -123,29 +123,27 @@ class Ktx2Writer {
     std::unique_ptr<Staging> staging_;  // supercompressed files only
 };
 
-// Bakes `input` (bake_packed_to) straight into the KTX2 file `path` through a Ktx2Writer, opened
-// once sc is known and committed when the bake is done: what `leanfade bake` does, with no copy of
-// the map in memory. Returns the bake's result (metadata, level sizes and summary; layers empty).
-// Nothing appears at `path` when it throws. `moments`: as bake_packed_to's.
-PackedBakeResult bake_to_ktx2(const std::string& path,
-                              const std::variant<Image, UnormImage>& input, BakeSource source,
-                              const BakeOptions& options, Storage storage,
-                              const std::string& generator, const std::string& source_name,
-                              const WriteOptions& write_options = {},
-                              const MomentRunSink& moments = {});
+// A bake's map (bake(input, settings, sink), leanfade/core/lean_map.hpp) written in place into the
+// KTX2 file `path`: a Ktx2Writer opened once sc is known (a second open, the second bake of
+// `--bits auto`, discards the first unwritten) and committed by finish(). What `leanfade bake`
+// does, with no copy of the map in memory: the same bytes as write_ktx2 of the map bake() makes
+// in memory. A plateau layer the bake drops leaves the file too: a supercompressed file is
+// written without it; an uncompressed one, whose size was fixed, is written again (read back
+// with `read_options`). Nothing appears at `path` unless finish() ran.
+class Ktx2FileSink : public BakeSink {
+  public:
+    explicit Ktx2FileSink(std::string path, const WriteOptions& write_options = {},
+                          const ReadOptions& read_options = {});
+    ~Ktx2FileSink() override;
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override;
+    void finish(PackedBakeResult& result, bool drop_plateau) override;
 
-// `leanfade bake` of one image into the KTX2 file `path`: bake_to_ktx2 under the storage policy
-// (bake_with_auto_storage), and, when the plateau rule found nothing flat, the file written again
-// without its empty plateau layer (read back with `read_options`). The same bytes as write_ktx2
-// of bake_packed_image's map; nothing appears at `path` when it throws.
-PackedBakeResult bake_image_to_ktx2(const std::string& path,
-                                    const std::variant<Image, UnormImage>& input,
-                                    BakeSource source, const BakeOptions& options,
-                                    StoragePolicy storage, const std::string& generator,
-                                    const std::string& source_name,
-                                    const WriteOptions& write_options = {},
-                                    const ReadOptions& read_options = {},
-                                    const MomentRunSink& moments = {});
+  private:
+    std::string path_;
+    WriteOptions write_options_;
+    ReadOptions read_options_;
+    std::unique_ptr<Ktx2Writer> writer_;
+};
 
 // Reads a LEAN map written by write_ktx2 (bit-exact) or by any writer following the same layout.
 // Validates the identifier, the header (one of our four formats and its typeSize, width and

@@ -17,21 +17,6 @@
 
 namespace leanfade {
 
-// The storage of a bake on the fly (`--bits`): a fixed storage, or automatic (first baked as
-// 16-bit UNORM, then again as 16f or 32f where a StorageProbe finds them better, as `leanfade bake`
-// does; docs/ktx2.md, "Choosing storage and sc").
-struct BakeStorage {
-    bool automatic = true;
-    Storage storage = Storage::Unorm16;  // the first bake's storage (Unorm16 when automatic)
-
-    static constexpr BakeStorage fixed(Storage storage) { return {false, storage}; }
-    bool operator==(const BakeStorage&) const = default;
-};
-// "auto", or the storage's name ("8", "16", "16f", "32f").
-const char* to_string(const BakeStorage& bits);
-// A name of bake_storage_names(); throws leanfade::Error(setting, cause) for another.
-BakeStorage parse_bake_storage_choice(std::string_view name, const std::string& setting = "bits");
-
 // Texels per side of a built-in bump set.
 inline constexpr int kMinTextureSize = 4;
 // The size of a built-in bump set: kMinTextureSize to kDefaultMaxImageDimension texels per side
@@ -46,7 +31,8 @@ struct BumpSource {
     std::string source = "bumps";        // built-in set name, height/normal map image, or .ktx2 map
     BakeSource from = BakeSource::Auto;  // images: by channel count, or height / normal
     bool directx = false;                // normal maps in the DirectX convention
-    BakeStorage bits;                    // storage of on-the-fly bakes: auto
+    // The storage of bakes on the fly (`--bits`): auto, as `leanfade bake` chooses it.
+    StoragePolicy bits = StoragePolicy::measured();
     std::uint32_t seed = 1;              // built-in sets
     int texture_size = 256;              // built-in sets, texels per side (check_texture_size)
 
