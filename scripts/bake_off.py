@@ -22,6 +22,12 @@ at 1.5-64 radii (the plane to 32), with each BRDF of --brdfs.
 Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out/bake_off]
                            [--seeds 8] [--frames 4] [--only NAME,...]
                            [--corpus [--brdfs bp,ct]] [--techniques LIST]
+                           [--texture-sizes 256,1024,4096] [--frame-size 192]
+
+--texture-sizes runs the built-in sets (bumps, noise, ridges) at each size (texels per side);
+a size other than 256 adds `_tSIZE` to the configuration's name. The real maps run at their own.
+--frame-size renders every configuration at N x N pixels (`eval --size`) instead of 256 x 256
+and adds `_fN` to its name.
 """
 import argparse
 import csv
@@ -94,6 +100,25 @@ def corpus_configurations(brdfs):
                              view_flags + ["--bumps", path, "--brdf", brdf] + flags, 1))
     return runs
 WRAP = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/PlasticWrap_normals.jpg"
+
+
+BUILTIN_SETS = ("bumps", "noise", "ridges")
+
+
+def at_texture_sizes(runs, sizes):
+    """runs, those of a built-in set once per texture size (`_tSIZE` unless 256)."""
+    sized = []
+    for name, flags, seeds in runs:
+        builtin = any(flags[i] == "--bumps" and flags[i + 1] in BUILTIN_SETS
+                      for i in range(len(flags) - 1))
+        for size in (sizes if builtin else [256]):
+            if not builtin:
+                sized.append((name, flags, seeds))
+            elif size == 256:  # the default
+                sized.append((name, flags, seeds))
+            else:
+                sized.append((f"{name}_t{size}", flags + ["--texture-size", str(size)], seeds))
+    return sized
 
 
 def configurations(seeds):
@@ -181,6 +206,10 @@ def main():
                         help="run the real-map corpus (CORPUS) instead of the built-in sets")
     parser.add_argument("--brdfs", default="bp,ct", help="corpus runs: bp, ct or both")
     parser.add_argument("--techniques", default=TECHNIQUES)
+    parser.add_argument("--frame-size", type=int, default=256,
+                        help="pixels per side of the frame (other than 256: `_fN` names)")
+    parser.add_argument("--texture-sizes", default="256",
+                        help="built-in sets: texels per side, e.g. 256,1024,4096")
     parser.add_argument("--resume", action="store_true",
                         help="keep the results of configurations already run into --out")
     parser.add_argument("--list-corpus", action="store_true",
@@ -195,7 +224,12 @@ def main():
     only = set(filter(None, args.only.split(",")))
     os.makedirs(args.out, exist_ok=True)
     rows = []
-    runs = corpus_configurations(args.brdfs.split(",")) if args.corpus else configurations(args.seeds)
+    sizes = [int(size) for size in args.texture_sizes.split(",")]
+    runs = (corpus_configurations(args.brdfs.split(",")) if args.corpus
+            else at_texture_sizes(configurations(args.seeds), sizes))
+    if args.frame_size != 256:
+        runs = [(f"{name}_f{args.frame_size}", flags + ["--size", f"{args.frame_size}x{args.frame_size}"],
+                 seeds) for name, flags, seeds in runs]
     if args.corpus and not runs:
         sys.exit("bake_off.py: no corpus map is installed (apt-get install " +
                  " ".join(CORPUS_PACKAGES) + ")")
