@@ -279,16 +279,13 @@ void validate_for_write(const std::string& path, const PackedLeanMap& map, const
                                   std::to_string(width) + "x" + std::to_string(height));
         }
         const std::uint64_t expected = layer_bytes(format, width, height);
-        if (check_layers && map.has_plateau() && level.plateau.size() != expected) {
-            throw Error(path, "level " + std::to_string(i) + " plateau layer holds " +
-                                  std::to_string(level.plateau.size()) + " bytes, expected " +
-                                  std::to_string(expected));
-        }
-        if (check_layers && (level.lean1.size() != expected || level.lean2.size() != expected)) {
-            throw Error(path, "level " + std::to_string(i) + " layers hold " +
-                                  std::to_string(level.lean1.size()) + " and " +
-                                  std::to_string(level.lean2.size()) + " bytes, expected " +
-                                  std::to_string(expected));
+        for (const LeanLayerInfo& row : kLeanLayers) {
+            if (!check_layers || !map.has_layer(row.layer)) continue;
+            const std::size_t bytes = level.slice(row.layer).size();
+            if (bytes != expected)
+                throw Error(path, "level " + std::to_string(i) + ": " + std::string(row.label) +
+                                      " holds " + std::to_string(bytes) + " bytes, expected " +
+                                      std::to_string(expected));
         }
     }
     if (!(std::isfinite(map.scale) && map.scale > 0.0f)) {

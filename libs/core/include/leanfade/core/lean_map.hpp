@@ -595,8 +595,9 @@ class BakeSink {
     // false: the sink takes no packed map (every target null); the bake then skips packing and
     // the plateau layer and only feeds `moments`.
     virtual bool takes_map() const { return true; }
-    // When set, sees the float moments of every level of the kept bake's storage as they are
-    // made, from the bake's threads (e.g. RoughnessTextureBuilder, leanfade/core/roughness.hpp).
+    // When set, sees the float moments of every level as they are made, from the bake's threads
+    // (e.g. RoughnessTextureBuilder, leanfade/core/roughness.hpp). The moments do not depend on
+    // the storage: a `--bits auto` bake that bakes twice gives the same runs twice.
     MomentRunSink moments;
 };
 
