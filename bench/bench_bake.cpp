@@ -334,7 +334,11 @@ void BM_BakeEndToEnd(benchmark::State& state) {
             io::read_image_compact(input_png(), read_options);
         io::Ktx2FileSink file(out, write_options);
         bake(BakeInput(samples, BakeSource::Normal, input_png()),
-             BakeSettings{options, {Storage::Unorm16, false}, "bench", true}, file);
+             BakeSettings{.options = options,
+                          .storage = StoragePolicy::fixed(Storage::Unorm16),
+                          .generator = "bench",
+                          .keep_empty_plateau = true},
+             file);
     }
     state.counters["texels_per_s"] =
         benchmark::Counter(double(bench_size()) * bench_size() * double(state.iterations()),

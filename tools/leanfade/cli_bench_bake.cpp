@@ -97,7 +97,10 @@ BakeBenchRow bake_row(const std::string& input, int size, const BakeOptions& opt
     const bool normal = input == "normal";
     const Image image = normal ? tiled_bumps_normals(size) : tiled_bumps_height(size);
     const BakeSource source = normal ? BakeSource::Normal : BakeSource::Height;
-    const BakeSettings settings{options, {Storage::Unorm16, false}, "bench", true};
+    const BakeSettings settings{.options = options,
+                                .storage = StoragePolicy::fixed(Storage::Unorm16),
+                                .generator = "bench",
+                                .keep_empty_plateau = true};
     // Each timed bake takes the buffers of the one before: the output is allocated once.
     const auto bake_again = [&](PackedBakeResult& baked) {
         PackedMapSink memory(std::move(baked.packed.levels));

@@ -111,8 +111,10 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
         memory.threads = settings.options.threads;
         memory.moments = moments;
         result.baked = bake(samples,
-                            BakeSettings{settings.options, {settings.storage.storage, false},
-                                         generator_string(), true},
+                            BakeSettings{.options = settings.options,
+                                         .storage = StoragePolicy::fixed(settings.storage.storage),
+                                         .generator = generator_string(),
+                                         .keep_empty_plateau = true},
                             memory);
         io::write_lean_png_pair(
             outputs.stage(job.outputs[0]), outputs.stage(job.outputs[1]), result.baked.packed,

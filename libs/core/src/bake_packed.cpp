@@ -684,7 +684,10 @@ namespace {
 
 BakeSettings packed_settings(const BakeOptions& options, Storage storage,
                              const std::string& generator) {
-    return BakeSettings{options, StoragePolicy{storage, false}, generator, true};
+    return BakeSettings{.options = options,
+                        .storage = StoragePolicy::fixed(storage),
+                        .generator = generator,
+                        .keep_empty_plateau = true};
 }
 
 }  // namespace

@@ -160,7 +160,10 @@ PackedLeanMap bake_normal_texture(const GltfScene& gltf, int image_index, float 
     PackedLeanMap map;
     try {
         map = bake(BakeInput(normals, BakeSource::Normal, image.name),
-                   BakeSettings{options, {settings.storage, false}, generator_string(), true})
+                   BakeSettings{.options = options,
+                                .storage = StoragePolicy::fixed(settings.storage),
+                                .generator = generator_string(),
+                                .keep_empty_plateau = true})
                   .packed;
     } catch (const Error& e) {
         throw Error::file_mentioning(gltf.path, e.what(), e.mentioned_settings());
@@ -299,7 +302,10 @@ Scene make_render_scene(const GltfScene& gltf, const GltfBakeSettings& settings,
                 BakeOptions options;
                 scene.lean_maps.push_back(
                     bake(BakeInput(normal, BakeSource::Normal, "flat"),
-                         BakeSettings{options, {settings.storage, false}, generator_string(), true})
+                         BakeSettings{.options = options,
+                                      .storage = StoragePolicy::fixed(settings.storage),
+                                      .generator = generator_string(),
+                                      .keep_empty_plateau = true})
                         .packed);
                 flat_map = int(scene.lean_maps.size()) - 1;
             }

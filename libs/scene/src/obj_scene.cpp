@@ -62,10 +62,10 @@ struct MaterialBuilder {
     PackedLeanMap bake(const Image& input, BakeSource source, const BakeOptions& options,
                        const std::string& name) const {
         return leanfade::bake(BakeInput(input, source, name),
-                              BakeSettings{options,
-                                           {settings.storage, settings.auto_storage},
-                                           generator_string(),
-                                           true})
+                              BakeSettings{.options = options,
+                                           .storage = {settings.storage, settings.auto_storage},
+                                           .generator = generator_string(),
+                                           .keep_empty_plateau = true})
             .packed;
     }
 

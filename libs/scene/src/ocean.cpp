@@ -125,7 +125,10 @@ Scene make_ocean_scene(const OceanSettings& s, int threads) {
         const Image heights = make_gabor_noise(layer.waves, threads);
         scene.lean_maps.push_back(
             leanfade::bake(BakeInput(heights, BakeSource::Height, "gabor"),
-                           BakeSettings{bake, {Storage::Unorm16, false}, generator, true})
+                           BakeSettings{.options = bake,
+                                        .storage = StoragePolicy::fixed(Storage::Unorm16),
+                                        .generator = generator,
+                                        .keep_empty_plateau = true})
                 .packed);
         MaterialLayer m;
         m.lean_map = int(scene.lean_maps.size()) - 1;

@@ -79,8 +79,10 @@ PackedLeanMap load_lean_map(const BumpMapSource& f, const ShadingSettings& setti
     // automatic storage: baked again as 16f or 32f where the StorageProbe finds it better, as
     // `leanfade bake` does.
     auto bake_map = [&](const Image& input, BakeSource kind) {
-        return bake(BakeInput(input, kind, f.source),
-                    BakeSettings{options, f.bits, generator, true});
+        return bake(BakeInput(input, kind, f.source), BakeSettings{.options = options,
+                                                                   .storage = f.bits,
+                                                                   .generator = generator,
+                                                                   .keep_empty_plateau = true});
     };
     if (is_builtin_bumps(f.source))
         return bake_map(make_builtin_height(f.source, f.texture_size, f.seed), BakeSource::Height)
