@@ -23,11 +23,14 @@ Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out
                            [--seeds 8] [--frames 4] [--only NAME,...]
                            [--corpus [--brdfs bp,ct]] [--techniques LIST]
                            [--texture-sizes 256,1024,4096] [--frame-size 192]
+                           [--geometric-aa on|off]
 
 --texture-sizes runs the built-in sets (bumps, noise, ridges) at each size (texels per side);
 a size other than 256 adds `_tSIZE` to the configuration's name. The real maps run at their own.
 --frame-size renders every configuration at N x N pixels (`eval --size`) instead of 256 x 256
 and adds `_fN` to its name.
+--geometric-aa (corpus runs) draws every technique with geometric AA on or off (`_aaon`,
+`_aaoff`); without it each technique has eval's default (`auto`: on for two-lobe only).
 """
 import argparse
 import csv
@@ -208,6 +211,8 @@ def main():
     parser.add_argument("--techniques", default=TECHNIQUES)
     parser.add_argument("--frame-size", type=int, default=256,
                         help="pixels per side of the frame (other than 256: `_fN` names)")
+    parser.add_argument("--geometric-aa", choices=["on", "off"],
+                        help="corpus runs: every technique with geometric AA on or off")
     parser.add_argument("--texture-sizes", default="256",
                         help="built-in sets: texels per side, e.g. 256,1024,4096")
     parser.add_argument("--resume", action="store_true",
@@ -227,6 +232,11 @@ def main():
     sizes = [int(size) for size in args.texture_sizes.split(",")]
     runs = (corpus_configurations(args.brdfs.split(",")) if args.corpus
             else at_texture_sizes(configurations(args.seeds), sizes))
+    if args.geometric_aa:
+        if not args.corpus:
+            sys.exit("bake_off.py: --geometric-aa is for --corpus (the built-in sets name theirs)")
+        runs = [(f"{name}_aa{args.geometric_aa}", flags + ["--geometric-aa", args.geometric_aa],
+                 seeds) for name, flags, seeds in runs]
     if args.frame_size != 256:
         runs = [(f"{name}_f{args.frame_size}", flags + ["--size", f"{args.frame_size}x{args.frame_size}"],
                  seeds) for name, flags, seeds in runs]

@@ -32,16 +32,18 @@ def main():
                 cases[key] = r
     table = {}
     for (configuration, technique, _, _), r in cases.items():
-        match = re.fullmatch(r"corpus_(.+)_(plane|teapot|teapot_back)_(bp|ct)(_f\d+)?",
-                             configuration)
+        match = re.fullmatch(
+            r"corpus_(.+)_(plane|teapot|teapot_back)_(bp|ct)(_aa(?:on|off))?(_f\d+)?", configuration)
         if not match or technique not in techniques:
             continue
         error = r.get("reference_energy_error")
         energy = r.get("energy_total")
         if error is None or error > CONVERGED or energy is None or energy != energy:
             continue
-        # A frame size other than 256 (`_f192`) is a view of its own.
-        view = match.group(2) + (f" {match.group(4)[2:]}²" if match.group(4) else "")
+        # A frame size other than 256 (`_f192`) and geometric AA set for every technique
+        # (`_aaoff`) make a view of its own.
+        view = (match.group(2) + (f" AA {match.group(4)[3:]}" if match.group(4) else "") +
+                (f" {match.group(5)[2:]}²" if match.group(5) else ""))
         entry = table.setdefault((match.group(1), view, match.group(3)), {})
         entry.setdefault(technique, []).append(energy)
     rows = []
