@@ -115,9 +115,7 @@ def at_texture_sizes(runs, sizes):
         builtin = any(flags[i] == "--bumps" and flags[i + 1] in BUILTIN_SETS
                       for i in range(len(flags) - 1))
         for size in (sizes if builtin else [256]):
-            if not builtin:
-                sized.append((name, flags, seeds))
-            elif size == 256:  # the default
+            if size == 256:  # the default: the configuration as it is
                 sized.append((name, flags, seeds))
             else:
                 sized.append((f"{name}_t{size}", flags + ["--texture-size", str(size)], seeds))

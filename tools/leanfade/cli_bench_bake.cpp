@@ -104,7 +104,6 @@ BakeBenchRow bake_row(const std::string& input, int size, const BakeOptions& opt
     // Each timed bake takes the buffers of the one before: the output is allocated once.
     const auto bake_again = [&](PackedBakeResult& baked) {
         PackedMapSink memory(std::move(baked.packed.levels));
-        memory.threads = options.threads;
         baked = bake(BakeInput(image, source), settings, memory);
     };
     PackedBakeResult baked;

@@ -108,7 +108,6 @@ StagedBake bake_to_staged_outputs(const BakeJob& job, const std::variant<Image, 
     if (args.format == LeanFileFormat::Png) {
         // The pair's files were planned with the plateau layer: it stays, empty or not.
         PackedMapSink memory;
-        memory.threads = settings.options.threads;
         memory.moments = moments;
         result.baked = bake(samples,
                             BakeSettings{.options = settings.options,

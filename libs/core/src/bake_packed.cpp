@@ -417,14 +417,9 @@ namespace {
 using TargetProvider =
     std::function<std::vector<PackedLevelTarget>(PackedLeanMap& packed, int threads)>;
 
-// The input: a float image, or integer samples (exactly one of the two is set).
-struct Samples {
-    const Image* floats = nullptr;
-    const UnormImage* unorm = nullptr;
-    int width() const { return floats != nullptr ? floats->width : unorm->width; }
-    int height() const { return floats != nullptr ? floats->height : unorm->height; }
-    int channels() const { return floats != nullptr ? floats->channels : unorm->channels; }
-};
+int channel_count(const BakeInput& input) {
+    return input.floats() != nullptr ? input.floats()->channels : input.integers()->channels;
+}
 
 // The first channel of integer samples as floats (UnormImage::to_float's values).
 Image first_channel(const UnormImage& input) {
@@ -436,11 +431,11 @@ Image first_channel(const UnormImage& input) {
     return height;
 }
 
-void bake_repaired(PackedBakeResult& result, const Samples& input, BakeSource source,
+// `source`: input.read_as resolved (a height or a normal map).
+void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource source,
                    const BakeOptions& options, Storage storage, const std::string& generator,
                    const std::string& source_name, const TargetProvider& provide_targets,
-                   const NormalRepairs& repairs, const MomentRunSink& moments,
-                   float source_step) {
+                   const NormalRepairs& repairs, const MomentRunSink& moments, float source_step) {
     result.source = source;
     result.clamped_texels = 0;
     const bool avx2 = bake_simd_active();
@@ -457,16 +452,16 @@ void bake_repaired(PackedBakeResult& result, const Samples& input, BakeSource so
     ScanTotals totals;
     const int width = input.width(), height = input.height();
     if (result.source == BakeSource::Normal) {
-        detail::check_normal_map_shape(width, height, input.channels(), source_name);
-        if (input.floats != nullptr) {
-            plan.top.pixels = input.floats->pixels.data();
+        detail::check_normal_map_shape(width, height, channel_count(input), source_name);
+        if (input.floats() != nullptr) {
+            plan.top.pixels = input.floats()->pixels.data();
         } else {
-            plan.top.unorm = input.unorm->samples.data();
-            plan.top.unorm_max = float(input.unorm->max_value);
+            plan.top.unorm = input.integers()->samples.data();
+            plan.top.unorm_max = float(input.integers()->max_value);
             plan.top.bake_id = g_next_bake_id.fetch_add(1);
         }
         plan.top.width = width;
-        plan.top.channels = input.channels();
+        plan.top.channels = channel_count(input);
         plan.kernels = select_kernels(plan.top.channels, storage, avx2);
         plan.top.unorm_to_float = plan.kernels.unorm_to_float;
         totals = scan_input(plan.top, height, options.threads, plan.kernels.scan_row, source_name,
@@ -474,9 +469,10 @@ void bake_repaired(PackedBakeResult& result, const Samples& input, BakeSource so
         result.clamped_texels = totals.clamped;
     } else {
         // Integer samples: only the first channel (the height) as floats.
-        slopes = input.floats != nullptr
-                     ? slopes_from_height(*input.floats, options, source_name).slopes
-                     : slopes_from_height(first_channel(*input.unorm), options, source_name).slopes;
+        slopes =
+            input.floats() != nullptr
+                ? slopes_from_height(*input.floats(), options, source_name).slopes
+                : slopes_from_height(first_channel(*input.integers()), options, source_name).slopes;
         plan.top.pixels = slopes.pixels.data();
         plan.top.width = slopes.width;
         plan.top.channels = 2;
@@ -583,23 +579,22 @@ void bake_repaired(PackedBakeResult& result, const Samples& input, BakeSource so
 
 // The bake of a normal map's repaired copy where it has texels to repair (NormalRepairs), else of
 // the input as it is.
-void bake_samples(PackedBakeResult& result, const Samples& input, BakeSource source,
-          const BakeOptions& options, Storage storage, const std::string& generator,
-          const std::string& source_name, const TargetProvider& provide_targets,
-          const MomentRunSink& moments) {
-    const BakeSource resolved = input.floats != nullptr
-                                    ? resolve_bake_source(source, *input.floats)
-                                    : resolve_bake_source(source, *input.unorm);
+void bake_samples(PackedBakeResult& result, const BakeInput& input, const BakeOptions& options,
+                  Storage storage, const std::string& generator,
+                  const TargetProvider& provide_targets, const MomentRunSink& moments) {
+    const BakeSource resolved = input.floats() != nullptr
+                                    ? resolve_bake_source(input.read_as, *input.floats())
+                                    : resolve_bake_source(input.read_as, *input.integers());
     NormalRepairs repairs;
     if (resolved == BakeSource::Normal && !options.strict_normals) {
-        repairs = input.floats != nullptr ? count_normal_repairs(*input.floats)
-                                          : count_normal_repairs(*input.unorm);
+        repairs = input.floats() != nullptr ? count_normal_repairs(*input.floats())
+                                            : count_normal_repairs(*input.integers());
     }
     // The quantisation step of the source's slopes (the plateau rule's, plateau.hpp).
     // Integer samples: their own precision (a 16-bit file of 8-bit data has 8-bit steps).
     const int max_code =
-        input.unorm != nullptr
-            ? input.unorm->effective_max_code(resolved == BakeSource::Normal ? 3 : 1)
+        input.integers() != nullptr
+            ? input.integers()->effective_max_code(resolved == BakeSource::Normal ? 3 : 1)
             : options.source_max_code;
     // A strength per UV unit is per texel times the texel count (the larger side's).
     const float texel_strength =
@@ -608,14 +603,14 @@ void bake_samples(PackedBakeResult& result, const Samples& input, BakeSource sou
             : options.strength;
     const float source_step = source_slope_step(resolved, max_code, texel_strength);
     if (!repairs.any()) {
-        bake_repaired(result, input, resolved, options, storage, generator, source_name,
+        bake_repaired(result, input, resolved, options, storage, generator, input.name,
                       provide_targets, repairs, moments, source_step);
         return;
     }
-    const Image repaired = repair_normal_map(input.floats != nullptr ? *input.floats
-                                                                     : input.unorm->to_float());
-    bake_repaired(result, Samples{&repaired, nullptr}, resolved, options, storage, generator,
-                  source_name, provide_targets, repairs, moments, source_step);
+    const Image repaired = repair_normal_map(
+        input.floats() != nullptr ? *input.floats() : input.integers()->to_float());
+    bake_repaired(result, BakeInput(repaired, resolved, input.name), resolved, options, storage,
+                  generator, input.name, provide_targets, repairs, moments, source_step);
 }
 
 }  // namespace
@@ -628,7 +623,7 @@ StoragePolicy parse_storage_policy(std::string_view name, const std::string& set
     return {parse_bake_storage(name, setting), name == "auto"};
 }
 
-std::vector<PackedLevelTarget> PackedMapSink::open(const PackedLeanMap& layout) {
+std::vector<PackedLevelTarget> PackedMapSink::open(const PackedLeanMap& layout, int threads) {
     // The map's levels, taking the buffers of the earlier ones (sized_targets keeps a buffer of
     // the right size as it is).
     PackedLeanMap map;
@@ -641,8 +636,7 @@ std::vector<PackedLevelTarget> PackedMapSink::open(const PackedLeanMap& layout) 
             for (const LeanLayerInfo& row : kLeanLayers)
                 map.levels[l].slice(row.layer) = std::move(levels_[l].slice(row.layer));
     }
-    std::vector<PackedLevelTarget> targets =
-        sized_targets(map, map.storage, resolve_thread_count(threads));
+    std::vector<PackedLevelTarget> targets = sized_targets(map, map.storage, threads);
     levels_ = std::move(map.levels);
     return targets;
 }
@@ -654,7 +648,6 @@ void PackedMapSink::finish(PackedBakeResult& result, bool drop_plateau) {
 }
 
 PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings, BakeSink& sink) {
-    const Samples samples{input.floats(), input.integers()};
     BakeOptions options = settings.options;
     StoragePolicy policy = settings.storage;
     if (!sink.takes_map()) {
@@ -663,13 +656,13 @@ PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings, Bake
         policy = {Storage::Float32, false};
     }
     PackedBakeResult result = bake_with_auto_storage(
-        policy.storage, policy.automatic, samples.width(), samples.height(),
+        policy.storage, policy.automatic, input.width(), input.height(),
         [&](Storage storage, const MomentRunSink& probe) {
             PackedBakeResult baked;
-            bake_samples(baked, samples, input.read_as, options, storage, settings.generator,
-                         input.name,
-                         [&](PackedLeanMap& packed, int) { return sink.open(packed); },
-                         both_sinks(sink.moments, probe));
+            bake_samples(
+                baked, input, options, storage, settings.generator,
+                [&](PackedLeanMap& packed, int threads) { return sink.open(packed, threads); },
+                both_sinks(sink.moments, probe));
             return baked;
         });
     // Nothing flat: the map keeps no layer of zeros (a third of its bytes).
@@ -690,6 +683,15 @@ BakeSettings packed_settings(const BakeOptions& options, Storage storage,
                         .keep_empty_plateau = true};
 }
 
+// bake_packed_to of either kind of samples.
+PackedBakeResult bake_to_targets(const PackedOutputOpener& open_output, const BakeInput& input,
+                                 const BakeOptions& options, Storage storage,
+                                 const std::string& generator, const MomentRunSink& moments) {
+    LevelTargetsSink sink(open_output);
+    sink.moments = moments;
+    return bake(input, packed_settings(options, storage, generator), sink);
+}
+
 }  // namespace
 
 void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource source,
@@ -698,7 +700,6 @@ void bake_packed_into(PackedBakeResult& result, const Image& input, BakeSource s
     // Keep the buffers of a previous result: baking a map of the same size and storage again
     // allocates nothing.
     PackedMapSink sink(std::move(result.packed.levels));
-    sink.threads = options.threads;
     sink.moments = moments;
     result = bake(BakeInput(input, source, source_name),
                   packed_settings(options, storage, generator), sink);
@@ -708,20 +709,16 @@ PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const Ima
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name,
                                 const MomentRunSink& moments) {
-    LevelTargetsSink sink(open_output);
-    sink.moments = moments;
-    return bake(BakeInput(input, source, source_name), packed_settings(options, storage, generator),
-                sink);
+    return bake_to_targets(open_output, BakeInput(input, source, source_name), options, storage,
+                           generator, moments);
 }
 
 PackedBakeResult bake_packed_to(const PackedOutputOpener& open_output, const UnormImage& input,
                                 BakeSource source, const BakeOptions& options, Storage storage,
                                 const std::string& generator, const std::string& source_name,
                                 const MomentRunSink& moments) {
-    LevelTargetsSink sink(open_output);
-    sink.moments = moments;
-    return bake(BakeInput(input, source, source_name), packed_settings(options, storage, generator),
-                sink);
+    return bake_to_targets(open_output, BakeInput(input, source, source_name), options, storage,
+                           generator, moments);
 }
 
 PackedBakeResult bake_packed(const Image& input, BakeSource source, const BakeOptions& options,
@@ -737,7 +734,6 @@ PackedBakeResult bake_packed_image(const std::variant<Image, UnormImage>& input,
                                    const std::string& generator, const std::string& source_name,
                                    const MomentRunSink& moments) {
     PackedMapSink sink;
-    sink.threads = options.threads;
     sink.moments = moments;
     return bake(BakeInput(input, source, source_name), BakeSettings{options, storage, generator},
                 sink);

@@ -288,7 +288,7 @@ Ktx2FileSink::Ktx2FileSink(std::string path, const WriteOptions& write_options,
 
 Ktx2FileSink::~Ktx2FileSink() = default;
 
-std::vector<PackedLevelTarget> Ktx2FileSink::open(const PackedLeanMap& layout) {
+std::vector<PackedLevelTarget> Ktx2FileSink::open(const PackedLeanMap& layout, int) {
     // A bake that is not kept (the first of `--bits auto`) is discarded unwritten.
     writer_.reset();
     writer_ = std::make_unique<Ktx2Writer>(path_, layout, write_options_);

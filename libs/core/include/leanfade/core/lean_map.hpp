@@ -587,8 +587,9 @@ class BakeSink {
   public:
     virtual ~BakeSink() = default;
     // One target per level of `layout` (its metadata and level sizes; slices empty), level 0
-    // first, each as large as PackedLevelTarget says. May throw (the bake then stops).
-    virtual std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) = 0;
+    // first, each as large as PackedLevelTarget says. `threads`: the bake's thread count
+    // (BakeOptions::threads resolved), for a sink that allocates. May throw (the bake then stops).
+    virtual std::vector<PackedLevelTarget> open(const PackedLeanMap& layout, int threads) = 0;
     // The kept bake is complete. `drop_plateau`: its plateau layer is empty and leaves the map
     // (result.packed.plateau_epsilon is already 0). The sink may fill result.packed's slices.
     virtual void finish(PackedBakeResult& result, bool drop_plateau) = 0;
@@ -607,10 +608,9 @@ class BakeSink {
 class PackedMapSink : public BakeSink {
   public:
     explicit PackedMapSink(std::vector<PackedLevel> reuse = {}) : levels_(std::move(reuse)) {}
-    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override;
+    // Sizes the buffers with the bake's threads (first touch).
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout, int threads) override;
     void finish(PackedBakeResult& result, bool drop_plateau) override;
-
-    int threads = 0;  // threads that size (first touch) the buffers, as BakeOptions::threads
 
   private:
     std::vector<PackedLevel> levels_;
@@ -622,7 +622,7 @@ class PackedMapSink : public BakeSink {
 class LevelTargetsSink : public BakeSink {
   public:
     explicit LevelTargetsSink(PackedOutputOpener open) : open_(std::move(open)) {}
-    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override {
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout, int) override {
         return open_(layout);
     }
     void finish(PackedBakeResult&, bool) override {}
@@ -636,7 +636,7 @@ class LevelTargetsSink : public BakeSink {
 class MomentsOnlySink : public BakeSink {
   public:
     explicit MomentsOnlySink(MomentRunSink runs) { moments = std::move(runs); }
-    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override {
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout, int) override {
         return std::vector<PackedLevelTarget>(layout.levels.size());
     }
     void finish(PackedBakeResult&, bool) override {}
@@ -654,7 +654,6 @@ PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings, Bake
 // bake() into memory (a PackedMapSink): result.packed holds the map.
 inline PackedBakeResult bake(const BakeInput& input, const BakeSettings& settings) {
     PackedMapSink sink;
-    sink.threads = settings.options.threads;
     return bake(input, settings, sink);
 }
 

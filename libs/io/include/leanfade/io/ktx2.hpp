@@ -135,7 +135,7 @@ class Ktx2FileSink : public BakeSink {
     explicit Ktx2FileSink(std::string path, const WriteOptions& write_options = {},
                           const ReadOptions& read_options = {});
     ~Ktx2FileSink() override;
-    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout) override;
+    std::vector<PackedLevelTarget> open(const PackedLeanMap& layout, int threads) override;
     void finish(PackedBakeResult& result, bool drop_plateau) override;
 
   private:
