@@ -8,11 +8,12 @@ energy over every covered pixel and over the eroded mask (seed-summed where --se
 relative RMSE and the flicker against the truth's, at each distance.
 
 The peer rows "roughness (Filament)" run Filament's `roughness-prefilter` (Debian
-libfilament-tools) on the same normal map, once per shininess with the base roughness
+libfilament-tools) on the same normal map (on the corpus: every configuration of a normal map;
+`--no-peers` skips them, `--peers-only` runs nothing else), once per shininess with the base roughness
 r0 = (2/s)^(1/4) of that shininess, `--linear`, and evaluate its MIP files as the roughness
 technique's input (`leanfade eval --roughness-mips NAME_0.png`). roughness-prefilter reads PNG, not
-JPEG: a JPEG map is converted first with ImageMagick's `convert` (Debian imagemagick). The real
-normal maps are those of Debian's assimp-testmodels.
+JPEG or DDS: such a map is converted first with ImageMagick's `convert` (Debian imagemagick). The
+built-in sets' real normal maps are those of Debian's assimp-testmodels.
 
 The real-map corpus (`--corpus`, CORPUS below: maps of Debian's redeclipse-data,
 supertuxkart-data, cube2-data, freeorion-data and glmark2-data at their native size) runs each
@@ -23,7 +24,7 @@ Usage: scripts/bake_off.py [--leanfade build/tools/leanfade/leanfade] [--out out
                            [--seeds 8] [--frames 4] [--only NAME,...]
                            [--corpus [--brdfs bp,ct]] [--techniques LIST]
                            [--texture-sizes 256,1024,4096] [--frame-size 192]
-                           [--geometric-aa on|off]
+                           [--geometric-aa on|off] [--no-peers | --peers-only]
 
 --texture-sizes runs the built-in sets (bumps, noise, ridges) at each size (texels per side);
 a size other than 256 adds `_tSIZE` to the configuration's name. The real maps run at their own.
@@ -213,6 +214,10 @@ def main():
                         help="corpus runs: every technique with geometric AA on or off")
     parser.add_argument("--texture-sizes", default="256",
                         help="built-in sets: texels per side, e.g. 256,1024,4096")
+    parser.add_argument("--peers-only", action="store_true",
+                        help="run only the peer rows (Filament's roughness MIPs), not --techniques")
+    parser.add_argument("--no-peers", action="store_true",
+                        help="skip the peer rows (Filament's roughness MIPs)")
     parser.add_argument("--resume", action="store_true",
                         help="keep the results of configurations already run into --out")
     parser.add_argument("--list-corpus", action="store_true",
@@ -242,7 +247,7 @@ def main():
         sys.exit("bake_off.py: no corpus map is installed (apt-get install " +
                  " ".join(CORPUS_PACKAGES) + ")")
     for name, flags, seeds in runs:
-        if only and name not in only:
+        if (only and name not in only) or args.peers_only:
             continue
         folder = os.path.join(args.out, name)
         if args.resume and os.path.exists(os.path.join(folder, "results.json")):
@@ -252,12 +257,17 @@ def main():
                   "--seeds", str(seeds), "--out", folder] + flags)
         rows += result_rows(name, folder)
     # The peer: Filament's roughness MIPs as the roughness technique's input, per shininess.
-    if shutil.which("roughness-prefilter") and not args.corpus:
-        for name, flags, normal_map in filament_configurations():
+    # On the corpus: every configuration of a normal map (a height map has no normal map file).
+    peers = ([(name, flags, flags[flags.index("--bumps") + 1]) for name, flags, _ in runs
+              if "height" not in flags] if args.corpus else filament_configurations())
+    if shutil.which("roughness-prefilter") and not args.no_peers:
+        for name, flags, normal_map in peers:
             if only and name not in only:
                 continue
             for shininess in (128, 1024, 13777):
-                chain = filament_chain(normal_map, shininess, os.path.join(args.out, "filament", name))
+                chain = filament_chain(normal_map, shininess,
+                                       os.path.join(args.out, "filament",
+                                                    normal_map.strip("/").replace("/", "_")))
                 folder = os.path.join(args.out, name, f"filament_s{shininess}")
                 run_eval([args.leanfade, "eval", "--techniques", "roughness", "--frames",
                           str(args.frames), "--shininess", str(shininess), "--roughness-mips",

@@ -7,11 +7,17 @@ writes per map and view the min-max of energy_total per technique over shininess
 and how many of the recommended technique's cases lie within 0.8-1.25, as Markdown (stdout) and
 as CSV/JSON next to --out.
 
+With --below TECHNIQUE, a further column counts the recommended technique's cases that keep
+more than 5 % less energy than TECHNIQUE and are also farther from the truth (|ln energy|
+larger), over the cases where both ran.
+
 Usage: scripts/corpus_summary.py ROWS.json [MORE.json ...] [--out STEM] [--techniques LIST]
+                                 [--below lean]
 """
 import argparse
 import csv
 import json
+import math
 import re
 
 LOW, HIGH, CONVERGED = 0.8, 1.25, 0.05
@@ -22,6 +28,8 @@ def main():
     parser.add_argument("rows", nargs="+")
     parser.add_argument("--out", default="")
     parser.add_argument("--techniques", default="two-lobe,lean,toksvig,roughness,bump")
+    parser.add_argument("--below", default="",
+                        help="count the first technique's cases > 5 %% below this one's and farther")
     args = parser.parse_args()
     techniques = args.techniques.split(",")
     cases = {}
@@ -46,6 +54,7 @@ def main():
                 (f" {match.group(5)[2:]}²" if match.group(5) else ""))
         entry = table.setdefault((match.group(1), view, match.group(3)), {})
         entry.setdefault(technique, []).append(energy)
+        entry.setdefault("by case", {})[(technique, r["shininess"], r["distance"])] = energy
     rows = []
     for (tag, view, brdf), entry in sorted(table.items()):
         row = {"map": tag, "view": view, "brdf": brdf}
@@ -54,21 +63,37 @@ def main():
             row[t] = f"{min(values):.2f}-{max(values):.2f}" if values else "-"
         first = entry.get(techniques[0], [])
         row["within"] = f"{sum(LOW <= v <= HIGH for v in first)}/{len(first)}"
+        if args.below:
+            below, both = below_count(entry["by case"], techniques[0], args.below)
+            row["below"] = f"{below}/{both}"
         rows.append(row)
     header = ["map", "view", "brdf"] + techniques + [f"in {LOW}-{HIGH} ({techniques[0]})"]
+    if args.below:
+        header.append(f"> 5 % below {args.below} and farther")
     print("| " + " | ".join(header) + " |")
     print("|" + "---|" * len(header))
     for row in rows:
         print("| " + " | ".join(str(v) for v in row.values()) + " |")
-    totals = {t: [0, 0] for t in techniques}
-    for entry in table.values():
-        for t in techniques:
-            values = entry.get(t, [])
-            totals[t][0] += sum(LOW <= v <= HIGH for v in values)
-            totals[t][1] += len(values)
-    print()
-    print("; ".join(f"{t}: {a} of {b} converged cases within {LOW}-{HIGH}"
-                    for t, (a, b) in totals.items()))
+    # Totals over every map, then per view and BRDF.
+    groups = {"": list(table.values())}
+    for (_, view, brdf), entry in sorted(table.items(), key=lambda item: item[0][1:]):
+        groups.setdefault(f"{view}, {brdf}", []).append(entry)
+    for group, entries in groups.items():
+        totals = {t: [0, 0] for t in techniques}
+        for entry in entries:
+            for t in techniques:
+                values = entry.get(t, [])
+                totals[t][0] += sum(LOW <= v <= HIGH for v in values)
+                totals[t][1] += len(values)
+        print()
+        print((f"{group}: " if group else "") +
+              "; ".join(f"{t}: {a} of {b} converged cases within {LOW}-{HIGH}"
+                        for t, (a, b) in totals.items()))
+        if args.below:
+            counts = [below_count(entry["by case"], techniques[0], args.below) for entry in entries]
+            print(f"{techniques[0]} more than 5 % below {args.below} and farther from the truth: "
+                  f"{sum(c[0] for c in counts)} of {sum(c[1] for c in counts)} cases where both "
+                  "ran")
     if args.out:
         with open(args.out + ".json", "w") as f:
             json.dump(rows, f, indent=1)
@@ -76,6 +101,21 @@ def main():
             writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
             writer.writeheader()
             writer.writerows(rows)
+
+
+def below_count(by_case, first, other):
+    """(cases where `first` keeps < 0.95 of `other`'s energy and |ln energy| is larger, cases of
+    both) over the (shininess, distance) cases both techniques have."""
+    below = both = 0
+    for (technique, shininess, distance), energy in by_case.items():
+        if technique != first or (other, shininess, distance) not in by_case:
+            continue
+        reference = by_case[(other, shininess, distance)]
+        both += 1
+        if (energy > 0 and reference > 0 and energy < 0.95 * reference and
+                abs(math.log(energy)) > abs(math.log(reference))):
+            below += 1
+    return below, both
 
 
 if __name__ == "__main__":
