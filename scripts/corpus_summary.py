@@ -12,7 +12,7 @@ more than 5 % less energy than TECHNIQUE and are also farther from the truth (|l
 larger), over the cases where both ran.
 
 Usage: scripts/corpus_summary.py ROWS.json [MORE.json ...] [--out STEM] [--techniques LIST]
-                                 [--below lean]
+                                 [--below lean] [--skip-maps TAG,...]
 """
 import argparse
 import csv
@@ -28,10 +28,13 @@ def main():
     parser.add_argument("rows", nargs="+")
     parser.add_argument("--out", default="")
     parser.add_argument("--techniques", default="two-lobe,lean,toksvig,roughness,bump")
+    parser.add_argument("--skip-maps", default="",
+                        help="leave out these maps (tags, comma-separated), e.g. the height maps")
     parser.add_argument("--below", default="",
                         help="count the first technique's cases > 5 %% below this one's and farther")
     args = parser.parse_args()
     techniques = args.techniques.split(",")
+    skipped = set(filter(None, args.skip_maps.split(",")))
     cases = {}
     for path in args.rows:
         with open(path) as f:
@@ -42,7 +45,7 @@ def main():
     for (configuration, technique, _, _), r in cases.items():
         match = re.fullmatch(
             r"corpus_(.+)_(plane|teapot|teapot_back)_(bp|ct)(_aa(?:on|off))?(_f\d+)?", configuration)
-        if not match or technique not in techniques:
+        if not match or technique not in techniques or match.group(1) in skipped:
             continue
         error = r.get("reference_energy_error")
         energy = r.get("energy_total")
