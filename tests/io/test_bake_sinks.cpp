@@ -130,8 +130,9 @@ TEST(BakeSinks, EverySinkGetsTheSameMap) {
             EXPECT_TRUE(caller.levels[l].lean1 == memory.packed.levels[l].lean1) << l;
             EXPECT_TRUE(caller.levels[l].lean2 == memory.packed.levels[l].lean2) << l;
             EXPECT_TRUE(caller.levels[l].plateau == kept.packed.levels[l].plateau) << l;
-            if (memory.packed.has_plateau())
+            if (memory.packed.has_plateau()) {
                 EXPECT_TRUE(caller.levels[l].plateau == memory.packed.levels[l].plateau) << l;
+            }
         }
     }
 }
