@@ -109,12 +109,20 @@ WRAP = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/PlasticWrap_normals.jpg"
 BUILTIN_SETS = ("bumps", "noise", "ridges")
 
 
+def flag_value(flags, name):
+    """The value after flag `name` in an eval argument list, or None."""
+    return flags[flags.index(name) + 1] if name in flags else None
+
+
+def is_height_map(flags):
+    return flag_value(flags, "--from") == "height"
+
+
 def at_texture_sizes(runs, sizes):
     """runs, those of a built-in set once per texture size (`_tSIZE` unless 256)."""
     sized = []
     for name, flags, seeds in runs:
-        builtin = any(flags[i] == "--bumps" and flags[i + 1] in BUILTIN_SETS
-                      for i in range(len(flags) - 1))
+        builtin = flag_value(flags, "--bumps") in BUILTIN_SETS
         for size in (sizes if builtin else [256]):
             if size == 256:  # the default: the configuration as it is
                 sized.append((name, flags, seeds))
@@ -227,7 +235,7 @@ def main():
     if args.list_corpus:
         for _, _, path, flags in CORPUS:
             if os.path.exists(path):
-                print("--height" if "height" in flags else "--normal", path)
+                print("--height" if is_height_map(flags) else "--normal", path)
         return
     only = set(filter(None, args.only.split(",")))
     os.makedirs(args.out, exist_ok=True)
@@ -258,8 +266,8 @@ def main():
         rows += result_rows(name, folder)
     # The peer: Filament's roughness MIPs as the roughness technique's input, per shininess.
     # On the corpus: every configuration of a normal map (a height map has no normal map file).
-    peers = ([(name, flags, flags[flags.index("--bumps") + 1]) for name, flags, _ in runs
-              if "height" not in flags] if args.corpus else filament_configurations())
+    peers = ([(name, flags, flag_value(flags, "--bumps")) for name, flags, _ in runs
+              if not is_height_map(flags)] if args.corpus else filament_configurations())
     if shutil.which("roughness-prefilter") and not args.no_peers:
         for name, flags, normal_map in peers:
             if only and name not in only:

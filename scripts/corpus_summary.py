@@ -55,19 +55,19 @@ def main():
         # (`_aaoff`) make a view of its own.
         view = (match.group(2) + (f" AA {match.group(4)[3:]}" if match.group(4) else "") +
                 (f" {match.group(5)[2:]}²" if match.group(5) else ""))
-        entry = table.setdefault((match.group(1), view, match.group(3)), {})
-        entry.setdefault(technique, []).append(energy)
-        entry.setdefault("by case", {})[(technique, r["shininess"], r["distance"])] = energy
+        # Per map, view and BRDF: each case's energy by (technique, shininess, distance).
+        table.setdefault((match.group(1), view, match.group(3)), {})[
+            (technique, r["shininess"], r["distance"])] = energy
     rows = []
     for (tag, view, brdf), entry in sorted(table.items()):
         row = {"map": tag, "view": view, "brdf": brdf}
         for t in techniques:
-            values = entry.get(t, [])
+            values = energies(entry, t)
             row[t] = f"{min(values):.2f}-{max(values):.2f}" if values else "-"
-        first = entry.get(techniques[0], [])
+        first = energies(entry, techniques[0])
         row["within"] = f"{sum(LOW <= v <= HIGH for v in first)}/{len(first)}"
         if args.below:
-            below, both = below_count(entry["by case"], techniques[0], args.below)
+            below, both = below_count(entry, techniques[0], args.below)
             row["below"] = f"{below}/{both}"
         rows.append(row)
     header = ["map", "view", "brdf"] + techniques + [f"in {LOW}-{HIGH} ({techniques[0]})"]
@@ -85,7 +85,7 @@ def main():
         totals = {t: [0, 0] for t in techniques}
         for entry in entries:
             for t in techniques:
-                values = entry.get(t, [])
+                values = energies(entry, t)
                 totals[t][0] += sum(LOW <= v <= HIGH for v in values)
                 totals[t][1] += len(values)
         print()
@@ -93,7 +93,7 @@ def main():
               "; ".join(f"{t}: {a} of {b} converged cases within {LOW}-{HIGH}"
                         for t, (a, b) in totals.items()))
         if args.below:
-            counts = [below_count(entry["by case"], techniques[0], args.below) for entry in entries]
+            counts = [below_count(entry, techniques[0], args.below) for entry in entries]
             print(f"{techniques[0]} more than 5 % below {args.below} and farther from the truth: "
                   f"{sum(c[0] for c in counts)} of {sum(c[1] for c in counts)} cases where both "
                   "ran")
@@ -104,6 +104,11 @@ def main():
             writer = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
             writer.writeheader()
             writer.writerows(rows)
+
+
+def energies(by_case, technique):
+    """The energies of `technique`'s cases in one map, view and BRDF's table entry."""
+    return [energy for (t, _, _), energy in by_case.items() if t == technique]
 
 
 def below_count(by_case, first, other):
