@@ -340,11 +340,13 @@ TEST(CliGltfOut, CompressBasisWritesKhrTextureBasisuImagesOfBasisUniversal) {
     // From the cache: the same bytes.
     const test::RunResult again = bake("again/filtered.gltf", " --compress basis");
     ASSERT_EQ(again.exit_code, 0) << again.err;
-    for (const auto& e : fs::directory_iterator(dir / "out"))
-        if (e.path().extension() == ".ktx2")
+    for (const auto& e : fs::directory_iterator(dir / "out")) {
+        if (e.path().extension() == ".ktx2") {
             EXPECT_EQ(test::read_text(e.path()),
                       test::read_text(dir / "again" / e.path().filename()))
                 << e.path();
+        }
+    }
     for (const std::string flags : {" --compress bc", " --compress astc"}) {
         const test::RunResult refused = bake("out/bc.gltf", flags);
         EXPECT_EQ(refused.exit_code, 1) << flags;

@@ -417,10 +417,6 @@ namespace {
 using TargetProvider =
     std::function<std::vector<PackedLevelTarget>(PackedLeanMap& packed, int threads)>;
 
-int channel_count(const BakeInput& input) {
-    return input.floats() != nullptr ? input.floats()->channels : input.integers()->channels;
-}
-
 // The first channel of integer samples as floats (UnormImage::to_float's values).
 Image first_channel(const UnormImage& input) {
     Image height(input.width, input.height, 1);
@@ -452,7 +448,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
     ScanTotals totals;
     const int width = input.width(), height = input.height();
     if (result.source == BakeSource::Normal) {
-        detail::check_normal_map_shape(width, height, channel_count(input), source_name);
+        detail::check_normal_map_shape(width, height, input.channels(), source_name);
         if (input.floats() != nullptr) {
             plan.top.pixels = input.floats()->pixels.data();
         } else {
@@ -461,7 +457,7 @@ void bake_repaired(PackedBakeResult& result, const BakeInput& input, BakeSource 
             plan.top.bake_id = g_next_bake_id.fetch_add(1);
         }
         plan.top.width = width;
-        plan.top.channels = channel_count(input);
+        plan.top.channels = input.channels();
         plan.kernels = select_kernels(plan.top.channels, storage, avx2);
         plan.top.unorm_to_float = plan.kernels.unorm_to_float;
         totals = scan_input(plan.top, height, options.threads, plan.kernels.scan_row, source_name,

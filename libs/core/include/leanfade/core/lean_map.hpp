@@ -556,6 +556,7 @@ class BakeInput {
     const UnormImage* integers() const { return integers_; }
     int width() const { return floats_ != nullptr ? floats_->width : integers_->width; }
     int height() const { return floats_ != nullptr ? floats_->height : integers_->height; }
+    int channels() const { return floats_ != nullptr ? floats_->channels : integers_->channels; }
 
   private:
     const Image* floats_ = nullptr;
